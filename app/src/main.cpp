@@ -1,0 +1,41 @@
+// stsim: one front end, one subcommand per job.
+#include <cstring>
+#include <exception>
+#include <iostream>
+
+#include <stsim/cli.hpp>
+#include <stsim/commands.hpp>
+
+namespace {
+
+void printHelp(const std::vector<st::cli::Command>& cmds) {
+  std::cout << "stsim: space-time simulation toolkit\n\n"
+               "usage: stsim <command> [arguments] [options]\n"
+               "       stsim <command> --help\n\ncommands:\n";
+  for (const auto& c : cmds) std::cout << "  " << c.name << std::string(c.name.size() < 10 ? 10 - c.name.size() : 1, ' ') << c.summary << "\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const auto cmds = st::cli::allCommands();
+  if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0 ||
+      std::strcmp(argv[1], "help") == 0) {
+    printHelp(cmds);
+    return argc < 2 ? 2 : 0;
+  }
+  for (const auto& c : cmds) {
+    if (c.name != argv[1]) continue;
+    try {
+      return c.run(argc - 2, argv + 2);
+    } catch (const st::cli::UsageError& e) {
+      std::cerr << "stsim " << c.name << ": " << e.what() << "\n";
+      return 2;
+    } catch (const std::exception& e) {
+      std::cerr << "stsim " << c.name << ": error: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  std::cerr << "stsim: unknown command '" << argv[1] << "' (see stsim --help)\n";
+  return 2;
+}

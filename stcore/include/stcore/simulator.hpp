@@ -1,0 +1,192 @@
+#pragma once
+// Event-driven simulator (§2, §2.1) for balls (circles in 2-D, spheres in 3-D) moving at constant
+// velocity between events, against walls, segments, points and capture sensors.
+//
+// Each ball keeps its own local time (the report's mobile::Time) and is advanced only when it
+// takes part in an event. Each ball holds its one earliest predicted event in an indexed heap;
+// an event remembers the generation of the other ball, and is dropped lazily when that ball has
+// changed since. Pair predictions start from the later of the two balls' local times, so the same
+// pair yields the same time whichever space found it: every space kind replays the same history.
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include <stcore/shapes.hpp>
+#include <stcore/space.hpp>
+
+namespace st {
+
+enum class EventKind : std::uint8_t { BallBall, BallWall, BallSegment, BallPoint, Sensor, Boundary, Count };
+const char* toString(EventKind kind);
+
+// A body's handle is its index; generations tell whether a prediction is still current.
+template <int D>
+struct BallState {
+  Vec<D> p;        // position at local time t
+  Vec<D> v;
+  double t = 0.0;  // local time (s)
+  double radius = 0.0;
+  double mass = 1.0;
+  int type = 0;    // caller's tag (ball number, colour...)
+  std::uint32_t gen = 0;
+  bool active = true;
+  Vec<D> positionAt(double time) const { return p + v * (time - t); }
+};
+
+// Plane n.x == offset with unit normal n; balls bounce off either side.
+template <int D>
+struct Wall {
+  Vec<D> normal;
+  double offset = 0.0;
+};
+
+// A capture region: a ball whose centre comes within `radius` of `center` leaves the simulation.
+template <int D>
+struct Sensor {
+  Vec<D> center;
+  double radius = 0.0;
+};
+
+struct EventRecord {
+  double t = 0.0;
+  EventKind kind = EventKind::BallBall;
+  int a = -1;  // ball
+  int b = -1;  // other ball, or index of the wall / segment / point / sensor
+};
+
+struct SimulatorCounters {
+  std::uint64_t pairChecks = 0;    // ball-ball predictions made (the report's collision checks)
+  std::uint64_t staticChecks = 0;  // ball-obstacle predictions made
+  std::uint64_t staleEvents = 0;   // popped events whose partner had changed
+  std::array<std::uint64_t, static_cast<int>(EventKind::Count)> events{};
+  std::uint64_t totalEvents() const {
+    std::uint64_t s = 0;
+    for (auto e : events) s += e;
+    return s;
+  }
+  std::uint64_t collisions() const {
+    return events[0] + events[1] + events[2] + events[3];
+  }
+};
+
+struct SimulatorConfig {
+  SpaceKind spaceKind = SpaceKind::Tree;
+  SpaceRule rule;
+  // Extra room around each ball's box in the space, as a fraction of its radius: larger means
+  // fewer membership events but more candidates.
+  double marginFactor = 0.5;
+};
+
+enum class StopReason { TimeLimit, NothingLeft, EventLimit };
+
+template <int D>
+class Simulator {
+ public:
+  Simulator(const Aabb<D>& bounds, const SimulatorConfig& config);
+
+  int addBall(const Vec<D>& p, const Vec<D>& v, double radius, double mass, int type = 0);
+  int addWall(const Wall<D>& w);
+  int addPoint(const Vec<D>& p);
+  int addSegment(const Segment& s);  // 2-D only
+  int addSensor(const Sensor<D>& s);
+
+  // Changes a ball's velocity at the current time (a cue strike); re-predicts it.
+  void setVelocity(int ball, const Vec<D>& v);
+  // Takes a ball out of the simulation at the current time.
+  void deactivate(int ball);
+
+  // Processes events up to `until` (inclusive) or `maxEvents`, calling observer(const EventRecord&)
+  // after each. Then the clock stands at the last event's time (or `until` if it was reached).
+  template <class Observer>
+  StopReason run(double until, Observer&& observer,
+                 std::uint64_t maxEvents = std::numeric_limits<std::uint64_t>::max());
+  StopReason run(double until) {
+    return run(until, [](const EventRecord&) {});
+  }
+
+  // Advances every active ball to time t (>= now) without changing its path.
+  void synchronize(double t);
+
+  double now() const { return now_; }
+  const std::vector<BallState<D>>& balls() const { return balls_; }
+  const BallState<D>& ball(int i) const { return balls_[i]; }
+  const std::vector<Wall<D>>& walls() const { return walls_; }
+  const std::vector<Vec<D>>& points() const { return points_; }
+  const std::vector<Segment>& segments() const { return segments_; }
+  const std::vector<Sensor<D>>& sensors() const { return sensors_; }
+  const Space<D>* space() const { return space_.get(); }
+  const SimulatorCounters& counters() const { return counters_; }
+  // Time of the next event, or infinity.
+  double nextEventTime() const;
+
+  double kineticEnergy() const;
+  Vec<D> momentum() const;
+
+ private:
+  struct Next {
+    double t = std::numeric_limits<double>::infinity();
+    EventKind kind = EventKind::Count;
+    int other = -1;
+    std::uint32_t otherGen = 0;
+  };
+
+  void predict(int i);
+  void consider(Next& best, double t, EventKind kind, int other, std::uint32_t otherGen) const;
+  void process(int i);
+  void advance(int i, double t);
+  Aabb<D> boxOf(int i, double t) const;
+  void spaceUpdate(int i);
+  void repredictWidened();
+
+  // indexed binary min-heap of balls by next event (time, then ball index)
+  bool before(int a, int b) const;
+  void heapUpdate(int i);
+  void heapRemove(int i);
+  void siftUp(int pos);
+  void siftDown(int pos);
+
+  SimulatorConfig config_;
+  Aabb<D> bounds_;
+  std::unique_ptr<Space<D>> space_;
+  std::vector<BallState<D>> balls_;
+  std::vector<Next> next_;
+  std::vector<int> heap_;
+  std::vector<int> heapPos_;
+  std::vector<Wall<D>> walls_;
+  std::vector<Vec<D>> points_;
+  std::vector<Segment> segments_;
+  std::vector<Sensor<D>> sensors_;
+  double now_ = 0.0;
+  SimulatorCounters counters_;
+  EventRecord last_;
+};
+
+template <int D>
+template <class Observer>
+StopReason Simulator<D>::run(double until, Observer&& observer, std::uint64_t maxEvents) {
+  std::uint64_t done = 0;
+  while (true) {
+    if (heap_.empty() || !(next_[heap_.front()].t < std::numeric_limits<double>::infinity())) {
+      return StopReason::NothingLeft;
+    }
+    const int i = heap_.front();
+    if (next_[i].t > until) {
+      now_ = std::max(now_, until);
+      return StopReason::TimeLimit;
+    }
+    if (done >= maxEvents) return StopReason::EventLimit;
+    last_.kind = EventKind::Count;
+    process(i);
+    if (last_.kind != EventKind::Count) {
+      ++done;
+      observer(static_cast<const EventRecord&>(last_));
+    }
+  }
+}
+
+extern template class Simulator<2>;
+extern template class Simulator<3>;
+
+}  // namespace st

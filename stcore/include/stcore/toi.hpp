@@ -1,0 +1,80 @@
+#pragma once
+// Exact time-of-impact kernels for bodies moving at constant velocity.
+// Each returns what happened, never a magic time:
+//   Hit         first contact at t >= 0 while approaching;
+//   Miss        no contact in the future (moving apart, passing by, or at rest);
+//   Overlapping already interpenetrating deeper than tol::kLinearSlop and approaching: resolve now;
+//   Separating  touching or overlapping but moving apart: nothing to do.
+// Times are relative to the moment the inputs describe.
+#include <limits>
+#include <stcore/shapes.hpp>
+
+namespace st {
+
+enum class Outcome { Hit, Miss, Overlapping, Separating };
+
+struct Impact {
+  Outcome outcome = Outcome::Miss;
+  double t = std::numeric_limits<double>::infinity();
+  bool hit() const { return outcome == Outcome::Hit; }
+  // True when the caller must act: a hit at t, or an overlap to resolve at once.
+  bool acts() const { return outcome == Outcome::Hit || outcome == Outcome::Overlapping; }
+  double actTime() const { return outcome == Outcome::Overlapping ? 0.0 : t; }
+};
+
+// Two balls of any dimension, given relative position p_rel = p_b - p_a and relative velocity
+// v_rel = v_b - v_a, touching when |p_rel| == radiusSum. Covers circle-circle, sphere-sphere,
+// and circle-point (radiusSum = circle radius).
+template <int D>
+Impact toiBalls(const Vec<D>& p_rel, const Vec<D>& v_rel, double radiusSum);
+
+inline Impact toiCircleCircle(const Circle& a, const Vec2& va, const Circle& b, const Vec2& vb) {
+  return toiBalls<2>(b.center - a.center, vb - va, a.radius + b.radius);
+}
+inline Impact toiSphereSphere(const Sphere& a, const Vec3& va, const Sphere& b, const Vec3& vb) {
+  return toiBalls<3>(b.center - a.center, vb - va, a.radius + b.radius);
+}
+// A moving circle and a fixed point (a pocket jaw, a segment end).
+inline Impact toiCirclePoint(const Circle& c, const Vec2& v, const Vec2& point) {
+  return toiBalls<2>(point - c.center, -v, c.radius);
+}
+
+// Which part of a segment a circle meets.
+enum class SegmentFeature { Face, EndA, EndB };
+
+struct SegmentImpact {
+  Impact impact;
+  SegmentFeature feature = SegmentFeature::Face;
+};
+
+// A moving circle against a fixed segment, including its end points (the report's Limitation 1):
+// the earliest of a tangent contact with the segment's interior and a contact with either end.
+SegmentImpact toiCircleSegment(const Circle& c, const Vec2& v, const Segment& s);
+
+// The report's LineIntersect: when the circle's leading edge first touches the infinite line
+// through s, passing through it (a space boundary, not an obstacle). Miss if moving parallel or away.
+Impact toiCircleLineIntersect(const Circle& c, const Vec2& v, const Segment& s);
+
+// The report's LineDepart: when the circle's trailing edge leaves the infinite line through s,
+// i.e. the circle has crossed entirely to the side it is moving to.
+Impact toiCircleLineDepart(const Circle& c, const Vec2& v, const Segment& s);
+
+// A ball against the axis-aligned plane x[axis] == coord (3-D cells, 2-D grid lines).
+// Entering: the leading surface reaches the plane. Leaving: the trailing surface passes it.
+template <int D>
+Impact toiBallAxisPlaneEnter(const Ball<D>& b, const Vec<D>& v, int axis, double coord);
+template <int D>
+Impact toiBallAxisPlaneLeave(const Ball<D>& b, const Vec<D>& v, int axis, double coord);
+
+// A ball against the infinite plane n.x == offset (n unit), approaching from its current side
+// (a wall of a box; a line in 2-D).
+template <int D>
+Impact toiBallPlane(const Ball<D>& b, const Vec<D>& v, const Vec<D>& n, double offset);
+inline Impact toiSpherePlane(const Sphere& s, const Vec3& v, const Vec3& n, double offset) {
+  return toiBallPlane<3>({s.center, s.radius}, v, n, offset);
+}
+
+// Closest point of a segment to p.
+Vec2 closestPointOnSegment(const Segment& s, const Vec2& p);
+
+}  // namespace st

@@ -1,0 +1,23 @@
+#pragma once
+// Every tolerance of stcore, in one place. All lengths in metres, times in seconds.
+// Derived from one linear slop, as in Box2D: change kLinearSlop and the rest follow.
+
+namespace st::tol {
+
+// Geometric slop: two shapes closer than this count as touching. The event-driven simulator
+// allows overlaps up to this depth (roundoff when placing bodies at contact). Larger values
+// hide real interpenetration in tests; smaller ones approach roundoff of positions ~1e3 m.
+inline constexpr double kLinearSlop = 1e-9;
+
+// Squared speeds below this are "not moving" for time-of-impact purposes (m^2/s^2).
+// Too large and slow approaches are missed; too small and 1/v blows up in the kernels.
+inline constexpr double kSpeedSqEpsilon = 1e-24;
+
+// Relative tolerance for a vanishing quadratic leading coefficient (dimensionless).
+// Below it the quadratic is solved as linear; this guards parallel motion.
+inline constexpr double kRelativeEpsilon = 1e-14;
+
+// Events closer in time than this are treated as simultaneous when comparing event orders in tests (s).
+inline constexpr double kTimeEpsilon = 1e-12;
+
+}  // namespace st::tol

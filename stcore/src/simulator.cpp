@@ -1,0 +1,356 @@
+#include <stcore/simulator.hpp>
+
+#include <algorithm>
+#include <cassert>
+#include <stdexcept>
+
+#include <stcore/resolve.hpp>
+#include <stcore/toi.hpp>
+
+namespace st {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+}
+
+const char* toString(EventKind kind) {
+  switch (kind) {
+    case EventKind::BallBall: return "ball-ball";
+    case EventKind::BallWall: return "ball-wall";
+    case EventKind::BallSegment: return "ball-segment";
+    case EventKind::BallPoint: return "ball-point";
+    case EventKind::Sensor: return "sensor";
+    case EventKind::Boundary: return "boundary";
+    case EventKind::Count: break;
+  }
+  return "?";
+}
+
+template <int D>
+Simulator<D>::Simulator(const Aabb<D>& bounds, const SimulatorConfig& config)
+    : config_(config), bounds_(bounds) {
+  if (config_.spaceKind != SpaceKind::None)
+    space_ = std::make_unique<Space<D>>(config_.spaceKind, bounds, config_.rule);
+}
+
+template <int D>
+Aabb<D> Simulator<D>::boxOf(int i, double t) const {
+  const BallState<D>& b = balls_[i];
+  return boundsOf<D>(b.positionAt(t), b.radius);
+}
+
+template <int D>
+int Simulator<D>::addBall(const Vec<D>& p, const Vec<D>& v, double radius, double mass, int type) {
+  if (!(radius > 0.0) || !(mass > 0.0)) throw std::invalid_argument("ball radius and mass must be positive");
+  if (!p.allFinite() || !v.allFinite()) throw std::invalid_argument("ball position and velocity must be finite");
+  const int i = static_cast<int>(balls_.size());
+  BallState<D> b;
+  b.p = p;
+  b.v = v;
+  b.t = now_;
+  b.radius = radius;
+  b.mass = mass;
+  b.type = type;
+  balls_.push_back(b);
+  next_.push_back(Next{});
+  heapPos_.push_back(-1);
+  if (space_) space_->insert(i, boxOf(i, now_), config_.marginFactor * radius);
+  repredictWidened();
+  predict(i);
+  return i;
+}
+
+template <int D>
+int Simulator<D>::addWall(const Wall<D>& w) {
+  walls_.push_back({w.normal.normalized(), w.offset / w.normal.norm()});
+  return static_cast<int>(walls_.size()) - 1;
+}
+
+template <int D>
+int Simulator<D>::addPoint(const Vec<D>& p) {
+  points_.push_back(p);
+  return static_cast<int>(points_.size()) - 1;
+}
+
+template <int D>
+int Simulator<D>::addSegment(const Segment& s) {
+  if constexpr (D != 2) {
+    (void)s;
+    throw std::logic_error("segments are 2-D obstacles");
+  } else {
+    segments_.push_back(s);
+    return static_cast<int>(segments_.size()) - 1;
+  }
+}
+
+template <int D>
+int Simulator<D>::addSensor(const Sensor<D>& s) {
+  sensors_.push_back(s);
+  return static_cast<int>(sensors_.size()) - 1;
+}
+
+template <int D>
+void Simulator<D>::advance(int i, double t) {
+  BallState<D>& b = balls_[i];
+  b.p = b.positionAt(t);
+  b.t = t;
+}
+
+template <int D>
+void Simulator<D>::setVelocity(int i, const Vec<D>& v) {
+  if (!v.allFinite()) throw std::invalid_argument("velocity must be finite");
+  BallState<D>& b = balls_[i];
+  if (!b.active) throw std::invalid_argument("ball is no longer in the simulation");
+  advance(i, now_);
+  b.v = v;
+  ++b.gen;
+  spaceUpdate(i);
+  predict(i);
+  repredictWidened();
+}
+
+template <int D>
+void Simulator<D>::deactivate(int i) {
+  BallState<D>& b = balls_[i];
+  if (!b.active) return;
+  advance(i, now_);
+  b.active = false;
+  ++b.gen;
+  heapRemove(i);
+  if (space_) space_->remove(i);
+  repredictWidened();
+}
+
+template <int D>
+void Simulator<D>::synchronize(double t) {
+  if (t < now_) throw std::invalid_argument("cannot synchronize to the past");
+  for (int i = 0; i < static_cast<int>(balls_.size()); ++i)
+    if (balls_[i].active) advance(i, t);
+  now_ = t;
+}
+
+template <int D>
+void Simulator<D>::spaceUpdate(int i) {
+  if (space_) space_->update(i, boxOf(i, balls_[i].t), config_.marginFactor * balls_[i].radius);
+}
+
+template <int D>
+void Simulator<D>::repredictWidened() {
+  if (!space_) return;
+  for (int j : space_->takeWidened())
+    if (balls_[j].active) predict(j);
+}
+
+template <int D>
+void Simulator<D>::consider(Next& best, double t, EventKind kind, int other, std::uint32_t otherGen) const {
+  t = std::max(t, now_);
+  // ties broken by kind, then by the other index: independent of the order candidates arrive in
+  if (t < best.t || (t == best.t && (kind < best.kind || (kind == best.kind && other < best.other))))
+    best = Next{t, kind, other, otherGen};
+}
+
+template <int D>
+void Simulator<D>::predict(int i) {
+  const BallState<D>& bi = balls_[i];
+  Next best;
+  auto pair = [&](int j) {
+    if (j == i) return;
+    const BallState<D>& bj = balls_[j];
+    if (!bj.active) return;
+    ++counters_.pairChecks;
+    const double t0 = std::max(bi.t, bj.t);
+    const Impact hit = toiBalls<D>(bj.positionAt(t0) - bi.positionAt(t0), bj.v - bi.v, bi.radius + bj.radius);
+    if (hit.acts()) consider(best, t0 + hit.actTime(), EventKind::BallBall, j, bj.gen);
+  };
+  if (space_) {
+    space_->forEachNeighbor(i, pair);
+  } else {
+    for (int j = 0; j < static_cast<int>(balls_.size()); ++j) pair(j);
+  }
+  const Ball<D> me{bi.p, bi.radius};
+  for (int w = 0; w < static_cast<int>(walls_.size()); ++w) {
+    ++counters_.staticChecks;
+    const Impact hit = toiBallPlane<D>(me, bi.v, walls_[w].normal, walls_[w].offset);
+    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallWall, w, 0);
+  }
+  if constexpr (D == 2) {
+    for (int s = 0; s < static_cast<int>(segments_.size()); ++s) {
+      ++counters_.staticChecks;
+      const Impact hit = toiCircleSegment(Circle{bi.p, bi.radius}, bi.v, segments_[s]).impact;
+      if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallSegment, s, 0);
+    }
+  }
+  for (int q = 0; q < static_cast<int>(points_.size()); ++q) {
+    ++counters_.staticChecks;
+    const Impact hit = toiBalls<D>(points_[q] - bi.p, -bi.v, bi.radius);
+    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallPoint, q, 0);
+  }
+  for (int s = 0; s < static_cast<int>(sensors_.size()); ++s) {
+    ++counters_.staticChecks;
+    const Impact hit = toiBalls<D>(sensors_[s].center - bi.p, -bi.v, sensors_[s].radius);
+    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::Sensor, s, 0);
+  }
+  if (space_) {
+    const double dt = space_->exitTime(i, bi.p, bi.v, bi.radius);
+    if (dt < kInf) consider(best, bi.t + dt, EventKind::Boundary, -1, 0);
+  }
+  next_[i] = best;
+  heapUpdate(i);
+}
+
+template <int D>
+double Simulator<D>::nextEventTime() const {
+  return heap_.empty() ? kInf : next_[heap_.front()].t;
+}
+
+template <int D>
+void Simulator<D>::process(int i) {
+  const Next e = next_[i];
+  now_ = std::max(now_, e.t);
+  BallState<D>& bi = balls_[i];
+  switch (e.kind) {
+    case EventKind::BallBall: {
+      BallState<D>& bj = balls_[e.other];
+      if (!bj.active || bj.gen != e.otherGen) {
+        ++counters_.staleEvents;
+        predict(i);
+        return;
+      }
+      advance(i, e.t);
+      advance(e.other, e.t);
+      const VelocityPair<D> out = resolveBalls<D>(bi.v, bi.mass, bj.v, bj.mass, bj.p - bi.p);
+      bi.v = out.a;
+      bj.v = out.b;
+      ++bi.gen;
+      ++bj.gen;
+      spaceUpdate(i);
+      spaceUpdate(e.other);
+      predict(i);
+      predict(e.other);
+      break;
+    }
+    case EventKind::BallWall:
+      advance(i, e.t);
+      bi.v = reflect<D>(bi.v, walls_[e.other].normal);
+      ++bi.gen;
+      spaceUpdate(i);
+      predict(i);
+      break;
+    case EventKind::BallSegment:
+      if constexpr (D == 2) {
+        advance(i, e.t);
+        bi.v = reflect<D>(bi.v, bi.p - closestPointOnSegment(segments_[e.other], bi.p));
+        ++bi.gen;
+        spaceUpdate(i);
+        predict(i);
+      }
+      break;
+    case EventKind::BallPoint:
+      advance(i, e.t);
+      bi.v = reflect<D>(bi.v, bi.p - points_[e.other]);
+      ++bi.gen;
+      spaceUpdate(i);
+      predict(i);
+      break;
+    case EventKind::Sensor:
+      deactivate(i);
+      break;
+    case EventKind::Boundary:
+      // membership follows the ball; its path is unchanged, so only its own prediction is redone
+      space_->update(i, boxOf(i, e.t), config_.marginFactor * bi.radius);
+      predict(i);
+      break;
+    case EventKind::Count:
+      return;
+  }
+  repredictWidened();
+  ++counters_.events[static_cast<int>(e.kind)];
+  last_ = EventRecord{e.t, e.kind, i, e.other};
+}
+
+// ---- indexed heap ---------------------------------------------------------------------------
+
+template <int D>
+bool Simulator<D>::before(int a, int b) const {
+  const double ta = next_[a].t, tb = next_[b].t;
+  return ta < tb || (ta == tb && a < b);
+}
+
+template <int D>
+void Simulator<D>::siftUp(int pos) {
+  const int item = heap_[pos];
+  while (pos > 0) {
+    const int parent = (pos - 1) / 2;
+    if (!before(item, heap_[parent])) break;
+    heap_[pos] = heap_[parent];
+    heapPos_[heap_[pos]] = pos;
+    pos = parent;
+  }
+  heap_[pos] = item;
+  heapPos_[item] = pos;
+}
+
+template <int D>
+void Simulator<D>::siftDown(int pos) {
+  const int n = static_cast<int>(heap_.size());
+  const int item = heap_[pos];
+  while (true) {
+    int child = 2 * pos + 1;
+    if (child >= n) break;
+    if (child + 1 < n && before(heap_[child + 1], heap_[child])) ++child;
+    if (!before(heap_[child], item)) break;
+    heap_[pos] = heap_[child];
+    heapPos_[heap_[pos]] = pos;
+    pos = child;
+  }
+  heap_[pos] = item;
+  heapPos_[item] = pos;
+}
+
+template <int D>
+void Simulator<D>::heapUpdate(int i) {
+  if (heapPos_[i] < 0) {
+    heap_.push_back(i);
+    heapPos_[i] = static_cast<int>(heap_.size()) - 1;
+    siftUp(heapPos_[i]);
+    return;
+  }
+  const int pos = heapPos_[i];
+  siftUp(pos);
+  siftDown(heapPos_[i]);
+}
+
+template <int D>
+void Simulator<D>::heapRemove(int i) {
+  const int pos = heapPos_[i];
+  if (pos < 0) return;
+  const int last = heap_.back();
+  heap_.pop_back();
+  heapPos_[i] = -1;
+  if (last == i) return;
+  heap_[pos] = last;
+  heapPos_[last] = pos;
+  siftUp(pos);
+  siftDown(heapPos_[last]);
+}
+
+template <int D>
+double Simulator<D>::kineticEnergy() const {
+  double e = 0.0;
+  for (const auto& b : balls_)
+    if (b.active) e += 0.5 * b.mass * b.v.squaredNorm();
+  return e;
+}
+
+template <int D>
+Vec<D> Simulator<D>::momentum() const {
+  Vec<D> m = Vec<D>::Zero();
+  for (const auto& b : balls_)
+    if (b.active) m += b.mass * b.v;
+  return m;
+}
+
+template class Simulator<2>;
+template class Simulator<3>;
+
+}  // namespace st

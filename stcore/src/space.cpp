@@ -1,0 +1,382 @@
+#include <stcore/space.hpp>
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <stdexcept>
+
+namespace st {
+
+bool parseSpaceKind(const std::string& text, SpaceKind& out) {
+  if (text == "none") out = SpaceKind::None;
+  else if (text == "single") out = SpaceKind::Single;
+  else if (text == "tree" || text == "quadtree" || text == "octree") out = SpaceKind::Tree;
+  else if (text == "cells") out = SpaceKind::Cells;
+  else return false;
+  return true;
+}
+
+const char* toString(SpaceKind kind) {
+  switch (kind) {
+    case SpaceKind::None: return "none";
+    case SpaceKind::Single: return "single";
+    case SpaceKind::Tree: return "tree";
+    case SpaceKind::Cells: return "cells";
+  }
+  return "?";
+}
+
+template <int D>
+Space<D>::Space(SpaceKind kind, const Box& bounds, const SpaceRule& rule)
+    : kind_(kind), bounds_(bounds), rule_(rule) {
+  if (!((bounds.max.array() > bounds.min.array()).all()))
+    throw std::invalid_argument("space bounds must have positive extent");
+  if (rule_.divisions == 0) rule_.divisions = 1 << D;
+  int k = 0;
+  while ((1 << k) < rule_.divisions) ++k;
+  if ((1 << k) != rule_.divisions || k < 1 || k > D)
+    throw std::invalid_argument("space divisions must be 2, 4" + std::string(D == 3 ? " or 8" : ""));
+  if (rule_.decompositionFactor < 1) throw std::invalid_argument("decomposition factor must be >= 1");
+  childCount_ = rule_.divisions;
+  // split along the k longest axes of the root (cells stay as square as the root allows)
+  std::vector<int> axes(D);
+  for (int i = 0; i < D; ++i) axes[i] = i;
+  const Vec<D> ext = bounds.extent();
+  std::stable_sort(axes.begin(), axes.end(), [&](int a, int b) { return ext[a] > ext[b]; });
+  splitAxes_.assign(axes.begin(), axes.begin() + k);
+
+  if (kind_ == SpaceKind::Cells) {
+    if (!(rule_.cellSize > 0.0)) throw std::invalid_argument("cells space needs a positive cell size");
+    for (int i = 0; i < D; ++i) {
+      dims_[i] = std::max(1, static_cast<int>(std::floor(ext[i] / rule_.cellSize)));
+      cellSize_[i] = ext[i] / dims_[i];
+    }
+    const double total = dims_.template cast<double>().prod();
+    if (total > 5e7) throw std::invalid_argument("cells space would need too many cells");
+    cells_.resize(static_cast<std::size_t>(total));
+  } else {
+    nodes_.push_back(Node{bounds_, -1, -1, 0, 0, {}});
+  }
+  if (kind_ == SpaceKind::Single) rule_.subdivide = false;
+}
+
+template <int D>
+typename Space<D>::Box Space<D>::clampToBounds(const Box& b) const {
+  Box c;
+  c.min = b.min.cwiseMax(bounds_.min).cwiseMin(bounds_.max);
+  c.max = b.max.cwiseMin(bounds_.max).cwiseMax(bounds_.min);
+  return c;
+}
+
+template <int D>
+void Space<D>::cellRange(const Box& b, Eigen::Array<int, D, 1>& lo, Eigen::Array<int, D, 1>& hi) const {
+  for (int i = 0; i < D; ++i) {
+    lo[i] = std::clamp(static_cast<int>(std::floor((b.min[i] - bounds_.min[i]) / cellSize_[i])), 0, dims_[i] - 1);
+    hi[i] = std::clamp(static_cast<int>(std::floor((b.max[i] - bounds_.min[i]) / cellSize_[i])), 0, dims_[i] - 1);
+  }
+}
+
+template <int D>
+int Space<D>::cellIndex(const Eigen::Array<int, D, 1>& c) const {
+  int idx = 0;
+  for (int i = D - 1; i >= 0; --i) idx = idx * dims_[i] + c[i];
+  return idx;
+}
+
+template <int D>
+typename Space<D>::Box Space<D>::leafBounds(int leaf) const {
+  if (kind_ != SpaceKind::Cells) return nodes_[leaf].box;
+  Box b;
+  int rest = leaf;
+  for (int i = 0; i < D; ++i) {
+    const int c = rest % dims_[i];
+    rest /= dims_[i];
+    b.min[i] = bounds_.min[i] + c * cellSize_[i];
+    b.max[i] = (c == dims_[i] - 1) ? bounds_.max[i] : bounds_.min[i] + (c + 1) * cellSize_[i];
+  }
+  return b;
+}
+
+template <int D>
+const std::vector<int>& Space<D>::objectsIn(int leaf) const {
+  return kind_ == SpaceKind::Cells ? cells_[leaf] : nodes_[leaf].objects;
+}
+
+template <int D>
+std::vector<int> Space<D>::leaves() const {
+  std::vector<int> out;
+  if (kind_ == SpaceKind::Cells) {
+    for (int i = 0; i < static_cast<int>(cells_.size()); ++i) out.push_back(i);
+    return out;
+  }
+  std::vector<int> stack{0};
+  while (!stack.empty()) {
+    const int n = stack.back();
+    stack.pop_back();
+    if (nodes_[n].firstChild < 0) out.push_back(n);
+    else for (int c = 0; c < childCount_; ++c) stack.push_back(nodes_[n].firstChild + c);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+template <int D>
+int Space<D>::depthOf(int leaf) const {
+  return kind_ == SpaceKind::Cells ? 0 : nodes_[leaf].depth;
+}
+
+template <int D>
+std::vector<int> Space<D>::takeWidened() {
+  std::vector<int> out;
+  out.swap(widened_);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+// ---- membership ---------------------------------------------------------------------------------
+
+template <int D>
+void Space<D>::insert(int id, const Box& box, double margin) {
+  assert(id >= 0);
+  if (id >= static_cast<int>(members_.size())) {
+    members_.resize(id + 1);
+    stamp_.resize(id + 1, 0u);
+  }
+  Member& m = members_[id];
+  if (m.present) throw std::logic_error("space: object inserted twice");
+  m.present = true;
+  m.fat = {box.min.array() - margin, box.max.array() + margin};
+  attach(id);
+}
+
+template <int D>
+void Space<D>::remove(int id) {
+  if (!contains(id)) return;
+  detach(id, true);
+  members_[id].present = false;
+}
+
+template <int D>
+void Space<D>::update(int id, const Box& box, double margin) {
+  if (!contains(id)) throw std::logic_error("space: update of an object not in the space");
+  scratch_ = members_[id].leaves;  // old membership, to count transfers
+  std::sort(scratch_.begin(), scratch_.end());
+  detach(id, false);
+  members_[id].fat = {box.min.array() - margin, box.max.array() + margin};
+  attach(id);
+  std::vector<int> now = members_[id].leaves;
+  std::sort(now.begin(), now.end());
+  if (now != scratch_) ++counters_.transfers;
+  // reunite regions the object left, now that it is listed where it belongs
+  if (kind_ == SpaceKind::Tree)
+    for (int old : scratch_) collapseUpFrom(old);
+}
+
+template <int D>
+void Space<D>::attach(int id) {
+  Member& m = members_[id];
+  m.leaves.clear();
+  if (kind_ == SpaceKind::Cells) {
+    Eigen::Array<int, D, 1> lo, hi;
+    cellRange(clampToBounds(m.fat), lo, hi);
+    Eigen::Array<int, D, 1> c = lo;
+    while (true) {
+      const int idx = cellIndex(c);
+      cells_[idx].push_back(id);
+      m.leaves.push_back(idx);
+      int k = 0;
+      for (; k < D; ++k) {
+        if (++c[k] <= hi[k]) break;
+        c[k] = lo[k];
+      }
+      if (k == D) break;
+    }
+    return;
+  }
+  addRec(0, id);
+  if (rule_.subdivide) {
+    const std::vector<int> landed = members_[id].leaves;  // copy: splits rewrite it
+    for (int leaf : landed) maybeSplit(leaf);
+  }
+}
+
+template <int D>
+void Space<D>::detach(int id, bool allowCollapse) {
+  Member& m = members_[id];
+  if (kind_ == SpaceKind::Cells) {
+    for (int idx : m.leaves) {
+      auto& v = cells_[idx];
+      v.erase(std::find(v.begin(), v.end(), id));
+    }
+    m.leaves.clear();
+    return;
+  }
+  const std::vector<int> old = m.leaves;
+  removeRec(0, id);
+  m.leaves.clear();
+  if (allowCollapse)
+    for (int leaf : old) collapseUpFrom(leaf);
+}
+
+template <int D>
+void Space<D>::addRec(int n, int id) {
+  const Box fat = clampToBounds(members_[id].fat);
+  // explicit stack: nodes_ does not grow here, references stay valid
+  int stack[256];
+  int top = 0;
+  stack[top++] = n;
+  while (top > 0) {
+    Node& node = nodes_[stack[--top]];
+    if (!node.box.overlaps(fat)) continue;
+    ++node.count;
+    if (node.firstChild < 0) {
+      node.objects.push_back(id);
+      members_[id].leaves.push_back(static_cast<int>(&node - nodes_.data()));
+    } else {
+      for (int c = 0; c < childCount_; ++c) stack[top++] = node.firstChild + c;
+    }
+  }
+}
+
+template <int D>
+void Space<D>::removeRec(int n, int id) {
+  const Box fat = clampToBounds(members_[id].fat);
+  int stack[256];
+  int top = 0;
+  stack[top++] = n;
+  while (top > 0) {
+    Node& node = nodes_[stack[--top]];
+    if (!node.box.overlaps(fat)) continue;
+    --node.count;
+    if (node.firstChild < 0) {
+      auto it = std::find(node.objects.begin(), node.objects.end(), id);
+      assert(it != node.objects.end());
+      *it = node.objects.back();
+      node.objects.pop_back();
+    } else {
+      for (int c = 0; c < childCount_; ++c) stack[top++] = node.firstChild + c;
+    }
+  }
+}
+
+template <int D>
+int Space<D>::allocBlock() {
+  if (!freeBlocks_.empty()) {
+    const int b = freeBlocks_.back();
+    freeBlocks_.pop_back();
+    return b;
+  }
+  const int b = static_cast<int>(nodes_.size());
+  nodes_.resize(nodes_.size() + childCount_);
+  return b;
+}
+
+template <int D>
+void Space<D>::maybeSplit(int leaf) {
+  if (nodes_[leaf].firstChild >= 0) return;  // already split by an earlier call
+  if (static_cast<int>(nodes_[leaf].objects.size()) <= rule_.decompositionFactor) return;
+  if (nodes_[leaf].depth >= rule_.maxDepth) return;
+  const int first = allocBlock();  // may reallocate nodes_: index, don't hold references
+  Node& parent = nodes_[leaf];
+  parent.firstChild = first;
+  const Vec<D> mid = parent.box.center();
+  for (int c = 0; c < childCount_; ++c) {
+    Node& child = nodes_[first + c];
+    child = Node{parent.box, leaf, -1, parent.depth + 1, 0, {}};
+    for (std::size_t k = 0; k < splitAxes_.size(); ++k) {
+      const int axis = splitAxes_[k];
+      if (c & (1 << k)) child.box.min[axis] = mid[axis];
+      else child.box.max[axis] = mid[axis];
+    }
+  }
+  std::vector<int> objs;
+  objs.swap(parent.objects);
+  for (int id : objs) {
+    const Box fat = clampToBounds(members_[id].fat);
+    auto& leaves = members_[id].leaves;
+    leaves.erase(std::find(leaves.begin(), leaves.end(), leaf));
+    for (int c = 0; c < childCount_; ++c) {
+      Node& child = nodes_[first + c];
+      if (!child.box.overlaps(fat)) continue;
+      child.objects.push_back(id);
+      ++child.count;
+      leaves.push_back(first + c);
+    }
+  }
+  ++counters_.subdivisions;
+  for (int c = 0; c < childCount_; ++c) maybeSplit(first + c);
+}
+
+template <int D>
+void Space<D>::collapse(int n) {
+  const int first = nodes_[n].firstChild;
+  if (first < 0) return;
+  for (int c = 0; c < childCount_; ++c) collapse(first + c);
+  std::vector<int> merged;
+  for (int c = 0; c < childCount_; ++c) {
+    Node& child = nodes_[first + c];
+    for (int id : child.objects) {
+      auto& leaves = members_[id].leaves;
+      leaves.erase(std::find(leaves.begin(), leaves.end(), first + c));
+      if (std::find(leaves.begin(), leaves.end(), n) == leaves.end()) {
+        leaves.push_back(n);
+        merged.push_back(id);
+        // listed in more than one child: it already met all of them; otherwise it meets new ones
+        widened_.push_back(id);
+      }
+    }
+    child.objects.clear();
+    child.firstChild = -1;
+    child.count = 0;
+  }
+  Node& node = nodes_[n];
+  node.firstChild = -1;
+  node.objects = std::move(merged);
+  assert(static_cast<int>(node.objects.size()) == node.count);
+  freeBlocks_.push_back(first);
+  ++counters_.reunions;
+}
+
+template <int D>
+void Space<D>::collapseUpFrom(int n) {
+  // the top-most ancestor (or n itself) that is divided and holds df or fewer objects
+  int target = -1;
+  for (int a = n; a >= 0; a = nodes_[a].parent)
+    if (nodes_[a].firstChild >= 0 && nodes_[a].count <= rule_.decompositionFactor) target = a;
+  if (target >= 0) collapse(target);
+}
+
+template <int D>
+double Space<D>::exitTime(int id, const Vec<D>& p, const Vec<D>& v, double r) const {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  if (kind_ == SpaceKind::Single) return kInf;
+  if (kind_ == SpaceKind::Tree && nodes_[0].firstChild < 0 && !rule_.subdivide) return kInf;
+  // the box the tight ball may roam without touching an unlisted leaf
+  Box safe;
+  if (kind_ == SpaceKind::Cells) {
+    Eigen::Array<int, D, 1> lo, hi;
+    cellRange(clampToBounds(members_[id].fat), lo, hi);
+    for (int i = 0; i < D; ++i) {
+      safe.min[i] = lo[i] == 0 ? -kInf : bounds_.min[i] + lo[i] * cellSize_[i];
+      safe.max[i] = hi[i] == dims_[i] - 1 ? kInf : bounds_.min[i] + (hi[i] + 1) * cellSize_[i];
+    }
+  } else {
+    safe = members_[id].fat;
+    for (int i = 0; i < D; ++i) {
+      if (safe.min[i] <= bounds_.min[i]) safe.min[i] = -kInf;
+      if (safe.max[i] >= bounds_.max[i]) safe.max[i] = kInf;
+    }
+  }
+  double t = kInf;
+  for (int i = 0; i < D; ++i) {
+    if (v[i] > 0.0) t = std::min(t, (safe.max[i] - (p[i] + r)) / v[i]);
+    else if (v[i] < 0.0) t = std::min(t, (safe.min[i] - (p[i] - r)) / v[i]);
+  }
+  return std::max(t, 0.0);
+}
+
+template class Space<2>;
+template class Space<3>;
+
+}  // namespace st

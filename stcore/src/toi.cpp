@@ -1,0 +1,146 @@
+#include <stcore/toi.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <stcore/tolerances.hpp>
+
+namespace st {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+Impact hitAt(double t) { return {Outcome::Hit, t}; }
+Impact overlapping() { return {Outcome::Overlapping, 0.0}; }
+Impact separating() { return {Outcome::Separating, kInf}; }
+Impact miss() { return {Outcome::Miss, kInf}; }
+
+// A contact along a line of approach: gap is the signed clearance (negative when overlapping),
+// approach the closing speed along the normal (positive when closing).
+Impact contactAlongNormal(double gap, double approach) {
+  if (gap < -tol::kLinearSlop) return approach > 0.0 ? overlapping() : separating();
+  if (gap <= tol::kLinearSlop) return approach > 0.0 ? hitAt(0.0) : separating();
+  if (approach <= 0.0) return miss();
+  return hitAt(gap / approach);
+}
+
+// Earliest acting impact of several; overlaps act first, then hits by time, then separating.
+void keepEarliest(SegmentImpact& best, const Impact& candidate, SegmentFeature feature) {
+  auto rank = [](const Impact& i) {
+    switch (i.outcome) {
+      case Outcome::Overlapping: return 0;
+      case Outcome::Hit: return 1;
+      case Outcome::Separating: return 2;
+      case Outcome::Miss: return 3;
+    }
+    return 3;
+  };
+  const int rc = rank(candidate), rb = rank(best.impact);
+  if (rc < rb || (rc == rb && rc == 1 && candidate.t < best.impact.t)) best = {candidate, feature};
+}
+
+}  // namespace
+
+template <int D>
+Impact toiBalls(const Vec<D>& p_rel, const Vec<D>& v_rel, double radiusSum) {
+  const double dist = p_rel.norm();
+  const double gap = dist - radiusSum;
+  const double b = p_rel.dot(v_rel);  // negative when closing
+  if (gap <= tol::kLinearSlop) {
+    if (gap < -tol::kLinearSlop) return b < 0.0 ? overlapping() : separating();
+    return b < 0.0 ? hitAt(0.0) : separating();
+  }
+  if (b >= 0.0) return miss();
+  const double a = v_rel.squaredNorm();
+  if (a <= tol::kSpeedSqEpsilon) return miss();
+  // |p + v t|^2 = R^2  ->  a t^2 + 2 b t + c = 0 with c = (dist - R)(dist + R), free of the
+  // cancellation in dist^2 - R^2; the smaller root is c / (-b + sqrt(b^2 - a c)), stable for b < 0.
+  const double c = gap * (dist + radiusSum);
+  const double disc = b * b - a * c;
+  if (disc <= 0.0) return miss();  // passes by, or grazes without exchanging momentum
+  return hitAt(c / (-b + std::sqrt(disc)));
+}
+
+template Impact toiBalls<2>(const Vec2&, const Vec2&, double);
+template Impact toiBalls<3>(const Vec3&, const Vec3&, double);
+
+SegmentImpact toiCircleSegment(const Circle& c, const Vec2& v, const Segment& s) {
+  SegmentImpact best{miss(), SegmentFeature::Face};
+  const Vec2 dir = s.b - s.a;
+  const double len2 = dir.squaredNorm();
+  if (len2 > 0.0) {
+    const Vec2 n = Vec2(-dir.y(), dir.x()) / std::sqrt(len2);
+    const double d0 = n.dot(c.center - s.a);
+    const double side = d0 >= 0.0 ? 1.0 : -1.0;
+    const Impact face = contactAlongNormal(std::abs(d0) - c.radius, -side * n.dot(v));
+    if (face.outcome != Outcome::Miss) {
+      // the tangent point must lie on the segment's interior at the time of contact
+      const double tAt = face.outcome == Outcome::Hit ? face.t : 0.0;
+      const double u = (c.center + v * tAt - s.a).dot(dir) / len2;
+      if (u >= 0.0 && u <= 1.0) keepEarliest(best, face, SegmentFeature::Face);
+    }
+  }
+  keepEarliest(best, toiBalls<2>(s.a - c.center, -v, c.radius), SegmentFeature::EndA);
+  keepEarliest(best, toiBalls<2>(s.b - c.center, -v, c.radius), SegmentFeature::EndB);
+  return best;
+}
+
+Impact toiCircleLineIntersect(const Circle& c, const Vec2& v, const Segment& s) {
+  const Vec2 n = s.normal();
+  const double d0 = n.dot(c.center - s.a);
+  if (std::abs(d0) <= c.radius) return overlapping();
+  const double approach = -(d0 >= 0.0 ? 1.0 : -1.0) * n.dot(v);
+  if (approach <= 0.0) return miss();
+  return hitAt((std::abs(d0) - c.radius) / approach);
+}
+
+Impact toiCircleLineDepart(const Circle& c, const Vec2& v, const Segment& s) {
+  const Vec2 n = s.normal();
+  const double vn = n.dot(v);
+  if (vn * vn <= tol::kSpeedSqEpsilon) return miss();
+  const double d0 = n.dot(c.center - s.a);
+  const double t = (std::copysign(c.radius, vn) - d0) / vn;
+  return t >= 0.0 ? hitAt(t) : miss();
+}
+
+template <int D>
+Impact toiBallAxisPlaneEnter(const Ball<D>& b, const Vec<D>& v, int axis, double coord) {
+  const double offset = coord - b.center[axis];
+  const double gap = std::abs(offset) - b.radius;
+  if (gap <= 0.0) return overlapping();
+  const double approach = std::copysign(1.0, offset) * v[axis];
+  if (approach <= 0.0) return miss();
+  return hitAt(gap / approach);
+}
+
+template <int D>
+Impact toiBallAxisPlaneLeave(const Ball<D>& b, const Vec<D>& v, int axis, double coord) {
+  const double vx = v[axis];
+  if (vx == 0.0) return miss();
+  const double t = (coord - b.center[axis] + std::copysign(b.radius, vx)) / vx;
+  return t >= 0.0 ? hitAt(t) : miss();
+}
+
+template Impact toiBallAxisPlaneEnter<2>(const Ball<2>&, const Vec2&, int, double);
+template Impact toiBallAxisPlaneEnter<3>(const Ball<3>&, const Vec3&, int, double);
+template Impact toiBallAxisPlaneLeave<2>(const Ball<2>&, const Vec2&, int, double);
+template Impact toiBallAxisPlaneLeave<3>(const Ball<3>&, const Vec3&, int, double);
+
+template <int D>
+Impact toiBallPlane(const Ball<D>& b, const Vec<D>& v, const Vec<D>& n, double offset) {
+  const double d0 = n.dot(b.center) - offset;
+  const double side = d0 >= 0.0 ? 1.0 : -1.0;
+  return contactAlongNormal(std::abs(d0) - b.radius, -side * n.dot(v));
+}
+template Impact toiBallPlane<2>(const Ball<2>&, const Vec2&, const Vec2&, double);
+template Impact toiBallPlane<3>(const Ball<3>&, const Vec3&, const Vec3&, double);
+
+Vec2 closestPointOnSegment(const Segment& s, const Vec2& p) {
+  const Vec2 dir = s.b - s.a;
+  const double len2 = dir.squaredNorm();
+  if (len2 == 0.0) return s.a;
+  const double u = std::clamp((p - s.a).dot(dir) / len2, 0.0, 1.0);
+  return s.a + u * dir;
+}
+
+}  // namespace st
