@@ -1,0 +1,104 @@
+#pragma once
+// Cells and handoff (§4.2). The highway is divided into cells, as in cellular radio: a cell site
+// every `cellLength` metres along each road section (edge). Each car measures the signal of the
+// sites within radio range (log-distance path loss) and stays with its serving cell until another
+// site is stronger by the hysteresis margin; then it tells its old cell, which hands it to the
+// new one (no search of siblings). Hierarchy: network > road sections (edges) > cells; each cell
+// holds its cars in a stcore Space (a tree that subdivides past the decomposition factor when the
+// cell is congested and reunites as it empties). A car is checked against the cars of every cell
+// its look-ahead box reaches, found through a network-level index over the cells' extents.
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <stcore/space.hpp>
+#include <sthighway/road.hpp>
+
+namespace st::highway {
+
+struct CellConfig {
+  double cellLength = 200.0;        // m between cell sites along a section
+  double txPowerDbm = 40.0;         // site transmit power (dBm)
+  double pathLossExponent = 3.0;    // log-distance path loss exponent (2 free space, 3-4 roadside)
+  double referenceDistance = 1.0;   // m; path loss is 0 dB at this distance
+  double hysteresisDb = 3.0;        // a new site must be this much stronger to take the car
+  double radioRange = 600.0;        // m; sites farther than this are not heard
+  int decompositionFactor = 8;      // a cell's space subdivides past this many cars
+  int maxDepth = 8;
+};
+
+struct CellSite {
+  int section = -1;    // index into the road sections
+  Vec2 position = Vec2::Zero();
+  double along = 0.0;  // distance of the site along its section's reference lane (m)
+};
+
+struct CellCounters {
+  std::uint64_t handoffs = 0;
+  std::uint64_t attaches = 0;      // cars that entered the network
+  std::uint64_t detaches = 0;      // cars that left it
+  std::uint64_t subdivisions = 0;  // summed over the cells' spaces
+  std::uint64_t reunions = 0;
+};
+
+// One handoff, for tests and logs.
+struct Handoff {
+  int vehicle = -1;  // the caller's dense vehicle index
+  int from = -1;
+  int to = -1;
+};
+
+class CellNetwork {
+ public:
+  CellNetwork(const RoadGeometry& road, const RoadFeatures& features, const CellConfig& config);
+  ~CellNetwork();
+  CellNetwork(CellNetwork&&) noexcept;
+  CellNetwork& operator=(CellNetwork&&) noexcept;
+
+  const CellConfig& config() const;
+  int cellCount() const;
+  const CellSite& site(int cell) const;
+  std::span<const std::string> sections() const;
+
+  // Received power of a cell's site at p (dBm).
+  double signalDbm(int cell, const Vec2& p) const;
+
+  // Places or moves vehicle `v` (dense index) with the given body box: measures the sites in
+  // range and hands off if another is stronger by the hysteresis margin. Returns the serving cell.
+  int place(int v, const Vec2& centre, const Aabb<2>& box);
+  void remove(int v);
+  int servingCell(int v) const;  // -1 if not in the network
+
+  // Calls f(other) once for every vehicle listed in a cell whose extent meets the box
+  // (including v itself; the caller skips it).
+  template <class F>
+  void forEachInBox(const Aabb<2>& box, F&& f) const;
+
+  // Recomputes the cells' extents from their members; call once per tick after placing all cars.
+  void refreshExtents();
+
+  // Cars currently served by a cell (dense vehicle indices).
+  std::vector<int> membersOf(int cell) const;
+  // Extent of the region a cell is responsible for (its share of road) and of its members now.
+  Aabb<2> cellExtent(int cell) const;
+
+  const CellCounters& counters() const;
+  // Handoffs since the last call (in order).
+  std::vector<Handoff> takeHandoffs();
+
+  struct Impl;
+
+ private:
+  void visit(const Aabb<2>& box, void (*fn)(void*, int), void* ctx) const;
+  std::unique_ptr<Impl> impl_;
+};
+
+template <class F>
+void CellNetwork::forEachInBox(const Aabb<2>& box, F&& f) const {
+  visit(box, [](void* ctx, int v) { (*static_cast<std::remove_reference_t<F>*>(ctx))(v); },
+        const_cast<void*>(static_cast<const void*>(&f)));
+}
+
+}  // namespace st::highway

@@ -1,0 +1,120 @@
+#pragma once
+// The per-tick smart-car monitor (§4.3): each tick it takes every vehicle's state, hands cars
+// between cells, finds each equipped car's candidate foes (its own and neighbouring cells within
+// its look-ahead, or all pairs), computes TTCs with the chosen detector and raises a warning when
+// TTC <= safe time. Warnings are episodes: one per (ego, foe, kind) from the first tick it holds to
+// the first tick it no longer does.
+//
+// Closing speed, used by the safe time: car-car, the rate at which the centre distance shrinks,
+// -(p_rel . v_rel) / |p_rel|; car-road, the ego's velocity towards the feature's closest point.
+// Crossing a lane marker with the turn signal of that side on is not a warning.
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <sthighway/cells.hpp>
+#include <sthighway/detector.hpp>
+#include <sthighway/road.hpp>
+#include <sthighway/safe_time.hpp>
+#include <sthighway/vehicle.hpp>
+
+namespace st::highway {
+
+enum class Broadphase : std::uint8_t { Cells, AllPairs };
+const char* toString(Broadphase b);
+bool parseBroadphase(const std::string& text, Broadphase& out);  // "cells", "all-pairs"
+
+enum class WarningKind : std::uint8_t { Vehicle, Curb, LaneMarker, Hazard };
+inline constexpr int kWarningKindCount = 4;
+inline constexpr int kZoneCount = 8;
+const char* toString(WarningKind k);  // "vehicle", "curb", "lane_marker", "hazard"
+
+struct Warning {
+  std::string ego;
+  std::string foe;         // vehicle id; curb/marker/hazard name (RoadFeature::name)
+  WarningKind kind = WarningKind::Vehicle;
+  Zone zone = Zone::Body;  // the zone that fired first
+  double begin = 0.0;      // s, first tick with TTC <= safe time
+  double end = 0.0;        // s, first tick without (or the vehicle's last tick, or finish time)
+  double minTtc = 0.0;     // s, smallest TTC in the episode
+  double minTtcTime = 0.0; // s, when it occurred
+  double safeTimeAtMin = 0.0;  // s, the safe time at that tick
+  bool open = false;       // still going on
+};
+
+// An equipped car's worst current threat this tick (for actions: colour, brake).
+struct Alert {
+  int vehicle = -1;        // index into the span given to the last step()
+  WarningKind kind = WarningKind::Vehicle;
+  Zone zone = Zone::Body;
+  double ttc = 0.0;
+  double safeTime = 0.0;   // ttc / safeTime < 0.5 is "red" in the SUMO colouring
+};
+
+struct MonitorConfig {
+  DetectorConfig detector;
+  SafeTimeConfig safeTime;
+  CellConfig cells;
+  Broadphase broadphase = Broadphase::Cells;
+  bool checkRoad = true;   // curbs, lane markers, hazards
+};
+
+struct MonitorCounters {
+  std::uint64_t ticks = 0;
+  std::uint64_t vehicleUpdates = 0;   // vehicle states processed
+  std::uint64_t handoffs = 0;
+  std::uint64_t subdivisions = 0;
+  std::uint64_t reunions = 0;
+  std::uint64_t candidatePairs = 0;   // (ego, foe) pairs the broad phase returned
+  std::uint64_t toiChecks = 0;        // detector calls that reached the TTC kernels
+  std::uint64_t featureChecks = 0;    // (ego, road feature) TTC computations
+  std::uint64_t warningsBegun = 0;
+  double vehicleMeters = 0.0;         // distance driven, summed over vehicles (m)
+  std::uint64_t vehiclesSeen = 0;     // distinct ids
+  // Time exposed (TET, s) and time-integrated (TIT, s^2) TTC below the safe time, per kind:
+  // sum over equipped cars and ticks of dt, and of dt * (t_safe - TTC) for the worst threat.
+  std::array<double, kWarningKindCount> tet{};
+  std::array<double, kWarningKindCount> tit{};
+  // Finished and open episodes by kind and by zone.
+  std::array<std::uint64_t, kWarningKindCount> warningsByKind{};
+  std::array<std::uint64_t, kZoneCount> warningsByZone{};
+};
+
+class HighwayMonitor {
+ public:
+  // Throws std::invalid_argument for a bad configuration (e.g. a five-circle layout that does
+  // not cover a car) or bad road geometry.
+  HighwayMonitor(const RoadGeometry& road, const MonitorConfig& config);
+  ~HighwayMonitor();
+  HighwayMonitor(HighwayMonitor&&) noexcept;
+  HighwayMonitor& operator=(HighwayMonitor&&) noexcept;
+
+  // The states of every vehicle on the road at time t (s, strictly increasing). Vehicles absent
+  // from the span have left: their episodes close. Throws std::invalid_argument on a duplicate id,
+  // a non-finite value or a non-positive size.
+  void step(double t, std::span<const VehicleState> vehicles);
+  // Closes every open episode at time t.
+  void finish(double t);
+
+  // Episodes that ended since the last call, in order of ending.
+  std::vector<Warning> takeFinished();
+  // Episodes still open now (end == time of the last tick).
+  std::vector<Warning> openWarnings() const;
+  // Worst threat of each equipped car with an active warning at the last tick.
+  std::span<const Alert> alerts() const;
+
+  const MonitorCounters& counters() const;
+  const MonitorConfig& config() const;
+  const RoadFeatures& features() const;
+  const CellNetwork& cells() const;
+  double lastTime() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace st::highway

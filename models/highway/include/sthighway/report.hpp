@@ -1,0 +1,56 @@
+#pragma once
+// Output files: warnings.csv (one row per episode, streamed so a run that stops early leaves a
+// valid file) and summary.json.
+#include <filesystem>
+#include <fstream>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <sthighway/monitor.hpp>
+
+namespace st::highway {
+
+// Columns: ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open
+class WarningsCsvWriter {
+ public:
+  // Creates (truncates) the file and writes the header; throws std::runtime_error naming the path.
+  explicit WarningsCsvWriter(const std::filesystem::path& path);
+  void write(std::span<const Warning> warnings);
+  void flush();
+  std::uint64_t rows() const { return rows_; }
+
+ private:
+  std::filesystem::path path_;
+  std::ofstream out_;
+  std::uint64_t rows_ = 0;
+};
+
+std::string warningsCsvHeader();
+std::string warningCsvRow(const Warning& w);
+
+// What summary.json says besides the monitor's counters.
+struct RunInfo {
+  std::string source;            // trace or scenario path
+  std::string detector;
+  std::string broadphase;
+  double simulatedSeconds = 0.0;
+  double wallSeconds = 0.0;
+  // Extra top-level fields for other front ends (e.g. SUMO time split): numbers and strings,
+  // and raw JSON values (written verbatim).
+  std::vector<std::pair<std::string, double>> numbers;
+  std::vector<std::pair<std::string, std::string>> strings;
+  std::vector<std::pair<std::string, std::string>> rawJson;
+};
+
+// summary.json: vehicles, vehicle_km, warnings (total, by kind, by zone, per vehicle-km),
+// tet_s / tit_s2 by kind, handoffs, subdivisions, candidate_pairs, toi_checks, wall time.
+std::string summaryJson(const MonitorCounters& counters, const RunInfo& info);
+void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& counters,
+                      const RunInfo& info);
+
+// A JSON string literal (quotes and escapes).
+std::string jsonString(const std::string& s);
+
+}  // namespace st::highway

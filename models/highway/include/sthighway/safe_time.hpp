@@ -1,0 +1,33 @@
+#pragma once
+// Safe time (§4.1, §4.3): a warning is raised when TTC <= t_safe. The default rule is the
+// stopping-time argument t_safe = t_reaction + m * v_closing / (2 * F_brake), so it grows with
+// momentum; F_brake depends on the vehicle class, hence a truck gets a longer safe time than a car
+// at the same speed. Car-car and car-road (curb, lane marker, hazard) have their own reaction time.
+#include <algorithm>
+#include <array>
+
+#include <sthighway/vehicle.hpp>
+
+namespace st::highway {
+
+struct SafeTimeConfig {
+  double vehicleReactionTime = 1.0;  // s, car-car
+  double roadReactionTime = 0.5;     // s, car-curb / lane marker / hazard
+  // Braking force per VehicleClass (N), indexed by the enum. Defaults: passenger 12 kN
+  // (1.5 t at 8 m/s^2), truck 75 kN (15 t at 5 m/s^2), bus 72 kN (12 t at 6 m/s^2),
+  // motorcycle 2.25 kN (250 kg at 9 m/s^2), emergency 31.5 kN (3.5 t at 9 m/s^2), other 12 kN.
+  std::array<double, kVehicleClassCount> brakeForce{12000.0, 75000.0, 72000.0, 2250.0, 31500.0, 12000.0};
+
+  double safeTime(double reactionTime, double mass, double closingSpeed, VehicleClass c) const {
+    return reactionTime + mass * std::max(0.0, closingSpeed) /
+                              (2.0 * brakeForce[static_cast<int>(c)]);
+  }
+  double vehicleSafeTime(double mass, double closingSpeed, VehicleClass c) const {
+    return safeTime(vehicleReactionTime, mass, closingSpeed, c);
+  }
+  double roadSafeTime(double mass, double closingSpeed, VehicleClass c) const {
+    return safeTime(roadReactionTime, mass, closingSpeed, c);
+  }
+};
+
+}  // namespace st::highway

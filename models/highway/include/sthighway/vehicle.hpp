@@ -1,0 +1,68 @@
+#pragma once
+// The state of one vehicle at one tick, in our conventions: centre of the body, heading in
+// radians counter-clockwise from +x, SI units. Whoever feeds the model (a trace reader, the SUMO
+// coupling, a test) converts to these once.
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include <stcore/vec.hpp>
+
+namespace st::highway {
+
+// Vehicle classes that differ in braking force (safe time) and default size/mass.
+enum class VehicleClass : std::uint8_t { Passenger, Truck, Bus, Motorcycle, Emergency, Other };
+inline constexpr int kVehicleClassCount = 6;
+
+const char* toString(VehicleClass c);
+// Maps SUMO's vClass names ("passenger", "truck", "trailer", "bus", "coach", "motorcycle", ...)
+// and our own names; anything unknown is Other.
+VehicleClass vehicleClassFromName(std::string_view name);
+
+// Turn-signal bits (ours, not SUMO's: the trace reader converts).
+enum TurnSignal : std::uint8_t { kSignalNone = 0, kSignalLeft = 1, kSignalRight = 2 };
+
+struct VehicleState {
+  std::string id;
+  Vec2 position = Vec2::Zero();  // centre of the body (m)
+  double heading = 0.0;          // rad, counter-clockwise from +x
+  double speed = 0.0;            // along the heading (m/s)
+  double lateralSpeed = 0.0;     // to the left of the heading (m/s)
+  double acceleration = 0.0;     // along the heading (m/s^2)
+  double length = 5.0;           // m
+  double width = 1.8;            // m
+  double mass = 1500.0;          // kg
+  VehicleClass vehicleClass = VehicleClass::Passenger;
+  std::uint8_t signals = kSignalNone;  // TurnSignal bits
+  bool equipped = true;          // a smart car raises warnings; every vehicle is a potential foe
+
+  Vec2 direction() const { return {std::cos(heading), std::sin(heading)}; }
+  Vec2 velocity() const {
+    const Vec2 d = direction();
+    return speed * d + lateralSpeed * Vec2(-d.y(), d.x());
+  }
+};
+
+// Typical size and mass per class, for sources that do not give them (documented defaults:
+// passenger 5 m x 1.8 m 1500 kg; truck 12 m x 2.55 m 15 t; bus 12 m x 2.55 m 12 t;
+// motorcycle 2.2 m x 0.9 m 250 kg; emergency 6.5 m x 2.2 m 3.5 t; other as passenger).
+struct ClassDefaults {
+  double length;
+  double width;
+  double mass;
+};
+ClassDefaults classDefaults(VehicleClass c);
+
+// SUMO (and most traffic tools) report the front-bumper centre and a navigational angle in
+// degrees (0 = north, clockwise). These turn that into our centre + math heading.
+inline double headingFromNavigationDegrees(double degrees) {
+  constexpr double kPi = 3.14159265358979323846;
+  return (90.0 - degrees) * kPi / 180.0;
+}
+inline Vec2 centreFromFrontBumper(const Vec2& front, double heading, double length) {
+  return front - 0.5 * length * Vec2(std::cos(heading), std::sin(heading));
+}
+
+}  // namespace st::highway
