@@ -7,6 +7,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   sumo sumo-tools
   libfcl-dev
+  python3-matplotlib openmpi-bin libopenmpi-dev
 )
 missing=()
 for p in "${packages[@]}"; do

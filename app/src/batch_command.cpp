@@ -1,0 +1,181 @@
+// stsim batch: parameter sweeps and seeds over a scenario, one process per run, with statistics.
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <thread>
+
+#include <stbatch/experiment.hpp>
+#include <stbatch/mpi.hpp>
+#include <stbatch/runner.hpp>
+#include <stsim/cli.hpp>
+#include <stsim/commands.hpp>
+
+namespace st::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+volatile std::sig_atomic_t gStop = 0;
+void onInterrupt(int) { gStop = 1; }
+
+// Scenario keys a command accepts even when the base scenario leaves them out.
+std::vector<std::string> optionalKeysFor(const std::string& command) {
+  if (command == "pool")
+    return {"until", "friction", "seed", "space.kind", "space.decomposition_factor", "space.divisions", "rack_gap"};
+  if (command == "highway")
+    return {"seed", "end", "detector", "penetration", "action", "broadphase"};
+  return {"seed"};
+}
+
+std::string formatDuration(double s) {
+  char buf[32];
+  const int t = static_cast<int>(s + 0.5);
+  if (t >= 3600) std::snprintf(buf, sizeof buf, "%dh%02dm", t / 3600, (t / 60) % 60);
+  else if (t >= 60) std::snprintf(buf, sizeof buf, "%dm%02ds", t / 60, t % 60);
+  else std::snprintf(buf, sizeof buf, "%ds", t);
+  return buf;
+}
+
+void summarizeResults(const std::vector<batch::RunResult>& results, const fs::path& out) {
+  int done = 0, failed = 0, missing = 0;
+  for (const auto& r : results) {
+    done += r.status == batch::RunStatus::Done;
+    failed += r.status == batch::RunStatus::Failed;
+    missing += r.status == batch::RunStatus::Missing;
+  }
+  std::cout << "batch: " << done << " done, " << failed << " failed";
+  if (missing) std::cout << ", " << missing << " not run";
+  std::cout << " -> " << (out / "runs.csv").string() << ", " << (out / "summary.csv").string() << "\n";
+  for (const auto& r : results)
+    if (r.status == batch::RunStatus::Failed) std::cout << "  failed " << r.spec.id << ": " << r.error << "\n";
+}
+
+int runMerge(int argc, const char* const* argv) {
+  Args args("batch merge", "Combines the output folders of shards (--shard I/N) of one experiment into one runs.csv and summary.csv.");
+  args.option("out", "DIR", "where the merged tables go", "").flag("no-plots", "skip the PNG plots and report.md");
+  args.positional("DIR...", "batch output folders to merge");
+  // the parser takes one positional; collect the rest here
+  std::vector<std::string> dirs;
+  std::vector<const char*> rest;
+  for (int i = 0; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.rfind("--", 0) == 0 || (!rest.empty() && std::string(rest.back()) == "--out")) rest.push_back(argv[i]);
+    else dirs.push_back(a);
+  }
+  if (dirs.empty()) rest.push_back("--missing-dirs");
+  else rest.push_back(dirs.front().c_str());
+  if (!args.parse(static_cast<int>(rest.size()), rest.data())) {
+    std::cout << args.help();
+    return 0;
+  }
+  if (!args.has("out")) throw UsageError("merge needs --out DIR");
+  std::vector<fs::path> paths(dirs.begin(), dirs.end());
+  const fs::path out = args.get("out");
+  const auto results = batch::mergeShards(paths, out);
+  summarizeResults(results, out);
+  std::string why;
+  if (!args.has("no-plots") && !batch::writePlots(out, why)) std::cerr << "stsim batch: plots skipped: " << why << "\n";
+  for (const auto& r : results)
+    if (r.status != batch::RunStatus::Done) return 1;
+  return 0;
+}
+
+int runBatch(int argc, const char* const* argv) {
+  if (argc >= 1 && std::string(argv[0]) == "merge") return runMerge(argc - 1, argv + 1);
+  Args args("batch",
+            "Runs an experiment: the cross product of a sweep over scenario keys and seeds, one process per run,\n"
+            "in parallel and resumable; writes runs.csv, summary.csv (mean, sd, 95% CI over seeds), plots and\n"
+            "report.md. `stsim batch merge DIR... --out DIR` combines shard outputs.");
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  args.positional("EXPERIMENT.yaml", "the experiment (see networks/experiments/README.md)")
+      .option("out", "DIR", "output folder", "out/<experiment name>")
+      .option("jobs", "N", "runs at once", std::to_string(cores))
+      .option("shard", "I/N", "run only the I-th (1-based) of N disjoint slices, e.g. --shard $SLURM_ARRAY_TASK_ID/4")
+      .flag("mpi", "spread runs over MPI ranks (mpirun -np K stsim batch --mpi ...); rank 0 writes the tables")
+      .flag("list", "print the runs (id and parameters) and exit")
+      .flag("no-plots", "skip the PNG plots and report.md");
+  if (!args.parse(argc, argv)) {
+    std::cout << args.help();
+    return 0;
+  }
+  const fs::path expFile = *args.positionalValue(0);
+  batch::Experiment e = batch::loadExperiment(expFile, {});
+  e = batch::loadExperiment(expFile, optionalKeysFor(e.command));
+  std::vector<batch::RunSpec> runs = batch::expandRuns(e);
+  if (args.has("list")) {
+    for (const auto& r : runs) {
+      std::cout << r.index << " " << r.id;
+      for (const auto& [k, v] : r.params) std::cout << " " << k << "=" << v;
+      std::cout << " " << e.seedKey << "=" << r.seed << "\n";
+    }
+    return 0;
+  }
+  const fs::path out = args.has("out") ? fs::path(args.get("out")) : fs::path("out") / e.name;
+  const long jobs = args.getInt("jobs");
+  if (jobs < 1 || jobs > 1024) throw UsageError("--jobs must be between 1 and 1024");
+  if (args.has("shard")) {
+    const std::string s = args.get("shard");
+    int i = 0, n = 0;
+    char tail = 0;
+    if (std::sscanf(s.c_str(), "%d/%d%c", &i, &n, &tail) != 2 || n < 1 || i < 1 || i > n)
+      throw UsageError("--shard wants I/N with 1 <= I <= N, got '" + s + "'");
+    runs = batch::shardRuns(runs, i, n);
+  }
+
+  batch::BatchOptions o;
+  o.outDir = out;
+  o.stsim = fs::read_symlink("/proc/self/exe");
+  o.jobs = static_cast<int>(jobs);
+  const bool tty = isatty(STDERR_FILENO);
+  if (tty) {
+    o.progress = [](int done, int total, double elapsed) {
+      const int width = 30;
+      const int filled = total ? done * width / total : width;
+      std::string eta = "--";
+      if (done > 0 && elapsed > 0 && done < total) eta = formatDuration(elapsed / done * (total - done));
+      std::fprintf(stderr, "\r[%s%s] %d/%d runs, ETA %s   ", std::string(filled, '#').c_str(),
+                   std::string(width - filled, '.').c_str(), done, total, eta.c_str());
+      if (done == total) std::fprintf(stderr, "\n");
+    };
+  } else {
+    o.log = [](const std::string& line) { std::cerr << "batch: " << line << "\n"; };
+  }
+  std::signal(SIGINT, onInterrupt);
+  std::signal(SIGTERM, onInterrupt);
+  o.stopRequested = [] { return gStop != 0; };
+
+  std::vector<batch::RunResult> results;
+  bool root = true;
+  if (args.has("mpi")) {
+    if (!batch::mpiAvailable()) throw std::runtime_error("this stsim was built without MPI (apt-get install libopenmpi-dev, rebuild)");
+    results = batch::executeRunsMpi(e, runs, o, root);
+    if (!root) return 0;
+  } else {
+    batch::writeExperimentRecord(e, out);
+    results = batch::executeRuns(e, runs, o);
+  }
+  if (args.has("mpi")) batch::writeExperimentRecord(e, out);
+  batch::writeTables(e, results, out);
+  summarizeResults(results, out);
+  if (gStop) {
+    std::cerr << "stsim batch: interrupted; finished runs are kept, re-run the same command to resume\n";
+    return 130;
+  }
+  std::string why;
+  if (!args.has("no-plots") && !batch::writePlots(out, why)) std::cerr << "stsim batch: plots skipped: " << why << "\n";
+  for (const auto& r : results)
+    if (r.status != batch::RunStatus::Done) return 1;
+  return 0;
+}
+
+}  // namespace
+
+Command batchCommand() {
+  return {"batch", "parameter sweeps and seeds over a scenario, with statistics and plots", runBatch};
+}
+
+}  // namespace st::cli

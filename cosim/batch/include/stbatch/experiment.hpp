@@ -1,0 +1,55 @@
+#pragma once
+// A batch experiment: a base scenario, a sweep over scenario keys, and seeds. The runs are the
+// cross product; each has a stable id derived from its parameters, so a re-run finds its results.
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace st::batch {
+
+// A malformed experiment: the message names the file, the key and (where known) the line.
+struct ExperimentError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct SweepAxis {
+  std::string key;                  // dotted scenario key, e.g. "detector" or "safe_time.reaction"
+  std::vector<std::string> values;  // YAML scalars, in the order given
+};
+
+struct Experiment {
+  std::filesystem::path file;       // the experiment file
+  std::filesystem::path base;       // base scenario (absolute)
+  std::string command = "highway";  // the stsim subcommand each run executes
+  std::string name;
+  std::vector<SweepAxis> sweep;     // in file order; the cross product varies the last fastest
+  std::map<std::string, std::string> fixed;  // overrides applied to every run
+  std::vector<std::int64_t> seeds;
+  std::string seedKey = "seed";
+};
+
+struct RunSpec {
+  int index = 0;  // position in the cross product
+  std::string id; // stable: derived from parameters and seed only
+  std::vector<std::pair<std::string, std::string>> params;  // sweep key -> value, in sweep order
+  std::int64_t seed = 0;
+};
+
+// Reads and validates an experiment file. Sweep and fixed keys must name keys of the base
+// scenario (or keys the command documents as optional, listed in `optionalKeys`).
+Experiment loadExperiment(const std::filesystem::path& file,
+                          const std::vector<std::string>& optionalKeys = {});
+
+std::vector<RunSpec> expandRuns(const Experiment& e);
+
+// The run's scenario: the base with the run's overrides applied, relative file references made
+// absolute (the run scenario is written elsewhere). Returned as YAML text.
+std::string runScenarioYaml(const Experiment& e, const RunSpec& run);
+
+// Disjoint slice `shard` (1-based) of `count` for schedulers (Slurm arrays): every count-th run.
+std::vector<RunSpec> shardRuns(const std::vector<RunSpec>& runs, int shard, int count);
+
+}  // namespace st::batch

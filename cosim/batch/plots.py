@@ -1,0 +1,162 @@
+#!/usr/bin/python3
+"""Plots and report.md for a `stsim batch` output folder (runs.csv, summary.csv, runs/*/warnings.csv).
+
+Uses Debian's python3-matplotlib. Called by `stsim batch`; can be re-run by hand:
+    /usr/bin/python3 cosim/batch/plots.py OUT_DIR
+"""
+import csv
+import math
+import os
+import re
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return rows[0], [dict(zip(rows[0], r)) for r in rows[1:]]
+
+
+def num(s):
+    try:
+        v = float(s)
+        return v if math.isfinite(v) else None
+    except (TypeError, ValueError):
+        return None
+
+
+def find_col(cols, *patterns):
+    for p in patterns:
+        for c in cols:
+            if re.search(p, c):
+                return c
+    return None
+
+
+def main(out):
+    runs_header, runs = read_csv(os.path.join(out, "runs.csv"))
+    sum_header, summary = read_csv(os.path.join(out, "summary.csv"))
+    # parameters sit between "status" and "wall_seconds"; the last of them is the seed key
+    params = runs_header[runs_header.index("status") + 1: runs_header.index("wall_seconds")]
+    sweep, seed_key = params[:-1], params[-1]
+    metrics = [c[: -len(".mean")] for c in sum_header if c.endswith(".mean")]
+    numeric_params = [p for p in sweep if all(num(r[p]) is not None for r in summary)]
+    series_param = "detector" if "detector" in sweep else None
+    plots = []
+
+    # 1. the headline metric against each numeric swept parameter, one line per detector
+    headline = find_col(metrics, r"per_vehicle_km.*total|total.*per_vehicle_km", r"per_vehicle_km",
+                        r"collision_checks$", r"warnings")
+    headline = headline or (metrics[0] if metrics else None)
+    for x in numeric_params:
+        if headline is None:
+            break
+        fig, ax = plt.subplots(figsize=(6, 4))
+        groups = {}
+        for r in summary:
+            key = r[series_param] if series_param else "all"
+            groups.setdefault(key, []).append(r)
+        for key, rows in sorted(groups.items()):
+            rows = [r for r in rows if num(r.get(headline + ".mean")) is not None]
+            # average over the other swept parameters is not meaningful: plot each combination
+            rows.sort(key=lambda r: num(r[x]))
+            xs = [num(r[x]) for r in rows]
+            ys = [num(r[headline + ".mean"]) for r in rows]
+            es = [num(r[headline + ".ci95"]) or 0.0 for r in rows]
+            ax.errorbar(xs, ys, yerr=es, marker="o", capsize=3, label=str(key))
+        ax.set_xlabel(x)
+        ax.set_ylabel(headline + " (mean, 95% CI)")
+        ax.grid(alpha=0.3)
+        if series_param:
+            ax.legend(title=series_param)
+        name = "metric_vs_%s.png" % re.sub(r"[^A-Za-z0-9]+", "_", x)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, name), dpi=110)
+        plt.close(fig)
+        plots.append((name, "%s against %s" % (headline, x)))
+
+    # 2. distribution of the minimum TTC per warning episode, per detector
+    ttc_by = {}
+    for r in runs:
+        if r["status"] != "done":
+            continue
+        path = os.path.join(out, "runs", r["run_id"], "warnings.csv")
+        if not os.path.exists(path):
+            continue
+        with open(path, newline="") as f:
+            rd = csv.DictReader(f)
+            col = find_col(rd.fieldnames or [], r"^min_ttc", r"min_ttc")
+            if not col:
+                continue
+            key = r[series_param] if series_param else "all"
+            for w in rd:
+                v = num(w[col])
+                if v is not None:
+                    ttc_by.setdefault(key, []).append(v)
+    if ttc_by:
+        fig, ax = plt.subplots(figsize=(6, 4))
+        hi = max(max(v) for v in ttc_by.values())
+        bins = [hi * i / 30 for i in range(31)] if hi > 0 else 10
+        for key, vals in sorted(ttc_by.items()):
+            ax.hist(vals, bins=bins, histtype="step", linewidth=1.5, label="%s (%d)" % (key, len(vals)))
+        ax.set_xlabel("minimum TTC per episode (s)")
+        ax.set_ylabel("episodes")
+        ax.grid(alpha=0.3)
+        ax.legend(title=series_param or "")
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "min_ttc_distribution.png"), dpi=110)
+        plt.close(fig)
+        plots.append(("min_ttc_distribution.png", "distribution of the minimum TTC per warning episode"))
+
+    # 3. SUMO collisions with and without the brake action
+    coll = find_col(metrics, r"sumo.*collisions", r"collisions$", r"collision")
+    if "action" in sweep and coll:
+        by = {}
+        for r in runs:
+            v = num(r.get(coll))
+            if r["status"] == "done" and v is not None:
+                by.setdefault(r["action"], []).append(v)
+        if by:
+            fig, ax = plt.subplots(figsize=(5, 4))
+            keys = sorted(by)
+            means = [sum(by[k]) / len(by[k]) for k in keys]
+            ax.bar(keys, means, color=["#999999" if k == "none" else "#cc3333" for k in keys])
+            for i, k in enumerate(keys):
+                ax.plot([i] * len(by[k]), by[k], "k.", alpha=0.6)
+            ax.set_ylabel(coll + " per run")
+            ax.set_xlabel("action")
+            fig.tight_layout()
+            fig.savefig(os.path.join(out, "collisions_by_action.png"), dpi=110)
+            plt.close(fig)
+            plots.append(("collisions_by_action.png", "%s with and without the brake action" % coll))
+
+    done = sum(1 for r in runs if r["status"] == "done")
+    with open(os.path.join(out, "report.md"), "w") as f:
+        f.write("# Batch report\n\n")
+        f.write("%d runs (%d done, %d not done); swept: %s; seeds per combination: %d.\n\n" % (
+            len(runs), done, len(runs) - done, ", ".join(sweep) or "nothing",
+            len({r[seed_key] for r in runs})))
+        f.write("Tables: [runs.csv](runs.csv) (one row per run), [summary.csv](summary.csv) "
+                "(mean, standard deviation and 95% confidence interval over seeds).\n\n")
+        for name, title in plots:
+            f.write("## %s\n\n![%s](%s)\n\n" % (title, title, name))
+        if headline:
+            f.write("## %s by parameters\n\n" % headline)
+            f.write("| " + " | ".join(sweep + ["mean", "95% CI"]) + " |\n")
+            f.write("|" + "---|" * (len(sweep) + 2) + "\n")
+            for r in summary:
+                f.write("| " + " | ".join([r[p] for p in sweep] + [r.get(headline + ".mean", ""),
+                                                                    r.get(headline + ".ci95", "")]) + " |\n")
+    return 0
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        sys.stderr.write("usage: plots.py BATCH_OUT_DIR\n")
+        sys.exit(2)
+    sys.exit(main(sys.argv[1]))

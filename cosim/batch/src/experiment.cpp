@@ -1,0 +1,250 @@
+#include <stbatch/experiment.hpp>
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <set>
+#include <sstream>
+
+namespace st::batch {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+[[noreturn]] void fail(const Experiment& e, const std::string& key, const YAML::Node& at, const std::string& what) {
+  std::ostringstream os;
+  os << e.file.string();
+  if (at.IsDefined() && at.Mark().line >= 0) os << ":" << at.Mark().line + 1;
+  os << ": " << key << ": " << what;
+  throw ExperimentError(os.str());
+}
+
+std::vector<std::string> splitKey(const std::string& key) {
+  std::vector<std::string> parts;
+  std::string cur;
+  for (char c : key) {
+    if (c == '.') {
+      parts.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  parts.push_back(cur);
+  return parts;
+}
+
+bool hasKey(const YAML::Node& root, const std::string& key) {
+  YAML::Node n = YAML::Clone(root);
+  for (const auto& part : splitKey(key)) {
+    if (!n.IsMap() || !n[part]) return false;
+    n = n[part];
+  }
+  return true;
+}
+
+void setKey(YAML::Node root, const std::string& key, const std::string& value) {
+  const auto parts = splitKey(key);
+  YAML::Node n = root;
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    if (!n[parts[i]] || !n[parts[i]].IsMap()) n[parts[i]] = YAML::Node(YAML::NodeType::Map);
+    n.reset(n[parts[i]]);
+  }
+  n[parts.back()] = YAML::Load(value);
+}
+
+std::string scalarText(const YAML::Node& n) {
+  YAML::Emitter out;
+  out << YAML::Flow << n;
+  return out.c_str();
+}
+
+std::uint64_t fnv1a(const std::string& s) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+std::string slug(const std::string& s) {
+  std::string out;
+  for (char c : s) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-') ? c : '_';
+  return out;
+}
+
+// Relative paths in the base that name existing files become absolute: the run's scenario is
+// written into the run's folder, far from the base.
+void absolutizePaths(YAML::Node n, const fs::path& baseDir) {
+  if (n.IsMap()) {
+    for (auto it = n.begin(); it != n.end(); ++it) absolutizePaths(it->second, baseDir);
+  } else if (n.IsSequence()) {
+    for (std::size_t i = 0; i < n.size(); ++i) absolutizePaths(n[i], baseDir);
+  } else if (n.IsScalar()) {
+    const std::string v = n.Scalar();
+    if (v.empty() || v.size() > 4096 || fs::path(v).is_absolute()) return;
+    std::error_code ec;
+    if (v.find('/') != std::string::npos || v.find('.') != std::string::npos)
+      if (fs::exists(baseDir / v, ec)) n = fs::weakly_canonical(baseDir / v).string();
+  }
+}
+
+}  // namespace
+
+Experiment loadExperiment(const fs::path& file, const std::vector<std::string>& optionalKeys) {
+  Experiment e;
+  e.file = file;
+  if (!fs::exists(file)) throw ExperimentError(file.string() + ": no such file");
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(file.string());
+  } catch (const YAML::Exception& ex) {
+    throw ExperimentError(file.string() + ":" + std::to_string(ex.mark.line + 1) + ": malformed YAML: " + ex.msg);
+  }
+  if (!root.IsMap()) throw ExperimentError(file.string() + ": an experiment is a YAML map (base, sweep, seeds, ...)");
+  static const std::set<std::string> known = {"name", "command", "base", "sweep", "fixed", "seeds", "seed_key"};
+  for (auto it = root.begin(); it != root.end(); ++it) {
+    const std::string k = it->first.as<std::string>();
+    if (!known.count(k)) fail(e, k, it->first, "unknown key (expected one of name, command, base, sweep, fixed, seeds, seed_key)");
+  }
+  e.name = root["name"] ? root["name"].as<std::string>() : file.stem().string();
+  if (root["command"]) {
+    if (!root["command"].IsScalar()) fail(e, "command", root["command"], "must be a command name");
+    e.command = root["command"].as<std::string>();
+    if (e.command != "highway" && e.command != "pool" && e.command != "arm")
+      fail(e, "command", root["command"], "must be highway, pool or arm");
+  }
+  if (root["seed_key"]) e.seedKey = root["seed_key"].as<std::string>();
+  if (!root["base"] || !root["base"].IsScalar()) fail(e, "base", root, "missing: the base scenario file");
+  e.base = fs::path(root["base"].as<std::string>());
+  if (e.base.is_relative()) e.base = file.parent_path() / e.base;
+  if (!fs::exists(e.base)) fail(e, "base", root["base"], "no such file: " + e.base.string());
+  e.base = fs::weakly_canonical(e.base);
+  YAML::Node base;
+  try {
+    base = YAML::LoadFile(e.base.string());
+  } catch (const YAML::Exception& ex) {
+    throw ExperimentError(e.base.string() + ":" + std::to_string(ex.mark.line + 1) + ": malformed YAML: " + ex.msg);
+  }
+  auto checkKey = [&](const std::string& k, const YAML::Node& at) {
+    if (hasKey(base, k)) return;
+    if (std::find(optionalKeys.begin(), optionalKeys.end(), k) != optionalKeys.end()) return;
+    fail(e, k, at, "unknown key: not in the base scenario " + e.base.filename().string());
+  };
+
+  // seeds: a count (1..n) or an explicit list of integers
+  const YAML::Node seeds = root["seeds"];
+  if (!seeds) {
+    e.seeds = {1};
+  } else if (seeds.IsScalar()) {
+    long n = 0;
+    try {
+      n = seeds.as<long>();
+    } catch (const YAML::Exception&) {
+      fail(e, "seeds", seeds, "must be a count or a list of integers");
+    }
+    if (n < 1 || n > 100000) fail(e, "seeds", seeds, "count must be between 1 and 100000");
+    for (long s = 1; s <= n; ++s) e.seeds.push_back(s);
+  } else if (seeds.IsSequence()) {
+    if (seeds.size() == 0) fail(e, "seeds", seeds, "empty list");
+    for (const auto& s : seeds) {
+      try {
+        e.seeds.push_back(s.as<std::int64_t>());
+      } catch (const YAML::Exception&) {
+        fail(e, "seeds", s, "must be integers");
+      }
+    }
+  } else {
+    fail(e, "seeds", seeds, "must be a count or a list of integers");
+  }
+
+  if (const YAML::Node sweep = root["sweep"]) {
+    if (!sweep.IsMap()) fail(e, "sweep", sweep, "must map scenario keys to lists of values");
+    for (auto it = sweep.begin(); it != sweep.end(); ++it) {
+      const std::string k = it->first.as<std::string>();
+      checkKey(k, it->first);
+      if (k == e.seedKey) fail(e, k, it->first, "sweep seeds with the top-level 'seeds' key");
+      SweepAxis axis{k, {}};
+      if (it->second.IsScalar()) {
+        axis.values.push_back(scalarText(it->second));
+      } else if (it->second.IsSequence()) {
+        if (it->second.size() == 0) fail(e, "sweep." + k, it->second, "empty sweep: give at least one value");
+        for (const auto& v : it->second) {
+          if (!v.IsScalar()) fail(e, "sweep." + k, v, "values must be scalars");
+          axis.values.push_back(scalarText(v));
+        }
+      } else {
+        fail(e, "sweep." + k, it->second, "must be a value or a list of values");
+      }
+      e.sweep.push_back(std::move(axis));
+    }
+  }
+  if (const YAML::Node fixed = root["fixed"]) {
+    if (!fixed.IsMap()) fail(e, "fixed", fixed, "must map scenario keys to values");
+    for (auto it = fixed.begin(); it != fixed.end(); ++it) {
+      const std::string k = it->first.as<std::string>();
+      checkKey(k, it->first);
+      if (!it->second.IsScalar()) fail(e, "fixed." + k, it->second, "must be a scalar");
+      e.fixed[k] = scalarText(it->second);
+    }
+  }
+  return e;
+}
+
+std::vector<RunSpec> expandRuns(const Experiment& e) {
+  std::vector<RunSpec> runs;
+  std::vector<std::size_t> idx(e.sweep.size(), 0);
+  while (true) {
+    for (std::int64_t seed : e.seeds) {
+      RunSpec r;
+      r.index = static_cast<int>(runs.size());
+      r.seed = seed;
+      for (std::size_t a = 0; a < e.sweep.size(); ++a) r.params.emplace_back(e.sweep[a].key, e.sweep[a].values[idx[a]]);
+      // id: readable values plus a hash of the sorted key=value list, independent of sweep order
+      auto sorted = r.params;
+      std::sort(sorted.begin(), sorted.end());
+      std::string canon, readable;
+      for (const auto& [k, v] : sorted) canon.append(k).append("=").append(v).append(";");
+      canon.append(e.seedKey).append("=").append(std::to_string(seed));
+      for (const auto& [k, v] : sorted) readable.append(slug(v).substr(0, 16)).append("_");
+      readable.append("s").append(std::to_string(seed));
+      const std::uint64_t h = fnv1a(canon);
+      char hex[9];
+      std::snprintf(hex, sizeof hex, "%08x", static_cast<unsigned>((h ^ (h >> 32)) & 0xffffffffu));
+      r.id = readable + "-" + hex;
+      runs.push_back(std::move(r));
+    }
+    // odometer over the sweep axes, last axis fastest
+    int a = static_cast<int>(e.sweep.size()) - 1;
+    for (; a >= 0; --a) {
+      if (++idx[a] < e.sweep[a].values.size()) break;
+      idx[a] = 0;
+    }
+    if (a < 0) break;
+  }
+  return runs;
+}
+
+std::string runScenarioYaml(const Experiment& e, const RunSpec& run) {
+  YAML::Node root = YAML::LoadFile(e.base.string());
+  absolutizePaths(root, e.base.parent_path());
+  for (const auto& [k, v] : e.fixed) setKey(root, k, v);
+  for (const auto& [k, v] : run.params) setKey(root, k, v);
+  setKey(root, e.seedKey, std::to_string(run.seed));
+  YAML::Emitter out;
+  out << root;
+  return std::string(out.c_str()) + "\n";
+}
+
+std::vector<RunSpec> shardRuns(const std::vector<RunSpec>& runs, int shard, int count) {
+  if (count < 1 || shard < 1 || shard > count)
+    throw std::invalid_argument("--shard I/N needs 1 <= I <= N");
+  std::vector<RunSpec> out;
+  for (const auto& r : runs)
+    if (r.index % count == shard - 1) out.push_back(r);
+  return out;
+}
+
+}  // namespace st::batch

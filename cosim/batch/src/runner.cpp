@@ -1,0 +1,378 @@
+#include <stbatch/runner.hpp>
+
+#include <boost/property_tree/json_parser.hpp>
+#include <boost/property_tree/ptree.hpp>
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <stbatch/stats.hpp>
+
+extern char** environ;
+
+namespace st::batch {
+
+namespace fs = std::filesystem;
+
+const char* toString(RunStatus s) {
+  switch (s) {
+    case RunStatus::Done: return "done";
+    case RunStatus::Failed: return "failed";
+    case RunStatus::Missing: return "missing";
+  }
+  return "?";
+}
+
+namespace {
+
+void writeFileAtomically(const fs::path& path, const std::string& text) {
+  const fs::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(tmp.string() + ": cannot write");
+    out << text;
+    if (!out.flush()) throw std::runtime_error(tmp.string() + ": write failed");
+  }
+  fs::rename(tmp, path);
+}
+
+std::string readFile(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream os;
+  os << in.rdbuf();
+  return os.str();
+}
+
+std::string lastLine(const std::string& text) {
+  std::istringstream in(text);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty() && line.find_first_not_of(" \t\r") != std::string::npos) last = line;
+  if (last.size() > 300) last = last.substr(0, 300) + "...";
+  return last;
+}
+
+std::string csvField(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) out += (c == '"') ? std::string("\"\"") : std::string(1, c == '\n' || c == '\r' ? ' ' : c);
+  return out + "\"";
+}
+
+std::string number(double v) {
+  if (std::isnan(v)) return "nan";
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.12g", v);
+  return buf;
+}
+
+// Numeric leaves of a JSON document as (dotted.key, value), array elements skipped.
+void flatten(const boost::property_tree::ptree& t, const std::string& prefix,
+             std::vector<std::pair<std::string, double>>& out) {
+  for (const auto& [key, child] : t) {
+    if (key.empty()) continue;  // array element
+    const std::string name = prefix.empty() ? key : prefix + "." + key;
+    if (child.empty()) {
+      const std::string v = child.data();
+      char* end = nullptr;
+      const double d = std::strtod(v.c_str(), &end);
+      if (!v.empty() && end && *end == '\0') out.emplace_back(name, d);
+      else if (v == "true" || v == "false") out.emplace_back(name, v == "true" ? 1.0 : 0.0);
+    } else {
+      flatten(child, name, out);
+    }
+  }
+}
+
+fs::path runDir(const fs::path& outDir, const RunSpec& r) { return outDir / "runs" / r.id; }
+
+}  // namespace
+
+RunResult loadRunResult(const fs::path& outDir, const RunSpec& spec) {
+  RunResult r;
+  r.spec = spec;
+  const fs::path dir = runDir(outDir, spec);
+  if (!fs::exists(dir / "result.yaml")) return r;
+  try {
+    const YAML::Node res = YAML::LoadFile((dir / "result.yaml").string());
+    r.status = res["status"].as<std::string>() == "done" ? RunStatus::Done : RunStatus::Failed;
+    r.error = res["error"] ? res["error"].as<std::string>() : "";
+    r.wallSeconds = res["wall_seconds"] ? res["wall_seconds"].as<double>() : 0.0;
+  } catch (const YAML::Exception&) {
+    return r;  // unreadable result: the run is redone
+  }
+  if (r.status == RunStatus::Done) {
+    try {
+      boost::property_tree::ptree tree;
+      boost::property_tree::read_json((dir / "summary.json").string(), tree);
+      flatten(tree, "", r.metrics);
+    } catch (const std::exception& ex) {
+      r.status = RunStatus::Failed;
+      r.error = std::string("summary.json unreadable: ") + ex.what();
+    }
+  }
+  r.reused = true;
+  return r;
+}
+
+std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpec>& runs, const BatchOptions& o) {
+  fs::create_directories(o.outDir / "runs");
+  std::vector<RunResult> results(runs.size());
+  std::vector<std::size_t> todo;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    results[i] = loadRunResult(o.outDir, runs[i]);
+    if (results[i].status != RunStatus::Done) todo.push_back(i);  // failed runs are tried again
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  int finished = static_cast<int>(runs.size() - todo.size());
+  const int total = static_cast<int>(runs.size());
+  if (o.progress) o.progress(finished, total, 0.0);
+
+  struct Running {
+    std::size_t index;
+    fs::path tmp;
+    std::chrono::steady_clock::time_point start;
+  };
+  std::map<pid_t, Running> running;
+  std::size_t next = 0;
+  const int jobs = std::max(1, o.jobs);
+
+  auto launch = [&](std::size_t i) {
+    const RunSpec& spec = runs[i];
+    const fs::path tmp = o.outDir / "runs" / (spec.id + ".tmp");
+    fs::remove_all(tmp);
+    fs::create_directories(tmp);
+    writeFileAtomically(tmp / "scenario.yaml", runScenarioYaml(e, spec));
+    const std::string exe = o.stsim.string(), scen = (tmp / "scenario.yaml").string(), out = tmp.string();
+    std::vector<std::string> args = {exe, e.command, scen, "--out", out};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    const std::string log = (tmp / "log.txt").string();
+    posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&fa, 1, 2);
+    posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+    pid_t pid = 0;
+    const int rc = posix_spawn(&pid, exe.c_str(), &fa, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&fa);
+    if (rc != 0) throw std::runtime_error("cannot start " + exe + ": " + std::strerror(rc));
+    running[pid] = Running{i, tmp, std::chrono::steady_clock::now()};
+  };
+
+  auto finish = [&](pid_t pid, int status) {
+    const Running run = running.at(pid);
+    running.erase(pid);
+    RunResult& r = results[run.index];
+    r = RunResult{};
+    r.spec = runs[run.index];
+    r.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - run.start).count();
+    const std::string log = readFile(run.tmp / "log.txt");
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && fs::exists(run.tmp / "summary.json")) {
+      r.status = RunStatus::Done;
+    } else {
+      r.status = RunStatus::Failed;
+      if (WIFSIGNALED(status)) r.error = "crashed with signal " + std::to_string(WTERMSIG(status));
+      else r.error = "exit " + std::to_string(WEXITSTATUS(status));
+      if (const std::string l = lastLine(log); !l.empty()) r.error += ": " + l;
+    }
+    YAML::Emitter em;
+    em << YAML::BeginMap << YAML::Key << "status" << YAML::Value << toString(r.status) << YAML::Key << "error"
+       << YAML::Value << r.error << YAML::Key << "wall_seconds" << YAML::Value << r.wallSeconds << YAML::EndMap;
+    writeFileAtomically(run.tmp / "result.yaml", std::string(em.c_str()) + "\n");
+    // publish the finished run in one rename; a previous failed attempt is replaced
+    const fs::path dir = runDir(o.outDir, r.spec);
+    fs::remove_all(dir);
+    fs::rename(run.tmp, dir);
+    if (r.status == RunStatus::Done) {
+      const RunResult loaded = loadRunResult(o.outDir, r.spec);
+      r.metrics = loaded.metrics;
+      if (loaded.status != RunStatus::Done) {
+        r.status = loaded.status;
+        r.error = loaded.error;
+      }
+      r.reused = false;
+    }
+    ++finished;
+    if (o.log) o.log(r.spec.id + " " + toString(r.status) + (r.error.empty() ? "" : " (" + r.error + ")"));
+    if (o.progress) o.progress(finished, total, elapsed());
+  };
+
+  while (next < todo.size() || !running.empty()) {
+    const bool stopping = o.stopRequested && o.stopRequested();
+    while (!stopping && next < todo.size() && static_cast<int>(running.size()) < jobs) launch(todo[next++]);
+    if (running.empty()) break;
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, 0);
+    if (pid < 0) {
+      if (errno == EINTR) continue;
+      throw std::runtime_error(std::string("waitpid: ") + std::strerror(errno));
+    }
+    if (running.count(pid)) finish(pid, status);
+  }
+  return results;
+}
+
+void writeTables(const Experiment& e, std::vector<RunResult> results, const fs::path& outDir) {
+  std::sort(results.begin(), results.end(), [](const RunResult& a, const RunResult& b) { return a.spec.index < b.spec.index; });
+  // metric columns: first-seen order over runs in index order (deterministic for any job count)
+  std::vector<std::string> metricCols;
+  std::set<std::string> seen;
+  for (const auto& r : results)
+    for (const auto& [k, v] : r.metrics)
+      if (seen.insert(k).second) metricCols.push_back(k);
+
+  std::ostringstream runs;
+  runs << "index,run_id,status";
+  for (const auto& axis : e.sweep) runs << "," << csvField(axis.key);
+  runs << "," << csvField(e.seedKey) << ",wall_seconds,error";
+  for (const auto& m : metricCols) runs << "," << csvField(m);
+  runs << "\n";
+  for (const auto& r : results) {
+    runs << r.spec.index << "," << r.spec.id << "," << toString(r.status);
+    for (const auto& [k, v] : r.spec.params) runs << "," << csvField(v);
+    runs << "," << r.spec.seed << "," << number(r.wallSeconds) << "," << csvField(r.error);
+    std::map<std::string, double> m(r.metrics.begin(), r.metrics.end());
+    for (const auto& c : metricCols) runs << "," << (m.count(c) ? number(m[c]) : "");
+    runs << "\n";
+  }
+  writeFileAtomically(outDir / "runs.csv", runs.str());
+
+  // summary over seeds: one row per parameter combination
+  std::map<std::vector<std::string>, std::vector<const RunResult*>> groups;
+  std::vector<std::vector<std::string>> order;
+  for (const auto& r : results) {
+    std::vector<std::string> key;
+    for (const auto& [k, v] : r.spec.params) key.push_back(v);
+    if (!groups.count(key)) order.push_back(key);
+    groups[key].push_back(&r);
+  }
+  std::ostringstream sum;
+  for (const auto& axis : e.sweep) sum << csvField(axis.key) << ",";
+  sum << "runs,failed";
+  for (const auto& m : metricCols) sum << "," << csvField(m + ".mean") << "," << csvField(m + ".sd") << "," << csvField(m + ".ci95");
+  sum << "\n";
+  for (const auto& key : order) {
+    const auto& members = groups[key];
+    for (const auto& v : key) sum << csvField(v) << ",";
+    int failed = 0;
+    for (const auto* r : members) failed += r->status == RunStatus::Done ? 0 : 1;
+    sum << members.size() << "," << failed;
+    for (const auto& c : metricCols) {
+      std::vector<double> xs;
+      for (const auto* r : members) {
+        if (r->status != RunStatus::Done) continue;
+        for (const auto& [k, v] : r->metrics)
+          if (k == c) xs.push_back(v);
+      }
+      const Summary s = summarize(xs);
+      if (s.n == 0) sum << ",,,";
+      else sum << "," << number(s.mean) << "," << (s.n > 1 ? number(s.sd) : "") << "," << (s.n > 1 ? number(s.ci95) : "");
+    }
+    sum << "\n";
+  }
+  writeFileAtomically(outDir / "summary.csv", sum.str());
+}
+
+void writeExperimentRecord(const Experiment& e, const fs::path& outDir) {
+  fs::create_directories(outDir);
+  YAML::Emitter em;
+  em << YAML::BeginMap;
+  em << YAML::Key << "name" << YAML::Value << e.name;
+  em << YAML::Key << "command" << YAML::Value << e.command;
+  em << YAML::Key << "base" << YAML::Value << e.base.string();
+  em << YAML::Key << "seed_key" << YAML::Value << e.seedKey;
+  em << YAML::Key << "seeds" << YAML::Value << YAML::Flow << e.seeds;
+  if (!e.sweep.empty()) {
+    em << YAML::Key << "sweep" << YAML::Value << YAML::BeginMap;
+    for (const auto& a : e.sweep) {
+      em << YAML::Key << a.key << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (const auto& v : a.values) em << YAML::Load(v);
+      em << YAML::EndSeq;
+    }
+    em << YAML::EndMap;
+  }
+  if (!e.fixed.empty()) {
+    em << YAML::Key << "fixed" << YAML::Value << YAML::BeginMap;
+    for (const auto& [k, v] : e.fixed) em << YAML::Key << k << YAML::Value << YAML::Load(v);
+    em << YAML::EndMap;
+  }
+  em << YAML::EndMap;
+  writeFileAtomically(outDir / "experiment.yaml", std::string(em.c_str()) + "\n");
+}
+
+Experiment readExperimentRecord(const fs::path& outDir) {
+  const fs::path p = outDir / "experiment.yaml";
+  if (!fs::exists(p)) throw ExperimentError(outDir.string() + ": not a stsim batch output folder (no experiment.yaml)");
+  // keys were validated when the batch ran; accept them all again
+  Experiment e = loadExperiment(p, {});
+  return e;
+}
+
+std::vector<RunResult> mergeShards(const std::vector<fs::path>& dirs, const fs::path& outDir) {
+  if (dirs.empty()) throw std::invalid_argument("merge needs at least one batch output folder");
+  const Experiment e = readExperimentRecord(dirs.front());
+  const std::string record = readFile(dirs.front() / "experiment.yaml");
+  for (const auto& d : dirs)
+    if (readFile(d / "experiment.yaml") != record)
+      throw ExperimentError(d.string() + ": experiment.yaml differs from " + dirs.front().string() + ": not shards of one experiment");
+  fs::create_directories(outDir / "runs");
+  const auto runs = expandRuns(e);
+  std::vector<RunResult> results;
+  for (const auto& spec : runs) {
+    RunResult best;
+    best.spec = spec;
+    for (const auto& d : dirs) {
+      RunResult r = loadRunResult(d, spec);
+      if (r.status == RunStatus::Missing) continue;
+      if (best.status == RunStatus::Missing || (best.status == RunStatus::Failed && r.status == RunStatus::Done)) {
+        best = r;
+        const fs::path dst = runDir(outDir, spec);
+        if (fs::weakly_canonical(runDir(d, spec)) != fs::weakly_canonical(dst)) {
+          fs::remove_all(dst);
+          fs::copy(runDir(d, spec), dst, fs::copy_options::recursive);
+        }
+      }
+    }
+    results.push_back(best);
+  }
+  if (fs::weakly_canonical(dirs.front()) != fs::weakly_canonical(outDir)) writeExperimentRecord(e, outDir);
+  writeTables(e, results, outDir);
+  return results;
+}
+
+bool writePlots(const fs::path& outDir, std::string& why) {
+  const fs::path script = fs::path(STSIM_BATCH_PLOT_SCRIPT);
+  if (!fs::exists("/usr/bin/python3")) {
+    why = "/usr/bin/python3 not found (apt-get install python3-matplotlib)";
+    return false;
+  }
+  if (!fs::exists(script)) {
+    why = "plot script missing: " + script.string();
+    return false;
+  }
+  const std::string cmd = "/usr/bin/python3 '" + script.string() + "' '" + outDir.string() + "' > '" +
+                          (outDir / "plots.log").string() + "' 2>&1";
+  const int rc = std::system(cmd.c_str());
+  if (rc != 0) {
+    why = "plotting failed: " + lastLine(readFile(outDir / "plots.log"));
+    return false;
+  }
+  return true;
+}
+
+}  // namespace st::batch

@@ -1,0 +1,83 @@
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <set>
+#include <stbatch/experiment.hpp>
+#include <yaml-cpp/yaml.h>
+
+namespace st::batch {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path writeExperiment(const std::string& name, const std::string& text) {
+  const fs::path dir = fs::temp_directory_path() / "stsim_batch_tests";
+  fs::create_directories(dir);
+  fs::copy_file(fs::path(STSIM_SOURCE_DIR) / "tests/batch/data/base.yaml", dir / "base.yaml",
+                fs::copy_options::overwrite_existing);
+  const fs::path p = dir / name;
+  std::ofstream(p) << text;
+  return p;
+}
+
+std::string errorOf(const std::string& text) {
+  try {
+    loadExperiment(writeExperiment("bad.yaml", text));
+  } catch (const ExperimentError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(BatchExperiment, CrossProductAndStableIds) {
+  const auto e = loadExperiment(writeExperiment("a.yaml",
+      "base: base.yaml\nseeds: 3\nsweep:\n  detector: [concentric, five, box]\n  penetration: [0.5, 1.0]\n"));
+  const auto runs = expandRuns(e);
+  ASSERT_EQ(runs.size(), 3u * 2u * 3u);
+  std::set<std::string> ids;
+  for (const auto& r : runs) ids.insert(r.id);
+  EXPECT_EQ(ids.size(), runs.size());
+  // the same parameters in another sweep order give the same ids
+  const auto e2 = loadExperiment(writeExperiment("b.yaml",
+      "base: base.yaml\nseeds: 3\nsweep:\n  penetration: [1.0, 0.5]\n  detector: [box, five, concentric]\n"));
+  std::set<std::string> ids2;
+  for (const auto& r : expandRuns(e2)) ids2.insert(r.id);
+  EXPECT_EQ(ids, ids2);
+}
+
+TEST(BatchExperiment, RunScenarioAppliesOverridesAndAbsolutizesPaths) {
+  const auto e = loadExperiment(writeExperiment("c.yaml",
+      "base: base.yaml\nseeds: [7]\nsweep:\n  safe_time.reaction: [0.5]\nfixed:\n  detector: five\n"));
+  const auto runs = expandRuns(e);
+  ASSERT_EQ(runs.size(), 1u);
+  const YAML::Node n = YAML::Load(runScenarioYaml(e, runs[0]));
+  EXPECT_EQ(n["detector"].as<std::string>(), "five");
+  EXPECT_DOUBLE_EQ(n["safe_time"]["reaction"].as<double>(), 0.5);
+  EXPECT_EQ(n["seed"].as<int>(), 7);
+  EXPECT_TRUE(fs::path(n["sumocfg"].as<std::string>()).is_absolute());
+}
+
+TEST(BatchExperiment, ShardsPartitionTheRuns) {
+  const auto e = loadExperiment(writeExperiment("d.yaml", "base: base.yaml\nseeds: 5\nsweep:\n  detector: [five, box]\n"));
+  const auto runs = expandRuns(e);
+  std::multiset<int> seen;
+  for (int s = 1; s <= 3; ++s)
+    for (const auto& r : shardRuns(runs, s, 3)) seen.insert(r.index);
+  EXPECT_EQ(seen.size(), runs.size());
+  EXPECT_EQ(std::set<int>(seen.begin(), seen.end()).size(), runs.size());
+}
+
+TEST(BatchExperiment, MalformedExperimentsNameTheKey) {
+  EXPECT_NE(errorOf("base: base.yaml\nsweep:\n  detectr: [five]\n").find("detectr: unknown key"), std::string::npos);
+  EXPECT_NE(errorOf("base: base.yaml\nsweep:\n  detector: []\n").find("sweep.detector: empty sweep"), std::string::npos);
+  EXPECT_NE(errorOf("base: base.yaml\nseeds: many\n").find("seeds: must be a count"), std::string::npos);
+  EXPECT_NE(errorOf("base: base.yaml\nsweeps:\n  detector: [five]\n").find("sweeps: unknown key"), std::string::npos);
+  EXPECT_NE(errorOf("sweep:\n  detector: [five]\n").find("base: missing"), std::string::npos);
+  EXPECT_NE(errorOf("base: nowhere.yaml\n").find("no such file"), std::string::npos);
+  EXPECT_NE(errorOf("base: base.yaml\nsweep:\n  detector: {a: 1}\n").find("sweep.detector"), std::string::npos);
+  // the line is named
+  EXPECT_NE(errorOf("base: base.yaml\nseeds: 2\nsweep:\n  detectr: [five]\n").find("bad.yaml:4:"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace st::batch
