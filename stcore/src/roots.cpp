@@ -2,16 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace st {
 
 QuadraticRoots solveQuadratic(double a, double b, double c) {
   QuadraticRoots r;
-  const double scale = std::max({std::abs(a), std::abs(b), std::abs(c)});
-  if (scale == 0.0) return r;
-  if (std::abs(a) <= 1e-14 * scale) {
-    // linear: b t + c = 0
+  if (a == 0.0) {
+    // linear: b t + c = 0. Only an exactly zero a: a merely small one needs no special case (the
+    // small root c/q below stays exact to rounding), and comparing a with b and c, which carry
+    // other units, would drop real roots.
     if (b != 0.0) {
       r.count = 1;
       r.root[0] = -c / b;
@@ -28,6 +29,12 @@ QuadraticRoots solveQuadratic(double a, double b, double c) {
   const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
   double r1 = q / a;
   double r2 = (q != 0.0) ? c / q : -r1;
+  if (!std::isfinite(r1)) {
+    // a so small that q / a overflows: that root is beyond any horizon
+    r.count = 1;
+    r.root[0] = r2;
+    return r;
+  }
   if (r1 > r2) std::swap(r1, r2);
   r.count = 2;
   r.root = {r1, r2};
@@ -84,11 +91,23 @@ PolynomialRoots rootsBetweenCriticalPoints(const std::array<double, N>& c, const
   for (int i = 0; i < ncrit; ++i)
     if (crit[i] > lo && crit[i] < hi) knots[nk++] = crit[i];
   knots[nk++] = hi;
-  const double scale = [&] {
-    double s = 0.0;
-    for (double ci : c) s = std::max(s, std::abs(ci));
-    return s;
-  }();
+  // p(t) counts as zero within the rounding of its evaluation (Horner: ~2n eps sum |c_i| |t|^i)
+  // plus what p can change over the solver's resolution in t (1e-15 relative, as in
+  // refineBracketed), since knots are critical points found to that resolution; both bounded by
+  // the majorant sum |c_i| s^i and its derivatives at s = |t| + dt. A fixed fraction of the largest
+  // coefficient is wrong both ways: away from |t| ~ 1 the rounding exceeds it and a double root
+  // splits in two or vanishes.
+  auto isZero = [&](double t, double f) {
+    const double dt = 1e-15 * std::max(1.0, std::abs(t)), s = std::abs(t) + dt;
+    double m = 0.0, m1 = 0.0, m2 = 0.0;
+    for (double ci : c) {
+      m2 = m2 * s + 2.0 * m1;
+      m1 = m1 * s + m;
+      m = m * s + std::abs(ci);
+    }
+    const double rounding = 2.0 * static_cast<double>(N) * std::numeric_limits<double>::epsilon() * m;
+    return std::abs(f) <= rounding + m1 * dt + 0.5 * m2 * dt * dt;
+  };
   auto push = [&](double t) {
     if (out.count > 0 && std::abs(out.root[out.count - 1] - t) <= 1e-13 * std::max(1.0, std::abs(t))) return;
     if (out.count < 4) out.root[out.count++] = t;
@@ -96,14 +115,15 @@ PolynomialRoots rootsBetweenCriticalPoints(const std::array<double, N>& c, const
   for (int i = 0; i + 1 < nk; ++i) {
     const double a = knots[i], b = knots[i + 1];
     const double fa = horner(c, a), fb = horner(c, b);
-    if (std::abs(fa) <= 1e-15 * scale) {
+    if (isZero(a, fa)) {
       push(a);
       continue;
     }
-    if ((fa < 0.0) != (fb < 0.0) && fb != 0.0) push(refineBracketed(c, a, b));
+    // a zero at b is pushed by the next piece (or below, for hi)
+    if ((fa < 0.0) != (fb < 0.0) && !isZero(b, fb)) push(refineBracketed(c, a, b));
   }
   const double fhi = horner(c, hi);
-  if (std::abs(fhi) <= 1e-15 * scale) push(hi);
+  if (isZero(hi, fhi)) push(hi);
   return out;
 }
 
