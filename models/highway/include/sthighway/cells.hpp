@@ -25,6 +25,8 @@ struct CellConfig {
   double referenceDistance = 1.0;   // m; path loss is 0 dB at this distance
   double hysteresisDb = 3.0;        // a new site must be this much stronger to take the car
   double radioRange = 600.0;        // m; sites farther than this are not heard
+  double fatMargin = 4.0;           // m; a car's box in its cell's space is grown by this, so
+                                    // small moves do not touch the space
   int decompositionFactor = 8;      // a cell's space subdivides past this many cars
   int maxDepth = 8;
 };
@@ -72,9 +74,22 @@ class CellNetwork {
   int servingCell(int v) const;  // -1 if not in the network
 
   // Calls f(other) once for every vehicle listed in a cell whose extent meets the box
-  // (including v itself; the caller skips it).
+  // (including v itself; the caller skips it). Valid after refreshExtents().
   template <class F>
   void forEachInBox(const Aabb<2>& box, F&& f) const;
+  // The two levels of that search, for callers that size the box per cell.
+  template <class F>
+  void forEachCellInBox(const Aabb<2>& box, F&& f) const {
+    networkIndex().forEachInBox(box, f);
+  }
+  template <class F>
+  void forEachInCellBox(int cell, const Aabb<2>& box, F&& f) const;
+
+  // The network level: a space over the cells' extents (ids are cells).
+  const Space<2>& networkIndex() const;
+  // A cell's own space (ids are the cell's local slots) and its slot -> vehicle table (-1: free).
+  const Space<2>& cellSpace(int cell) const;
+  std::span<const int> cellSlots(int cell) const;
 
   // Recomputes the cells' extents from their members; call once per tick after placing all cars.
   void refreshExtents();
@@ -91,14 +106,18 @@ class CellNetwork {
   struct Impl;
 
  private:
-  void visit(const Aabb<2>& box, void (*fn)(void*, int), void* ctx) const;
   std::unique_ptr<Impl> impl_;
 };
 
 template <class F>
+void CellNetwork::forEachInCellBox(int cell, const Aabb<2>& box, F&& f) const {
+  const std::span<const int> slots = cellSlots(cell);
+  cellSpace(cell).forEachInBox(box, [&](int local) { f(slots[local]); });
+}
+
+template <class F>
 void CellNetwork::forEachInBox(const Aabb<2>& box, F&& f) const {
-  visit(box, [](void* ctx, int v) { (*static_cast<std::remove_reference_t<F>*>(ctx))(v); },
-        const_cast<void*>(static_cast<const void*>(&f)));
+  forEachCellInBox(box, [&](int cell) { forEachInCellBox(cell, box, f); });
 }
 
 }  // namespace st::highway

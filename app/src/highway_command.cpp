@@ -1,0 +1,178 @@
+// stsim highway: smart-car warnings on a recorded SUMO trace (--fcd + --net), or on a live SUMO
+// scenario (SCENARIO.yaml / .sumocfg) through the co-simulation when it is built in.
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <iostream>
+#include <string>
+
+#include <sthighway/monitor.hpp>
+#include <sthighway/report.hpp>
+#include <sthighway/sumo_files.hpp>
+#include <stsim/cli.hpp>
+#include <stsim/commands.hpp>
+
+#if defined(STSIM_HAVE_COSIM) && __has_include(<stcosim/highway_run.hpp>)
+#include <stcosim/highway_run.hpp>
+#define STSIM_HIGHWAY_COSIM 1
+#endif
+
+namespace st::cli {
+
+namespace {
+
+namespace hw = st::highway;
+
+Args makeArgs() {
+  Args a("highway",
+         "Smart-car collision warnings (report section 4): concentric, five-circle or exact box detector,\n"
+         "safe time growing with momentum, cells with handoff. Either replay a SUMO trace\n"
+         "(--fcd TRACE.xml --net NET.net.xml) or run a SCENARIO with SUMO (yaml or .sumocfg).");
+  a.positional("SCENARIO", "scenario YAML or SUMO .sumocfg (live co-simulation; needs SUMO support)", false)
+      .option("fcd", "TRACE.xml", "SUMO floating-car-data trace to replay (sumo --fcd-output)")
+      .option("net", "NET.net.xml", "SUMO network giving lane shapes and widths (with --fcd)")
+      .option("vtypes", "FILE.xml", "route/additional file whose <vType>s give sizes and masses (with --fcd)")
+      .option("detector", "concentric|five|box", "collision detector", "five")
+      .option("layout", "a|b", "five-circle zone layout: Fig. 11(a) small or 11(b) large overlaps", "a")
+      .option("motion", "velocity|acceleration", "prediction: constant velocity, or constant acceleration", "velocity")
+      .option("broadphase", "cells|all-pairs", "neighbour search", "cells")
+      .option("out", "DIR", "output directory for warnings.csv and summary.json", ".")
+      .option("penetration", "P", "fraction of vehicles equipped with the smart-car system, 0..1", "1")
+      .option("action", "color|brake|none", "action on a warning (SUMO runs)", "color")
+      .option("traci", "HOST:PORT", "attach to a running SUMO through TraCI instead of embedding libsumo")
+      .flag("gui", "run sumo-gui and draw the cells (SUMO runs)")
+      .option("end", "SECONDS", "stop at this simulated time")
+      .option("seed", "N", "seed for the equipped-vehicle draw (and SUMO)", "42")
+      .flag("validate-ssm", "compare with SUMO's SSM device, writes validation.json (SUMO runs)");
+  return a;
+}
+
+// Deterministic for a seed and an id, independent of the standard library (splitmix64 of FNV-1a).
+double unitHash(std::uint64_t seed, const std::string& id) {
+  std::uint64_t h = 1469598103934665603ull ^ seed;
+  for (unsigned char c : id) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  h += 0x9e3779b97f4a7c15ull;
+  h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
+  h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
+  h ^= h >> 31;
+  return static_cast<double>(h >> 11) * 0x1.0p-53;
+}
+
+hw::MonitorConfig monitorConfig(const Args& a) {
+  hw::MonitorConfig cfg;
+  if (!hw::parseDetectorKind(a.get("detector"), cfg.detector.kind))
+    throw UsageError("--detector must be concentric, five or box, got '" + a.get("detector") + "'");
+  if (!hw::parseBroadphase(a.get("broadphase"), cfg.broadphase))
+    throw UsageError("--broadphase must be cells or all-pairs, got '" + a.get("broadphase") + "'");
+  const std::string layout = a.get("layout");
+  if (layout == "a") cfg.detector.five = hw::FiveCircleLayout::fig11a();
+  else if (layout == "b") cfg.detector.five = hw::FiveCircleLayout::fig11b();
+  else throw UsageError("--layout must be a or b, got '" + layout + "'");
+  const std::string motion = a.get("motion");
+  if (motion == "velocity") cfg.detector.motion = hw::MotionModel::ConstantVelocity;
+  else if (motion == "acceleration") cfg.detector.motion = hw::MotionModel::ConstantAcceleration;
+  else throw UsageError("--motion must be velocity or acceleration, got '" + motion + "'");
+  return cfg;
+}
+
+int runTrace(const Args& a) {
+  for (const char* opt : {"traci", "gui", "validate-ssm"})
+    if (a.has(opt)) throw UsageError(std::string("--") + opt + " applies to SUMO runs (SCENARIO), not to --fcd");
+  if (a.has("action")) throw UsageError("--action applies to SUMO runs (SCENARIO), not to --fcd");
+  if (!a.has("net")) throw UsageError("--fcd needs --net NET.net.xml for the lane geometry");
+  const hw::MonitorConfig cfg = monitorConfig(a);
+  const double penetration = a.getDouble("penetration");
+  if (penetration < 0.0 || penetration > 1.0) throw UsageError("--penetration must be in [0, 1]");
+  const long seed = a.getInt("seed");
+  const bool hasEnd = a.has("end");
+  const double end = hasEnd ? a.getDouble("end") : 0.0;
+
+  const auto wallStart = std::chrono::steady_clock::now();
+  const hw::RoadGeometry road = hw::readSumoNet(a.get("net"));
+  hw::VehicleTypes types;
+  if (a.has("vtypes")) types = hw::readSumoVehicleTypes(a.get("vtypes"));
+  hw::HighwayMonitor monitor(road, cfg);
+  hw::FcdReader reader(a.get("fcd"), types);
+
+  const std::filesystem::path out = a.get("out");
+  std::error_code ec;
+  std::filesystem::create_directories(out, ec);
+  if (ec) throw std::runtime_error("cannot create output directory " + out.string() + ": " + ec.message());
+  hw::WarningsCsvWriter csv(out / "warnings.csv");
+
+  hw::RunInfo info;
+  info.source = a.get("fcd");
+  info.detector = hw::toString(cfg.detector.kind);
+  info.broadphase = hw::toString(cfg.broadphase);
+  double first = 0.0, last = 0.0;
+  bool any = false;
+  // on any error: close what is open, write everything so far, then report the error
+  auto flushAll = [&](const std::string& error) {
+    monitor.finish(any ? last : 0.0);
+    csv.write(monitor.takeFinished());
+    csv.flush();
+    info.simulatedSeconds = any ? last - first : 0.0;
+    info.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
+    if (!error.empty()) info.strings.emplace_back("error", error);
+    info.numbers.emplace_back("penetration", penetration);
+    hw::writeSummaryJson(out / "summary.json", monitor.counters(), info);
+  };
+  try {
+    hw::FcdFrame frame;
+    while (reader.next(frame)) {
+      if (hasEnd && frame.time > end) break;
+      if (penetration < 1.0)
+        for (auto& v : frame.vehicles) v.equipped = unitHash(static_cast<std::uint64_t>(seed), v.id) < penetration;
+      monitor.step(frame.time, frame.vehicles);
+      if (!any) first = frame.time;
+      any = true;
+      last = frame.time;
+      csv.write(monitor.takeFinished());
+    }
+  } catch (const std::exception& e) {
+    flushAll(e.what());
+    throw;
+  }
+  flushAll("");
+  const hw::MonitorCounters& c = monitor.counters();
+  std::uint64_t total = 0;
+  for (auto n : c.warningsByKind) total += n;
+  std::cout << "highway: " << c.vehiclesSeen << " vehicles, " << c.vehicleMeters / 1000.0 << " vehicle-km, " << total
+            << " warnings (vehicle " << c.warningsByKind[0] << ", curb " << c.warningsByKind[1] << ", lane_marker "
+            << c.warningsByKind[2] << ", hazard " << c.warningsByKind[3] << "), " << c.handoffs << " handoffs, "
+            << info.wallSeconds << " s wall; wrote " << (out / "warnings.csv").string() << " and "
+            << (out / "summary.json").string() << "\n";
+  return 0;
+}
+
+int run(int argc, const char* const* argv) {
+  Args a = makeArgs();
+  if (!a.parse(argc, argv)) {
+    std::cout << a.help();
+    return 0;
+  }
+  const auto scenario = a.positionalValue(0);
+  if (a.has("fcd")) {
+    if (scenario) throw UsageError("give either --fcd TRACE (replay) or a SCENARIO (SUMO run), not both");
+    return runTrace(a);
+  }
+  if (!scenario) throw UsageError("missing input: --fcd TRACE.xml --net NET.net.xml, or a SCENARIO (see stsim highway --help)");
+  for (const char* opt : {"net", "vtypes"})
+    if (a.has(opt)) throw UsageError(std::string("--") + opt + " applies to --fcd replays");
+#ifdef STSIM_HIGHWAY_COSIM
+  return st::cosim::runHighwayCommand(a);
+#else
+  throw std::runtime_error("cannot run " + *scenario + ": stsim was built without SUMO support (cosim)");
+#endif
+}
+
+}  // namespace
+
+Command highwayCommand() {
+  return {"highway", "smart-car warnings on a SUMO trace or live SUMO run (report section 4)", run};
+}
+
+}  // namespace st::cli

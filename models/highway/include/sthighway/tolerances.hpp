@@ -1,0 +1,23 @@
+#pragma once
+// Every tolerance of the highway model, in one place (SI units). stcore's own are in
+// stcore/tolerances.hpp; these are about vehicles and roads.
+
+namespace st::highway::tol {
+
+// Two shapes closer than this count as touching when the exact box TTC is evaluated at a
+// candidate time (m). Larger hides near misses of a few mm; smaller loses touching contacts to
+// roundoff of positions ~1e4 m.
+inline constexpr double kContactSlop = 1e-7;
+
+// Consecutive polyline points closer than this are merged before offsetting (m); SUMO shapes
+// carry duplicate points at joints and their zero-length segments have no normal.
+inline constexpr double kMinSegmentLength = 1e-6;
+
+// A mitred joint of an offset polyline is clamped to this many times the offset, so a sharp
+// turn does not throw a marker far off the road (dimensionless).
+inline constexpr double kMaxMiterRatio = 4.0;
+
+// Accelerations below this are treated as zero: the constant-velocity kernels are used (m/s^2).
+inline constexpr double kAccelerationEpsilon = 1e-9;
+
+}  // namespace st::highway::tol

@@ -1,0 +1,308 @@
+#include <sthighway/cells.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <stdexcept>
+
+namespace st::highway {
+
+namespace {
+
+double polylineLength(const std::vector<Vec2>& pts) {
+  double s = 0.0;
+  for (std::size_t i = 0; i + 1 < pts.size(); ++i) s += (pts[i + 1] - pts[i]).norm();
+  return s;
+}
+
+Vec2 pointAt(const std::vector<Vec2>& pts, double along) {
+  for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+    const double l = (pts[i + 1] - pts[i]).norm();
+    if (along <= l || i + 2 == pts.size()) return l > 0.0 ? Vec2(pts[i] + (pts[i + 1] - pts[i]) * std::min(1.0, along / l)) : pts[i];
+    along -= l;
+  }
+  return pts.front();
+}
+
+// Bounding box of the part of a polyline between two distances along it.
+void growByPortion(Aabb<2>& box, bool& first, const std::vector<Vec2>& pts, double s0, double s1, double pad) {
+  auto add = [&](const Vec2& p) {
+    const Vec2 lo = p.array() - pad, hi = p.array() + pad;
+    if (first) {
+      box = {lo, hi};
+      first = false;
+    } else {
+      box.min = box.min.cwiseMin(lo);
+      box.max = box.max.cwiseMax(hi);
+    }
+  };
+  add(pointAt(pts, s0));
+  add(pointAt(pts, s1));
+  double s = 0.0;
+  for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+    if (s > s0 && s < s1) add(pts[i]);
+    s += (pts[i + 1] - pts[i]).norm();
+  }
+}
+
+Aabb<2> grown(const Aabb<2>& b, double m) { return {b.min.array() - m, b.max.array() + m}; }
+Aabb<2> unite(const Aabb<2>& a, const Aabb<2>& b) { return {a.min.cwiseMin(b.min), a.max.cwiseMax(b.max)}; }
+bool inside(const Aabb<2>& inner, const Aabb<2>& outer) {
+  return (inner.min.array() >= outer.min.array()).all() && (inner.max.array() <= outer.max.array()).all();
+}
+
+}  // namespace
+
+struct CellNetwork::Impl {
+  struct Cell {
+    Aabb<2> region;            // its share of road (static)
+    Aabb<2> extent;            // region united with its members' fat boxes (per tick)
+    Aabb<2> indexed;           // the box the network index holds (extent, grown)
+    Space<2> space;
+    std::vector<int> slots;    // local slot -> vehicle
+    std::vector<int> freeSlots;
+    int members = 0;
+  };
+  struct Served {
+    int cell = -1;
+    int local = -1;
+    Aabb<2> fat;
+  };
+
+  CellConfig cfg;
+  std::vector<std::string> sections;
+  std::vector<CellSite> sites;
+  std::vector<Cell> cells;
+  std::vector<Served> vehicles;
+  Space<2> index;
+  // site grid for "which sites does a car hear"
+  Vec2 gridOrigin = Vec2::Zero();
+  double gridSize = 1.0;
+  int gridNx = 1, gridNy = 1;
+  std::vector<std::vector<int>> grid;
+  double ratioSq = 1.0;  // (d_old / d_new)^2 above which the hysteresis margin is passed
+  CellCounters counters;
+  std::vector<Handoff> handoffs;
+
+  Impl(const CellConfig& c, const Aabb<2>& bounds)
+      : cfg(c), index(SpaceKind::Tree, grown(bounds, c.radioRange), SpaceRule{8, true, 0, 10, 0.0}) {}
+
+  double distSq(int cell, const Vec2& p) const {
+    const double d0 = cfg.referenceDistance;
+    return std::max((sites[cell].position - p).squaredNorm(), d0 * d0);
+  }
+
+  // The strongest site the car hears (nearest: path loss grows with distance); the nearest of
+  // all if none is in range, so a car is never lost.
+  int strongest(const Vec2& p) const {
+    int best = -1;
+    double bestD = std::numeric_limits<double>::infinity();
+    const int gx = static_cast<int>(std::floor((p.x() - gridOrigin.x()) / gridSize));
+    const int gy = static_cast<int>(std::floor((p.y() - gridOrigin.y()) / gridSize));
+    const double range2 = cfg.radioRange * cfg.radioRange;
+    for (int x = std::max(0, gx - 1); x <= std::min(gridNx - 1, gx + 1); ++x)
+      for (int y = std::max(0, gy - 1); y <= std::min(gridNy - 1, gy + 1); ++y)
+        for (int s : grid[x * gridNy + y]) {
+          const double d = distSq(s, p);
+          if (d <= range2 && (d < bestD || (d == bestD && s < best))) {
+            bestD = d;
+            best = s;
+          }
+        }
+    if (best >= 0) return best;
+    for (int s = 0; s < static_cast<int>(sites.size()); ++s) {
+      const double d = distSq(s, p);
+      if (d < bestD) {
+        bestD = d;
+        best = s;
+      }
+    }
+    return best;
+  }
+
+  void join(int v, int cell, const Aabb<2>& box) {
+    Cell& c = cells[cell];
+    int local;
+    if (!c.freeSlots.empty()) {
+      local = c.freeSlots.back();
+      c.freeSlots.pop_back();
+      c.slots[local] = v;
+    } else {
+      local = static_cast<int>(c.slots.size());
+      c.slots.push_back(v);
+    }
+    Served& s = vehicles[v];
+    s.cell = cell;
+    s.local = local;
+    s.fat = grown(box, cfg.fatMargin);
+    c.space.insert(local, s.fat);
+    ++c.members;
+  }
+
+  void leave(int v) {
+    Served& s = vehicles[v];
+    Cell& c = cells[s.cell];
+    c.space.remove(s.local);
+    c.slots[s.local] = -1;
+    c.freeSlots.push_back(s.local);
+    --c.members;
+    s.cell = -1;
+    s.local = -1;
+  }
+};
+
+CellNetwork::CellNetwork(const RoadGeometry& road, const RoadFeatures& features, const CellConfig& config) {
+  if (!(config.cellLength > 0.0) || !(config.radioRange > 0.0) || !(config.pathLossExponent > 0.0) ||
+      !(config.referenceDistance > 0.0) || !(config.hysteresisDb >= 0.0) || config.decompositionFactor < 1)
+    throw std::invalid_argument("cells: cellLength, radioRange, pathLossExponent, referenceDistance must be positive, "
+                                "hysteresisDb non-negative, decompositionFactor >= 1");
+  impl_ = std::make_unique<Impl>(config, features.bounds);
+  Impl& m = *impl_;
+  m.sections = features.sections;
+  // hysteresis in dB as a ratio of distances: 10 n log10(d_old / d_new) > h
+  const double ratio = std::pow(10.0, config.hysteresisDb / (10.0 * config.pathLossExponent));
+  m.ratioSq = ratio * ratio;
+  // sites along every section's middle lane, one per cellLength
+  std::map<std::string, std::vector<const Lane*>> lanesOf;
+  for (const Lane& l : road.lanes)
+    if (!l.internal) lanesOf[l.edge].push_back(&l);
+  const SpaceRule cellRule{config.decompositionFactor, true, 0, config.maxDepth, 0.0};
+  for (int sec = 0; sec < static_cast<int>(m.sections.size()); ++sec) {
+    auto& lanes = lanesOf[m.sections[sec]];
+    std::sort(lanes.begin(), lanes.end(), [](const Lane* a, const Lane* b) { return a->index < b->index; });
+    const Lane& ref = *lanes[lanes.size() / 2];
+    const double len = polylineLength(ref.shape);
+    const int n = std::max(1, static_cast<int>(std::lround(len / config.cellLength)));
+    for (int k = 0; k < n; ++k) {
+      CellSite site;
+      site.section = sec;
+      site.along = (k + 0.5) * len / n;
+      site.position = pointAt(ref.shape, site.along);
+      Aabb<2> region{site.position, site.position};
+      bool first = true;
+      for (const Lane* l : lanes) {
+        const double ll = polylineLength(l->shape);
+        growByPortion(region, first, l->shape, ll * k / n, ll * (k + 1) / n, 0.5 * l->width);
+      }
+      m.sites.push_back(site);
+      m.cells.push_back(Impl::Cell{region, region, region, Space<2>(SpaceKind::Tree, grown(region, config.cellLength), cellRule),
+                                   {}, {}, 0});
+    }
+  }
+  if (m.sites.empty()) {
+    // no road: one cell over everything, so the model still runs on bare traces and tests
+    CellSite site;
+    site.position = features.bounds.center();
+    m.sites.push_back(site);
+    m.cells.push_back(Impl::Cell{features.bounds, features.bounds, features.bounds,
+                                 Space<2>(SpaceKind::Tree, grown(features.bounds, config.cellLength), cellRule), {}, {}, 0});
+  }
+  // the site grid
+  m.gridSize = config.radioRange;
+  m.gridOrigin = features.bounds.min.array() - config.radioRange;
+  const Vec2 ext = features.bounds.extent().array() + 2.0 * config.radioRange;
+  m.gridNx = std::max(1, static_cast<int>(std::ceil(ext.x() / m.gridSize)));
+  m.gridNy = std::max(1, static_cast<int>(std::ceil(ext.y() / m.gridSize)));
+  m.grid.assign(static_cast<std::size_t>(m.gridNx) * m.gridNy, {});
+  for (int s = 0; s < static_cast<int>(m.sites.size()); ++s) {
+    const Vec2 q = (m.sites[s].position - m.gridOrigin) / m.gridSize;
+    const int gx = std::clamp(static_cast<int>(std::floor(q.x())), 0, m.gridNx - 1);
+    const int gy = std::clamp(static_cast<int>(std::floor(q.y())), 0, m.gridNy - 1);
+    m.grid[gx * m.gridNy + gy].push_back(s);
+  }
+  for (int c = 0; c < static_cast<int>(m.cells.size()); ++c) m.index.insert(c, m.cells[c].indexed);
+}
+
+CellNetwork::~CellNetwork() = default;
+CellNetwork::CellNetwork(CellNetwork&&) noexcept = default;
+CellNetwork& CellNetwork::operator=(CellNetwork&&) noexcept = default;
+
+const CellConfig& CellNetwork::config() const { return impl_->cfg; }
+int CellNetwork::cellCount() const { return static_cast<int>(impl_->cells.size()); }
+const CellSite& CellNetwork::site(int cell) const { return impl_->sites[cell]; }
+std::span<const std::string> CellNetwork::sections() const { return impl_->sections; }
+
+double CellNetwork::signalDbm(int cell, const Vec2& p) const {
+  const CellConfig& c = impl_->cfg;
+  return c.txPowerDbm - 5.0 * c.pathLossExponent * std::log10(impl_->distSq(cell, p) / (c.referenceDistance * c.referenceDistance));
+}
+
+int CellNetwork::place(int v, const Vec2& centre, const Aabb<2>& box) {
+  Impl& m = *impl_;
+  if (v >= static_cast<int>(m.vehicles.size())) m.vehicles.resize(v + 1);
+  Impl::Served& s = m.vehicles[v];
+  const int best = m.strongest(centre);
+  if (s.cell < 0) {
+    m.join(v, best, box);
+    ++m.counters.attaches;
+    return best;
+  }
+  if (best != s.cell && m.distSq(s.cell, centre) > m.ratioSq * m.distSq(best, centre)) {
+    // the car tells its old cell, which hands it to the stronger one
+    const int from = s.cell;
+    m.leave(v);
+    m.join(v, best, box);
+    ++m.counters.handoffs;
+    m.handoffs.push_back({v, from, best});
+    return best;
+  }
+  if (!inside(box, s.fat)) {
+    s.fat = grown(box, m.cfg.fatMargin);
+    m.cells[s.cell].space.update(s.local, s.fat);
+  }
+  return s.cell;
+}
+
+void CellNetwork::remove(int v) {
+  Impl& m = *impl_;
+  if (v < 0 || v >= static_cast<int>(m.vehicles.size()) || m.vehicles[v].cell < 0) return;
+  m.leave(v);
+  ++m.counters.detaches;
+}
+
+int CellNetwork::servingCell(int v) const {
+  return v >= 0 && v < static_cast<int>(impl_->vehicles.size()) ? impl_->vehicles[v].cell : -1;
+}
+
+void CellNetwork::refreshExtents() {
+  Impl& m = *impl_;
+  for (auto& c : m.cells) c.extent = c.region;
+  for (const auto& s : m.vehicles)
+    if (s.cell >= 0) m.cells[s.cell].extent = unite(m.cells[s.cell].extent, s.fat);
+  std::uint64_t subdivisions = 0, reunions = 0;
+  for (int i = 0; i < static_cast<int>(m.cells.size()); ++i) {
+    auto& c = m.cells[i];
+    if (!inside(c.extent, c.indexed)) {
+      c.indexed = grown(c.extent, m.cfg.cellLength * 0.25);
+      m.index.update(i, c.indexed);
+    }
+    subdivisions += c.space.counters().subdivisions;
+    reunions += c.space.counters().reunions;
+  }
+  m.counters.subdivisions = subdivisions;
+  m.counters.reunions = reunions;
+}
+
+std::vector<int> CellNetwork::membersOf(int cell) const {
+  std::vector<int> out;
+  for (int v : impl_->cells[cell].slots)
+    if (v >= 0) out.push_back(v);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+Aabb<2> CellNetwork::cellExtent(int cell) const { return impl_->cells[cell].extent; }
+const CellCounters& CellNetwork::counters() const { return impl_->counters; }
+
+std::vector<Handoff> CellNetwork::takeHandoffs() {
+  std::vector<Handoff> out;
+  out.swap(impl_->handoffs);
+  return out;
+}
+
+const Space<2>& CellNetwork::networkIndex() const { return impl_->index; }
+const Space<2>& CellNetwork::cellSpace(int cell) const { return impl_->cells[cell].space; }
+std::span<const int> CellNetwork::cellSlots(int cell) const { return impl_->cells[cell].slots; }
+
+}  // namespace st::highway

@@ -1,0 +1,316 @@
+#include <sthighway/detector.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include <stcore/toi.hpp>
+
+#include "kernels.hpp"
+
+namespace st::highway {
+
+using detail::kInf;
+
+const char* toString(DetectorKind k) {
+  switch (k) {
+    case DetectorKind::Concentric: return "concentric";
+    case DetectorKind::FiveCircle: return "five";
+    case DetectorKind::Box: return "box";
+  }
+  return "five";
+}
+
+bool parseDetectorKind(const std::string& text, DetectorKind& out) {
+  if (text == "concentric") out = DetectorKind::Concentric;
+  else if (text == "five" || text == "five-circle" || text == "fivecircle") out = DetectorKind::FiveCircle;
+  else if (text == "box") out = DetectorKind::Box;
+  else return false;
+  return true;
+}
+
+const char* toString(Zone z) {
+  switch (z) {
+    case Zone::Front: return "front";
+    case Zone::Rear: return "rear";
+    case Zone::Left: return "left";
+    case Zone::Right: return "right";
+    case Zone::Center: return "center";
+    case Zone::Inner: return "inner";
+    case Zone::Outer: return "outer";
+    case Zone::Body: return "body";
+  }
+  return "body";
+}
+
+FiveCircleLayout FiveCircleLayout::fig11a() {
+  FiveCircleLayout l;
+  constexpr double third = 1.0 / 3.0;
+  l.zones[kFront] = {2.0 * third, 0.0, third, 1.0, 0.0};
+  l.zones[kRear] = {-2.0 * third, 0.0, third, 1.0, 0.0};
+  l.zones[kLeft] = {0.0, 0.5, third, 0.5, 0.0};
+  l.zones[kRight] = {0.0, -0.5, third, 0.5, 0.0};
+  l.zones[kCenter] = {0.0, 0.0, 0.0, 1.0, 0.0};
+  return l;
+}
+
+FiveCircleLayout FiveCircleLayout::fig11b() {
+  FiveCircleLayout l;
+  l.zones[kFront] = {0.5, 0.0, 0.5, 1.0, 0.0};
+  l.zones[kRear] = {-0.5, 0.0, 0.5, 1.0, 0.0};
+  l.zones[kLeft] = {0.0, 0.5, 0.5, 0.5, 0.0};
+  l.zones[kRight] = {0.0, -0.5, 0.5, 0.5, 0.0};
+  l.zones[kCenter] = {0.0, 0.0, 0.0, 1.0, 0.0};
+  return l;
+}
+
+Body bodyOf(const VehicleState& v) {
+  Body b;
+  b.position = v.position;
+  b.axis = v.direction();
+  b.velocity = v.velocity();
+  b.acceleration = v.acceleration;
+  b.length = v.length;
+  b.width = v.width;
+  return b;
+}
+
+namespace {
+
+struct Circ {
+  Vec2 offset;  // body frame (m)
+  double radius;
+};
+
+Circ zoneCircle(const ZoneCircle& z, double length, double width) {
+  const double hl = 0.5 * length, hw = 0.5 * width;
+  return {Vec2(z.x * hl, z.y * hw), std::hypot(z.rx * hl, z.ry * hw) + z.margin};
+}
+
+int bodyCircleCount(const DetectorConfig& cfg, double length, double width) {
+  if (cfg.bodyCircles > 0) return cfg.bodyCircles;
+  return std::max(1, static_cast<int>(std::ceil(length / width - 1e-9)));
+}
+
+// Body circles of a foe: n equal circles along the length, each around its slice of the rectangle.
+Circ bodyCircle(int i, int n, double length, double width) {
+  const double slice = length / n;
+  return {Vec2(-0.5 * length + (i + 0.5) * slice, 0.0), std::hypot(0.5 * slice, 0.5 * width)};
+}
+
+double halfDiagonal(double length, double width) { return 0.5 * std::hypot(length, width); }
+
+double outerRadius(const DetectorConfig& cfg, double l, double w) { return halfDiagonal(l, w) + cfg.concentric.outerMargin; }
+double innerRadius(const DetectorConfig& cfg, double w) { return 0.5 * w + cfg.concentric.innerMargin; }
+
+// Radius of a circle about the centre holding the foe's shape as the ego's detector sees it.
+double foeEnvelope(const DetectorConfig& cfg, double l, double w) {
+  switch (cfg.kind) {
+    case DetectorKind::Concentric: return outerRadius(cfg, l, w);
+    case DetectorKind::FiveCircle: {
+      const int n = bodyCircleCount(cfg, l, w);
+      const Circ c = bodyCircle(0, n, l, w);
+      return c.offset.norm() + c.radius;
+    }
+    case DetectorKind::Box: return halfDiagonal(l, w);
+  }
+  return halfDiagonal(l, w);
+}
+
+// The four SAT axes of two oriented rectangles, relative to ego (r = foe centre - ego centre).
+int boxAxes(const Body& a, const Body& b, detail::Axis* axes) {
+  const Vec2 an = detail::normalOf(a.axis), bn = detail::normalOf(b.axis);
+  const double ahl = 0.5 * a.length, ahw = 0.5 * a.width, bhl = 0.5 * b.length, bhw = 0.5 * b.width;
+  const Vec2 dirs[4] = {a.axis, an, b.axis, bn};
+  for (int k = 0; k < 4; ++k) {
+    const Vec2& n = dirs[k];
+    const double ea = ahl * std::abs(a.axis.dot(n)) + ahw * std::abs(an.dot(n));
+    const double eb = bhl * std::abs(b.axis.dot(n)) + bhw * std::abs(bn.dot(n));
+    axes[k] = {n, 0.0, ea + eb};
+  }
+  return 4;
+}
+
+}  // namespace
+
+double envelopeRadius(const DetectorConfig& cfg, double length, double width) {
+  double r = halfDiagonal(length, width);
+  switch (cfg.kind) {
+    case DetectorKind::Concentric:
+      r = std::max({r, outerRadius(cfg, length, width), innerRadius(cfg, width)});
+      break;
+    case DetectorKind::FiveCircle:
+      for (const ZoneCircle& z : cfg.five.zones) {
+        const Circ c = zoneCircle(z, length, width);
+        r = std::max(r, c.offset.norm() + c.radius);
+      }
+      r = std::max(r, foeEnvelope(cfg, length, width));
+      break;
+    case DetectorKind::Box:
+      break;
+  }
+  return r;
+}
+
+bool layoutCoversBody(const FiveCircleLayout& layout, double length, double width) {
+  // every point of a fine grid over the rectangle (boundary included) lies in a car-checking zone
+  const int nx = 64, ny = 32;
+  for (int i = 0; i <= nx; ++i) {
+    for (int j = 0; j <= ny; ++j) {
+      const Vec2 p((i / double(nx) - 0.5) * length, (j / double(ny) - 0.5) * width);
+      bool in = false;
+      for (int z = 0; z < 4 && !in; ++z) {
+        const Circ c = zoneCircle(layout.zones[z], length, width);
+        in = (p - c.offset).norm() <= c.radius * (1.0 + 1e-12) + 1e-12;
+      }
+      if (!in) return false;
+    }
+  }
+  return true;
+}
+
+double boxTtc(const Body& a, const Body& b, MotionModel motion, double horizon) {
+  detail::Axis axes[4];
+  boxAxes(a, b, axes);
+  std::array<detail::Piece, 3> pcs;
+  const int n = detail::relativePieces(detail::trackOf(a, motion), detail::trackOf(b, motion), horizon, pcs);
+  for (int i = 0; i < n; ++i) {
+    const double s = detail::satEntry(pcs[i], axes, 4);
+    if (s < kInf) return pcs[i].start + s;
+  }
+  return kInf;
+}
+
+Ttc vehicleTtc(const DetectorConfig& cfg, const Body& ego, const Body& foe, double horizon) {
+  Ttc best;
+  if (!(horizon >= 0.0)) return best;
+  std::array<detail::Piece, 3> pcs;
+  const int n = detail::relativePieces(detail::trackOf(ego, cfg.motion), detail::trackOf(foe, cfg.motion), horizon, pcs);
+  switch (cfg.kind) {
+    case DetectorKind::Concentric: {
+      // CheckOuter: outer circle against the other car's outer circle
+      const double r = outerRadius(cfg, ego.length, ego.width) + outerRadius(cfg, foe.length, foe.width);
+      for (int i = 0; i < n && !best.found(); ++i) {
+        const double s = detail::discEntry(pcs[i], Vec2::Zero(), r);
+        if (s < kInf) best = {pcs[i].start + s, Zone::Outer};
+      }
+      return best;
+    }
+    case DetectorKind::Box: {
+      best.zone = Zone::Body;
+      best.t = boxTtc(ego, foe, cfg.motion, horizon);
+      return best;
+    }
+    case DetectorKind::FiveCircle: {
+      // prune with the envelopes, then CheckFront, CheckRear, CheckLeft, CheckRight against
+      // every body circle of the foe; the earliest names the zone (ties: that order)
+      const double env = envelopeRadius(cfg, ego.length, ego.width) + foeEnvelope(cfg, foe.length, foe.width);
+      const int nb = bodyCircleCount(cfg, foe.length, foe.width);
+      for (int i = 0; i < n; ++i) {
+        if (detail::discEntry(pcs[i], Vec2::Zero(), env) == kInf) continue;
+        Vec2 foeOff[16];
+        double foeR = 0.0;
+        const int m = std::min(nb, 16);
+        for (int k = 0; k < m; ++k) {
+          const Circ c = bodyCircle(k, m, foe.length, foe.width);
+          foeOff[k] = detail::toWorld(foe, c.offset.x(), c.offset.y());
+          foeR = c.radius;
+        }
+        detail::Piece pc = pcs[i];
+        for (int z = 0; z < 4; ++z) {
+          const Circ zc = zoneCircle(cfg.five.zones[z], ego.length, ego.width);
+          const Vec2 egoOff = detail::toWorld(ego, zc.offset.x(), zc.offset.y());
+          for (int k = 0; k < m; ++k) {
+            pc.len = best.found() ? std::min(pcs[i].len, best.t - pcs[i].start) : pcs[i].len;
+            const double s = detail::discEntry(pc, foeOff[k] - egoOff, zc.radius + foeR);
+            if (s < kInf && (!best.found() || pcs[i].start + s < best.t))
+              best = {pcs[i].start + s, static_cast<Zone>(static_cast<int>(Zone::Front) + z)};
+          }
+        }
+        if (best.found()) return best;
+      }
+      return best;
+    }
+  }
+  return best;
+}
+
+Ttc featureTtc(const DetectorConfig& cfg, const Body& ego, const RoadFeature& f, double horizon) {
+  Ttc best;
+  if (!(horizon >= 0.0)) return best;
+  const bool point = f.kind == FeatureKind::Hazard;
+  const Vec2 mid = 0.5 * (f.segment.a + f.segment.b);
+  // relative motion of the feature as seen from the ego: the ego's motion reversed
+  std::array<detail::Piece, 3> pcs;
+  const int n = detail::relativePieces(detail::trackOf(ego, cfg.motion), detail::staticTrack(mid), horizon, pcs);
+  double t = kInf;
+  Zone zone = Zone::Body;
+  if (cfg.kind == DetectorKind::Box) {
+    const Vec2 an = detail::normalOf(ego.axis);
+    const double hl = 0.5 * ego.length, hw = 0.5 * ego.width;
+    for (int i = 0; i < n && t == kInf; ++i) {
+      double s = kInf;
+      if (point) {
+        // the rectangle grown by the disc: two crossed rectangles and four corner discs
+        const detail::Axis ax1[2] = {{ego.axis, 0.0, hl + f.radius}, {an, 0.0, hw}};
+        const detail::Axis ax2[2] = {{ego.axis, 0.0, hl}, {an, 0.0, hw + f.radius}};
+        s = std::min(detail::satEntry(pcs[i], ax1, 2), detail::satEntry(pcs[i], ax2, 2));
+        for (double sx : {-1.0, 1.0})
+          for (double sy : {-1.0, 1.0})
+            s = std::min(s, detail::discEntry(pcs[i], -(sx * hl * ego.axis + sy * hw * an), f.radius));
+      } else {
+        // segment as a degenerate polygon: axes are the box's two and the segment's normal
+        const Vec2 d = f.segment.b - f.segment.a;
+        const double hlen = 0.5 * d.norm();
+        const Vec2 dn = hlen > 0.0 ? Vec2(d / (2.0 * hlen)) : Vec2(1.0, 0.0);
+        const Vec2 sn = detail::normalOf(dn);
+        const detail::Axis ax[3] = {
+            {ego.axis, 0.0, hl + hlen * std::abs(dn.dot(ego.axis))},
+            {an, 0.0, hw + hlen * std::abs(dn.dot(an))},
+            {sn, 0.0, hl * std::abs(ego.axis.dot(sn)) + hw * std::abs(an.dot(sn))}};
+        s = detail::satEntry(pcs[i], ax, 3);
+      }
+      if (s < kInf) t = pcs[i].start + s;
+    }
+  } else {
+    // CheckInner (concentric) or CheckCenter (five-circle)
+    const double r = cfg.kind == DetectorKind::Concentric
+                         ? innerRadius(cfg, ego.width)
+                         : zoneCircle(cfg.five.zones[FiveCircleLayout::kCenter], ego.length, ego.width).radius;
+    zone = cfg.kind == DetectorKind::Concentric ? Zone::Inner : Zone::Center;
+    if (cfg.motion == MotionModel::ConstantVelocity || (n == 1 && !pcs[0].accelerating())) {
+      // the stcore kernels for constant velocity
+      const Circle c{ego.position, r};
+      Impact hit;
+      if (point) hit = toiBalls<2>(f.segment.a - ego.position, -ego.velocity, r + f.radius);
+      else hit = toiCircleSegment(c, ego.velocity, f.segment).impact;
+      if (hit.acts() && hit.actTime() <= horizon) t = hit.actTime();
+      if (hit.outcome == Outcome::Separating) return best;
+    } else {
+      for (int i = 0; i < n && t == kInf; ++i) {
+        double s = kInf;
+        if (point) {
+          s = detail::discEntry(pcs[i], Vec2::Zero(), r + f.radius);
+        } else {
+          // the capsule around the segment: a rectangle and two end discs
+          const Vec2 d = f.segment.b - f.segment.a;
+          const double hlen = 0.5 * d.norm();
+          const Vec2 dn = hlen > 0.0 ? Vec2(d / (2.0 * hlen)) : Vec2(1.0, 0.0);
+          const detail::Axis ax[2] = {{dn, 0.0, hlen}, {detail::normalOf(dn), 0.0, r}};
+          s = std::min({detail::satEntry(pcs[i], ax, 2), detail::discEntry(pcs[i], f.segment.a - mid, r),
+                        detail::discEntry(pcs[i], f.segment.b - mid, r)});
+        }
+        if (s < kInf) t = pcs[i].start + s;
+      }
+    }
+  }
+  if (t == kInf) return best;
+  if (t == 0.0) {
+    // already touching: a threat only while the car still moves towards the feature
+    const Vec2 closest = point ? f.segment.a : closestPointOnSegment(f.segment, ego.position);
+    if (ego.velocity.dot(closest - ego.position) <= 0.0) return best;
+  }
+  best = {t, zone};
+  return best;
+}
+
+}  // namespace st::highway

@@ -1,0 +1,59 @@
+#pragma once
+// Time-of-entry kernels on plain numbers for bodies whose relative motion is piecewise
+// quadratic (constant velocity, or constant acceleration until a car stops). The detectors are
+// wrappers over these; tests reach them directly.
+#include <array>
+#include <limits>
+
+#include <sthighway/detector.hpp>
+
+namespace st::highway::detail {
+
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// One body's motion: p(t) = p + v t + a t^2 / 2 for t <= stop, then straight on at vAfter.
+struct Track {
+  Vec2 p = Vec2::Zero();
+  Vec2 v = Vec2::Zero();
+  Vec2 a = Vec2::Zero();
+  double stop = kInf;
+  Vec2 vAfter = Vec2::Zero();
+};
+Track trackOf(const Body& b, MotionModel motion);
+inline Track staticTrack(const Vec2& p) {
+  Track t;
+  t.p = p;
+  return t;
+}
+
+// Relative motion of foe with respect to ego on [start, start + len]:
+// r(s) = p + v s + a s^2 / 2 for s in [0, len].
+struct Piece {
+  Vec2 p = Vec2::Zero();
+  Vec2 v = Vec2::Zero();
+  Vec2 a = Vec2::Zero();
+  double start = 0.0;
+  double len = 0.0;
+  bool accelerating() const;
+};
+// Splits [0, horizon] at the stop times; returns the number of pieces (1..3).
+int relativePieces(const Track& ego, const Track& foe, double horizon, std::array<Piece, 3>& out);
+
+// First s in [0, len] with |r(s) + offset| <= radius (0 if already so); kInf if none.
+double discEntry(const Piece& pc, const Vec2& offset, double radius);
+
+// One separating axis: the shapes overlap along it when |n . r(s) + c| <= e.
+struct Axis {
+  Vec2 n;
+  double c = 0.0;
+  double e = 0.0;
+};
+// First s in [0, len] at which the shapes overlap on every axis (0 if they already do); kInf if
+// none. Exact for convex polygons when the axes are all their edge normals.
+double satEntry(const Piece& pc, const Axis* axes, int count);
+
+// Geometry helpers in the body frame.
+inline Vec2 normalOf(const Vec2& axis) { return {-axis.y(), axis.x()}; }
+inline Vec2 toWorld(const Body& b, double x, double y) { return x * b.axis + y * normalOf(b.axis); }
+
+}  // namespace st::highway::detail

@@ -1,0 +1,513 @@
+#include <sthighway/monitor.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <unordered_map>
+
+#include <stcore/toi.hpp>
+
+#include "kernels.hpp"
+
+namespace st::highway {
+
+using detail::kInf;
+
+const char* toString(Broadphase b) { return b == Broadphase::Cells ? "cells" : "all-pairs"; }
+bool parseBroadphase(const std::string& text, Broadphase& out) {
+  if (text == "cells") out = Broadphase::Cells;
+  else if (text == "all-pairs" || text == "allpairs") out = Broadphase::AllPairs;
+  else return false;
+  return true;
+}
+
+const char* toString(WarningKind k) {
+  switch (k) {
+    case WarningKind::Vehicle: return "vehicle";
+    case WarningKind::Curb: return "curb";
+    case WarningKind::LaneMarker: return "lane_marker";
+    case WarningKind::Hazard: return "hazard";
+  }
+  return "vehicle";
+}
+
+namespace {
+
+constexpr std::uint64_t kFeatureBit = std::uint64_t{1} << 63;
+
+WarningKind kindOf(FeatureKind k) {
+  switch (k) {
+    case FeatureKind::Curb: return WarningKind::Curb;
+    case FeatureKind::LaneMarker: return WarningKind::LaneMarker;
+    case FeatureKind::Hazard: return WarningKind::Hazard;
+  }
+  return WarningKind::Curb;
+}
+
+Aabb<2> boxOf(const Body& b) {
+  const double c = std::abs(b.axis.x()), s = std::abs(b.axis.y());
+  const Vec2 h(c * 0.5 * b.length + s * 0.5 * b.width, s * 0.5 * b.length + c * 0.5 * b.width);
+  return {b.position - h, b.position + h};
+}
+
+void checkFinite(const VehicleState& v) {
+  auto bad = [&](const char* field) {
+    return std::invalid_argument("vehicle '" + v.id + "': " + field + " must be finite" +
+                                 (std::string(field) == "length" || std::string(field) == "width" || std::string(field) == "mass"
+                                      ? " and positive" : ""));
+  };
+  if (!v.position.allFinite()) throw bad("position");
+  if (!std::isfinite(v.heading)) throw bad("heading");
+  if (!std::isfinite(v.speed)) throw bad("speed");
+  if (!std::isfinite(v.lateralSpeed)) throw bad("lateralSpeed");
+  if (!std::isfinite(v.acceleration)) throw bad("acceleration");
+  if (!(v.length > 0.0) || !std::isfinite(v.length)) throw bad("length");
+  if (!(v.width > 0.0) || !std::isfinite(v.width)) throw bad("width");
+  if (!(v.mass > 0.0) || !std::isfinite(v.mass)) throw bad("mass");
+}
+
+}  // namespace
+
+struct HighwayMonitor::Impl {
+  struct Episode {
+    std::uint64_t key = 0;
+    Warning w;
+  };
+  struct Threat {
+    std::uint64_t key = 0;
+    WarningKind kind = WarningKind::Vehicle;
+    Zone zone = Zone::Body;
+    double ttc = 0.0;
+    double safe = 0.0;
+    int foe = -1;  // slot, or feature group
+  };
+  struct Slot {
+    std::string id;
+    std::uint64_t serial = 0;
+    bool present = false;
+    int input = -1;         // index in the current span
+    Vec2 prev = Vec2::Zero();
+    std::vector<Episode> open;
+    std::array<bool, kWarningKindCount> exposed{};
+    std::array<double, kWarningKindCount> deficit{};
+  };
+
+  MonitorConfig cfg;
+  RoadFeatures features;
+  std::vector<int> groupOf;                 // feature -> group (one polyline or hazard)
+  std::vector<std::string> groupName;
+  std::vector<FeatureKind> groupKind;
+  std::optional<Space<2>> featureIndex;
+  std::optional<CellNetwork> cells;
+
+  std::unordered_map<std::string, int> slotOf;
+  std::vector<Slot> slots;
+  std::vector<int> freeSlots;
+  std::uint64_t nextSerial = 1;
+  std::vector<int> activeSlots;              // present slots, in input order
+
+  // hot state, struct of arrays by slot
+  std::vector<Body> body;
+  std::vector<double> mass, env, accelAbs;
+  std::vector<VehicleClass> vclass;
+  std::vector<std::uint8_t> signals;
+  std::vector<char> equipped;
+
+  // per-cell bounds of the members' velocities, accelerations and envelopes (cells broadphase)
+  struct CellStats {
+    Vec2 vmin, vmax;
+    double amax = 0.0, envMax = 0.0;
+    int count = 0;
+  };
+  std::vector<CellStats> cellStats;
+
+  MonitorCounters counters;
+  std::vector<Warning> finished;
+  std::vector<Alert> alerts;
+  std::vector<Threat> threats;  // scratch
+  double lastT = -std::numeric_limits<double>::infinity();
+  bool started = false;
+
+  void ensureSlotArrays(std::size_t n) {
+    if (body.size() >= n) return;
+    body.resize(n);
+    mass.resize(n);
+    env.resize(n);
+    accelAbs.resize(n);
+    vclass.resize(n);
+    signals.resize(n);
+    equipped.resize(n);
+  }
+
+  void close(Slot& s, double endTime) {
+    for (Episode& e : s.open) {
+      e.w.end = endTime;
+      e.w.open = false;
+      finished.push_back(std::move(e.w));
+    }
+    s.open.clear();
+  }
+
+  double vehicleHorizonBound(int e, double relSpeedBound) const {
+    return cfg.safeTime.vehicleSafeTime(mass[e], relSpeedBound, vclass[e]);
+  }
+
+  void checkPair(int e, int f) {
+    ++counters.candidatePairs;
+    const Body& a = body[e];
+    const Body& b = body[f];
+    const Vec2 p = b.position - a.position;
+    const Vec2 v = b.velocity - a.velocity;
+    const double dist = p.norm();
+    const double closing = dist > 0.0 ? -p.dot(v) / dist : v.norm();
+    const double safe = cfg.safeTime.vehicleSafeTime(mass[e], closing, vclass[e]);
+    // exact prune: the envelopes cannot meet within the safe time
+    const double accel = cfg.detector.motion == MotionModel::ConstantAcceleration ? accelAbs[e] + accelAbs[f] : 0.0;
+    if (dist > env[e] + env[f] + v.norm() * safe + 0.5 * accel * safe * safe) return;
+    ++counters.toiChecks;
+    const Ttc ttc = vehicleTtc(cfg.detector, a, b, safe);
+    if (ttc.found() && ttc.t <= safe)
+      threats.push_back({slots[f].serial, WarningKind::Vehicle, ttc.zone, ttc.t, safe, f});
+  }
+
+  void checkFeature(int e, int fi) {
+    ++counters.featureChecks;
+    const RoadFeature& f = features.features[fi];
+    const Body& a = body[e];
+    const Vec2 closest = f.kind == FeatureKind::Hazard ? f.segment.a : closestPointOnSegment(f.segment, a.position);
+    const Vec2 d = closest - a.position;
+    const double dist = d.norm();
+    const double closing = dist > 0.0 ? a.velocity.dot(d) / dist : a.velocity.norm();
+    const double safe = cfg.safeTime.roadSafeTime(mass[e], closing, vclass[e]);
+    const double accel = cfg.detector.motion == MotionModel::ConstantAcceleration ? accelAbs[e] : 0.0;
+    if (dist > env[e] + f.radius + a.velocity.norm() * safe + 0.5 * accel * safe * safe) return;
+    const Ttc ttc = featureTtc(cfg.detector, a, f, safe);
+    if (!ttc.found() || ttc.t > safe) return;
+    if (f.kind == FeatureKind::LaneMarker) {
+      // crossing with the matching turn signal on is a lane change, not a warning
+      double side = cross(a.axis, d);
+      if (std::abs(side) < 1e-9) side = cross(a.axis, a.velocity);
+      const std::uint8_t need = side > 0.0 ? kSignalLeft : kSignalRight;
+      if (signals[e] & need) return;
+    }
+    const int g = groupOf[fi];
+    threats.push_back({kFeatureBit | static_cast<std::uint64_t>(g), kindOf(f.kind), ttc.zone, ttc.t, safe, g});
+  }
+
+  void candidatesVehicles(int e) {
+    if (cfg.broadphase == Broadphase::AllPairs) {
+      for (int f : activeSlots)
+        if (f != e) checkPair(e, f);
+      return;
+    }
+    const Body& a = body[e];
+    const bool accel = cfg.detector.motion == MotionModel::ConstantAcceleration;
+    // the widest look-ahead any cell could need, then each cell's own from its members' bounds
+    const double vGlobal = a.velocity.norm() + globalVmax;
+    const double aGlobal = accel ? accelAbs[e] + globalAmax : 0.0;
+    const double hGlobal = vehicleHorizonBound(e, vGlobal);
+    const double reach = env[e] + globalEnvMax + vGlobal * hGlobal + 0.5 * aGlobal * hGlobal * hGlobal;
+    const Aabb<2> box{a.position.array() - reach, a.position.array() + reach};
+    cells->forEachCellInBox(box, [&](int cell) {
+      const CellStats& c = cellStats[cell];
+      if (c.count == 0) return;
+      // |v_e - v_f| over the cell's velocity box is largest at a corner (the norm is convex)
+      double vrel = 0.0;
+      for (double x : {c.vmin.x(), c.vmax.x()})
+        for (double y : {c.vmin.y(), c.vmax.y()}) vrel = std::max(vrel, (a.velocity - Vec2(x, y)).norm());
+      const double ac = accel ? accelAbs[e] + c.amax : 0.0;
+      const double h = vehicleHorizonBound(e, vrel);
+      const double r = env[e] + c.envMax + vrel * h + 0.5 * ac * h * h;
+      const Aabb<2> cb{a.position.array() - r, a.position.array() + r};
+      cells->forEachInCellBox(cell, cb, [&](int f) {
+        if (f != e) checkPair(e, f);
+      });
+    });
+  }
+  double globalVmax = 0.0, globalAmax = 0.0, globalEnvMax = 0.0;
+
+  void candidatesFeatures(int e) {
+    if (!featureIndex) return;
+    if (cfg.broadphase == Broadphase::AllPairs) {
+      for (int fi = 0; fi < static_cast<int>(features.features.size()); ++fi) checkFeature(e, fi);
+      return;
+    }
+    const Body& a = body[e];
+    const double speed = a.velocity.norm();
+    const double ac = cfg.detector.motion == MotionModel::ConstantAcceleration ? accelAbs[e] : 0.0;
+    const double h = cfg.safeTime.roadSafeTime(mass[e], speed, vclass[e]);
+    const double r = env[e] + speed * h + 0.5 * ac * h * h;
+    const Aabb<2> box{a.position.array() - r, a.position.array() + r};
+    featureIndex->forEachInBox(box, [&](int fi) { checkFeature(e, fi); });
+  }
+
+  void merge(int e, double t) {
+    Slot& s = slots[e];
+    // the worst (smallest) TTC per key, keys ascending
+    std::sort(threats.begin(), threats.end(), [](const Threat& x, const Threat& y) {
+      return x.key != y.key ? x.key < y.key : x.ttc < y.ttc;
+    });
+    threats.erase(std::unique(threats.begin(), threats.end(), [](const Threat& x, const Threat& y) { return x.key == y.key; }),
+                  threats.end());
+    std::vector<Episode> next;
+    next.reserve(threats.size());
+    std::size_t i = 0, j = 0;
+    while (i < s.open.size() || j < threats.size()) {
+      if (j == threats.size() || (i < s.open.size() && s.open[i].key < threats[j].key)) {
+        Episode& ep = s.open[i++];
+        ep.w.end = t;
+        ep.w.open = false;
+        finished.push_back(std::move(ep.w));
+        continue;
+      }
+      const Threat& th = threats[j++];
+      if (i < s.open.size() && s.open[i].key == th.key) {
+        Episode ep = std::move(s.open[i++]);
+        ep.w.end = t;
+        if (th.ttc < ep.w.minTtc) {
+          ep.w.minTtc = th.ttc;
+          ep.w.minTtcTime = t;
+          ep.w.safeTimeAtMin = th.safe;
+        }
+        next.push_back(std::move(ep));
+        continue;
+      }
+      Episode ep;
+      ep.key = th.key;
+      ep.w.ego = s.id;
+      if (th.kind == WarningKind::Vehicle) ep.w.foe = slots[th.foe].id;
+      else ep.w.foe = groupName[th.foe];
+      ep.w.kind = th.kind;
+      ep.w.zone = th.zone;
+      ep.w.begin = ep.w.end = t;
+      ep.w.minTtc = th.ttc;
+      ep.w.minTtcTime = t;
+      ep.w.safeTimeAtMin = th.safe;
+      ep.w.open = true;
+      ++counters.warningsBegun;
+      ++counters.warningsByKind[static_cast<int>(th.kind)];
+      ++counters.warningsByZone[static_cast<int>(th.zone)];
+      next.push_back(std::move(ep));
+    }
+    s.open = std::move(next);
+    // exposure and the alert
+    s.exposed.fill(false);
+    s.deficit.fill(0.0);
+    const Threat* worst = nullptr;
+    for (const Threat& th : threats) {
+      const int k = static_cast<int>(th.kind);
+      s.exposed[k] = true;
+      s.deficit[k] = std::max(s.deficit[k], th.safe - th.ttc);
+      if (!worst || th.ttc * worst->safe < worst->ttc * th.safe) worst = &th;
+    }
+    if (worst) alerts.push_back({s.input, worst->kind, worst->zone, worst->ttc, worst->safe});
+  }
+};
+
+HighwayMonitor::HighwayMonitor(const RoadGeometry& road, const MonitorConfig& config) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.cfg = config;
+  const SafeTimeConfig& st = config.safeTime;
+  if (!(st.vehicleReactionTime >= 0.0) || !(st.roadReactionTime >= 0.0))
+    throw std::invalid_argument("safe time: reaction times must be non-negative");
+  for (double f : st.brakeForce)
+    if (!(f > 0.0)) throw std::invalid_argument("safe time: every brake force must be positive");
+  if (config.detector.kind == DetectorKind::FiveCircle) {
+    // the zones must cover the car or the five-circle TTC is not a conservative envelope
+    for (double aspect : {1.0, 2.0, 2.78, 4.7, 8.0})
+      if (!layoutCoversBody(config.detector.five, aspect, 1.0))
+        throw std::invalid_argument("five-circle layout: front/rear/left/right zones do not cover the car");
+  }
+  m.features = deriveFeatures(road);
+  std::map<std::string, int> groups;
+  for (const RoadFeature& f : m.features.features) {
+    auto [it, inserted] = groups.emplace(std::string(toString(f.kind)) + "/" + f.name, static_cast<int>(m.groupName.size()));
+    if (inserted) {
+      m.groupName.push_back(f.name);
+      m.groupKind.push_back(f.kind);
+    }
+    m.groupOf.push_back(it->second);
+  }
+  if (!m.features.features.empty()) {
+    const Aabb<2> b{m.features.bounds.min.array() - 10.0, m.features.bounds.max.array() + 10.0};
+    const double cell = std::max(25.0, b.extent().maxCoeff() / 2048.0);
+    m.featureIndex.emplace(SpaceKind::Cells, b, SpaceRule{8, false, 0, 1, cell});
+    for (int i = 0; i < static_cast<int>(m.features.features.size()); ++i) {
+      const RoadFeature& f = m.features.features[i];
+      const Vec2 lo = f.segment.a.cwiseMin(f.segment.b).array() - f.radius;
+      const Vec2 hi = f.segment.a.cwiseMax(f.segment.b).array() + f.radius;
+      m.featureIndex->insert(i, {lo, hi});
+    }
+  }
+  RoadFeatures forCells = m.features;
+  if (forCells.bounds.extent().minCoeff() <= 0.0)
+    forCells.bounds = {forCells.bounds.min.array() - 100.0, forCells.bounds.max.array() + 100.0};
+  m.cells.emplace(road, forCells, config.cells);
+}
+
+HighwayMonitor::~HighwayMonitor() = default;
+HighwayMonitor::HighwayMonitor(HighwayMonitor&&) noexcept = default;
+HighwayMonitor& HighwayMonitor::operator=(HighwayMonitor&&) noexcept = default;
+
+void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
+  Impl& m = *impl_;
+  if (!std::isfinite(t)) throw std::invalid_argument("step time must be finite");
+  if (m.started && !(t > m.lastT)) throw std::invalid_argument("step times must increase strictly");
+  // exposure of the interval that just ended, from the last tick's threats
+  if (m.started) {
+    const double dt = t - m.lastT;
+    for (int s : m.activeSlots)
+      for (int k = 0; k < kWarningKindCount; ++k)
+        if (m.slots[s].exposed[k]) {
+          m.counters.tet[k] += dt;
+          m.counters.tit[k] += dt * m.slots[s].deficit[k];
+        }
+  }
+  // who is here: map ids to slots
+  for (int s : m.activeSlots) m.slots[s].input = -1;
+  std::vector<int> now;
+  now.reserve(vehicles.size());
+  for (int i = 0; i < static_cast<int>(vehicles.size()); ++i) {
+    const VehicleState& v = vehicles[i];
+    checkFinite(v);
+    auto [it, inserted] = m.slotOf.emplace(v.id, -1);
+    if (inserted) {
+      int s;
+      if (!m.freeSlots.empty()) {
+        s = m.freeSlots.back();
+        m.freeSlots.pop_back();
+      } else {
+        s = static_cast<int>(m.slots.size());
+        m.slots.emplace_back();
+      }
+      it->second = s;
+      Impl::Slot& sl = m.slots[s];
+      sl = Impl::Slot{};
+      sl.id = v.id;
+      sl.serial = m.nextSerial++;
+      sl.prev = v.position;
+      ++m.counters.vehiclesSeen;
+    }
+    const int s = it->second;
+    Impl::Slot& sl = m.slots[s];
+    if (sl.input >= 0) throw std::invalid_argument("vehicle '" + v.id + "' appears twice at t=" + std::to_string(t));
+    sl.input = i;
+    now.push_back(s);
+  }
+  m.ensureSlotArrays(m.slots.size());
+  // vehicles that left: their episodes end at their last tick
+  for (int s : m.activeSlots) {
+    Impl::Slot& sl = m.slots[s];
+    if (sl.input >= 0) continue;
+    m.close(sl, m.lastT);
+    sl.present = false;
+    sl.exposed.fill(false);
+    if (m.cells) m.cells->remove(s);
+    m.slotOf.erase(sl.id);
+    m.freeSlots.push_back(s);
+  }
+  m.activeSlots = std::move(now);
+  // hot state
+  const DetectorConfig& dc = m.cfg.detector;
+  for (int s : m.activeSlots) {
+    Impl::Slot& sl = m.slots[s];
+    const VehicleState& v = vehicles[sl.input];
+    m.body[s] = bodyOf(v);
+    m.mass[s] = v.mass;
+    m.env[s] = envelopeRadius(dc, v.length, v.width);
+    m.accelAbs[s] = std::abs(v.acceleration);
+    m.vclass[s] = v.vehicleClass;
+    m.signals[s] = v.signals;
+    m.equipped[s] = v.equipped ? 1 : 0;
+    if (sl.present) m.counters.vehicleMeters += (v.position - sl.prev).norm();
+    sl.prev = v.position;
+    sl.present = true;
+  }
+  m.counters.vehicleUpdates += m.activeSlots.size();
+  ++m.counters.ticks;
+  // cells: every car measures its sites, hand-offs happen, then the cells' extents are known
+  if (m.cfg.broadphase == Broadphase::Cells) {
+    for (int s : m.activeSlots) m.cells->place(s, m.body[s].position, boxOf(m.body[s]));
+    m.cells->refreshExtents();
+    m.cells->takeHandoffs();
+    const CellCounters& cc = m.cells->counters();
+    m.counters.handoffs = cc.handoffs;
+    m.counters.subdivisions = cc.subdivisions;
+    m.counters.reunions = cc.reunions;
+    m.cellStats.assign(m.cells->cellCount(), Impl::CellStats{});
+    m.globalVmax = m.globalAmax = m.globalEnvMax = 0.0;
+    for (int s : m.activeSlots) {
+      Impl::CellStats& c = m.cellStats[m.cells->servingCell(s)];
+      const Vec2& v = m.body[s].velocity;
+      if (c.count++ == 0) {
+        c.vmin = c.vmax = v;
+      } else {
+        c.vmin = c.vmin.cwiseMin(v);
+        c.vmax = c.vmax.cwiseMax(v);
+      }
+      c.amax = std::max(c.amax, m.accelAbs[s]);
+      c.envMax = std::max(c.envMax, m.env[s]);
+      m.globalVmax = std::max(m.globalVmax, v.norm());
+      m.globalAmax = std::max(m.globalAmax, m.accelAbs[s]);
+      m.globalEnvMax = std::max(m.globalEnvMax, m.env[s]);
+    }
+  }
+  // detection, ego by ego in input order
+  m.alerts.clear();
+  for (int s : m.activeSlots) {
+    if (!m.equipped[s]) {
+      m.close(m.slots[s], t);
+      m.slots[s].exposed.fill(false);
+      continue;
+    }
+    m.threats.clear();
+    m.candidatesVehicles(s);
+    if (m.cfg.checkRoad) m.candidatesFeatures(s);
+    m.merge(s, t);
+  }
+  m.lastT = t;
+  m.started = true;
+}
+
+void HighwayMonitor::finish(double t) {
+  Impl& m = *impl_;
+  if (m.started && t > m.lastT) {
+    const double dt = t - m.lastT;
+    for (int s : m.activeSlots)
+      for (int k = 0; k < kWarningKindCount; ++k)
+        if (m.slots[s].exposed[k]) {
+          m.counters.tet[k] += dt;
+          m.counters.tit[k] += dt * m.slots[s].deficit[k];
+        }
+  }
+  for (int s : m.activeSlots) {
+    m.close(m.slots[s], std::max(t, m.lastT));
+    m.slots[s].exposed.fill(false);
+  }
+  m.alerts.clear();
+}
+
+std::vector<Warning> HighwayMonitor::takeFinished() {
+  std::vector<Warning> out;
+  out.swap(impl_->finished);
+  return out;
+}
+
+std::vector<Warning> HighwayMonitor::openWarnings() const {
+  std::vector<Warning> out;
+  for (int s : impl_->activeSlots)
+    for (const auto& e : impl_->slots[s].open) out.push_back(e.w);
+  return out;
+}
+
+std::span<const Alert> HighwayMonitor::alerts() const { return impl_->alerts; }
+const MonitorCounters& HighwayMonitor::counters() const { return impl_->counters; }
+const MonitorConfig& HighwayMonitor::config() const { return impl_->cfg; }
+const RoadFeatures& HighwayMonitor::features() const { return impl_->features; }
+const CellNetwork& HighwayMonitor::cells() const { return *impl_->cells; }
+double HighwayMonitor::lastTime() const { return impl_->lastT; }
+
+}  // namespace st::highway

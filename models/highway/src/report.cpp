@@ -1,0 +1,140 @@
+#include <sthighway/report.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+
+namespace st::highway {
+
+namespace {
+
+// Shortest round-trip text of a double ("inf" and "nan" are not JSON: written as null).
+std::string num(double x) {
+  if (!std::isfinite(x)) return "null";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  // prefer a short form when it round-trips
+  for (int prec = 6; prec < 17; ++prec) {
+    char s[32];
+    std::snprintf(s, sizeof s, "%.*g", prec, x);
+    if (std::strtod(s, nullptr) == x) return s;
+  }
+  return buf;
+}
+
+std::string csvField(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+std::string jsonString(const std::string& s) {
+  std::string out = "\"";
+  for (unsigned char c : s) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\r': out += "\\r"; break;
+      case '\t': out += "\\t"; break;
+      default:
+        if (c < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", c);
+          out += buf;
+        } else {
+          out += static_cast<char>(c);
+        }
+    }
+  }
+  return out + "\"";
+}
+
+std::string warningsCsvHeader() { return "ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open"; }
+
+std::string warningCsvRow(const Warning& w) {
+  std::ostringstream os;
+  os << csvField(w.ego) << ',' << csvField(w.foe) << ',' << toString(w.kind) << ',' << toString(w.zone) << ','
+     << num(w.begin) << ',' << num(w.end) << ',' << num(w.minTtc) << ',' << num(w.minTtcTime) << ','
+     << num(w.safeTimeAtMin) << ',' << (w.open ? 1 : 0);
+  return os.str();
+}
+
+WarningsCsvWriter::WarningsCsvWriter(const std::filesystem::path& path) : path_(path), out_(path) {
+  if (!out_) throw std::runtime_error("cannot write " + path.string());
+  out_ << warningsCsvHeader() << '\n';
+  out_.flush();
+}
+
+void WarningsCsvWriter::write(std::span<const Warning> warnings) {
+  for (const Warning& w : warnings) out_ << warningCsvRow(w) << '\n';
+  rows_ += warnings.size();
+  if (!out_) throw std::runtime_error("write failed: " + path_.string());
+}
+
+void WarningsCsvWriter::flush() {
+  out_.flush();
+  if (!out_) throw std::runtime_error("write failed: " + path_.string());
+}
+
+std::string summaryJson(const MonitorCounters& c, const RunInfo& info) {
+  std::ostringstream os;
+  const double km = c.vehicleMeters / 1000.0;
+  std::uint64_t total = 0;
+  for (auto n : c.warningsByKind) total += n;
+  os << "{\n";
+  os << "  \"source\": " << jsonString(info.source) << ",\n";
+  os << "  \"detector\": " << jsonString(info.detector) << ",\n";
+  os << "  \"broadphase\": " << jsonString(info.broadphase) << ",\n";
+  os << "  \"simulated_s\": " << num(info.simulatedSeconds) << ",\n";
+  os << "  \"ticks\": " << c.ticks << ",\n";
+  os << "  \"vehicles\": " << c.vehiclesSeen << ",\n";
+  os << "  \"vehicle_updates\": " << c.vehicleUpdates << ",\n";
+  os << "  \"vehicle_km\": " << num(km) << ",\n";
+  os << "  \"warnings\": {\n    \"total\": " << total << ",\n    \"per_vehicle_km\": " << num(km > 0 ? static_cast<double>(total) / km : 0.0)
+     << ",\n    \"by_kind\": {";
+  for (int k = 0; k < kWarningKindCount; ++k)
+    os << (k ? ", " : "") << jsonString(toString(static_cast<WarningKind>(k))) << ": " << c.warningsByKind[k];
+  os << "},\n    \"by_zone\": {";
+  for (int z = 0; z < kZoneCount; ++z)
+    os << (z ? ", " : "") << jsonString(toString(static_cast<Zone>(z))) << ": " << c.warningsByZone[z];
+  os << "},\n    \"per_vehicle_km_by_kind\": {";
+  for (int k = 0; k < kWarningKindCount; ++k)
+    os << (k ? ", " : "") << jsonString(toString(static_cast<WarningKind>(k))) << ": "
+       << num(km > 0 ? static_cast<double>(c.warningsByKind[k]) / km : 0.0);
+  os << "}\n  },\n";
+  os << "  \"tet_s\": {";
+  for (int k = 0; k < kWarningKindCount; ++k)
+    os << (k ? ", " : "") << jsonString(toString(static_cast<WarningKind>(k))) << ": " << num(c.tet[k]);
+  os << "},\n  \"tit_s2\": {";
+  for (int k = 0; k < kWarningKindCount; ++k)
+    os << (k ? ", " : "") << jsonString(toString(static_cast<WarningKind>(k))) << ": " << num(c.tit[k]);
+  os << "},\n";
+  os << "  \"handoffs\": " << c.handoffs << ",\n";
+  os << "  \"subdivisions\": " << c.subdivisions << ",\n";
+  os << "  \"reunions\": " << c.reunions << ",\n";
+  os << "  \"candidate_pairs\": " << c.candidatePairs << ",\n";
+  os << "  \"toi_checks\": " << c.toiChecks << ",\n";
+  os << "  \"feature_checks\": " << c.featureChecks << ",\n";
+  for (const auto& [k, v] : info.numbers) os << "  " << jsonString(k) << ": " << num(v) << ",\n";
+  for (const auto& [k, v] : info.strings) os << "  " << jsonString(k) << ": " << jsonString(v) << ",\n";
+  for (const auto& [k, v] : info.rawJson) os << "  " << jsonString(k) << ": " << v << ",\n";
+  os << "  \"wall_s\": " << num(info.wallSeconds) << "\n}\n";
+  return os.str();
+}
+
+void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& counters, const RunInfo& info) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("cannot write " + path.string());
+  out << summaryJson(counters, info);
+  if (!out) throw std::runtime_error("write failed: " + path.string());
+}
+
+}  // namespace st::highway

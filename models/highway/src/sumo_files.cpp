@@ -1,0 +1,380 @@
+#include <sthighway/sumo_files.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <unordered_map>
+#include <utility>
+
+namespace st::highway {
+
+namespace {
+
+// A small streaming XML tag scanner: enough for SUMO's machine-written files (elements and
+// attributes; text content, CDATA and DOCTYPE are skipped). Tracks the line for error messages.
+class XmlScanner {
+ public:
+  struct Tag {
+    std::string name;
+    bool closing = false;
+    bool selfClosing = false;
+    long line = 0;
+    std::vector<std::pair<std::string, std::string>> attrs;
+    const std::string* attr(const char* key) const {
+      for (const auto& [k, v] : attrs)
+        if (k == key) return &v;
+      return nullptr;
+    }
+  };
+
+  explicit XmlScanner(const std::filesystem::path& path) : path_(path.string()), in_(path, std::ios::binary) {
+    if (!in_) throw InputError(path_ + ": cannot open file");
+  }
+
+  [[noreturn]] void fail(long line, const std::string& msg) const {
+    throw InputError(path_ + ":" + std::to_string(line) + ": " + msg);
+  }
+  const std::string& path() const { return path_; }
+
+  bool next(Tag& tag) {
+    while (true) {
+      int c;
+      do {
+        c = get();
+      } while (c != EOF && c != '<');
+      if (c == EOF) return false;
+      const long start = line_;
+      c = get();
+      if (c == '?') {
+        skipPast("?>", start);
+        continue;
+      }
+      if (c == '!') {
+        const int c1 = get(), c2 = get();
+        if (c1 == '-' && c2 == '-') skipPast("-->", start);
+        else skipPast(">", start);
+        continue;
+      }
+      tag.name.clear();
+      tag.attrs.clear();
+      tag.closing = tag.selfClosing = false;
+      tag.line = start;
+      if (c == '/') {
+        tag.closing = true;
+        c = get();
+      }
+      while (c != EOF && !std::isspace(c) && c != '>' && c != '/') {
+        tag.name += static_cast<char>(c);
+        c = get();
+      }
+      if (tag.name.empty()) fail(start, "malformed tag");
+      while (true) {
+        while (c != EOF && std::isspace(c)) c = get();
+        if (c == EOF) fail(start, "unexpected end of file inside <" + tag.name + ">");
+        if (c == '>') return true;
+        if (c == '/') {
+          if (get() != '>') fail(line_, "expected '>' after '/' in <" + tag.name + ">");
+          tag.selfClosing = true;
+          return true;
+        }
+        std::string key;
+        while (c != EOF && c != '=' && !std::isspace(c) && c != '>' && c != '/') {
+          key += static_cast<char>(c);
+          c = get();
+        }
+        while (c != EOF && std::isspace(c)) c = get();
+        if (c != '=') fail(line_, "attribute '" + key + "' of <" + tag.name + "> has no value");
+        c = get();
+        while (c != EOF && std::isspace(c)) c = get();
+        if (c != '"' && c != '\'') fail(line_, "attribute '" + key + "' of <" + tag.name + "> is not quoted");
+        const int quote = c;
+        std::string value;
+        while ((c = get()) != quote) {
+          if (c == EOF) fail(start, "unexpected end of file in attribute '" + key + "'");
+          value += static_cast<char>(c);
+        }
+        tag.attrs.emplace_back(std::move(key), decode(value));
+        c = get();
+      }
+    }
+  }
+
+ private:
+  int get() {
+    const int c = in_.get();
+    if (c == '\n') ++line_;
+    return c;
+  }
+  void skipPast(const char* end, long start) {
+    const std::string e(end);
+    std::string window;
+    int c;
+    while ((c = get()) != EOF) {
+      window += static_cast<char>(c);
+      if (window.size() > e.size()) window.erase(0, 1);
+      if (window == e) return;
+    }
+    fail(start, "unterminated markup");
+  }
+  static std::string decode(const std::string& s) {
+    if (s.find('&') == std::string::npos) return s;
+    std::string out;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      if (s[i] != '&') {
+        out += s[i];
+        continue;
+      }
+      const std::size_t semi = s.find(';', i);
+      const std::string ent = semi == std::string::npos ? "" : s.substr(i + 1, semi - i - 1);
+      if (ent == "amp") out += '&';
+      else if (ent == "lt") out += '<';
+      else if (ent == "gt") out += '>';
+      else if (ent == "quot") out += '"';
+      else if (ent == "apos") out += '\'';
+      else {
+        out += '&';
+        continue;
+      }
+      i = semi;
+    }
+    return out;
+  }
+
+  std::string path_;
+  std::ifstream in_;
+  long line_ = 1;
+};
+
+double number(const XmlScanner& x, const XmlScanner::Tag& t, const char* key, const std::string& text) {
+  const char* b = text.c_str();
+  char* e = nullptr;
+  const double v = std::strtod(b, &e);
+  if (e == b || *e != '\0' || !std::isfinite(v))
+    x.fail(t.line, "<" + t.name + "> attribute '" + key + "' is not a finite number: '" + text + "'");
+  return v;
+}
+
+double required(const XmlScanner& x, const XmlScanner::Tag& t, const char* key) {
+  const std::string* s = t.attr(key);
+  if (!s) x.fail(t.line, "<" + t.name + "> lacks attribute '" + key + "'");
+  return number(x, t, key, *s);
+}
+
+double optionalNumber(const XmlScanner& x, const XmlScanner::Tag& t, const char* key, double def) {
+  const std::string* s = t.attr(key);
+  return s ? number(x, t, key, *s) : def;
+}
+
+std::vector<Vec2> parseShape(const XmlScanner& x, const XmlScanner::Tag& t, const std::string& text) {
+  std::vector<Vec2> pts;
+  std::size_t i = 0;
+  while (i < text.size()) {
+    while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i]))) ++i;
+    if (i >= text.size()) break;
+    std::size_t j = i;
+    while (j < text.size() && !std::isspace(static_cast<unsigned char>(text[j]))) ++j;
+    const std::string pt = text.substr(i, j - i);
+    const std::size_t c1 = pt.find(',');
+    if (c1 == std::string::npos) x.fail(t.line, "<" + t.name + "> shape point '" + pt + "' is not x,y");
+    const std::size_t c2 = pt.find(',', c1 + 1);  // a z coordinate may follow
+    const double px = number(x, t, "shape", pt.substr(0, c1));
+    const double py = number(x, t, "shape", pt.substr(c1 + 1, c2 == std::string::npos ? std::string::npos : c2 - c1 - 1));
+    pts.emplace_back(px, py);
+    i = j;
+  }
+  return pts;
+}
+
+bool contains(const std::string& hay, const char* needle) {
+  std::string h = hay;
+  std::transform(h.begin(), h.end(), h.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  return h.find(needle) != std::string::npos;
+}
+
+}  // namespace
+
+RoadGeometry readSumoNet(const std::filesystem::path& path) {
+  XmlScanner x(path);
+  RoadGeometry road;
+  XmlScanner::Tag t;
+  std::string edge;
+  bool internal = false, sawNet = false;
+  while (x.next(t)) {
+    if (t.name == "net" && !t.closing) sawNet = true;
+    if (t.name == "edge") {
+      if (t.closing) {
+        edge.clear();
+        continue;
+      }
+      const std::string* id = t.attr("id");
+      if (!id) x.fail(t.line, "<edge> lacks attribute 'id'");
+      const std::string* fn = t.attr("function");
+      edge = *id;
+      internal = fn && (*fn == "internal" || *fn == "walkingarea" || *fn == "crossing");
+      if (t.selfClosing) edge.clear();
+    } else if (t.name == "lane" && !t.closing) {
+      if (edge.empty()) x.fail(t.line, "<lane> outside an <edge>");
+      Lane l;
+      const std::string* id = t.attr("id");
+      if (!id) x.fail(t.line, "<lane> lacks attribute 'id'");
+      l.id = *id;
+      l.edge = edge;
+      l.index = static_cast<int>(required(x, t, "index"));
+      l.width = optionalNumber(x, t, "width", 3.2);
+      if (!(l.width > 0.0)) x.fail(t.line, "<lane id=\"" + l.id + "\"> width must be positive");
+      const std::string* shape = t.attr("shape");
+      if (!shape) x.fail(t.line, "<lane id=\"" + l.id + "\"> lacks attribute 'shape'");
+      l.shape = parseShape(x, t, *shape);
+      if (l.shape.size() < 2) x.fail(t.line, "<lane id=\"" + l.id + "\"> shape needs at least two points");
+      l.internal = internal;
+      // pedestrian-only lanes (sidewalks) are not part of the carriageway
+      const std::string* allow = t.attr("allow");
+      if (allow && (*allow == "pedestrian" || *allow == "bicycle")) continue;
+      road.lanes.push_back(std::move(l));
+    }
+  }
+  if (!sawNet) throw InputError(path.string() + ":1: not a SUMO network (no <net> element)");
+  return road;
+}
+
+VehicleTypeInfo guessVehicleType(const std::string& typeName) {
+  VehicleClass c = VehicleClass::Passenger;
+  if (contains(typeName, "truck") || contains(typeName, "trailer") || contains(typeName, "lorry") || contains(typeName, "hgv"))
+    c = VehicleClass::Truck;
+  else if (contains(typeName, "bus") || contains(typeName, "coach"))
+    c = VehicleClass::Bus;
+  else if (contains(typeName, "moto") || contains(typeName, "moped"))
+    c = VehicleClass::Motorcycle;
+  else if (contains(typeName, "emergency") || contains(typeName, "ambulance"))
+    c = VehicleClass::Emergency;
+  const ClassDefaults d = classDefaults(c);
+  return {c, d.length, d.width, d.mass};
+}
+
+VehicleTypes readSumoVehicleTypes(const std::filesystem::path& path) {
+  XmlScanner x(path);
+  VehicleTypes out;
+  XmlScanner::Tag t;
+  std::string current;
+  while (x.next(t)) {
+    if (t.name == "vType" && !t.closing) {
+      const std::string* id = t.attr("id");
+      if (!id) x.fail(t.line, "<vType> lacks attribute 'id'");
+      const std::string* vc = t.attr("vClass");
+      VehicleTypeInfo info = vc ? VehicleTypeInfo{} : guessVehicleType(*id);
+      if (vc) {
+        info.vehicleClass = vehicleClassFromName(*vc);
+        if (info.vehicleClass == VehicleClass::Other) info.vehicleClass = VehicleClass::Passenger;
+        const ClassDefaults d = classDefaults(info.vehicleClass);
+        info.length = d.length;
+        info.width = d.width;
+        info.mass = d.mass;
+      }
+      info.length = optionalNumber(x, t, "length", info.length);
+      info.width = optionalNumber(x, t, "width", info.width);
+      info.mass = optionalNumber(x, t, "mass", info.mass);
+      if (!(info.length > 0) || !(info.width > 0) || !(info.mass > 0))
+        x.fail(t.line, "<vType id=\"" + *id + "\"> length, width and mass must be positive");
+      out[*id] = info;
+      current = t.selfClosing ? "" : *id;
+    } else if (t.name == "vType" && t.closing) {
+      current.clear();
+    } else if (t.name == "param" && !t.closing && !current.empty()) {
+      const std::string* key = t.attr("key");
+      if (key && *key == "mass") {
+        const std::string* v = t.attr("value");
+        if (!v) x.fail(t.line, "<param key=\"mass\"> lacks attribute 'value'");
+        const double m = number(x, t, "value", *v);
+        if (!(m > 0)) x.fail(t.line, "<param key=\"mass\"> must be positive");
+        out[current].mass = m;
+      }
+    }
+  }
+  return out;
+}
+
+struct FcdReader::Impl {
+  XmlScanner x;
+  VehicleTypes types;
+  struct Last {
+    double time;
+    Vec2 centre;
+  };
+  std::unordered_map<std::string, Last> last;
+  double lastTime = -std::numeric_limits<double>::infinity();
+  Impl(const std::filesystem::path& p, VehicleTypes t) : x(p), types(std::move(t)) {}
+};
+
+FcdReader::FcdReader(const std::filesystem::path& path, VehicleTypes types)
+    : impl_(std::make_unique<Impl>(path, std::move(types))) {}
+FcdReader::~FcdReader() = default;
+
+bool FcdReader::next(FcdFrame& frame) {
+  Impl& m = *impl_;
+  XmlScanner& x = m.x;
+  XmlScanner::Tag t;
+  bool inStep = false;
+  long stepLine = 0;
+  while (x.next(t)) {
+    if (t.name == "timestep") {
+      if (t.closing) {
+        if (!inStep) x.fail(t.line, "</timestep> without <timestep>");
+        return true;
+      }
+      if (inStep) x.fail(t.line, "<timestep> inside <timestep>");
+      frame.time = required(x, t, "time");
+      if (!(frame.time > m.lastTime)) x.fail(t.line, "timestep times must increase");
+      m.lastTime = frame.time;
+      frame.vehicles.clear();
+      if (t.selfClosing) return true;
+      inStep = true;
+      stepLine = t.line;
+      continue;
+    }
+    if (t.name != "vehicle" || t.closing) continue;
+    if (!inStep) x.fail(t.line, "<vehicle> outside a <timestep>");
+    VehicleState v;
+    const std::string* id = t.attr("id");
+    if (!id) x.fail(t.line, "<vehicle> lacks attribute 'id'");
+    v.id = *id;
+    const std::string* type = t.attr("type");
+    VehicleTypeInfo info;
+    if (type) {
+      auto it = m.types.find(*type);
+      info = it != m.types.end() ? it->second : guessVehicleType(*type);
+    }
+    v.vehicleClass = info.vehicleClass;
+    v.length = optionalNumber(x, t, "length", info.length);
+    v.width = optionalNumber(x, t, "width", info.width);
+    v.mass = info.mass;
+    if (!(v.length > 0) || !(v.width > 0)) x.fail(t.line, "<vehicle id=\"" + v.id + "\"> length and width must be positive");
+    // SUMO: front-bumper centre and navigational degrees; ours: body centre and math radians
+    const Vec2 front(required(x, t, "x"), required(x, t, "y"));
+    v.heading = headingFromNavigationDegrees(required(x, t, "angle"));
+    v.position = centreFromFrontBumper(front, v.heading, v.length);
+    v.speed = required(x, t, "speed");
+    v.acceleration = optionalNumber(x, t, "acceleration", 0.0);
+    if (const std::string* sig = t.attr("signals")) {
+      const long bits = static_cast<long>(number(x, t, "signals", *sig));
+      // SUMO: bit 0 right blinker, bit 1 left blinker, bit 2 hazard lights (both)
+      if (bits & 2 || bits & 4) v.signals |= kSignalLeft;
+      if (bits & 1 || bits & 4) v.signals |= kSignalRight;
+    }
+    // lateral speed is not in FCD: the sideways part of the centre's motion since the last frame
+    auto it = m.last.find(v.id);
+    if (it != m.last.end() && frame.time > it->second.time) {
+      const Vec2 vel = (v.position - it->second.centre) / (frame.time - it->second.time);
+      const Vec2 d = v.direction();
+      v.lateralSpeed = vel.dot(Vec2(-d.y(), d.x()));
+    }
+    m.last[v.id] = {frame.time, v.position};
+    frame.vehicles.push_back(std::move(v));
+  }
+  if (inStep) x.fail(stepLine, "unterminated <timestep>");
+  return false;
+}
+
+}  // namespace st::highway

@@ -1,0 +1,45 @@
+#include <sthighway/vehicle.hpp>
+
+#include <algorithm>
+#include <cctype>
+
+namespace st::highway {
+
+const char* toString(VehicleClass c) {
+  switch (c) {
+    case VehicleClass::Passenger: return "passenger";
+    case VehicleClass::Truck: return "truck";
+    case VehicleClass::Bus: return "bus";
+    case VehicleClass::Motorcycle: return "motorcycle";
+    case VehicleClass::Emergency: return "emergency";
+    case VehicleClass::Other: return "other";
+  }
+  return "other";
+}
+
+VehicleClass vehicleClassFromName(std::string_view name) {
+  std::string s(name);
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  if (s == "passenger" || s == "private" || s == "taxi" || s == "evehicle" || s == "car" ||
+      s == "passenger/sedan" || s == "passenger/hatchback" || s == "passenger/wagon" || s == "passenger/van")
+    return VehicleClass::Passenger;
+  if (s == "truck" || s == "trailer" || s == "delivery" || s == "lorry" || s == "hgv") return VehicleClass::Truck;
+  if (s == "bus" || s == "coach") return VehicleClass::Bus;
+  if (s == "motorcycle" || s == "moped") return VehicleClass::Motorcycle;
+  if (s == "emergency" || s == "authority" || s == "army") return VehicleClass::Emergency;
+  return VehicleClass::Other;
+}
+
+ClassDefaults classDefaults(VehicleClass c) {
+  switch (c) {
+    case VehicleClass::Passenger: return {5.0, 1.8, 1500.0};
+    case VehicleClass::Truck: return {12.0, 2.55, 15000.0};
+    case VehicleClass::Bus: return {12.0, 2.55, 12000.0};
+    case VehicleClass::Motorcycle: return {2.2, 0.9, 250.0};
+    case VehicleClass::Emergency: return {6.5, 2.2, 3500.0};
+    case VehicleClass::Other: return {5.0, 1.8, 1500.0};
+  }
+  return {5.0, 1.8, 1500.0};
+}
+
+}  // namespace st::highway
