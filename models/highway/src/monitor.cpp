@@ -222,8 +222,10 @@ struct HighwayMonitor::Impl {
       const double h = vehicleHorizonBound(e, vrel);
       const double r = env[e] + c.envMax + vrel * h + 0.5 * ac * h * h;
       const Aabb<2> cb{a.position.array() - r, a.position.array() + r};
+      if (!cells->cellExtent(cell).overlaps(cb)) return;
+      // a cell's space lists whole leaves: keep the cars whose centre is within this cell's reach
       cells->forEachInCellBox(cell, cb, [&](int f) {
-        if (f != e) checkPair(e, f);
+        if (f != e && cb.contains(body[f].position)) checkPair(e, f);
       });
     });
   }

@@ -1,0 +1,126 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <sthighway/cells.hpp>
+
+namespace st::highway {
+namespace {
+
+// One straight three-lane edge along +x, 2 km, lanes 3.2 m wide centred on y = 0, 3.2, 6.4.
+RoadGeometry straightRoad(double length = 2000.0) {
+  RoadGeometry r;
+  for (int i = 0; i < 3; ++i) {
+    Lane l;
+    l.id = "road_";
+    l.id += std::to_string(i);
+    l.edge = "road";
+    l.index = i;
+    l.shape = {Vec2(0, 3.2 * i), Vec2(length, 3.2 * i)};
+    r.lanes.push_back(l);
+  }
+  return r;
+}
+
+Aabb<2> carBox(const Vec2& c) { return {c - Vec2(2.5, 0.9), c + Vec2(2.5, 0.9)}; }
+
+int cellsHolding(const CellNetwork& net, int v) {
+  int n = 0;
+  for (int c = 0; c < net.cellCount(); ++c)
+    for (int m : net.membersOf(c)) n += m == v;
+  return n;
+}
+
+TEST(Cells, SitesAlongTheSection) {
+  const RoadGeometry road = straightRoad();
+  const CellNetwork net(road, deriveFeatures(road), CellConfig{});
+  ASSERT_EQ(net.cellCount(), 10);
+  for (int c = 0; c < 10; ++c) {
+    EXPECT_NEAR(net.site(c).position.x(), 100.0 + 200.0 * c, 1e-9);
+    EXPECT_NEAR(net.site(c).position.y(), 3.2, 1e-12);  // the middle lane
+  }
+  // log-distance path loss: 10 n dB per decade of distance
+  EXPECT_NEAR(net.signalDbm(0, {100, 13.2}) - net.signalDbm(0, {100, 103.2}), 30.0, 1e-9);
+}
+
+TEST(Cells, HandoffInOrderNeverLostNeverTwice) {
+  const RoadGeometry road = straightRoad();
+  CellConfig cfg;
+  CellNetwork net(road, deriveFeatures(road), cfg);
+  // handoff where d_old / d_new passes 10^(h / 10n): between sites a and a + 200 at
+  // a + 200 rho / (1 + rho) on the sites' line
+  const double rho = std::pow(10.0, cfg.hysteresisDb / (10.0 * cfg.pathLossExponent));
+  const double at = 200.0 * rho / (1.0 + rho);
+  int expected = 0;
+  for (int step = 0; step <= 2000; ++step) {
+    const Vec2 p(step, 3.2);
+    net.place(0, p, carBox(p));
+    net.refreshExtents();
+    ASSERT_GE(net.servingCell(0), 0) << "lost at x=" << step;
+    ASSERT_EQ(cellsHolding(net, 0), 1) << "x=" << step;
+    for (const Handoff& h : net.takeHandoffs()) {
+      EXPECT_EQ(h.vehicle, 0);
+      EXPECT_EQ(h.from, expected);
+      EXPECT_EQ(h.to, expected + 1);
+      // the first step past the hysteresis point
+      const double threshold = 100.0 + 200.0 * h.from + at;
+      EXPECT_GT(step, threshold);
+      EXPECT_LE(step - 1, threshold);
+      ++expected;
+    }
+  }
+  EXPECT_EQ(expected, 9);
+  EXPECT_EQ(net.counters().handoffs, 9u);
+  net.remove(0);
+  EXPECT_EQ(net.servingCell(0), -1);
+  EXPECT_EQ(cellsHolding(net, 0), 0);
+}
+
+TEST(Cells, HysteresisPreventsPingPong) {
+  const RoadGeometry road = straightRoad();
+  // a car weaving +-8 m around the boundary between cells 2 and 3 (x = 600)
+  auto weave = [&](double hysteresisDb) {
+    CellConfig cfg;
+    cfg.hysteresisDb = hysteresisDb;
+    CellNetwork net(road, deriveFeatures(road), cfg);
+    for (int i = 0; i < 200; ++i) {
+      const Vec2 p(600.0 + 8.0 * std::sin(0.3 * i), 3.2);
+      net.place(0, p, carBox(p));
+    }
+    return net.counters().handoffs;
+  };
+  EXPECT_EQ(weave(3.0), 0u);   // within the margin: it stays with its first cell
+  EXPECT_GT(weave(0.0), 15u);  // without a margin it flips at every crossing
+}
+
+TEST(Cells, CongestedCellSubdividesAndReunites) {
+  const RoadGeometry road = straightRoad();
+  CellConfig cfg;
+  cfg.decompositionFactor = 4;
+  CellNetwork net(road, deriveFeatures(road), cfg);
+  // a jam: 3 lanes x 25 cars at 7 m spacing inside cell 1 (x in 200..400)
+  int v = 0;
+  for (int lane = 0; lane < 3; ++lane)
+    for (int k = 0; k < 25; ++k) {
+      const Vec2 p(215.0 + 7.0 * k, 3.2 * lane);
+      EXPECT_EQ(net.place(v++, p, carBox(p)), 1);
+    }
+  net.refreshExtents();
+  EXPECT_GT(net.counters().subdivisions, 0u);
+  EXPECT_EQ(net.counters().reunions, 0u);
+  EXPECT_EQ(static_cast<int>(net.membersOf(1).size()), 75);
+  // every car is found by a box around it
+  for (int i = 0; i < v; ++i) {
+    const Vec2 p(215.0 + 7.0 * (i % 25), 3.2 * (i / 25));
+    bool found = false;
+    net.forEachInBox(carBox(p), [&](int o) { found = found || o == i; });
+    EXPECT_TRUE(found) << i;
+  }
+  for (int i = 0; i < v; ++i) net.remove(i);
+  net.refreshExtents();
+  EXPECT_GT(net.counters().reunions, 0u);
+  EXPECT_TRUE(net.membersOf(1).empty());
+}
+
+}  // namespace
+}  // namespace st::highway

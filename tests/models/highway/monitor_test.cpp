@@ -1,0 +1,325 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include <sthighway/monitor.hpp>
+
+namespace st::highway {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+RoadGeometry straightRoad(double length = 2000.0, int lanes = 3) {
+  RoadGeometry r;
+  for (int i = 0; i < lanes; ++i) {
+    Lane l;
+    l.id = "a_";
+    l.id += std::to_string(i);
+    l.edge = "a";
+    l.index = i;
+    l.shape = {Vec2(0, 3.2 * i), Vec2(length, 3.2 * i)};
+    r.lanes.push_back(l);
+  }
+  return r;
+}
+
+// A straight three-lane edge, then a two-lane left-hand curve, and a pothole.
+RoadGeometry testRoad() {
+  RoadGeometry r = straightRoad(1200.0);
+  for (int i = 0; i < 2; ++i) {
+    Lane l;
+    l.id = "b_";
+    l.id += std::to_string(i);
+    l.edge = "b";
+    l.index = i;
+    const double radius = 500.0 - 3.2 * i;
+    for (int k = 0; k <= 20; ++k) {
+      const double th = 0.8 * k / 20.0;
+      l.shape.emplace_back(1200.0 + radius * std::sin(th), 500.0 - radius * std::cos(th));
+    }
+    r.lanes.push_back(l);
+  }
+  r.hazards.push_back(Hazard{"pothole", Vec2(600.0, 3.2), 0.4});
+  return r;
+}
+
+VehicleState vehicle(const std::string& id, Vec2 p, double heading, double speed) {
+  VehicleState v;
+  v.id = id;
+  v.position = p;
+  v.heading = heading;
+  v.speed = speed;
+  return v;
+}
+
+bool sameWarning(const Warning& a, const Warning& b) {
+  return a.ego == b.ego && a.foe == b.foe && a.kind == b.kind && a.zone == b.zone && a.begin == b.begin &&
+         a.end == b.end && a.minTtc == b.minTtc && a.minTtcTime == b.minTtcTime && a.safeTimeAtMin == b.safeTimeAtMin &&
+         a.open == b.open;
+}
+
+std::vector<Warning> runAll(HighwayMonitor& m, const std::vector<std::vector<VehicleState>>& ticks, double dt) {
+  std::vector<Warning> out;
+  for (std::size_t i = 0; i < ticks.size(); ++i) {
+    m.step(dt * static_cast<double>(i), ticks[i]);
+    for (auto& w : m.takeFinished()) out.push_back(std::move(w));
+  }
+  m.finish(dt * static_cast<double>(ticks.size() - 1));
+  for (auto& w : m.takeFinished()) out.push_back(std::move(w));
+  return out;
+}
+
+// Random scenes: cars on the lanes (some off-centre, some crossing markers), in jams, straddling
+// cell boundaries, at rest; three ticks, with arrivals and departures.
+std::vector<std::vector<VehicleState>> randomScene(std::mt19937_64& rng, double cellLength) {
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  const int n = 20 + static_cast<int>(60 * U(rng));
+  const double style = U(rng);  // < 0.3 jam, < 0.6 boundaries, else spread
+  const double jamAt = 50 + 1000 * U(rng);
+  std::vector<VehicleState> cars;
+  for (int i = 0; i < n + 8; ++i) {
+    VehicleState v;
+    v.id = "v";
+    v.id += std::to_string(i);
+    const bool curve = U(rng) < 0.2;
+    const int lane = static_cast<int>((curve ? 2 : 3) * U(rng));
+    double along;
+    if (style < 0.3) along = jamAt + 7.0 * (i / 3) + 2 * U(rng);
+    else if (style < 0.6) along = cellLength * std::floor(1200 / cellLength * U(rng)) + 6 * (U(rng) - 0.5);
+    else along = 1200 * U(rng);
+    const double off = (U(rng) < 0.2 ? 1.6 : 0.5) * (U(rng) - 0.5) * 2;
+    if (curve) {
+      const double radius = 500.0 - 3.2 * lane - off;
+      const double th = std::min(0.8, along / 500.0);
+      v.position = Vec2(1200 + radius * std::sin(th), 500 - radius * std::cos(th));
+      v.heading = th;
+    } else {
+      v.position = Vec2(along, 3.2 * lane + off);
+      v.heading = 0.0;
+    }
+    v.heading += 0.05 * (U(rng) - 0.5);
+    v.speed = U(rng) < 0.2 ? 0.0 : 40 * U(rng);
+    v.lateralSpeed = U(rng) < 0.5 ? 0.0 : 3 * (U(rng) - 0.5);
+    v.acceleration = 8 * (U(rng) - 0.6);
+    if (U(rng) < 0.15) {
+      v.vehicleClass = VehicleClass::Truck;
+      v.length = 12;
+      v.width = 2.55;
+      v.mass = 15000;
+    }
+    const double s = U(rng);
+    v.signals = s < 0.1 ? kSignalLeft : s < 0.2 ? kSignalRight : kSignalNone;
+    v.equipped = U(rng) < 0.9;
+    cars.push_back(v);
+  }
+  std::vector<std::vector<VehicleState>> ticks(3);
+  for (int k = 0; k < 3; ++k) {
+    for (int i = 0; i < static_cast<int>(cars.size()); ++i) {
+      // the first 4 extra cars arrive at tick 1, some leave at tick 2
+      if (i >= n && k == 0) continue;
+      if (i % 11 == 0 && k == 2) continue;
+      VehicleState v = cars[i];
+      v.position += 0.2 * k * v.velocity();
+      ticks[k].push_back(v);
+    }
+  }
+  return ticks;
+}
+
+TEST(Monitor, CellsEqualAllPairsOnRandomScenes) {
+  std::mt19937_64 rng(424242);
+  const RoadGeometry road = testRoad();
+  std::uint64_t total = 0, cellPairs = 0, allPairs = 0, handoffs = 0;
+  std::array<std::uint64_t, kWarningKindCount> byKind{};
+  for (int scene = 0; scene < 1000; ++scene) {
+    MonitorConfig cfg;
+    cfg.detector.kind = static_cast<DetectorKind>(scene % 3);
+    cfg.detector.motion = (scene / 3) % 2 ? MotionModel::ConstantAcceleration : MotionModel::ConstantVelocity;
+    cfg.cells.cellLength = 60.0 + 10.0 * (scene % 7);
+    const auto ticks = randomScene(rng, cfg.cells.cellLength);
+    cfg.broadphase = Broadphase::Cells;
+    HighwayMonitor cells(road, cfg);
+    cfg.broadphase = Broadphase::AllPairs;
+    HighwayMonitor all(road, cfg);
+    const auto a = runAll(cells, ticks, 0.2);
+    const auto b = runAll(all, ticks, 0.2);
+    ASSERT_EQ(a.size(), b.size()) << "scene " << scene;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      ASSERT_TRUE(sameWarning(a[i], b[i])) << "scene " << scene << " warning " << i << ": " << a[i].ego << "/"
+                                           << a[i].foe << " vs " << b[i].ego << "/" << b[i].foe;
+    total += a.size();
+    for (const auto& w : a) ++byKind[static_cast<int>(w.kind)];
+    cellPairs += cells.counters().candidatePairs;
+    allPairs += all.counters().candidatePairs;
+    handoffs += cells.counters().handoffs;
+  }
+  // the scenes exercise every kind of warning, and the cells do prune
+  for (int k = 0; k < kWarningKindCount; ++k) EXPECT_GT(byKind[k], 20u) << toString(static_cast<WarningKind>(k));
+  EXPECT_LT(cellPairs * 2, allPairs);
+  EXPECT_GT(handoffs, 0u);
+  RecordProperty("warnings", static_cast<int>(total));
+}
+
+TEST(Monitor, CarClosingOnStoppedCarEpisode) {
+  // ego at 20 m/s, stopped car with a 60 m bumper gap, box detector, ticks of 0.1 s:
+  // TTC(t) = 3 - t, safe time 1 + 1500 * 20 / (2 * 12000) = 2.25 s, so the warning begins at the
+  // first tick with 3 - t <= 2.25, t = 0.8, and lasts until the stopped car leaves after t = 1.2
+  MonitorConfig cfg;
+  cfg.detector.kind = DetectorKind::Box;
+  cfg.checkRoad = false;
+  HighwayMonitor m(straightRoad(), cfg);
+  std::vector<Warning> got;
+  for (int k = 0; k <= 15; ++k) {
+    const double t = 0.1 * k;
+    std::vector<VehicleState> vs{vehicle("ego", {100 + 20 * t, 3.2}, 0, 20)};
+    if (k <= 12) vs.push_back(vehicle("stopped", {165, 3.2}, 0, 0));
+    m.step(t, vs);
+    for (auto& w : m.takeFinished()) got.push_back(w);
+    if (k == 10) {
+      // both are equipped: the ego (index 0) and the stopped car see each other
+      ASSERT_EQ(m.alerts().size(), 2u);
+      const Alert& a = m.alerts()[0].vehicle == 0 ? m.alerts()[0] : m.alerts()[1];
+      EXPECT_EQ(a.vehicle, 0);
+      EXPECT_NEAR(a.ttc, 2.0, 1e-9);
+      EXPECT_NEAR(a.safeTime, 2.25, 1e-12);
+      EXPECT_EQ(m.openWarnings().size(), 2u);
+    }
+  }
+  ASSERT_EQ(got.size(), 2u);
+  const Warning& w = got[0].ego == "ego" ? got[0] : got[1];
+  EXPECT_EQ(w.ego, "ego");
+  EXPECT_EQ(w.foe, "stopped");
+  EXPECT_EQ(w.kind, WarningKind::Vehicle);
+  EXPECT_EQ(w.zone, Zone::Body);
+  EXPECT_NEAR(w.begin, 0.8, 1e-12);
+  EXPECT_NEAR(w.end, 1.3, 1e-12);  // the first tick without the threat (the stopped car is gone)
+  EXPECT_NEAR(w.minTtc, 3.0 - 1.2, 1e-9);
+  EXPECT_NEAR(w.minTtcTime, 1.2, 1e-12);
+  EXPECT_NEAR(w.safeTimeAtMin, 2.25, 1e-12);
+  // the stopped car (equipped too) saw the ego coming from behind, with its own (car) safe time
+  const Warning& back = got[0].ego == "ego" ? got[1] : got[0];
+  EXPECT_EQ(back.foe, "ego");
+  EXPECT_NEAR(back.begin, 0.8, 1e-12);
+  EXPECT_NEAR(back.end, 1.2, 1e-12);  // its own last tick
+  EXPECT_EQ(m.counters().warningsBegun, 2u);
+  EXPECT_NEAR(m.counters().tet[0], 0.5 + 0.5, 1e-9);  // both cars, 0.8 .. 1.3
+}
+
+TEST(Monitor, TruckHasLongerSafeTimeThanCarAtSameSpeed) {
+  // both approach a stopped car at 20 m/s with a 52 m bumper gap: TTC 2.6 s for both.
+  // Car: 1 + 1500 * 20 / 24000 = 2.25 s -> no warning. Truck: 1 + 15000 * 20 / 150000 = 3 s -> warning.
+  MonitorConfig cfg;
+  cfg.detector.kind = DetectorKind::Box;
+  cfg.checkRoad = false;
+  for (bool truck : {false, true}) {
+    HighwayMonitor m(straightRoad(), cfg);
+    VehicleState ego = vehicle("ego", {100, 3.2}, 0, 20);
+    if (truck) {
+      ego.vehicleClass = VehicleClass::Truck;
+      ego.length = 12;
+      ego.width = 2.55;
+      ego.mass = 15000;
+    }
+    VehicleState lead = vehicle("lead", {100 + ego.length / 2 + 52 + 2.5, 3.2}, 0, 0);
+    lead.equipped = false;
+    const std::vector<VehicleState> vs{ego, lead};
+    m.step(0.0, vs);
+    if (truck) {
+      ASSERT_EQ(m.alerts().size(), 1u);
+      EXPECT_NEAR(m.alerts()[0].ttc, 2.6, 1e-9);
+      EXPECT_NEAR(m.alerts()[0].safeTime, 3.0, 1e-12);
+    } else {
+      EXPECT_TRUE(m.alerts().empty());
+    }
+  }
+  SafeTimeConfig st;
+  EXPECT_GT(st.vehicleSafeTime(15000, 20, VehicleClass::Truck), st.vehicleSafeTime(1500, 20, VehicleClass::Passenger));
+}
+
+TEST(Monitor, LaneChangeWithSignalIsNotAWarning) {
+  // a car in lane 0 (y = 0) drifting left at 1 m/s towards the marker at y = 1.6: its side
+  // reaches it after (1.6 - 0.9) / 1 = 0.7 s, below the road safe time 0.5 + 1500 * 1 / 24000
+  MonitorConfig cfg;
+  cfg.detector.kind = DetectorKind::FiveCircle;
+  for (std::uint8_t signal : {kSignalNone, kSignalLeft, kSignalRight}) {
+    HighwayMonitor m(straightRoad(), cfg);
+    VehicleState v = vehicle("c", {500, 0.6}, 0, 25);
+    v.lateralSpeed = 1.0;
+    v.signals = signal;
+    const std::vector<VehicleState> vs{v};
+    m.step(0.0, vs);
+    const auto open = m.openWarnings();
+    if (signal == kSignalLeft) {
+      EXPECT_TRUE(open.empty());
+    } else {
+      ASSERT_EQ(open.size(), 1u) << int(signal);
+      EXPECT_EQ(open[0].kind, WarningKind::LaneMarker);
+      EXPECT_EQ(open[0].foe, "a_0|a_1");
+      EXPECT_EQ(open[0].zone, Zone::Center);
+      EXPECT_NEAR(open[0].minTtc, 0.1, 1e-9);  // side at 1.5, marker at 1.6
+    }
+  }
+  // drifting right towards the curb at y = -1.6 with the right signal on: the curb still warns
+  HighwayMonitor m(straightRoad(), cfg);
+  VehicleState v = vehicle("c", {500, -0.6}, 0, 25);
+  v.lateralSpeed = -1.0;
+  v.signals = kSignalRight;
+  const std::vector<VehicleState> vs{v};
+  m.step(0.0, vs);
+  const auto open = m.openWarnings();
+  ASSERT_EQ(open.size(), 1u);
+  EXPECT_EQ(open[0].kind, WarningKind::Curb);
+  EXPECT_EQ(open[0].foe, "a:right");
+}
+
+TEST(Monitor, CutInFromTheRightFiresTheRightZone) {
+  MonitorConfig cfg;
+  cfg.detector.kind = DetectorKind::FiveCircle;
+  cfg.checkRoad = false;
+  HighwayMonitor m(straightRoad(), cfg);
+  VehicleState ego = vehicle("ego", {500, 3.2}, 0, 25);
+  VehicleState cutter = vehicle("cutter", {500, 0.2}, 0, 25);
+  cutter.lateralSpeed = 1.5;
+  cutter.equipped = false;
+  const std::vector<VehicleState> vs{ego, cutter};
+  m.step(0.0, vs);
+  const auto open = m.openWarnings();
+  ASSERT_EQ(open.size(), 1u);
+  EXPECT_EQ(open[0].zone, Zone::Right);
+  EXPECT_EQ(open[0].foe, "cutter");
+}
+
+TEST(Monitor, RejectsBadInput) {
+  HighwayMonitor m(straightRoad(), MonitorConfig{});
+  std::vector<VehicleState> dup{vehicle("x", {1, 0}, 0, 1), vehicle("x", {50, 0}, 0, 1)};
+  EXPECT_THROW(m.step(0.0, dup), std::invalid_argument);
+  std::vector<VehicleState> nan{vehicle("y", {std::nan(""), 0}, 0, 1)};
+  EXPECT_THROW(m.step(1.0, nan), std::invalid_argument);
+  std::vector<VehicleState> ok{vehicle("z", {1, 0}, 0, 1)};
+  m.step(2.0, ok);
+  EXPECT_THROW(m.step(2.0, ok), std::invalid_argument);  // time must increase
+  MonitorConfig bad;
+  bad.detector.five.zones[FiveCircleLayout::kFront].rx = 0.05;
+  EXPECT_THROW(HighwayMonitor(straightRoad(), bad), std::invalid_argument);
+}
+
+TEST(Road, FeaturesOfAThreeLaneEdge) {
+  const RoadFeatures f = deriveFeatures(straightRoad(1000.0));
+  ASSERT_EQ(f.features.size(), 4u);  // right curb, two markers, left curb
+  EXPECT_EQ(f.features[0].kind, FeatureKind::Curb);
+  EXPECT_NEAR(f.features[0].segment.a.y(), -1.6, 1e-12);
+  EXPECT_EQ(f.features[1].kind, FeatureKind::LaneMarker);
+  EXPECT_NEAR(f.features[1].segment.a.y(), 1.6, 1e-12);
+  EXPECT_NEAR(f.features[2].segment.b.y(), 4.8, 1e-12);
+  EXPECT_EQ(f.features[3].kind, FeatureKind::Curb);
+  EXPECT_NEAR(f.features[3].segment.b.y(), 8.0, 1e-12);
+  // mitred offset keeps the distance on both legs of a right-angle bend
+  const auto off = offsetPolyline({Vec2(0, 0), Vec2(10, 0), Vec2(10, 10)}, 1.0);
+  ASSERT_EQ(off.size(), 3u);
+  EXPECT_NEAR(off[1].x(), 9.0, 1e-12);
+  EXPECT_NEAR(off[1].y(), 1.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace st::highway
