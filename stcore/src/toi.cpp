@@ -55,8 +55,16 @@ Impact toiBalls(const Vec<D>& p_rel, const Vec<D>& v_rel, double radiusSum) {
   if (a <= tol::kSpeedSqEpsilon) return miss();
   // |p + v t|^2 = R^2  ->  a t^2 + 2 b t + c = 0 with c = (dist - R)(dist + R), free of the
   // cancellation in dist^2 - R^2; the smaller root is c / (-b + sqrt(b^2 - a c)), stable for b < 0.
+  // b^2 - a c is evaluated as a R^2 - |p x v|^2 (Lagrange's identity): b^2 - a |p|^2 cancels when
+  // the pair is far apart for its size, costing relative error eps |p|^2 / R^2 in the hit time.
   const double c = gap * (dist + radiusSum);
-  const double disc = b * b - a * c;
+  double cross2 = 0.0;
+  for (int i = 0; i < D; ++i)
+    for (int j = i + 1; j < D; ++j) {
+      const double m = p_rel[i] * v_rel[j] - p_rel[j] * v_rel[i];
+      cross2 += m * m;
+    }
+  const double disc = a * radiusSum * radiusSum - cross2;
   if (disc <= 0.0) return miss();  // passes by, or grazes without exchanging momentum
   return hitAt(c / (-b + std::sqrt(disc)));
 }
@@ -68,6 +76,16 @@ SegmentImpact toiCircleSegment(const Circle& c, const Vec2& v, const Segment& s)
   SegmentImpact best{miss(), SegmentFeature::Face};
   const Vec2 dir = s.b - s.a;
   const double len2 = dir.squaredNorm();
+  // Touching or overlapping now: the closest feature alone decides. Asked one by one, the features
+  // would report an end point approached, or struck later, by a ball moving out of the face.
+  const double u0 = len2 > 0.0 ? std::clamp((c.center - s.a).dot(dir) / len2, 0.0, 1.0) : 0.0;
+  const Vec2 out0 = c.center - (s.a + u0 * dir);
+  const double dist0 = out0.norm();
+  if (dist0 - c.radius <= tol::kLinearSlop) {
+    const SegmentFeature f = u0 <= 0.0 ? SegmentFeature::EndA : u0 >= 1.0 ? SegmentFeature::EndB : SegmentFeature::Face;
+    if (dist0 == 0.0) return {separating(), f};  // centre on the segment: no normal to approach along
+    return {contactAlongNormal(dist0 - c.radius, -out0.dot(v) / dist0), f};
+  }
   if (len2 > 0.0) {
     const Vec2 n = Vec2(-dir.y(), dir.x()) / std::sqrt(len2);
     const double d0 = n.dot(c.center - s.a);
