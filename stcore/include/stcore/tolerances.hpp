@@ -20,4 +20,9 @@ inline constexpr double kRelativeEpsilon = 1e-14;
 // Events closer in time than this are treated as simultaneous when comparing event orders in tests (s).
 inline constexpr double kTimeEpsilon = 1e-12;
 
+// Conservative advancement (time to collision on exact distances) declares contact once the
+// separation is below this (m), so a reported time is early by at most this over the closing
+// speed. Smaller values cost iterations near grazing contacts; larger ones report early.
+inline constexpr double kAdvanceSlop = 1e3 * kLinearSlop;
+
 }  // namespace st::tol

@@ -1,0 +1,54 @@
+#pragma once
+// Scenario files (YAML) and the run loop that drives a monitor from a sensor source.
+//
+//   safety: {cycle_time: 0.001, reaction_time: 0.01, stopping_time: 0.2, min_separation: 0.02, horizon: 0.3}
+//   octree: {kind: tree, decomposition_factor: 4, max_depth: 8, margin: 0.05, bounds: {min: [..], max: [..]}}
+//   models: {name: {convention: modified|classic, joints: [{a, alpha, d, offset, limits: [lo, hi]}],
+//                   flange: {xyz, rpy}, capsules: [{body, a: [x,y,z], b: [x,y,z], radius}]}}
+//   arms: [{name, model: panda|iiwa14|<models key>, base: {xyz, rpy},
+//           allow: [[i, j]], check: [[i, j]], waypoints: [{t, q: [...]}]}]
+//   trace: file.csv            (instead of waypoints; relative to the scenario file)
+//   duration: 4.0              (scripted motion length; default the last waypoint)
+//   obstacles: [{name, sphere: {center, radius} | capsule: {a, b, radius} |
+//                box: {center, half_extents, rpy}, velocity: [..]}]
+//   random_obstacles: {count, seed, min: [..], max: [..], radius: [lo, hi], keep_out: [{center, radius}]}
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <starm/monitor.hpp>
+#include <starm/sensor.hpp>
+
+namespace st::arm {
+
+struct Scenario {
+  std::string file;
+  std::vector<ArmInstance> arms;
+  std::vector<Obstacle> obstacles;
+  SafetyConfig safety;
+  BroadphaseConfig broad;
+  std::string tracePath;        // CSV sensor trace, or
+  std::vector<Script> scripts;  // scripted motion
+  double duration = 0.0;
+};
+
+// Throws InputError naming the file, line and key.
+Scenario loadScenario(const std::string& path);
+std::unique_ptr<SensorSource> makeSensor(const Scenario& s);
+Monitor makeMonitor(const Scenario& s);
+
+struct RunStats {
+  std::uint64_t cycles = 0;
+  std::vector<double> latencyUs;  // per cycle: readings applied + detection
+  std::vector<double> firstStop;  // per arm, time of the first STOP (NaN if none)
+};
+
+// Readings with equal time form one cycle. After each cycle onCycle(monitor) sees its warnings.
+// On bad input the exception propagates; stats holds the cycles completed so far.
+void run(Monitor& m, SensorSource& src, RunStats& stats, const std::function<void(const Monitor&)>& onCycle);
+
+double percentile(std::vector<double> v, double p);
+
+}  // namespace st::arm

@@ -1,0 +1,299 @@
+#include <starm/monitor.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace st::arm {
+
+namespace {
+
+Aabb3 pointsBox(std::initializer_list<Vec3> pts, double grow) {
+  Aabb3 b{*pts.begin(), *pts.begin()};
+  for (const Vec3& p : pts) {
+    b.min = b.min.cwiseMin(p);
+    b.max = b.max.cwiseMax(p);
+  }
+  b.min.array() -= grow;
+  b.max.array() += grow;
+  return b;
+}
+
+Aabb3 merge(const Aabb3& a, const Aabb3& b) { return {a.min.cwiseMin(b.min), a.max.cwiseMax(b.max)}; }
+
+bool inside(const Aabb3& inner, const Aabb3& outer) {
+  return (inner.min.array() >= outer.min.array()).all() && (inner.max.array() <= outer.max.array()).all();
+}
+
+// World box of an obstacle over [0, horizon] from its current pose, grown by `grow`.
+Aabb3 obstacleSweep(const Obstacle& o, double horizon, double grow) {
+  const Vec3 shift = horizon * o.velocity;
+  switch (o.kind) {
+    case ShapeKind::Sphere:
+      return pointsBox({o.sphere.center, o.sphere.center + shift}, o.sphere.radius + grow);
+    case ShapeKind::Capsule:
+      return pointsBox({o.capsule.a, o.capsule.b, o.capsule.a + shift, o.capsule.b + shift}, o.capsule.radius + grow);
+    case ShapeKind::Box: {
+      const Vec3 half = o.box.rotation.cwiseAbs() * o.box.halfExtents;
+      Aabb3 b{o.box.center - half, o.box.center + half};
+      b = merge(b, Aabb3{b.min + shift, b.max + shift});
+      b.min.array() -= grow;
+      b.max.array() += grow;
+      return b;
+    }
+  }
+  return {};
+}
+
+Obstacle advanced(const Obstacle& o, double dt) {
+  if (!o.moving()) return o;
+  Obstacle n = o;
+  const Vec3 s = dt * o.velocity;
+  n.sphere.center += s;
+  n.capsule.a += s;
+  n.capsule.b += s;
+  n.box.center += s;
+  return n;
+}
+
+}  // namespace
+
+std::string bodyName(const ArmModel& m, int body) {
+  return body == m.dof() + 1 ? std::string("flange") : "link" + std::to_string(body);
+}
+
+std::string otherName(const Monitor& m, const Warning& w) {
+  if (w.obstacle >= 0) return "obstacle:" + m.obstacles()[w.obstacle].name;
+  return m.arm(w.otherArm).name + "/" + bodyName(m.arm(w.otherArm).model, w.otherBody);
+}
+
+Monitor::Monitor(std::vector<ArmInstance> arms, std::vector<Obstacle> obstacles, SafetyConfig safety,
+                 BroadphaseConfig broad)
+    : obstacles_(std::move(obstacles)), safety_(safety), broad_(broad) {
+  if (!(safety_.lookAhead() >= safety_.safeTime()))
+    throw std::invalid_argument("look-ahead horizon shorter than the safe time");
+  const double grow = 0.5 * safety_.minSeparation;
+  // arm capsules: struct of arrays, arms in order
+  for (ArmInstance& inst : arms) {
+    ArmState a;
+    a.firstCapsule = static_cast<int>(capA_.size());
+    a.frames.resize(inst.model.bodies());
+    for (int k = 0; k < static_cast<int>(inst.model.capsules.size()); ++k) {
+      capA_.emplace_back(Vec3::Zero());
+      capB_.emplace_back(Vec3::Zero());
+      capVa_.emplace_back(Vec3::Zero());
+      capVb_.emplace_back(Vec3::Zero());
+      capR_.push_back(inst.model.capsules[k].radius);
+      capArm_.push_back(static_cast<int>(arms_.size()));
+      capBody_.push_back(inst.model.capsules[k].body);
+      capLocal_.push_back(k);
+    }
+    a.inst = std::move(inst);
+    arms_.push_back(std::move(a));
+  }
+  // a valid pose until the first reading: zero, clamped into the limits
+  for (int i = 0; i < armCount(); ++i) {
+    const ArmModel& m = arms_[i].inst.model;
+    std::vector<double> q(m.dof()), qd(m.dof(), 0.0);
+    for (int k = 0; k < m.dof(); ++k) q[k] = std::clamp(0.0, m.joints[k].lower, m.joints[k].upper);
+    setJointState(i, 0.0, q.data(), qd.data());
+  }
+  obstaclesNow_ = obstacles_;
+
+  // the space covers what the arms can reach and the obstacles (objects outside are clamped)
+  const int nc = capsuleCount();
+  const int total = nc + static_cast<int>(obstacles_.size());
+  swept_.resize(total);
+  fat_.resize(total);
+  const double h = safety_.lookAhead();
+  for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o) swept_[nc + o] = obstacleSweep(obstacles_[o], h, grow);
+  if (broad_.bounds) {
+    bounds_ = *broad_.bounds;
+  } else {
+    bool first = true;
+    for (const ArmState& a : arms_) {
+      const ArmModel& m = a.inst.model;
+      double reach = m.flange.translation().norm();
+      for (const Joint& j : m.joints) reach += std::abs(j.a) + std::abs(j.d);
+      double extent = 0.0;
+      for (const LinkCapsule& c : m.capsules) extent = std::max({extent, c.a.norm() + c.radius, c.b.norm() + c.radius});
+      reach += extent + grow;
+      const Vec3 p = a.inst.base.translation();
+      const Aabb3 b{p.array() - reach, p.array() + reach};
+      bounds_ = first ? b : merge(bounds_, b);
+      first = false;
+    }
+    for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o) {
+      bounds_ = first ? swept_[nc + o] : merge(bounds_, swept_[nc + o]);
+      first = false;
+    }
+    if (first) bounds_ = {Vec3::Constant(-1.0), Vec3::Constant(1.0)};
+  }
+  if (broad_.kind != SpaceKind::None) {
+    space_.emplace(broad_.kind, bounds_, broad_.rule);
+    for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o) {
+      const int id = nc + o;
+      const double margin = obstacles_[o].moving() ? broad_.margin : 0.0;
+      fat_[id] = {swept_[id].min.array() - margin, swept_[id].max.array() + margin};
+      space_->insert(id, swept_[id], margin);
+    }
+  }
+}
+
+void Monitor::setJointState(int arm, double t, const double* q, const double* qdot) {
+  ArmState& a = arms_[arm];
+  const ArmModel& m = a.inst.model;
+  forwardKinematics(m, a.inst.base, q, a.frames.data());
+  bodyRates(m, a.frames.data(), qdot, a.rates);
+  // capsule end points and their velocities (the geometric Jacobian applied to qdot)
+  for (int k = 0; k < static_cast<int>(m.capsules.size()); ++k) {
+    const LinkCapsule& lc = m.capsules[k];
+    const int i = a.firstCapsule + k;
+    const Eigen::Isometry3d& f = a.frames[lc.body];
+    capA_[i] = f * lc.a;
+    capB_[i] = f * lc.b;
+    capVa_[i] = a.rates.velocity(lc.body, capA_[i]);
+    capVb_[i] = a.rates.velocity(lc.body, capB_[i]);
+  }
+  a.t = t;
+  a.fresh = true;
+}
+
+MovingCapsule Monitor::movingCapsule(int i) const {
+  // extrapolated from the arm's last reading to the cycle time
+  const double dt = now_ - arms_[capArm_[i]].t;
+  return {{capA_[i] + dt * capVa_[i], capB_[i] + dt * capVb_[i], capR_[i]}, capVa_[i], capVb_[i]};
+}
+
+void Monitor::refile(int id) {
+  const double m = broad_.margin;
+  fat_[id] = {swept_[id].min.array() - m, swept_[id].max.array() + m};
+  if (space_->contains(id)) space_->update(id, swept_[id], m);
+  else space_->insert(id, swept_[id], m);
+  ++counters_.refiled;
+}
+
+void Monitor::cycle(double t) {
+  now_ = t;
+  const double h = safety_.lookAhead();
+  const double grow = 0.5 * safety_.minSeparation;
+  const int nc = capsuleCount();
+  // moving obstacles at the cycle time
+  for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o) {
+    if (!obstacles_[o].moving()) continue;
+    obstaclesNow_[o] = advanced(obstacles_[o], t - t0_);
+    swept_[nc + o] = obstacleSweep(obstaclesNow_[o], h, grow);
+    if (space_ && (!started_ || !inside(swept_[nc + o], fat_[nc + o]))) refile(nc + o);
+  }
+  // arm capsules: swept boxes over the look-ahead; re-filed in the space only on leaving the fat box
+  for (int i = 0; i < nc; ++i) {
+    const MovingCapsule c = movingCapsule(i);
+    swept_[i] = pointsBox({c.c.a, c.c.b, c.c.a + h * c.va, c.c.b + h * c.vb}, c.c.radius + grow);
+    if (space_ && (!started_ || !inside(swept_[i], fat_[i]))) refile(i);
+  }
+  started_ = true;
+
+  warnings_.clear();
+  for (ArmState& a : arms_) a.warned = false;
+  const int no = static_cast<int>(obstacles_.size());
+  if (space_) {
+    for (int i = 0; i < nc; ++i) {
+      space_->forEachNeighbor(i, [&](int j) {
+        if (j >= nc) testObstacle(i, j - nc, t);
+        else if (j > i) testPair(i, j, t);
+      });
+    }
+  } else {
+    for (int i = 0; i < nc; ++i) {
+      for (int j = i + 1; j < nc; ++j) testPair(i, j, t);
+      for (int o = 0; o < no; ++o) testObstacle(i, o, t);
+    }
+  }
+  // STOP: issued on an arm's first warned cycle, held while warnings continue
+  for (int ai = 0; ai < armCount(); ++ai) {
+    ArmState& a = arms_[ai];
+    if (a.warned && !a.stopped) {
+      a.stopped = true;
+      ++counters_.stops;
+      for (Warning& w : warnings_)
+        if (w.arm == ai) {
+          w.stop = true;
+          break;
+        }
+    } else if (!a.warned) {
+      a.stopped = false;
+    }
+  }
+  for (ArmState& a : arms_) a.fresh = false;
+  ++counters_.cycles;
+}
+
+void Monitor::addWarning(const Warning& w) {
+  warnings_.push_back(w);
+  arms_[w.arm].warned = true;
+  ++counters_.warnings;
+}
+
+void Monitor::testPair(int i, int j, double t) {
+  const int ai = capArm_[i], aj = capArm_[j];
+  if (ai == aj && arms_[ai].inst.model.isAllowed(capBody_[i], capBody_[j])) return;
+  ++counters_.candidatePairs;
+  if (!swept_[i].overlaps(swept_[j])) return;  // cannot come within the separation in the look-ahead
+  ++counters_.exactPairs;
+  const TimeToCollision r = timeToCollision(movingCapsule(i), movingCapsule(j), safety_.minSeparation, safety_.lookAhead());
+  counters_.advanceSteps += r.steps;
+  if (r.capped) ++counters_.cappedAdvances;
+  if (!(r.outcome == Approach::Touching || (r.outcome == Approach::Hit && r.t <= safety_.safeTime()))) return;
+  Warning w;
+  w.t = t;
+  w.distance = r.distance;
+  w.ttc = r.t;
+  w.outcome = r.outcome;
+  w.arm = ai;
+  w.body = capBody_[i];
+  w.capsule = capLocal_[i];
+  w.otherArm = aj;
+  w.otherBody = capBody_[j];
+  w.otherCapsule = capLocal_[j];
+  addWarning(w);
+  if (ai != aj) {
+    // the other arm is warned too, from its side
+    std::swap(w.arm, w.otherArm);
+    std::swap(w.body, w.otherBody);
+    std::swap(w.capsule, w.otherCapsule);
+    addWarning(w);
+  }
+}
+
+void Monitor::testObstacle(int i, int o, double t) {
+  const int id = capsuleCount() + o;
+  ++counters_.candidatePairs;
+  if (!swept_[i].overlaps(swept_[id])) return;
+  ++counters_.exactPairs;
+  const MovingCapsule c = movingCapsule(i);
+  const Obstacle& ob = obstaclesNow_[o];
+  const double sep = safety_.minSeparation, h = safety_.lookAhead();
+  TimeToCollision r;
+  switch (ob.kind) {
+    case ShapeKind::Sphere: r = timeToCollision(c, MovingSphere{ob.sphere, ob.velocity}, sep, h); break;
+    case ShapeKind::Capsule:
+      r = timeToCollision(c, MovingCapsule{ob.capsule, ob.velocity, ob.velocity}, sep, h);
+      break;
+    case ShapeKind::Box: r = timeToCollision(c, MovingBox{ob.box, ob.velocity}, sep, h); break;
+  }
+  counters_.advanceSteps += r.steps;
+  if (r.capped) ++counters_.cappedAdvances;
+  if (!(r.outcome == Approach::Touching || (r.outcome == Approach::Hit && r.t <= safety_.safeTime()))) return;
+  Warning w;
+  w.t = t;
+  w.distance = r.distance;
+  w.ttc = r.t;
+  w.outcome = r.outcome;
+  w.arm = capArm_[i];
+  w.body = capBody_[i];
+  w.capsule = capLocal_[i];
+  w.obstacle = o;
+  addWarning(w);
+}
+
+}  // namespace st::arm

@@ -1,0 +1,381 @@
+#include <starm/scenario.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <filesystem>
+#include <limits>
+#include <random>
+
+#include <yaml-cpp/yaml.h>
+
+namespace st::arm {
+
+namespace {
+
+// Error helpers: every message is "file:line: key: what".
+struct Yaml {
+  std::string file;
+
+  [[noreturn]] void fail(const YAML::Node& n, const std::string& key, const std::string& what) const {
+    const int line = n.IsDefined() ? n.Mark().line + 1 : 0;
+    throw InputError(file + (line > 0 ? ":" + std::to_string(line) : "") + ": " + key + ": " + what);
+  }
+  double number(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsDefined() || !n.IsScalar()) fail(n, key, "expected a number");
+    double v;
+    try {
+      v = n.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(n, key, "'" + n.Scalar() + "' is not a number");
+    }
+    if (!std::isfinite(v)) fail(n, key, "not a finite number");
+    return v;
+  }
+  double number(const YAML::Node& parent, const char* name, const std::string& key, double def) const {
+    const YAML::Node n = parent[name];
+    return n.IsDefined() ? number(n, key + "." + name) : def;
+  }
+  double positive(const YAML::Node& parent, const char* name, const std::string& key, double def) const {
+    const double v = number(parent, name, key, def);
+    if (!(v > 0.0)) fail(parent[name], key + "." + name, "must be positive");
+    return v;
+  }
+  Vec3 vec3(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsDefined() || !n.IsSequence() || n.size() != 3) fail(n, key, "expected [x, y, z]");
+    return {number(n[0], key + "[0]"), number(n[1], key + "[1]"), number(n[2], key + "[2]")};
+  }
+  std::vector<double> numbers(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsDefined() || !n.IsSequence()) fail(n, key, "expected a list of numbers");
+    std::vector<double> v;
+    for (std::size_t i = 0; i < n.size(); ++i) v.push_back(number(n[i], key + "[" + std::to_string(i) + "]"));
+    return v;
+  }
+  Eigen::Isometry3d pose(const YAML::Node& n, const std::string& key) const {
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    if (!n.IsDefined()) return p;
+    if (n["xyz"]) p.translation() = vec3(n["xyz"], key + ".xyz");
+    if (n["rpy"]) p.linear() = rpy(vec3(n["rpy"], key + ".rpy"));
+    return p;
+  }
+  static Eigen::Matrix3d rpy(const Vec3& a) {
+    // URDF convention: R = Rz(yaw) Ry(pitch) Rx(roll)
+    return (Eigen::AngleAxisd(a.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(a.y(), Vec3::UnitY()) *
+            Eigen::AngleAxisd(a.x(), Vec3::UnitX()))
+        .toRotationMatrix();
+  }
+  void knownKeys(const YAML::Node& n, const std::string& key, std::initializer_list<const char*> keys) const {
+    if (!n.IsMap()) fail(n, key, "expected a mapping");
+    for (auto it = n.begin(); it != n.end(); ++it) {
+      const std::string k = it->first.as<std::string>();
+      if (std::find_if(keys.begin(), keys.end(), [&](const char* s) { return k == s; }) == keys.end())
+        fail(it->first, key.empty() ? k : key + "." + k, "unknown key");
+    }
+  }
+};
+
+ArmModel parseModel(const Yaml& y, const YAML::Node& n, const std::string& key, const std::string& name) {
+  y.knownKeys(n, key, {"convention", "joints", "flange", "capsules"});
+  ArmModel m;
+  m.name = name;
+  const std::string conv = n["convention"] ? n["convention"].as<std::string>() : "";
+  if (conv == "classic") m.convention = DhConvention::Classic;
+  else if (conv == "modified") m.convention = DhConvention::Modified;
+  else y.fail(n["convention"], key + ".convention", "expected classic or modified");
+  const YAML::Node joints = n["joints"];
+  if (!joints.IsSequence() || joints.size() == 0) y.fail(joints, key + ".joints", "expected a list of joints");
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    const std::string jk = key + ".joints[" + std::to_string(i) + "]";
+    y.knownKeys(joints[i], jk, {"a", "alpha", "d", "offset", "limits"});
+    Joint j;
+    j.a = y.number(joints[i], "a", jk, 0.0);
+    j.alpha = y.number(joints[i], "alpha", jk, 0.0);
+    j.d = y.number(joints[i], "d", jk, 0.0);
+    j.offset = y.number(joints[i], "offset", jk, 0.0);
+    if (joints[i]["limits"]) {
+      const auto lim = y.numbers(joints[i]["limits"], jk + ".limits");
+      if (lim.size() != 2 || !(lim[0] < lim[1])) y.fail(joints[i]["limits"], jk + ".limits", "expected [lower, upper]");
+      j.lower = lim[0];
+      j.upper = lim[1];
+    }
+    m.joints.push_back(j);
+  }
+  m.flange = y.pose(n["flange"], key + ".flange");
+  const YAML::Node caps = n["capsules"];
+  if (!caps.IsSequence() || caps.size() == 0) y.fail(caps, key + ".capsules", "expected a list of capsules");
+  for (std::size_t i = 0; i < caps.size(); ++i) {
+    const std::string ck = key + ".capsules[" + std::to_string(i) + "]";
+    y.knownKeys(caps[i], ck, {"body", "a", "b", "radius"});
+    LinkCapsule c;
+    const double body = y.number(caps[i]["body"], ck + ".body");
+    if (body != std::floor(body) || body < 0 || body > m.dof() + 1)
+      y.fail(caps[i]["body"], ck + ".body", "expected a body index 0.." + std::to_string(m.dof() + 1));
+    c.body = static_cast<int>(body);
+    c.a = y.vec3(caps[i]["a"], ck + ".a");
+    c.b = y.vec3(caps[i]["b"], ck + ".b");
+    c.radius = y.positive(caps[i], "radius", ck, 0.0);
+    m.capsules.push_back(c);
+  }
+  m.resetAllowedToAdjacent();
+  return m;
+}
+
+Obstacle parseObstacle(const Yaml& y, const YAML::Node& n, const std::string& key, int index) {
+  y.knownKeys(n, key, {"name", "sphere", "capsule", "box", "velocity"});
+  Obstacle o;
+  o.name = n["name"] ? n["name"].as<std::string>() : "o" + std::to_string(index);
+  if (n["sphere"]) {
+    o.kind = ShapeKind::Sphere;
+    y.knownKeys(n["sphere"], key + ".sphere", {"center", "radius"});
+    o.sphere = {y.vec3(n["sphere"]["center"], key + ".sphere.center"), y.positive(n["sphere"], "radius", key + ".sphere", 0)};
+  } else if (n["capsule"]) {
+    o.kind = ShapeKind::Capsule;
+    y.knownKeys(n["capsule"], key + ".capsule", {"a", "b", "radius"});
+    o.capsule = {y.vec3(n["capsule"]["a"], key + ".capsule.a"), y.vec3(n["capsule"]["b"], key + ".capsule.b"),
+                 y.positive(n["capsule"], "radius", key + ".capsule", 0)};
+  } else if (n["box"]) {
+    o.kind = ShapeKind::Box;
+    y.knownKeys(n["box"], key + ".box", {"center", "half_extents", "rpy"});
+    o.box.center = y.vec3(n["box"]["center"], key + ".box.center");
+    o.box.halfExtents = y.vec3(n["box"]["half_extents"], key + ".box.half_extents");
+    if ((o.box.halfExtents.array() <= 0.0).any()) y.fail(n["box"]["half_extents"], key + ".box.half_extents", "must be positive");
+    if (n["box"]["rpy"]) o.box.rotation = Yaml::rpy(y.vec3(n["box"]["rpy"], key + ".box.rpy"));
+  } else {
+    y.fail(n, key, "expected one of sphere, capsule, box");
+  }
+  if (n["velocity"]) o.velocity = y.vec3(n["velocity"], key + ".velocity");
+  return o;
+}
+
+// Random obstacles, deterministic for a seed (own uniform mapping: not implementation-defined).
+void randomObstacles(const Yaml& y, const YAML::Node& n, Scenario& s) {
+  const std::string key = "random_obstacles";
+  y.knownKeys(n, key, {"count", "seed", "min", "max", "radius", "keep_out"});
+  const double count = y.number(n["count"], key + ".count");
+  if (count < 0 || count != std::floor(count) || count > 1e6) y.fail(n["count"], key + ".count", "expected a count");
+  std::mt19937_64 gen(static_cast<std::uint64_t>(y.number(n, "seed", key, 1.0)));
+  auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * (static_cast<double>(gen() >> 11) * 0x1.0p-53); };
+  const Vec3 lo = y.vec3(n["min"], key + ".min"), hi = y.vec3(n["max"], key + ".max");
+  const auto r = n["radius"] ? y.numbers(n["radius"], key + ".radius") : std::vector<double>{0.01, 0.04};
+  if (r.size() != 2 || !(0 < r[0] && r[0] <= r[1])) y.fail(n["radius"], key + ".radius", "expected [lo, hi]");
+  std::vector<Sphere> keepOut;
+  if (n["keep_out"])
+    for (std::size_t i = 0; i < n["keep_out"].size(); ++i) {
+      const std::string kk = key + ".keep_out[" + std::to_string(i) + "]";
+      keepOut.push_back({y.vec3(n["keep_out"][i]["center"], kk + ".center"), y.positive(n["keep_out"][i], "radius", kk, 0)});
+    }
+  int made = 0;
+  for (long tries = 0; made < static_cast<int>(count) && tries < 1000 * static_cast<long>(count) + 1000; ++tries) {
+    Obstacle o;
+    const Vec3 c(uniform(lo.x(), hi.x()), uniform(lo.y(), hi.y()), uniform(lo.z(), hi.z()));
+    const double rad = uniform(r[0], r[1]);
+    bool ok = true;
+    for (const Sphere& k : keepOut) ok = ok && (c - k.center).norm() > k.radius + 2 * rad;
+    if (!ok) continue;
+    o.name = "rand" + std::to_string(made);
+    switch (gen() % 3) {
+      case 0: o.kind = ShapeKind::Sphere; o.sphere = {c, rad}; break;
+      case 1: {
+        o.kind = ShapeKind::Capsule;
+        Vec3 d(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+        d = d.normalized() * rad;
+        o.capsule = {c - d, c + d, 0.5 * rad};
+        break;
+      }
+      default: {
+        o.kind = ShapeKind::Box;
+        o.box.center = c;
+        o.box.halfExtents = Vec3(uniform(0.5, 1), uniform(0.5, 1), uniform(0.5, 1)) * rad;
+        o.box.rotation = Yaml::rpy(Vec3(uniform(-3.14, 3.14), uniform(-3.14, 3.14), uniform(-3.14, 3.14)));
+      }
+    }
+    s.obstacles.push_back(o);
+    ++made;
+  }
+  if (made < static_cast<int>(count)) y.fail(n, key, "could not place all obstacles outside the keep-out zones");
+}
+
+}  // namespace
+
+Scenario loadScenario(const std::string& path) {
+  Yaml y{path};
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw InputError(path + ": cannot open the scenario");
+  } catch (const YAML::ParserException& e) {
+    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  y.knownKeys(root, "", {"safety", "octree", "models", "arms", "trace", "duration", "obstacles", "random_obstacles", "name",
+                         "description"});
+  Scenario s;
+  s.file = path;
+  if (const YAML::Node n = root["safety"]) {
+    y.knownKeys(n, "safety", {"cycle_time", "reaction_time", "stopping_time", "min_separation", "horizon"});
+    s.safety.cycleTime = y.positive(n, "cycle_time", "safety", s.safety.cycleTime);
+    s.safety.reactionTime = y.number(n, "reaction_time", "safety", s.safety.reactionTime);
+    s.safety.stoppingTime = y.number(n, "stopping_time", "safety", s.safety.stoppingTime);
+    s.safety.minSeparation = y.number(n, "min_separation", "safety", s.safety.minSeparation);
+    s.safety.horizon = y.number(n, "horizon", "safety", 0.0);
+    if (s.safety.reactionTime < 0) y.fail(n["reaction_time"], "safety.reaction_time", "must not be negative");
+    if (s.safety.stoppingTime < 0) y.fail(n["stopping_time"], "safety.stopping_time", "must not be negative");
+    if (s.safety.minSeparation < 0) y.fail(n["min_separation"], "safety.min_separation", "must not be negative");
+    if (s.safety.horizon != 0.0 && s.safety.horizon < s.safety.safeTime())
+      y.fail(n["horizon"], "safety.horizon", "must be at least the safe time (cycle + reaction + stopping)");
+  }
+  if (const YAML::Node n = root["octree"]) {
+    y.knownKeys(n, "octree", {"kind", "decomposition_factor", "max_depth", "margin", "bounds"});
+    if (n["kind"]) {
+      const std::string k = n["kind"].as<std::string>();
+      if (!parseSpaceKind(k, s.broad.kind)) y.fail(n["kind"], "octree.kind", "unknown space kind '" + k + "'");
+    }
+    const double df = y.number(n, "decomposition_factor", "octree", s.broad.rule.decompositionFactor);
+    if (df < 1 || df != std::floor(df)) y.fail(n["decomposition_factor"], "octree.decomposition_factor", "expected an integer >= 1");
+    s.broad.rule.decompositionFactor = static_cast<int>(df);
+    const double md = y.number(n, "max_depth", "octree", s.broad.rule.maxDepth);
+    if (md < 0 || md > 20 || md != std::floor(md)) y.fail(n["max_depth"], "octree.max_depth", "expected an integer 0..20");
+    s.broad.rule.maxDepth = static_cast<int>(md);
+    s.broad.margin = y.number(n, "margin", "octree", s.broad.margin);
+    if (s.broad.margin < 0) y.fail(n["margin"], "octree.margin", "must not be negative");
+    if (n["bounds"]) s.broad.bounds = Aabb3{y.vec3(n["bounds"]["min"], "octree.bounds.min"), y.vec3(n["bounds"]["max"], "octree.bounds.max")};
+  }
+  const YAML::Node arms = root["arms"];
+  if (!arms.IsSequence() || arms.size() == 0) y.fail(arms.IsDefined() ? arms : root, "arms", "expected a list of arms");
+  bool anyWaypoints = false;
+  for (std::size_t i = 0; i < arms.size(); ++i) {
+    const std::string key = "arms[" + std::to_string(i) + "]";
+    const YAML::Node a = arms[i];
+    y.knownKeys(a, key, {"name", "model", "base", "allow", "check", "waypoints"});
+    ArmInstance inst;
+    inst.name = a["name"] ? a["name"].as<std::string>() : "arm" + std::to_string(i);
+    for (const ArmInstance& other : s.arms)
+      if (other.name == inst.name) y.fail(a["name"], key + ".name", "duplicate arm name '" + inst.name + "'");
+    if (!a["model"] || !a["model"].IsScalar()) y.fail(a, key + ".model", "expected an arm model name");
+    const std::string model = a["model"].as<std::string>();
+    if (auto b = builtinModel(model)) {
+      inst.model = *b;
+    } else if (root["models"] && root["models"][model]) {
+      inst.model = parseModel(y, root["models"][model], "models." + model, model);
+    } else {
+      y.fail(a["model"], key + ".model", "unknown arm model '" + model + "' (built in: panda, iiwa14)");
+    }
+    inst.base = y.pose(a["base"], key + ".base");
+    for (const char* which : {"allow", "check"}) {
+      const YAML::Node list = a[which];
+      if (!list) continue;
+      for (std::size_t k = 0; k < list.size(); ++k) {
+        const std::string pk = key + "." + which + "[" + std::to_string(k) + "]";
+        const auto pair = y.numbers(list[k], pk);
+        const int nb = inst.model.bodies();
+        if (pair.size() != 2 || pair[0] < 0 || pair[1] < 0 || pair[0] >= nb || pair[1] >= nb)
+          y.fail(list[k], pk, "expected [body, body] with bodies 0.." + std::to_string(nb - 1));
+        inst.model.setAllowed(static_cast<int>(pair[0]), static_cast<int>(pair[1]), std::string(which) == "allow");
+      }
+    }
+    if (const YAML::Node w = a["waypoints"]) {
+      anyWaypoints = true;
+      Script sc;
+      sc.arm = static_cast<int>(i);
+      sc.where = path + ": " + key + ".waypoints";
+      if (!w.IsSequence() || w.size() == 0) y.fail(w, key + ".waypoints", "expected a list of {t, q}");
+      for (std::size_t k = 0; k < w.size(); ++k) {
+        const std::string wk = key + ".waypoints[" + std::to_string(k) + "]";
+        y.knownKeys(w[k], wk, {"t", "q"});
+        Waypoint wp;
+        wp.t = y.number(w[k]["t"], wk + ".t");
+        wp.q = y.numbers(w[k]["q"], wk + ".q");
+        if (!sc.waypoints.empty() && !(wp.t > sc.waypoints.back().t)) y.fail(w[k]["t"], wk + ".t", "times must increase");
+        // every interpolated angle lies between two checked waypoints
+        Reading r{wp.t, sc.arm, wp.q, std::vector<double>(wp.q.size(), 0.0), ""};
+        try {
+          validateReading(inst.model, r);
+        } catch (const InputError& e) {
+          y.fail(w[k]["q"], wk + ".q", std::string(e.what()).substr(2));
+        }
+        sc.waypoints.push_back(wp);
+      }
+      s.duration = std::max(s.duration, sc.waypoints.back().t);
+      s.scripts.push_back(sc);
+    }
+    s.arms.push_back(inst);
+  }
+  if (root["trace"]) {
+    if (anyWaypoints) y.fail(root["trace"], "trace", "give either a trace or waypoints, not both");
+    std::filesystem::path p = root["trace"].as<std::string>();
+    if (p.is_relative()) p = std::filesystem::path(path).parent_path() / p;
+    s.tracePath = p.string();
+  } else if (!anyWaypoints) {
+    y.fail(root, "trace", "expected a sensor trace or waypoints for at least one arm");
+  }
+  s.duration = y.number(root, "duration", "", s.duration);
+  if (const YAML::Node obs = root["obstacles"]) {
+    for (std::size_t i = 0; i < obs.size(); ++i)
+      s.obstacles.push_back(parseObstacle(y, obs[i], "obstacles[" + std::to_string(i) + "]", static_cast<int>(i)));
+  }
+  if (const YAML::Node n = root["random_obstacles"]) randomObstacles(y, n, s);
+  return s;
+}
+
+std::unique_ptr<SensorSource> makeSensor(const Scenario& s) {
+  if (!s.tracePath.empty()) {
+    std::vector<std::string> names;
+    std::vector<int> dofs;
+    for (const ArmInstance& a : s.arms) {
+      names.push_back(a.name);
+      dofs.push_back(a.model.dof());
+    }
+    return std::make_unique<CsvSensor>(s.tracePath, names, dofs);
+  }
+  return std::make_unique<WaypointSensor>(s.scripts, s.safety.cycleTime, s.duration);
+}
+
+Monitor makeMonitor(const Scenario& s) { return Monitor(s.arms, s.obstacles, s.safety, s.broad); }
+
+void run(Monitor& m, SensorSource& src, RunStats& stats, const std::function<void(const Monitor&)>& onCycle) {
+  using Clock = std::chrono::steady_clock;
+  stats.firstStop.assign(m.armCount(), std::numeric_limits<double>::quiet_NaN());
+  Reading r;
+  bool have = src.next(r);
+  double last = -std::numeric_limits<double>::infinity();
+  std::vector<Reading> batch;
+  while (have) {
+    // one cycle: every reading stamped with the same time
+    const double t = r.t;
+    if (t < last) throw InputError(r.where + ": time " + std::to_string(t) + " s goes backwards");
+    batch.clear();
+    std::exception_ptr bad;  // a malformed next reading: finish this cycle first, then report it
+    while (have && r.t == t) {
+      validateReading(m.arm(r.arm).model, r);
+      batch.push_back(r);
+      try {
+        have = src.next(r);
+      } catch (const InputError&) {
+        bad = std::current_exception();
+        have = false;
+      }
+    }
+    const auto start = Clock::now();
+    for (const Reading& b : batch) m.setJointState(b.arm, b.t, b.q.data(), b.qdot.data());
+    m.cycle(t);
+    const auto stop = Clock::now();
+    stats.latencyUs.push_back(std::chrono::duration<double, std::micro>(stop - start).count());
+    ++stats.cycles;
+    for (const Warning& w : m.warnings())
+      if (w.stop && std::isnan(stats.firstStop[w.arm])) stats.firstStop[w.arm] = t;
+    onCycle(m);
+    last = t;
+    if (bad) std::rethrow_exception(bad);
+  }
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  // nearest rank
+  const double rank = std::ceil(p / 100.0 * static_cast<double>(v.size()));
+  const std::size_t idx = static_cast<std::size_t>(std::clamp(rank, 1.0, static_cast<double>(v.size()))) - 1;
+  return v[idx];
+}
+
+}  // namespace st::arm

@@ -1,0 +1,165 @@
+// `stsim arm` end to end: outputs, and bad input giving one line naming the trace line or the
+// YAML key, a non-zero exit, and the warnings so far on disk.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <starm/scenario.hpp>
+
+namespace st::arm {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+Result stsim(const std::string& args, const fs::path& dir) {
+  const std::string cmd = std::string(STSIM_BINARY) + " arm " + args + " > " + (dir / "stdout").string() + " 2> " +
+                          (dir / "stderr").string();
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir / "stdout"), slurp(dir / "stderr")};
+}
+
+fs::path tempDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("stsim_arm_cli_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string scenario(const std::string& name) {
+  return std::string(STSIM_SOURCE_DIR) + "/models/arm/scenarios/" + name + ".yaml";
+}
+
+int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+TEST(ArmCli, TwoPandasWritesWarningsAndSummary) {
+  const fs::path d = tempDir("ok");
+  const Result r = stsim(scenario("two_pandas") + " --out " + (d / "out").string(), d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string summary = slurp(d / "out" / "summary.json");
+  EXPECT_NE(summary.find("\"cycles\": 3001"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"stops\": 2"), std::string::npos) << summary;
+  for (const char* key : {"\"p50\"", "\"p99\"", "\"max\"", "\"subdivisions\"", "\"reunions\"", "\"candidate_pairs\""})
+    EXPECT_NE(summary.find(key), std::string::npos) << key;
+  const std::string csv = slurp(d / "out" / "warnings.csv");
+  EXPECT_EQ(csv.rfind("t_s,arm,link,capsule,other,distance_m,ttc_s,reason,stop\n", 0), 0u);
+  EXPECT_NE(csv.find(",left,flange,"), std::string::npos);
+  EXPECT_NE(csv.find(",right/"), std::string::npos);
+  EXPECT_NE(csv.find("STOP"), std::string::npos);
+  fs::remove_all(d);
+}
+
+// A CSV trace of the two-Panda motion up to 1.2 s (past the first warnings), then `bad`.
+// Returns the scenario; `badLine` the line number of `bad`, `cycles` the times before it.
+fs::path badTrace(const fs::path& d, const std::string& bad, int& badLine, int& cycles) {
+  const Scenario s = loadScenario(scenario("two_pandas"));
+  auto src = makeSensor(s);
+  std::ofstream csv(d / "trace.csv");
+  csv << "t,arm,q1,q2,q3,q4,q5,q6,q7,qd1,qd2,qd3,qd4,qd5,qd6,qd7\n";
+  csv.precision(17);
+  Reading r;
+  badLine = 2;
+  cycles = 0;
+  double last = -1.0;
+  while (src->next(r) && r.t <= 1.2) {
+    ++badLine;
+    if (r.t != last) ++cycles, last = r.t;
+    csv << r.t << ',' << s.arms[r.arm].name;
+    for (double v : r.q) csv << ',' << v;
+    for (double v : r.qdot) csv << ',' << v;
+    csv << '\n';
+  }
+  csv << bad << '\n';
+  csv.close();
+  std::ofstream y(d / "scenario.yaml");
+  y << "safety: {cycle_time: 0.001, reaction_time: 0.010, stopping_time: 0.200, min_separation: 0.02, horizon: 0.3}\n"
+       "arms:\n"
+       "  - {name: left, model: panda}\n"
+       "  - {name: right, model: panda, base: {xyz: [1.1, 0.05, 0], rpy: [0, 0, 3.141592653589793]}}\n"
+       "trace: trace.csv\n";
+  return d / "scenario.yaml";
+}
+
+void expectBadInput(const std::string& name, const std::string& bad, const std::string& mention) {
+  const fs::path d = tempDir(name);
+  int badLine = 0, cycles = 0;
+  const fs::path y = badTrace(d, bad, badLine, cycles);
+  ASSERT_GT(cycles, 1100);
+  const Result r = stsim(y.string() + " --out " + (d / "out").string(), d);
+  EXPECT_EQ(r.code, 1) << name;
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_EQ(r.err.rfind("stsim arm: error: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("trace.csv:" + std::to_string(badLine) + ":"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(mention), std::string::npos) << r.err;
+  // results so far are on disk
+  const std::string csv = slurp(d / "out" / "warnings.csv");
+  EXPECT_NE(csv.find("STOP"), std::string::npos) << "warnings before the bad line were not flushed";
+  const std::string summary = slurp(d / "out" / "summary.json");
+  EXPECT_NE(summary.find("\"status\": \"error\""), std::string::npos) << summary;
+  // every complete cycle before the bad line ran
+  EXPECT_NE(summary.find("\"cycles\": " + std::to_string(cycles) + ","), std::string::npos) << summary;
+  fs::remove_all(d);
+}
+
+TEST(ArmCli, WrongJointCountNamesTheTraceLine) {
+  expectBadInput("count", "1.201,left,0,-0.7,0,-2.3,0,1.5,0.7,0,0,0,0,0,0", "expected 7 angles and 7 rates");
+}
+
+TEST(ArmCli, NanAngleNamesTheTraceLine) {
+  expectBadInput("nan", "1.201,left,0,nan,0,-2.3,0,1.5,0.7,0,0,0,0,0,0,0", "joint 2 angle is not a finite number");
+}
+
+TEST(ArmCli, AngleBeyondLimitNamesTheTraceLine) {
+  expectBadInput("limit", "1.201,right,0,-0.7,0,0.5,0,1.5,0.7,0,0,0,0,0,0,0", "joint 4 angle 0.5 rad is beyond its limits");
+}
+
+TEST(ArmCli, UnknownArmModelNamesTheYamlKey) {
+  const fs::path d = tempDir("model");
+  std::ofstream(d / "s.yaml") << "arms:\n  - {name: a, model: panda, waypoints: [{t: 0, q: [0, 0, 0, -1, 0, 1, 0]}]}\n"
+                                 "  - {name: b, model: ur5, waypoints: [{t: 0, q: [0, 0, 0, 0, 0, 0]}]}\n";
+  const Result r = stsim((d / "s.yaml").string() + " --out " + (d / "out").string(), d);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("s.yaml:3: arms[1].model: unknown arm model 'ur5'"), std::string::npos) << r.err;
+  fs::remove_all(d);
+}
+
+TEST(ArmCli, WaypointBeyondLimitNamesTheYamlKey) {
+  const fs::path d = tempDir("waypoint");
+  std::ofstream(d / "s.yaml") << "arms:\n  - name: a\n    model: panda\n    waypoints:\n"
+                                 "      - {t: 0, q: [0, 0, 0, -1, 0, 1, 0]}\n"
+                                 "      - {t: 1, q: [0, 2.5, 0, -1, 0, 1, 0]}\n";
+  const Result r = stsim((d / "s.yaml").string() + " --out " + (d / "out").string(), d);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("arms[0].waypoints[1].q: joint 2 angle 2.5 rad is beyond its limits"), std::string::npos) << r.err;
+  fs::remove_all(d);
+}
+
+TEST(ArmCli, MissingScenarioIsAUsageErrorOrError) {
+  const fs::path d = tempDir("usage");
+  EXPECT_EQ(stsim("", d).code, 2);
+  EXPECT_EQ(stsim("--frobnicate x.yaml", d).code, 2);
+  EXPECT_EQ(stsim((d / "nope.yaml").string(), d).code, 1);
+  fs::remove_all(d);
+}
+
+}  // namespace
+}  // namespace st::arm

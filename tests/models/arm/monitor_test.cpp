@@ -1,0 +1,217 @@
+// The monitor on the shipped scenarios: octree invariants while the arms move, the octree
+// finds exactly the warnings all-pairs finds, and the two Pandas are stopped before contact.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <tuple>
+
+#include <starm/scenario.hpp>
+
+namespace st::arm {
+namespace {
+
+std::string scenarioPath(const std::string& name) {
+  return std::string(STSIM_SOURCE_DIR) + "/models/arm/scenarios/" + name + ".yaml";
+}
+
+using Key = std::tuple<double, int, int, int, int, int, int, int, double, double, int, bool>;
+
+std::vector<Key> runAll(const Scenario& s) {
+  Monitor m = makeMonitor(s);
+  auto src = makeSensor(s);
+  RunStats st;
+  std::vector<Key> keys;
+  run(m, *src, st, [&](const Monitor& mon) {
+    for (const Warning& w : mon.warnings())
+      keys.emplace_back(w.t, w.arm, w.body, w.capsule, w.otherArm, w.otherBody, w.otherCapsule, w.obstacle, w.distance,
+                        w.ttc, static_cast<int>(w.outcome), w.stop);
+  });
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+class Scenarios : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(Scenarios, OctreeFindsExactlyTheAllPairsWarnings) {
+  Scenario s = loadScenario(scenarioPath(GetParam()));
+  Scenario ref = s;
+  ref.broad.kind = SpaceKind::None;
+  const std::vector<Key> all = runAll(ref);
+  ASSERT_GT(all.size(), 0u) << "the scenario must raise warnings for the comparison to mean something";
+  EXPECT_EQ(runAll(s), all);
+  // other octree rules find the same
+  for (int df : {1, 2, 16}) {
+    Scenario v = s;
+    v.broad.rule.decompositionFactor = df;
+    v.broad.margin = 0.0;
+    EXPECT_EQ(runAll(v), all) << "decomposition factor " << df;
+  }
+}
+
+TEST_P(Scenarios, OctreeInvariantsWhileMoving) {
+  const Scenario s = loadScenario(scenarioPath(GetParam()));
+  Monitor m = makeMonitor(s);
+  auto src = makeSensor(s);
+  RunStats st;
+  int checks = 0;
+  run(m, *src, st, [&](const Monitor& mon) {
+    if (st.cycles % 50 != 1) return;
+    ++checks;
+    const Space<3>& sp = *mon.space();
+    const Aabb3 bounds = sp.bounds();
+    auto clamp = [&](const Aabb3& b) {
+      return Aabb3{b.min.cwiseMax(bounds.min).cwiseMin(bounds.max), b.max.cwiseMin(bounds.max).cwiseMax(bounds.min)};
+    };
+    const std::vector<int> leaves = sp.leaves();
+    double volume = 0.0;
+    for (int leaf : leaves) {
+      const Aabb3 lb = sp.leafBounds(leaf);
+      volume += lb.extent().prod();
+      const auto& objs = sp.objectsIn(leaf);
+      // a leaf over the decomposition factor is at the depth limit
+      if (static_cast<int>(objs.size()) > sp.rule().decompositionFactor) {
+        ASSERT_EQ(sp.depthOf(leaf), sp.rule().maxDepth);
+      }
+      for (int id : objs) ASSERT_TRUE(lb.overlaps(clamp(mon.fatBox(id)))) << "object " << id << " listed in a leaf it is not in";
+    }
+    // the leaves tile the space
+    ASSERT_NEAR(volume, bounds.extent().prod(), 1e-9 * bounds.extent().prod());
+    for (int id = 0; id < mon.objectCount(); ++id) {
+      ASSERT_TRUE(sp.contains(id));
+      // the look-ahead sweep stays inside the box the space files the object under
+      const Aabb3& sw = mon.sweptBox(id);
+      const Aabb3& fat = mon.fatBox(id);
+      ASSERT_TRUE((sw.min.array() >= fat.min.array()).all() && (sw.max.array() <= fat.max.array()).all()) << id;
+      // listed in exactly the leaves its box touches
+      std::vector<int> expect;
+      for (int leaf : leaves)
+        if (sp.leafBounds(leaf).overlaps(clamp(fat))) expect.push_back(leaf);
+      std::vector<int> got = sp.leavesOf(id);
+      std::sort(got.begin(), got.end());
+      ASSERT_EQ(got, expect) << "object " << id;
+    }
+    // every arm capsule's sweep contains the capsule now and after the look-ahead
+    const double h = mon.safety().lookAhead();
+    for (int i = 0; i < mon.capsuleCount(); ++i) {
+      const MovingCapsule c = mon.movingCapsule(i);
+      for (double t : {0.0, h})
+        for (const Vec3& p : {c.at(t).a, c.at(t).b})
+          ASSERT_TRUE((mon.sweptBox(i).min.array() <= p.array() - c.c.radius).all() &&
+                      (mon.sweptBox(i).max.array() >= p.array() + c.c.radius).all());
+    }
+  });
+  EXPECT_GT(checks, 20);
+  // the tree followed the arms: it divided and reunited on the way
+  EXPECT_GT(m.space()->counters().subdivisions, 0u);
+  EXPECT_GT(m.space()->counters().reunions, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Shipped, Scenarios, ::testing::Values("two_pandas", "iiwa_truss", "panda_clutter"));
+
+TEST(TwoPandas, StopBeforeFirstContact) {
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  Monitor m = makeMonitor(s);
+  auto src = makeSensor(s);
+  RunStats st;
+  double contact = NAN;
+  run(m, *src, st, [&](const Monitor& mon) {
+    if (!std::isnan(contact)) return;
+    // first contact of the two arms in the trace: exact capsule distance zero, no growth
+    for (int i = 0; i < mon.capsuleCount(); ++i)
+      for (int j = i + 1; j < mon.capsuleCount(); ++j)
+        if (mon.capsuleArm(i) != mon.capsuleArm(j) && distance(mon.movingCapsule(i).c, mon.movingCapsule(j).c) <= 0.0)
+          contact = static_cast<double>(st.cycles - 1) * s.safety.cycleTime;
+  });
+  ASSERT_FALSE(std::isnan(contact)) << "the scenario must put the arms on a collision course";
+  ASSERT_GT(contact, 0.0);
+  for (int a = 0; a < 2; ++a) {
+    ASSERT_FALSE(std::isnan(st.firstStop[a])) << "no STOP for arm " << a;
+    EXPECT_LT(st.firstStop[a], contact);
+    // and early enough to brake: at least the safe time ahead
+    EXPECT_GE(contact - st.firstStop[a], s.safety.safeTime()) << "arm " << a;
+  }
+  std::printf("two pandas: STOP at %.3f s / %.3f s, first contact at %.3f s\n", st.firstStop[0], st.firstStop[1], contact);
+}
+
+TEST(Monitor, MovingObstacleStopsArmOneSafeTimeAhead) {
+  // a ball thrown at a resting Panda's hand from 1 m at 2 m/s: motion exactly linear, so the
+  // STOP must come within one cycle of (contact with the grown objects) - (safe time)
+  ArmInstance arm{"p", pandaModel(), Eigen::Isometry3d::Identity()};
+  const std::vector<double> q{0, -0.785, 0, -2.356, 0, 1.571, 0.785}, qd(7, 0.0);
+  const Vec3 hand = forwardKinematics(arm.model, arm.base, q).back().translation();
+  Obstacle ball;
+  ball.name = "ball";
+  ball.kind = ShapeKind::Sphere;
+  ball.sphere = {hand + Vec3(1.0, 0, 0), 0.05};
+  ball.velocity = Vec3(-2.0, 0, 0);
+  SafetyConfig safety;
+  Monitor m({arm}, {ball}, safety);
+  double stop = NAN;
+  for (int k = 0; k < 600 && std::isnan(stop); ++k) {
+    const double t = k * safety.cycleTime;
+    m.setJointState(0, t, q.data(), qd.data());
+    m.cycle(t);
+    for (const Warning& w : m.warnings())
+      if (w.stop) {
+        stop = t;
+        EXPECT_EQ(w.obstacle, 0);
+        EXPECT_LE(w.ttc, safety.safeTime());
+      }
+  }
+  ASSERT_FALSE(std::isnan(stop));
+  // truth: bisection on the exact distance of the ball to every capsule
+  auto gap = [&](double t) {
+    double d = 1e9;
+    for (int i = 0; i < m.capsuleCount(); ++i)
+      d = std::min(d, distance(m.movingCapsule(i).c, Sphere{ball.sphere.center + t * ball.velocity, 0.05}));
+    return d;
+  };
+  auto firstBelow = [&](double level) {
+    double lo = 0.0, hi = 1.0;
+    for (int k = 0; k < 100; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (gap(mid) > level ? lo : hi) = mid;
+    }
+    return hi;
+  };
+  const double contact = firstBelow(0.0), grownContact = firstBelow(safety.minSeparation);
+  EXPECT_GE(contact - stop, safety.safeTime());
+  EXPECT_LE(grownContact - stop, safety.safeTime() + safety.cycleTime + 1e-9);
+}
+
+TEST(Monitor, SelfCollisionFollowsTheAllowedCollisionMatrix) {
+  // find a Panda pose where two bodies the matrix checks come within the minimum separation
+  const ArmModel model = pandaModel();
+  std::mt19937_64 g(5);
+  SafetyConfig safety;
+  std::vector<double> q(7), qd(7, 0.0);
+  int bi = -1, bj = -1;
+  for (int trial = 0; trial < 100000 && bi < 0; ++trial) {
+    for (int k = 0; k < 7; ++k) q[k] = std::uniform_real_distribution<double>(model.joints[k].lower, model.joints[k].upper)(g);
+    const auto f = forwardKinematics(model, Eigen::Isometry3d::Identity(), q);
+    for (const LinkCapsule& a : model.capsules)
+      for (const LinkCapsule& b : model.capsules)
+        if (a.body < b.body && !model.isAllowed(a.body, b.body) &&
+            distance(Capsule{f[a.body] * a.a, f[a.body] * a.b, a.radius}, Capsule{f[b.body] * b.a, f[b.body] * b.b, b.radius}) <
+                0.5 * safety.minSeparation)
+          bi = a.body, bj = b.body;
+  }
+  ASSERT_GE(bi, 0);
+  auto selfWarnings = [&](const ArmModel& mm) {
+    Monitor m({ArmInstance{"p", mm, Eigen::Isometry3d::Identity()}}, {}, safety);
+    m.setJointState(0, 0.0, q.data(), qd.data());
+    m.cycle(0.0);
+    int n = 0;
+    for (const Warning& w : m.warnings())
+      if (w.otherArm == 0 && std::minmax(w.body, w.otherBody) == std::minmax(bi, bj)) ++n;
+    return n;
+  };
+  EXPECT_GT(selfWarnings(model), 0);
+  ArmModel edited = model;
+  edited.setAllowed(bi, bj, true);
+  EXPECT_EQ(selfWarnings(edited), 0);
+}
+
+}  // namespace
+}  // namespace st::arm
