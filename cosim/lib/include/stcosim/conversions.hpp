@@ -1,0 +1,31 @@
+#pragma once
+// SUMO's conventions to ours, in one place:
+//   position  SUMO reports the centre of the front bumper; we use the centre of the body:
+//             centre = front - L/2 * (cos h, sin h).
+//   heading   SUMO's angle is navigational degrees (0 = north, clockwise); ours is radians
+//             counter-clockwise from +x: h = (90 - angle) * pi / 180.
+//   velocity  SUMO's angle already turns with the vehicle's lateral motion in the sublane model
+//             (it is the direction of travel), so the velocity is |v| along the heading with
+//             |v| = hypot(speed, lateral speed) and our lateral speed is 0. Without the sublane
+//             model lateral speed is 0 and this is the plain speed.
+//   signals   SUMO bit 0 (right blinker) and bit 1 (left blinker) to our TurnSignal bits.
+//   mass      the vType's <param key="mass" value="kg"/> if present, else the documented per-class
+//             default of st::highway::classDefaults (passenger 1500 kg, truck 15 t, bus 12 t,
+//             motorcycle 250 kg, emergency 3.5 t, other 1500 kg).
+//   size      the vType's length and width (SUMO's length includes no minGap).
+#include <sthighway/road.hpp>
+#include <sthighway/vehicle.hpp>
+
+#include <stcosim/backend.hpp>
+
+namespace st::cosim {
+
+highway::VehicleState toVehicleState(const SumoVehicle& v, const SumoVehicleType& type);
+// Lanes as the highway model wants them (shapes and widths from the network).
+highway::RoadGeometry toRoadGeometry(const std::vector<SumoLane>& lanes);
+
+// Deterministic draw in [0, 1) for a seed and a vehicle id, independent of departure order and of
+// the standard library (FNV-1a of the id, mixed by splitmix64); the same as `stsim highway --fcd`.
+double unitHash(std::uint64_t seed, const std::string& id);
+
+}  // namespace st::cosim

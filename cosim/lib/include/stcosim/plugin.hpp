@@ -1,0 +1,122 @@
+#pragma once
+// The smart-car plugin: after each SUMO step it reads every vehicle's state through a Backend,
+// converts it (conversions.hpp), runs the highway monitor (cells, handoff, detectors, safe time) and
+// acts on the warnings in SUMO (colour and/or brake).
+//
+// For users who drive SUMO themselves with libsumo:
+//     libsumo::Simulation::start({"sumo", "-c", "x.sumocfg"});
+//     auto plugin = st::cosim::HighwayPlugin::forLibsumo(config);
+//     while (libsumo::Simulation::getMinExpectedNumber() > 0) {
+//       libsumo::Simulation::step();
+//       plugin->step();
+//       for (const auto& w : plugin->takeFinished()) ...;
+//     }
+//     plugin->finish();
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <span>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include <sthighway/monitor.hpp>
+#include <stcosim/backend.hpp>
+
+namespace st::cosim {
+
+// Which vehicles are smart cars: those whose vType is listed, plus each other vehicle with
+// probability `penetration` (a deterministic draw from seed and vehicle id).
+struct SmartCars {
+  double penetration = 1.0;
+  std::vector<std::string> types;
+  std::uint64_t seed = 42;
+};
+
+enum class Action : std::uint8_t { None, Color, Brake };
+const char* toString(Action a);
+bool parseAction(const std::string& text, Action& out);  // "none", "color", "brake"
+
+struct ActionConfig {
+  Action action = Action::Color;
+  // Colour: yellow while a warning holds, red while TTC < redFraction * safe time; the vehicle's
+  // own colour comes back when the warning ends. Colours are also applied with Action::Brake.
+  Rgba warningColor{255, 255, 0, 255};
+  Rgba dangerColor{255, 0, 0, 255};
+  double redFraction = 0.5;
+  // Brake: on a car-car warning (except from the rear zone, where braking makes it worse) the
+  // smart car slows down at `brakeDeceleration` (m/s^2) for `brakeDuration` s (SUMO slowDown).
+  double brakeDeceleration = 3.0;
+  double brakeDuration = 1.0;
+};
+
+struct PluginConfig {
+  highway::MonitorConfig monitor;
+  SmartCars smart;
+  ActionConfig actions;
+};
+
+struct PluginCounters {
+  std::uint64_t steps = 0;
+  std::uint64_t departed = 0, arrived = 0, teleports = 0;
+  std::uint64_t equipped = 0;        // distinct smart cars seen
+  std::uint64_t colorChanges = 0;
+  std::uint64_t brakeCommands = 0;
+  std::uint64_t collisions = 0;      // SUMO's collisions (needs --collision.action warn)
+};
+
+class HighwayPlugin {
+ public:
+  // Reads the network's lanes from the backend and builds the monitor. Throws
+  // std::invalid_argument for a bad configuration, SumoError for a SUMO failure.
+  HighwayPlugin(Backend& backend, PluginConfig config);
+  ~HighwayPlugin();
+  // A plugin on the libsumo simulation the caller started in this process; it owns its backend.
+  static std::unique_ptr<HighwayPlugin> forLibsumo(PluginConfig config);
+
+  // Reads the state SUMO is in now (call after Simulation::step()) and updates.
+  void step();
+  // Updates from the state the backend already holds (the runner steps the backend itself).
+  void update();
+  // Closes every open warning at the current time.
+  void finish();
+
+  std::vector<highway::Warning> takeFinished() { return monitor_.takeFinished(); }
+  std::vector<highway::Warning> openWarnings() const { return monitor_.openWarnings(); }
+  std::span<const highway::Alert> alerts() const { return monitor_.alerts(); }
+  // SUMO collisions since the last call.
+  std::vector<SumoCollision> takeCollisions();
+
+  // The converted states of the last update (same order as the backend's vehicles).
+  const std::vector<highway::VehicleState>& states() const { return states_; }
+  const highway::HighwayMonitor& monitor() const { return monitor_; }
+  const PluginCounters& counters() const { return counters_; }
+  const PluginConfig& config() const { return config_; }
+  Backend& backend() { return backend_; }
+
+  // Draws every cell's extent as an unfilled polygon (ids "stsim_cell_<n>") in SUMO; visible in
+  // sumo-gui. Returns the number of polygons.
+  int drawCells();
+
+ private:
+  HighwayPlugin(std::unique_ptr<Backend> owned, PluginConfig config);
+  bool isEquipped(const std::string& id, const std::string& type) const;
+  void act();
+
+  std::unique_ptr<Backend> owned_;
+  Backend& backend_;
+  PluginConfig config_;
+  highway::HighwayMonitor monitor_;
+  std::vector<highway::VehicleState> states_;
+  std::unordered_map<std::string, bool> equipped_;   // decided once per vehicle
+  struct Painted {
+    Rgba original;
+    int level = 0;  // 0 own colour, 1 warning, 2 danger
+  };
+  std::unordered_map<std::string, Painted> painted_;
+  std::unordered_map<std::string, double> brakingUntil_;
+  std::vector<SumoCollision> collisions_;
+  PluginCounters counters_;
+};
+
+}  // namespace st::cosim

@@ -1,0 +1,73 @@
+#pragma once
+// A co-simulation scenario: a SUMO configuration plus stsim's settings, read from a scenario YAML
+// (or defaults for a plain .sumocfg). Paths in the YAML are relative to the YAML file.
+//
+//   sumocfg: motorway.sumocfg        # required
+//   seed: 42                          # SUMO's seed and the smart-car draw
+//   end: 420                          # s of simulated time (default: the sumocfg's end)
+//   detector: five                    # concentric | five | box
+//   layout: a                         # five-circle zones: a (Fig. 11a) | b (Fig. 11b)
+//   motion: velocity                  # velocity | acceleration
+//   broadphase: cells                 # cells | all-pairs
+//   check_road: true                  # curbs and lane markers
+//   penetration: 1.0                  # fraction of vehicles equipped
+//   smart_types: [truck]              # vTypes always equipped
+//   action: color                     # none | color | brake
+//   brake: {deceleration: 3.0, duration: 1.0}
+//   safe_time:
+//     vehicle_reaction: 1.0           # s
+//     road_reaction: 0.5              # s
+//     brake_force: {passenger: 12000, truck: 75000, bus: 72000, motorcycle: 2250, emergency: 31500, other: 12000}
+//   concentric: {inner_margin: 0.0, outer_margin: 0.0}
+//   cells: {length: 200, hysteresis_db: 3, tx_power_dbm: 40, path_loss_exponent: 3,
+//           reference_distance: 1, radio_range: 600, decomposition_factor: 8, max_depth: 8}
+//   collision_action: warn            # passed to SUMO's --collision.action
+//   sumo_args: ["--lateral-resolution", "0.8"]   # extra SUMO options
+//   out: out/motorway                 # output directory (relative to the working directory)
+// Unknown keys are errors (a typo must not silently fall back to a default).
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <stcosim/plugin.hpp>
+
+namespace st::cosim {
+
+// A bad scenario or SUMO configuration; what() is one line naming the file (and line or field).
+struct ScenarioError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Scenario {
+  std::filesystem::path source;    // the YAML or .sumocfg given
+  std::filesystem::path sumocfg;
+  PluginConfig plugin;
+  std::uint64_t seed = 42;
+  std::optional<double> end;
+  std::string collisionAction = "warn";
+  std::vector<std::string> sumoArgs;
+  std::optional<std::filesystem::path> out;
+};
+
+// Reads a scenario YAML, or wraps a .sumocfg with default settings. Throws ScenarioError.
+Scenario loadScenario(const std::filesystem::path& path);
+
+// The input files a .sumocfg names (net-file, route-files, additional-files), resolved against its
+// directory. Throws ScenarioError if the config is unreadable, names no network, or a named file
+// does not exist.
+struct SumoConfigFiles {
+  std::filesystem::path net;
+  std::vector<std::filesystem::path> routes;
+  std::vector<std::filesystem::path> additionals;
+  std::optional<double> stepLength;  // s
+  std::optional<double> end;         // s
+};
+SumoConfigFiles checkSumoConfig(const std::filesystem::path& sumocfg);
+
+// SUMO's options for a scenario: -c, --seed, --end, --collision.action, quiet console, extras.
+std::vector<std::string> sumoArguments(const Scenario& s);
+
+}  // namespace st::cosim

@@ -1,0 +1,54 @@
+#include <stcosim/conversions.hpp>
+
+#include <cmath>
+
+namespace st::cosim {
+
+highway::VehicleState toVehicleState(const SumoVehicle& v, const SumoVehicleType& type) {
+  highway::VehicleState s;
+  s.id = v.id;
+  s.vehicleClass = highway::vehicleClassFromName(type.vClass);
+  s.length = type.length;
+  s.width = type.width;
+  s.mass = type.mass ? *type.mass : highway::classDefaults(s.vehicleClass).mass;
+  s.heading = highway::headingFromNavigationDegrees(v.angle);
+  s.position = highway::centreFromFrontBumper(Vec2(v.x, v.y), s.heading, s.length);
+  s.speed = v.lateralSpeed == 0.0 ? v.speed : std::copysign(std::hypot(v.speed, v.lateralSpeed), v.speed);
+  s.lateralSpeed = 0.0;
+  s.acceleration = v.acceleration;
+  s.signals = 0;
+  if (v.signals & kSumoBlinkerLeft) s.signals |= highway::kSignalLeft;
+  if (v.signals & kSumoBlinkerRight) s.signals |= highway::kSignalRight;
+  return s;
+}
+
+highway::RoadGeometry toRoadGeometry(const std::vector<SumoLane>& lanes) {
+  highway::RoadGeometry road;
+  road.lanes.reserve(lanes.size());
+  for (const auto& l : lanes) {
+    highway::Lane h;
+    h.id = l.id;
+    h.edge = l.edge;
+    h.index = l.index;
+    h.width = l.width;
+    h.internal = l.internal;
+    for (const auto& [x, y] : l.shape) h.shape.emplace_back(x, y);
+    road.lanes.push_back(std::move(h));
+  }
+  return road;
+}
+
+double unitHash(std::uint64_t seed, const std::string& id) {
+  std::uint64_t h = 1469598103934665603ull ^ seed;
+  for (unsigned char c : id) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  h += 0x9e3779b97f4a7c15ull;
+  h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
+  h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
+  h ^= h >> 31;
+  return static_cast<double>(h >> 11) * 0x1.0p-53;
+}
+
+}  // namespace st::cosim

@@ -1,0 +1,185 @@
+// The embedded backend: SUMO runs inside this process; vehicle state comes from direct getters,
+// which for libsumo are plain function calls (no serialisation), cheaper than subscriptions.
+#include <libsumo/libsumo.h>
+
+#include <map>
+#include <memory>
+
+#include "backend_common.hpp"
+#include <stcosim/backend.hpp>
+
+namespace st::cosim {
+namespace {
+
+class LibsumoBackend final : public Backend {
+ public:
+  explicit LibsumoBackend(bool owns) : owns_(owns) {
+    deltaT_ = libsumo::Simulation::getDeltaT();
+    time_ = libsumo::Simulation::getTime();
+    // vehicles already on the road when we attach
+    StepEvents initial;
+    initial.departed = libsumo::Vehicle::getIDList();
+    active_.apply(initial);
+    readVehicles();
+  }
+  ~LibsumoBackend() override { close(); }
+
+  BackendKind kind() const override { return BackendKind::Libsumo; }
+
+  void read() override {
+    try {
+      time_ = libsumo::Simulation::getTime();
+      events_.departed = libsumo::Simulation::getDepartedIDList();
+      events_.arrived = libsumo::Simulation::getArrivedIDList();
+      events_.teleportStarted = libsumo::Simulation::getStartingTeleportIDList();
+      events_.teleportEnded = libsumo::Simulation::getEndingTeleportIDList();
+      events_.collisions.clear();
+      for (const auto& c : libsumo::Simulation::getCollisions())
+        events_.collisions.push_back({c.collider, c.victim, c.type, c.lane, c.colliderSpeed, c.victimSpeed, c.pos, time_});
+      active_.apply(events_);
+      readVehicles();
+    } catch (const libsumo::TraCIException& e) {
+      throw SumoError(std::string("libsumo: ") + e.what());
+    }
+  }
+
+  bool running() override {
+    return libsumo::Simulation::getMinExpectedNumber() > 0 &&
+           (libsumo::Simulation::getEndTime() < 0 || time_ < libsumo::Simulation::getEndTime() - 0.5 * deltaT_);
+  }
+
+  const SumoVehicleType& vehicleType(const std::string& typeId) override {
+    auto it = types_.find(typeId);
+    if (it != types_.end()) return it->second;
+    SumoVehicleType t;
+    t.id = typeId;
+    t.vClass = libsumo::VehicleType::getVehicleClass(typeId);
+    t.length = libsumo::VehicleType::getLength(typeId);
+    t.width = libsumo::VehicleType::getWidth(typeId);
+    const std::string mass = libsumo::VehicleType::getParameter(typeId, "mass");
+    if (!mass.empty()) t.mass = parseMass(typeId, mass);
+    return types_.emplace(typeId, std::move(t)).first->second;
+  }
+
+  std::vector<SumoLane> lanes() override {
+    std::vector<SumoLane> out;
+    for (const auto& id : libsumo::Lane::getIDList()) {
+      SumoLane l;
+      l.id = id;
+      l.edge = libsumo::Lane::getEdgeID(id);
+      l.index = laneIndex(id);
+      l.width = libsumo::Lane::getWidth(id);
+      for (const auto& p : libsumo::Lane::getShape(id).value) l.shape.emplace_back(p.x, p.y);
+      l.internal = !id.empty() && id[0] == ':';
+      out.push_back(std::move(l));
+    }
+    return out;
+  }
+
+  Rgba color(const std::string& id) override {
+    const auto c = libsumo::Vehicle::getColor(id);
+    return {static_cast<std::uint8_t>(c.r), static_cast<std::uint8_t>(c.g), static_cast<std::uint8_t>(c.b),
+            static_cast<std::uint8_t>(c.a)};
+  }
+  void setColor(const std::string& id, Rgba c) override {
+    libsumo::Vehicle::setColor(id, libsumo::TraCIColor(c.r, c.g, c.b, c.a));
+  }
+  void slowDown(const std::string& id, double speed, double duration) override {
+    libsumo::Vehicle::slowDown(id, speed, duration);
+  }
+  void addPolygon(const std::string& id, const std::vector<std::pair<double, double>>& shape, Rgba c, bool fill,
+                  int layer) override {
+    libsumo::TraCIPositionVector pv;
+    for (const auto& [x, y] : shape) {
+      libsumo::TraCIPosition p;
+      p.x = x;
+      p.y = y;
+      pv.value.push_back(p);
+    }
+    libsumo::Polygon::add(id, pv, libsumo::TraCIColor(c.r, c.g, c.b, c.a), fill, "stsim", layer);
+  }
+  bool hasGui() override { return false; }
+
+  void close() noexcept override {
+    if (!open_) return;
+    open_ = false;
+    if (!owns_) return;
+    try {
+      libsumo::Simulation::close();
+    } catch (...) {
+    }
+  }
+  std::string describe() const override { return owns_ ? "libsumo" : "libsumo (attached)"; }
+
+ protected:
+  void advance() override {
+    try {
+      libsumo::Simulation::step();
+    } catch (const libsumo::TraCIException& e) {
+      throw SumoError(std::string("libsumo: ") + e.what());
+    } catch (const std::exception& e) {  // ProcessError from SUMO's core
+      throw SumoError(std::string("SUMO: ") + e.what());
+    }
+  }
+
+ private:
+  static int laneIndex(const std::string& laneId) {
+    const auto us = laneId.rfind('_');
+    return us == std::string::npos ? 0 : std::stoi(laneId.substr(us + 1));
+  }
+  static double parseMass(const std::string& typeId, const std::string& text) {
+    try {
+      std::size_t used = 0;
+      const double m = std::stod(text, &used);
+      if (used == text.size() && m > 0.0) return m;
+    } catch (...) {
+    }
+    throw SumoError("vType '" + typeId + "': param 'mass' must be a positive number of kg, got '" + text + "'");
+  }
+
+  void readVehicles() {
+    vehicles_.clear();
+    vehicles_.reserve(active_.ids().size());
+    for (const auto& id : active_.ids()) {
+      SumoVehicle v;
+      v.id = id;
+      v.type = libsumo::Vehicle::getTypeID(id);
+      const auto p = libsumo::Vehicle::getPosition(id);
+      v.x = p.x;
+      v.y = p.y;
+      v.angle = libsumo::Vehicle::getAngle(id);
+      v.speed = libsumo::Vehicle::getSpeed(id);
+      v.lateralSpeed = libsumo::Vehicle::getLateralSpeed(id);
+      v.acceleration = libsumo::Vehicle::getAcceleration(id);
+      v.signals = libsumo::Vehicle::getSignals(id);
+      vehicles_.push_back(std::move(v));
+    }
+  }
+
+  bool owns_;
+  bool open_ = true;
+  detail::ActiveVehicles active_;
+  std::map<std::string, SumoVehicleType> types_;
+};
+
+}  // namespace
+
+std::unique_ptr<Backend> startLibsumo(const SumoLaunch& launch) {
+  std::vector<std::string> cmd{"sumo"};
+  cmd.insert(cmd.end(), launch.args.begin(), launch.args.end());
+  try {
+    libsumo::Simulation::start(cmd);
+  } catch (const libsumo::TraCIException& e) {
+    throw SumoError(std::string("SUMO failed to start: ") + e.what());
+  } catch (const std::exception& e) {
+    throw SumoError(std::string("SUMO failed to start: ") + e.what());
+  }
+  return std::make_unique<LibsumoBackend>(true);
+}
+
+std::unique_ptr<Backend> attachLibsumo() {
+  if (!libsumo::Simulation::isLoaded()) throw SumoError("libsumo: no simulation is loaded in this process");
+  return std::make_unique<LibsumoBackend>(false);
+}
+
+}  // namespace st::cosim

@@ -1,0 +1,141 @@
+#include <stcosim/plugin.hpp>
+
+#include <algorithm>
+#include <unordered_set>
+
+#include <stcosim/conversions.hpp>
+
+namespace st::cosim {
+
+const char* toString(Action a) {
+  switch (a) {
+    case Action::None: return "none";
+    case Action::Color: return "color";
+    case Action::Brake: return "brake";
+  }
+  return "?";
+}
+
+bool parseAction(const std::string& text, Action& out) {
+  if (text == "none") out = Action::None;
+  else if (text == "color" || text == "colour") out = Action::Color;
+  else if (text == "brake") out = Action::Brake;
+  else return false;
+  return true;
+}
+
+HighwayPlugin::HighwayPlugin(Backend& backend, PluginConfig config)
+    : backend_(backend), config_(std::move(config)), monitor_(toRoadGeometry(backend_.lanes()), config_.monitor) {}
+
+HighwayPlugin::HighwayPlugin(std::unique_ptr<Backend> owned, PluginConfig config)
+    : owned_(std::move(owned)),
+      backend_(*owned_),
+      config_(std::move(config)),
+      monitor_(toRoadGeometry(backend_.lanes()), config_.monitor) {}
+
+HighwayPlugin::~HighwayPlugin() = default;
+
+std::unique_ptr<HighwayPlugin> HighwayPlugin::forLibsumo(PluginConfig config) {
+  return std::unique_ptr<HighwayPlugin>(new HighwayPlugin(attachLibsumo(), std::move(config)));
+}
+
+bool HighwayPlugin::isEquipped(const std::string& id, const std::string& type) const {
+  const auto& types = config_.smart.types;
+  if (std::find(types.begin(), types.end(), type) != types.end()) return true;
+  return config_.smart.penetration >= 1.0 || unitHash(config_.smart.seed, id) < config_.smart.penetration;
+}
+
+void HighwayPlugin::step() {
+  backend_.read();
+  update();
+}
+
+void HighwayPlugin::update() {
+  const StepEvents& ev = backend_.events();
+  counters_.steps++;
+  counters_.departed += ev.departed.size();
+  counters_.arrived += ev.arrived.size();
+  counters_.teleports += ev.teleportStarted.size();
+  counters_.collisions += ev.collisions.size();
+  collisions_.insert(collisions_.end(), ev.collisions.begin(), ev.collisions.end());
+  for (const auto& id : ev.arrived) {
+    equipped_.erase(id);
+    painted_.erase(id);
+    brakingUntil_.erase(id);
+  }
+
+  // convert once; decide each vehicle's equipment once, on first sight
+  const auto& vehicles = backend_.vehicles();
+  states_.resize(vehicles.size());
+  for (std::size_t i = 0; i < vehicles.size(); ++i) {
+    const SumoVehicle& v = vehicles[i];
+    states_[i] = toVehicleState(v, backend_.vehicleType(v.type));
+    auto [it, fresh] = equipped_.try_emplace(v.id, false);
+    if (fresh) {
+      it->second = isEquipped(v.id, v.type);
+      if (it->second) counters_.equipped++;
+    }
+    states_[i].equipped = it->second;
+  }
+  monitor_.step(backend_.time(), states_);
+  act();
+}
+
+void HighwayPlugin::act() {
+  const ActionConfig& a = config_.actions;
+  if (a.action == Action::None) return;
+  const double now = backend_.time();
+  std::unordered_set<std::string> alerted;
+  for (const highway::Alert& al : monitor_.alerts()) {
+    const highway::VehicleState& s = states_.at(static_cast<std::size_t>(al.vehicle));
+    alerted.insert(s.id);
+    const int level = al.ttc < a.redFraction * al.safeTime ? 2 : 1;
+    auto [it, fresh] = painted_.try_emplace(s.id);
+    if (fresh) it->second.original = backend_.color(s.id);
+    if (it->second.level != level) {
+      backend_.setColor(s.id, level == 2 ? a.dangerColor : a.warningColor);
+      it->second.level = level;
+      counters_.colorChanges++;
+    }
+    if (a.action == Action::Brake && al.kind == highway::WarningKind::Vehicle && al.zone != highway::Zone::Rear) {
+      auto [b, first] = brakingUntil_.try_emplace(s.id, -1.0);
+      if (now >= b->second) {
+        backend_.slowDown(s.id, std::max(0.0, s.speed - a.brakeDeceleration * a.brakeDuration), a.brakeDuration);
+        b->second = now + a.brakeDuration;
+        counters_.brakeCommands++;
+      }
+    }
+  }
+  // warnings over: give the vehicle its own colour back (only vehicles still on the road)
+  std::unordered_set<std::string> onRoad;
+  for (const auto& s : states_) onRoad.insert(s.id);
+  for (auto& [id, p] : painted_) {
+    if (p.level == 0 || alerted.count(id) || !onRoad.count(id)) continue;
+    backend_.setColor(id, p.original);
+    p.level = 0;
+    counters_.colorChanges++;
+  }
+}
+
+void HighwayPlugin::finish() { monitor_.finish(backend_.time()); }
+
+std::vector<SumoCollision> HighwayPlugin::takeCollisions() {
+  std::vector<SumoCollision> out;
+  out.swap(collisions_);
+  return out;
+}
+
+int HighwayPlugin::drawCells() {
+  const highway::CellNetwork& cells = monitor_.cells();
+  for (int c = 0; c < cells.cellCount(); ++c) {
+    const Aabb<2> box = cells.cellExtent(c);
+    const double x0 = box.min.x(), y0 = box.min.y(), x1 = box.max.x(), y1 = box.max.y();
+    // alternate two colours so neighbouring cells are told apart
+    const Rgba col = c % 2 == 0 ? Rgba{0, 160, 255, 255} : Rgba{255, 120, 0, 255};
+    backend_.addPolygon("stsim_cell_" + std::to_string(c), {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}, {x0, y0}}, col,
+                        false, 5);
+  }
+  return cells.cellCount();
+}
+
+}  // namespace st::cosim

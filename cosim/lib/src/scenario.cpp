@@ -1,0 +1,259 @@
+#include <stcosim/scenario.hpp>
+
+#include <yaml-cpp/yaml.h>
+
+#include <boost/property_tree/ptree.hpp>
+#include <boost/property_tree/xml_parser.hpp>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+namespace st::cosim {
+namespace {
+
+namespace fs = std::filesystem;
+namespace hw = st::highway;
+
+std::vector<std::string> splitList(const std::string& s) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (char c : s) {
+    if (c == ',' || c == ' ') {
+      if (!cur.empty()) out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  if (!cur.empty()) out.push_back(cur);
+  return out;
+}
+
+// A YAML reader that names the file, line and key in every error.
+class Reader {
+ public:
+  Reader(fs::path file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const YAML::Node& n, const std::string& key, const std::string& msg) const {
+    std::ostringstream os;
+    os << file_.string();
+    if (n.IsDefined() && n.Mark().line >= 0) os << ":" << n.Mark().line + 1;
+    os << ": " << key << ": " << msg;
+    throw ScenarioError(os.str());
+  }
+  void checkKeys(const YAML::Node& map, const std::string& where, const std::set<std::string>& allowed) const {
+    if (!map.IsMap()) fail(map, where, "must be a mapping");
+    for (const auto& kv : map) {
+      const std::string k = kv.first.as<std::string>();
+      if (!allowed.count(k)) fail(kv.first, where.empty() ? k : where + "." + k, "unknown key");
+    }
+  }
+  double number(const YAML::Node& n, const std::string& key, double lo, double hi) const {
+    double v = 0.0;
+    try {
+      v = n.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(n, key, "must be a number");
+    }
+    if (!std::isfinite(v) || v < lo || v > hi) {
+      std::ostringstream os;
+      os << "must be in [" << lo << ", " << hi << "], got " << v;
+      fail(n, key, os.str());
+    }
+    return v;
+  }
+  std::string text(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(n, key, "must be a string");
+    return n.as<std::string>();
+  }
+  bool boolean(const YAML::Node& n, const std::string& key) const {
+    try {
+      return n.as<bool>();
+    } catch (const YAML::Exception&) {
+      fail(n, key, "must be true or false");
+    }
+  }
+  std::vector<std::string> list(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsSequence()) fail(n, key, "must be a list");
+    std::vector<std::string> out;
+    for (const auto& e : n) out.push_back(text(e, key));
+    return out;
+  }
+
+ private:
+  fs::path file_;
+};
+
+constexpr double kBig = 1e12;
+
+void readYaml(const fs::path& path, Scenario& s) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path.string());
+  } catch (const YAML::BadFile&) {
+    throw ScenarioError(path.string() + ": cannot read the file");
+  } catch (const YAML::ParserException& e) {
+    throw ScenarioError(path.string() + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
+  }
+  const Reader r(path);
+  r.checkKeys(root, "", {"sumocfg", "seed", "end", "detector", "layout", "motion", "broadphase", "check_road",
+                         "penetration", "smart_types", "action", "brake", "safe_time", "concentric", "cells",
+                         "collision_action", "sumo_args", "out", "description"});
+  if (!root["sumocfg"]) r.fail(root, "sumocfg", "missing (the SUMO configuration to run)");
+  s.sumocfg = path.parent_path() / r.text(root["sumocfg"], "sumocfg");
+  hw::MonitorConfig& m = s.plugin.monitor;
+  if (auto n = root["seed"]) s.seed = static_cast<std::uint64_t>(r.number(n, "seed", 0, 2147483647));
+  if (auto n = root["end"]) s.end = r.number(n, "end", 0, kBig);
+  if (auto n = root["detector"])
+    if (!hw::parseDetectorKind(r.text(n, "detector"), m.detector.kind))
+      r.fail(n, "detector", "must be concentric, five or box");
+  if (auto n = root["layout"]) {
+    const std::string l = r.text(n, "layout");
+    if (l == "a") m.detector.five = hw::FiveCircleLayout::fig11a();
+    else if (l == "b") m.detector.five = hw::FiveCircleLayout::fig11b();
+    else r.fail(n, "layout", "must be a or b");
+  }
+  if (auto n = root["motion"]) {
+    const std::string l = r.text(n, "motion");
+    if (l == "velocity") m.detector.motion = hw::MotionModel::ConstantVelocity;
+    else if (l == "acceleration") m.detector.motion = hw::MotionModel::ConstantAcceleration;
+    else r.fail(n, "motion", "must be velocity or acceleration");
+  }
+  if (auto n = root["broadphase"])
+    if (!hw::parseBroadphase(r.text(n, "broadphase"), m.broadphase)) r.fail(n, "broadphase", "must be cells or all-pairs");
+  if (auto n = root["check_road"]) m.checkRoad = r.boolean(n, "check_road");
+  if (auto n = root["penetration"]) s.plugin.smart.penetration = r.number(n, "penetration", 0, 1);
+  if (auto n = root["smart_types"]) s.plugin.smart.types = r.list(n, "smart_types");
+  if (auto n = root["action"])
+    if (!parseAction(r.text(n, "action"), s.plugin.actions.action)) r.fail(n, "action", "must be none, color or brake");
+  if (auto b = root["brake"]) {
+    r.checkKeys(b, "brake", {"deceleration", "duration"});
+    if (auto n = b["deceleration"]) s.plugin.actions.brakeDeceleration = r.number(n, "brake.deceleration", 0.1, 20);
+    if (auto n = b["duration"]) s.plugin.actions.brakeDuration = r.number(n, "brake.duration", 0.01, 60);
+  }
+  if (auto st = root["safe_time"]) {
+    r.checkKeys(st, "safe_time", {"vehicle_reaction", "road_reaction", "brake_force"});
+    if (auto n = st["vehicle_reaction"]) m.safeTime.vehicleReactionTime = r.number(n, "safe_time.vehicle_reaction", 0, 60);
+    if (auto n = st["road_reaction"]) m.safeTime.roadReactionTime = r.number(n, "safe_time.road_reaction", 0, 60);
+    if (auto bf = st["brake_force"]) {
+      static const char* names[] = {"passenger", "truck", "bus", "motorcycle", "emergency", "other"};
+      r.checkKeys(bf, "safe_time.brake_force", {names, names + hw::kVehicleClassCount});
+      for (int c = 0; c < hw::kVehicleClassCount; ++c)
+        if (auto n = bf[names[c]])
+          m.safeTime.brakeForce[static_cast<std::size_t>(c)] =
+              r.number(n, std::string("safe_time.brake_force.") + names[c], 1, 1e8);
+    }
+  }
+  if (auto c = root["concentric"]) {
+    r.checkKeys(c, "concentric", {"inner_margin", "outer_margin"});
+    if (auto n = c["inner_margin"]) m.detector.concentric.innerMargin = r.number(n, "concentric.inner_margin", 0, 100);
+    if (auto n = c["outer_margin"]) m.detector.concentric.outerMargin = r.number(n, "concentric.outer_margin", 0, 100);
+  }
+  if (auto c = root["cells"]) {
+    r.checkKeys(c, "cells", {"length", "hysteresis_db", "tx_power_dbm", "path_loss_exponent", "reference_distance",
+                             "radio_range", "decomposition_factor", "max_depth"});
+    hw::CellConfig& cc = m.cells;
+    if (auto n = c["length"]) cc.cellLength = r.number(n, "cells.length", 1, 1e6);
+    if (auto n = c["hysteresis_db"]) cc.hysteresisDb = r.number(n, "cells.hysteresis_db", 0, 100);
+    if (auto n = c["tx_power_dbm"]) cc.txPowerDbm = r.number(n, "cells.tx_power_dbm", -100, 100);
+    if (auto n = c["path_loss_exponent"]) cc.pathLossExponent = r.number(n, "cells.path_loss_exponent", 1, 10);
+    if (auto n = c["reference_distance"]) cc.referenceDistance = r.number(n, "cells.reference_distance", 0.01, 1000);
+    if (auto n = c["radio_range"]) cc.radioRange = r.number(n, "cells.radio_range", 1, 1e6);
+    if (auto n = c["decomposition_factor"])
+      cc.decompositionFactor = static_cast<int>(r.number(n, "cells.decomposition_factor", 1, 1e6));
+    if (auto n = c["max_depth"]) cc.maxDepth = static_cast<int>(r.number(n, "cells.max_depth", 0, 32));
+  }
+  if (auto n = root["collision_action"]) {
+    s.collisionAction = r.text(n, "collision_action");
+    if (s.collisionAction != "warn" && s.collisionAction != "none" && s.collisionAction != "teleport" &&
+        s.collisionAction != "remove")
+      r.fail(n, "collision_action", "must be none, warn, teleport or remove");
+  }
+  if (auto n = root["sumo_args"]) s.sumoArgs = r.list(n, "sumo_args");
+  if (auto n = root["out"]) s.out = fs::path(r.text(n, "out"));
+  s.plugin.smart.seed = s.seed;
+}
+
+}  // namespace
+
+Scenario loadScenario(const fs::path& path) {
+  if (!fs::exists(path)) throw ScenarioError(path.string() + ": no such file");
+  Scenario s;
+  s.source = path;
+  const std::string ext = path.extension().string();
+  if (ext == ".yaml" || ext == ".yml") {
+    readYaml(path, s);
+  } else if (ext == ".sumocfg" || ext == ".xml") {
+    s.sumocfg = path;
+    // a plain SUMO config: take its seed so the smart-car draw follows the same seed
+    try {
+      boost::property_tree::ptree pt;
+      boost::property_tree::read_xml(path.string(), pt);
+      if (auto seed = pt.get_optional<std::uint64_t>("configuration.random_number.seed.<xmlattr>.value"))
+        s.seed = *seed;
+    } catch (const std::exception&) {
+      // reported with its file name by checkSumoConfig
+    }
+    s.plugin.smart.seed = s.seed;
+  } else {
+    throw ScenarioError(path.string() + ": expected a scenario .yaml or a SUMO .sumocfg");
+  }
+  return s;
+}
+
+SumoConfigFiles checkSumoConfig(const fs::path& sumocfg) {
+  if (!fs::exists(sumocfg)) throw ScenarioError(sumocfg.string() + ": no such SUMO configuration file");
+  boost::property_tree::ptree pt;
+  try {
+    boost::property_tree::read_xml(sumocfg.string(), pt);
+  } catch (const boost::property_tree::xml_parser_error& e) {
+    throw ScenarioError(sumocfg.string() + ":" + std::to_string(e.line()) + ": malformed XML: " + e.message());
+  }
+  const auto cfg = pt.get_child_optional("configuration");
+  if (!cfg) throw ScenarioError(sumocfg.string() + ": not a SUMO configuration (no <configuration>)");
+  const fs::path dir = sumocfg.parent_path();
+  SumoConfigFiles out;
+  auto value = [&](const std::string& key) -> std::optional<std::string> {
+    // options may sit in any section (<input>, <time>, ...)
+    for (const auto& section : *cfg)
+      if (auto v = section.second.get_optional<std::string>(key + ".<xmlattr>.value")) return *v;
+    return std::nullopt;
+  };
+  auto resolve = [&](const std::string& key, const std::string& f) {
+    const fs::path p = fs::path(f).is_absolute() ? fs::path(f) : dir / f;
+    if (!fs::exists(p))
+      throw ScenarioError(sumocfg.string() + ": " + key + " '" + p.string() + "' does not exist");
+    return p;
+  };
+  const auto net = value("net-file");
+  if (!net) throw ScenarioError(sumocfg.string() + ": names no net-file");
+  out.net = resolve("net-file", *net);
+  if (auto r = value("route-files"))
+    for (const auto& f : splitList(*r)) out.routes.push_back(resolve("route-files", f));
+  if (auto a = value("additional-files"))
+    for (const auto& f : splitList(*a)) out.additionals.push_back(resolve("additional-files", f));
+  try {
+    if (auto v = value("step-length")) out.stepLength = std::stod(*v);
+    if (auto v = value("end")) out.end = std::stod(*v);
+  } catch (const std::exception&) {
+    throw ScenarioError(sumocfg.string() + ": step-length and end must be numbers of seconds");
+  }
+  return out;
+}
+
+std::vector<std::string> sumoArguments(const Scenario& s) {
+  std::vector<std::string> a{"-c", s.sumocfg.string(), "--seed", std::to_string(s.seed), "--collision.action",
+                             s.collisionAction, "--no-step-log", "true", "--duration-log.disable", "true",
+                             "--duration-log.statistics", "false", "--no-warnings", "true"};
+  if (s.end) {
+    std::ostringstream os;
+    os.precision(17);
+    os << *s.end;
+    a.push_back("--end");
+    a.push_back(os.str());
+  }
+  a.insert(a.end(), s.sumoArgs.begin(), s.sumoArgs.end());
+  return a;
+}
+
+}  // namespace st::cosim

@@ -1,0 +1,288 @@
+#include <stcosim/ssm_validation.hpp>
+
+#include <boost/property_tree/ptree.hpp>
+#include <boost/property_tree/xml_parser.hpp>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <sstream>
+
+#include <sthighway/report.hpp>
+#include <stcosim/scenario.hpp>
+
+namespace st::cosim {
+namespace {
+
+namespace hw = st::highway;
+
+std::vector<std::string> words(const std::string& s) {
+  std::vector<std::string> out;
+  std::istringstream in(s);
+  std::string w;
+  while (in >> w) out.push_back(w);
+  return out;
+}
+
+double parseNumber(const std::string& w, const std::filesystem::path& file) {
+  if (w == "NA") return std::numeric_limits<double>::quiet_NaN();
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(w, &used);
+    if (used == w.size()) return v;
+  } catch (...) {
+  }
+  throw ScenarioError(file.string() + ": SSM output has a malformed number '" + w + "'");
+}
+
+// Horizon for the box TTC of SSM's pairs (s): well beyond any TTC SSM logs as a conflict.
+constexpr double kValidationHorizon = 1.0e4;
+
+}  // namespace
+
+std::vector<std::string> ssmArguments(const std::filesystem::path& file, double threshold) {
+  std::ostringstream th;
+  th << threshold;
+  return {"--device.ssm.probability", "1", "--device.ssm.deterministic", "true", "--device.ssm.measures", "TTC",
+          "--device.ssm.thresholds", th.str(), "--device.ssm.trajectories", "true", "--device.ssm.file",
+          std::filesystem::absolute(file).string(), "--precision", "6"};
+}
+
+std::vector<SsmConflict> readSsmOutput(const std::filesystem::path& path) {
+  boost::property_tree::ptree pt;
+  try {
+    boost::property_tree::read_xml(path.string(), pt);
+  } catch (const boost::property_tree::xml_parser_error& e) {
+    throw ScenarioError(path.string() + ":" + std::to_string(e.line()) + ": malformed SSM output: " + e.message());
+  }
+  std::vector<SsmConflict> out;
+  const auto root = pt.get_child_optional("SSMLog");
+  if (!root) throw ScenarioError(path.string() + ": not an SSM output file (no <SSMLog>)");
+  for (const auto& [tag, node] : *root) {
+    if (tag != "conflict") continue;
+    SsmConflict c;
+    c.ego = node.get<std::string>("<xmlattr>.ego", "");
+    c.foe = node.get<std::string>("<xmlattr>.foe", "");
+    c.begin = node.get<double>("<xmlattr>.begin", 0.0);
+    c.end = node.get<double>("<xmlattr>.end", 0.0);
+    for (const auto& w : words(node.get<std::string>("timeSpan.<xmlattr>.values", "")))
+      c.times.push_back(parseNumber(w, path));
+    for (const auto& w : words(node.get<std::string>("typeSpan.<xmlattr>.values", "")))
+      c.types.push_back(static_cast<int>(parseNumber(w, path)));
+    for (const auto& w : words(node.get<std::string>("TTCSpan.<xmlattr>.values", "")))
+      c.ttc.push_back(parseNumber(w, path));
+    if (c.types.size() != c.times.size() || c.ttc.size() != c.times.size())
+      throw ScenarioError(path.string() + ": SSM conflict " + c.ego + "/" + c.foe +
+                          " has time, type and TTC series of different lengths (trajectories off?)");
+    if (auto m = node.get_child_optional("minTTC")) {
+      const std::string v = m->get<std::string>("<xmlattr>.value", "NA");
+      if (v != "NA") {
+        c.hasMin = true;
+        c.minTtc = parseNumber(v, path);
+        c.minTtcTime = m->get<double>("<xmlattr>.time", 0.0);
+        c.minTtcType = m->get<int>("<xmlattr>.type", -1);
+      }
+    }
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+struct SsmValidator::Impl {
+  struct Rec {
+    int vid;
+    hw::Body body;
+    double mass;
+    hw::VehicleClass cls;
+    bool equipped;
+  };
+  struct Frame {
+    double t;
+    std::vector<Rec> recs;  // sorted by vid
+  };
+
+  double dt;
+  hw::MonitorConfig base;
+  std::vector<hw::HighwayMonitor> monitors;
+  std::vector<std::vector<hw::Warning>> warnings;
+  std::unordered_map<std::string, int> ids;
+  std::vector<Frame> frames;
+
+  const Rec* find(const std::string& id, double t) const {
+    if (frames.empty()) return nullptr;
+    const auto it = ids.find(id);
+    if (it == ids.end()) return nullptr;
+    const double k = std::round((t - frames.front().t) / dt);
+    if (k < 0 || k >= static_cast<double>(frames.size())) return nullptr;
+    const Frame& f = frames[static_cast<std::size_t>(k)];
+    if (std::abs(f.t - t) > 0.25 * dt) return nullptr;
+    const auto r = std::lower_bound(f.recs.begin(), f.recs.end(), it->second,
+                                    [](const Rec& a, int v) { return a.vid < v; });
+    return r != f.recs.end() && r->vid == it->second ? &*r : nullptr;
+  }
+};
+
+SsmValidator::SsmValidator(const hw::RoadGeometry& road, const hw::MonitorConfig& base, double deltaT)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->dt = deltaT;
+  impl_->base = base;
+  for (hw::DetectorKind k : {hw::DetectorKind::Concentric, hw::DetectorKind::FiveCircle, hw::DetectorKind::Box}) {
+    hw::MonitorConfig c = base;
+    c.detector.kind = k;
+    impl_->monitors.emplace_back(road, c);
+    impl_->warnings.emplace_back();
+  }
+}
+
+SsmValidator::~SsmValidator() = default;
+
+void SsmValidator::record(double t, std::span<const hw::VehicleState> states) {
+  Impl::Frame f;
+  f.t = t;
+  f.recs.reserve(states.size());
+  for (const auto& s : states) {
+    auto [it, fresh] = impl_->ids.try_emplace(s.id, static_cast<int>(impl_->ids.size()));
+    f.recs.push_back({it->second, hw::bodyOf(s), s.mass, s.vehicleClass, s.equipped});
+  }
+  std::sort(f.recs.begin(), f.recs.end(), [](const Impl::Rec& a, const Impl::Rec& b) { return a.vid < b.vid; });
+  impl_->frames.push_back(std::move(f));
+  for (std::size_t i = 0; i < impl_->monitors.size(); ++i) {
+    impl_->monitors[i].step(t, states);
+    for (auto& w : impl_->monitors[i].takeFinished()) impl_->warnings[i].push_back(std::move(w));
+  }
+}
+
+void SsmValidator::finish(double t) {
+  for (std::size_t i = 0; i < impl_->monitors.size(); ++i) {
+    impl_->monitors[i].finish(t);
+    for (auto& w : impl_->monitors[i].takeFinished()) impl_->warnings[i].push_back(std::move(w));
+  }
+}
+
+ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflicts) const {
+  const Impl& m = *impl_;
+  ValidationReport r;
+  r.deltaT = m.dt;
+  r.ssmConflicts = conflicts.size();
+  double sumErr = 0.0;
+
+  // 1. following samples: box TTC at T + dt against SSM's TTC at T
+  for (const auto& c : conflicts) {
+    for (std::size_t i = 0; i < c.times.size(); ++i) {
+      if (c.types[i] != kSsmFollowingFollower || !std::isfinite(c.ttc[i])) continue;
+      r.followingSamples++;
+      for (int shifted = 1; shifted >= 0; --shifted) {
+        const double t = c.times[i] + (shifted ? m.dt : 0.0);
+        const auto* ego = m.find(c.ego, t);
+        const auto* foe = m.find(c.foe, t);
+        if (!ego || !foe) continue;
+        const double box = hw::boxTtc(ego->body, foe->body, hw::MotionModel::ConstantVelocity, kValidationHorizon);
+        if (!std::isfinite(box)) continue;
+        const double err = std::abs(box - c.ttc[i]);
+        if (shifted) {
+          r.matchedSamples++;
+          if (err <= r.tolerance) r.within++;
+          r.maxAbsError = std::max(r.maxAbsError, err);
+          sumErr += err;
+        } else {
+          r.matchedUnshifted++;
+          if (err <= r.tolerance) r.withinUnshifted++;
+        }
+      }
+    }
+  }
+  r.meanAbsError = r.matchedSamples == 0 ? 0.0 : sumErr / static_cast<double>(r.matchedSamples);
+
+  // SSM's finite-TTC sample times (our clock) per unordered pair, for precision
+  std::map<std::pair<std::string, std::string>, std::vector<double>> seen;
+  for (const auto& c : conflicts) {
+    auto& v = seen[std::minmax(c.ego, c.foe)];
+    for (std::size_t i = 0; i < c.times.size(); ++i)
+      if (std::isfinite(c.ttc[i])) v.push_back(c.times[i] + m.dt);
+  }
+  for (auto& [k, v] : seen) std::sort(v.begin(), v.end());
+
+  static const char* names[] = {"concentric", "five", "box"};
+  for (std::size_t d = 0; d < m.monitors.size(); ++d) {
+    DetectorValidation dv;
+    dv.detector = names[d];
+    std::map<std::pair<std::string, std::string>, std::vector<std::pair<double, double>>> episodes;
+    for (const auto& w : m.warnings[d])
+      if (w.kind == hw::WarningKind::Vehicle) episodes[{w.ego, w.foe}].emplace_back(w.begin, w.end);
+
+    // 2. recall over SSM conflicts below the ego's safe time
+    for (const auto& c : conflicts) {
+      if (!c.hasMin || (c.minTtcType != kSsmFollowing && c.minTtcType != kSsmFollowingFollower &&
+                        c.minTtcType != kSsmFollowingLeader))
+        continue;
+      const double t = c.minTtcTime + m.dt;
+      const auto* ego = m.find(c.ego, t);
+      const auto* foe = m.find(c.foe, t);
+      if (!ego || !foe || !ego->equipped) continue;
+      const Vec2 p = foe->body.position - ego->body.position;
+      const Vec2 v = foe->body.velocity - ego->body.velocity;
+      const double closing = p.norm() > 0.0 ? -p.dot(v) / p.norm() : 0.0;
+      const double safe = m.base.safeTime.vehicleSafeTime(ego->mass, closing, ego->cls);
+      if (!(c.minTtc < safe)) continue;
+      dv.conflicts++;
+      bool hit = false;
+      if (auto it = episodes.find({c.ego, c.foe}); it != episodes.end())
+        for (const auto& [b, e] : it->second)
+          if (b <= t + 1e-6 && t <= e + 1e-6) hit = true;
+      if (hit) dv.recalled++;
+      else if (dv.missed.size() < 20) {
+        std::ostringstream os;
+        os << c.ego << ">" << c.foe << "@" << t << " ssm_ttc=" << c.minTtc << " safe=" << safe;
+        dv.missed.push_back(os.str());
+      }
+    }
+
+    // 3. precision over this detector's car-car warnings
+    for (const auto& w : m.warnings[d]) {
+      if (w.kind != hw::WarningKind::Vehicle) continue;
+      dv.warnings++;
+      bool confirmed = false;
+      if (auto it = seen.find(std::minmax(w.ego, w.foe)); it != seen.end()) {
+        const auto lo = std::lower_bound(it->second.begin(), it->second.end(), w.begin - m.dt - 1e-6);
+        confirmed = lo != it->second.end() && *lo <= w.end + m.dt + 1e-6;
+      }
+      if (confirmed) dv.confirmed++;
+      else dv.unseenByZone[static_cast<std::size_t>(w.zone)]++;
+    }
+    r.detectors.push_back(std::move(dv));
+  }
+  return r;
+}
+
+std::string toJson(const ValidationReport& r) {
+  std::ostringstream os;
+  os.precision(10);
+  os << "{\n  \"delta_t_s\": " << r.deltaT << ",\n  \"ssm_conflicts\": " << r.ssmConflicts
+     << ",\n  \"following\": {\n    \"ssm_samples\": " << r.followingSamples << ",\n    \"matched_samples\": "
+     << r.matchedSamples << ",\n    \"tolerance_s\": " << r.tolerance << ",\n    \"within_tolerance\": " << r.within
+     << ",\n    \"within_fraction\": " << r.withinFraction() << ",\n    \"max_abs_error_s\": " << r.maxAbsError
+     << ",\n    \"mean_abs_error_s\": " << r.meanAbsError
+     << ",\n    \"without_time_shift\": {\"matched_samples\": " << r.matchedUnshifted
+     << ", \"within_tolerance\": " << r.withinUnshifted << "}\n  },\n  \"detectors\": [";
+  for (std::size_t i = 0; i < r.detectors.size(); ++i) {
+    const auto& d = r.detectors[i];
+    os << (i ? "," : "") << "\n    {\"detector\": " << highway::jsonString(d.detector)
+       << ", \"ssm_conflicts_below_safe_time\": " << d.conflicts << ", \"recalled\": " << d.recalled
+       << ", \"recall\": " << d.recall() << ", \"warnings\": " << d.warnings << ", \"confirmed_by_ssm\": " << d.confirmed
+       << ", \"precision\": " << d.precision() << ",\n     \"not_seen_by_ssm_by_zone\": {";
+    bool first = true;
+    for (int z = 0; z < highway::kZoneCount; ++z) {
+      if (d.unseenByZone[static_cast<std::size_t>(z)] == 0) continue;
+      os << (first ? "" : ", ") << highway::jsonString(highway::toString(static_cast<highway::Zone>(z))) << ": "
+         << d.unseenByZone[static_cast<std::size_t>(z)];
+      first = false;
+    }
+    os << "},\n     \"missed\": [";
+    for (std::size_t k = 0; k < d.missed.size(); ++k) os << (k ? ", " : "") << highway::jsonString(d.missed[k]);
+    os << "]}";
+  }
+  os << "\n  ]\n}\n";
+  return os.str();
+}
+
+}  // namespace st::cosim

@@ -1,0 +1,38 @@
+#pragma once
+// A SUMO (or sumo-gui) child process serving TraCI on a free port.
+#include <string>
+#include <sys/types.h>
+#include <vector>
+
+namespace st::cosim::detail {
+
+class SumoProcess {
+ public:
+  // Spawns `binary args... --remote-port <free port>` in its own process group, with stdout and
+  // stderr to logFile ("" = /dev/null), and waits until it listens (or exits: throws SumoError
+  // naming the log file).
+  SumoProcess(const std::string& binary, const std::vector<std::string>& args, const std::string& logFile);
+  ~SumoProcess();
+  SumoProcess(const SumoProcess&) = delete;
+  SumoProcess& operator=(const SumoProcess&) = delete;
+
+  int port() const { return port_; }
+  pid_t pid() const { return pid_; }
+  // Waits up to `seconds` for a normal exit, then terminates it. Idempotent.
+  void stop(double seconds) noexcept;
+  // The last lines of the log (for error messages), "" if none.
+  std::string logTail() const;
+
+ private:
+  pid_t pid_ = -1;
+  int port_ = 0;
+  std::string log_;
+};
+
+// A TCP port that nothing listens on right now.
+int freePort();
+// True if some socket on this host listens on `port` (from /proc/net/tcp{,6}); lets us wait for
+// SUMO without connecting, since a probing connection would take one of its --num-clients slots.
+bool portListening(int port);
+
+}  // namespace st::cosim::detail

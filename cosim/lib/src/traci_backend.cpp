@@ -1,0 +1,277 @@
+// The TraCI backend (libtraci). Vehicle state comes from one variable subscription per vehicle,
+// made when it departs; the simulation's departures, arrivals, teleports, collision count, time and
+// expected-vehicle count come from one simulation subscription. SUMO sends all subscription results
+// with the answer to the step command, so a step costs one round trip however many vehicles there
+// are. Only departures (subscribe) and steps with collisions (getCollisions) cost extra trips.
+#include <libsumo/libtraci.h>
+
+#include <atomic>
+#include <map>
+#include <memory>
+#include <optional>
+
+#include "backend_common.hpp"
+#include "sumo_process.hpp"
+#include <stcosim/backend.hpp>
+
+namespace st::cosim {
+namespace {
+
+using libsumo::TraCIResults;
+
+const std::vector<int> kVehicleVars{libsumo::VAR_TYPE,      libsumo::VAR_POSITION,     libsumo::VAR_ANGLE,
+                                    libsumo::VAR_SPEED,     libsumo::VAR_SPEED_LAT,    libsumo::VAR_ACCELERATION,
+                                    libsumo::VAR_SIGNALS};
+const std::vector<int> kSimulationVars{libsumo::VAR_TIME,
+                                       libsumo::VAR_DEPARTED_VEHICLES_IDS,
+                                       libsumo::VAR_ARRIVED_VEHICLES_IDS,
+                                       libsumo::VAR_TELEPORT_STARTING_VEHICLES_IDS,
+                                       libsumo::VAR_TELEPORT_ENDING_VEHICLES_IDS,
+                                       libsumo::VAR_COLLIDING_VEHICLES_NUMBER,
+                                       libsumo::VAR_MIN_EXPECTED_VEHICLES};
+
+template <class T>
+const T& resultAs(const TraCIResults& r, int var, const std::string& what) {
+  const auto it = r.find(var);
+  const T* v = it == r.end() ? nullptr : dynamic_cast<const T*>(it->second.get());
+  if (v == nullptr) throw SumoError("TraCI: subscription result " + what + " missing or of the wrong type");
+  return *v;
+}
+
+std::atomic<int> connectionCounter{0};
+
+class TraciBackend final : public Backend {
+ public:
+  // Connects to localhost:port (or host:port); `process` is the SUMO we launched, if any.
+  TraciBackend(const std::string& host, int port, int order, std::unique_ptr<detail::SumoProcess> process)
+      : host_(host), port_(port), order_(order), process_(std::move(process)) {
+    label_ = "stsim" + std::to_string(connectionCounter++);
+    try {
+      libtraci::Simulation::init(port, process_ ? 1 : 10, host, label_);
+      if (order_ > 0) libtraci::Simulation::setOrder(order_);
+    } catch (const std::exception& e) {
+      if (process_) process_->stop(0.0);
+      throw SumoError("cannot connect to SUMO at " + where() + ": " + e.what());
+    }
+    guard([&] {
+      deltaT_ = libtraci::Simulation::getDeltaT();
+      endTime_ = libtraci::Simulation::getEndTime();
+      libtraci::Simulation::subscribe(kSimulationVars);
+      // vehicles already on the road when we attach
+      const auto ids = libtraci::Vehicle::getIDList();
+      for (const auto& id : ids) libtraci::Vehicle::subscribe(id, kVehicleVars);
+      StepEvents initial;
+      initial.departed = ids;
+      active_.apply(initial);
+      time_ = libtraci::Simulation::getTime();
+      minExpected_ = libtraci::Simulation::getMinExpectedNumber();
+      readVehicles();
+    });
+  }
+  ~TraciBackend() override { close(); }
+
+  BackendKind kind() const override { return BackendKind::Traci; }
+
+  void read() override {
+    guard([&] {
+      const TraCIResults sim = libtraci::Simulation::getSubscriptionResults();
+      time_ = resultAs<libsumo::TraCIDouble>(sim, libsumo::VAR_TIME, "time").value;
+      events_.departed = resultAs<libsumo::TraCIStringList>(sim, libsumo::VAR_DEPARTED_VEHICLES_IDS, "departed").value;
+      events_.arrived = resultAs<libsumo::TraCIStringList>(sim, libsumo::VAR_ARRIVED_VEHICLES_IDS, "arrived").value;
+      events_.teleportStarted =
+          resultAs<libsumo::TraCIStringList>(sim, libsumo::VAR_TELEPORT_STARTING_VEHICLES_IDS, "teleports").value;
+      events_.teleportEnded =
+          resultAs<libsumo::TraCIStringList>(sim, libsumo::VAR_TELEPORT_ENDING_VEHICLES_IDS, "teleports").value;
+      minExpected_ = resultAs<libsumo::TraCIInt>(sim, libsumo::VAR_MIN_EXPECTED_VEHICLES, "expected").value;
+      events_.collisions.clear();
+      if (resultAs<libsumo::TraCIInt>(sim, libsumo::VAR_COLLIDING_VEHICLES_NUMBER, "collisions").value > 0)
+        for (const auto& c : libtraci::Simulation::getCollisions())
+          events_.collisions.push_back(
+              {c.collider, c.victim, c.type, c.lane, c.colliderSpeed, c.victimSpeed, c.pos, time_});
+      // a subscription's answer carries the current values, so departing vehicles are read this step
+      for (const auto& id : events_.departed) libtraci::Vehicle::subscribe(id, kVehicleVars);
+      active_.apply(events_);
+      readVehicles();
+    });
+  }
+
+  bool running() override { return minExpected_ > 0 && (endTime_ < 0 || time_ < endTime_ - 0.5 * deltaT_); }
+
+  const SumoVehicleType& vehicleType(const std::string& typeId) override {
+    auto it = types_.find(typeId);
+    if (it != types_.end()) return it->second;
+    SumoVehicleType t;
+    guard([&] {
+      t.id = typeId;
+      t.vClass = libtraci::VehicleType::getVehicleClass(typeId);
+      t.length = libtraci::VehicleType::getLength(typeId);
+      t.width = libtraci::VehicleType::getWidth(typeId);
+      const std::string mass = libtraci::VehicleType::getParameter(typeId, "mass");
+      if (!mass.empty()) {
+        std::size_t used = 0;
+        double m = 0.0;
+        try {
+          m = std::stod(mass, &used);
+        } catch (...) {
+        }
+        if (used != mass.size() || !(m > 0.0))
+          throw SumoError("vType '" + typeId + "': param 'mass' must be a positive number of kg, got '" + mass + "'");
+        t.mass = m;
+      }
+    });
+    return types_.emplace(typeId, std::move(t)).first->second;
+  }
+
+  std::vector<SumoLane> lanes() override {
+    std::vector<SumoLane> out;
+    guard([&] {
+      for (const auto& id : libtraci::Lane::getIDList()) {
+        SumoLane l;
+        l.id = id;
+        l.edge = libtraci::Lane::getEdgeID(id);
+        const auto us = id.rfind('_');
+        l.index = us == std::string::npos ? 0 : std::stoi(id.substr(us + 1));
+        l.width = libtraci::Lane::getWidth(id);
+        for (const auto& p : libtraci::Lane::getShape(id).value) l.shape.emplace_back(p.x, p.y);
+        l.internal = !id.empty() && id[0] == ':';
+        out.push_back(std::move(l));
+      }
+    });
+    return out;
+  }
+
+  Rgba color(const std::string& id) override {
+    Rgba out;
+    guard([&] {
+      const auto c = libtraci::Vehicle::getColor(id);
+      out = {static_cast<std::uint8_t>(c.r), static_cast<std::uint8_t>(c.g), static_cast<std::uint8_t>(c.b),
+             static_cast<std::uint8_t>(c.a)};
+    });
+    return out;
+  }
+  void setColor(const std::string& id, Rgba c) override {
+    guard([&] { libtraci::Vehicle::setColor(id, libsumo::TraCIColor(c.r, c.g, c.b, c.a)); });
+  }
+  void slowDown(const std::string& id, double speed, double duration) override {
+    guard([&] { libtraci::Vehicle::slowDown(id, speed, duration); });
+  }
+  void addPolygon(const std::string& id, const std::vector<std::pair<double, double>>& shape, Rgba c, bool fill,
+                  int layer) override {
+    guard([&] {
+      libsumo::TraCIPositionVector pv;
+      for (const auto& [x, y] : shape) {
+        libsumo::TraCIPosition p;
+        p.x = x;
+        p.y = y;
+        pv.value.push_back(p);
+      }
+      libtraci::Polygon::add(id, pv, libsumo::TraCIColor(c.r, c.g, c.b, c.a), fill, "stsim", layer);
+    });
+  }
+  bool hasGui() override {
+    bool gui = false;
+    guard([&] { gui = libtraci::Simulation::hasGUI(); });
+    return gui;
+  }
+
+  void close() noexcept override {
+    if (closed_) return;
+    closed_ = true;
+    try {
+      libtraci::Simulation::switchConnection(label_);
+      if (!broken_) libtraci::Simulation::close();
+    } catch (...) {
+    }
+    if (process_) process_->stop(broken_ ? 0.0 : 10.0);
+  }
+
+  std::string describe() const override {
+    std::string d = "libtraci " + where();
+    if (process_) d += " (launched)";
+    if (order_ > 0) d += " (client order " + std::to_string(order_) + ")";
+    return d;
+  }
+
+ protected:
+  void advance() override {
+    guard([&] { libtraci::Simulation::step(); });
+  }
+
+ private:
+  std::string where() const { return host_ + ":" + std::to_string(port_); }
+
+  // Runs a TraCI exchange on our connection; turns libtraci's errors into one-line SumoErrors.
+  template <class F>
+  void guard(F&& f) {
+    if (broken_ || closed_) throw SumoError("TraCI connection to " + where() + " is closed");
+    try {
+      libtraci::Simulation::switchConnection(label_);
+      f();
+    } catch (const libsumo::FatalTraCIError& e) {
+      broken_ = true;
+      std::string msg = "TraCI connection to " + where() + " lost at t = " + std::to_string(time_) + " s: " + e.what();
+      if (process_) {
+        const std::string tail = process_->logTail();
+        if (!tail.empty()) msg += " (SUMO: " + tail + ")";
+      }
+      throw SumoError(msg);
+    } catch (const libsumo::TraCIException& e) {
+      throw SumoError(std::string("TraCI: ") + e.what());
+    }
+  }
+
+  void readVehicles() {
+    const auto results = libtraci::Vehicle::getAllSubscriptionResults();
+    vehicles_.clear();
+    vehicles_.reserve(active_.ids().size());
+    for (const auto& id : active_.ids()) {
+      const auto it = results.find(id);
+      if (it == results.end()) throw SumoError("TraCI: no subscription results for vehicle '" + id + "'");
+      const TraCIResults& r = it->second;
+      SumoVehicle v;
+      v.id = id;
+      v.type = resultAs<libsumo::TraCIString>(r, libsumo::VAR_TYPE, "type").value;
+      const auto& p = resultAs<libsumo::TraCIPosition>(r, libsumo::VAR_POSITION, "position");
+      v.x = p.x;
+      v.y = p.y;
+      v.angle = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_ANGLE, "angle").value;
+      v.speed = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_SPEED, "speed").value;
+      v.lateralSpeed = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_SPEED_LAT, "lateral speed").value;
+      v.acceleration = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_ACCELERATION, "acceleration").value;
+      v.signals = resultAs<libsumo::TraCIInt>(r, libsumo::VAR_SIGNALS, "signals").value;
+      vehicles_.push_back(std::move(v));
+    }
+  }
+
+  std::string host_;
+  int port_;
+  int order_;
+  std::unique_ptr<detail::SumoProcess> process_;
+  std::string label_;
+  bool broken_ = false;
+  bool closed_ = false;
+  double endTime_ = -1.0;
+  int minExpected_ = 1;
+  detail::ActiveVehicles active_;
+  std::map<std::string, SumoVehicleType> types_;
+};
+
+}  // namespace
+
+std::unique_ptr<Backend> launchTraci(const SumoLaunch& launch) {
+  std::string binary = launch.sumoBinary.empty() ? (launch.gui ? "sumo-gui" : "sumo") : launch.sumoBinary;
+  std::vector<std::string> args = launch.args;
+  if (launch.gui) {
+    args.push_back("--start");
+    args.push_back("--quit-on-end");
+  }
+  auto process = std::make_unique<detail::SumoProcess>(binary, args, launch.logFile);
+  const int port = process->port();
+  return std::make_unique<TraciBackend>("localhost", port, 0, std::move(process));
+}
+
+std::unique_ptr<Backend> attachTraci(const TraciEndpoint& endpoint) {
+  return std::make_unique<TraciBackend>(endpoint.host, endpoint.port, endpoint.order, nullptr);
+}
+
+}  // namespace st::cosim
