@@ -1,6 +1,7 @@
 #include <stcore/space.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <stdexcept>
@@ -281,11 +282,17 @@ void Space<D>::maybeSplit(int leaf) {
   Node& parent = nodes_[leaf];
   parent.firstChild = first;
   const Vec<D> mid = parent.box.center();
+  // split this node's longest axes (ties: lowest first): with fewer than 2^D children, always
+  // splitting the root's longest axes would slice a square root into slivers
+  std::array<int, D> axes;
+  for (int i = 0; i < D; ++i) axes[i] = i;
+  const Vec<D> ext = parent.box.extent();
+  std::stable_sort(axes.begin(), axes.end(), [&](int a, int b) { return ext[a] > ext[b]; });
   for (int c = 0; c < childCount_; ++c) {
     Node& child = nodes_[first + c];
     child = Node{parent.box, leaf, -1, parent.depth + 1, 0, {}};
     for (std::size_t k = 0; k < splitAxes_.size(); ++k) {
-      const int axis = splitAxes_[k];
+      const int axis = axes[k];
       if (c & (1 << k)) child.box.min[axis] = mid[axis];
       else child.box.max[axis] = mid[axis];
     }
