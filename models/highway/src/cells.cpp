@@ -59,6 +59,7 @@ struct CellNetwork::Impl {
     Aabb<2> region;            // its share of road (static)
     Aabb<2> extent;            // region united with its members' fat boxes (per tick)
     Aabb<2> indexed;           // the box the network index holds (extent, grown)
+    Aabb<2> centres;           // of its members' centres (per tick; empty when no members)
     Space<2> space;
     std::vector<int> slots;    // local slot -> vehicle
     std::vector<int> freeSlots;
@@ -68,6 +69,7 @@ struct CellNetwork::Impl {
     int cell = -1;
     int local = -1;
     Aabb<2> fat;
+    Vec2 centre = Vec2::Zero();
   };
 
   CellConfig cfg;
@@ -86,7 +88,15 @@ struct CellNetwork::Impl {
   std::vector<Handoff> handoffs;
 
   Impl(const CellConfig& c, const Aabb<2>& bounds)
-      : cfg(c), index(SpaceKind::Tree, grown(bounds, c.radioRange), SpaceRule{8, true, 0, 10, 0.0}) {}
+      : cfg(c), index(SpaceKind::Cells, grown(bounds, c.cellLength), SpaceRule{8, false, 0, 1, indexCellSize(c, bounds)}) {}
+
+  // The network level is a uniform grid of about one cell length (coarser on huge networks).
+  static double indexCellSize(const CellConfig& c, const Aabb<2>& bounds) {
+    const Vec2 ext = grown(bounds, c.cellLength).extent();
+    double size = c.cellLength;
+    while ((ext.x() / size) * (ext.y() / size) > 4e6) size *= 2.0;
+    return size;
+  }
 
   double distSq(int cell, const Vec2& p) const {
     const double d0 = cfg.referenceDistance;
@@ -167,7 +177,10 @@ CellNetwork::CellNetwork(const RoadGeometry& road, const RoadFeatures& features,
   std::map<std::string, std::vector<const Lane*>> lanesOf;
   for (const Lane& l : road.lanes)
     if (!l.internal) lanesOf[l.edge].push_back(&l);
-  const SpaceRule cellRule{config.decompositionFactor, true, 0, config.maxDepth, 0.0};
+  // a cell's tree halves along its longest axis (along the road), not into quadrants of mostly
+  // empty verge
+  const SpaceRule cellRule{config.decompositionFactor, true, 2, config.maxDepth, 0.0};
+  const double pad = 2.0 * config.fatMargin + 10.0;
   for (int sec = 0; sec < static_cast<int>(m.sections.size()); ++sec) {
     auto& lanes = lanesOf[m.sections[sec]];
     std::sort(lanes.begin(), lanes.end(), [](const Lane* a, const Lane* b) { return a->index < b->index; });
@@ -186,7 +199,7 @@ CellNetwork::CellNetwork(const RoadGeometry& road, const RoadFeatures& features,
         growByPortion(region, first, l->shape, ll * k / n, ll * (k + 1) / n, 0.5 * l->width);
       }
       m.sites.push_back(site);
-      m.cells.push_back(Impl::Cell{region, region, region, Space<2>(SpaceKind::Tree, grown(region, config.cellLength), cellRule),
+      m.cells.push_back(Impl::Cell{region, region, region, region, Space<2>(SpaceKind::Tree, grown(region, pad), cellRule),
                                    {}, {}, 0});
     }
   }
@@ -195,7 +208,7 @@ CellNetwork::CellNetwork(const RoadGeometry& road, const RoadFeatures& features,
     CellSite site;
     site.position = features.bounds.center();
     m.sites.push_back(site);
-    m.cells.push_back(Impl::Cell{features.bounds, features.bounds, features.bounds,
+    m.cells.push_back(Impl::Cell{features.bounds, features.bounds, features.bounds, features.bounds,
                                  Space<2>(SpaceKind::Tree, grown(features.bounds, config.cellLength), cellRule), {}, {}, 0});
   }
   // the site grid
@@ -232,6 +245,7 @@ int CellNetwork::place(int v, const Vec2& centre, const Aabb<2>& box) {
   Impl& m = *impl_;
   if (v >= static_cast<int>(m.vehicles.size())) m.vehicles.resize(v + 1);
   Impl::Served& s = m.vehicles[v];
+  s.centre = centre;
   const int best = m.strongest(centre);
   if (s.cell < 0) {
     m.join(v, best, box);
@@ -267,9 +281,18 @@ int CellNetwork::servingCell(int v) const {
 
 void CellNetwork::refreshExtents() {
   Impl& m = *impl_;
-  for (auto& c : m.cells) c.extent = c.region;
+  const Aabb<2> none{Vec2::Constant(std::numeric_limits<double>::infinity()),
+                     Vec2::Constant(-std::numeric_limits<double>::infinity())};
+  for (auto& c : m.cells) {
+    c.extent = c.region;
+    c.centres = none;
+  }
   for (const auto& s : m.vehicles)
-    if (s.cell >= 0) m.cells[s.cell].extent = unite(m.cells[s.cell].extent, s.fat);
+    if (s.cell >= 0) {
+      Impl::Cell& c = m.cells[s.cell];
+      c.extent = unite(c.extent, s.fat);
+      c.centres = unite(c.centres, {s.centre, s.centre});
+    }
   std::uint64_t subdivisions = 0, reunions = 0;
   for (int i = 0; i < static_cast<int>(m.cells.size()); ++i) {
     auto& c = m.cells[i];
@@ -293,6 +316,7 @@ std::vector<int> CellNetwork::membersOf(int cell) const {
 }
 
 Aabb<2> CellNetwork::cellExtent(int cell) const { return impl_->cells[cell].extent; }
+Aabb<2> CellNetwork::memberCentres(int cell) const { return impl_->cells[cell].centres; }
 const CellCounters& CellNetwork::counters() const { return impl_->counters; }
 
 std::vector<Handoff> CellNetwork::takeHandoffs() {

@@ -76,6 +76,9 @@ Body bodyOf(const VehicleState& v) {
 
 namespace {
 
+// sqrt of a sum of squares: car sizes never overflow, and std::hypot is several times slower
+inline double norm2(double a, double b) { return std::sqrt(a * a + b * b); }
+
 struct Circ {
   Vec2 offset;  // body frame (m)
   double radius;
@@ -83,7 +86,7 @@ struct Circ {
 
 Circ zoneCircle(const ZoneCircle& z, double length, double width) {
   const double hl = 0.5 * length, hw = 0.5 * width;
-  return {Vec2(z.x * hl, z.y * hw), std::hypot(z.rx * hl, z.ry * hw) + z.margin};
+  return {Vec2(z.x * hl, z.y * hw), norm2(z.rx * hl, z.ry * hw) + z.margin};
 }
 
 int bodyCircleCount(const DetectorConfig& cfg, double length, double width) {
@@ -94,10 +97,10 @@ int bodyCircleCount(const DetectorConfig& cfg, double length, double width) {
 // Body circles of a foe: n equal circles along the length, each around its slice of the rectangle.
 Circ bodyCircle(int i, int n, double length, double width) {
   const double slice = length / n;
-  return {Vec2(-0.5 * length + (i + 0.5) * slice, 0.0), std::hypot(0.5 * slice, 0.5 * width)};
+  return {Vec2(-0.5 * length + (i + 0.5) * slice, 0.0), norm2(0.5 * slice, 0.5 * width)};
 }
 
-double halfDiagonal(double length, double width) { return 0.5 * std::hypot(length, width); }
+double halfDiagonal(double length, double width) { return 0.5 * norm2(length, width); }
 
 double outerRadius(const DetectorConfig& cfg, double l, double w) { return halfDiagonal(l, w) + cfg.concentric.outerMargin; }
 double innerRadius(const DetectorConfig& cfg, double w) { return 0.5 * w + cfg.concentric.innerMargin; }
@@ -149,6 +152,19 @@ double envelopeRadius(const DetectorConfig& cfg, double length, double width) {
       break;
   }
   return r;
+}
+
+double roadSupport(const DetectorConfig& cfg, const Body& ego, const Vec2& n) {
+  switch (cfg.kind) {
+    case DetectorKind::Concentric: return innerRadius(cfg, ego.width);
+    case DetectorKind::FiveCircle: {
+      const Circ c = zoneCircle(cfg.five.zones[FiveCircleLayout::kCenter], ego.length, ego.width);
+      return std::abs(detail::toWorld(ego, c.offset.x(), c.offset.y()).dot(n)) + c.radius;
+    }
+    case DetectorKind::Box:
+      return 0.5 * ego.length * std::abs(ego.axis.dot(n)) + 0.5 * ego.width * std::abs(detail::normalOf(ego.axis).dot(n));
+  }
+  return halfDiagonal(ego.length, ego.width);
 }
 
 bool layoutCoversBody(const FiveCircleLayout& layout, double length, double width) {
@@ -203,25 +219,32 @@ Ttc vehicleTtc(const DetectorConfig& cfg, const Body& ego, const Body& foe, doub
     case DetectorKind::FiveCircle: {
       // prune with the envelopes, then CheckFront, CheckRear, CheckLeft, CheckRight against
       // every body circle of the foe; the earliest names the zone (ties: that order)
-      const double env = envelopeRadius(cfg, ego.length, ego.width) + foeEnvelope(cfg, foe.length, foe.width);
-      const int nb = bodyCircleCount(cfg, foe.length, foe.width);
+      Circ zones[4];
+      Vec2 egoOff[4];
+      double egoEnv = halfDiagonal(ego.length, ego.width);
+      for (int z = 0; z < 4; ++z) {
+        zones[z] = zoneCircle(cfg.five.zones[z], ego.length, ego.width);
+        egoOff[z] = detail::toWorld(ego, zones[z].offset.x(), zones[z].offset.y());
+        egoEnv = std::max(egoEnv, zones[z].offset.norm() + zones[z].radius);
+      }
+      const int m = std::min(bodyCircleCount(cfg, foe.length, foe.width), 16);
+      Vec2 foeOff[16];
+      const Circ first = bodyCircle(0, m, foe.length, foe.width);
+      const double foeR = first.radius;
+      const double env = egoEnv + std::max(first.offset.norm() + foeR, halfDiagonal(foe.length, foe.width));
+      bool near = false;
+      for (int i = 0; i < n && !near; ++i) near = detail::discEntry(pcs[i], Vec2::Zero(), env) < kInf;
+      if (!near) return best;
+      for (int k = 0; k < m; ++k) {
+        const Circ c = bodyCircle(k, m, foe.length, foe.width);
+        foeOff[k] = detail::toWorld(foe, c.offset.x(), c.offset.y());
+      }
       for (int i = 0; i < n; ++i) {
-        if (detail::discEntry(pcs[i], Vec2::Zero(), env) == kInf) continue;
-        Vec2 foeOff[16];
-        double foeR = 0.0;
-        const int m = std::min(nb, 16);
-        for (int k = 0; k < m; ++k) {
-          const Circ c = bodyCircle(k, m, foe.length, foe.width);
-          foeOff[k] = detail::toWorld(foe, c.offset.x(), c.offset.y());
-          foeR = c.radius;
-        }
         detail::Piece pc = pcs[i];
         for (int z = 0; z < 4; ++z) {
-          const Circ zc = zoneCircle(cfg.five.zones[z], ego.length, ego.width);
-          const Vec2 egoOff = detail::toWorld(ego, zc.offset.x(), zc.offset.y());
           for (int k = 0; k < m; ++k) {
             pc.len = best.found() ? std::min(pcs[i].len, best.t - pcs[i].start) : pcs[i].len;
-            const double s = detail::discEntry(pc, foeOff[k] - egoOff, zc.radius + foeR);
+            const double s = detail::discEntry(pc, foeOff[k] - egoOff[z], zones[z].radius + foeR);
             if (s < kInf && (!best.found() || pcs[i].start + s < best.t))
               best = {pcs[i].start + s, static_cast<Zone>(static_cast<int>(Zone::Front) + z)};
           }

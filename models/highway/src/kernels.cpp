@@ -46,6 +46,11 @@ State stateAt(const Track& tr, double s) {
 bool Piece::accelerating() const { return a.squaredNorm() > tol::kAccelerationEpsilon * tol::kAccelerationEpsilon; }
 
 int relativePieces(const Track& ego, const Track& foe, double horizon, std::array<Piece, 3>& out) {
+  if (ego.stop == kInf && foe.stop == kInf) {
+    // no stop inside: one piece (always so at constant velocity)
+    out[0] = Piece{foe.p - ego.p, foe.v - ego.v, foe.a - ego.a, 0.0, horizon};
+    return 1;
+  }
   std::array<double, 4> cuts{0.0, horizon, horizon, horizon};
   int n = 1;
   for (double s : {ego.stop, foe.stop})

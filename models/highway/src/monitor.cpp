@@ -111,6 +111,7 @@ struct HighwayMonitor::Impl {
 
   // hot state, struct of arrays by slot
   std::vector<Body> body;
+  std::vector<Vec2> centre;                  // body[].position, compact for the neighbour filter
   std::vector<double> mass, env, accelAbs;
   std::vector<VehicleClass> vclass;
   std::vector<std::uint8_t> signals;
@@ -134,6 +135,7 @@ struct HighwayMonitor::Impl {
   void ensureSlotArrays(std::size_t n) {
     if (body.size() >= n) return;
     body.resize(n);
+    centre.resize(n);
     mass.resize(n);
     env.resize(n);
     accelAbs.resize(n);
@@ -166,7 +168,13 @@ struct HighwayMonitor::Impl {
     const double safe = cfg.safeTime.vehicleSafeTime(mass[e], closing, vclass[e]);
     // exact prune: the envelopes cannot meet within the safe time
     const double accel = cfg.detector.motion == MotionModel::ConstantAcceleration ? accelAbs[e] + accelAbs[f] : 0.0;
-    if (dist > env[e] + env[f] + v.norm() * safe + 0.5 * accel * safe * safe) return;
+    const double envSum = env[e] + env[f];
+    if (dist > envSum + v.norm() * safe + 0.5 * accel * safe * safe) return;
+    if (accel == 0.0 && dist > envSum) {
+      // the envelopes (circles holding every shape a detector uses) do not meet in time
+      const Impact hit = toiBalls<2>(p, v, envSum);
+      if (!hit.acts() || hit.actTime() > safe) return;
+    }
     ++counters.toiChecks;
     const Ttc ttc = vehicleTtc(cfg.detector, a, b, safe);
     if (ttc.found() && ttc.t <= safe)
@@ -177,12 +185,26 @@ struct HighwayMonitor::Impl {
     ++counters.featureChecks;
     const RoadFeature& f = features.features[fi];
     const Body& a = body[e];
+    const double accel = cfg.detector.motion == MotionModel::ConstantAcceleration ? accelAbs[e] : 0.0;
+    if (f.kind != FeatureKind::Hazard) {
+      // exact prune: to touch the segment the shape must first reach its line, which it
+      // approaches at most at the normal speed, within at most the largest road safe time
+      const Vec2 dir = f.segment.b - f.segment.a;
+      const double len = dir.norm();
+      if (len > 0.0) {
+        const Vec2 n(-dir.y() / len, dir.x() / len);
+        const double s = n.dot(a.position - f.segment.a);
+        const Vec2 toward = s > 0.0 ? Vec2(-n) : n;
+        const double hMax = cfg.safeTime.roadSafeTime(mass[e], a.velocity.norm(), vclass[e]);
+        const double approach = std::max(0.0, a.velocity.dot(toward));
+        if (std::abs(s) > roadSupport(cfg.detector, a, toward) + approach * hMax + 0.5 * accel * hMax * hMax) return;
+      }
+    }
     const Vec2 closest = f.kind == FeatureKind::Hazard ? f.segment.a : closestPointOnSegment(f.segment, a.position);
     const Vec2 d = closest - a.position;
     const double dist = d.norm();
     const double closing = dist > 0.0 ? a.velocity.dot(d) / dist : a.velocity.norm();
     const double safe = cfg.safeTime.roadSafeTime(mass[e], closing, vclass[e]);
-    const double accel = cfg.detector.motion == MotionModel::ConstantAcceleration ? accelAbs[e] : 0.0;
     if (dist > env[e] + f.radius + a.velocity.norm() * safe + 0.5 * accel * safe * safe) return;
     const Ttc ttc = featureTtc(cfg.detector, a, f, safe);
     if (!ttc.found() || ttc.t > safe) return;
@@ -206,30 +228,33 @@ struct HighwayMonitor::Impl {
     const Body& a = body[e];
     const bool accel = cfg.detector.motion == MotionModel::ConstantAcceleration;
     // the widest look-ahead any cell could need, then each cell's own from its members' bounds
-    const double vGlobal = a.velocity.norm() + globalVmax;
+    // per axis: the relative displacement along x (y) within the look-ahead is bounded by the
+    // largest relative velocity along x (y), so a box, not a disc, bounds the foes that matter
+    const double gx = std::abs(a.velocity.x()) + globalVmax.x(), gy = std::abs(a.velocity.y()) + globalVmax.y();
     const double aGlobal = accel ? accelAbs[e] + globalAmax : 0.0;
-    const double hGlobal = vehicleHorizonBound(e, vGlobal);
-    const double reach = env[e] + globalEnvMax + vGlobal * hGlobal + 0.5 * aGlobal * hGlobal * hGlobal;
-    const Aabb<2> box{a.position.array() - reach, a.position.array() + reach};
+    const double hGlobal = vehicleHorizonBound(e, std::sqrt(gx * gx + gy * gy));
+    const Vec2 reach = Vec2(gx, gy) * hGlobal + Vec2::Constant(env[e] + globalEnvMax + 0.5 * aGlobal * hGlobal * hGlobal);
+    const Aabb<2> box{a.position - reach, a.position + reach};
     cells->forEachCellInBox(box, [&](int cell) {
       const CellStats& c = cellStats[cell];
       if (c.count == 0) return;
-      // |v_e - v_f| over the cell's velocity box is largest at a corner (the norm is convex)
-      double vrel = 0.0;
-      for (double x : {c.vmin.x(), c.vmax.x()})
-        for (double y : {c.vmin.y(), c.vmax.y()}) vrel = std::max(vrel, (a.velocity - Vec2(x, y)).norm());
+      // |v_e - v_f| over the cell's velocity box: per axis its largest at an end
+      const double dx = std::max(std::abs(a.velocity.x() - c.vmin.x()), std::abs(a.velocity.x() - c.vmax.x()));
+      const double dy = std::max(std::abs(a.velocity.y() - c.vmin.y()), std::abs(a.velocity.y() - c.vmax.y()));
       const double ac = accel ? accelAbs[e] + c.amax : 0.0;
-      const double h = vehicleHorizonBound(e, vrel);
-      const double r = env[e] + c.envMax + vrel * h + 0.5 * ac * h * h;
-      const Aabb<2> cb{a.position.array() - r, a.position.array() + r};
-      if (!cells->cellExtent(cell).overlaps(cb)) return;
+      const double h = vehicleHorizonBound(e, std::sqrt(dx * dx + dy * dy));
+      const Vec2 r = Vec2(dx, dy) * h + Vec2::Constant(env[e] + c.envMax + 0.5 * ac * h * h);
+      const Aabb<2> cb{a.position - r, a.position + r};
+      // the reach bounds foe centres: skip a cell none of whose members' centres is inside
+      if (!cells->memberCentres(cell).overlaps(cb)) return;
       // a cell's space lists whole leaves: keep the cars whose centre is within this cell's reach
       cells->forEachInCellBox(cell, cb, [&](int f) {
-        if (f != e && cb.contains(body[f].position)) checkPair(e, f);
+        if (f != e && cb.contains(centre[f])) checkPair(e, f);
       });
     });
   }
-  double globalVmax = 0.0, globalAmax = 0.0, globalEnvMax = 0.0;
+  Vec2 globalVmax = Vec2::Zero();
+  double globalAmax = 0.0, globalEnvMax = 0.0;
 
   void candidatesFeatures(int e) {
     if (!featureIndex) return;
@@ -418,6 +443,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     Impl::Slot& sl = m.slots[s];
     const VehicleState& v = vehicles[sl.input];
     m.body[s] = bodyOf(v);
+    m.centre[s] = v.position;
     m.mass[s] = v.mass;
     m.env[s] = envelopeRadius(dc, v.length, v.width);
     m.accelAbs[s] = std::abs(v.acceleration);
@@ -440,7 +466,8 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     m.counters.subdivisions = cc.subdivisions;
     m.counters.reunions = cc.reunions;
     m.cellStats.assign(m.cells->cellCount(), Impl::CellStats{});
-    m.globalVmax = m.globalAmax = m.globalEnvMax = 0.0;
+    m.globalVmax = Vec2::Zero();
+    m.globalAmax = m.globalEnvMax = 0.0;
     for (int s : m.activeSlots) {
       Impl::CellStats& c = m.cellStats[m.cells->servingCell(s)];
       const Vec2& v = m.body[s].velocity;
@@ -452,7 +479,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       }
       c.amax = std::max(c.amax, m.accelAbs[s]);
       c.envMax = std::max(c.envMax, m.env[s]);
-      m.globalVmax = std::max(m.globalVmax, v.norm());
+      m.globalVmax = m.globalVmax.cwiseMax(v.cwiseAbs());
       m.globalAmax = std::max(m.globalAmax, m.accelAbs[s]);
       m.globalEnvMax = std::max(m.globalEnvMax, m.env[s]);
     }

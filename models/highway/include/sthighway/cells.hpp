@@ -25,7 +25,7 @@ struct CellConfig {
   double referenceDistance = 1.0;   // m; path loss is 0 dB at this distance
   double hysteresisDb = 3.0;        // a new site must be this much stronger to take the car
   double radioRange = 600.0;        // m; sites farther than this are not heard
-  double fatMargin = 4.0;           // m; a car's box in its cell's space is grown by this, so
+  double fatMargin = 8.0;           // m; a car's box in its cell's space is grown by this, so
                                     // small moves do not touch the space
   int decompositionFactor = 8;      // a cell's space subdivides past this many cars
   int maxDepth = 8;
@@ -98,6 +98,9 @@ class CellNetwork {
   std::vector<int> membersOf(int cell) const;
   // Extent of the region a cell is responsible for (its share of road) and of its members now.
   Aabb<2> cellExtent(int cell) const;
+  // Bounding box of the centres of the cell's members at the last refreshExtents() (inverted,
+  // min > max, when it has none).
+  Aabb<2> memberCentres(int cell) const;
 
   const CellCounters& counters() const;
   // Handoffs since the last call (in order).

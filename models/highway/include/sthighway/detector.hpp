@@ -89,6 +89,10 @@ Ttc vehicleTtc(const DetectorConfig& cfg, const Body& ego, const Body& foe, doub
 // circle, Box the rectangle.
 Ttc featureTtc(const DetectorConfig& cfg, const Body& ego, const RoadFeature& f, double horizon);
 
+// How far the shape that checks road features (inner circle, centre circle or rectangle) reaches
+// from the car's centre along the unit direction n; used to prune features exactly.
+double roadSupport(const DetectorConfig& cfg, const Body& ego, const Vec2& n);
+
 // The exact oriented-rectangle TTC (Box detector) under the given motion model.
 double boxTtc(const Body& a, const Body& b, MotionModel motion, double horizon);
 
