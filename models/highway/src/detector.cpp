@@ -154,6 +154,32 @@ double envelopeRadius(const DetectorConfig& cfg, double length, double width) {
   return r;
 }
 
+Vec2 envelopeExtent(const DetectorConfig& cfg, const Body& b) {
+  // the rectangle itself
+  const Vec2 n = detail::normalOf(b.axis);
+  const double hl = 0.5 * b.length, hw = 0.5 * b.width;
+  Vec2 ext(hl * std::abs(b.axis.x()) + hw * std::abs(n.x()), hl * std::abs(b.axis.y()) + hw * std::abs(n.y()));
+  auto add = [&](const Circ& c) {
+    const Vec2 o = detail::toWorld(b, c.offset.x(), c.offset.y());
+    ext = ext.cwiseMax(o.cwiseAbs() + Vec2::Constant(c.radius));
+  };
+  switch (cfg.kind) {
+    case DetectorKind::Concentric:
+      add({Vec2::Zero(), outerRadius(cfg, b.length, b.width)});
+      add({Vec2::Zero(), innerRadius(cfg, b.width)});
+      break;
+    case DetectorKind::FiveCircle: {
+      for (const ZoneCircle& z : cfg.five.zones) add(zoneCircle(z, b.length, b.width));
+      const int m = std::min(bodyCircleCount(cfg, b.length, b.width), 16);
+      for (int k = 0; k < m; ++k) add(bodyCircle(k, m, b.length, b.width));
+      break;
+    }
+    case DetectorKind::Box:
+      break;
+  }
+  return ext;
+}
+
 double roadSupport(const DetectorConfig& cfg, const Body& ego, const Vec2& n) {
   switch (cfg.kind) {
     case DetectorKind::Concentric: return innerRadius(cfg, ego.width);

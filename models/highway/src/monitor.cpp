@@ -113,6 +113,7 @@ struct HighwayMonitor::Impl {
   std::vector<Body> body;
   std::vector<Vec2> centre;                  // body[].position, compact for the neighbour filter
   std::vector<double> mass, env, accelAbs;
+  std::vector<Vec2> ext;                     // envelopeExtent per slot
   std::vector<VehicleClass> vclass;
   std::vector<std::uint8_t> signals;
   std::vector<char> equipped;
@@ -121,7 +122,12 @@ struct HighwayMonitor::Impl {
   struct CellStats {
     Vec2 vmin, vmax;
     double amax = 0.0, envMax = 0.0;
+    Vec2 extMax = Vec2::Zero();
+    double kMax = 0.0;          // largest m / (2 F_brake) of its equipped cars (s^2/m... s per m/s)
+    Aabb<2> centres;
     int count = 0;
+    int equipped = 0;
+    bool subdivided = false;
   };
   std::vector<CellStats> cellStats;
 
@@ -138,6 +144,7 @@ struct HighwayMonitor::Impl {
     centre.resize(n);
     mass.resize(n);
     env.resize(n);
+    ext.resize(n);
     accelAbs.resize(n);
     vclass.resize(n);
     signals.resize(n);
@@ -169,7 +176,12 @@ struct HighwayMonitor::Impl {
     // exact prune: the envelopes cannot meet within the safe time
     const double accel = cfg.detector.motion == MotionModel::ConstantAcceleration ? accelAbs[e] + accelAbs[f] : 0.0;
     const double envSum = env[e] + env[f];
-    if (dist > envSum + v.norm() * safe + 0.5 * accel * safe * safe) return;
+    const double grow = 0.5 * accel * safe * safe;
+    // per axis, then as discs: the envelopes cannot meet within the safe time
+    if (std::abs(p.x()) > ext[e].x() + ext[f].x() + std::abs(v.x()) * safe + grow ||
+        std::abs(p.y()) > ext[e].y() + ext[f].y() + std::abs(v.y()) * safe + grow)
+      return;
+    if (dist > envSum + v.norm() * safe + grow) return;
     if (accel == 0.0 && dist > envSum) {
       // the envelopes (circles holding every shape a detector uses) do not meet in time
       const Impact hit = toiBalls<2>(p, v, envSum);
@@ -227,34 +239,61 @@ struct HighwayMonitor::Impl {
     }
     const Body& a = body[e];
     const bool accel = cfg.detector.motion == MotionModel::ConstantAcceleration;
-    // the widest look-ahead any cell could need, then each cell's own from its members' bounds
-    // per axis: the relative displacement along x (y) within the look-ahead is bounded by the
-    // largest relative velocity along x (y), so a box, not a disc, bounds the foes that matter
-    const double gx = std::abs(a.velocity.x()) + globalVmax.x(), gy = std::abs(a.velocity.y()) + globalVmax.y();
-    const double aGlobal = accel ? accelAbs[e] + globalAmax : 0.0;
-    const double hGlobal = vehicleHorizonBound(e, std::sqrt(gx * gx + gy * gy));
-    const Vec2 reach = Vec2(gx, gy) * hGlobal + Vec2::Constant(env[e] + globalEnvMax + 0.5 * aGlobal * hGlobal * hGlobal);
-    const Aabb<2> box{a.position - reach, a.position + reach};
-    cells->forEachCellInBox(box, [&](int cell) {
+    for (int cell : neighbours[cells->servingCell(e)]) {
       const CellStats& c = cellStats[cell];
-      if (c.count == 0) return;
-      // |v_e - v_f| over the cell's velocity box: per axis its largest at an end
+      // per axis: the relative displacement along x (y) within the look-ahead is bounded by
+      // the largest relative velocity along x (y) against the cell's members
       const double dx = std::max(std::abs(a.velocity.x() - c.vmin.x()), std::abs(a.velocity.x() - c.vmax.x()));
       const double dy = std::max(std::abs(a.velocity.y() - c.vmin.y()), std::abs(a.velocity.y() - c.vmax.y()));
       const double ac = accel ? accelAbs[e] + c.amax : 0.0;
       const double h = vehicleHorizonBound(e, std::sqrt(dx * dx + dy * dy));
-      const Vec2 r = Vec2(dx, dy) * h + Vec2::Constant(env[e] + c.envMax + 0.5 * ac * h * h);
+      const Vec2 r = Vec2(dx, dy) * h + ext[e] + c.extMax + Vec2::Constant(0.5 * ac * h * h);
       const Aabb<2> cb{a.position - r, a.position + r};
       // the reach bounds foe centres: skip a cell none of whose members' centres is inside
-      if (!cells->memberCentres(cell).overlaps(cb)) return;
-      // a cell's space lists whole leaves: keep the cars whose centre is within this cell's reach
-      cells->forEachInCellBox(cell, cb, [&](int f) {
+      if (!c.centres.overlaps(cb)) continue;
+      auto visit = [&](int f) {
         if (f != e && cb.contains(centre[f])) checkPair(e, f);
-      });
-    });
+      };
+      // a congested (subdivided) cell is searched through its space; a small one is listed
+      if (c.subdivided) cells->forEachInCellBox(cell, cb, visit);
+      else
+        for (int f : members[cell]) visit(f);
+    }
   }
+
+  // For every cell with equipped cars, the cells whose members any of them could reach within
+  // its largest safe time: bounds over the two cells' velocities, sizes, accelerations, masses.
+  void buildNeighbourLists() {
+    const bool accel = cfg.detector.motion == MotionModel::ConstantAcceleration;
+    const double tr = cfg.safeTime.vehicleReactionTime;
+    neighbours.resize(cellStats.size());
+    for (int A = 0; A < static_cast<int>(cellStats.size()); ++A) {
+      neighbours[A].clear();
+      const CellStats& ca = cellStats[A];
+      if (ca.equipped == 0) continue;
+      const Vec2 va = ca.vmin.cwiseAbs().cwiseMax(ca.vmax.cwiseAbs());
+      const double gx = va.x() + globalVmax.x(), gy = va.y() + globalVmax.y();
+      const double ag = accel ? ca.amax + globalAmax : 0.0;
+      const double hg = tr + ca.kMax * std::sqrt(gx * gx + gy * gy);
+      const Vec2 rg = Vec2(gx, gy) * hg + ca.extMax + globalExtMax + Vec2::Constant(0.5 * ag * hg * hg);
+      const Aabb<2> box{ca.centres.min - rg, ca.centres.max + rg};
+      cells->forEachCellInBox(box, [&](int B) {
+        const CellStats& cb = cellStats[B];
+        if (cb.count == 0) return;
+        const double dx = std::max({0.0, ca.vmax.x() - cb.vmin.x(), cb.vmax.x() - ca.vmin.x()});
+        const double dy = std::max({0.0, ca.vmax.y() - cb.vmin.y(), cb.vmax.y() - ca.vmin.y()});
+        const double ab = accel ? ca.amax + cb.amax : 0.0;
+        const double h = tr + ca.kMax * std::sqrt(dx * dx + dy * dy);
+        const Vec2 r = Vec2(dx, dy) * h + ca.extMax + cb.extMax + Vec2::Constant(0.5 * ab * h * h);
+        if (Aabb<2>{ca.centres.min - r, ca.centres.max + r}.overlaps(cb.centres)) neighbours[A].push_back(B);
+      });
+    }
+  }
+  std::vector<std::vector<int>> neighbours;  // per cell, this tick
+  std::vector<std::vector<int>> members;     // per cell, this tick
   Vec2 globalVmax = Vec2::Zero();
   double globalAmax = 0.0, globalEnvMax = 0.0;
+  Vec2 globalExtMax = Vec2::Zero();
 
   void candidatesFeatures(int e) {
     if (!featureIndex) return;
@@ -273,6 +312,12 @@ struct HighwayMonitor::Impl {
 
   void merge(int e, double t) {
     Slot& s = slots[e];
+    if (threats.empty() && s.open.empty()) {
+      // the common case: nothing now, nothing before
+      s.exposed.fill(false);
+      s.deficit.fill(0.0);
+      return;
+    }
     // the worst (smallest) TTC per key, keys ascending
     std::sort(threats.begin(), threats.end(), [](const Threat& x, const Threat& y) {
       return x.key != y.key ? x.key < y.key : x.ttc < y.ttc;
@@ -446,6 +491,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     m.centre[s] = v.position;
     m.mass[s] = v.mass;
     m.env[s] = envelopeRadius(dc, v.length, v.width);
+    m.ext[s] = envelopeExtent(dc, m.body[s]);
     m.accelAbs[s] = std::abs(v.acceleration);
     m.vclass[s] = v.vehicleClass;
     m.signals[s] = v.signals;
@@ -465,24 +511,45 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     m.counters.handoffs = cc.handoffs;
     m.counters.subdivisions = cc.subdivisions;
     m.counters.reunions = cc.reunions;
-    m.cellStats.assign(m.cells->cellCount(), Impl::CellStats{});
+    const int nc = m.cells->cellCount();
+    m.cellStats.assign(nc, Impl::CellStats{});
+    m.members.resize(nc);
+    for (auto& v : m.members) v.clear();
     m.globalVmax = Vec2::Zero();
     m.globalAmax = m.globalEnvMax = 0.0;
+    m.globalExtMax = Vec2::Zero();
+    const SafeTimeConfig& st = m.cfg.safeTime;
     for (int s : m.activeSlots) {
-      Impl::CellStats& c = m.cellStats[m.cells->servingCell(s)];
+      const int cell = m.cells->servingCell(s);
+      Impl::CellStats& c = m.cellStats[cell];
       const Vec2& v = m.body[s].velocity;
       if (c.count++ == 0) {
         c.vmin = c.vmax = v;
+        c.centres = {m.centre[s], m.centre[s]};
       } else {
         c.vmin = c.vmin.cwiseMin(v);
         c.vmax = c.vmax.cwiseMax(v);
+        c.centres.min = c.centres.min.cwiseMin(m.centre[s]);
+        c.centres.max = c.centres.max.cwiseMax(m.centre[s]);
       }
+      m.members[cell].push_back(s);
       c.amax = std::max(c.amax, m.accelAbs[s]);
       c.envMax = std::max(c.envMax, m.env[s]);
+      c.extMax = c.extMax.cwiseMax(m.ext[s]);
+      if (m.equipped[s]) {
+        ++c.equipped;
+        c.kMax = std::max(c.kMax, m.mass[s] / (2.0 * st.brakeForce[static_cast<int>(m.vclass[s])]));
+      }
       m.globalVmax = m.globalVmax.cwiseMax(v.cwiseAbs());
       m.globalAmax = std::max(m.globalAmax, m.accelAbs[s]);
       m.globalEnvMax = std::max(m.globalEnvMax, m.env[s]);
+      m.globalExtMax = m.globalExtMax.cwiseMax(m.ext[s]);
     }
+    for (int c = 0; c < nc; ++c) {
+      const SpaceCounters& sc = m.cells->cellSpace(c).counters();
+      m.cellStats[c].subdivided = sc.subdivisions > sc.reunions;
+    }
+    m.buildNeighbourLists();
   }
   // detection, ego by ego in input order
   m.alerts.clear();

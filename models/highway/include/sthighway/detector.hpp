@@ -99,6 +99,9 @@ double boxTtc(const Body& a, const Body& b, MotionModel motion, double horizon);
 // Radius of a circle that contains every circle of the ego's layout (and its rectangle); used to
 // prune pairs and size the neighbour search.
 double envelopeRadius(const DetectorConfig& cfg, double length, double width);
+// Half extents of an axis-aligned (world) box about the car's centre holding every shape of its
+// layout, as ego and as foe; tighter than the envelope disc for long vehicles.
+Vec2 envelopeExtent(const DetectorConfig& cfg, const Body& b);
 // True if the layout's circles cover the rectangle (checked on construction of a monitor).
 bool layoutCoversBody(const FiveCircleLayout& layout, double length, double width);
 
