@@ -99,12 +99,16 @@ Monitor::Monitor(std::vector<ArmInstance> arms, std::vector<Obstacle> obstacles,
     setJointState(i, 0.0, q.data(), qd.data());
   }
   obstaclesNow_ = obstacles_;
+  for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o)
+    if (obstacles_[o].moving()) moving_.push_back(o);
 
   // the space covers what the arms can reach and the obstacles (objects outside are clamped)
   const int nc = capsuleCount();
   const int total = nc + static_cast<int>(obstacles_.size());
   swept_.resize(total);
   fat_.resize(total);
+  neighbours_.resize(total);
+  filedAt_.assign(total, 0);
   const double h = safety_.lookAhead();
   for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o) swept_[nc + o] = obstacleSweep(obstacles_[o], h, grow);
   if (broad_.bounds) {
@@ -136,6 +140,7 @@ Monitor::Monitor(std::vector<ArmInstance> arms, std::vector<Obstacle> obstacles,
       const double margin = obstacles_[o].moving() ? broad_.margin : 0.0;
       fat_[id] = {swept_[id].min.array() - margin, swept_[id].max.array() + margin};
       space_->insert(id, swept_[id], margin);
+      filedAt_[id] = ++fileClock_;
     }
   }
 }
@@ -171,6 +176,10 @@ void Monitor::refile(int id) {
   if (space_->contains(id)) space_->update(id, swept_[id], m);
   else space_->insert(id, swept_[id], m);
   ++counters_.refiled;
+  filedAt_[id] = ++fileClock_;
+  std::vector<int>& nb = neighbours_[id];
+  nb.clear();
+  space_->forEachNeighbor(id, [&](int j) { nb.push_back(j); });
 }
 
 void Monitor::cycle(double t) {
@@ -179,8 +188,7 @@ void Monitor::cycle(double t) {
   const double grow = 0.5 * safety_.minSeparation;
   const int nc = capsuleCount();
   // moving obstacles at the cycle time
-  for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o) {
-    if (!obstacles_[o].moving()) continue;
+  for (int o : moving_) {
     obstaclesNow_[o] = advanced(obstacles_[o], t - t0_);
     swept_[nc + o] = obstacleSweep(obstaclesNow_[o], h, grow);
     if (space_ && (!started_ || !inside(swept_[nc + o], fat_[nc + o]))) refile(nc + o);
@@ -197,11 +205,17 @@ void Monitor::cycle(double t) {
   for (ArmState& a : arms_) a.warned = false;
   const int no = static_cast<int>(obstacles_.size());
   if (space_) {
+    // each candidate pair from the neighbour list of its more recently filed member
     for (int i = 0; i < nc; ++i) {
-      space_->forEachNeighbor(i, [&](int j) {
+      for (int j : neighbours_[i]) {
+        if (filedAt_[j] > filedAt_[i]) continue;
         if (j >= nc) testObstacle(i, j - nc, t);
-        else if (j > i) testPair(i, j, t);
-      });
+        else testPair(std::min(i, j), std::max(i, j), t);
+      }
+    }
+    for (int o : moving_) {
+      for (int i : neighbours_[nc + o])
+        if (i < nc && filedAt_[i] < filedAt_[nc + o]) testObstacle(i, o, t);
     }
   } else {
     for (int i = 0; i < nc; ++i) {

@@ -129,6 +129,7 @@ class Monitor {
   std::vector<ArmState> arms_;
   std::vector<Obstacle> obstacles_;
   std::vector<Obstacle> obstaclesNow_;  // moving ones advanced to the cycle time
+  std::vector<int> moving_;             // indices of the moving obstacles
   SafetyConfig safety_;
   BroadphaseConfig broad_;
   Aabb3 bounds_;
@@ -143,6 +144,12 @@ class Monitor {
   std::vector<int> capArm_, capBody_, capLocal_;
   // per space object (capsules first, then obstacles)
   std::vector<Aabb3> swept_, fat_;
+  // Neighbours from the space, cached when the object was last filed. A pair's candidacy
+  // depends only on the two fat boxes, so the list of the more recently filed of the two is
+  // current for that pair: each pair is read from exactly that side.
+  std::vector<std::vector<int>> neighbours_;
+  std::vector<std::uint64_t> filedAt_;
+  std::uint64_t fileClock_ = 0;
 
   std::vector<Warning> warnings_;
   MonitorCounters counters_;
