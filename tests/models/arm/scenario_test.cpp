@@ -1,0 +1,97 @@
+// Scenario files: an arm defined in YAML, allowed-collision edits, and errors naming the key.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include <starm/scenario.hpp>
+
+namespace st::arm {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path write(const std::string& name, const std::string& text) {
+  const fs::path p = fs::temp_directory_path() / ("stsim_arm_scn_" + std::to_string(::getpid()) + "_" + name);
+  std::ofstream(p) << text;
+  return p;
+}
+
+TEST(Scenario, YamlArmMatchesTheBuiltInIiwa) {
+  // the iiwa's classic DH written out in YAML, with a base pose and an edited matrix
+  const fs::path p = write("yaml_arm.yaml", R"(
+models:
+  my_iiwa:
+    convention: classic
+    joints:
+      - {d: 0.36, alpha: -1.5707963267948966, limits: [-2.9, 2.9]}
+      - {alpha: 1.5707963267948966, limits: [-2.0, 2.0]}
+      - {d: 0.42, alpha: 1.5707963267948966, limits: [-2.9, 2.9]}
+      - {alpha: -1.5707963267948966, limits: [-2.0, 2.0]}
+      - {d: 0.40, alpha: -1.5707963267948966, limits: [-2.9, 2.9]}
+      - {alpha: 1.5707963267948966, limits: [-2.0, 2.0]}
+      - {d: 0.126, limits: [-3.0, 3.0]}
+    capsules:
+      - {body: 3, a: [0, 0, 0], b: [0, 0.2, 0], radius: 0.07}
+      - {body: 7, a: [0, 0, -0.08], b: [0, 0, 0], radius: 0.05}
+arms:
+  - name: a
+    model: my_iiwa
+    base: {xyz: [0.1, 0.2, 0.3], rpy: [0, 0, 0.5]}
+    allow: [[3, 7]]
+    check: [[0, 1]]
+    waypoints: [{t: 0, q: [0, 0, 0, 0, 0, 0, 0]}]
+)");
+  const Scenario s = loadScenario(p.string());
+  ASSERT_EQ(s.arms.size(), 1u);
+  const ArmInstance& a = s.arms[0];
+  EXPECT_EQ(a.model.dof(), 7);
+  EXPECT_TRUE(a.model.isAllowed(3, 7));
+  EXPECT_FALSE(a.model.isAllowed(0, 1));
+  EXPECT_TRUE(a.model.isAllowed(1, 2));
+  const ArmModel ref = iiwa14Model();
+  const Eigen::Isometry3d base = Eigen::Translation3d(0.1, 0.2, 0.3) * Eigen::AngleAxisd(0.5, Vec3::UnitZ());
+  std::mt19937_64 g(3);
+  for (int trial = 0; trial < 100; ++trial) {
+    std::vector<double> q;
+    for (int k = 0; k < 7; ++k) q.push_back(std::uniform_real_distribution<double>(-1.9, 1.9)(g));
+    const auto f = forwardKinematics(a.model, a.base, q);
+    const auto r = forwardKinematics(ref, base, q);
+    for (int k = 0; k < 9; ++k) ASSERT_LT((f[k].matrix() - r[k].matrix()).cwiseAbs().maxCoeff(), 1e-12);
+  }
+  fs::remove(p);
+}
+
+void expectError(const std::string& name, const std::string& yaml, const std::string& mention) {
+  const fs::path p = write(name, yaml);
+  try {
+    loadScenario(p.string());
+    ADD_FAILURE() << name << ": no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(mention), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+  }
+  fs::remove(p);
+}
+
+TEST(Scenario, ErrorsNameFileLineAndKey) {
+  const std::string arm = "arms:\n  - {name: a, model: panda, waypoints: [{t: 0, q: [0, 0, 0, -1, 0, 1, 0]}]}\n";
+  expectError("unknown_key.yaml", arm + "safety: {cycle_tme: 0.001}\n", ":3: safety.cycle_tme: unknown key");
+  expectError("bad_number.yaml", arm + "safety: {stopping_time: fast}\n", ":3: safety.stopping_time: 'fast' is not a number");
+  expectError("short_horizon.yaml", arm + "safety: {horizon: 0.01}\n", "safety.horizon: must be at least the safe time");
+  expectError("joint_count.yaml", "arms:\n  - {name: a, model: panda, waypoints: [{t: 0, q: [0, 0, 0]}]}\n",
+              ":2: arms[0].waypoints[0].q: expected 7 joint angles and rates, got 3 and 3");
+  expectError("nan.yaml", "arms:\n  - {name: a, model: panda, waypoints: [{t: 0, q: [0, .nan, 0, -1, 0, 1, 0]}]}\n",
+              "arms[0].waypoints[0].q[1]: not a finite number");
+  expectError("no_motion.yaml", "arms:\n  - {name: a, model: panda}\n", "trace: expected a sensor trace or waypoints");
+  expectError("box.yaml", arm + "obstacles:\n  - {box: {center: [0, 0, 0], half_extents: [0.1, -0.1, 0.1]}}\n",
+              ":4: obstacles[0].box.half_extents: must be positive");
+  expectError("bad_body.yaml",
+              "models:\n  m:\n    convention: modified\n    joints: [{d: 0.1}]\n    capsules: [{body: 5, a: [0, 0, 0], b: [0, 0, 1], radius: 0.1}]\n" +
+                  std::string("arms:\n  - {name: a, model: m, waypoints: [{t: 0, q: [0]}]}\n"),
+              "models.m.capsules[0].body: expected a body index 0..2");
+}
+
+}  // namespace
+}  // namespace st::arm
