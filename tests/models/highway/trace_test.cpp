@@ -1,0 +1,206 @@
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include <sthighway/monitor.hpp>
+#include <sthighway/report.hpp>
+#include <sthighway/sumo_files.hpp>
+
+namespace st::highway {
+namespace {
+
+namespace fs = std::filesystem;
+const fs::path kData = fs::path(STSIM_SOURCE_DIR) / "tests/data/highway";
+
+fs::path writeTemp(const std::string& name, const std::string& text) {
+  const fs::path p = fs::temp_directory_path() / ("sthighway_" + std::to_string(::getpid()) + "_" + name);
+  std::ofstream(p) << text;
+  return p;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+TEST(SumoFiles, FcdConventionsAreConverted) {
+  const fs::path p = writeTemp("conv.fcd.xml",
+                               "<fcd-export>\n"
+                               "<timestep time=\"1.0\">\n"
+                               "  <vehicle id=\"east\" x=\"10\" y=\"5\" angle=\"90\" type=\"car\" speed=\"20\" signals=\"2\"/>\n"
+                               "  <vehicle id=\"north\" x=\"0\" y=\"0\" angle=\"0\" type=\"myTruck\" speed=\"3\" acceleration=\"-1.5\"/>\n"
+                               "</timestep>\n"
+                               "<timestep time=\"1.5\">\n"
+                               "  <vehicle id=\"east\" x=\"20\" y=\"5.5\" angle=\"90\" type=\"car\" speed=\"20\" signals=\"1\"/>\n"
+                               "</timestep>\n"
+                               "</fcd-export>\n");
+  VehicleTypes types;
+  types["car"] = VehicleTypeInfo{VehicleClass::Passenger, 4.0, 1.8, 1400.0};
+  FcdReader r(p, types);
+  FcdFrame f;
+  ASSERT_TRUE(r.next(f));
+  EXPECT_EQ(f.time, 1.0);
+  ASSERT_EQ(f.vehicles.size(), 2u);
+  const VehicleState& e = f.vehicles[0];
+  // navigational 90 deg (east) is math heading 0; the centre is half a length behind the bumper
+  EXPECT_NEAR(e.heading, 0.0, 1e-15);
+  EXPECT_NEAR(e.position.x(), 8.0, 1e-12);
+  EXPECT_NEAR(e.position.y(), 5.0, 1e-12);
+  EXPECT_EQ(e.mass, 1400.0);
+  EXPECT_EQ(e.signals, kSignalLeft);  // SUMO bit 1 is the left blinker
+  const VehicleState& n = f.vehicles[1];
+  EXPECT_NEAR(n.heading, 3.14159265358979323846 / 2, 1e-15);
+  EXPECT_EQ(n.vehicleClass, VehicleClass::Truck);  // guessed from the type name
+  EXPECT_NEAR(n.position.y(), -6.0, 1e-12);        // 12 m truck facing north
+  EXPECT_NEAR(n.position.x(), 0.0, 1e-12);
+  EXPECT_EQ(n.acceleration, -1.5);
+  ASSERT_TRUE(r.next(f));
+  ASSERT_EQ(f.vehicles.size(), 1u);
+  EXPECT_EQ(f.vehicles[0].signals, kSignalRight);
+  // lateral speed from the centre's sideways motion: 0.5 m in 0.5 s to the left
+  EXPECT_NEAR(f.vehicles[0].lateralSpeed, 1.0, 1e-12);
+  EXPECT_FALSE(r.next(f));
+  fs::remove(p);
+}
+
+TEST(SumoFiles, BadInputNamesFileAndLine) {
+  FcdReader r(kData / "bad_angle.fcd.xml");
+  FcdFrame f;
+  try {
+    r.next(f);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("bad_angle.fcd.xml:5:"), std::string::npos) << what;
+    EXPECT_NE(what.find("angle"), std::string::npos) << what;
+  }
+  const fs::path trunc = writeTemp("trunc.fcd.xml", "<fcd-export>\n<timestep time=\"0\">\n<vehicle id=\"a\" x=\"1\"");
+  FcdReader r2(trunc);
+  EXPECT_THROW(r2.next(f), InputError);
+  EXPECT_THROW(readSumoNet(kData / "missing.net.xml"), InputError);
+  EXPECT_THROW(readSumoNet(kData / "lanedrop.rou.xml"), InputError);  // not a network
+  fs::remove(trunc);
+}
+
+TEST(SumoFiles, NetworkLanes) {
+  const RoadGeometry road = readSumoNet(kData / "lanedrop.net.xml");
+  std::map<std::string, int> lanesOf;
+  for (const Lane& l : road.lanes)
+    if (!l.internal) ++lanesOf[l.edge];
+  EXPECT_EQ(lanesOf["main"], 3);
+  EXPECT_EQ(lanesOf["drop"], 2);
+  const RoadFeatures f = deriveFeatures(road);
+  ASSERT_EQ(f.sections.size(), 2u);
+  int curbs = 0, markers = 0;
+  for (const RoadFeature& x : f.features) (x.kind == FeatureKind::Curb ? curbs : markers)++;
+  EXPECT_EQ(curbs, 4);    // both sides of both edges (straight: one segment each)
+  EXPECT_EQ(markers, 3);  // 2 on main, 1 on drop
+}
+
+TEST(Trace, ShippedTraceCellsEqualAllPairsAndDistanceAdds) {
+  const RoadGeometry road = readSumoNet(kData / "lanedrop.net.xml");
+  const VehicleTypes types = readSumoVehicleTypes(kData / "lanedrop.rou.xml");
+  ASSERT_EQ(types.size(), 2u);
+  EXPECT_EQ(types.at("truck").mass, 15000.0);
+  for (DetectorKind k : {DetectorKind::Concentric, DetectorKind::FiveCircle, DetectorKind::Box}) {
+    std::vector<Warning> out[2];
+    MonitorCounters counters[2];
+    double speedTimesDt = 0.0;
+    std::set<std::string> ids;
+    for (int b = 0; b < 2; ++b) {
+      MonitorConfig cfg;
+      cfg.detector.kind = k;
+      cfg.broadphase = b == 0 ? Broadphase::Cells : Broadphase::AllPairs;
+      HighwayMonitor m(road, cfg);
+      FcdReader r(kData / "lanedrop.fcd.xml", types);
+      FcdFrame f;
+      double last = 0.0;
+      while (r.next(f)) {
+        m.step(f.time, f.vehicles);
+        for (auto& w : m.takeFinished()) out[b].push_back(w);
+        if (b == 0)
+          for (const auto& v : f.vehicles) {
+            speedTimesDt += v.speed * 0.5;
+            ids.insert(v.id);
+          }
+        last = f.time;
+      }
+      m.finish(last);
+      for (auto& w : m.takeFinished()) out[b].push_back(w);
+      counters[b] = m.counters();
+    }
+    ASSERT_EQ(out[0].size(), out[1].size()) << toString(k);
+    for (std::size_t i = 0; i < out[0].size(); ++i) {
+      EXPECT_EQ(warningCsvRow(out[0][i]), warningCsvRow(out[1][i])) << toString(k);
+    }
+    EXPECT_GT(out[0].size(), 10u) << toString(k);
+    EXPECT_EQ(counters[0].vehiclesSeen, ids.size());
+    EXPECT_GT(counters[0].handoffs, 0u);
+    EXPECT_LT(counters[0].candidatePairs, counters[1].candidatePairs);
+    // distance between consecutive centres against speed x step (SUMO's Euler update moves a
+    // car by its new speed x step, counted here one step later: within 2%)
+    EXPECT_NEAR(counters[0].vehicleMeters, speedTimesDt, 0.02 * speedTimesDt) << toString(k);
+  }
+}
+
+// The front end on the shipped trace and on bad input.
+int runStsim(const std::string& args, std::string* err = nullptr) {
+  const fs::path errFile = fs::temp_directory_path() / ("sthighway_err_" + std::to_string(::getpid()));
+  const std::string cmd = std::string(STSIM_BINARY) + " " + args + " > /dev/null 2> " + errFile.string();
+  const int rc = std::system(cmd.c_str());
+  if (err) *err = slurp(errFile);
+  fs::remove(errFile);
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+TEST(Cli, TraceModeWritesWarningsAndSummary) {
+  const fs::path out = fs::temp_directory_path() / ("sthighway_cli_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const std::string base = "highway --fcd " + (kData / "lanedrop.fcd.xml").string() + " --net " +
+                           (kData / "lanedrop.net.xml").string() + " --vtypes " + (kData / "lanedrop.rou.xml").string();
+  ASSERT_EQ(runStsim(base + " --detector box --out " + out.string()), 0);
+  const std::string csv = slurp(out / "warnings.csv");
+  const std::string json = slurp(out / "summary.json");
+  const long rows = std::count(csv.begin(), csv.end(), '\n') - 1;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(json, m, std::regex("\"total\": ([0-9]+)")));
+  EXPECT_EQ(std::stol(m[1]), rows);
+  EXPECT_GT(rows, 0);
+  EXPECT_NE(json.find("\"detector\": \"box\""), std::string::npos);
+  EXPECT_NE(json.find("\"vehicle_km\""), std::string::npos);
+  EXPECT_NE(json.find("\"handoffs\""), std::string::npos);
+  // usage errors exit 2, bad input exits 1 with one line naming file and line, results flushed
+  std::string err;
+  EXPECT_EQ(runStsim(base + " --detector circle", &err), 2);
+  EXPECT_EQ(runStsim("highway --fcd x.xml", &err), 2);
+  fs::remove_all(out);
+  EXPECT_EQ(runStsim("highway --fcd " + (kData / "bad_angle.fcd.xml").string() + " --net " +
+                         (kData / "lanedrop.net.xml").string() + " --out " + out.string(),
+                     &err),
+            1);
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_NE(err.find("bad_angle.fcd.xml:5:"), std::string::npos) << err;
+  EXPECT_TRUE(fs::exists(out / "warnings.csv"));
+  EXPECT_NE(slurp(out / "summary.json").find("\"error\""), std::string::npos);
+  EXPECT_EQ(runStsim("highway --fcd " + (kData / "nope.fcd.xml").string() + " --net " + (kData / "lanedrop.net.xml").string() +
+                         " --out " + out.string(),
+                     &err),
+            1);
+  EXPECT_NE(err.find("nope.fcd.xml"), std::string::npos) << err;
+  fs::remove_all(out);
+}
+
+}  // namespace
+}  // namespace st::highway
