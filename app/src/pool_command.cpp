@@ -1,0 +1,125 @@
+// stsim pool: plays a pool scenario (the report's OOSPG, §2) and writes its record; or runs the
+// report's Fig. 13 study.
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include <stsim/cli.hpp>
+#include <stsim/commands.hpp>
+
+#include <stpool/game.hpp>
+#include <stpool/report.hpp>
+#include <stpool/scenario.hpp>
+#include <stpool/study.hpp>
+
+namespace st::cli {
+
+namespace {
+
+void writeFile(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("cannot write " + path.string());
+  write(out);
+  out.flush();
+  if (!out) throw std::runtime_error("failed writing " + path.string());
+}
+
+void printSummary(std::ostream& os, const pool::RunRecord& run, const pool::Game& game) {
+  const auto& c = game.simulator().counters();
+  os << "stsim pool: " << run.scenario << ": " << game.specs().size() << " balls, space " << run.spaceDescription
+     << "\n";
+  os << std::setprecision(4);
+  for (const auto& s : run.shots) {
+    os << "  shot " << s.index + 1;
+    if (s.ball >= 0) os << " (ball " << s.ball << ")";
+    else os << " (no strike)";
+    os << ": " << s.events << " events, ends by " << pool::toString(s.ending) << " at " << s.end << " s\n";
+  }
+  const auto counts = pool::eventCounts(run.events);
+  os << "  events:";
+  for (int k = 0; k < static_cast<int>(pool::PoolEventKind::Count); ++k)
+    os << " " << pool::toString(static_cast<pool::PoolEventKind>(k)) << " " << counts[k];
+  os << "\n  pocketed:";
+  if (game.pocketed().empty()) os << " none";
+  for (const auto& p : game.pocketed()) os << " " << p.number << "@" << p.t << "s";
+  os << "\n";
+  const std::uint64_t ev = c.totalEvents();
+  os << "  collision checks " << c.pairChecks << " (" << (ev ? static_cast<double>(c.pairChecks) / static_cast<double>(ev) : 0.0)
+     << " per event)";
+  if (!run.shots.empty()) {
+    double drift = 0.0;
+    for (const auto& s : run.shots) drift = std::max(drift, std::abs(s.energyDrift()));
+    os << ", kinetic energy " << run.shots.front().keStart << " J -> " << run.shots.back().keEnd
+       << " J on the table, max energy drift " << drift;
+  }
+  os << "\n  wall time " << run.wallSeconds << " s\n";
+}
+
+int runPool(int argc, const char* const* argv) {
+  Args args("pool",
+            "Plays a pool scenario on the event-driven simulator (the report's OOSPG) and writes\n"
+            "events.csv, summary.json, table.svg and animation.html to --out; or, with --study fig13,\n"
+            "prints the report's Fig. 13 collision-check study and its extension to large boxes.");
+  args.positional("SCENARIO.yaml", "the scenario (models/pool/README.md documents its keys)", false)
+      .option("out", "DIR", "write the run's files to this directory (created if missing)")
+      .option("space", "KIND", "override space.kind: none, single, quadtree or cells")
+      .option("df", "N", "override space.decomposition_factor")
+      .option("until", "T", "override every shot's time limit (s)")
+      .option("study", "NAME", "run a study instead of a scenario: fig13");
+  if (!args.parse(argc, argv)) {
+    std::cout << args.help();
+    return 0;
+  }
+  if (args.has("study")) {
+    if (args.get("study") != "fig13") throw UsageError("unknown study '" + args.get("study") + "' (fig13)");
+    if (args.positionalValue(0)) throw UsageError("--study takes no scenario file");
+    pool::printFig13Study(std::cout);
+    return 0;
+  }
+  const auto path = args.positionalValue(0);
+  if (!path) throw UsageError("missing argument SCENARIO.yaml (see stsim pool --help)");
+
+  pool::Scenario scenario = pool::loadScenario(*path);
+  if (args.has("space")) {
+    if (!parseSpaceKind(args.get("space"), scenario.space.kind))
+      throw UsageError("option --space: unknown kind '" + args.get("space") + "' (none, single, quadtree, cells)");
+  }
+  if (args.has("df")) {
+    const long df = args.getInt("df");
+    if (df < 1) throw UsageError("option --df needs an integer >= 1");
+    scenario.space.decompositionFactor = static_cast<int>(df);
+  }
+  double until = -1.0;
+  if (args.has("until")) {
+    until = args.getDouble("until");
+    if (!(until > 0.0)) throw UsageError("option --until needs a positive time");
+  }
+
+  pool::Game game(scenario, pool::simulatorConfig(scenario));
+  const pool::RunRecord run = pool::playScenario(game, scenario, until);
+
+  // the record is written even when the run stopped on an error
+  if (args.has("out")) {
+    const std::filesystem::path dir = args.get("out");
+    std::filesystem::create_directories(dir);
+    writeFile(dir / "events.csv", [&](std::ostream& os) { pool::writeEventsCsv(os, run, game); });
+    writeFile(dir / "summary.json", [&](std::ostream& os) { pool::writeSummaryJson(os, run, game); });
+    writeFile(dir / "table.svg", [&](std::ostream& os) { pool::writeTableSvg(os, game, run.scenario); });
+    writeFile(dir / "animation.html", [&](std::ostream& os) { pool::writeAnimationHtml(os, run, game); });
+  }
+  printSummary(std::cout, run, game);
+  if (args.has("out")) std::cout << "  wrote events.csv, summary.json, table.svg, animation.html to " << args.get("out") << "\n";
+  std::cout.flush();
+  if (!run.error.empty()) throw std::runtime_error(run.error);
+  return 0;
+}
+
+}  // namespace
+
+Command poolCommand() {
+  return Command{"pool", "play a pool scenario (the report's OOSPG) or run its Fig. 13 study", runPool};
+}
+
+}  // namespace st::cli

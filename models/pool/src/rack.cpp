@@ -1,0 +1,99 @@
+#include <stpool/rack.hpp>
+
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace st::pool {
+
+std::uint64_t Rng::next() {
+  std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+double Rng::uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+
+std::vector<BallSpec> standardRack(const Table& table, const RackSpec& spec, Rng& rng) {
+  const double w = table.spec.width, h = table.spec.height;
+  const Vec2 apex = spec.apex.x() < 0 ? Vec2(0.75 * w, 0.5 * h) : spec.apex;
+  const Vec2 cue = spec.cueBall.x() < 0 ? Vec2(0.25 * w, 0.5 * h) : spec.cueBall;
+  // rows from the apex, each listed from low y to high y
+  static constexpr std::array<std::array<int, 5>, 5> kRows = {{
+      {1, 0, 0, 0, 0}, {9, 2, 0, 0, 0}, {10, 8, 3, 0, 0}, {4, 14, 7, 11, 0}, {12, 6, 15, 13, 5}}};
+  const double pitch = 2.0 * spec.radius + spec.gap;
+  std::vector<BallSpec> balls;
+  BallSpec c = makeBall(0, cue);
+  c.radius = spec.radius;
+  c.mass = spec.mass;
+  balls.push_back(c);
+  for (int row = 0; row < 5; ++row) {
+    for (int k = 0; k <= row; ++k) {
+      Vec2 p = apex + Vec2(row * pitch * std::sqrt(3.0) / 2.0, (k - 0.5 * row) * pitch);
+      if (spec.gap > 0.0) {
+        // uniform in the disc of radius gap/4
+        const double rr = 0.25 * spec.gap * std::sqrt(rng.uniform());
+        const double phi = 2.0 * std::numbers::pi * rng.uniform();
+        p += rr * Vec2(std::cos(phi), std::sin(phi));
+      }
+      BallSpec b = makeBall(kRows[row][k], p);
+      b.radius = spec.radius;
+      b.mass = spec.mass;
+      balls.push_back(b);
+    }
+  }
+  return balls;
+}
+
+std::vector<BallSpec> randomBalls(const Table& table, int count, double speed, double radius, double mass,
+                                  double clearance, Rng& rng) {
+  if (count < 0) throw std::invalid_argument("ball count must not be negative");
+  std::vector<BallSpec> balls;
+  const double lo = radius + clearance;
+  const double w = table.spec.width, h = table.spec.height;
+  // a uniform grid of buckets of edge >= one ball diameter + clearance makes the overlap test local
+  const double cell = 2.0 * radius + clearance;
+  const int nx = std::max(1, static_cast<int>(w / cell)), ny = std::max(1, static_cast<int>(h / cell));
+  std::vector<std::vector<int>> grid(static_cast<std::size_t>(nx) * ny);
+  auto cellOf = [&](const Vec2& p, int& ix, int& iy) {
+    ix = std::clamp(static_cast<int>(p.x() / w * nx), 0, nx - 1);
+    iy = std::clamp(static_cast<int>(p.y() / h * ny), 0, ny - 1);
+  };
+  const long maxTries = 200L * count + 1000;
+  long tries = 0;
+  while (static_cast<int>(balls.size()) < count) {
+    if (++tries > maxTries)
+      throw std::invalid_argument("cannot place " + std::to_string(count) + " balls on the table without overlap");
+    const Vec2 p(rng.uniform(lo, w - lo), rng.uniform(lo, h - lo));
+    if (*placementProblem(table, p, radius) != '\0') continue;
+    int ix, iy;
+    cellOf(p, ix, iy);
+    bool free = true;
+    for (int gx = std::max(0, ix - 1); free && gx <= std::min(nx - 1, ix + 1); ++gx)
+      for (int gy = std::max(0, iy - 1); free && gy <= std::min(ny - 1, iy + 1); ++gy)
+        for (int j : grid[static_cast<std::size_t>(gx) * ny + gy])
+          if ((balls[j].position - p).norm() < 2.0 * radius + clearance) {
+            free = false;
+            break;
+          }
+    if (!free) continue;
+    const int number = static_cast<int>(balls.size());
+    BallSpec b = makeBall(number, p);
+    b.radius = radius;
+    b.mass = mass;
+    if (number > 15) {  // beyond the usual set: cycle its colours and patterns
+      b.colour = defaultColour(1 + (number - 1) % 15);
+      b.pattern = defaultPattern(1 + (number - 1) % 15);
+    }
+    const double phi = 2.0 * std::numbers::pi * rng.uniform();
+    b.velocity = speed * Vec2(std::cos(phi), std::sin(phi));
+    grid[static_cast<std::size_t>(ix) * ny + iy].push_back(number);
+    balls.push_back(b);
+  }
+  return balls;
+}
+
+}  // namespace st::pool

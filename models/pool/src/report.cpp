@@ -1,0 +1,348 @@
+#include <stpool/report.hpp>
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace st::pool {
+
+namespace {
+
+std::string jsonString(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", c);
+          out += buf;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+std::string xmlEscape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '<') out += "&lt;";
+    else if (c == '>') out += "&gt;";
+    else if (c == '&') out += "&amp;";
+    else if (c == '"') out += "&quot;";
+    else out += c;
+  }
+  return out;
+}
+
+// JSON has no infinities or NaNs: null stands for them.
+std::string num(double x) {
+  if (!std::isfinite(x)) return "null";
+  std::ostringstream os;
+  os << std::setprecision(17) << x;
+  return os.str();
+}
+
+std::string vec(const Vec2& v) {
+  std::ostringstream os;
+  os << '[' << num(v.x()) << ", " << num(v.y()) << ']';
+  return os.str();
+}
+
+// Table drawing in pixels: y up in the model, down on screen.
+struct View {
+  Rect box;
+  double scale;  // px per metre
+  double x(double m) const { return (m - box.min.x()) * scale; }
+  double y(double m) const { return (box.max.y() - m) * scale; }
+  double width() const { return box.extent().x() * scale; }
+  double height() const { return box.extent().y() * scale; }
+};
+
+}  // namespace
+
+std::string describe(const SpaceSpec& space) {
+  std::ostringstream os;
+  os << toString(space.kind);
+  if (space.kind == SpaceKind::Tree)
+    os << " df=" << space.decompositionFactor << " divisions=" << space.divisions << " max_depth="
+       << (space.maxDepth < 0 ? std::string("auto") : std::to_string(space.maxDepth));
+  if (space.kind == SpaceKind::Cells) os << " cell_size=" << space.cellSize;
+  return os.str();
+}
+
+RunRecord playScenario(Game& game, const Scenario& scenario, double untilOverride) {
+  RunRecord run;
+  run.scenario = scenario.name;
+  run.spaceDescription = describe(scenario.space);
+  run.initial = game.specs();
+  auto record = [&](const PoolEvent& e) { run.events.push_back(e); };
+  run.wallSeconds = wallSeconds([&] {
+    try {
+      if (scenario.shots.empty()) {
+        run.shots.push_back(game.coast(untilOverride > 0 ? untilOverride : scenario.until, record));
+      }
+      for (const Shot& shot : scenario.shots) {
+        const double limit = untilOverride > 0 ? untilOverride : shot.until > 0 ? shot.until : scenario.until;
+        run.shots.push_back(game.play(shot, limit, record));
+      }
+    } catch (const std::runtime_error& e) {
+      run.error = e.what();
+    }
+  });
+  return run;
+}
+
+std::vector<std::uint64_t> eventCounts(const std::vector<PoolEvent>& events) {
+  std::vector<std::uint64_t> n(static_cast<int>(PoolEventKind::Count), 0);
+  for (const auto& e : events) ++n[static_cast<int>(e.kind)];
+  return n;
+}
+
+void writeEventsCsv(std::ostream& os, const RunRecord& run, const Game& game) {
+  os << "shot,time,kind,ball,number,other,x,y,vx,vy,other_x,other_y,other_vx,other_vy\n";
+  os << std::setprecision(17);
+  for (const auto& e : run.events) {
+    os << e.shot << ',' << e.t << ',' << toString(e.kind) << ',' << e.ball << ',' << game.specs()[e.ball].number << ','
+       << e.other << ',' << e.p.x() << ',' << e.p.y() << ',' << e.v.x() << ',' << e.v.y();
+    if (e.kind == PoolEventKind::Ball)
+      os << ',' << e.otherP.x() << ',' << e.otherP.y() << ',' << e.otherV.x() << ',' << e.otherV.y();
+    else
+      os << ",,,,";
+    os << '\n';
+  }
+}
+
+void writeSummaryJson(std::ostream& os, const RunRecord& run, const Game& game) {
+  const Simulator<2>& sim = game.simulator();
+  const SimulatorCounters& c = sim.counters();
+  const auto counts = eventCounts(run.events);
+  os << "{\n";
+  os << "  \"scenario\": " << jsonString(run.scenario) << ",\n";
+  os << "  \"space\": " << jsonString(run.spaceDescription) << ",\n";
+  os << "  \"balls\": " << game.specs().size() << ",\n";
+  os << "  \"simulated_time_s\": " << num(sim.now()) << ",\n";
+  os << "  \"events\": {";
+  std::uint64_t total = 0;
+  for (int k = 0; k < static_cast<int>(PoolEventKind::Count); ++k) {
+    os << (k ? ", " : "") << jsonString(toString(static_cast<PoolEventKind>(k))) << ": " << counts[k];
+    total += counts[k];
+  }
+  os << ", \"total\": " << total << "},\n";
+  os << "  \"simulator_events\": " << c.totalEvents() << ",\n";
+  os << "  \"collision_checks\": " << c.pairChecks << ",\n";
+  os << "  \"obstacle_checks\": " << c.staticChecks << ",\n";
+  os << "  \"stale_predictions\": " << c.staleEvents << ",\n";
+  if (const Space<2>* sp = sim.space()) {
+    os << "  \"space_counters\": {\"subdivisions\": " << sp->counters().subdivisions
+       << ", \"reunions\": " << sp->counters().reunions << ", \"transfers\": " << sp->counters().transfers
+       << ", \"leaves_at_end\": " << sp->leaves().size() << "},\n";
+  }
+  os << "  \"pocketed\": [";
+  for (std::size_t i = 0; i < game.pocketed().size(); ++i) {
+    const Pocketing& p = game.pocketed()[i];
+    os << (i ? ", " : "") << "{\"number\": " << p.number << ", \"shot\": " << p.shot << ", \"pocket\": " << p.pocket
+       << ", \"time_s\": " << num(p.t) << "}";
+  }
+  os << "],\n";
+  os << "  \"shots\": [";
+  double worstDrift = 0.0;
+  for (std::size_t i = 0; i < run.shots.size(); ++i) {
+    const ShotSummary& s = run.shots[i];
+    worstDrift = std::max(worstDrift, std::abs(s.energyDrift()));
+    os << (i ? "," : "") << "\n    {\"ball\": " << s.ball << ", \"start_s\": " << num(s.start) << ", \"end_s\": "
+       << num(s.end) << ", \"ending\": " << jsonString(toString(s.ending)) << ", \"events\": " << s.events
+       << ", \"kinetic_energy_initial_J\": " << num(s.keStart) << ", \"kinetic_energy_final_J\": " << num(s.keEnd)
+       << ", \"kinetic_energy_pocketed_J\": " << num(s.kePocketed) << ", \"momentum_initial\": "
+       << vec(s.momentumStart) << ", \"momentum_final\": " << vec(s.momentumEnd)
+       << ", \"energy_drift\": " << num(s.energyDrift()) << "}";
+  }
+  os << (run.shots.empty() ? "" : "\n  ") << "],\n";
+  const ShotSummary first = run.shots.empty() ? ShotSummary{} : run.shots.front();
+  const ShotSummary last = run.shots.empty() ? ShotSummary{} : run.shots.back();
+  os << "  \"kinetic_energy_initial_J\": " << num(first.keStart) << ",\n";
+  os << "  \"kinetic_energy_final_J\": " << num(last.keEnd) << ",\n";
+  os << "  \"momentum_initial\": " << vec(first.momentumStart) << ",\n";
+  os << "  \"momentum_final\": " << vec(last.momentumEnd) << ",\n";
+  os << "  \"energy_drift_max\": " << num(worstDrift) << ",\n";
+  os << "  \"wall_time_s\": " << num(run.wallSeconds) << ",\n";
+  os << "  \"error\": " << (run.error.empty() ? "null" : jsonString(run.error)) << "\n";
+  os << "}\n";
+}
+
+void writeTableSvg(std::ostream& os, const Game& game, const std::string& title) {
+  const Table& t = game.table();
+  const Simulator<2>& sim = game.simulator();
+  const double pad = 0.08;
+  const View v{{t.surface().min.array() - pad, t.surface().max.array() + pad}, 400.0};
+  os << std::fixed << std::setprecision(2);
+  os << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << v.width() << "\" height=\"" << v.height()
+     << "\" viewBox=\"0 0 " << v.width() << ' ' << v.height() << "\">\n";
+  os << "<title>" << xmlEscape(title) << ": final table at " << sim.now() << " s</title>\n";
+  os << "<rect width=\"100%\" height=\"100%\" fill=\"#5b3a1e\"/>\n";
+  os << "<rect x=\"" << v.x(0) << "\" y=\"" << v.y(t.spec.height) << "\" width=\"" << t.spec.width * v.scale
+     << "\" height=\"" << t.spec.height * v.scale << "\" fill=\"#1f7a4a\"/>\n";
+  // the space's regions (the report's Fig. 7)
+  if (const Space<2>* sp = sim.space()) {
+    os << "<g fill=\"none\" stroke=\"#d9f99d\" stroke-width=\"1\" stroke-dasharray=\"4 3\">\n";
+    for (int leaf : sp->leaves()) {
+      Rect b = sp->leafBounds(leaf);
+      b.min = b.min.cwiseMax(v.box.min);
+      b.max = b.max.cwiseMin(v.box.max);
+      os << "<rect x=\"" << v.x(b.min.x()) << "\" y=\"" << v.y(b.max.y()) << "\" width=\""
+         << (b.max.x() - b.min.x()) * v.scale << "\" height=\"" << (b.max.y() - b.min.y()) * v.scale << "\"/>\n";
+    }
+    os << "</g>\n";
+  }
+  for (const auto& p : t.pockets)
+    os << "<circle cx=\"" << v.x(p.center.x()) << "\" cy=\"" << v.y(p.center.y()) << "\" r=\"" << p.radius * v.scale
+       << "\" fill=\"#000\" fill-opacity=\"0.8\"/>\n";
+  os << "<g stroke=\"#3b2412\" stroke-width=\"4\" stroke-linecap=\"round\">\n";
+  for (const auto& s : t.cushions)
+    os << "<line x1=\"" << v.x(s.a.x()) << "\" y1=\"" << v.y(s.a.y()) << "\" x2=\"" << v.x(s.b.x()) << "\" y2=\""
+       << v.y(s.b.y()) << "\"/>\n";
+  os << "</g>\n";
+  for (const auto& j : t.jaws)
+    os << "<circle cx=\"" << v.x(j.x()) << "\" cy=\"" << v.y(j.y()) << "\" r=\"3\" fill=\"#e5e7eb\"/>\n";
+  for (std::size_t i = 0; i < game.specs().size(); ++i) {
+    const BallState<2>& b = sim.ball(static_cast<int>(i));
+    if (!b.active) continue;
+    const BallSpec& s = game.specs()[i];
+    const Vec2 p = b.positionAt(sim.now());
+    const double r = b.radius * v.scale;
+    os << "<g><circle cx=\"" << v.x(p.x()) << "\" cy=\"" << v.y(p.y()) << "\" r=\"" << r << "\" fill=\""
+       << (s.pattern == Pattern::Striped ? "#f8f8f0" : hexOf(s.colour)) << "\" stroke=\"#000\" stroke-width=\"0.8\"/>";
+    if (s.pattern == Pattern::Striped)
+      os << "<rect x=\"" << v.x(p.x()) - r << "\" y=\"" << v.y(p.y()) - 0.45 * r << "\" width=\"" << 2 * r
+         << "\" height=\"" << 0.9 * r << "\" fill=\"" << hexOf(s.colour) << "\"/>";
+    if (s.number != 0)
+      os << "<text x=\"" << v.x(p.x()) << "\" y=\"" << v.y(p.y()) + 0.3 * r << "\" font-size=\"" << 0.85 * r
+         << "\" text-anchor=\"middle\" font-family=\"sans-serif\" fill=\""
+         << (s.pattern == Pattern::Solid && s.colour != Colour::Yellow && s.colour != Colour::Orange ? "#fff" : "#000")
+         << "\">" << s.number << "</text>";
+    os << "</g>\n";
+  }
+  os << "</svg>\n";
+}
+
+void writeAnimationHtml(std::ostream& os, const RunRecord& run, const Game& game) {
+  const Table& t = game.table();
+  const auto& specs = game.specs();
+  // per ball: keyframes [t, x, y, vx, vy] at every change of velocity, and the time it left
+  std::vector<double> gone(specs.size(), -1.0);
+  std::ostringstream data;
+  data << std::setprecision(9);
+  data << "{\"width\":" << t.spec.width << ",\"height\":" << t.spec.height << ",\"end\":" << game.simulator().now()
+       << ",\"title\":" << jsonString(run.scenario + " (" + run.spaceDescription + ")") << ",\"cushions\":[";
+  for (std::size_t i = 0; i < t.cushions.size(); ++i)
+    data << (i ? "," : "") << "[" << t.cushions[i].a.x() << "," << t.cushions[i].a.y() << "," << t.cushions[i].b.x()
+         << "," << t.cushions[i].b.y() << "]";
+  data << "],\"pockets\":[";
+  for (std::size_t i = 0; i < t.pockets.size(); ++i)
+    data << (i ? "," : "") << "[" << t.pockets[i].center.x() << "," << t.pockets[i].center.y() << ","
+         << t.pockets[i].radius << "]";
+  data << "],\"balls\":[";
+  // keyframes from the event log
+  std::vector<std::ostringstream> k(specs.size());
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    k[i] << std::setprecision(12);
+    k[i] << "[0," << specs[i].position.x() << "," << specs[i].position.y() << "," << specs[i].velocity.x() << ","
+         << specs[i].velocity.y() << "]";
+  }
+  for (const auto& e : run.events) {
+    if (e.kind == PoolEventKind::Boundary) continue;  // path unchanged
+    if (e.kind == PoolEventKind::Pocket) {
+      gone[e.ball] = e.t;
+      continue;
+    }
+    k[e.ball] << ",[" << e.t << "," << e.p.x() << "," << e.p.y() << "," << e.v.x() << "," << e.v.y() << "]";
+    if (e.kind == PoolEventKind::Ball)
+      k[e.other] << ",[" << e.t << "," << e.otherP.x() << "," << e.otherP.y() << "," << e.otherV.x() << ","
+                 << e.otherV.y() << "]";
+  }
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    data << (i ? "," : "") << "{\"n\":" << specs[i].number << ",\"r\":" << specs[i].radius << ",\"c\":\""
+         << hexOf(specs[i].colour) << "\",\"s\":" << (specs[i].pattern == Pattern::Striped ? 1 : 0)
+         << ",\"gone\":" << (gone[i] < 0 ? std::string("null") : num(gone[i])) << ",\"k\":[" << k[i].str() << "]}";
+  }
+  data << "]}";
+
+  os << R"HTML(<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>stsim pool</title>
+<style>
+body{background:#222;color:#ddd;font:14px sans-serif;margin:12px}
+canvas{display:block;margin-top:8px;background:#5b3a1e}
+button,input{vertical-align:middle}
+</style></head><body>
+<div><b id="title"></b></div>
+<div><button id="play">pause</button>
+<label>speed <input id="speed" type="range" min="-3" max="3" step="1" value="0"> <span id="sx">1x</span></label>
+<input id="scrub" type="range" min="0" max="1000" value="0" style="width:40%">
+<label><input id="trails" type="checkbox" checked> trails</label>
+<span id="clock"></span></div>
+<canvas id="c"></canvas>
+<script>
+const D = )HTML" << data.str() << R"HTML(;
+// position of ball b at time t: the last keyframe before t, moved in a straight line
+function state(b, t) {
+  if (b.gone !== null && t >= b.gone) return null;
+  let lo = 0, hi = b.k.length - 1;
+  while (lo < hi) { const m = (lo + hi + 1) >> 1; if (b.k[m][0] <= t) lo = m; else hi = m - 1; }
+  const k = b.k[lo], dt = t - k[0];
+  return [k[1] + k[3] * dt, k[2] + k[4] * dt];
+}
+const pad = 0.08, S = Math.min(1100 / (D.width + 2 * pad), 700 / (D.height + 2 * pad));
+const cv = document.getElementById('c'), g = cv.getContext('2d');
+cv.width = Math.ceil((D.width + 2 * pad) * S); cv.height = Math.ceil((D.height + 2 * pad) * S);
+const X = x => (x + pad) * S, Y = y => (D.height + pad - y) * S;
+document.getElementById('title').textContent = D.title;
+let t = 0, playing = true, speed = 1, last = null;
+const trail = D.balls.map(() => []);
+function draw() {
+  g.fillStyle = '#5b3a1e'; g.fillRect(0, 0, cv.width, cv.height);
+  g.fillStyle = '#1f7a4a'; g.fillRect(X(0), Y(D.height), D.width * S, D.height * S);
+  g.fillStyle = '#000';
+  for (const p of D.pockets) { g.beginPath(); g.arc(X(p[0]), Y(p[1]), p[2] * S, 0, 7); g.fill(); }
+  g.strokeStyle = '#3b2412'; g.lineWidth = 4; g.lineCap = 'round';
+  for (const c of D.cushions) { g.beginPath(); g.moveTo(X(c[0]), Y(c[1])); g.lineTo(X(c[2]), Y(c[3])); g.stroke(); }
+  const showTrails = document.getElementById('trails').checked;
+  D.balls.forEach((b, i) => {
+    const s = state(b, t);
+    if (!s) return;
+    if (showTrails) {
+      const tr = trail[i];
+      if (!tr.length || Math.hypot(tr[tr.length - 1][0] - s[0], tr[tr.length - 1][1] - s[1]) > 0.01) tr.push(s);
+      if (tr.length > 400) tr.shift();
+      g.strokeStyle = b.c; g.globalAlpha = 0.35; g.lineWidth = 1.5; g.beginPath();
+      tr.forEach((q, j) => j ? g.lineTo(X(q[0]), Y(q[1])) : g.moveTo(X(q[0]), Y(q[1]))); g.stroke(); g.globalAlpha = 1;
+    }
+    const r = b.r * S;
+    g.beginPath(); g.arc(X(s[0]), Y(s[1]), r, 0, 7); g.fillStyle = b.s ? '#f8f8f0' : b.c; g.fill();
+    if (b.s) { g.save(); g.clip(); g.fillStyle = b.c; g.fillRect(X(s[0]) - r, Y(s[1]) - 0.45 * r, 2 * r, 0.9 * r); g.restore(); }
+    g.strokeStyle = '#000'; g.lineWidth = 0.8; g.stroke();
+    if (b.n && r > 6) { g.fillStyle = (b.c === '#f5c518' || b.c === '#f77f00' || b.s) ? '#000' : '#fff';
+      g.font = Math.round(r) + 'px sans-serif'; g.textAlign = 'center'; g.fillText(b.n, X(s[0]), Y(s[1]) + 0.35 * r); }
+  });
+  document.getElementById('clock').textContent = t.toFixed(3) + ' s / ' + D.end.toFixed(3) + ' s';
+  document.getElementById('scrub').value = Math.round(1000 * t / Math.max(D.end, 1e-9));
+}
+function frame(now) {
+  if (last !== null && playing) { t = Math.min(D.end, t + speed * (now - last) / 1000); if (t >= D.end) playing = false; }
+  last = now; document.getElementById('play').textContent = playing ? 'pause' : 'play';
+  draw(); requestAnimationFrame(frame);
+}
+document.getElementById('play').onclick = () => { if (t >= D.end) { t = 0; trail.forEach(a => a.length = 0); } playing = !playing; };
+document.getElementById('speed').oninput = e => { speed = Math.pow(2, +e.target.value); document.getElementById('sx').textContent = speed + 'x'; };
+document.getElementById('scrub').oninput = e => { t = D.end * e.target.value / 1000; trail.forEach(a => a.length = 0); };
+requestAnimationFrame(frame);
+</script></body></html>
+)HTML";
+}
+
+}  // namespace st::pool

@@ -1,0 +1,374 @@
+#include <stpool/scenario.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+#include <stpool/rack.hpp>
+
+namespace st::pool {
+
+namespace {
+
+// Where a key sits, for messages: "file:line:col: key".
+struct Where {
+  std::string source;
+  std::string key;
+  YAML::Mark mark;
+  std::string str() const {
+    std::ostringstream os;
+    os << source;
+    if (mark.line >= 0) os << ":" << mark.line + 1 << ":" << mark.column + 1;
+    os << ": " << key;
+    return os.str();
+  }
+};
+
+[[noreturn]] void fail(const Where& w, const std::string& problem) { throw ScenarioError(w.str() + ": " + problem); }
+
+class Reader {
+ public:
+  explicit Reader(std::string source) : source_(std::move(source)) {}
+
+  Where at(const YAML::Node& n, const std::string& key) const { return Where{source_, key, n.Mark()}; }
+
+  // Checks that map node n (named key) has only the allowed keys.
+  void onlyKeys(const YAML::Node& n, const std::string& key, std::initializer_list<const char*> allowed) const {
+    if (!n.IsMap()) fail(at(n, key), "must be a map");
+    for (const auto& kv : n) {
+      const std::string k = kv.first.as<std::string>();
+      bool ok = false;
+      for (const char* a : allowed) ok = ok || k == a;
+      if (!ok) fail(at(kv.first, join(key, k)), "unknown key");
+    }
+  }
+
+  static std::string join(const std::string& parent, const std::string& k) {
+    return parent.empty() ? k : parent + "." + k;
+  }
+
+  double number(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(at(n, key), "must be a number");
+    double v = 0;
+    try {
+      v = n.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(at(n, key), "must be a number, got '" + n.Scalar() + "'");
+    }
+    if (!std::isfinite(v)) fail(at(n, key), "must be finite");
+    return v;
+  }
+
+  double positive(const YAML::Node& n, const std::string& key) const {
+    const double v = number(n, key);
+    if (!(v > 0.0)) fail(at(n, key), "must be positive, got " + n.Scalar());
+    return v;
+  }
+
+  long integer(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(at(n, key), "must be an integer");
+    try {
+      return n.as<long>();
+    } catch (const YAML::Exception&) {
+      fail(at(n, key), "must be an integer, got '" + n.Scalar() + "'");
+    }
+  }
+
+  bool boolean(const YAML::Node& n, const std::string& key) const {
+    try {
+      return n.as<bool>();
+    } catch (const YAML::Exception&) {
+      fail(at(n, key), "must be true or false");
+    }
+  }
+
+  std::string text(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(at(n, key), "must be a string");
+    return n.Scalar();
+  }
+
+  Vec2 vec2(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsSequence() || n.size() != 2) fail(at(n, key), "must be a pair [x, y]");
+    return Vec2(number(n[0], key + "[0]"), number(n[1], key + "[1]"));
+  }
+
+ private:
+  std::string source_;
+};
+
+std::string indexed(const std::string& key, std::size_t i) { return key + "[" + std::to_string(i) + "]"; }
+
+// Validation shared by the YAML loader (which knows lines) and programmatic scenarios.
+using Locate = std::function<Where(const std::string& key, int ball)>;
+
+void validate(const Scenario& s, const Locate& where) {
+  Table table;
+  try {
+    table = makeTable(s.table);
+  } catch (const std::invalid_argument& e) {
+    fail(where("table", -1), e.what());
+  }
+  std::set<int> numbers;
+  for (int i = 0; i < static_cast<int>(s.balls.size()); ++i) {
+    const BallSpec& b = s.balls[i];
+    const std::string key = indexed("balls", static_cast<std::size_t>(i));
+    if (!(b.radius > 0.0) || !std::isfinite(b.radius)) fail(where(key + ".radius", i), "must be positive");
+    if (!(b.mass > 0.0) || !std::isfinite(b.mass)) fail(where(key + ".mass", i), "must be positive");
+    if (!b.position.allFinite()) fail(where(key + ".position", i), "must be finite");
+    if (!b.velocity.allFinite()) fail(where(key + ".velocity", i), "must be finite");
+    if (!numbers.insert(b.number).second)
+      fail(where(key + ".number", i), "ball number " + std::to_string(b.number) + " is used twice");
+    if (const char* why = placementProblem(table, b.position, b.radius); *why)
+      fail(where(key + ".position", i), why);
+  }
+  // overlaps: sort by x so only near neighbours are compared
+  std::vector<int> order(s.balls.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return s.balls[a].position.x() < s.balls[b].position.x(); });
+  double rmax = 0.0;
+  for (const auto& b : s.balls) rmax = std::max(rmax, b.radius);
+  for (std::size_t u = 0; u < order.size(); ++u) {
+    const BallSpec& a = s.balls[order[u]];
+    for (std::size_t w = u + 1; w < order.size(); ++w) {
+      const BallSpec& b = s.balls[order[w]];
+      if (b.position.x() - a.position.x() > 2.0 * rmax) break;
+      if ((a.position - b.position).norm() < a.radius + b.radius) {
+        const int later = std::max(order[u], order[w]), earlier = std::min(order[u], order[w]);
+        fail(where(indexed("balls", static_cast<std::size_t>(later)) + ".position", later),
+             "ball " + std::to_string(s.balls[later].number) + " overlaps ball " +
+                 std::to_string(s.balls[earlier].number));
+      }
+    }
+  }
+  for (std::size_t k = 0; k < s.shots.size(); ++k) {
+    if (!numbers.count(s.shots[k].ball))
+      fail(where(indexed("shots", k) + ".ball", -1), "no ball number " + std::to_string(s.shots[k].ball));
+    if (!s.shots[k].velocity.allFinite()) fail(where(indexed("shots", k), -1), "velocity must be finite");
+  }
+  if (!(s.until > 0.0)) fail(where("until", -1), "must be positive");
+  if (!(s.friction >= 0.0) || !std::isfinite(s.friction)) fail(where("friction", -1), "must be zero or positive");
+  const SpaceSpec& sp = s.space;
+  if (sp.decompositionFactor < 1) fail(where("space.decomposition_factor", -1), "must be at least 1");
+  if (sp.divisions != 2 && sp.divisions != 4) fail(where("space.divisions", -1), "must be 2 or 4");
+  if (sp.maxDepth < -1 || sp.maxDepth > 30) fail(where("space.max_depth", -1), "must be between 0 and 30 (or -1: automatic)");
+  if (sp.kind == SpaceKind::Cells && !(sp.cellSize > 0.0)) fail(where("space.cell_size", -1), "must be positive");
+}
+
+Scenario parse(const YAML::Node& root, const std::string& source) {
+  Reader rd(source);
+  Scenario s;
+  s.name = source;
+  if (!root.IsMap()) fail(Where{source, "(top level)", root.Mark()}, "a scenario must be a YAML map");
+  rd.onlyKeys(root, "", {"name", "table", "balls", "rack", "random", "shots", "space", "until", "friction", "seed"});
+  // where each key was found, so validation can name its line
+  std::map<std::string, YAML::Mark> marks;
+  std::vector<YAML::Mark> ballMarks;
+  auto mark = [&](const std::string& key, const YAML::Node& n) { marks[key] = n.Mark(); };
+
+  if (root["name"]) s.name = rd.text(root["name"], "name");
+  if (root["seed"]) {
+    const long seed = rd.integer(root["seed"], "seed");
+    if (seed < 0) fail(rd.at(root["seed"], "seed"), "must not be negative");
+    s.seed = static_cast<std::uint64_t>(seed);
+  }
+  if (root["until"]) {
+    s.until = rd.positive(root["until"], "until");
+  }
+  if (root["friction"]) {
+    mark("friction", root["friction"]);
+    s.friction = rd.number(root["friction"], "friction");
+    if (s.friction < 0.0) fail(rd.at(root["friction"], "friction"), "must be zero or positive");
+  }
+
+  // table
+  const YAML::Node table = root["table"];
+  if (!table) fail(Where{source, "table", root.Mark()}, "missing key");
+  mark("table", table);
+  rd.onlyKeys(table, "table", {"width", "height", "pockets", "corner_mouth", "side_mouth"});
+  if (!table["width"]) fail(rd.at(table, "table.width"), "missing key");
+  if (!table["height"]) fail(rd.at(table, "table.height"), "missing key");
+  s.table.width = rd.positive(table["width"], "table.width");
+  s.table.height = rd.positive(table["height"], "table.height");
+  if (table["pockets"]) s.table.pockets = rd.boolean(table["pockets"], "table.pockets");
+  if (table["corner_mouth"]) s.table.cornerMouth = rd.positive(table["corner_mouth"], "table.corner_mouth");
+  if (table["side_mouth"]) s.table.sideMouth = rd.positive(table["side_mouth"], "table.side_mouth");
+  Table built;
+  try {
+    built = makeTable(s.table);
+  } catch (const std::invalid_argument& e) {
+    fail(rd.at(table, "table"), e.what());
+  }
+
+  // balls: exactly one of balls / rack / random
+  const int sources = (root["balls"] ? 1 : 0) + (root["rack"] ? 1 : 0) + (root["random"] ? 1 : 0);
+  if (sources == 0) fail(Where{source, "balls", root.Mark()}, "missing key (give balls, rack or random)");
+  if (sources > 1) fail(Where{source, "balls", root.Mark()}, "give only one of balls, rack and random");
+  Rng rng(s.seed);
+  if (const YAML::Node rack = root["rack"]) {
+    RackSpec spec;
+    if (rack.IsScalar()) {
+      if (rack.Scalar() != "standard") fail(rd.at(rack, "rack"), "unknown rack '" + rack.Scalar() + "' (standard)");
+    } else {
+      rd.onlyKeys(rack, "rack", {"kind", "gap", "apex", "cue_ball", "radius", "mass"});
+      if (rack["kind"] && rd.text(rack["kind"], "rack.kind") != "standard")
+        fail(rd.at(rack["kind"], "rack.kind"), "unknown rack '" + rack["kind"].Scalar() + "' (standard)");
+      if (rack["gap"]) {
+        spec.gap = rd.number(rack["gap"], "rack.gap");
+        if (spec.gap < 0.0) fail(rd.at(rack["gap"], "rack.gap"), "must be zero or positive");
+      }
+      if (rack["apex"]) spec.apex = rd.vec2(rack["apex"], "rack.apex");
+      if (rack["cue_ball"]) spec.cueBall = rd.vec2(rack["cue_ball"], "rack.cue_ball");
+      if (rack["radius"]) spec.radius = rd.positive(rack["radius"], "rack.radius");
+      if (rack["mass"]) spec.mass = rd.positive(rack["mass"], "rack.mass");
+    }
+    s.balls = standardRack(built, spec, rng);
+    ballMarks.assign(s.balls.size(), rack.Mark());
+  } else if (const YAML::Node rnd = root["random"]) {
+    rd.onlyKeys(rnd, "random", {"count", "speed", "radius", "mass", "clearance"});
+    if (!rnd["count"]) fail(rd.at(rnd, "random.count"), "missing key");
+    const long count = rd.integer(rnd["count"], "random.count");
+    if (count < 1 || count > 1000000) fail(rd.at(rnd["count"], "random.count"), "must be between 1 and 1000000");
+    const double speed = rnd["speed"] ? rd.number(rnd["speed"], "random.speed") : 1.0;
+    if (speed < 0.0) fail(rd.at(rnd["speed"], "random.speed"), "must be zero or positive");
+    const double radius = rnd["radius"] ? rd.positive(rnd["radius"], "random.radius") : kBallRadius;
+    const double mass = rnd["mass"] ? rd.positive(rnd["mass"], "random.mass") : kBallMass;
+    const double clearance = rnd["clearance"] ? rd.number(rnd["clearance"], "random.clearance") : 0.0;
+    if (clearance < 0.0) fail(rd.at(rnd["clearance"], "random.clearance"), "must be zero or positive");
+    try {
+      s.balls = randomBalls(built, static_cast<int>(count), speed, radius, mass, clearance, rng);
+    } catch (const std::invalid_argument& e) {
+      fail(rd.at(rnd, "random"), e.what());
+    }
+    ballMarks.assign(s.balls.size(), rnd.Mark());
+  } else {
+    const YAML::Node balls = root["balls"];
+    if (!balls.IsSequence() || balls.size() == 0) fail(rd.at(balls, "balls"), "must be a non-empty list");
+    for (std::size_t i = 0; i < balls.size(); ++i) {
+      const YAML::Node b = balls[i];
+      const std::string key = indexed("balls", i);
+      rd.onlyKeys(b, key, {"number", "position", "velocity", "radius", "mass", "colour", "color", "pattern"});
+      if (!b["number"]) fail(rd.at(b, key + ".number"), "missing key");
+      if (!b["position"]) fail(rd.at(b, key + ".position"), "missing key");
+      const long number = rd.integer(b["number"], key + ".number");
+      if (number < 0 || number > 1000000) fail(rd.at(b["number"], key + ".number"), "must be between 0 and 1000000");
+      BallSpec spec = makeBall(static_cast<int>(number), rd.vec2(b["position"], key + ".position"));
+      if (b["velocity"]) spec.velocity = rd.vec2(b["velocity"], key + ".velocity");
+      if (b["radius"]) spec.radius = rd.positive(b["radius"], key + ".radius");
+      if (b["mass"]) spec.mass = rd.positive(b["mass"], key + ".mass");
+      for (const char* ck : {"colour", "color"}) {
+        if (!b[ck]) continue;
+        const auto c = parseColour(rd.text(b[ck], key + "." + ck));
+        if (!c) fail(rd.at(b[ck], key + "." + ck), "unknown colour '" + b[ck].Scalar() + "'");
+        spec.colour = *c;
+      }
+      if (b["pattern"]) {
+        const auto p = parsePattern(rd.text(b["pattern"], key + ".pattern"));
+        if (!p) fail(rd.at(b["pattern"], key + ".pattern"), "unknown pattern '" + b["pattern"].Scalar() + "' (solid, striped)");
+        spec.pattern = *p;
+      }
+      s.balls.push_back(spec);
+      // point validation messages at the position (the usual culprit)
+      ballMarks.push_back(b["position"].Mark());
+    }
+  }
+
+  // shots
+  if (const YAML::Node shots = root["shots"]) {
+    if (!shots.IsSequence()) fail(rd.at(shots, "shots"), "must be a list");
+    for (std::size_t k = 0; k < shots.size(); ++k) {
+      const YAML::Node n = shots[k];
+      const std::string key = indexed("shots", k);
+      rd.onlyKeys(n, key, {"ball", "cue", "speed", "angle", "until"});
+      Shot shot;
+      if (n["ball"]) shot.ball = static_cast<int>(rd.integer(n["ball"], key + ".ball"));
+      mark(key + ".ball", n["ball"] ? n["ball"] : n);
+      const bool cue = static_cast<bool>(n["cue"]);
+      const bool polar = n["speed"] || n["angle"];
+      if (cue == polar) fail(rd.at(n, key), "give either cue or speed and angle");
+      if (cue) {
+        const YAML::Node c = n["cue"];
+        rd.onlyKeys(c, key + ".cue", {"from", "to", "scale"});
+        if (!c["from"]) fail(rd.at(c, key + ".cue.from"), "missing key");
+        if (!c["to"]) fail(rd.at(c, key + ".cue.to"), "missing key");
+        const Vec2 from = rd.vec2(c["from"], key + ".cue.from");
+        const Vec2 to = rd.vec2(c["to"], key + ".cue.to");
+        // the report: velocity proportional to the cue vector, in its direction (§2.3)
+        const double scale = c["scale"] ? rd.positive(c["scale"], key + ".cue.scale") : 1.0;
+        shot.velocity = scale * (to - from);
+      } else {
+        if (!n["speed"]) fail(rd.at(n, key + ".speed"), "missing key");
+        if (!n["angle"]) fail(rd.at(n, key + ".angle"), "missing key");
+        const double speed = rd.number(n["speed"], key + ".speed");
+        if (speed < 0.0) fail(rd.at(n["speed"], key + ".speed"), "must be zero or positive");
+        const double deg = rd.number(n["angle"], key + ".angle");
+        const double rad = deg * std::numbers::pi / 180.0;
+        shot.velocity = speed * Vec2(std::cos(rad), std::sin(rad));
+      }
+      if (n["until"]) shot.until = rd.positive(n["until"], key + ".until");
+      s.shots.push_back(shot);
+    }
+  }
+
+  // space
+  if (const YAML::Node sp = root["space"]) {
+    mark("space", sp);
+    rd.onlyKeys(sp, "space", {"kind", "decomposition_factor", "divisions", "max_depth", "cell_size"});
+    if (sp["kind"]) {
+      const std::string k = rd.text(sp["kind"], "space.kind");
+      if (!parseSpaceKind(k, s.space.kind))
+        fail(rd.at(sp["kind"], "space.kind"), "unknown space kind '" + k + "' (none, single, quadtree, cells)");
+    }
+    auto intKey = [&](const char* k, int& out) {
+      if (!sp[k]) return;
+      const std::string key = std::string("space.") + k;
+      mark(key, sp[k]);
+      out = static_cast<int>(std::clamp(rd.integer(sp[k], key), -1L, 1000000000L));
+    };
+    intKey("decomposition_factor", s.space.decompositionFactor);
+    intKey("divisions", s.space.divisions);
+    intKey("max_depth", s.space.maxDepth);
+    if (sp["cell_size"]) {
+      mark("space.cell_size", sp["cell_size"]);
+      s.space.cellSize = rd.number(sp["cell_size"], "space.cell_size");
+    }
+  }
+
+  validate(s, [&](const std::string& key, int ball) {
+    if (ball >= 0 && ball < static_cast<int>(ballMarks.size())) return Where{source, key, ballMarks[ball]};
+    auto it = marks.find(key);
+    return Where{source, key, it != marks.end() ? it->second : root.Mark()};
+  });
+  return s;
+}
+
+}  // namespace
+
+void validateScenario(const Scenario& s, const std::string& source) {
+  validate(s, [&](const std::string& key, int) { return Where{source, key, YAML::Mark::null_mark()}; });
+}
+
+Scenario parseScenario(const std::string& yamlText, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yamlText);
+  } catch (const YAML::ParserException& e) {
+    fail(Where{source, "(syntax)", e.mark}, e.msg);
+  }
+  return parse(root, source);
+}
+
+Scenario loadScenario(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ScenarioError(path + ": cannot open the scenario file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parseScenario(ss.str(), path);
+}
+
+}  // namespace st::pool

@@ -1,0 +1,203 @@
+// The scenario loader's contract (every bad input named by key and line) and the stsim pool
+// command end to end.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <stpool/scenario.hpp>
+
+namespace st::pool {
+namespace {
+
+std::string errorOf(const std::string& yaml) {
+  try {
+    parseScenario(yaml, "s.yaml");
+  } catch (const ScenarioError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+const char* kGood = R"(table: {width: 2.54, height: 1.27, pockets: true}
+balls:
+  - {number: 0, position: [0.6, 0.6]}
+  - {number: 1, position: [1.9, 0.6], colour: yellow}
+shots:
+  - {ball: 0, speed: 2.0, angle: 0}
+)";
+
+TEST(Scenario, GoodScenarioLoads) {
+  const Scenario s = parseScenario(kGood, "s.yaml");
+  ASSERT_EQ(s.balls.size(), 2u);
+  EXPECT_EQ(s.balls[1].colour, Colour::Yellow);
+  ASSERT_EQ(s.shots.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.shots[0].velocity.x(), 2.0);
+  EXPECT_EQ(s.space.kind, SpaceKind::Tree);
+}
+
+TEST(Scenario, CueVectorGivesProportionalVelocity) {
+  const Scenario s = parseScenario(R"(table: {width: 2.54, height: 1.27}
+balls: [{number: 0, position: [0.6, 0.6]}]
+shots: [{cue: {from: [0.6, 0.6], to: [0.9, 0.2], scale: 3}}]
+)", "s.yaml");
+  EXPECT_DOUBLE_EQ(s.shots[0].velocity.x(), 0.9);
+  EXPECT_NEAR(s.shots[0].velocity.y(), -1.2, 1e-15);
+}
+
+TEST(Scenario, MissingKeyNamedWithLine) {
+  EXPECT_EQ(errorOf("table: {width: 2.54}\nrack: standard\n"), "s.yaml:1:8: table.height: missing key");
+  EXPECT_EQ(errorOf("rack: standard\n"), "s.yaml:1:1: table: missing key");
+  EXPECT_EQ(errorOf("table: {width: 2.54, height: 1.27}\n"),
+            "s.yaml:1:1: balls: missing key (give balls, rack or random)");
+}
+
+TEST(Scenario, OverlappingBallsNamed) {
+  EXPECT_EQ(errorOf(R"(table: {width: 2.54, height: 1.27}
+balls:
+  - {number: 0, position: [0.6, 0.6]}
+  - {number: 1, position: [0.65, 0.6]}
+)"),
+            "s.yaml:4:27: balls[1].position: ball 1 overlaps ball 0");
+}
+
+TEST(Scenario, BallOffTableNamed) {
+  EXPECT_EQ(errorOf(R"(table: {width: 2.54, height: 1.27}
+balls:
+  - {number: 0, position: [2.53, 0.6]}
+)"),
+            "s.yaml:3:27: balls[0].position: ball is off the table (its edge crosses a cushion)");
+}
+
+TEST(Scenario, NegativeRadiusNamed) {
+  EXPECT_EQ(errorOf(R"(table: {width: 2.54, height: 1.27}
+balls:
+  - {number: 0, position: [0.6, 0.6], radius: -0.01}
+)"),
+            "s.yaml:3:47: balls[0].radius: must be positive, got -0.01");
+}
+
+TEST(Scenario, UnknownSpaceKindNamed) {
+  EXPECT_EQ(errorOf(std::string(kGood) + "space: {kind: octopus}\n"),
+            "s.yaml:7:15: space.kind: unknown space kind 'octopus' (none, single, quadtree, cells)");
+}
+
+TEST(Scenario, OtherBadInputsNamed) {
+  EXPECT_EQ(errorOf(std::string(kGood) + "until: -3\n"), "s.yaml:7:8: until: must be positive, got -3");
+  EXPECT_EQ(errorOf(std::string(kGood) + "frobnicate: 1\n"), "s.yaml:7:1: frobnicate: unknown key");
+  EXPECT_EQ(errorOf(std::string(kGood) + "space: {divisions: 3}\n"), "s.yaml:7:20: space.divisions: must be 2 or 4");
+  EXPECT_EQ(errorOf(std::string(kGood) + "friction: lots\n"), "s.yaml:7:11: friction: must be a number, got 'lots'");
+  EXPECT_EQ(errorOf(R"(table: {width: 2.54, height: 1.27}
+balls: [{number: 0, position: [0.6, 0.6]}]
+shots: [{ball: 5, speed: 1, angle: 0}]
+)"),
+            "s.yaml:3:16: shots[0].ball: no ball number 5");
+  EXPECT_EQ(errorOf(R"(table: {width: 2.54, height: 1.27}
+balls: [{number: 0, position: [0.6, 0.6]}]
+shots: [{ball: 0, speed: 1}]
+)"),
+            "s.yaml:3:9: shots[0].angle: missing key");
+  EXPECT_EQ(errorOf("table: [1, 2"), "s.yaml:1:1: (syntax): end of sequence flow not found");
+}
+
+TEST(Scenario, ShippedScenariosLoad) {
+  for (const char* name : {"break", "bank_shot", "box100"}) {
+    const std::string path = std::string(STSIM_SOURCE_DIR) + "/models/pool/scenarios/" + name + ".yaml";
+    EXPECT_NO_THROW(loadScenario(path)) << path;
+  }
+  EXPECT_EQ(loadScenario(std::string(STSIM_SOURCE_DIR) + "/models/pool/scenarios/box100.yaml").balls.size(), 100u);
+}
+
+// ---- the command --------------------------------------------------------------------------------
+
+struct Ran {
+  int code;
+  std::string out;
+};
+
+Ran runStsim(const std::string& args) {
+  const std::string cmd = std::string(STSIM_BINARY) + " " + args + " 2>&1";
+  Ran r{-1, ""};
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, p)) r.out += buf;
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::filesystem::path tempDir(const std::string& name) {
+  const auto d = std::filesystem::temp_directory_path() / ("stsim_pool_test_" + name);
+  std::filesystem::remove_all(d);
+  return d;
+}
+
+TEST(PoolCommand, BreakWritesEveryOutput) {
+  const auto dir = tempDir("break");
+  const Ran r = runStsim("pool " + std::string(STSIM_SOURCE_DIR) + "/models/pool/scenarios/break.yaml --out " + dir.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("collision checks"), std::string::npos) << r.out;
+  for (const char* f : {"events.csv", "summary.json", "table.svg", "animation.html"})
+    EXPECT_TRUE(std::filesystem::file_size(dir / f) > 100) << f;
+  // every logged event is in the summary's total
+  const std::string csv = slurp(dir / "events.csv");
+  const auto rows = std::count(csv.begin(), csv.end(), '\n') - 1;
+  const std::string json = slurp(dir / "summary.json");
+  EXPECT_NE(json.find("\"total\": " + std::to_string(rows) + "}"), std::string::npos) << json;
+  const std::string html = slurp(dir / "animation.html");
+  EXPECT_EQ(html.find("http"), std::string::npos);  // self-contained: nothing fetched
+  EXPECT_NE(slurp(dir / "table.svg").find("stroke-dasharray"), std::string::npos);  // space drawn
+}
+
+TEST(PoolCommand, OverridesAndUsageErrors) {
+  const std::string scen = std::string(STSIM_SOURCE_DIR) + "/models/pool/scenarios/break.yaml";
+  const Ran a = runStsim("pool " + scen + " --space single --until 1");
+  EXPECT_EQ(a.code, 0) << a.out;
+  EXPECT_NE(a.out.find("space single"), std::string::npos) << a.out;
+  EXPECT_EQ(runStsim("pool " + scen + " --space octopus").code, 2);
+  EXPECT_EQ(runStsim("pool " + scen + " --df 0").code, 2);
+  EXPECT_EQ(runStsim("pool").code, 2);
+}
+
+TEST(PoolCommand, BadScenarioIsOneLineNonZero) {
+  const auto dir = tempDir("bad");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "bad.yaml") << "table: {width: 2.54, height: 1.27}\nballs:\n  - {number: 0, position: [5, 5]}\n";
+  const Ran r = runStsim("pool " + (dir / "bad.yaml").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  EXPECT_NE(r.out.find("stsim pool: error: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(":3:27: balls[0].position: ball is off the table"), std::string::npos) << r.out;
+}
+
+// Shot 2 strikes a ball that shot 1 pocketed: exit 1, but shot 1's record is written.
+TEST(PoolCommand, ResultsBeforeAFailureAreFlushed) {
+  const auto dir = tempDir("flush");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "s.yaml") << R"(table: {width: 2.54, height: 1.27}
+balls: [{number: 0, position: [1.27, 0.5]}, {number: 1, position: [0.3, 0.3]}]
+shots:
+  - {ball: 0, speed: 2, angle: -90}
+  - {ball: 0, speed: 2, angle: 0}
+)";
+  const Ran r = runStsim("pool " + (dir / "s.yaml").string() + " --out " + (dir / "out").string());
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("error: shot 2: ball 0 was pocketed"), std::string::npos) << r.out;
+  const std::string csv = slurp(dir / "out" / "events.csv");
+  EXPECT_NE(csv.find(",pocket,0,0,1,"), std::string::npos) << csv;
+  EXPECT_NE(slurp(dir / "out" / "summary.json").find("\"error\": \"shot 2: ball 0 was pocketed\""), std::string::npos);
+}
+
+}  // namespace
+}  // namespace st::pool
