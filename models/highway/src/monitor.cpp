@@ -114,6 +114,7 @@ struct HighwayMonitor::Impl {
   std::vector<Vec2> centre;                  // body[].position, compact for the neighbour filter
   std::vector<double> mass, env, accelAbs;
   std::vector<Vec2> ext;                     // envelopeExtent per slot
+  std::vector<double> brakeRatio;            // m / (2 F_brake) per slot (s per m/s)
   std::vector<VehicleClass> vclass;
   std::vector<std::uint8_t> signals;
   std::vector<char> equipped;
@@ -128,6 +129,7 @@ struct HighwayMonitor::Impl {
     int count = 0;
     int equipped = 0;
     bool subdivided = false;
+    int axis = 0;               // the long axis of its members' centres
   };
   std::vector<CellStats> cellStats;
 
@@ -145,6 +147,7 @@ struct HighwayMonitor::Impl {
     mass.resize(n);
     env.resize(n);
     ext.resize(n);
+    brakeRatio.resize(n);
     accelAbs.resize(n);
     vclass.resize(n);
     signals.resize(n);
@@ -160,8 +163,9 @@ struct HighwayMonitor::Impl {
     s.open.clear();
   }
 
+  // the largest car-car safe time of ego e against closing speeds up to relSpeedBound
   double vehicleHorizonBound(int e, double relSpeedBound) const {
-    return cfg.safeTime.vehicleSafeTime(mass[e], relSpeedBound, vclass[e]);
+    return cfg.safeTime.vehicleReactionTime + brakeRatio[e] * relSpeedBound;
   }
 
   void checkPair(int e, int f) {
@@ -254,10 +258,17 @@ struct HighwayMonitor::Impl {
       auto visit = [&](int f) {
         if (f != e && cb.contains(centre[f])) checkPair(e, f);
       };
-      // a congested (subdivided) cell is searched through its space; a small one is listed
-      if (c.subdivided) cells->forEachInCellBox(cell, cb, visit);
-      else
-        for (int f : members[cell]) visit(f);
+      // a congested (subdivided) cell is searched through its space; a small one through its
+      // members sorted along the cell's long axis (a binary search for the reach's range)
+      if (c.subdivided) {
+        cells->forEachInCellBox(cell, cb, visit);
+      } else {
+        const auto& list = sortedMembers[cell];
+        const int ax = c.axis;
+        auto it = std::lower_bound(list.begin(), list.end(), cb.min[ax],
+                                   [](const std::pair<double, int>& m, double v) { return m.first < v; });
+        for (; it != list.end() && it->first <= cb.max[ax]; ++it) visit(it->second);
+      }
     }
   }
 
@@ -290,7 +301,7 @@ struct HighwayMonitor::Impl {
     }
   }
   std::vector<std::vector<int>> neighbours;  // per cell, this tick
-  std::vector<std::vector<int>> members;     // per cell, this tick
+  std::vector<std::vector<std::pair<double, int>>> sortedMembers;  // per cell: (coordinate, slot)
   Vec2 globalVmax = Vec2::Zero();
   double globalAmax = 0.0, globalEnvMax = 0.0;
   Vec2 globalExtMax = Vec2::Zero();
@@ -492,6 +503,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     m.mass[s] = v.mass;
     m.env[s] = envelopeRadius(dc, v.length, v.width);
     m.ext[s] = envelopeExtent(dc, m.body[s]);
+    m.brakeRatio[s] = v.mass / (2.0 * m.cfg.safeTime.brakeForce[static_cast<int>(v.vehicleClass)]);
     m.accelAbs[s] = std::abs(v.acceleration);
     m.vclass[s] = v.vehicleClass;
     m.signals[s] = v.signals;
@@ -513,8 +525,8 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     m.counters.reunions = cc.reunions;
     const int nc = m.cells->cellCount();
     m.cellStats.assign(nc, Impl::CellStats{});
-    m.members.resize(nc);
-    for (auto& v : m.members) v.clear();
+    m.sortedMembers.resize(nc);
+    for (auto& v : m.sortedMembers) v.clear();
     m.globalVmax = Vec2::Zero();
     m.globalAmax = m.globalEnvMax = 0.0;
     m.globalExtMax = Vec2::Zero();
@@ -532,7 +544,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
         c.centres.min = c.centres.min.cwiseMin(m.centre[s]);
         c.centres.max = c.centres.max.cwiseMax(m.centre[s]);
       }
-      m.members[cell].push_back(s);
+      m.sortedMembers[cell].emplace_back(0.0, s);
       c.amax = std::max(c.amax, m.accelAbs[s]);
       c.envMax = std::max(c.envMax, m.env[s]);
       c.extMax = c.extMax.cwiseMax(m.ext[s]);
@@ -546,8 +558,15 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       m.globalExtMax = m.globalExtMax.cwiseMax(m.ext[s]);
     }
     for (int c = 0; c < nc; ++c) {
+      Impl::CellStats& cs = m.cellStats[c];
       const SpaceCounters& sc = m.cells->cellSpace(c).counters();
-      m.cellStats[c].subdivided = sc.subdivisions > sc.reunions;
+      cs.subdivided = sc.subdivisions > sc.reunions;
+      if (cs.count == 0 || cs.subdivided) continue;
+      const Vec2 ext = cs.centres.extent();
+      cs.axis = ext.y() > ext.x() ? 1 : 0;
+      auto& list = m.sortedMembers[c];
+      for (auto& [coord, slot] : list) coord = m.centre[slot][cs.axis];
+      std::sort(list.begin(), list.end());
     }
     m.buildNeighbourLists();
   }
