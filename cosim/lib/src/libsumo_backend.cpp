@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "backend_common.hpp"
+#include "sumo_process.hpp"
 #include <stcosim/backend.hpp>
 
 namespace st::cosim {
@@ -77,7 +78,11 @@ class LibsumoBackend final : public Backend {
   }
 
   Rgba color(const std::string& id) override {
-    const auto c = libsumo::Vehicle::getColor(id);
+    auto c = libsumo::Vehicle::getColor(id);
+    // a vehicle without a colour of its own reports SUMO's default yellow but is drawn in its
+    // type's colour: that is the colour to restore
+    if (c.r == 255 && c.g == 255 && c.b == 0 && c.a == 255)
+      c = libsumo::VehicleType::getColor(libsumo::Vehicle::getTypeID(id));
     return {static_cast<std::uint8_t>(c.r), static_cast<std::uint8_t>(c.g), static_cast<std::uint8_t>(c.b),
             static_cast<std::uint8_t>(c.a)};
   }
@@ -165,6 +170,7 @@ class LibsumoBackend final : public Backend {
 }  // namespace
 
 std::unique_ptr<Backend> startLibsumo(const SumoLaunch& launch) {
+  detail::ensureSumoHome();
   std::vector<std::string> cmd{"sumo"};
   cmd.insert(cmd.end(), launch.args.begin(), launch.args.end());
   try {

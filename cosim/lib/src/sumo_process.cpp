@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <deque>
 #include <fstream>
@@ -21,6 +22,11 @@
 extern char** environ;
 
 namespace st::cosim::detail {
+
+void ensureSumoHome() {
+  if (std::getenv("SUMO_HOME") == nullptr && ::access("/usr/share/sumo/data/xsd", F_OK) == 0)
+    ::setenv("SUMO_HOME", "/usr/share/sumo", 0);
+}
 
 int freePort() {
   // bind to port 0 and let the kernel pick; the small race until SUMO binds is accepted practice
@@ -61,6 +67,7 @@ bool portListening(int port) {
 
 SumoProcess::SumoProcess(const std::string& binary, const std::vector<std::string>& args, const std::string& logFile)
     : log_(logFile) {
+  ensureSumoHome();
   port_ = freePort();
   std::vector<std::string> argv{binary};
   argv.insert(argv.end(), args.begin(), args.end());
@@ -125,15 +132,25 @@ void SumoProcess::stop(double seconds) noexcept {
 }
 
 std::string SumoProcess::logTail() const {
+  // SUMO's first error, with its indented detail lines ("In file ...", "At line/column ...") joined
+  // into one line; else the last line of the log
   if (log_.empty()) return {};
   std::ifstream in(log_);
-  std::string line, errorLine, last;
+  std::string line, error, last;
+  bool inError = false;
   while (std::getline(in, line)) {
     if (line.empty()) continue;
-    if (line.rfind("Error", 0) == 0 && errorLine.empty()) errorLine = line;
+    if (error.empty() && line.rfind("Error", 0) == 0) {
+      error = line;
+      inError = true;
+    } else if (inError && line[0] == ' ') {
+      error += ";" + line;
+    } else {
+      inError = false;
+    }
     last = line;
   }
-  return errorLine.empty() ? last : errorLine;
+  return error.empty() ? last : error;
 }
 
 }  // namespace st::cosim::detail

@@ -29,6 +29,11 @@ class SumoProcess {
   std::string log_;
 };
 
+// SUMO validates its XML inputs against the schemas under $SUMO_HOME/data/xsd; without SUMO_HOME it
+// tries to fetch them from the web and, offline, rejects every input. If SUMO_HOME is unset and
+// Debian's /usr/share/sumo exists, sets it (for this process and the SUMO processes it starts).
+void ensureSumoHome();
+
 // A TCP port that nothing listens on right now.
 int freePort();
 // True if some socket on this host listens on `port` (from /proc/net/tcp{,6}); lets us wait for

@@ -50,8 +50,16 @@ class TraciBackend final : public Backend {
       libtraci::Simulation::init(port, process_ ? 1 : 10, host, label_);
       if (order_ > 0) libtraci::Simulation::setOrder(order_);
     } catch (const std::exception& e) {
-      if (process_) process_->stop(0.0);
-      throw SumoError("cannot connect to SUMO at " + where() + ": " + e.what());
+      std::string msg = "cannot connect to SUMO at " + where() + ": " + e.what();
+      if (process_) {
+        // SUMO listens before it loads its inputs: a bad input shows up as a dropped connection;
+        // give it a moment to exit and report its own error line
+        process_->stop(2.0);
+        const std::string tail = process_->logTail();
+        if (!tail.empty()) msg = "SUMO failed: " + tail;
+      }
+      closed_ = true;
+      throw SumoError(msg);
     }
     guard([&] {
       deltaT_ = libtraci::Simulation::getDeltaT();
@@ -143,7 +151,11 @@ class TraciBackend final : public Backend {
   Rgba color(const std::string& id) override {
     Rgba out;
     guard([&] {
-      const auto c = libtraci::Vehicle::getColor(id);
+      auto c = libtraci::Vehicle::getColor(id);
+      // a vehicle without a colour of its own reports SUMO's default yellow but is drawn in its
+      // type's colour: that is the colour to restore
+      if (c.r == 255 && c.g == 255 && c.b == 0 && c.a == 255)
+        c = libtraci::VehicleType::getColor(libtraci::Vehicle::getTypeID(id));
       out = {static_cast<std::uint8_t>(c.r), static_cast<std::uint8_t>(c.g), static_cast<std::uint8_t>(c.b),
              static_cast<std::uint8_t>(c.a)};
     });
@@ -207,7 +219,13 @@ class TraciBackend final : public Backend {
     try {
       libtraci::Simulation::switchConnection(label_);
       f();
-    } catch (const libsumo::FatalTraCIError& e) {
+    } catch (const libsumo::TraCIException& e) {
+      // SUMO refused a command (unknown id, bad value); the connection is fine
+      throw SumoError(std::string("TraCI: ") + e.what());
+    } catch (const SumoError&) {
+      throw;
+    } catch (const std::exception& e) {
+      // FatalTraCIError, or tcpip::SocketException when the peer resets the connection
       broken_ = true;
       std::string msg = "TraCI connection to " + where() + " lost at t = " + std::to_string(time_) + " s: " + e.what();
       if (process_) {
@@ -215,8 +233,6 @@ class TraciBackend final : public Backend {
         if (!tail.empty()) msg += " (SUMO: " + tail + ")";
       }
       throw SumoError(msg);
-    } catch (const libsumo::TraCIException& e) {
-      throw SumoError(std::string("TraCI: ") + e.what());
     }
   }
 

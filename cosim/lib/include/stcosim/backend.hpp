@@ -119,6 +119,7 @@ class Backend {
   virtual std::vector<SumoLane> lanes() = 0;
 
   // Actions.
+  // The colour the vehicle is drawn in (its own, else its type's).
   virtual Rgba color(const std::string& vehicleId) = 0;
   virtual void setColor(const std::string& vehicleId, Rgba c) = 0;
   virtual void slowDown(const std::string& vehicleId, double speed, double duration) = 0;

@@ -41,7 +41,9 @@ struct ActionConfig {
   Action action = Action::Color;
   // Colour: yellow while a warning holds, red while TTC < redFraction * safe time; the vehicle's
   // own colour comes back when the warning ends. Colours are also applied with Action::Brake.
-  Rgba warningColor{255, 255, 0, 255};
+  // The yellow is gold (255, 215, 0), not SUMO's default vehicle colour (255, 255, 0), so a warned
+  // car is never mistaken for one that has no colour of its own.
+  Rgba warningColor{255, 215, 0, 255};
   Rgba dangerColor{255, 0, 0, 255};
   double redFraction = 0.5;
   // Brake: on a car-car warning (except from the rear zone, where braking makes it worse) the

@@ -1,0 +1,112 @@
+// `stsim highway SCENARIO` end to end: outputs, determinism, bad input, Ctrl-C.
+#include <gtest/gtest.h>
+
+#include <thread>
+
+#include "test_util.hpp"
+
+namespace st::cosim {
+namespace {
+
+using namespace st::cosim::test;
+
+TEST(HighwayCli, MotorwayRunWritesWarningsSummaryAndCollisions) {
+  const auto dir = freshDir("cli_run");
+  const auto r = runStsim({"highway", motorway().string(), "--end", "60", "--out", dir.string()}, dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("warnings"), std::string::npos);
+  std::size_t rows = 0;
+  EXPECT_TRUE(validWarningsCsv(dir / "warnings.csv", &rows));
+  EXPECT_GT(rows, 10u);
+  const std::string summary = slurp(dir / "summary.json");
+  EXPECT_EQ(jsonString(summary, "stop_reason"), "end");
+  EXPECT_EQ(jsonString(summary, "backend"), "libsumo");
+  EXPECT_DOUBLE_EQ(jsonNumber(summary, "simulated_s"), 60.0);
+  EXPECT_DOUBLE_EQ(jsonNumber(summary, "steps"), 600.0);
+  EXPECT_GT(jsonNumber(summary, "sumo_seconds"), 0.0);
+  EXPECT_GT(jsonNumber(summary, "stsim_seconds"), 0.0);
+  EXPECT_GT(jsonNumber(summary, "color_changes"), 0.0);
+  // the warnings counted in the summary are the rows of the CSV
+  EXPECT_DOUBLE_EQ(jsonNumber(summary, "total"), static_cast<double>(rows));
+  EXPECT_EQ(lines(slurp(dir / "collisions.csv"))[0], "time,collider,victim,type,lane,pos,collider_speed,victim_speed");
+}
+
+TEST(HighwayCli, DeterministicForASeedAndPenetrationDrawsThatShare) {
+  const auto dir = freshDir("cli_seed");
+  auto go = [&](const std::string& name, const std::string& seed) {
+    const auto r = runStsim({"highway", motorway().string(), "--end", "120", "--penetration", "0.5", "--seed", seed,
+                             "--out", (dir / name).string()},
+                            dir);
+    EXPECT_EQ(r.code, 0) << r.err;
+    return slurp(dir / name / "warnings.csv");
+  };
+  const std::string a = go("a", "7"), b = go("b", "7"), c = go("c", "8");
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, c);
+  const std::string summary = slurp(dir / "a/summary.json");
+  const double equipped = jsonNumber(summary, "equipped_vehicles"), seen = jsonNumber(summary, "vehicles");
+  EXPECT_GT(seen, 100.0);
+  // binomial(n, 0.5) within 4 sd
+  EXPECT_NEAR(equipped / seen, 0.5, 4.0 * 0.5 / std::sqrt(seen));
+}
+
+TEST(HighwayCli, MissingNetworkFileIsOneLineError) {
+  const auto dir = freshDir("cli_missing_net");
+  std::ofstream(dir / "x.sumocfg") << "<configuration><input><net-file value=\"absent.net.xml\"/>"
+                                      "<route-files value=\"absent.rou.xml\"/></input></configuration>";
+  const auto r = runStsim({"highway", (dir / "x.sumocfg").string(), "--out", (dir / "out").string()}, dir);
+  EXPECT_EQ(r.code, 1);
+  const auto ls = lines(r.err);
+  ASSERT_EQ(ls.size(), 1u) << r.err;
+  EXPECT_NE(ls[0].find("absent.net.xml"), std::string::npos) << ls[0];
+  EXPECT_NE(ls[0].find("does not exist"), std::string::npos) << ls[0];
+}
+
+TEST(HighwayCli, MissingRouteFileIsOneLineError) {
+  const auto dir = freshDir("cli_missing_routes");
+  std::filesystem::copy_file(sourceDir() / "networks/motorway/motorway.net.xml", dir / "m.net.xml");
+  std::ofstream(dir / "x.sumocfg") << "<configuration><input><net-file value=\"m.net.xml\"/>"
+                                      "<route-files value=\"absent.rou.xml\"/></input></configuration>";
+  std::ofstream(dir / "s.yaml") << "sumocfg: x.sumocfg\n";
+  const auto r = runStsim({"highway", (dir / "s.yaml").string(), "--out", (dir / "out").string()}, dir);
+  EXPECT_EQ(r.code, 1);
+  const auto ls = lines(r.err);
+  ASSERT_EQ(ls.size(), 1u) << r.err;
+  EXPECT_NE(ls[0].find("route-files"), std::string::npos) << ls[0];
+  EXPECT_NE(ls[0].find("absent.rou.xml"), std::string::npos) << ls[0];
+}
+
+TEST(HighwayCli, MissingScenarioAndMalformedYamlAreOneLineErrors) {
+  const auto dir = freshDir("cli_bad_yaml");
+  auto r = runStsim({"highway", (dir / "nothing.yaml").string()}, dir);
+  EXPECT_EQ(r.code, 1);
+  ASSERT_EQ(lines(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("nothing.yaml: no such file"), std::string::npos) << r.err;
+  std::ofstream(dir / "bad.yaml") << "sumocfg: ../x.sumocfg\nend: soon\n";
+  r = runStsim({"highway", (dir / "bad.yaml").string()}, dir);
+  EXPECT_EQ(r.code, 1);
+  ASSERT_EQ(lines(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("bad.yaml:2: end: must be a number"), std::string::npos) << r.err;
+}
+
+TEST(HighwayCli, CtrlCStopsCleanlyWithResultsFlushed) {
+  const auto dir = freshDir("cli_sigint");
+  StsimProcess p({"highway", motorway().string(), "--out", (dir / "out").string()}, dir);
+  // wait until SUMO runs (the summary is written only at the end, so watch the progress of time)
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  p.signal(SIGINT);
+  const int code = p.wait();
+  EXPECT_EQ(code, 130) << p.err();
+  EXPECT_NE(p.err().find("interrupted at t = "), std::string::npos) << p.err();
+  std::size_t rows = 0;
+  EXPECT_TRUE(validWarningsCsv(dir / "out/warnings.csv", &rows));
+  const std::string summary = slurp(dir / "out/summary.json");
+  EXPECT_EQ(jsonString(summary, "stop_reason"), "interrupted");
+  const double simulated = jsonNumber(summary, "simulated_s");
+  EXPECT_GT(simulated, 0.0);
+  EXPECT_LT(simulated, 420.0);
+  EXPECT_DOUBLE_EQ(jsonNumber(summary, "total"), static_cast<double>(rows));
+}
+
+}  // namespace
+}  // namespace st::cosim

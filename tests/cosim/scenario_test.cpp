@@ -1,0 +1,81 @@
+// Scenario YAML and SUMO configuration checks: bad input gives one line naming the file and field.
+#include <gtest/gtest.h>
+
+#include "test_util.hpp"
+#include <stcosim/scenario.hpp>
+
+namespace st::cosim {
+namespace {
+
+using namespace st::cosim::test;
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ScenarioError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Scenario, MotorwayLoads) {
+  const Scenario s = loadScenario(motorway());
+  EXPECT_EQ(s.sumocfg, motorway().parent_path() / "motorway.sumocfg");
+  EXPECT_EQ(s.seed, 42u);
+  ASSERT_TRUE(s.end.has_value());
+  EXPECT_DOUBLE_EQ(*s.end, 420.0);
+  EXPECT_EQ(s.plugin.monitor.detector.kind, highway::DetectorKind::FiveCircle);
+  EXPECT_DOUBLE_EQ(s.plugin.monitor.safeTime.brakeForce[1], 75000.0);
+  const SumoConfigFiles f = checkSumoConfig(s.sumocfg);
+  EXPECT_EQ(f.net.filename(), "motorway.net.xml");
+  ASSERT_EQ(f.routes.size(), 1u);
+  EXPECT_DOUBLE_EQ(*f.stepLength, 0.1);
+}
+
+TEST(Scenario, PlainSumocfgTakesItsSeed) {
+  const Scenario s = loadScenario(sourceDir() / "networks/motorway/motorway.sumocfg");
+  EXPECT_EQ(s.seed, 42u);
+  EXPECT_EQ(s.plugin.monitor.detector.kind, highway::DetectorKind::FiveCircle);
+}
+
+TEST(Scenario, MissingNetworkOrRouteFileIsNamed) {
+  const auto dir = freshDir("missing_files");
+  std::ofstream(dir / "a.sumocfg") << "<configuration><input><net-file value=\"gone.net.xml\"/></input></configuration>";
+  std::string e = errorOf([&] { checkSumoConfig(dir / "a.sumocfg"); });
+  EXPECT_NE(e.find("net-file"), std::string::npos) << e;
+  EXPECT_NE(e.find("gone.net.xml"), std::string::npos) << e;
+  std::filesystem::copy_file(sourceDir() / "networks/motorway/motorway.net.xml", dir / "m.net.xml");
+  std::ofstream(dir / "b.sumocfg") << "<configuration><input><net-file value=\"m.net.xml\"/>"
+                                      "<route-files value=\"m.rou.xml,missing.rou.xml\"/></input></configuration>";
+  e = errorOf([&] { checkSumoConfig(dir / "b.sumocfg"); });
+  EXPECT_NE(e.find("route-files"), std::string::npos) << e;
+  EXPECT_NE(e.find("m.rou.xml"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos);
+}
+
+TEST(Scenario, MalformedYamlNamesFileAndLine) {
+  const auto dir = freshDir("bad_yaml");
+  std::ofstream(dir / "s.yaml") << "sumocfg: x.sumocfg\ndetector: [five\n";
+  std::string e = errorOf([&] { loadScenario(dir / "s.yaml"); });
+  EXPECT_NE(e.find("s.yaml:"), std::string::npos) << e;
+  EXPECT_NE(e.find("malformed YAML"), std::string::npos) << e;
+}
+
+TEST(Scenario, UnknownKeyAndBadValuesAreNamed) {
+  const auto dir = freshDir("bad_keys");
+  std::ofstream(dir / "a.yaml") << "sumocfg: x.sumocfg\ndetectr: five\n";
+  std::string e = errorOf([&] { loadScenario(dir / "a.yaml"); });
+  EXPECT_NE(e.find("a.yaml:2: detectr: unknown key"), std::string::npos) << e;
+  std::ofstream(dir / "b.yaml") << "sumocfg: x.sumocfg\npenetration: 1.5\n";
+  e = errorOf([&] { loadScenario(dir / "b.yaml"); });
+  EXPECT_NE(e.find("b.yaml:2: penetration: must be in [0, 1]"), std::string::npos) << e;
+  std::ofstream(dir / "c.yaml") << "sumocfg: x.sumocfg\nsafe_time: {brake_force: {lorry: 1}}\n";
+  e = errorOf([&] { loadScenario(dir / "c.yaml"); });
+  EXPECT_NE(e.find("safe_time.brake_force.lorry: unknown key"), std::string::npos) << e;
+  std::ofstream(dir / "d.yaml") << "detector: five\n";
+  e = errorOf([&] { loadScenario(dir / "d.yaml"); });
+  EXPECT_NE(e.find("sumocfg: missing"), std::string::npos) << e;
+}
+
+}  // namespace
+}  // namespace st::cosim

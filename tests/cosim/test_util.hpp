@@ -1,0 +1,121 @@
+#pragma once
+// Helpers for the cosim tests: run the stsim binary, read its outputs.
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+extern char** environ;
+
+namespace st::cosim::test {
+
+inline std::filesystem::path sourceDir() { return STSIM_SOURCE_DIR; }
+inline std::filesystem::path motorway() { return sourceDir() / "networks/motorway/scenario.yaml"; }
+
+// A fresh directory under the build's temp area.
+inline std::filesystem::path freshDir(const std::string& name) {
+  const auto d = std::filesystem::temp_directory_path() / ("stsim_cosim_test_" + std::to_string(::getpid())) / name;
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d;
+}
+
+inline std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+inline std::vector<std::string> lines(const std::string& s) {
+  std::vector<std::string> out;
+  std::istringstream in(s);
+  std::string l;
+  while (std::getline(in, l))
+    if (!l.empty()) out.push_back(l);
+  return out;
+}
+
+// A number after "key": in a JSON text (first occurrence); NaN if absent.
+inline double jsonNumber(const std::string& json, const std::string& key, std::size_t from = 0) {
+  const auto k = json.find("\"" + key + "\":", from);
+  if (k == std::string::npos) return std::nan("");
+  return std::stod(json.substr(k + key.size() + 3));
+}
+inline std::string jsonString(const std::string& json, const std::string& key) {
+  std::smatch m;
+  const std::regex re("\"" + key + "\": \"([^\"]*)\"");
+  return std::regex_search(json, m, re) ? m[1].str() : std::string();
+}
+
+// stsim started as a child process; stdout/stderr go to files in `dir`.
+class StsimProcess {
+ public:
+  StsimProcess(const std::vector<std::string>& args, const std::filesystem::path& dir) : dir_(dir) {
+    std::vector<std::string> argv{STSIM_BINARY};
+    argv.insert(argv.end(), args.begin(), args.end());
+    std::vector<char*> c;
+    for (auto& a : argv) c.push_back(a.data());
+    c.push_back(nullptr);
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    const std::string out = (dir / "stdout.txt").string(), err = (dir / "stderr.txt").string();
+    posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (posix_spawn(&pid_, c[0], &fa, nullptr, c.data(), environ) != 0) pid_ = -1;
+    posix_spawn_file_actions_destroy(&fa);
+  }
+  ~StsimProcess() {
+    if (pid_ > 0) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+    }
+  }
+  pid_t pid() const { return pid_; }
+  void signal(int sig) { ::kill(pid_, sig); }
+  // Exit code, or 128 + signal.
+  int wait() {
+    int status = 0;
+    ::waitpid(pid_, &status, 0);
+    pid_ = -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  }
+  std::string out() const { return slurp(dir_ / "stdout.txt"); }
+  std::string err() const { return slurp(dir_ / "stderr.txt"); }
+
+ private:
+  std::filesystem::path dir_;
+  pid_t pid_ = -1;
+};
+
+struct RunResult {
+  int code;
+  std::string out, err;
+};
+inline RunResult runStsim(const std::vector<std::string>& args, const std::filesystem::path& dir) {
+  StsimProcess p(args, dir);
+  const int code = p.wait();
+  return {code, p.out(), p.err()};
+}
+
+// warnings.csv must be a header plus rows of exactly 10 fields.
+inline bool validWarningsCsv(const std::filesystem::path& p, std::size_t* rows = nullptr) {
+  const auto ls = lines(slurp(p));
+  if (ls.empty() || ls[0] != "ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open") return false;
+  for (std::size_t i = 1; i < ls.size(); ++i)
+    if (std::count(ls[i].begin(), ls[i].end(), ',') != 9) return false;
+  if (rows) *rows = ls.size() - 1;
+  return true;
+}
+
+}  // namespace st::cosim::test
