@@ -1,0 +1,78 @@
+// pool_break: the 10 s break of models/pool/scenarios/break.yaml (or the scenario given as the
+// first argument) on every space kind, printed side by side: wall time (median of repeats),
+// events/s, collision checks. Every kind plays the same shot (tests/models/pool/versions_test.cpp),
+// so the columns compare only the cost of finding it. Reference: version I, the report's one space.
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include <stpool/game.hpp>
+#include <stpool/report.hpp>
+#include <stpool/scenario.hpp>
+
+namespace {
+
+struct Column {
+  const char* label;
+  st::SpaceKind kind;
+  int df;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace st::pool;
+  const std::string path =
+      argc > 1 ? argv[1] : std::string(STSIM_SOURCE_DIR) + "/models/pool/scenarios/break.yaml";
+  const int repeats = argc > 2 ? std::max(1, std::atoi(argv[2])) : 15;
+  Scenario base;
+  try {
+    base = loadScenario(path);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pool_break: %s\n", e.what());
+    return 1;
+  }
+  const Column columns[] = {{"none (NS)", st::SpaceKind::None, 0}, {"single (I)", st::SpaceKind::Single, 0},
+                            {"tree df 2", st::SpaceKind::Tree, 2},  {"tree df 5", st::SpaceKind::Tree, 5},
+                            {"tree df 10", st::SpaceKind::Tree, 10}, {"cells 0.15m", st::SpaceKind::Cells, 0}};
+  std::printf("pool_break: %s, %zu balls, %d repeats (median wall time)\n\n", path.c_str(), base.balls.size(),
+              repeats);
+  std::printf("%-12s %12s %12s %12s %12s %12s %10s\n", "space", "wall ms", "events", "events/s", "collisions",
+              "checks", "vs single");
+  struct Row {
+    double wall;
+    std::uint64_t events, collisions, checks;
+  };
+  std::vector<Row> rows;
+  for (const Column& c : columns) {
+    Scenario s = base;
+    s.space.kind = c.kind;
+    if (c.df > 0) s.space.decompositionFactor = c.df;
+    s.space.cellSize = 0.15;
+    std::vector<double> walls;
+    std::uint64_t events = 0, collisions = 0, checks = 0;
+    for (int k = 0; k < repeats; ++k) {
+      Game game(s, simulatorConfig(s));
+      const RunRecord run = playScenario(game, s);
+      walls.push_back(run.wallSeconds);
+      events = game.simulator().counters().totalEvents();
+      collisions = game.simulator().counters().collisions();
+      checks = game.simulator().counters().pairChecks;
+    }
+    std::nth_element(walls.begin(), walls.begin() + walls.size() / 2, walls.end());
+    rows.push_back(Row{walls[walls.size() / 2], events, collisions, checks});
+  }
+  const double singleWall = rows[1].wall;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Row& r = rows[i];
+    std::printf("%-12s %12.3f %12llu %12.3g %12llu %12llu %9.2fx\n", columns[i].label, 1e3 * r.wall,
+                static_cast<unsigned long long>(r.events), static_cast<double>(r.events) / r.wall,
+                static_cast<unsigned long long>(r.collisions), static_cast<unsigned long long>(r.checks),
+                r.wall / singleWall);
+  }
+  std::printf("\nevents include space-boundary crossings (tree, cells); collisions are ball-ball, cushion, jaw "
+              "and pocket events, the same in every column.\n");
+  return 0;
+}
