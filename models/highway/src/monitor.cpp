@@ -90,6 +90,7 @@ struct HighwayMonitor::Impl {
     bool present = false;
     int input = -1;         // index in the current span
     Vec2 prev = Vec2::Zero();
+    double length = -1.0, width = -1.0, heading = 0.0;  // of the cached envelopes
     std::vector<Episode> open;
     std::array<bool, kWarningKindCount> exposed{};
     std::array<double, kWarningKindCount> deficit{};
@@ -243,7 +244,8 @@ struct HighwayMonitor::Impl {
     }
     const Body& a = body[e];
     const bool accel = cfg.detector.motion == MotionModel::ConstantAcceleration;
-    for (int cell : neighbours[cells->servingCell(e)]) {
+    for (const auto& nb : neighbours[cells->servingCell(e)]) {
+      const int cell = nb.first;
       const CellStats& c = cellStats[cell];
       // per axis: the relative displacement along x (y) within the look-ahead is bounded by
       // the largest relative velocity along x (y) against the cell's members
@@ -278,6 +280,7 @@ struct HighwayMonitor::Impl {
     const bool accel = cfg.detector.motion == MotionModel::ConstantAcceleration;
     const double tr = cfg.safeTime.vehicleReactionTime;
     neighbours.resize(cellStats.size());
+    roadNear.resize(cellStats.size());
     for (int A = 0; A < static_cast<int>(cellStats.size()); ++A) {
       neighbours[A].clear();
       const CellStats& ca = cellStats[A];
@@ -296,11 +299,23 @@ struct HighwayMonitor::Impl {
         const double ab = accel ? ca.amax + cb.amax : 0.0;
         const double h = tr + ca.kMax * std::sqrt(dx * dx + dy * dy);
         const Vec2 r = Vec2(dx, dy) * h + ca.extMax + cb.extMax + Vec2::Constant(0.5 * ab * h * h);
-        if (Aabb<2>{ca.centres.min - r, ca.centres.max + r}.overlaps(cb.centres)) neighbours[A].push_back(B);
+        if (Aabb<2>{ca.centres.min - r, ca.centres.max + r}.overlaps(cb.centres)) neighbours[A].emplace_back(B, r);
       });
+      // road features any member could reach within its largest road safe time
+      roadNear[A].clear();
+      if (featureIndex && cfg.checkRoad) {
+        const double speed = va.norm();
+        const double h = cfg.safeTime.roadReactionTime + ca.kMax * speed;
+        const double rr = ca.envMax + speed * h + 0.5 * (accel ? ca.amax : 0.0) * h * h;
+        const Aabb<2> rb{ca.centres.min.array() - rr, ca.centres.max.array() + rr};
+        featureIndex->forEachInBox(rb, [&](int fi) { roadNear[A].push_back(fi); });
+      }
     }
   }
-  std::vector<std::vector<int>> neighbours;  // per cell, this tick
+  // per cell, this tick: (cell, reach half extents) of the cells its cars may meet, and the road
+  // features they may reach
+  std::vector<std::vector<std::pair<int, Vec2>>> neighbours;
+  std::vector<std::vector<int>> roadNear;
   std::vector<std::vector<std::pair<double, int>>> sortedMembers;  // per cell: (coordinate, slot)
   Vec2 globalVmax = Vec2::Zero();
   double globalAmax = 0.0, globalEnvMax = 0.0;
@@ -312,13 +327,7 @@ struct HighwayMonitor::Impl {
       for (int fi = 0; fi < static_cast<int>(features.features.size()); ++fi) checkFeature(e, fi);
       return;
     }
-    const Body& a = body[e];
-    const double speed = a.velocity.norm();
-    const double ac = cfg.detector.motion == MotionModel::ConstantAcceleration ? accelAbs[e] : 0.0;
-    const double h = cfg.safeTime.roadSafeTime(mass[e], speed, vclass[e]);
-    const double r = env[e] + speed * h + 0.5 * ac * h * h;
-    const Aabb<2> box{a.position.array() - r, a.position.array() + r};
-    featureIndex->forEachInBox(box, [&](int fi) { checkFeature(e, fi); });
+    for (int fi : roadNear[cells->servingCell(e)]) checkFeature(e, fi);
   }
 
   void merge(int e, double t) {
@@ -501,8 +510,14 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     m.body[s] = bodyOf(v);
     m.centre[s] = v.position;
     m.mass[s] = v.mass;
-    m.env[s] = envelopeRadius(dc, v.length, v.width);
-    m.ext[s] = envelopeExtent(dc, m.body[s]);
+    if (v.length != sl.length || v.width != sl.width || v.heading != sl.heading) {
+      // sizes rarely change, headings only on curves: keep the envelopes until they do
+      m.env[s] = envelopeRadius(dc, v.length, v.width);
+      m.ext[s] = envelopeExtent(dc, m.body[s]);
+      sl.length = v.length;
+      sl.width = v.width;
+      sl.heading = v.heading;
+    }
     m.brakeRatio[s] = v.mass / (2.0 * m.cfg.safeTime.brakeForce[static_cast<int>(v.vehicleClass)]);
     m.accelAbs[s] = std::abs(v.acceleration);
     m.vclass[s] = v.vehicleClass;
