@@ -111,15 +111,35 @@ struct CellNetwork::Impl {
     const int gx = static_cast<int>(std::floor((p.x() - gridOrigin.x()) / gridSize));
     const int gy = static_cast<int>(std::floor((p.y() - gridOrigin.y()) / gridSize));
     const double range2 = cfg.radioRange * cfg.radioRange;
-    for (int x = std::max(0, gx - 1); x <= std::min(gridNx - 1, gx + 1); ++x)
-      for (int y = std::max(0, gy - 1); y <= std::min(gridNy - 1, gy + 1); ++y)
-        for (int s : grid[x * gridNy + y]) {
-          const double d = distSq(s, p);
-          if (d <= range2 && (d < bestD || (d == bestD && s < best))) {
-            bestD = d;
-            best = s;
-          }
+    auto scan = [&](int x, int y) {
+      if (x < 0 || y < 0 || x >= gridNx || y >= gridNy) return;
+      for (int s : grid[x * gridNy + y]) {
+        const double d = distSq(s, p);
+        if (d <= range2 && (d < bestD || (d == bestD && s < best))) {
+          bestD = d;
+          best = s;
         }
+      }
+    };
+    // rings of grid squares outwards: every site beyond ring k is at least k squares away, so
+    // the search stops once the best is nearer than that
+    for (int k = 0;; ++k) {
+      if (k == 0) {
+        scan(gx, gy);
+      } else {
+        for (int i = -k; i <= k; ++i) {
+          scan(gx + i, gy - k);
+          scan(gx + i, gy + k);
+        }
+        for (int j = -k + 1; j <= k - 1; ++j) {
+          scan(gx - k, gy + j);
+          scan(gx + k, gy + j);
+        }
+      }
+      const double reach = k * gridSize;
+      if (best >= 0 && bestD < reach * reach) return best;
+      if (reach > cfg.radioRange + gridSize) break;
+    }
     if (best >= 0) return best;
     for (int s = 0; s < static_cast<int>(sites.size()); ++s) {
       const double d = distSq(s, p);
@@ -212,9 +232,10 @@ CellNetwork::CellNetwork(const RoadGeometry& road, const RoadFeatures& features,
                                  Space<2>(SpaceKind::Tree, grown(features.bounds, config.cellLength), cellRule), {}, {}, 0});
   }
   // the site grid
-  m.gridSize = config.radioRange;
+  m.gridSize = std::min(config.cellLength, config.radioRange);
   m.gridOrigin = features.bounds.min.array() - config.radioRange;
   const Vec2 ext = features.bounds.extent().array() + 2.0 * config.radioRange;
+  while ((ext.x() / m.gridSize) * (ext.y() / m.gridSize) > 4e6) m.gridSize *= 2.0;
   m.gridNx = std::max(1, static_cast<int>(std::ceil(ext.x() / m.gridSize)));
   m.gridNy = std::max(1, static_cast<int>(std::ceil(ext.y() / m.gridSize)));
   m.grid.assign(static_cast<std::size_t>(m.gridNx) * m.gridNy, {});
