@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <tuple>
 
 #include <starm/scenario.hpp>
 
@@ -91,6 +92,61 @@ TEST(Scenario, ErrorsNameFileLineAndKey) {
               "models:\n  m:\n    convention: modified\n    joints: [{d: 0.1}]\n    capsules: [{body: 5, a: [0, 0, 0], b: [0, 0, 1], radius: 0.1}]\n" +
                   std::string("arms:\n  - {name: a, model: m, waypoints: [{t: 0, q: [0]}]}\n"),
               "models.m.capsules[0].body: expected a body index 0..2");
+}
+
+TEST(Scenario, CsvTraceGivesTheSameWarningsAsTheScriptItRecords) {
+  // record the two-Panda waypoint motion to CSV at full precision, replay it through CsvSensor
+  const Scenario s = loadScenario(std::string(STSIM_SOURCE_DIR) + "/models/arm/scenarios/two_pandas.yaml");
+  const fs::path csv = write("trace.csv", "");
+  {
+    std::ofstream out(csv);
+    out.precision(17);
+    auto src = makeSensor(s);
+    Reading r;
+    while (src->next(r)) {
+      out << r.t << ", " << s.arms[r.arm].name;
+      for (double v : r.q) out << ", " << v;
+      for (double v : r.qdot) out << ", " << v;
+      out << "\n";
+    }
+  }
+  Scenario replay = s;
+  replay.scripts.clear();
+  replay.tracePath = csv.string();
+  auto collect = [](const Scenario& sc) {
+    Monitor m = makeMonitor(sc);
+    auto src = makeSensor(sc);
+    RunStats st;
+    std::vector<std::tuple<double, int, int, int, int, double, double>> out;
+    run(m, *src, st, [&](const Monitor& mon) {
+      for (const Warning& w : mon.warnings()) out.emplace_back(w.t, w.arm, w.capsule, w.otherCapsule, w.obstacle, w.distance, w.ttc);
+    });
+    return out;
+  };
+  const auto a = collect(s);
+  ASSERT_GT(a.size(), 1000u);
+  EXPECT_EQ(collect(replay), a);
+  fs::remove(csv);
+}
+
+TEST(Scenario, TimeGoingBackwardsNamesTheTraceLine) {
+  const fs::path csv = write("back.csv", "t,arm,q1,qd1\n0.0,a,0.1,0\n0.001,a,0.1,0\n0.0005,a,0.1,0\n");
+  ArmModel m;
+  m.name = "one";
+  m.joints = {{0, 0, 0.1, 0, -1, 1}};
+  m.capsules = {{1, {0, 0, 0}, {0.1, 0, 0}, 0.01}};
+  m.resetAllowedToAdjacent();
+  Monitor mon({ArmInstance{"a", m, Eigen::Isometry3d::Identity()}}, {}, SafetyConfig{});
+  CsvSensor src(csv.string(), {"a"}, {1});
+  RunStats st;
+  try {
+    run(mon, src, st, [](const Monitor&) {});
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("back.csv:4: time"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(st.cycles, 2u);
+  fs::remove(csv);
 }
 
 }  // namespace
