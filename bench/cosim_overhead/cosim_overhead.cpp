@@ -1,0 +1,220 @@
+// bench/cosim_overhead: what stsim's smart-car warnings cost on top of SUMO, measured side by side
+// in one run on the motorway scenario scaled to >= 1000 vehicles on the road at once (0.1 s steps,
+// every vehicle equipped):
+//   sumo                plain `sumo` process (the reference)
+//   libsumo only        SUMO embedded, stepping, no state read (libsumo vs the binary)
+//   libsumo reads       the libsumo backend: stepping + event lists + every vehicle's state
+//   stsim <detector>    libsumo + plugin, for concentric, five, box (actions off: detection cost)
+//   stsim via libtraci  launched sumo + TraCI subscriptions + plugin (five)
+//   sumo + SSM          `sumo` with the SSM device on every vehicle (SUMO's own conflict detection)
+// Wall and CPU seconds (CPU: this process's user+sys for in-process runs, the child's for sumo
+// processes; the machine may be shared, CPU time is the fairer figure) and the ratio to plain sumo.
+// Targets (issue 5): five-circle <= 1.3x plain sumo; >= 4x faster than sumo + SSM.
+//
+// The scaled scenario: motorway's sources with the downstream section 20 km long, plus 1000 vehicles
+// inserted at t = 0 spread over it (departPos random_free), then the normal demand; 120 s simulated.
+//   usage: bench_cosim_overhead [SIMULATED_SECONDS=120] [WORK_DIR=/tmp/stsim_cosim_overhead]
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <libsumo/libsumo.h>
+
+#include "sumo_process.hpp"
+#include <stcosim/backend.hpp>
+#include <stcosim/plugin.hpp>
+#include <stcosim/scenario.hpp>
+
+namespace fs = std::filesystem;
+using namespace st::cosim;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+void run(const std::string& cmd) {
+  if (std::system(cmd.c_str()) != 0) {
+    std::fprintf(stderr, "bench_cosim_overhead: command failed: %s\n", cmd.c_str());
+    std::exit(1);
+  }
+}
+
+// The motorway scaled up, written to `dir`; returns the sumocfg.
+fs::path makeScenario(const fs::path& dir, double seconds) {
+  const fs::path src = fs::path(STSIM_SOURCE_DIR) / "networks/motorway";
+  fs::create_directories(dir);
+  std::string nodes = slurp(src / "motorway.nod.xml");
+  nodes = std::regex_replace(nodes, std::regex("id=\"east\"       x=\"3000.0\""), "id=\"east\"       x=\"21450.0\"");
+  std::ofstream(dir / "m.nod.xml") << nodes;
+  fs::copy_file(src / "motorway.edg.xml", dir / "m.edg.xml", fs::copy_options::overwrite_existing);
+  fs::copy_file(src / "motorway.con.xml", dir / "m.con.xml", fs::copy_options::overwrite_existing);
+  run("netconvert --node-files " + (dir / "m.nod.xml").string() + " --edge-files " + (dir / "m.edg.xml").string() +
+      " --connection-files " + (dir / "m.con.xml").string() +
+      " --no-turnarounds true --offset.disable-normalization true --no-warnings true -o " +
+      (dir / "m.net.xml").string() + " > /dev/null");
+  std::string routes = slurp(src / "motorway.rou.xml");
+  routes = std::regex_replace(
+      routes, std::regex("</routes>"),
+      "    <route id=\"long\" edges=\"downstream\"/>\n"
+      "    <flow id=\"preload\" type=\"mix\" route=\"long\" begin=\"0\" end=\"0.1\" number=\"1000\" "
+      "departPos=\"random_free\" departLane=\"random\" departSpeed=\"desired\"/>\n</routes>");
+  std::ofstream(dir / "m.rou.xml") << routes;
+  std::string cfg = slurp(src / "motorway.sumocfg");
+  cfg = std::regex_replace(cfg, std::regex("motorway\\.net\\.xml"), "m.net.xml");
+  cfg = std::regex_replace(cfg, std::regex("motorway\\.rou\\.xml"), "m.rou.xml");
+  cfg = std::regex_replace(cfg, std::regex("<end value=\"[0-9.]+\"/>"), "<end value=\"" + std::to_string(seconds) + "\"/>");
+  std::ofstream(dir / "m.sumocfg") << cfg;
+  return dir / "m.sumocfg";
+}
+
+struct Row {
+  std::string name;
+  double wall = 0.0, cpu = 0.0;
+  double maxVehicles = 0.0;
+  long peakRssKb = -1;
+  std::string note;
+};
+
+double cpuSelf() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// A sumo process to completion: wall, child CPU, peak RSS.
+Row sumoProcess(const std::string& name, const std::vector<std::string>& args) {
+  std::string cmd = "sumo";
+  for (const auto& a : args) cmd += " '" + a + "'";
+  cmd += " > /dev/null 2>&1";
+  rusage before{}, after{};
+  getrusage(RUSAGE_CHILDREN, &before);
+  const auto t0 = Clock::now();
+  run(cmd);
+  Row r;
+  r.name = name;
+  r.wall = std::chrono::duration<double>(Clock::now() - t0).count();
+  getrusage(RUSAGE_CHILDREN, &after);
+  auto sec = [](const rusage& u) {
+    return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+           1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  };
+  r.cpu = sec(after) - sec(before);
+  r.peakRssKb = after.ru_maxrss;  // max over all children so far
+  return r;
+}
+
+Row inProcess(const std::string& name, const std::function<double()>& body) {
+  const double c0 = cpuSelf();
+  const auto t0 = Clock::now();
+  Row r;
+  r.name = name;
+  r.maxVehicles = body();
+  r.wall = std::chrono::duration<double>(Clock::now() - t0).count();
+  r.cpu = cpuSelf() - c0;
+  return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const double seconds = argc > 1 ? std::atof(argv[1]) : 120.0;
+  const fs::path dir = argc > 2 ? fs::path(argv[2]) : fs::temp_directory_path() / "stsim_cosim_overhead";
+  detail::ensureSumoHome();
+  const fs::path cfg = makeScenario(dir, seconds);
+  Scenario s = loadScenario(cfg);
+  s.plugin.actions.action = Action::None;
+  s.plugin.smart.penetration = 1.0;
+  const std::vector<std::string> args = sumoArguments(s);
+
+  std::vector<Row> rows;
+  rows.push_back(sumoProcess("sumo (reference)", args));
+
+  rows.push_back(inProcess("libsumo, stepping only", [&] {
+    std::vector<std::string> cmd{"sumo"};
+    cmd.insert(cmd.end(), args.begin(), args.end());
+    libsumo::Simulation::start(cmd);
+    while (libsumo::Simulation::getMinExpectedNumber() > 0 && libsumo::Simulation::getTime() < seconds - 0.05)
+      libsumo::Simulation::step();
+    libsumo::Simulation::close();
+    return 0.0;
+  }));
+  rows.back().note = "SUMO embedded, nothing read";
+  rows.push_back(inProcess("libsumo backend, reads only", [&] {
+    auto b = startLibsumo(SumoLaunch{args, false, "", ""});
+    while (b->running()) b->step();
+    b->close();
+    return 0.0;
+  }));
+  rows.back().note = "+ event lists and 8 getters per vehicle";
+
+  auto stsim = [&](st::highway::DetectorKind k, bool traci) {
+    return [&, k, traci] {
+      auto b = traci ? launchTraci(SumoLaunch{args, false, "", ""}) : startLibsumo(SumoLaunch{args, false, "", ""});
+      PluginConfig pc = s.plugin;
+      pc.monitor.detector.kind = k;
+      HighwayPlugin p(*b, pc);
+      double maxV = 0.0;
+      std::size_t warnings = 0;
+      while (b->running()) {
+        b->step();
+        p.update();
+        warnings += p.takeFinished().size();
+        maxV = std::max(maxV, static_cast<double>(b->vehicles().size()));
+      }
+      p.finish();
+      b->close();
+      return maxV;
+    };
+  };
+  rows.push_back(inProcess("stsim concentric (libsumo)", stsim(st::highway::DetectorKind::Concentric, false)));
+  rows.push_back(inProcess("stsim five (libsumo)", stsim(st::highway::DetectorKind::FiveCircle, false)));
+  rows.push_back(inProcess("stsim box (libsumo)", stsim(st::highway::DetectorKind::Box, false)));
+  rows.push_back(inProcess("stsim five (libtraci)", stsim(st::highway::DetectorKind::FiveCircle, true)));
+  rows.back().note = "CPU: stsim's side only; SUMO child not counted";
+  {
+    std::vector<std::string> ssm = args;
+    for (const char* a : {"--device.ssm.probability", "1", "--device.ssm.deterministic", "true",
+                          "--device.ssm.measures", "TTC DRAC PET", "--device.ssm.file"})
+      ssm.push_back(a);
+    ssm.push_back((dir / "ssm.xml").string());
+    rows.push_back(sumoProcess("sumo + SSM on every vehicle", ssm));
+    rows.back().note = "peak RSS of any sumo child so far";
+  }
+
+  const Row& ref = rows.front();
+  std::printf("cosim_overhead: motorway scaled (20 km downstream, 1000 vehicles preloaded), %.0f s simulated, "
+              "0.1 s steps, every vehicle equipped, actions off\n",
+              seconds);
+  std::printf("%-32s %9s %9s %11s %10s %9s  %s\n", "run", "wall s", "CPU s", "CPU/sumo", "wall/sumo", "max veh",
+              "note");
+  for (const auto& r : rows) {
+    std::printf("%-32s %9.2f %9.2f %10.2fx %9.2fx %9.0f  %s", r.name.c_str(), r.wall, r.cpu, r.cpu / ref.cpu,
+                r.wall / ref.wall, r.maxVehicles, r.note.c_str());
+    if (r.peakRssKb > 0) std::printf(" [peak RSS %.0f MB]", static_cast<double>(r.peakRssKb) / 1024.0);
+    std::printf("\n");
+  }
+  const Row& five = rows[4];
+  const Row& ssm = rows.back();
+  std::printf("targets: five-circle CPU %.2fx plain sumo (target <= 1.3x); sumo+SSM / five-circle CPU = %.2fx "
+              "(target >= 4x)\n",
+              five.cpu / ref.cpu, ssm.cpu / five.cpu);
+  return 0;
+}
