@@ -225,7 +225,7 @@ Scenario loadScenario(const std::string& path) {
       y.fail(n["horizon"], "safety.horizon", "must be at least the safe time (cycle + reaction + stopping)");
   }
   if (const YAML::Node n = root["octree"]) {
-    y.knownKeys(n, "octree", {"kind", "decomposition_factor", "max_depth", "margin", "bounds"});
+    y.knownKeys(n, "octree", {"kind", "decomposition_factor", "max_depth", "margin", "bounds", "cell_size"});
     if (n["kind"]) {
       const std::string k = n["kind"].as<std::string>();
       if (!parseSpaceKind(k, s.broad.kind)) y.fail(n["kind"], "octree.kind", "unknown space kind '" + k + "'");
@@ -238,6 +238,8 @@ Scenario loadScenario(const std::string& path) {
     s.broad.rule.maxDepth = static_cast<int>(md);
     s.broad.margin = y.number(n, "margin", "octree", s.broad.margin);
     if (s.broad.margin < 0) y.fail(n["margin"], "octree.margin", "must not be negative");
+    s.broad.rule.cellSize = y.number(n, "cell_size", "octree", 0.25);
+    if (!(s.broad.rule.cellSize > 0)) y.fail(n["cell_size"], "octree.cell_size", "must be positive");
     if (n["bounds"]) s.broad.bounds = Aabb3{y.vec3(n["bounds"]["min"], "octree.bounds.min"), y.vec3(n["bounds"]["max"], "octree.bounds.max")};
   }
   const YAML::Node arms = root["arms"];

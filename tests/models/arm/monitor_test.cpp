@@ -47,6 +47,13 @@ TEST_P(Scenarios, OctreeFindsExactlyTheAllPairsWarnings) {
     v.broad.margin = 0.0;
     EXPECT_EQ(runAll(v), all) << "decomposition factor " << df;
   }
+  // and the other kinds of space
+  for (SpaceKind kind : {SpaceKind::Cells, SpaceKind::Single}) {
+    Scenario v = s;
+    v.broad.kind = kind;
+    v.broad.rule.cellSize = 0.2;
+    EXPECT_EQ(runAll(v), all) << toString(kind);
+  }
 }
 
 TEST_P(Scenarios, OctreeInvariantsWhileMoving) {

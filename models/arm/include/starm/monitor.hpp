@@ -28,7 +28,7 @@ struct SafetyConfig {
 
 struct BroadphaseConfig {
   SpaceKind kind = SpaceKind::Tree;  // None: test all pairs (the reference the octree must match)
-  SpaceRule rule{4, true, 8, 8, 0.0};
+  SpaceRule rule{4, true, 8, 8, 0.25};
   double margin = 0.05;              // m, fat-box margin: a capsule is re-filed only when it leaves it
   std::optional<Aabb3> bounds;       // default: everything the arms can reach plus the obstacles
 };
