@@ -10,6 +10,8 @@
 
 #include <stcore/toi.hpp>
 
+#include <sthighway/tolerances.hpp>
+
 #include "kernels.hpp"
 
 namespace st::highway {
@@ -180,8 +182,8 @@ struct HighwayMonitor::Impl {
     const double safe = cfg.safeTime.vehicleSafeTime(mass[e], closing, vclass[e]);
     // exact prune: the envelopes cannot meet within the safe time
     const double accel = cfg.detector.motion == MotionModel::ConstantAcceleration ? accelAbs[e] + accelAbs[f] : 0.0;
-    const double envSum = env[e] + env[f];
-    const double grow = 0.5 * accel * safe * safe;
+    const double envSum = env[e] + env[f] + tol::kPruneSlop;
+    const double grow = 0.5 * accel * safe * safe + tol::kPruneSlop;
     // per axis, then as discs: the envelopes cannot meet within the safe time
     if (std::abs(p.x()) > ext[e].x() + ext[f].x() + std::abs(v.x()) * safe + grow ||
         std::abs(p.y()) > ext[e].y() + ext[f].y() + std::abs(v.y()) * safe + grow)
@@ -214,7 +216,8 @@ struct HighwayMonitor::Impl {
         const Vec2 toward = s > 0.0 ? Vec2(-n) : n;
         const double hMax = cfg.safeTime.roadSafeTime(mass[e], a.velocity.norm(), vclass[e]);
         const double approach = std::max(0.0, a.velocity.dot(toward));
-        if (std::abs(s) > roadSupport(cfg.detector, a, toward) + approach * hMax + 0.5 * accel * hMax * hMax) return;
+        if (std::abs(s) > roadSupport(cfg.detector, a, toward) + approach * hMax + 0.5 * accel * hMax * hMax + tol::kPruneSlop)
+          return;
       }
     }
     const Vec2 closest = f.kind == FeatureKind::Hazard ? f.segment.a : closestPointOnSegment(f.segment, a.position);
@@ -222,7 +225,7 @@ struct HighwayMonitor::Impl {
     const double dist = d.norm();
     const double closing = dist > 0.0 ? a.velocity.dot(d) / dist : a.velocity.norm();
     const double safe = cfg.safeTime.roadSafeTime(mass[e], closing, vclass[e]);
-    if (dist > env[e] + f.radius + a.velocity.norm() * safe + 0.5 * accel * safe * safe) return;
+    if (dist > env[e] + f.radius + a.velocity.norm() * safe + 0.5 * accel * safe * safe + tol::kPruneSlop) return;
     const Ttc ttc = featureTtc(cfg.detector, a, f, safe);
     if (!ttc.found() || ttc.t > safe) return;
     if (f.kind == FeatureKind::LaneMarker) {
@@ -253,7 +256,7 @@ struct HighwayMonitor::Impl {
       const double dy = std::max(std::abs(a.velocity.y() - c.vmin.y()), std::abs(a.velocity.y() - c.vmax.y()));
       const double ac = accel ? accelAbs[e] + c.amax : 0.0;
       const double h = vehicleHorizonBound(e, std::sqrt(dx * dx + dy * dy));
-      const Vec2 r = Vec2(dx, dy) * h + ext[e] + c.extMax + Vec2::Constant(0.5 * ac * h * h);
+      const Vec2 r = Vec2(dx, dy) * h + ext[e] + c.extMax + Vec2::Constant(0.5 * ac * h * h + tol::kPruneSlop);
       const Aabb<2> cb{a.position - r, a.position + r};
       // the reach bounds foe centres: skip a cell none of whose members' centres is inside
       if (!c.centres.overlaps(cb)) continue;
@@ -289,7 +292,7 @@ struct HighwayMonitor::Impl {
       const double gx = va.x() + globalVmax.x(), gy = va.y() + globalVmax.y();
       const double ag = accel ? ca.amax + globalAmax : 0.0;
       const double hg = tr + ca.kMax * std::sqrt(gx * gx + gy * gy);
-      const Vec2 rg = Vec2(gx, gy) * hg + ca.extMax + globalExtMax + Vec2::Constant(0.5 * ag * hg * hg);
+      const Vec2 rg = Vec2(gx, gy) * hg + ca.extMax + globalExtMax + Vec2::Constant(0.5 * ag * hg * hg + 2 * tol::kPruneSlop);
       const Aabb<2> box{ca.centres.min - rg, ca.centres.max + rg};
       cells->forEachCellInBox(box, [&](int B) {
         const CellStats& cb = cellStats[B];
@@ -298,7 +301,7 @@ struct HighwayMonitor::Impl {
         const double dy = std::max({0.0, ca.vmax.y() - cb.vmin.y(), cb.vmax.y() - ca.vmin.y()});
         const double ab = accel ? ca.amax + cb.amax : 0.0;
         const double h = tr + ca.kMax * std::sqrt(dx * dx + dy * dy);
-        const Vec2 r = Vec2(dx, dy) * h + ca.extMax + cb.extMax + Vec2::Constant(0.5 * ab * h * h);
+        const Vec2 r = Vec2(dx, dy) * h + ca.extMax + cb.extMax + Vec2::Constant(0.5 * ab * h * h + 2 * tol::kPruneSlop);
         if (Aabb<2>{ca.centres.min - r, ca.centres.max + r}.overlaps(cb.centres)) neighbours[A].emplace_back(B, r);
       });
       // road features any member could reach within its largest road safe time
@@ -306,7 +309,7 @@ struct HighwayMonitor::Impl {
       if (featureIndex && cfg.checkRoad) {
         const double speed = va.norm();
         const double h = cfg.safeTime.roadReactionTime + ca.kMax * speed;
-        const double rr = ca.envMax + speed * h + 0.5 * (accel ? ca.amax : 0.0) * h * h;
+        const double rr = ca.envMax + speed * h + 0.5 * (accel ? ca.amax : 0.0) * h * h + 2 * tol::kPruneSlop;
         const Aabb<2> rb{ca.centres.min.array() - rr, ca.centres.max.array() + rr};
         featureIndex->forEachInBox(rb, [&](int fi) { roadNear[A].push_back(fi); });
       }

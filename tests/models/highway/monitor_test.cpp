@@ -1,8 +1,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <random>
+#include <tuple>
 
+#include <stcore/toi.hpp>
 #include <sthighway/monitor.hpp>
 
 namespace st::highway {
@@ -159,6 +162,106 @@ TEST(Monitor, CellsEqualAllPairsOnRandomScenes) {
   EXPECT_LT(cellPairs * 2, allPairs);
   EXPECT_GT(handoffs, 0u);
   RecordProperty("warnings", static_cast<int>(total));
+}
+
+// Brute force without any pruning: every equipped ego against every other car and every road
+// feature, safe times from the documented rule, the signal rule, the worst TTC per feature polyline.
+struct Threat {
+  std::string ego, foe;
+  WarningKind kind;
+  double ttc, safe;
+  bool operator<(const Threat& o) const {
+    return std::tie(ego, foe, kind) < std::tie(o.ego, o.foe, o.kind);
+  }
+};
+
+std::vector<Threat> bruteForce(const RoadGeometry& road, const MonitorConfig& cfg, const std::vector<VehicleState>& vs) {
+  const RoadFeatures rf = deriveFeatures(road);
+  std::map<std::tuple<std::string, std::string, int>, Threat> best;
+  auto keep = [&](const Threat& t) {
+    auto key = std::make_tuple(t.ego, t.foe, static_cast<int>(t.kind));
+    auto it = best.find(key);
+    if (it == best.end() || t.ttc < it->second.ttc) best[key] = t;
+  };
+  for (const VehicleState& e : vs) {
+    if (!e.equipped) continue;
+    const Body a = bodyOf(e);
+    for (const VehicleState& f : vs) {
+      if (f.id == e.id) continue;
+      const Body b = bodyOf(f);
+      const Vec2 p = b.position - a.position, v = b.velocity - a.velocity;
+      const double closing = p.norm() > 0 ? -p.dot(v) / p.norm() : v.norm();
+      const double safe = cfg.safeTime.vehicleReactionTime +
+                          e.mass * std::max(0.0, closing) / (2 * cfg.safeTime.brakeForce[static_cast<int>(e.vehicleClass)]);
+      const Ttc t = vehicleTtc(cfg.detector, a, b, safe);
+      if (t.found() && t.t <= safe) keep({e.id, f.id, WarningKind::Vehicle, t.t, safe});
+    }
+    for (const RoadFeature& f : rf.features) {
+      const Vec2 c = f.kind == FeatureKind::Hazard ? f.segment.a : closestPointOnSegment(f.segment, a.position);
+      const Vec2 d = c - a.position;
+      const double closing = d.norm() > 0 ? a.velocity.dot(d) / d.norm() : a.velocity.norm();
+      const double safe = cfg.safeTime.roadReactionTime +
+                          e.mass * std::max(0.0, closing) / (2 * cfg.safeTime.brakeForce[static_cast<int>(e.vehicleClass)]);
+      const Ttc t = featureTtc(cfg.detector, a, f, safe);
+      if (!t.found() || t.t > safe) continue;
+      if (f.kind == FeatureKind::LaneMarker) {
+        double side = cross(a.axis, d);
+        if (std::abs(side) < 1e-9) side = cross(a.axis, a.velocity);
+        if (e.signals & (side > 0 ? kSignalLeft : kSignalRight)) continue;
+      }
+      const WarningKind k = f.kind == FeatureKind::Curb ? WarningKind::Curb
+                            : f.kind == FeatureKind::LaneMarker ? WarningKind::LaneMarker : WarningKind::Hazard;
+      keep({e.id, f.name, k, t.t, safe});
+    }
+  }
+  std::vector<Threat> out;
+  for (auto& [k, t] : best) out.push_back(t);
+  return out;
+}
+
+TEST(Monitor, PruningNeverChangesTheAnswer) {
+  // single ticks against the unpruned brute force, including cars riding exactly on a lane
+  // marker or a curb with a vanishing sideways speed (contact within the kernels' slop)
+  std::mt19937_64 rng(99);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  const RoadGeometry road = testRoad();
+  std::size_t threats = 0;
+  for (int scene = 0; scene < 300; ++scene) {
+    MonitorConfig cfg;
+    cfg.detector.kind = static_cast<DetectorKind>(scene % 3);
+    cfg.detector.motion = (scene / 3) % 2 ? MotionModel::ConstantAcceleration : MotionModel::ConstantVelocity;
+    auto vs = randomScene(rng, 80.0)[1];
+    for (std::size_t i = 0; i < vs.size(); i += 4) {
+      // on a boundary: the side exactly on a marker (y = 1.6) or the right curb (y = -1.6)
+      VehicleState& v = vs[i];
+      if (v.heading > 0.1) continue;
+      v.heading = 0.0;
+      // the side 0.5 nm from the line (within the kernels' 1 nm contact slop), drifting towards
+      // it at 1e-12 m/s or a little faster, or away
+      const double line = U(rng) < 0.5 ? 1.6 : -1.6;
+      const double below = U(rng) < 0.5 ? 1.0 : -1.0;  // centre below (right of) the line or above
+      v.position.y() = line - below * (0.5 * v.width + 5e-10);
+      const double r = U(rng);
+      v.lateralSpeed = below * (r < 0.4 ? 1e-12 : r < 0.7 ? 1e-6 : -1e-6);
+    }
+    for (Broadphase bp : {Broadphase::Cells, Broadphase::AllPairs}) {
+      cfg.broadphase = bp;
+      HighwayMonitor m(road, cfg);
+      m.step(0.0, vs);
+      std::vector<Threat> got;
+      for (const Warning& w : m.openWarnings()) got.push_back({w.ego, w.foe, w.kind, w.minTtc, w.safeTimeAtMin});
+      std::sort(got.begin(), got.end());
+      const std::vector<Threat> want = bruteForce(road, cfg, vs);
+      ASSERT_EQ(got.size(), want.size()) << "scene " << scene << " " << toString(bp);
+      for (std::size_t i = 0; i < got.size(); ++i) {
+        ASSERT_EQ(got[i].ego + "/" + got[i].foe, want[i].ego + "/" + want[i].foe) << "scene " << scene;
+        ASSERT_EQ(got[i].ttc, want[i].ttc) << "scene " << scene << " " << got[i].ego << "/" << got[i].foe;
+        ASSERT_EQ(got[i].safe, want[i].safe);
+      }
+      threats += got.size();
+    }
+  }
+  EXPECT_GT(threats, 1000u);
 }
 
 TEST(Monitor, CarClosingOnStoppedCarEpisode) {

@@ -17,6 +17,11 @@ inline constexpr double kMinSegmentLength = 1e-6;
 // turn does not throw a marker far off the road (dimensionless).
 inline constexpr double kMaxMiterRatio = 4.0;
 
+// Every pruning bound (neighbour reach, envelope tests, road line test) is grown by this (m), so
+// pruning never removes a contact the kernels would report within their own slop (touching counts).
+// Far above the kernels' slop, far below any physical distance.
+inline constexpr double kPruneSlop = 1e-6;
+
 // Accelerations below this are treated as zero: the constant-velocity kernels are used (m/s^2).
 inline constexpr double kAccelerationEpsilon = 1e-9;
 
