@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <stdexcept>
 
 #include <stcore/resolve.hpp>
@@ -21,6 +22,7 @@ const char* toString(EventKind kind) {
     case EventKind::BallPoint: return "ball-point";
     case EventKind::Sensor: return "sensor";
     case EventKind::Boundary: return "boundary";
+    case EventKind::Rest: return "rest";
     case EventKind::Count: break;
   }
   return "?";
@@ -29,6 +31,11 @@ const char* toString(EventKind kind) {
 template <int D>
 Simulator<D>::Simulator(const Aabb<D>& bounds, const SimulatorConfig& config)
     : config_(config), bounds_(bounds) {
+  // A ball's box in the space must be strictly larger than the ball: with no margin a moving ball
+  // touches the edge of its membership at once, and each Boundary event schedules the next at the
+  // same instant (a livelock). Any margin well above position rounding gives progress.
+  if (config_.spaceKind != SpaceKind::None && !(config_.marginFactor > 0.0))
+    throw std::invalid_argument("simulator margin factor must be positive when a space is used");
   if (config_.spaceKind != SpaceKind::None)
     space_ = std::make_unique<Space<D>>(config_.spaceKind, bounds, config_.rule);
 }
@@ -92,7 +99,13 @@ int Simulator<D>::addSensor(const Sensor<D>& s) {
 template <int D>
 void Simulator<D>::advance(int i, double t) {
   BallState<D>& b = balls_[i];
-  b.p = b.positionAt(t);
+  if (b.accelerating()) {
+    const Vec<D> v = b.velocityAt(t);
+    b.p = b.positionAt(t);
+    b.v = v;
+  } else {
+    b.p = b.positionAt(t);
+  }
   b.t = t;
 }
 
@@ -122,6 +135,17 @@ void Simulator<D>::deactivate(int i) {
 }
 
 template <int D>
+void Simulator<D>::setDeceleration(int i, double decel) {
+  if (!(decel >= 0.0) || !std::isfinite(decel)) throw std::invalid_argument("deceleration must be finite and >= 0");
+  BallState<D>& b = balls_[i];
+  if (!b.active) throw std::invalid_argument("ball is no longer in the simulation");
+  advance(i, now_);
+  b.decel = decel;
+  ++b.gen;
+  predict(i);
+}
+
+template <int D>
 void Simulator<D>::synchronize(double t) {
   if (t < now_) throw std::invalid_argument("cannot synchronize to the past");
   for (int i = 0; i < static_cast<int>(balls_.size()); ++i)
@@ -136,7 +160,7 @@ void Simulator<D>::spaceUpdate(int i) {
 
 template <int D>
 void Simulator<D>::repredictWidened() {
-  if (!space_) return;
+  if (!space_ || !space_->hasWidened()) return;
   for (int j : space_->takeWidened())
     if (balls_[j].active) predict(j);
 }
@@ -159,13 +183,31 @@ void Simulator<D>::predict(int i) {
     if (!bj.active) return;
     ++counters_.pairChecks;
     const double t0 = std::max(bi.t, bj.t);
-    const Impact hit = toiBalls<D>(bj.positionAt(t0) - bi.positionAt(t0), bj.v - bi.v, bi.radius + bj.radius);
+    if (bi.accelerating() || bj.accelerating()) {
+      // quadratic paths until the first of the two stops; that ball's Rest event re-predicts it
+      const double tEnd = std::min(bi.stopTime(), bj.stopTime());
+      const Impact hit = toiBallsAccelerated<D>(bj.positionAt(t0) - bi.positionAt(t0), bj.velocityAt(t0) - bi.velocityAt(t0),
+                                                bj.acceleration() - bi.acceleration(), bi.radius + bj.radius, tEnd - t0);
+      if (hit.acts()) consider(best, t0 + hit.actTime(), EventKind::BallBall, j, bj.gen);
+      return;
+    }
+    const Vec<D> p_rel = bj.positionAt(t0) - bi.positionAt(t0);
+    const Vec<D> v_rel = bj.v - bi.v;
+    // toiBalls acts only on closing pairs (p_rel . v_rel < 0): skip the rest before its square root
+    if (!(p_rel.dot(v_rel) < 0.0)) return;
+    const Impact hit = toiBalls<D>(p_rel, v_rel, bi.radius + bj.radius);
     if (hit.acts()) consider(best, t0 + hit.actTime(), EventKind::BallBall, j, bj.gen);
   };
   if (space_) {
     space_->forEachNeighbor(i, pair);
   } else {
     for (int j = 0; j < static_cast<int>(balls_.size()); ++j) pair(j);
+  }
+  if (bi.accelerating()) {
+    predictObstaclesAccelerated(i, best);
+    next_[i] = best;
+    heapUpdate(i);
+    return;
   }
   const Ball<D> me{bi.p, bi.radius};
   for (int w = 0; w < static_cast<int>(walls_.size()); ++w) {
@@ -198,9 +240,48 @@ void Simulator<D>::predict(int i) {
   heapUpdate(i);
 }
 
+// A decelerating ball against the obstacles, its space region and its own stop: the same
+// queries as predict's on quadratic paths, each searched only until the ball stops.
+template <int D>
+void Simulator<D>::predictObstaclesAccelerated(int i, Next& best) {
+  const BallState<D>& bi = balls_[i];
+  const double tEnd = bi.stopTime() - bi.t;
+  const Vec<D> a = bi.acceleration();
+  const Ball<D> me{bi.p, bi.radius};
+  for (int w = 0; w < static_cast<int>(walls_.size()); ++w) {
+    ++counters_.staticChecks;
+    const Impact hit = toiBallPlaneAccelerated<D>(me, bi.v, a, walls_[w].normal, walls_[w].offset, tEnd);
+    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallWall, w, 0);
+  }
+  if constexpr (D == 2) {
+    for (int s = 0; s < static_cast<int>(segments_.size()); ++s) {
+      ++counters_.staticChecks;
+      const Impact hit = toiCircleSegmentAccelerated(Circle{bi.p, bi.radius}, bi.v, a, segments_[s], tEnd).impact;
+      if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallSegment, s, 0);
+    }
+  }
+  for (int q = 0; q < static_cast<int>(points_.size()); ++q) {
+    ++counters_.staticChecks;
+    const Impact hit = toiBallsAccelerated<D>(points_[q] - bi.p, -bi.v, -a, bi.radius, tEnd);
+    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallPoint, q, 0);
+  }
+  for (int s = 0; s < static_cast<int>(sensors_.size()); ++s) {
+    ++counters_.staticChecks;
+    const Impact hit = toiBallsAccelerated<D>(sensors_[s].center - bi.p, -bi.v, -a, sensors_[s].radius, tEnd);
+    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::Sensor, s, 0);
+  }
+  if (space_) {
+    // the straight constant-velocity path from now runs ahead of the decelerating one along every
+    // axis, so its exit time is a safe (early) bound
+    const double dt = space_->exitTime(i, bi.positionAt(now_), bi.velocityAt(now_), bi.radius);
+    if (dt < kInf) consider(best, std::max(now_, bi.t) + dt, EventKind::Boundary, -1, 0);
+  }
+  consider(best, bi.stopTime(), EventKind::Rest, -1, 0);
+}
+
 template <int D>
 double Simulator<D>::nextEventTime() const {
-  return heap_.empty() ? kInf : next_[heap_.front()].t;
+  return heap_.empty() ? kInf : heap_.front().t;
 }
 
 template <int D>
@@ -255,6 +336,13 @@ void Simulator<D>::process(int i) {
     case EventKind::Sensor:
       deactivate(i);
       break;
+    case EventKind::Rest:
+      advance(i, e.t);
+      bi.v = Vec<D>::Zero();  // exactly, whatever the rounding of v + a t
+      ++bi.gen;
+      spaceUpdate(i);
+      predict(i);
+      break;
     case EventKind::Boundary:
       // membership follows the ball; its path is unchanged, so only its own prediction is redone
       space_->update(i, boxOf(i, e.t), config_.marginFactor * bi.radius);
@@ -271,74 +359,72 @@ void Simulator<D>::process(int i) {
 // ---- indexed heap ---------------------------------------------------------------------------
 
 template <int D>
-bool Simulator<D>::before(int a, int b) const {
-  const double ta = next_[a].t, tb = next_[b].t;
-  return ta < tb || (ta == tb && a < b);
-}
-
-template <int D>
 void Simulator<D>::siftUp(int pos) {
-  const int item = heap_[pos];
+  const HeapEntry item = heap_[pos];
   while (pos > 0) {
     const int parent = (pos - 1) / 2;
     if (!before(item, heap_[parent])) break;
     heap_[pos] = heap_[parent];
-    heapPos_[heap_[pos]] = pos;
+    heapPos_[heap_[pos].ball] = pos;
     pos = parent;
   }
   heap_[pos] = item;
-  heapPos_[item] = pos;
+  heapPos_[item.ball] = pos;
 }
 
 template <int D>
 void Simulator<D>::siftDown(int pos) {
   const int n = static_cast<int>(heap_.size());
-  const int item = heap_[pos];
+  const HeapEntry item = heap_[pos];
   while (true) {
     int child = 2 * pos + 1;
     if (child >= n) break;
     if (child + 1 < n && before(heap_[child + 1], heap_[child])) ++child;
     if (!before(heap_[child], item)) break;
     heap_[pos] = heap_[child];
-    heapPos_[heap_[pos]] = pos;
+    heapPos_[heap_[pos].ball] = pos;
     pos = child;
   }
   heap_[pos] = item;
-  heapPos_[item] = pos;
+  heapPos_[item.ball] = pos;
 }
 
 template <int D>
 void Simulator<D>::heapUpdate(int i) {
+  const HeapEntry e{next_[i].t, i};
   if (heapPos_[i] < 0) {
-    heap_.push_back(i);
+    heap_.push_back(e);
     heapPos_[i] = static_cast<int>(heap_.size()) - 1;
     siftUp(heapPos_[i]);
     return;
   }
   const int pos = heapPos_[i];
-  siftUp(pos);
-  siftDown(heapPos_[i]);
+  // an event only moves one way: sift in that direction
+  const bool earlier = before(e, heap_[pos]);
+  heap_[pos] = e;
+  if (earlier) siftUp(pos);
+  else siftDown(pos);
 }
 
 template <int D>
 void Simulator<D>::heapRemove(int i) {
   const int pos = heapPos_[i];
   if (pos < 0) return;
-  const int last = heap_.back();
+  const HeapEntry last = heap_.back();
   heap_.pop_back();
   heapPos_[i] = -1;
-  if (last == i) return;
+  if (last.ball == i) return;
   heap_[pos] = last;
-  heapPos_[last] = pos;
+  heapPos_[last.ball] = pos;
   siftUp(pos);
-  siftDown(heapPos_[last]);
+  siftDown(heapPos_[last.ball]);
 }
 
 template <int D>
 double Simulator<D>::kineticEnergy() const {
   double e = 0.0;
   for (const auto& b : balls_)
-    if (b.active) e += 0.5 * b.mass * b.v.squaredNorm();
+    if (b.active) e += 0.5 * b.mass * b.velocityAt(now_).squaredNorm();
   return e;
 }
 
@@ -346,7 +432,7 @@ template <int D>
 Vec<D> Simulator<D>::momentum() const {
   Vec<D> m = Vec<D>::Zero();
   for (const auto& b : balls_)
-    if (b.active) m += b.mass * b.v;
+    if (b.active) m += b.mass * b.velocityAt(now_);
   return m;
 }
 

@@ -161,6 +161,10 @@ void Space<D>::remove(int id) {
 template <int D>
 void Space<D>::update(int id, const Box& box, double margin) {
   if (!contains(id)) throw std::logic_error("space: update of an object not in the space");
+  if (kind_ == SpaceKind::Cells) {
+    updateCells(id, {box.min.array() - margin, box.max.array() + margin});
+    return;
+  }
   scratch_ = members_[id].leaves;  // old membership, to count transfers
   std::sort(scratch_.begin(), scratch_.end());
   detach(id, false);
@@ -174,6 +178,47 @@ void Space<D>::update(int id, const Box& box, double margin) {
     for (int old : scratch_) collapseUpFrom(old);
 }
 
+// Cells: most updates (one per collision) leave the ball in the same block of cells; then only the
+// stored box changes. Otherwise leave the cells outside the new block and enter those outside the old.
+template <int D>
+void Space<D>::updateCells(int id, const Box& fat) {
+  using Index = Eigen::Array<int, D, 1>;
+  Member& m = members_[id];
+  m.fat = fat;
+  Index lo, hi;
+  cellRange(clampToBounds(fat), lo, hi);
+  if ((lo == m.lo).all() && (hi == m.hi).all()) return;
+  auto within = [](const Index& c, const Index& a, const Index& b) { return (c >= a).all() && (c <= b).all(); };
+  auto forEachCell = [this](const Index& a, const Index& b, auto&& f) {
+    Index c = a;
+    while (true) {
+      f(c, cellIndex(c));
+      int k = 0;
+      for (; k < D; ++k) {
+        if (++c[k] <= b[k]) break;
+        c[k] = a[k];
+      }
+      if (k == D) break;
+    }
+  };
+  forEachCell(m.lo, m.hi, [&](const Index& c, int idx) {
+    if (within(c, lo, hi)) return;
+    auto& v = cells_[idx];
+    auto it = std::find(v.begin(), v.end(), id);
+    assert(it != v.end());
+    *it = v.back();  // order within a cell carries no meaning
+    v.pop_back();
+  });
+  m.leaves.clear();
+  forEachCell(lo, hi, [&](const Index& c, int idx) {
+    if (!within(c, m.lo, m.hi)) cells_[idx].push_back(id);
+    m.leaves.push_back(idx);
+  });
+  m.lo = lo;
+  m.hi = hi;
+  ++counters_.transfers;
+}
+
 template <int D>
 void Space<D>::attach(int id) {
   Member& m = members_[id];
@@ -181,6 +226,8 @@ void Space<D>::attach(int id) {
   if (kind_ == SpaceKind::Cells) {
     Eigen::Array<int, D, 1> lo, hi;
     cellRange(clampToBounds(m.fat), lo, hi);
+    m.lo = lo;
+    m.hi = hi;
     Eigen::Array<int, D, 1> c = lo;
     while (true) {
       const int idx = cellIndex(c);
@@ -278,6 +325,14 @@ void Space<D>::maybeSplit(int leaf) {
   if (nodes_[leaf].firstChild >= 0) return;  // already split by an earlier call
   if (static_cast<int>(nodes_[leaf].objects.size()) <= rule_.decompositionFactor) return;
   if (nodes_[leaf].depth >= rule_.maxDepth) return;
+  // Children smaller than the smallest object cannot separate objects that overlap one another:
+  // more than df mutually overlapping boxes would otherwise split their common volume down to
+  // maxDepth (up to 8^12 nodes in 3-D).
+  if (rule_.minChildSizeRatio > 0.0) {
+    double smallest = std::numeric_limits<double>::infinity();
+    for (int id : nodes_[leaf].objects) smallest = std::min(smallest, members_[id].fat.extent().minCoeff());
+    if (0.5 * nodes_[leaf].box.extent().maxCoeff() < rule_.minChildSizeRatio * smallest) return;
+  }
   const int first = allocBlock();  // may reallocate nodes_: index, don't hold references
   Node& parent = nodes_[leaf];
   parent.firstChild = first;
@@ -362,8 +417,8 @@ double Space<D>::exitTime(int id, const Vec<D>& p, const Vec<D>& v, double r) co
   // the box the tight ball may roam without touching an unlisted leaf
   Box safe;
   if (kind_ == SpaceKind::Cells) {
-    Eigen::Array<int, D, 1> lo, hi;
-    cellRange(clampToBounds(members_[id].fat), lo, hi);
+    const Eigen::Array<int, D, 1>& lo = members_[id].lo;
+    const Eigen::Array<int, D, 1>& hi = members_[id].hi;
     for (int i = 0; i < D; ++i) {
       safe.min[i] = lo[i] == 0 ? -kInf : bounds_.min[i] + lo[i] * cellSize_[i];
       safe.max[i] = hi[i] == dims_[i] - 1 ? kInf : bounds_.min[i] + (hi[i] + 1) * cellSize_[i];

@@ -7,6 +7,7 @@
 // an event remembers the generation of the other ball, and is dropped lazily when that ball has
 // changed since. Pair predictions start from the later of the two balls' local times, so the same
 // pair yields the same time whichever space found it: every space kind replays the same history.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -18,7 +19,8 @@
 
 namespace st {
 
-enum class EventKind : std::uint8_t { BallBall, BallWall, BallSegment, BallPoint, Sensor, Boundary, Count };
+// Rest: a decelerating ball comes to a stop (only with setDeceleration).
+enum class EventKind : std::uint8_t { BallBall, BallWall, BallSegment, BallPoint, Sensor, Boundary, Rest, Count };
 const char* toString(EventKind kind);
 
 // A body's handle is its index; generations tell whether a prediction is still current.
@@ -32,7 +34,26 @@ struct BallState {
   int type = 0;    // caller's tag (ball number, colour...)
   std::uint32_t gen = 0;
   bool active = true;
-  Vec<D> positionAt(double time) const { return p + v * (time - t); }
+  // Rolling resistance (m/s^2): a constant deceleration opposite to v until the ball stops, so
+  // the path stays straight and quadratic in time between events. 0: constant velocity.
+  double decel = 0.0;
+  bool accelerating() const { return decel > 0.0 && (v.array() != 0.0).any(); }
+  // Absolute time the ball stops (infinity if it does not decelerate or is at rest).
+  double stopTime() const {
+    return accelerating() ? t + v.norm() / decel : std::numeric_limits<double>::infinity();
+  }
+  // Its acceleration vector while moving.
+  Vec<D> acceleration() const { return accelerating() ? Vec<D>(-decel * v.normalized()) : Vec<D>::Zero(); }
+  Vec<D> positionAt(double time) const {
+    if (!accelerating()) return p + v * (time - t);
+    const double dt = std::min(time, stopTime()) - t;
+    return p + v * dt + (0.5 * dt * dt) * acceleration();
+  }
+  Vec<D> velocityAt(double time) const {
+    if (!accelerating()) return v;
+    if (time >= stopTime()) return Vec<D>::Zero();
+    return v + (time - t) * acceleration();
+  }
 };
 
 // Plane n.x == offset with unit normal n; balls bounce off either side.
@@ -96,6 +117,10 @@ class Simulator {
   void setVelocity(int ball, const Vec<D>& v);
   // Takes a ball out of the simulation at the current time.
   void deactivate(int ball);
+  // Gives a ball a rolling-resistance deceleration (m/s^2, >= 0) from the current time on: it
+  // slows along its path and stops (a Rest event). 0 (the default) leaves the frictionless
+  // simulation bit-identical.
+  void setDeceleration(int ball, double decel);
 
   // Processes events up to `until` (inclusive) or `maxEvents`, calling observer(const EventRecord&)
   // after each. Then the clock stands at the last event's time (or `until` if it was reached).
@@ -134,14 +159,22 @@ class Simulator {
 
   void predict(int i);
   void consider(Next& best, double t, EventKind kind, int other, std::uint32_t otherGen) const;
+  void predictObstaclesAccelerated(int i, Next& best);
   void process(int i);
   void advance(int i, double t);
   Aabb<D> boxOf(int i, double t) const;
   void spaceUpdate(int i);
   void repredictWidened();
 
-  // indexed binary min-heap of balls by next event (time, then ball index)
-  bool before(int a, int b) const;
+  // indexed binary min-heap of balls by next event (time, then ball index); entries carry their
+  // key so that sifting reads one contiguous array instead of chasing next_ per comparison
+  struct HeapEntry {
+    double t;
+    int ball;
+  };
+  static bool before(const HeapEntry& a, const HeapEntry& b) {
+    return a.t < b.t || (a.t == b.t && a.ball < b.ball);
+  }
   void heapUpdate(int i);
   void heapRemove(int i);
   void siftUp(int pos);
@@ -152,7 +185,7 @@ class Simulator {
   std::unique_ptr<Space<D>> space_;
   std::vector<BallState<D>> balls_;
   std::vector<Next> next_;
-  std::vector<int> heap_;
+  std::vector<HeapEntry> heap_;
   std::vector<int> heapPos_;
   std::vector<Wall<D>> walls_;
   std::vector<Vec<D>> points_;
@@ -168,11 +201,11 @@ template <class Observer>
 StopReason Simulator<D>::run(double until, Observer&& observer, std::uint64_t maxEvents) {
   std::uint64_t done = 0;
   while (true) {
-    if (heap_.empty() || !(next_[heap_.front()].t < std::numeric_limits<double>::infinity())) {
+    if (heap_.empty() || !(heap_.front().t < std::numeric_limits<double>::infinity())) {
       return StopReason::NothingLeft;
     }
-    const int i = heap_.front();
-    if (next_[i].t > until) {
+    const int i = heap_.front().ball;
+    if (heap_.front().t > until) {
       now_ = std::max(now_, until);
       return StopReason::TimeLimit;
     }

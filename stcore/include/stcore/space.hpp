@@ -34,6 +34,10 @@ struct SpaceRule {
   int divisions = 0;            // children per division: 2, 4 or 8 (<= 2^D); 0 means 2^D
   int maxDepth = 12;            // a leaf this deep never divides (objects that overlap all children)
   double cellSize = 0.0;        // Cells kind: edge length of a cell (m)
+  // A leaf does not divide when half its longest edge is shorter than this times the smallest
+  // (fat) object box it holds: children that small cannot separate objects that overlap,
+  // and dense clusters of more than df objects would split down to maxDepth. 0: only maxDepth.
+  double minChildSizeRatio = 0.0;
 };
 
 struct SpaceCounters {
@@ -81,6 +85,7 @@ class Space {
   // Objects whose membership grew because regions reunited since the last call: they may have
   // new neighbours. The simulator re-predicts them.
   std::vector<int> takeWidened();
+  bool hasWidened() const { return !widened_.empty(); }
 
   const SpaceCounters& counters() const { return counters_; }
 
@@ -97,6 +102,9 @@ class Space {
     Box fat;
     std::vector<int> leaves;
     bool present = false;
+    // cells kind: the listed block of cells, so updates and exit times need not recompute it
+    Eigen::Array<int, D, 1> lo = Eigen::Array<int, D, 1>::Zero();
+    Eigen::Array<int, D, 1> hi = Eigen::Array<int, D, 1>::Zero();
   };
 
   Box clampToBounds(const Box& b) const;
@@ -114,6 +122,7 @@ class Space {
 
   void attach(int id);
   void detach(int id, bool allowCollapse);
+  void updateCells(int id, const Box& fat);
 
   SpaceKind kind_;
   Box bounds_;
