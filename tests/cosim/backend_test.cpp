@@ -88,6 +88,27 @@ TEST(Backends, LibsumoAndLibtraciGiveIdenticalStatesAndWarnings) {
   EXPECT_EQ(viaLibsumo.warnings, viaTraci.warnings);
 }
 
+// The sublane model: lateral speeds and blinkers are non-zero here, and must agree as well.
+TEST(Backends, LibsumoAndLibtraciAgreeOnTheSublaneModel) {
+  Scenario s = loadScenario(sourceDir() / "networks/sublane/scenario.yaml");
+  s.end = 60.0;
+  const SumoLaunch launch{sumoArguments(s), false, "", ""};
+  auto a = startLibsumo(launch);
+  const Recorded viaLibsumo = run(*a, s);
+  auto b = launchTraci(launch);
+  const Recorded viaTraci = run(*b, s);
+  std::size_t lateral = 0, blinking = 0;
+  for (const auto& step : viaLibsumo.steps)
+    for (const auto& v : step) {
+      lateral += v.lateralSpeed != 0.0;
+      blinking += (v.signals & (kSumoBlinkerLeft | kSumoBlinkerRight)) != 0;
+    }
+  EXPECT_GT(lateral, 1000u);
+  EXPECT_GT(blinking, 100u);
+  expectSameStates(viaLibsumo, viaTraci);
+  EXPECT_EQ(viaLibsumo.warnings, viaTraci.warnings);
+}
+
 TEST(Backends, VehicleTypesCarryMassParamAndClass) {
   const Scenario s = shortMotorway(5.0);
   auto b = startLibsumo(SumoLaunch{sumoArguments(s), false, "", ""});
@@ -157,6 +178,28 @@ TEST(Plugin, UserDrivenLibsumoGetsWarningsAndColours) {
   EXPECT_GT(checked, 100u);
   EXPECT_GT(plugin->counters().colorChanges, 0u);
   sumo->close();
+}
+
+// --gui draws the cells as polygons; checked through libtraci on a launched SUMO: SUMO holds one
+// polygon per cell with the cell's extent.
+TEST(Plugin, DrawsCellBoundariesAsPolygonsInSumo) {
+  const Scenario s = shortMotorway(1.0);
+  auto b = launchTraci(SumoLaunch{sumoArguments(s), false, "", ""});
+  HighwayPlugin plugin(*b, s.plugin);
+  const int n = plugin.drawCells();
+  const auto& cells = plugin.monitor().cells();
+  EXPECT_EQ(n, cells.cellCount());
+  EXPECT_GE(n, 15);  // 3 km of motorway + ramp at 200 m per cell
+  const auto ids = libtraci::Polygon::getIDList();
+  EXPECT_EQ(static_cast<int>(ids.size()), n);
+  const auto shape = libtraci::Polygon::getShape("stsim_cell_3").value;
+  const Aabb<2> box = cells.cellExtent(3);
+  ASSERT_EQ(shape.size(), 5u);
+  EXPECT_DOUBLE_EQ(shape[0].x, box.min.x());
+  EXPECT_DOUBLE_EQ(shape[0].y, box.min.y());
+  EXPECT_DOUBLE_EQ(shape[2].x, box.max.x());
+  EXPECT_DOUBLE_EQ(shape[2].y, box.max.y());
+  b->close();
 }
 
 // stsim attaches as client 2 of a SUMO serving two clients; this test is client 1 and drives the

@@ -31,6 +31,22 @@ TEST(HighwayCli, MotorwayRunWritesWarningsSummaryAndCollisions) {
   EXPECT_EQ(lines(slurp(dir / "collisions.csv"))[0], "time,collider,victim,type,lane,pos,collider_speed,victim_speed");
 }
 
+// The sublane network exists to produce lane-marker and curb warnings (lateral drift, filtering).
+TEST(HighwayCli, SublaneNetworkRaisesLaneMarkerAndCurbWarnings) {
+  const auto dir = freshDir("cli_sublane");
+  const auto r = runStsim({"highway", (sourceDir() / "networks/sublane/scenario.yaml").string(), "--end", "90",
+                           "--out", dir.string()},
+                          dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::size_t markers = 0, curbs = 0;
+  for (const auto& l : lines(slurp(dir / "warnings.csv"))) {
+    markers += l.find(",lane_marker,") != std::string::npos;
+    curbs += l.find(",curb,") != std::string::npos;
+  }
+  EXPECT_GT(markers, 20u);
+  EXPECT_GT(curbs, 5u);
+}
+
 TEST(HighwayCli, DeterministicForASeedAndPenetrationDrawsThatShare) {
   const auto dir = freshDir("cli_seed");
   auto go = [&](const std::string& name, const std::string& seed) {

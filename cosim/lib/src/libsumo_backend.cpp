@@ -2,7 +2,7 @@
 // which for libsumo are plain function calls (no serialisation), cheaper than subscriptions.
 #include <libsumo/libsumo.h>
 
-#include <map>
+#include <unordered_map>
 #include <memory>
 
 #include "backend_common.hpp"
@@ -17,6 +17,9 @@ class LibsumoBackend final : public Backend {
   explicit LibsumoBackend(bool owns) : owns_(owns) {
     deltaT_ = libsumo::Simulation::getDeltaT();
     time_ = libsumo::Simulation::getTime();
+    // lateral speed is identically 0 unless the sublane model or lane-change durations are on:
+    // then one getter per vehicle and step can be saved
+    lateral_ = optionPositive("lateral-resolution") || optionPositive("lanechange.duration");
     // vehicles already on the road when we attach
     StepEvents initial;
     initial.departed = libsumo::Vehicle::getIDList();
@@ -37,6 +40,7 @@ class LibsumoBackend final : public Backend {
       events_.collisions.clear();
       for (const auto& c : libsumo::Simulation::getCollisions())
         events_.collisions.push_back({c.collider, c.victim, c.type, c.lane, c.colliderSpeed, c.victimSpeed, c.pos, time_});
+      for (const auto& id : events_.arrived) typeOf_.erase(id);
       active_.apply(events_);
       readVehicles();
     } catch (const libsumo::TraCIException& e) {
@@ -128,6 +132,13 @@ class LibsumoBackend final : public Backend {
   }
 
  private:
+  static bool optionPositive(const std::string& name) {
+    try {
+      return std::stod(libsumo::Simulation::getOption(name)) > 0.0;
+    } catch (...) {
+      return true;  // unknown: read it
+    }
+  }
   static int laneIndex(const std::string& laneId) {
     const auto us = laneId.rfind('_');
     return us == std::string::npos ? 0 : std::stoi(laneId.substr(us + 1));
@@ -148,13 +159,16 @@ class LibsumoBackend final : public Backend {
     for (const auto& id : active_.ids()) {
       SumoVehicle v;
       v.id = id;
-      v.type = libsumo::Vehicle::getTypeID(id);
+      // a vehicle's type is read once (a type change through TraCI by another client is not seen)
+      auto t = typeOf_.find(id);
+      if (t == typeOf_.end()) t = typeOf_.emplace(id, libsumo::Vehicle::getTypeID(id)).first;
+      v.type = t->second;
       const auto p = libsumo::Vehicle::getPosition(id);
       v.x = p.x;
       v.y = p.y;
       v.angle = libsumo::Vehicle::getAngle(id);
       v.speed = libsumo::Vehicle::getSpeed(id);
-      v.lateralSpeed = libsumo::Vehicle::getLateralSpeed(id);
+      v.lateralSpeed = lateral_ ? libsumo::Vehicle::getLateralSpeed(id) : 0.0;
       v.acceleration = libsumo::Vehicle::getAcceleration(id);
       v.signals = libsumo::Vehicle::getSignals(id);
       vehicles_.push_back(std::move(v));
@@ -164,7 +178,9 @@ class LibsumoBackend final : public Backend {
   bool owns_;
   bool open_ = true;
   detail::ActiveVehicles active_;
-  std::map<std::string, SumoVehicleType> types_;
+  std::unordered_map<std::string, SumoVehicleType> types_;
+  std::unordered_map<std::string, std::string> typeOf_;  // vehicle id -> vType id, read on departure
+  bool lateral_ = true;  // SUMO moves vehicles sideways at finite speed (sublane model or lane-change duration)
 };
 
 }  // namespace

@@ -6,7 +6,7 @@
 #include <libsumo/libtraci.h>
 
 #include <atomic>
-#include <map>
+#include <unordered_map>
 #include <memory>
 #include <optional>
 
@@ -269,7 +269,7 @@ class TraciBackend final : public Backend {
   double endTime_ = -1.0;
   int minExpected_ = 1;
   detail::ActiveVehicles active_;
-  std::map<std::string, SumoVehicleType> types_;
+  std::unordered_map<std::string, SumoVehicleType> types_;
 };
 
 }  // namespace
