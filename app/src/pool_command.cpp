@@ -51,8 +51,9 @@ void printSummary(std::ostream& os, const pool::RunRecord& run, const pool::Game
   if (!run.shots.empty()) {
     double drift = 0.0;
     for (const auto& s : run.shots) drift = std::max(drift, std::abs(s.energyDrift()));
-    os << ", kinetic energy " << run.shots.front().keStart << " J -> " << run.shots.back().keEnd
-       << " J on the table, max energy drift " << drift;
+    os << ", kinetic energy " << run.shots.front().keStart << " J -> " << run.shots.back().keEnd << " J on the table";
+    if (game.friction() > 0.0) os << " (friction " << game.friction() << " m/s^2)";
+    else os << ", max energy drift " << drift;
   }
   os << "\n  wall time " << run.wallSeconds << " s\n";
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stcore/roots.hpp>
 #include <stcore/tolerances.hpp>
 
 namespace st {
@@ -152,6 +153,94 @@ Impact toiBallPlane(const Ball<D>& b, const Vec<D>& v, const Vec<D>& n, double o
 }
 template Impact toiBallPlane<2>(const Ball<2>&, const Vec2&, const Vec2&, double);
 template Impact toiBallPlane<3>(const Ball<3>&, const Vec3&, const Vec3&, double);
+
+namespace {
+
+// First root of h(t) = h0 + hv t + ha t^2 / 2 (h0 > 0) in [0, tMax] where h is falling.
+double firstFallingRoot(double h0, double hv, double ha, double tMax) {
+  const QuadraticRoots q = solveQuadratic(0.5 * ha, hv, h0);
+  for (int k = 0; k < q.count; ++k) {
+    const double t = q.root[k];
+    if (t >= 0.0 && t <= tMax && hv + ha * t < 0.0) return t;
+  }
+  return kInf;
+}
+
+}  // namespace
+
+template <int D>
+Impact toiBallsAccelerated(const Vec<D>& p_rel, const Vec<D>& v_rel, const Vec<D>& a_rel, double radiusSum,
+                           double tMax) {
+  const double dist = p_rel.norm();
+  const double gap = dist - radiusSum;
+  const double b = p_rel.dot(v_rel);
+  if (gap <= tol::kLinearSlop) {  // in contact now: the current velocity decides, as in toiBalls
+    if (gap < -tol::kLinearSlop) return b < 0.0 ? overlapping() : separating();
+    return b < 0.0 ? hitAt(0.0) : separating();
+  }
+  if (!(tMax > 0.0)) return miss();
+  // |p + v t + a t^2/2|^2 - R^2: the constant term as (dist - R)(dist + R), free of cancellation
+  const double c4 = 0.25 * a_rel.squaredNorm(), c3 = v_rel.dot(a_rel), c2 = v_rel.squaredNorm() + p_rel.dot(a_rel),
+               c1 = 2.0 * b, c0 = gap * (dist + radiusSum);
+  const PolynomialRoots r = solveQuarticInInterval(c4, c3, c2, c1, c0, 0.0, tMax);
+  for (int k = 0; k < r.count; ++k) {
+    const double t = r.root[k];
+    const Vec<D> d = p_rel + t * v_rel + (0.5 * t * t) * a_rel;
+    // closing at the root; a double root (grazing, no momentum exchanged) is not a hit
+    if (d.dot(v_rel + t * a_rel) < 0.0) return hitAt(t);
+  }
+  return miss();
+}
+
+template Impact toiBallsAccelerated<2>(const Vec2&, const Vec2&, const Vec2&, double, double);
+template Impact toiBallsAccelerated<3>(const Vec3&, const Vec3&, const Vec3&, double, double);
+
+template <int D>
+Impact toiBallPlaneAccelerated(const Ball<D>& b, const Vec<D>& v, const Vec<D>& a, const Vec<D>& n, double offset,
+                               double tMax) {
+  const double d0 = n.dot(b.center) - offset;
+  const double side = d0 >= 0.0 ? 1.0 : -1.0;
+  const double gap = std::abs(d0) - b.radius;
+  if (gap <= tol::kLinearSlop) return contactAlongNormal(gap, -side * n.dot(v));
+  const double t = firstFallingRoot(gap, side * n.dot(v), side * n.dot(a), tMax);
+  return t < kInf ? hitAt(t) : miss();
+}
+
+template Impact toiBallPlaneAccelerated<2>(const Ball<2>&, const Vec2&, const Vec2&, const Vec2&, double, double);
+template Impact toiBallPlaneAccelerated<3>(const Ball<3>&, const Vec3&, const Vec3&, const Vec3&, double, double);
+
+SegmentImpact toiCircleSegmentAccelerated(const Circle& c, const Vec2& v, const Vec2& a, const Segment& s,
+                                          double tMax) {
+  SegmentImpact best{miss(), SegmentFeature::Face};
+  const Vec2 dir = s.b - s.a;
+  const double len2 = dir.squaredNorm();
+  // in contact now: the closest feature decides, as in toiCircleSegment
+  const double u0 = len2 > 0.0 ? std::clamp((c.center - s.a).dot(dir) / len2, 0.0, 1.0) : 0.0;
+  const Vec2 out0 = c.center - (s.a + u0 * dir);
+  const double dist0 = out0.norm();
+  if (dist0 - c.radius <= tol::kLinearSlop) {
+    const SegmentFeature f = u0 <= 0.0 ? SegmentFeature::EndA : u0 >= 1.0 ? SegmentFeature::EndB : SegmentFeature::Face;
+    if (dist0 == 0.0) return {separating(), f};
+    return {contactAlongNormal(dist0 - c.radius, -out0.dot(v) / dist0), f};
+  }
+  if (len2 > 0.0) {
+    const Vec2 n = Vec2(-dir.y(), dir.x()) / std::sqrt(len2);
+    const double d0 = n.dot(c.center - s.a);
+    const double side = d0 >= 0.0 ? 1.0 : -1.0;
+    const double gap = std::abs(d0) - c.radius;
+    if (gap > tol::kLinearSlop) {
+      const double t = firstFallingRoot(gap, side * n.dot(v), side * n.dot(a), tMax);
+      if (t < kInf) {
+        // the tangent point must lie on the segment's interior at the time of contact
+        const double u = (c.center + v * t + (0.5 * t * t) * a - s.a).dot(dir) / len2;
+        if (u >= 0.0 && u <= 1.0) keepEarliest(best, hitAt(t), SegmentFeature::Face);
+      }
+    }
+  }
+  keepEarliest(best, toiBallsAccelerated<2>(s.a - c.center, -v, -a, c.radius, tMax), SegmentFeature::EndA);
+  keepEarliest(best, toiBallsAccelerated<2>(s.b - c.center, -v, -a, c.radius, tMax), SegmentFeature::EndB);
+  return best;
+}
 
 Vec2 closestPointOnSegment(const Segment& s, const Vec2& p) {
   const Vec2 dir = s.b - s.a;

@@ -13,6 +13,7 @@ const char* toString(PoolEventKind k) {
     case PoolEventKind::Jaw: return "jaw";
     case PoolEventKind::Pocket: return "pocket";
     case PoolEventKind::Boundary: return "boundary";
+    case PoolEventKind::Rest: return "rest";
     case PoolEventKind::Strike: return "strike";
     case PoolEventKind::Stop: return "stop";
     case PoolEventKind::Count: break;
@@ -45,11 +46,15 @@ SimulatorConfig simulatorConfig(const SpaceSpec& space, const TableSpec& table, 
 SimulatorConfig simulatorConfig(const Scenario& s) { return simulatorConfig(s.space, s.table, s.balls); }
 
 Game::Game(const Scenario& scenario, const SimulatorConfig& config)
-    : table_(makeTable(scenario.table)), specs_(scenario.balls), sim_(table_.bounds(), config) {
+    : table_(makeTable(scenario.table)), specs_(scenario.balls), sim_(table_.bounds(), config),
+      friction_(scenario.friction) {
   validateScenario(scenario, scenario.name);
   for (const Segment& c : table_.cushions) sim_.addSegment(c);
   for (const auto& p : table_.pockets) sim_.addSensor(p);
-  for (const BallSpec& b : specs_) sim_.addBall(b.position, b.velocity, b.radius, b.mass, b.number);
+  for (const BallSpec& b : specs_) {
+    const int i = sim_.addBall(b.position, b.velocity, b.radius, b.mass, b.number);
+    if (friction_ > 0.0) sim_.setDeceleration(i, friction_);
+  }
 }
 
 int Game::handleOf(int number) const {
@@ -80,7 +85,7 @@ PoolEvent Game::manual(PoolEventKind kind, int ball) const {
   e.kind = kind;
   e.ball = ball;
   e.p = sim_.ball(ball).positionAt(e.t);
-  e.v = sim_.ball(ball).v;
+  e.v = sim_.ball(ball).velocityAt(e.t);
   return e;
 }
 
@@ -92,13 +97,13 @@ PoolEvent Game::translate(const EventRecord& r) const {
   e.other = r.b;
   const BallState<2>& a = sim_.ball(r.a);
   e.p = a.positionAt(r.t);
-  e.v = a.v;
+  e.v = a.velocityAt(r.t);
   switch (r.kind) {
     case EventKind::BallBall: {
       e.kind = PoolEventKind::Ball;
       const BallState<2>& b = sim_.ball(r.b);
       e.otherP = b.positionAt(r.t);
-      e.otherV = b.v;
+      e.otherV = b.velocityAt(r.t);
       break;
     }
     case EventKind::BallSegment: {
@@ -112,6 +117,7 @@ PoolEvent Game::translate(const EventRecord& r) const {
     case EventKind::BallWall: e.kind = PoolEventKind::Cushion; break;
     case EventKind::Sensor: e.kind = PoolEventKind::Pocket; break;
     case EventKind::Boundary: e.kind = PoolEventKind::Boundary; break;
+    case EventKind::Rest: e.kind = PoolEventKind::Rest; break;
     case EventKind::Count: break;
   }
   return e;

@@ -155,13 +155,14 @@ void writeSummaryJson(std::ostream& os, const RunRecord& run, const Game& game) 
   double worstDrift = 0.0;
   for (std::size_t i = 0; i < run.shots.size(); ++i) {
     const ShotSummary& s = run.shots[i];
-    worstDrift = std::max(worstDrift, std::abs(s.energyDrift()));
+    if (!s.friction) worstDrift = std::max(worstDrift, std::abs(s.energyDrift()));
     os << (i ? "," : "") << "\n    {\"ball\": " << s.ball << ", \"start_s\": " << num(s.start) << ", \"end_s\": "
        << num(s.end) << ", \"ending\": " << jsonString(toString(s.ending)) << ", \"events\": " << s.events
        << ", \"kinetic_energy_initial_J\": " << num(s.keStart) << ", \"kinetic_energy_final_J\": " << num(s.keEnd)
        << ", \"kinetic_energy_pocketed_J\": " << num(s.kePocketed) << ", \"momentum_initial\": "
        << vec(s.momentumStart) << ", \"momentum_final\": " << vec(s.momentumEnd)
-       << ", \"energy_drift\": " << num(s.energyDrift()) << "}";
+       << ", \"energy_drift\": " << (s.friction ? std::string("null") : num(s.energyDrift()))
+       << ", \"energy_dissipated_J\": " << num(s.keStart - s.keEnd - s.kePocketed) << "}";
   }
   os << (run.shots.empty() ? "" : "\n  ") << "],\n";
   const ShotSummary first = run.shots.empty() ? ShotSummary{} : run.shots.front();
@@ -170,7 +171,8 @@ void writeSummaryJson(std::ostream& os, const RunRecord& run, const Game& game) 
   os << "  \"kinetic_energy_final_J\": " << num(last.keEnd) << ",\n";
   os << "  \"momentum_initial\": " << vec(first.momentumStart) << ",\n";
   os << "  \"momentum_final\": " << vec(last.momentumEnd) << ",\n";
-  os << "  \"energy_drift_max\": " << num(worstDrift) << ",\n";
+  os << "  \"friction_m_per_s2\": " << num(game.friction()) << ",\n";
+  os << "  \"energy_drift_max\": " << (game.friction() > 0.0 ? std::string("null") : num(worstDrift)) << ",\n";
   os << "  \"wall_time_s\": " << num(run.wallSeconds) << ",\n";
   os << "  \"error\": " << (run.error.empty() ? "null" : jsonString(run.error)) << "\n";
   os << "}\n";
@@ -267,7 +269,7 @@ void writeAnimationHtml(std::ostream& os, const RunRecord& run, const Game& game
                  << e.otherV.y() << "]";
   }
   for (std::size_t i = 0; i < specs.size(); ++i) {
-    data << (i ? "," : "") << "{\"n\":" << specs[i].number << ",\"r\":" << specs[i].radius << ",\"c\":\""
+    data << (i ? "," : "") << "{\"n\":" << specs[i].number << ",\"r\":" << specs[i].radius << ",\"a\":" << game.friction() << ",\"c\":\""
          << hexOf(specs[i].colour) << "\",\"s\":" << (specs[i].pattern == Pattern::Striped ? 1 : 0)
          << ",\"gone\":" << (gone[i] < 0 ? std::string("null") : num(gone[i])) << ",\"k\":[" << k[i].str() << "]}";
   }
@@ -294,8 +296,11 @@ function state(b, t) {
   if (b.gone !== null && t >= b.gone) return null;
   let lo = 0, hi = b.k.length - 1;
   while (lo < hi) { const m = (lo + hi + 1) >> 1; if (b.k[m][0] <= t) lo = m; else hi = m - 1; }
-  const k = b.k[lo], dt = t - k[0];
-  return [k[1] + k[3] * dt, k[2] + k[4] * dt];
+  const k = b.k[lo], s = Math.hypot(k[3], k[4]);
+  let dt = t - k[0], f = 1;
+  // rolling resistance: speed falls by a per second until the ball stops
+  if (b.a > 0 && s > 0) { dt = Math.min(dt, s / b.a); f = 1 - 0.5 * b.a * dt / s; }
+  return [k[1] + k[3] * dt * f, k[2] + k[4] * dt * f];
 }
 const pad = 0.08, S = Math.min(1100 / (D.width + 2 * pad), 700 / (D.height + 2 * pad));
 const cv = document.getElementById('c'), g = cv.getContext('2d');

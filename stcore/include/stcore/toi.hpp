@@ -77,4 +77,18 @@ inline Impact toiSpherePlane(const Sphere& s, const Vec3& v, const Vec3& n, doub
 // Closest point of a segment to p.
 Vec2 closestPointOnSegment(const Segment& s, const Vec2& p);
 
+// ---- accelerated motion (balls decelerating under rolling resistance) ----------------------------
+// The same queries when positions are quadratic in time, p(t) = p + v t + a t^2 / 2, valid for
+// t in [0, tMax] (until a ball comes to rest). Contacts now are decided as in the kernels above;
+// later ones are the first approaching root of a quartic (ball-ball, ball-point) or quadratic
+// (plane, segment face) in [0, tMax]. Miss if none.
+template <int D>
+Impact toiBallsAccelerated(const Vec<D>& p_rel, const Vec<D>& v_rel, const Vec<D>& a_rel, double radiusSum,
+                           double tMax);
+template <int D>
+Impact toiBallPlaneAccelerated(const Ball<D>& b, const Vec<D>& v, const Vec<D>& a, const Vec<D>& n, double offset,
+                               double tMax);
+SegmentImpact toiCircleSegmentAccelerated(const Circle& c, const Vec2& v, const Vec2& a, const Segment& s,
+                                          double tMax);
+
 }  // namespace st

@@ -20,6 +20,7 @@ enum class PoolEventKind : std::uint8_t {
   Jaw,       // a ball strikes a pocket jaw (a cushion's end point)
   Pocket,    // a ball is pocketed and leaves the table
   Boundary,  // a ball crosses the boundary of its region of space (version II bookkeeping)
+  Rest,      // a ball slowed by friction comes to a stop
   Strike,    // the cue gives a ball its velocity (start of a shot; not a simulator event)
   Stop,      // a shot's time limit stops a moving ball where it stands (not a simulator event)
   Count
@@ -51,6 +52,7 @@ struct ShotSummary {
   double kePocketed = 0.0;   // J carried into pockets during the shot
   Vec2 momentumStart = Vec2::Zero(), momentumEnd = Vec2::Zero();  // kg m/s
   std::uint64_t events = 0;
+  bool friction = false;     // energy is dissipated: the drift below is then the lost fraction
   // (keEnd + kePocketed - keStart) / keStart: zero for an exact frictionless simulation
   double energyDrift() const { return keStart > 0.0 ? (keEnd + kePocketed - keStart) / keStart : 0.0; }
 };
@@ -88,6 +90,7 @@ class Game {
   const std::vector<BallSpec>& specs() const { return specs_; }
   const Simulator<2>& simulator() const { return sim_; }
   const std::vector<Pocketing>& pocketed() const { return pocketed_; }
+  double friction() const { return friction_; }  // m/s^2
   int shotsPlayed() const { return shots_; }
   // Handle of the ball with this number, or -1.
   int handleOf(int number) const;
@@ -105,6 +108,7 @@ class Game {
   std::vector<BallSpec> specs_;
   Simulator<2> sim_;
   std::vector<Pocketing> pocketed_;
+  double friction_ = 0.0;
   int shots_ = 0;
 };
 
@@ -129,6 +133,7 @@ template <class Observer>
 ShotSummary Game::runShot(const Shot* shot, double limit, Observer&& observer) {
   ShotSummary s;
   s.index = shots_;
+  s.friction = friction_ > 0.0;
   s.ball = shot ? shot->ball : -1;
   s.start = sim_.now();
   if (shot) {
@@ -141,7 +146,7 @@ ShotSummary Game::runShot(const Shot* shot, double limit, Observer&& observer) {
     const PoolEvent e = translate(r);
     if (e.kind == PoolEventKind::Pocket) {
       const BallState<2>& b = sim_.ball(e.ball);
-      s.kePocketed += 0.5 * b.mass * b.v.squaredNorm();
+      s.kePocketed += 0.5 * b.mass * b.velocityAt(e.t).squaredNorm();
       pocketed_.push_back(Pocketing{e.ball, specs_[e.ball].number, e.other, shots_, e.t});
     }
     ++s.events;
