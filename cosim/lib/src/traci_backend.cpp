@@ -6,6 +6,8 @@
 #include <libsumo/libtraci.h>
 
 #include <atomic>
+#include <chrono>
+#include <thread>
 #include <unordered_map>
 #include <memory>
 #include <optional>
@@ -46,8 +48,21 @@ class TraciBackend final : public Backend {
   TraciBackend(const std::string& host, int port, int order, std::unique_ptr<detail::SumoProcess> process)
       : host_(host), port_(port), order_(order), process_(std::move(process)) {
     label_ = "stsim" + std::to_string(connectionCounter++);
+    // on this host, wait for the port to listen (reading /proc, without connecting: a probing
+    // connection would take one of SUMO's --num-clients slots), so libtraci connects at its first
+    // try and does not print its retry messages
+    const bool local = host == "localhost" || host == "127.0.0.1" || host == "::1";
+    if (local && !process_) {
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+      while (!detail::portListening(port)) {
+        if (std::chrono::steady_clock::now() > deadline)
+          throw SumoError("nothing listens on " + where() + " (start SUMO with --remote-port " + std::to_string(port) +
+                          ")");
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      }
+    }
     try {
-      libtraci::Simulation::init(port, process_ ? 1 : 10, host, label_);
+      libtraci::Simulation::init(port, local ? 0 : 10, host, label_);
       if (order_ > 0) libtraci::Simulation::setOrder(order_);
     } catch (const std::exception& e) {
       std::string msg = "cannot connect to SUMO at " + where() + ": " + e.what();
