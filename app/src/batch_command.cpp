@@ -27,7 +27,10 @@ std::vector<std::string> optionalKeysFor(const std::string& command) {
   if (command == "pool")
     return {"until", "friction", "seed", "space.kind", "space.decomposition_factor", "space.divisions", "rack_gap"};
   if (command == "highway")
-    return {"seed", "end", "detector", "penetration", "action", "broadphase"};
+    return {"seed", "end", "demand_scale", "validate_ssm", "detector", "layout", "motion", "broadphase", "check_road",
+            "penetration", "action", "brake.deceleration", "brake.duration", "safe_time.vehicle_reaction",
+            "safe_time.road_reaction", "concentric.inner_margin", "concentric.outer_margin", "cells.length",
+            "cells.hysteresis_db", "cells.decomposition_factor", "cells.max_depth", "collision_action"};
   return {"seed"};
 }
 

@@ -42,6 +42,7 @@ Args makeArgs() {
       .option("traci", "HOST:PORT", "attach to a running SUMO through TraCI instead of embedding libsumo")
       .flag("gui", "run sumo-gui and draw the cells (SUMO runs)")
       .option("end", "SECONDS", "stop at this simulated time")
+      .option("scale", "FACTOR", "multiply the routes' demand (SUMO --scale; SUMO runs)")
       .option("seed", "N", "seed for the equipped-vehicle draw (and SUMO)", "42")
       .flag("validate-ssm", "compare with SUMO's SSM device, writes validation.json (SUMO runs)");
   return a;
@@ -79,7 +80,7 @@ hw::MonitorConfig monitorConfig(const Args& a) {
 }
 
 int runTrace(const Args& a) {
-  for (const char* opt : {"traci", "gui", "validate-ssm"})
+  for (const char* opt : {"traci", "gui", "validate-ssm", "scale"})
     if (a.has(opt)) throw UsageError(std::string("--") + opt + " applies to SUMO runs (SCENARIO), not to --fcd");
   if (a.has("action")) throw UsageError("--action applies to SUMO runs (SCENARIO), not to --fcd");
   if (!a.has("net")) throw UsageError("--fcd needs --net NET.net.xml for the lane geometry");

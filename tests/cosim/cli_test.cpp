@@ -132,3 +132,60 @@ TEST(HighwayCli, CtrlCStopsCleanlyWithResultsFlushed) {
 
 }  // namespace
 }  // namespace st::cosim
+
+namespace st::cosim {
+namespace {
+
+using namespace st::cosim::test;
+
+// The inserted-vehicle count SUMO itself reports in its --statistic-output.
+long sumoInserted(const std::filesystem::path& stats) {
+  const std::string xml = slurp(stats);
+  std::smatch m;
+  if (!std::regex_search(xml, m, std::regex("<vehicles[^>]* inserted=\"([0-9]+)\""))) return -1;
+  return std::stol(m[1].str());
+}
+
+// demand_scale is SUMO's --scale: stsim's departed count equals plain SUMO's inserted count with the
+// same scale and seed (action none: stsim does not steer), and the scenario key equals the option.
+TEST(HighwayCli, DemandScaleIsSumosScale) {
+  const auto dir = freshDir("cli_scale");
+  const auto cfg = sourceDir() / "networks/motorway/motorway.sumocfg";
+  std::vector<long> counts;
+  for (const char* scale : {"0.5", "1.5"}) {
+    const auto out = dir / (std::string("stsim") + scale);
+    const auto r = runStsim({"highway", motorway().string(), "--end", "90", "--action", "none", "--scale", scale,
+                             "--out", out.string()},
+                            dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto stats = dir / (std::string("sumo") + scale + ".xml");
+    const std::string cmd = "sumo -c " + cfg.string() + " --seed 42 --end 90 --scale " + scale +
+                            " --collision.action warn --xml-validation never --no-step-log true --no-warnings true --statistic-output " +
+                            stats.string() + " > /dev/null 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    const long inserted = sumoInserted(stats);
+    ASSERT_GT(inserted, 0) << slurp(stats);
+    EXPECT_DOUBLE_EQ(jsonNumber(slurp(out / "summary.json"), "departed"), static_cast<double>(inserted)) << scale;
+    counts.push_back(inserted);
+  }
+  EXPECT_LT(counts[0], counts[1]);  // the scale did reach SUMO
+  // the YAML key: a scenario next to the original, so its relative sumocfg resolves
+  const auto yaml = sourceDir() / "networks/motorway" / ("scale_test_" + std::to_string(::getpid()) + ".yaml");
+  std::ofstream(yaml) << "sumocfg: motorway.sumocfg\nseed: 42\nend: 90\naction: none\ndemand_scale: 0.5\n";
+  const auto r = runStsim({"highway", yaml.string(), "--out", (dir / "yaml").string()}, dir);
+  std::filesystem::remove(yaml);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_DOUBLE_EQ(jsonNumber(slurp(dir / "yaml/summary.json"), "departed"), static_cast<double>(counts[0]));
+}
+
+TEST(HighwayCli, BadDemandScaleNamesTheKey) {
+  const auto dir = freshDir("cli_bad_scale");
+  std::ofstream(dir / "s.yaml") << "sumocfg: x.sumocfg\ndemand_scale: lots\n";
+  const auto r = runStsim({"highway", (dir / "s.yaml").string()}, dir);
+  EXPECT_EQ(r.code, 1);
+  ASSERT_EQ(lines(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("s.yaml:2: demand_scale: must be a number"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace st::cosim

@@ -121,6 +121,12 @@ void applyOptions(const st::cli::Args& a, Scenario& s) {
     if (e <= 0.0) throw st::cli::UsageError("--end must be positive");
     s.end = e;
   }
+  if (a.has("scale")) {
+    const double d = a.getDouble("scale");
+    if (!(d >= 0.0 && d <= 1000.0)) throw st::cli::UsageError("--scale must be in [0, 1000]");
+    s.demandScale = d;
+  }
+  if (a.has("validate-ssm")) s.validateSsm = true;
   if (a.has("seed")) {
     const long seed = a.getInt("seed");
     if (seed < 0 || seed > 2147483647) throw st::cli::UsageError("--seed must be in [0, 2^31 - 1]");
@@ -153,7 +159,7 @@ int runHighwayCommand(const st::cli::Args& a) {
 
   const bool attach = a.has("traci");
   const bool gui = a.has("gui");
-  const bool validate = a.has("validate-ssm");
+  const bool validate = s.validateSsm;
   if (attach && gui) throw st::cli::UsageError("--gui starts sumo-gui; with --traci the running SUMO decides");
   if (attach && validate)
     throw st::cli::UsageError("--validate-ssm needs stsim to start SUMO (the SSM device is a SUMO option)");

@@ -96,7 +96,7 @@ void readYaml(const fs::path& path, Scenario& s) {
     throw ScenarioError(path.string() + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
   }
   const Reader r(path);
-  r.checkKeys(root, "", {"sumocfg", "seed", "end", "detector", "layout", "motion", "broadphase", "check_road",
+  r.checkKeys(root, "", {"sumocfg", "seed", "end", "demand_scale", "validate_ssm", "detector", "layout", "motion", "broadphase", "check_road",
                          "penetration", "smart_types", "action", "brake", "safe_time", "concentric", "cells",
                          "collision_action", "sumo_args", "out", "description"});
   if (!root["sumocfg"]) r.fail(root, "sumocfg", "missing (the SUMO configuration to run)");
@@ -104,6 +104,8 @@ void readYaml(const fs::path& path, Scenario& s) {
   hw::MonitorConfig& m = s.plugin.monitor;
   if (auto n = root["seed"]) s.seed = static_cast<std::uint64_t>(r.number(n, "seed", 0, 2147483647));
   if (auto n = root["end"]) s.end = r.number(n, "end", 0, kBig);
+  if (auto n = root["demand_scale"]) s.demandScale = r.number(n, "demand_scale", 0, 1000);
+  if (auto n = root["validate_ssm"]) s.validateSsm = r.boolean(n, "validate_ssm");
   if (auto n = root["detector"])
     if (!hw::parseDetectorKind(r.text(n, "detector"), m.detector.kind))
       r.fail(n, "detector", "must be concentric, five or box");
@@ -250,6 +252,13 @@ std::vector<std::string> sumoArguments(const Scenario& s) {
     os.precision(17);
     os << *s.end;
     a.push_back("--end");
+    a.push_back(os.str());
+  }
+  if (s.demandScale) {
+    std::ostringstream os;
+    os.precision(17);
+    os << *s.demandScale;
+    a.push_back("--scale");
     a.push_back(os.str());
   }
   a.insert(a.end(), s.sumoArgs.begin(), s.sumoArgs.end());

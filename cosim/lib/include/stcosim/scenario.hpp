@@ -5,6 +5,8 @@
 //   sumocfg: motorway.sumocfg        # required
 //   seed: 42                          # SUMO's seed and the smart-car draw
 //   end: 420                          # s of simulated time (default: the sumocfg's end)
+//   demand_scale: 1.0                 # SUMO's --scale: multiplies the routes' demand
+//   validate_ssm: false               # also run SUMO's SSM device and write validation.json
 //   detector: five                    # concentric | five | box
 //   layout: a                         # five-circle zones: a (Fig. 11a) | b (Fig. 11b)
 //   motion: velocity                  # velocity | acceleration
@@ -47,6 +49,8 @@ struct Scenario {
   PluginConfig plugin;
   std::uint64_t seed = 42;
   std::optional<double> end;
+  std::optional<double> demandScale;  // SUMO --scale
+  bool validateSsm = false;
   std::string collisionAction = "warn";
   std::vector<std::string> sumoArgs;
   std::optional<std::filesystem::path> out;
