@@ -293,6 +293,7 @@ int runHighwayCommand(const st::cli::Args& a) {
                   {"arrived", static_cast<double>(pc.arrived)},
                   {"teleports", static_cast<double>(pc.teleports)},
                   {"sumo_collisions", static_cast<double>(pc.collisions)},
+                  {"sumo_collision_steps", static_cast<double>(pc.collisionSteps)},
                   {"color_changes", static_cast<double>(pc.colorChanges)},
                   {"brake_commands", static_cast<double>(pc.brakeCommands)},
                   {"cell_polygons", static_cast<double>(cellPolygons)}};

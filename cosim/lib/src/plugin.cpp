@@ -56,12 +56,18 @@ void HighwayPlugin::update() {
   counters_.departed += ev.departed.size();
   counters_.arrived += ev.arrived.size();
   counters_.teleports += ev.teleportStarted.size();
-  counters_.collisions += ev.collisions.size();
+  counters_.collisionSteps += ev.collisions.size();
+  std::set<std::pair<std::string, std::string>> touching;
+  for (const auto& c : ev.collisions) {
+    std::pair<std::string, std::string> pair = std::minmax(c.collider, c.victim);
+    if (!touching_.count(pair)) counters_.collisions++;
+    touching.insert(std::move(pair));
+  }
+  touching_ = std::move(touching);
   collisions_.insert(collisions_.end(), ev.collisions.begin(), ev.collisions.end());
   for (const auto& id : ev.arrived) {
     equipped_.erase(id);
     painted_.erase(id);
-    brakingUntil_.erase(id);
   }
 
   // convert once; decide each vehicle's equipment once, on first sight
@@ -97,11 +103,26 @@ void HighwayPlugin::act() {
       it->second.level = level;
       counters_.colorChanges++;
     }
-    if (a.action == Action::Brake && al.kind == highway::WarningKind::Vehicle && al.zone != highway::Zone::Rear) {
-      auto [b, first] = brakingUntil_.try_emplace(s.id, -1.0);
-      if (now >= b->second) {
-        backend_.slowDown(s.id, std::max(0.0, s.speed - a.brakeDeceleration * a.brakeDuration), a.brakeDuration);
-        b->second = now + a.brakeDuration;
+    if (a.action == Action::Brake && al.kind == highway::WarningKind::Vehicle && al.foe >= 0) {
+      // Brake for a foe ahead in our path that is slower along our heading, once avoiding it
+      // within the remaining gap needs at least the configured deceleration (gentler cases are the
+      // driver's), and only down to its speed: braking for a foe behind or alongside, or to a
+      // standstill, only moves the conflict to the vehicles behind. Re-decided at every step.
+      const highway::VehicleState& f = states_.at(static_cast<std::size_t>(al.foe));
+      const Vec2 d = s.direction();
+      const double ahead = (f.position - s.position).dot(d);
+      const double closing = s.speed - f.velocity().dot(d);
+      // in our path: the bodies overlap sideways now (a slow car in the next lane is no reason
+      // to brake; braking for it is what rear-end collisions behind us are made of)
+      const double side = std::abs((f.position - s.position).dot(Vec2(-d.y(), d.x())));
+      const bool inPath = side < 0.5 * (s.width + f.width);
+      if (ahead > 0.0 && closing > 0.0 && inPath) {
+        const double gap = ahead - 0.5 * (s.length + f.length) - a.brakeStandstillGap;
+        const double needed = gap > 0.0 ? closing * closing / (2.0 * gap) : a.brakeMaxDeceleration;
+        const double decel = std::min(needed, a.brakeMaxDeceleration);
+        const double target = std::max(0.0, s.speed - closing);
+        if (decel < a.brakeDeceleration) continue;
+        backend_.slowDown(s.id, target, std::max(closing / decel, backend_.deltaT()));
         counters_.brakeCommands++;
       }
     }

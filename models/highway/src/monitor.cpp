@@ -398,7 +398,9 @@ struct HighwayMonitor::Impl {
       s.deficit[k] = std::max(s.deficit[k], th.safe - th.ttc);
       if (!worst || th.ttc * worst->safe < worst->ttc * th.safe) worst = &th;
     }
-    if (worst) alerts.push_back({s.input, worst->kind, worst->zone, worst->ttc, worst->safe});
+    if (worst)
+      alerts.push_back({s.input, worst->kind, worst->zone, worst->ttc, worst->safe,
+                        worst->kind == WarningKind::Vehicle ? slots[worst->foe].input : -1});
   }
 };
 

@@ -16,6 +16,7 @@
 #include <map>
 #include <memory>
 #include <span>
+#include <set>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -46,9 +47,14 @@ struct ActionConfig {
   Rgba warningColor{255, 215, 0, 255};
   Rgba dangerColor{255, 0, 0, 255};
   double redFraction = 0.5;
-  // Brake: on a car-car warning (except from the rear zone, where braking makes it worse) the
-  // smart car slows down at `brakeDeceleration` (m/s^2) for `brakeDuration` s (SUMO slowDown).
+  // Brake: on a car-car warning whose foe is ahead, in the path (bodies overlap sideways) and
+  // slower along the heading, once matching its speed before the gap (less a standstill margin)
+  // is used up needs at least `brakeDeceleration` m/s^2, the smart car slows to the foe's speed
+  // at that deceleration (at most `brakeMaxDeceleration`) with SUMO's slowDown.
+  // `brakeDuration` is not used any more (kept so existing scenarios still load).
   double brakeDeceleration = 3.0;
+  double brakeMaxDeceleration = 9.0;  // SUMO's default emergencyDecel for cars
+  double brakeStandstillGap = 1.0;    // m
   double brakeDuration = 1.0;
 };
 
@@ -64,7 +70,11 @@ struct PluginCounters {
   std::uint64_t equipped = 0;        // distinct smart cars seen
   std::uint64_t colorChanges = 0;
   std::uint64_t brakeCommands = 0;
-  std::uint64_t collisions = 0;      // SUMO's collisions (needs --collision.action warn)
+  // SUMO's collisions (needs --collision.action warn). With "warn" SUMO reports a pair again at
+  // every step it still overlaps, so `collisionSteps` counts those reports and `collisions` the
+  // distinct collisions: a pair counts again only after a step without contact.
+  std::uint64_t collisions = 0;
+  std::uint64_t collisionSteps = 0;
 };
 
 class HighwayPlugin {
@@ -116,8 +126,8 @@ class HighwayPlugin {
     int level = 0;  // 0 own colour, 1 warning, 2 danger
   };
   std::unordered_map<std::string, Painted> painted_;
-  std::unordered_map<std::string, double> brakingUntil_;
   std::vector<SumoCollision> collisions_;
+  std::set<std::pair<std::string, std::string>> touching_;  // pairs in contact at the last step
   PluginCounters counters_;
 };
 

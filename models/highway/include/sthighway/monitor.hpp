@@ -52,6 +52,7 @@ struct Alert {
   Zone zone = Zone::Body;
   double ttc = 0.0;
   double safeTime = 0.0;   // ttc / safeTime < 0.5 is "red" in the SUMO colouring
+  int foe = -1;            // the other vehicle's index (vehicle warnings), else -1
 };
 
 struct MonitorConfig {
