@@ -106,8 +106,7 @@ int runBatch(int argc, const char* const* argv) {
     return 0;
   }
   const fs::path expFile = *args.positionalValue(0);
-  batch::Experiment e = batch::loadExperiment(expFile, {});
-  e = batch::loadExperiment(expFile, optionalKeysFor(e.command));
+  const batch::Experiment e = batch::loadExperiment(expFile, optionalKeysFor);
   std::vector<batch::RunSpec> runs = batch::expandRuns(e);
   if (args.has("list")) {
     for (const auto& r : runs) {

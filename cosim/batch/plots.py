@@ -30,6 +30,11 @@ def num(s):
         return None
 
 
+def fmt(v):
+    x = num(v)
+    return "" if x is None else "%.4g" % x
+
+
 def find_col(cols, *patterns):
     for p in patterns:
         for c in cols:
@@ -113,27 +118,46 @@ def main(out):
         plt.close(fig)
         plots.append(("min_ttc_distribution.png", "distribution of the minimum TTC per warning episode"))
 
-    # 3. SUMO collisions with and without the brake action
-    coll = find_col(metrics, r"sumo.*collisions", r"collisions$", r"collision")
+    # 3. SUMO collisions with and without the brake action, per combination of the other swept
+    #    parameters (mean and 95% CI over seeds from summary.csv, each run's count as a dot)
+    coll = find_col(metrics, r"^sumo_collisions$", r"sumo.*collisions", r"collisions$")
+    collision_rows = []
     if "action" in sweep and coll:
-        by = {}
-        for r in runs:
-            v = num(r.get(coll))
-            if r["status"] == "done" and v is not None:
-                by.setdefault(r["action"], []).append(v)
-        if by:
-            fig, ax = plt.subplots(figsize=(5, 4))
-            keys = sorted(by)
-            means = [sum(by[k]) / len(by[k]) for k in keys]
-            ax.bar(keys, means, color=["#999999" if k == "none" else "#cc3333" for k in keys])
-            for i, k in enumerate(keys):
-                ax.plot([i] * len(by[k]), by[k], "k.", alpha=0.6)
-            ax.set_ylabel(coll + " per run")
-            ax.set_xlabel("action")
-            fig.tight_layout()
-            fig.savefig(os.path.join(out, "collisions_by_action.png"), dpi=110)
-            plt.close(fig)
-            plots.append(("collisions_by_action.png", "%s with and without the brake action" % coll))
+        others = [p for p in sweep if p != "action"]
+        actions = sorted({r["action"] for r in summary}, key=lambda a: (a != "none", a))
+        groups = sorted({tuple(r[p] for p in others) for r in summary},
+                        key=lambda g: [num(v) if num(v) is not None else v for v in g])
+        fig, ax = plt.subplots(figsize=(max(5, 1.6 * len(groups) + 2), 4))
+        width = 0.8 / max(1, len(actions))
+        for ai, action in enumerate(actions):
+            xs, ys, es = [], [], []
+            for gi, g in enumerate(groups):
+                row = next((r for r in summary if r["action"] == action and
+                            tuple(r[p] for p in others) == g), None)
+                if row is None:
+                    continue
+                m, e = num(row.get(coll + ".mean")), num(row.get(coll + ".ci95")) or 0.0
+                if m is None:
+                    continue
+                x = gi + (ai - (len(actions) - 1) / 2) * width
+                xs.append(x)
+                ys.append(m)
+                es.append(e)
+                collision_rows.append((g, action, m, e))
+                dots = [num(r[coll]) for r in runs if r["status"] == "done" and r["action"] == action and
+                        tuple(r[p] for p in others) == g and num(r[coll]) is not None]
+                ax.plot([x] * len(dots), dots, "k.", alpha=0.4)
+            ax.bar(xs, ys, width=width * 0.9, yerr=es, capsize=3, label=action,
+                   color="#999999" if action == "none" else "#cc3333" if ai == 1 else None)
+        ax.set_xticks(range(len(groups)))
+        ax.set_xticklabels([", ".join("%s=%s" % (p, v) for p, v in zip(others, g)) or "all" for g in groups])
+        ax.set_ylabel(coll + " per run (mean, 95% CI)")
+        ax.legend(title="action")
+        ax.grid(alpha=0.3, axis="y")
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "collisions_by_action.png"), dpi=110)
+        plt.close(fig)
+        plots.append(("collisions_by_action.png", "%s with and without the brake action" % coll))
 
     done = sum(1 for r in runs if r["status"] == "done")
     with open(os.path.join(out, "report.md"), "w") as f:
@@ -150,8 +174,15 @@ def main(out):
             f.write("| " + " | ".join(sweep + ["mean", "95% CI"]) + " |\n")
             f.write("|" + "---|" * (len(sweep) + 2) + "\n")
             for r in summary:
-                f.write("| " + " | ".join([r[p] for p in sweep] + [r.get(headline + ".mean", ""),
-                                                                    r.get(headline + ".ci95", "")]) + " |\n")
+                f.write("| " + " | ".join([r[p] for p in sweep] + [fmt(r.get(headline + ".mean")),
+                                                                    fmt(r.get(headline + ".ci95"))]) + " |\n")
+        if collision_rows:
+            others = [p for p in sweep if p != "action"]
+            f.write("\n## %s by action\n\n" % coll)
+            f.write("| " + " | ".join(others + ["action", "mean", "95% CI"]) + " |\n")
+            f.write("|" + "---|" * (len(others) + 3) + "\n")
+            for g, action, m, e in collision_rows:
+                f.write("| " + " | ".join(list(g) + [action, fmt(m), fmt(e)]) + " |\n")
     return 0
 
 

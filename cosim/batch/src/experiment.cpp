@@ -94,6 +94,11 @@ void absolutizePaths(YAML::Node n, const fs::path& baseDir) {
 }  // namespace
 
 Experiment loadExperiment(const fs::path& file, const std::vector<std::string>& optionalKeys) {
+  return loadExperiment(file, [&](const std::string&) { return optionalKeys; });
+}
+
+Experiment loadExperiment(const fs::path& file,
+                          const std::function<std::vector<std::string>(const std::string&)>& optionalKeysFor) {
   Experiment e;
   e.file = file;
   if (!fs::exists(file)) throw ExperimentError(file.string() + ": no such file");
@@ -128,9 +133,11 @@ Experiment loadExperiment(const fs::path& file, const std::vector<std::string>& 
   } catch (const YAML::Exception& ex) {
     throw ExperimentError(e.base.string() + ":" + std::to_string(ex.mark.line + 1) + ": malformed YAML: " + ex.msg);
   }
+  const std::vector<std::string> optionalKeys = optionalKeysFor(e.command);
   auto checkKey = [&](const std::string& k, const YAML::Node& at) {
     if (hasKey(base, k)) return;
-    if (std::find(optionalKeys.begin(), optionalKeys.end(), k) != optionalKeys.end()) return;
+    for (const auto& o : optionalKeys)
+      if (o == k || o == "*") return;
     fail(e, k, at, "unknown key: not in the base scenario " + e.base.filename().string());
   };
 

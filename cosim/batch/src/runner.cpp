@@ -231,7 +231,10 @@ void writeTables(const Experiment& e, std::vector<RunResult> results, const fs::
   std::sort(results.begin(), results.end(), [](const RunResult& a, const RunResult& b) { return a.spec.index < b.spec.index; });
   // metric columns: first-seen order over runs in index order (deterministic for any job count)
   std::vector<std::string> metricCols;
-  std::set<std::string> seen;
+  // a summary leaf named like a parameter (the run's own echo of "seed" or "penetration") would
+  // make a second column of that name; the parameter column already holds it
+  std::set<std::string> seen{e.seedKey};
+  for (const auto& axis : e.sweep) seen.insert(axis.key);
   for (const auto& r : results)
     for (const auto& [k, v] : r.metrics)
       if (seen.insert(k).second) metricCols.push_back(k);
@@ -319,7 +322,7 @@ Experiment readExperimentRecord(const fs::path& outDir) {
   const fs::path p = outDir / "experiment.yaml";
   if (!fs::exists(p)) throw ExperimentError(outDir.string() + ": not a stsim batch output folder (no experiment.yaml)");
   // keys were validated when the batch ran; accept them all again
-  Experiment e = loadExperiment(p, {});
+  Experiment e = loadExperiment(p, std::vector<std::string>{"*"});
   return e;
 }
 

@@ -3,6 +3,7 @@
 // cross product; each has a stable id derived from its parameters, so a re-run finds its results.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -39,9 +40,12 @@ struct RunSpec {
 };
 
 // Reads and validates an experiment file. Sweep and fixed keys must name keys of the base
-// scenario (or keys the command documents as optional, listed in `optionalKeys`).
+// scenario (or keys the command documents as optional, listed in `optionalKeys`; "*" accepts any).
 Experiment loadExperiment(const std::filesystem::path& file,
                           const std::vector<std::string>& optionalKeys = {});
+// The same, the optional keys depending on the experiment's command.
+Experiment loadExperiment(const std::filesystem::path& file,
+                          const std::function<std::vector<std::string>(const std::string& command)>& optionalKeys);
 
 std::vector<RunSpec> expandRuns(const Experiment& e);
 
