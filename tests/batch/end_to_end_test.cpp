@@ -1,0 +1,218 @@
+// stsim batch end to end, on short SUMO runs of the shipped motorway: the same experiment gives the
+// same runs.csv (timing columns aside) with 1 job, 2 jobs, 2 shards merged and MPI; a batch killed
+// mid-way resumes without redoing finished runs or duplicating rows.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+extern char** environ;
+
+namespace st::batch {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path freshDir(const std::string& name) {
+  const auto d = fs::temp_directory_path() / ("stsim_batch_e2e_" + std::to_string(::getpid())) / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// A child process in its own process group (so the whole batch, runs included, can be killed),
+// output to files in `dir`.
+class Process {
+ public:
+  Process(std::vector<std::string> argv, const fs::path& dir, const std::vector<std::string>& extraEnv = {}) {
+    std::vector<char*> c;
+    for (auto& a : argv) c.push_back(a.data());
+    c.push_back(nullptr);
+    std::vector<std::string> envStore;
+    for (char** e = environ; *e; ++e) envStore.emplace_back(*e);
+    envStore.insert(envStore.end(), extraEnv.begin(), extraEnv.end());
+    std::vector<char*> env;
+    for (auto& e : envStore) env.push_back(e.data());
+    env.push_back(nullptr);
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    const std::string out = (dir / "stdout.txt").string(), err = (dir / "stderr.txt").string();
+    posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawnattr_t attr;
+    posix_spawnattr_init(&attr);
+    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
+    posix_spawnattr_setpgroup(&attr, 0);
+    if (posix_spawnp(&pid_, c[0], &fa, &attr, c.data(), env.data()) != 0) pid_ = -1;
+    posix_spawnattr_destroy(&attr);
+    posix_spawn_file_actions_destroy(&fa);
+    err_ = dir / "stderr.txt";
+  }
+  ~Process() {
+    if (pid_ > 0) {
+      ::kill(-pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+    }
+  }
+  void killGroup() { ::kill(-pid_, SIGKILL); }
+  int wait() {
+    int status = 0;
+    ::waitpid(pid_, &status, 0);
+    pid_ = -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  }
+  std::string err() const { return slurp(err_); }
+
+ private:
+  pid_t pid_ = -1;
+  fs::path err_;
+};
+
+int runStsim(const std::vector<std::string>& args, const fs::path& logDir, std::string* err = nullptr) {
+  std::vector<std::string> argv{STSIM_BINARY};
+  argv.insert(argv.end(), args.begin(), args.end());
+  Process p(argv, logDir);
+  const int code = p.wait();
+  if (err) *err = p.err();
+  return code;
+}
+
+// runs.csv as rows of cells, without the columns that time the run (they differ between runs).
+std::vector<std::vector<std::string>> tableWithoutTimings(const fs::path& csv) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(slurp(csv));
+  std::string line;
+  std::vector<bool> keep;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::string cell;
+    std::istringstream ls(line);
+    while (std::getline(ls, cell, ',')) cells.push_back(cell);
+    if (!line.empty() && line.back() == ',') cells.emplace_back();
+    if (keep.empty())
+      for (const auto& name : cells)
+        keep.push_back(name.find("wall") == std::string::npos && name.find("seconds") == std::string::npos);
+    std::vector<std::string> kept;
+    for (std::size_t i = 0; i < cells.size() && i < keep.size(); ++i)
+      if (keep[i]) kept.push_back(cells[i]);
+    rows.push_back(kept);
+  }
+  return rows;
+}
+
+// 2 detectors x 2 demand scales x 2 seeds of 30 s on the motorway: 8 short runs.
+fs::path writeExperiment(const fs::path& dir, double end = 30) {
+  const fs::path file = dir / "experiment.yaml";
+  std::ofstream(file) << "name: e2e\ncommand: highway\nbase: " << STSIM_SOURCE_DIR
+                      << "/networks/motorway/scenario.yaml\n"
+                         "sweep:\n  detector: [five, box]\n  demand_scale: [0.5, 1.0]\n"
+                         "fixed:\n  end: "
+                      << end << "\n  action: none\nseeds: 2\n";
+  return file;
+}
+
+TEST(BatchEndToEnd, JobsShardsAndMpiGiveTheSameRuns) {
+  const auto dir = freshDir("same");
+  const auto exp = writeExperiment(dir).string();
+  std::string err;
+  ASSERT_EQ(runStsim({"batch", exp, "--out", (dir / "j1").string(), "--jobs", "1", "--no-plots"}, dir, &err), 0) << err;
+  const auto reference = tableWithoutTimings(dir / "j1/runs.csv");
+  ASSERT_EQ(reference.size(), 9u);  // header + 8 runs
+  ASSERT_GT(reference[0].size(), 20u);
+  for (std::size_t i = 1; i < reference.size(); ++i) EXPECT_EQ(reference[i][2], "done") << i;
+
+  ASSERT_EQ(runStsim({"batch", exp, "--out", (dir / "j2").string(), "--jobs", "2", "--no-plots"}, dir, &err), 0) << err;
+  EXPECT_EQ(tableWithoutTimings(dir / "j2/runs.csv"), reference);
+  EXPECT_EQ(slurp(dir / "j2/summary.csv").empty(), false);
+
+  for (const char* shard : {"1/2", "2/2"}) {
+    const std::string out = (dir / (std::string("shard") + shard[0])).string();
+    ASSERT_EQ(runStsim({"batch", exp, "--out", out, "--shard", shard, "--jobs", "2", "--no-plots"}, dir, &err), 0)
+        << err;
+  }
+  // a shard alone holds half the runs
+  EXPECT_LT(tableWithoutTimings(dir / "shard1/runs.csv").size(), reference.size());
+  ASSERT_EQ(runStsim({"batch", "merge", (dir / "shard1").string(), (dir / "shard2").string(), "--out",
+                      (dir / "merged").string(), "--no-plots"},
+                     dir, &err),
+            0)
+      << err;
+  EXPECT_EQ(tableWithoutTimings(dir / "merged/runs.csv"), reference);
+
+  // summary.csv holds no timing columns' means only where runs agree; compare its deterministic part
+  const auto summaryRef = tableWithoutTimings(dir / "j1/summary.csv");
+  EXPECT_EQ(tableWithoutTimings(dir / "merged/summary.csv"), summaryRef);
+
+  Process mpi({"mpirun", "-np", "2", STSIM_BINARY, "batch", exp, "--mpi", "--out", (dir / "mpi").string(), "--no-plots"},
+              dir, {"OMPI_ALLOW_RUN_AS_ROOT=1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1", "OMPI_MCA_plm_rsh_agent="});
+  ASSERT_EQ(mpi.wait(), 0) << mpi.err();
+  EXPECT_EQ(tableWithoutTimings(dir / "mpi/runs.csv"), reference);
+  EXPECT_EQ(tableWithoutTimings(dir / "mpi/summary.csv"), summaryRef);
+}
+
+TEST(BatchEndToEnd, KilledBatchResumesWithoutRedoingRuns) {
+  const auto dir = freshDir("resume");
+  const auto exp = writeExperiment(dir, 60).string();
+  const fs::path out = dir / "out";
+  std::map<std::string, fs::file_time_type> finished;
+  {
+    Process batch({STSIM_BINARY, "batch", exp, "--out", out.string(), "--jobs", "1", "--no-plots"}, dir);
+    // kill the whole process group (batch and its current run) once two runs have finished
+    for (int i = 0; i < 600; ++i) {
+      int done = 0;
+      if (fs::exists(out / "runs"))
+        for (const auto& d : fs::directory_iterator(out / "runs")) done += fs::exists(d.path() / "result.yaml");
+      if (done >= 2) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    batch.killGroup();
+    batch.wait();
+  }
+  for (const auto& d : fs::directory_iterator(out / "runs"))
+    if (fs::exists(d.path() / "result.yaml")) finished[d.path().filename().string()] = fs::last_write_time(d.path() / "summary.json");
+  ASSERT_GE(finished.size(), 2u);
+  ASSERT_LT(finished.size(), 8u) << "the batch ended before it was killed; make the runs longer";
+
+  std::string err;
+  ASSERT_EQ(runStsim({"batch", exp, "--out", out.string(), "--jobs", "2", "--no-plots"}, dir, &err), 0) << err;
+  // finished runs were not run again
+  for (const auto& [id, time] : finished) EXPECT_EQ(fs::last_write_time(out / "runs" / id / "summary.json"), time) << id;
+  // one row per run, each once, nothing half-written left behind
+  const auto table = tableWithoutTimings(out / "runs.csv");
+  ASSERT_EQ(table.size(), 9u);
+  std::set<std::string> ids;
+  for (std::size_t i = 1; i < table.size(); ++i) {
+    EXPECT_EQ(table[i][2], "done");
+    ids.insert(table[i][1]);
+  }
+  EXPECT_EQ(ids.size(), 8u);
+  for (const auto& d : fs::directory_iterator(out / "runs"))
+    EXPECT_FALSE(d.path().filename().string().ends_with(".tmp")) << "left over: " << d.path();
+  // and the result equals an uninterrupted batch
+  ASSERT_EQ(runStsim({"batch", exp, "--out", (dir / "whole").string(), "--jobs", "2", "--no-plots"}, dir, &err), 0)
+      << err;
+  EXPECT_EQ(table, tableWithoutTimings(dir / "whole/runs.csv"));
+}
+
+}  // namespace
+}  // namespace st::batch
