@@ -32,9 +32,24 @@ struct Yaml {
     if (!std::isfinite(v)) fail(n, key, "not a finite number");
     return v;
   }
+  std::string text(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsDefined() || !n.IsScalar()) fail(n, key, "expected a name");
+    return n.Scalar();
+  }
+  // A list node (or an absent one, which holds nothing).
+  YAML::Node list(const YAML::Node& n, const std::string& key) const {
+    if (n.IsDefined() && !n.IsSequence()) fail(n, key, "expected a list");
+    return n;
+  }
+  int integer(const YAML::Node& n, const std::string& key, int lo, int hi) const {
+    const double v = number(n, key);
+    if (v != std::floor(v) || v < lo || v > hi)
+      fail(n, key, "expected an integer " + std::to_string(lo) + ".." + std::to_string(hi));
+    return static_cast<int>(v);
+  }
   double number(const YAML::Node& parent, const char* name, const std::string& key, double def) const {
     const YAML::Node n = parent[name];
-    return n.IsDefined() ? number(n, key + "." + name) : def;
+    return n.IsDefined() ? number(n, key.empty() ? std::string(name) : key + "." + name) : def;
   }
   double positive(const YAML::Node& parent, const char* name, const std::string& key, double def) const {
     const double v = number(parent, name, key, def);
@@ -64,6 +79,10 @@ struct Yaml {
             Eigen::AngleAxisd(a.x(), Vec3::UnitX()))
         .toRotationMatrix();
   }
+  bool mapping(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsMap()) fail(n, key, "expected a mapping");
+    return true;
+  }
   void knownKeys(const YAML::Node& n, const std::string& key, std::initializer_list<const char*> keys) const {
     if (!n.IsMap()) fail(n, key, "expected a mapping");
     for (auto it = n.begin(); it != n.end(); ++it) {
@@ -78,7 +97,7 @@ ArmModel parseModel(const Yaml& y, const YAML::Node& n, const std::string& key, 
   y.knownKeys(n, key, {"convention", "joints", "flange", "capsules"});
   ArmModel m;
   m.name = name;
-  const std::string conv = n["convention"] ? n["convention"].as<std::string>() : "";
+  const std::string conv = n["convention"] ? y.text(n["convention"], key + ".convention") : "";
   if (conv == "classic") m.convention = DhConvention::Classic;
   else if (conv == "modified") m.convention = DhConvention::Modified;
   else y.fail(n["convention"], key + ".convention", "expected classic or modified");
@@ -86,7 +105,7 @@ ArmModel parseModel(const Yaml& y, const YAML::Node& n, const std::string& key, 
   if (!joints.IsSequence() || joints.size() == 0) y.fail(joints, key + ".joints", "expected a list of joints");
   for (std::size_t i = 0; i < joints.size(); ++i) {
     const std::string jk = key + ".joints[" + std::to_string(i) + "]";
-    y.knownKeys(joints[i], jk, {"a", "alpha", "d", "offset", "limits"});
+    y.knownKeys(joints[i], jk, {"a", "alpha", "d", "offset", "limits", "max_rate"});
     Joint j;
     j.a = y.number(joints[i], "a", jk, 0.0);
     j.alpha = y.number(joints[i], "alpha", jk, 0.0);
@@ -98,6 +117,7 @@ ArmModel parseModel(const Yaml& y, const YAML::Node& n, const std::string& key, 
       j.lower = lim[0];
       j.upper = lim[1];
     }
+    j.maxRate = y.positive(joints[i], "max_rate", jk, j.maxRate);
     m.joints.push_back(j);
   }
   m.flange = y.pose(n["flange"], key + ".flange");
@@ -107,10 +127,7 @@ ArmModel parseModel(const Yaml& y, const YAML::Node& n, const std::string& key, 
     const std::string ck = key + ".capsules[" + std::to_string(i) + "]";
     y.knownKeys(caps[i], ck, {"body", "a", "b", "radius"});
     LinkCapsule c;
-    const double body = y.number(caps[i]["body"], ck + ".body");
-    if (body != std::floor(body) || body < 0 || body > m.dof() + 1)
-      y.fail(caps[i]["body"], ck + ".body", "expected a body index 0.." + std::to_string(m.dof() + 1));
-    c.body = static_cast<int>(body);
+    c.body = y.integer(caps[i]["body"], ck + ".body", 0, m.dof() + 1);
     c.a = y.vec3(caps[i]["a"], ck + ".a");
     c.b = y.vec3(caps[i]["b"], ck + ".b");
     c.radius = y.positive(caps[i], "radius", ck, 0.0);
@@ -123,7 +140,7 @@ ArmModel parseModel(const Yaml& y, const YAML::Node& n, const std::string& key, 
 Obstacle parseObstacle(const Yaml& y, const YAML::Node& n, const std::string& key, int index) {
   y.knownKeys(n, key, {"name", "sphere", "capsule", "box", "velocity"});
   Obstacle o;
-  o.name = n["name"] ? n["name"].as<std::string>() : "o" + std::to_string(index);
+  o.name = n["name"] ? y.text(n["name"], key + ".name") : "o" + std::to_string(index);
   if (n["sphere"]) {
     o.kind = ShapeKind::Sphere;
     y.knownKeys(n["sphere"], key + ".sphere", {"center", "radius"});
@@ -159,9 +176,10 @@ void randomObstacles(const Yaml& y, const YAML::Node& n, Scenario& s) {
   const auto r = n["radius"] ? y.numbers(n["radius"], key + ".radius") : std::vector<double>{0.01, 0.04};
   if (r.size() != 2 || !(0 < r[0] && r[0] <= r[1])) y.fail(n["radius"], key + ".radius", "expected [lo, hi]");
   std::vector<Sphere> keepOut;
-  if (n["keep_out"])
-    for (std::size_t i = 0; i < n["keep_out"].size(); ++i) {
+  if (const YAML::Node ko = y.list(n["keep_out"], key + ".keep_out"))
+    for (std::size_t i = 0; i < ko.size(); ++i) {
       const std::string kk = key + ".keep_out[" + std::to_string(i) + "]";
+      y.knownKeys(ko[i], kk, {"center", "radius"});
       keepOut.push_back({y.vec3(n["keep_out"][i]["center"], kk + ".center"), y.positive(n["keep_out"][i], "radius", kk, 0)});
     }
   int made = 0;
@@ -197,16 +215,10 @@ void randomObstacles(const Yaml& y, const YAML::Node& n, Scenario& s) {
 
 }  // namespace
 
-Scenario loadScenario(const std::string& path) {
-  Yaml y{path};
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw InputError(path + ": cannot open the scenario");
-  } catch (const YAML::ParserException& e) {
-    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
+namespace {
+
+Scenario parseScenario(const std::string& path, const YAML::Node& root) {
+  const Yaml y{path};
   y.knownKeys(root, "", {"safety", "octree", "models", "arms", "trace", "duration", "obstacles", "random_obstacles", "name",
                          "description"});
   Scenario s;
@@ -227,7 +239,7 @@ Scenario loadScenario(const std::string& path) {
   if (const YAML::Node n = root["octree"]) {
     y.knownKeys(n, "octree", {"kind", "decomposition_factor", "max_depth", "margin", "bounds", "cell_size"});
     if (n["kind"]) {
-      const std::string k = n["kind"].as<std::string>();
+      const std::string k = y.text(n["kind"], "octree.kind");
       if (!parseSpaceKind(k, s.broad.kind)) y.fail(n["kind"], "octree.kind", "unknown space kind '" + k + "'");
     }
     const double df = y.number(n, "decomposition_factor", "octree", s.broad.rule.decompositionFactor);
@@ -240,7 +252,12 @@ Scenario loadScenario(const std::string& path) {
     if (s.broad.margin < 0) y.fail(n["margin"], "octree.margin", "must not be negative");
     s.broad.rule.cellSize = y.number(n, "cell_size", "octree", 0.25);
     if (!(s.broad.rule.cellSize > 0)) y.fail(n["cell_size"], "octree.cell_size", "must be positive");
-    if (n["bounds"]) s.broad.bounds = Aabb3{y.vec3(n["bounds"]["min"], "octree.bounds.min"), y.vec3(n["bounds"]["max"], "octree.bounds.max")};
+    if (const YAML::Node b = n["bounds"]) {
+      y.knownKeys(b, "octree.bounds", {"min", "max"});
+      s.broad.bounds = Aabb3{y.vec3(b["min"], "octree.bounds.min"), y.vec3(b["max"], "octree.bounds.max")};
+      if (!(s.broad.bounds->min.array() < s.broad.bounds->max.array()).all())
+        y.fail(b["max"], "octree.bounds.max", "must exceed octree.bounds.min on every axis");
+    }
   }
   const YAML::Node arms = root["arms"];
   if (!arms.IsSequence() || arms.size() == 0) y.fail(arms.IsDefined() ? arms : root, "arms", "expected a list of arms");
@@ -250,29 +267,30 @@ Scenario loadScenario(const std::string& path) {
     const YAML::Node a = arms[i];
     y.knownKeys(a, key, {"name", "model", "base", "allow", "check", "waypoints"});
     ArmInstance inst;
-    inst.name = a["name"] ? a["name"].as<std::string>() : "arm" + std::to_string(i);
+    inst.name = a["name"] ? y.text(a["name"], key + ".name") : "arm" + std::to_string(i);
     for (const ArmInstance& other : s.arms)
       if (other.name == inst.name) y.fail(a["name"], key + ".name", "duplicate arm name '" + inst.name + "'");
     if (!a["model"] || !a["model"].IsScalar()) y.fail(a, key + ".model", "expected an arm model name");
-    const std::string model = a["model"].as<std::string>();
+    const std::string model = a["model"].Scalar();
     if (auto b = builtinModel(model)) {
       inst.model = *b;
-    } else if (root["models"] && root["models"][model]) {
+    } else if (root["models"] && y.mapping(root["models"], "models") && root["models"][model]) {
       inst.model = parseModel(y, root["models"][model], "models." + model, model);
     } else {
       y.fail(a["model"], key + ".model", "unknown arm model '" + model + "' (built in: panda, iiwa14)");
     }
     inst.base = y.pose(a["base"], key + ".base");
     for (const char* which : {"allow", "check"}) {
-      const YAML::Node list = a[which];
-      if (!list) continue;
-      for (std::size_t k = 0; k < list.size(); ++k) {
+      const YAML::Node pairs = y.list(a[which], key + "." + which);
+      if (!pairs) continue;
+      for (std::size_t k = 0; k < pairs.size(); ++k) {
         const std::string pk = key + "." + which + "[" + std::to_string(k) + "]";
-        const auto pair = y.numbers(list[k], pk);
         const int nb = inst.model.bodies();
-        if (pair.size() != 2 || pair[0] < 0 || pair[1] < 0 || pair[0] >= nb || pair[1] >= nb)
-          y.fail(list[k], pk, "expected [body, body] with bodies 0.." + std::to_string(nb - 1));
-        inst.model.setAllowed(static_cast<int>(pair[0]), static_cast<int>(pair[1]), std::string(which) == "allow");
+        if (!pairs[k].IsSequence() || pairs[k].size() != 2)
+          y.fail(pairs[k], pk, "expected [body, body] with bodies 0.." + std::to_string(nb - 1));
+        const int b0 = y.integer(pairs[k][0], pk + "[0]", 0, nb - 1);
+        const int b1 = y.integer(pairs[k][1], pk + "[1]", 0, nb - 1);
+        inst.model.setAllowed(b0, b1, std::string(which) == "allow");
       }
     }
     if (const YAML::Node w = a["waypoints"]) {
@@ -288,8 +306,12 @@ Scenario loadScenario(const std::string& path) {
         wp.t = y.number(w[k]["t"], wk + ".t");
         wp.q = y.numbers(w[k]["q"], wk + ".q");
         if (!sc.waypoints.empty() && !(wp.t > sc.waypoints.back().t)) y.fail(w[k]["t"], wk + ".t", "times must increase");
-        // every interpolated angle lies between two checked waypoints
+        // every interpolated angle lies between two checked waypoints; the rate is the slope
+        // of the piece that ends here
         Reading r{wp.t, sc.arm, wp.q, std::vector<double>(wp.q.size(), 0.0), ""};
+        if (!sc.waypoints.empty() && sc.waypoints.back().q.size() == wp.q.size())
+          for (std::size_t j = 0; j < wp.q.size(); ++j)
+            r.qdot[j] = (wp.q[j] - sc.waypoints.back().q[j]) / (wp.t - sc.waypoints.back().t);
         try {
           validateReading(inst.model, r);
         } catch (const InputError& e) {
@@ -304,19 +326,39 @@ Scenario loadScenario(const std::string& path) {
   }
   if (root["trace"]) {
     if (anyWaypoints) y.fail(root["trace"], "trace", "give either a trace or waypoints, not both");
-    std::filesystem::path p = root["trace"].as<std::string>();
+    std::filesystem::path p = y.text(root["trace"], "trace");
     if (p.is_relative()) p = std::filesystem::path(path).parent_path() / p;
     s.tracePath = p.string();
   } else if (!anyWaypoints) {
     y.fail(root, "trace", "expected a sensor trace or waypoints for at least one arm");
   }
   s.duration = y.number(root, "duration", "", s.duration);
-  if (const YAML::Node obs = root["obstacles"]) {
+  if (s.duration < 0.0) y.fail(root["duration"], "duration", "must not be negative");
+  if (const YAML::Node obs = y.list(root["obstacles"], "obstacles")) {
     for (std::size_t i = 0; i < obs.size(); ++i)
       s.obstacles.push_back(parseObstacle(y, obs[i], "obstacles[" + std::to_string(i) + "]", static_cast<int>(i)));
   }
   if (const YAML::Node n = root["random_obstacles"]) randomObstacles(y, n, s);
   return s;
+}
+
+}  // namespace
+
+Scenario loadScenario(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw InputError(path + ": cannot open the scenario");
+  } catch (const YAML::ParserException& e) {
+    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  try {
+    return parseScenario(path, root);
+  } catch (const YAML::Exception& e) {
+    // a shape the checks above did not foresee: still one line naming the file and line
+    throw InputError(path + (e.mark.is_null() ? std::string() : ":" + std::to_string(e.mark.line + 1)) + ": " + e.msg);
+  }
 }
 
 std::unique_ptr<SensorSource> makeSensor(const Scenario& s) {

@@ -117,6 +117,9 @@ void validateReading(const ArmModel& m, const Reading& r) {
     const std::string joint = "joint " + std::to_string(k + 1);
     if (!std::isfinite(r.q[k])) throw InputError(r.where + ": " + joint + " angle is not a finite number");
     if (!std::isfinite(r.qdot[k])) throw InputError(r.where + ": " + joint + " rate is not a finite number");
+    if (std::abs(r.qdot[k]) > m.joints[k].maxRate)
+      throw InputError(r.where + ": " + joint + " rate " + fmt(r.qdot[k]) + " rad/s is beyond its limit " +
+                       fmt(m.joints[k].maxRate) + " rad/s");
     if (r.q[k] < m.joints[k].lower || r.q[k] > m.joints[k].upper)
       throw InputError(r.where + ": " + joint + " angle " + fmt(r.q[k]) + " rad is beyond its limits [" +
                        fmt(m.joints[k].lower) + ", " + fmt(m.joints[k].upper) + "]");

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <stcore/tolerances.hpp>
+
 namespace st::pool {
 
 const char* toString(PoolEventKind k) {
@@ -29,6 +31,7 @@ SimulatorConfig simulatorConfig(const SpaceSpec& space, const TableSpec& table, 
   c.rule.decompositionFactor = space.decompositionFactor;
   c.rule.divisions = space.divisions;
   c.rule.cellSize = space.cellSize;
+  c.marginFactor = space.margin;
   c.rule.maxDepth = space.maxDepth;
   if (c.rule.maxDepth < 0) {
     double rmax = kBallRadius;
@@ -76,6 +79,18 @@ void Game::strike(const Shot& shot) {
     throw std::runtime_error("shot " + std::to_string(shots_ + 1) + ": ball " + std::to_string(shot.ball) +
                              " was pocketed");
   sim_.setVelocity(i, shot.velocity);
+}
+
+void Game::checkOnTable(int ball, double t) const {
+  const Rect box = table_.bounds();
+  const Vec2 p = sim_.ball(ball).positionAt(t);
+  // a centre may touch the bounds (a ball in a pocket mouth), never pass them by more than the slop
+  constexpr double kRoom = 1e3 * tol::kLinearSlop;
+  if ((p.array() >= box.min.array() - kRoom).all() && (p.array() <= box.max.array() + kRoom).all()) return;
+  std::string msg = "shot ";
+  msg.append(std::to_string(shots_ + 1)).append(": ball ").append(std::to_string(specs_[ball].number));
+  msg.append(" left the table at t = ").append(std::to_string(t)).append(" s (a missed cushion: numerical failure)");
+  throw std::runtime_error(msg);
 }
 
 PoolEvent Game::manual(PoolEventKind kind, int ball) const {

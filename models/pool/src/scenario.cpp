@@ -121,6 +121,8 @@ void validate(const Scenario& s, const Locate& where) {
     if (!(b.mass > 0.0) || !std::isfinite(b.mass)) fail(where(key + ".mass", i), "must be positive");
     if (!b.position.allFinite()) fail(where(key + ".position", i), "must be finite");
     if (!b.velocity.allFinite()) fail(where(key + ".velocity", i), "must be finite");
+    if (b.velocity.norm() > kMaxSpeed)
+      fail(where(key + ".velocity", i), "speed must be at most " + std::to_string(static_cast<int>(kMaxSpeed)) + " m/s");
     if (!numbers.insert(b.number).second)
       fail(where(key + ".number", i), "ball number " + std::to_string(b.number) + " is used twice");
     if (const char* why = placementProblem(table, b.position, b.radius); *why)
@@ -150,6 +152,8 @@ void validate(const Scenario& s, const Locate& where) {
     if (!numbers.count(s.shots[k].ball))
       fail(where(indexed("shots", k) + ".ball", -1), "no ball number " + std::to_string(s.shots[k].ball));
     if (!s.shots[k].velocity.allFinite()) fail(where(indexed("shots", k), -1), "velocity must be finite");
+    if (s.shots[k].velocity.norm() > kMaxSpeed)
+      fail(where(indexed("shots", k), -1), "speed must be at most " + std::to_string(static_cast<int>(kMaxSpeed)) + " m/s");
   }
   if (!(s.until > 0.0)) fail(where("until", -1), "must be positive");
   if (!(s.friction >= 0.0) || !std::isfinite(s.friction)) fail(where("friction", -1), "must be zero or positive");
@@ -158,6 +162,7 @@ void validate(const Scenario& s, const Locate& where) {
   if (sp.divisions != 2 && sp.divisions != 4) fail(where("space.divisions", -1), "must be 2 or 4");
   if (sp.maxDepth < -1 || sp.maxDepth > 30) fail(where("space.max_depth", -1), "must be between 0 and 30 (or -1: automatic)");
   if (sp.kind == SpaceKind::Cells && !(sp.cellSize > 0.0)) fail(where("space.cell_size", -1), "must be positive");
+  if (!(sp.margin > 0.0) || !std::isfinite(sp.margin)) fail(where("space.margin", -1), "must be positive");
 }
 
 Scenario parse(const YAML::Node& root, const std::string& source) {
@@ -235,7 +240,8 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
     const long count = rd.integer(rnd["count"], "random.count");
     if (count < 1 || count > 1000000) fail(rd.at(rnd["count"], "random.count"), "must be between 1 and 1000000");
     const double speed = rnd["speed"] ? rd.number(rnd["speed"], "random.speed") : 1.0;
-    if (speed < 0.0) fail(rd.at(rnd["speed"], "random.speed"), "must be zero or positive");
+    if (speed < 0.0 || speed > kMaxSpeed)
+      fail(rd.at(rnd["speed"], "random.speed"), "must be between 0 and " + std::to_string(static_cast<int>(kMaxSpeed)) + " m/s");
     const double radius = rnd["radius"] ? rd.positive(rnd["radius"], "random.radius") : kBallRadius;
     const double mass = rnd["mass"] ? rd.positive(rnd["mass"], "random.mass") : kBallMass;
     const double clearance = rnd["clearance"] ? rd.number(rnd["clearance"], "random.clearance") : 0.0;
@@ -286,6 +292,7 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
       const std::string key = indexed("shots", k);
       rd.onlyKeys(n, key, {"ball", "cue", "speed", "angle", "until"});
       Shot shot;
+      mark(key, n);
       if (n["ball"]) shot.ball = static_cast<int>(rd.integer(n["ball"], key + ".ball"));
       mark(key + ".ball", n["ball"] ? n["ball"] : n);
       const bool cue = static_cast<bool>(n["cue"]);
@@ -318,7 +325,7 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
   // space
   if (const YAML::Node sp = root["space"]) {
     mark("space", sp);
-    rd.onlyKeys(sp, "space", {"kind", "decomposition_factor", "divisions", "max_depth", "cell_size"});
+    rd.onlyKeys(sp, "space", {"kind", "decomposition_factor", "divisions", "max_depth", "cell_size", "margin"});
     if (sp["kind"]) {
       const std::string k = rd.text(sp["kind"], "space.kind");
       if (!parseSpaceKind(k, s.space.kind))
@@ -336,6 +343,10 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
     if (sp["cell_size"]) {
       mark("space.cell_size", sp["cell_size"]);
       s.space.cellSize = rd.number(sp["cell_size"], "space.cell_size");
+    }
+    if (sp["margin"]) {
+      mark("space.margin", sp["margin"]);
+      s.space.margin = rd.number(sp["margin"], "space.margin");
     }
   }
 

@@ -130,6 +130,11 @@ TEST(ArmCli, AngleBeyondLimitNamesTheTraceLine) {
   expectBadInput("limit", "1.201,right,0,-0.7,0,0.5,0,1.5,0.7,0,0,0,0,0,0,0", "joint 4 angle 0.5 rad is beyond its limits");
 }
 
+TEST(ArmCli, ImplausibleJointRateNamesTheTraceLine) {
+  // finite but absurd (a corrupt reading): used to turn every time to collision into zero
+  expectBadInput("rate", "1.201,left,0,0,0,-1,0,1,0,0,0,0,0,0,0,1e300", "joint 7 rate 1e+300 rad/s is beyond its limit");
+}
+
 TEST(ArmCli, UnknownArmModelNamesTheYamlKey) {
   const fs::path d = tempDir("model");
   std::ofstream(d / "s.yaml") << "arms:\n  - {name: a, model: panda, waypoints: [{t: 0, q: [0, 0, 0, -1, 0, 1, 0]}]}\n"

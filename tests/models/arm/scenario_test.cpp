@@ -91,7 +91,51 @@ TEST(Scenario, ErrorsNameFileLineAndKey) {
   expectError("bad_body.yaml",
               "models:\n  m:\n    convention: modified\n    joints: [{d: 0.1}]\n    capsules: [{body: 5, a: [0, 0, 0], b: [0, 0, 1], radius: 0.1}]\n" +
                   std::string("arms:\n  - {name: a, model: m, waypoints: [{t: 0, q: [0]}]}\n"),
-              "models.m.capsules[0].body: expected a body index 0..2");
+              "models.m.capsules[0].body: expected an integer 0..2");
+}
+
+// Shapes yaml-cpp would otherwise throw on ("bad conversion", no file, no key) or that were
+// silently ignored or truncated.
+TEST(Scenario, MisshapenYamlNamesFileLineAndKey) {
+  const std::string wp = "waypoints: [{t: 0, q: [0, 0, 0, -1, 0, 1, 0]}]";
+  const std::string arm = "arms:\n  - {name: a, model: panda, " + wp + "}\n";
+  expectError("name_list.yaml", "arms:\n  - {name: [a], model: panda, " + wp + "}\n", ":2: arms[0].name: expected a name");
+  expectError("trace_list.yaml", "arms:\n  - {name: a, model: panda}\ntrace: [t.csv]\n", ":3: trace: expected a name");
+  expectError("kind_list.yaml", arm + "octree: {kind: [tree]}\n", ":3: octree.kind: expected a name");
+  expectError("obstacle_name.yaml", arm + "obstacles: [{name: {x: 1}, sphere: {center: [1, 1, 1], radius: 0.1}}]\n",
+              ":3: obstacles[0].name: expected a name");
+  expectError("convention_list.yaml",
+              "models:\n  m: {convention: [x], joints: [{d: 0.1}], capsules: [{body: 1, a: [0, 0, 0], b: [0, 0, 1], radius: 0.1}]}\n"
+              "arms:\n  - {name: a, model: m, waypoints: [{t: 0, q: [0]}]}\n",
+              ":2: models.m.convention: expected a name");
+  expectError("models_list.yaml", "models: [1, 2]\narms:\n  - {name: a, model: m, waypoints: [{t: 0, q: [0]}]}\n",
+              ":1: models: expected a mapping");
+  expectError("obstacles_map.yaml", arm + "obstacles: {name: x}\n", ":3: obstacles: expected a list");
+  expectError("allow_scalar.yaml", "arms:\n  - {name: a, model: panda, allow: 3, " + wp + "}\n",
+              ":2: arms[0].allow: expected a list");
+  expectError("allow_fraction.yaml", "arms:\n  - {name: a, model: panda, allow: [[1, 2.5]], " + wp + "}\n",
+              ":2: arms[0].allow[0][1]: expected an integer 0..8");
+  expectError("allow_range.yaml", "arms:\n  - {name: a, model: panda, check: [[1, 9]], " + wp + "}\n",
+              ":2: arms[0].check[0][1]: expected an integer 0..8");
+  expectError("keep_out.yaml", arm + "random_obstacles: {count: 3, min: [0, 0, 0], max: [1, 1, 1], keep_out: 5}\n",
+              ":3: random_obstacles.keep_out: expected a list");
+  expectError("bounds.yaml", arm + "octree:\n  bounds: {min: [1, 1, 1], max: [2, 0, 2]}\n",
+              ":4: octree.bounds.max: must exceed octree.bounds.min on every axis");
+  expectError("duration.yaml", arm + "duration: -5\n", ":3: duration: must not be negative");
+  // 1 rad in 1 ms on joint 1: a 1000 rad/s piece
+  expectError("fast_waypoints.yaml",
+              "arms:\n  - name: a\n    model: panda\n    waypoints:\n      - {t: 0, q: [0, 0, 0, -1, 0, 1, 0]}\n"
+              "      - {t: 0.001, q: [1, 0, 0, -1, 0, 1, 0]}\n",
+              ":6: arms[0].waypoints[1].q: joint 1 rate 1000 rad/s is beyond its limit 100 rad/s");
+  expectError("max_rate.yaml",
+              "models:\n  m: {convention: classic, joints: [{d: 0.1, max_rate: -1}], capsules: [{body: 1, a: [0, 0, 0], b: [0, 0, 1], radius: 0.1}]}\n"
+              "arms:\n  - {name: a, model: m, waypoints: [{t: 0, q: [0]}]}\n",
+              ":2: models.m.joints[0].max_rate: must be positive");
+  // and a model's own rate limit applies to its waypoints
+  expectError("own_rate.yaml",
+              "models:\n  m: {convention: classic, joints: [{d: 0.1, max_rate: 2}], capsules: [{body: 1, a: [0, 0, 0], b: [0, 0, 1], radius: 0.1}]}\n"
+              "arms:\n  - {name: a, model: m, waypoints: [{t: 0, q: [0]}, {t: 1, q: [2.5]}]}\n",
+              "arms[0].waypoints[1].q: joint 1 rate 2.5 rad/s is beyond its limit 2 rad/s");
 }
 
 TEST(Scenario, CsvTraceGivesTheSameWarningsAsTheScriptItRecords) {

@@ -184,3 +184,35 @@ TEST(PoolPhysics, MomentumConservedWhileOnlyBallsCollide) {
 
 }  // namespace
 }  // namespace st::pool
+
+namespace st::pool {
+namespace {
+
+// The integrity check: a speed the clock cannot resolve (the loader refuses it; the library's
+// play() takes any finite velocity) overflows positions and the ball leaves the table without a
+// cushion event. That must stop the run with an error, never pass as a played shot.
+TEST(PoolPhysics, BallLeavingTheTableIsAnError) {
+  for (SpaceKind kind : {SpaceKind::None, SpaceKind::Tree}) {
+    Scenario s = oneTable(true);
+    s.balls = {ball(0, {0.5, 0.5})};
+    Game g(s, test::config(kind));
+    Shot shot;
+    shot.velocity = 1e300 * Vec2(std::cos(0.5236), std::sin(0.5236));
+    try {
+      g.play(shot, 10.0);
+      ADD_FAILURE() << toString(kind) << ": the shot was accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("shot 1: ball 0 left the table"), std::string::npos) << e.what();
+    }
+  }
+  // a sane fast shot stays on: 1000 m/s for 0.1 s is ~40 cushions
+  Scenario s = oneTable(false);
+  s.balls = {ball(0, {0.5, 0.5})};
+  Game g(s, test::config(SpaceKind::Tree));
+  Shot shot;
+  shot.velocity = 1000.0 * Vec2(std::cos(0.5236), std::sin(0.5236));
+  EXPECT_NO_THROW(g.play(shot, 0.1));
+}
+
+}  // namespace
+}  // namespace st::pool

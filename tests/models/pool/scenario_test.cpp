@@ -103,6 +103,37 @@ shots: [{ball: 0, speed: 1}]
   EXPECT_EQ(errorOf("table: [1, 2"), "s.yaml:1:1: (syntax): end of sequence flow not found");
 }
 
+TEST(Scenario, AbsurdSpeedsAndMarginNamed) {
+  // 1e300 m/s used to run, overflow positions and fly the ball off the table
+  EXPECT_EQ(errorOf(R"(table: {width: 2.54, height: 1.27}
+balls: [{number: 0, position: [0.6, 0.6]}]
+shots:
+  - {ball: 0, speed: 1e300, angle: 30}
+)"),
+            "s.yaml:4:5: shots[0]: speed must be at most 1000 m/s");
+  EXPECT_EQ(errorOf(R"(table: {width: 2.54, height: 1.27}
+balls: [{number: 0, position: [0.6, 0.6]}]
+shots:
+  - ball: 0
+    cue: {from: [0, 0], to: [800, 800]}
+)"),
+            "s.yaml:4:5: shots[0]: speed must be at most 1000 m/s");
+  EXPECT_EQ(errorOf(R"(table: {width: 2.54, height: 1.27}
+balls: [{number: 0, position: [0.6, 0.6], velocity: [0, -2000]}]
+)"),
+            "s.yaml:2:31: balls[0].velocity: speed must be at most 1000 m/s");
+  EXPECT_EQ(errorOf("table: {width: 2.54, height: 1.27}\nrandom: {count: 3, speed: 1e4}\n"),
+            "s.yaml:2:27: random.speed: must be between 0 and 1000 m/s");
+  EXPECT_EQ(errorOf(std::string(kGood) + "space: {margin: 0}\n"), "s.yaml:7:17: space.margin: must be positive");
+  // the limit itself is accepted
+  EXPECT_EQ(errorOf(R"(table: {width: 2.54, height: 1.27}
+balls: [{number: 0, position: [0.6, 0.6]}]
+shots: [{ball: 0, speed: 1000, angle: 30}]
+space: {margin: 2}
+)"),
+            "(accepted)");
+}
+
 TEST(Scenario, ShippedScenariosLoad) {
   for (const char* name : {"break", "bank_shot", "box100"}) {
     const std::string path = std::string(STSIM_SOURCE_DIR) + "/models/pool/scenarios/" + name + ".yaml";

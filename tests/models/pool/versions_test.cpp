@@ -15,17 +15,19 @@ using test::physical;
 struct Variant {
   SpaceKind kind;
   int df;
+  double margin = 0.5;  // fat-box margin (space.margin)
 };
 
 const Variant kVariants[] = {{SpaceKind::None, 0},  {SpaceKind::Single, 0}, {SpaceKind::Tree, 1},
                              {SpaceKind::Tree, 2},  {SpaceKind::Tree, 5},   {SpaceKind::Tree, 10},
-                             {SpaceKind::Cells, 0}};
+                             {SpaceKind::Tree, 5, 3.0}, {SpaceKind::Cells, 0}};
 
 SimulatorConfig configOf(const Variant& v) {
   SpaceSpec s;
   s.kind = v.kind;
   if (v.df > 0) s.decompositionFactor = v.df;
   s.cellSize = 0.15;
+  s.margin = v.margin;
   return simulatorConfig(s, TableSpec{}, {});
 }
 
@@ -82,7 +84,7 @@ TEST(PoolVersions, GappedBreakIdenticalInEverySpace) {
       ASSERT_GT(reference.size(), 80u);
       continue;
     }
-    expectSame(reference, ev, std::string(toString(v.kind)) + " df " + std::to_string(v.df));
+    expectSame(reference, ev, std::string(toString(v.kind)) + " df " + std::to_string(v.df) + " margin " + std::to_string(v.margin));
   }
 }
 
@@ -114,7 +116,7 @@ TEST(PoolVersions, FiftyRandomShotsIdenticalInEverySpace) {
       ASSERT_GT(runs[0].size(), 400u);
     } else {
       EXPECT_EQ(g.pocketed().size(), pocketedRef);
-      expectSame(runs[0], runs.back(), std::string(toString(v.kind)) + " df " + std::to_string(v.df));
+      expectSame(runs[0], runs.back(), std::string(toString(v.kind)) + " df " + std::to_string(v.df) + " margin " + std::to_string(v.margin));
     }
   }
 }

@@ -24,6 +24,10 @@ struct Joint {
   double offset = 0.0;  // theta_k = q_k + offset
   double lower = -3.141592653589793;
   double upper = 3.141592653589793;
+  // Largest believable |qdot| (rad/s). A sanity bound on sensor readings, not the arm's rated
+  // speed (Panda 2.6, iiwa 2.4 rad/s at most): a reading beyond it is a fault (a unit mix-up,
+  // a corrupt value) and extrapolating from it would make every time to collision zero.
+  double maxRate = 100.0;
 };
 
 // A capsule fixed in body `body`'s frame.

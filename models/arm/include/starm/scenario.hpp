@@ -4,7 +4,7 @@
 //   safety: {cycle_time: 0.001, reaction_time: 0.01, stopping_time: 0.2, min_separation: 0.02, horizon: 0.3}
 //   octree: {kind: tree|cells|single, decomposition_factor: 4, max_depth: 8, margin: 0.05, cell_size: 0.25,
 //            bounds: {min: [..], max: [..]}}
-//   models: {name: {convention: modified|classic, joints: [{a, alpha, d, offset, limits: [lo, hi]}],
+//   models: {name: {convention: modified|classic, joints: [{a, alpha, d, offset, limits: [lo, hi], max_rate}],
 //                   flange: {xyz, rpy}, capsules: [{body, a: [x,y,z], b: [x,y,z], radius}]}}
 //   arms: [{name, model: panda|iiwa14|<models key>, base: {xyz, rpy},
 //           allow: [[i, j]], check: [[i, j]], waypoints: [{t, q: [...]}]}]

@@ -10,6 +10,9 @@ namespace st::pool {
 // Regulation ball: 2 1/4 in diameter, 6 oz.
 inline constexpr double kBallRadius = 0.028575;  // m
 inline constexpr double kBallMass = 0.170;       // kg
+// Fastest ball a scenario may ask for (m/s). A hard break is about 10 m/s; a speed beyond this
+// is a unit mistake, and at absurd speeds (1e300 m/s) positions overflow and balls leave the table.
+inline constexpr double kMaxSpeed = 1000.0;
 
 // The report's colours and patterns (§2.2), in its order.
 enum class Colour { White, Yellow, Purple, Red, Blue, Orange, Green, Maroon, Black };

@@ -103,6 +103,10 @@ class Game {
   ShotSummary runShot(const Shot* shot, double limit, Observer&& observer);
   PoolEvent manual(PoolEventKind kind, int ball) const;
   void strike(const Shot& shot);
+  // Integrity check: throws std::runtime_error if ball's centre at t is off the table (outside
+  // its bounds, pocket mouths included). Cannot happen with sane input; it catches a missed
+  // cushion (e.g. speeds the clock cannot resolve) instead of letting a ball fly off silently.
+  void checkOnTable(int ball, double t) const;
 
   Table table_;
   std::vector<BallSpec> specs_;
@@ -144,6 +148,7 @@ ShotSummary Game::runShot(const Shot* shot, double limit, Observer&& observer) {
   s.momentumStart = sim_.momentum();
   const StopReason why = sim_.run(s.start + limit, [&](const EventRecord& r) {
     const PoolEvent e = translate(r);
+    if (e.kind != PoolEventKind::Pocket) checkOnTable(e.ball, e.t);
     if (e.kind == PoolEventKind::Pocket) {
       const BallState<2>& b = sim_.ball(e.ball);
       s.kePocketed += 0.5 * b.mass * b.velocityAt(e.t).squaredNorm();
@@ -155,6 +160,8 @@ ShotSummary Game::runShot(const Shot* shot, double limit, Observer&& observer) {
   s.ending = why == StopReason::NothingLeft && atRest() ? ShotEnd::Rest : ShotEnd::TimeLimit;
   if (s.ending == ShotEnd::TimeLimit) sim_.synchronize(s.start + limit);
   s.end = sim_.now();
+  for (int i = 0; i < static_cast<int>(specs_.size()); ++i)
+    if (sim_.ball(i).active) checkOnTable(i, s.end);
   s.keEnd = sim_.kineticEnergy();
   s.momentumEnd = sim_.momentum();
   if (s.ending == ShotEnd::TimeLimit) {

@@ -26,6 +26,10 @@ struct SpaceSpec {
   int divisions = 4;
   int maxDepth = -1;      // -1: deepest level whose regions are still at least one ball across
   double cellSize = 0.1;  // m, Cells kind only
+  // Fat-box margin, as a fraction of each ball's radius (SimulatorConfig::marginFactor): a tree
+  // lists a ball in every leaf its box grown by this touches, and re-files it (a boundary
+  // event) when it leaves that grown box. Larger: fewer boundary events, more candidates.
+  double margin = 0.5;
 };
 
 struct Scenario {
