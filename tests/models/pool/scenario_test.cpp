@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <stpool/game.hpp>
+#include <stpool/report.hpp>
 #include <stpool/scenario.hpp>
 
 namespace st::pool {
@@ -135,11 +137,35 @@ space: {margin: 2}
 }
 
 TEST(Scenario, ShippedScenariosLoad) {
-  for (const char* name : {"break", "bank_shot", "box100"}) {
+  for (const char* name : {"break", "bank_shot", "box100", "practice"}) {
     const std::string path = std::string(STSIM_SOURCE_DIR) + "/models/pool/scenarios/" + name + ".yaml";
     EXPECT_NO_THROW(loadScenario(path)) << path;
   }
   EXPECT_EQ(loadScenario(std::string(STSIM_SOURCE_DIR) + "/models/pool/scenarios/box100.yaml").balls.size(), 100u);
+}
+
+// The friction scenario plays three shots in sequence, each from the rest state the previous one
+// left: every shot ends at rest (all kinetic energy gone, every ball still), the next begins there.
+TEST(Scenario, PracticeShotsFollowOneAnotherFromRest) {
+  const Scenario s = loadScenario(std::string(STSIM_SOURCE_DIR) + "/models/pool/scenarios/practice.yaml");
+  ASSERT_EQ(s.shots.size(), 3u);
+  ASSERT_GT(s.friction, 0.0);
+  Game g(s, simulatorConfig(s));
+  const RunRecord run = playScenario(g, s);
+  ASSERT_EQ(run.error, "");
+  ASSERT_EQ(run.shots.size(), 3u);
+  for (std::size_t k = 0; k < run.shots.size(); ++k) {
+    const ShotSummary& sh = run.shots[k];
+    EXPECT_EQ(sh.ending, ShotEnd::Rest) << "shot " << k;
+    EXPECT_EQ(sh.keEnd, 0.0) << "shot " << k;
+    EXPECT_GT(sh.keStart, 0.0) << "shot " << k;
+    EXPECT_LT(sh.end - sh.start, s.until) << "shot " << k;
+    if (k > 0) EXPECT_EQ(sh.start, run.shots[k - 1].end) << "shot " << k;
+  }
+  // the cue's strike is the only energy put in: 1/2 m v^2 with v from the scenario
+  EXPECT_NEAR(run.shots[1].keStart, 0.5 * kBallMass * 2.5 * 2.5, 1e-12);
+  EXPECT_NEAR(run.shots[2].keStart, 0.5 * kBallMass * s.shots[2].velocity.squaredNorm(), 1e-12);
+  EXPECT_TRUE(g.atRest());
 }
 
 // ---- the command --------------------------------------------------------------------------------

@@ -14,6 +14,7 @@ struct StudyRun {
   std::uint64_t events = 0;   // simulator events, space boundary crossings included
   std::uint64_t collisions = 0;  // ball-ball, ball-cushion and pocket events
   double wallSeconds = 0.0;
+  double cpuSeconds = 0.0;    // this thread's CPU time: the wall time on an idle core, without preemption
 };
 
 // 15 balls at seeded random places on a closed 9-ft table, `mobile` of them moving at `speed`,
