@@ -9,6 +9,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <stcore/tolerances.hpp>
+
 #include <stpool/rack.hpp>
 
 namespace st::pool {
@@ -106,7 +108,13 @@ std::string indexed(const std::string& key, std::size_t i) { return key + "[" + 
 // Validation shared by the YAML loader (which knows lines) and programmatic scenarios.
 using Locate = std::function<Where(const std::string& key, int ball)>;
 
-void validate(const Scenario& s, const Locate& where) {
+// `ballsKey`: "balls" for a ball list, or the key that generated them ("rack", "random"), which
+// is then named instead of a balls[i] key the file does not have.
+void validate(const Scenario& s, const Locate& where, const std::string& ballsKey = "balls") {
+  const bool listed = ballsKey == "balls";
+  auto ballKey = [&](int i, const char* field) {
+    return listed ? indexed("balls", static_cast<std::size_t>(i)) + field : ballsKey;
+  };
   Table table;
   try {
     table = makeTable(s.table);
@@ -116,17 +124,18 @@ void validate(const Scenario& s, const Locate& where) {
   std::set<int> numbers;
   for (int i = 0; i < static_cast<int>(s.balls.size()); ++i) {
     const BallSpec& b = s.balls[i];
-    const std::string key = indexed("balls", static_cast<std::size_t>(i));
-    if (!(b.radius > 0.0) || !std::isfinite(b.radius)) fail(where(key + ".radius", i), "must be positive");
-    if (!(b.mass > 0.0) || !std::isfinite(b.mass)) fail(where(key + ".mass", i), "must be positive");
-    if (!b.position.allFinite()) fail(where(key + ".position", i), "must be finite");
-    if (!b.velocity.allFinite()) fail(where(key + ".velocity", i), "must be finite");
+    const std::string ball = listed ? "" : "ball " + std::to_string(b.number) + ": ";
+    if (!(b.radius > 0.0) || !std::isfinite(b.radius)) fail(where(ballKey(i, ".radius"), i), ball + "must be positive");
+    if (!(b.mass > 0.0) || !std::isfinite(b.mass)) fail(where(ballKey(i, ".mass"), i), ball + "must be positive");
+    if (!b.position.allFinite()) fail(where(ballKey(i, ".position"), i), ball + "must be finite");
+    if (!b.velocity.allFinite()) fail(where(ballKey(i, ".velocity"), i), ball + "must be finite");
     if (b.velocity.norm() > kMaxSpeed)
-      fail(where(key + ".velocity", i), "speed must be at most " + std::to_string(static_cast<int>(kMaxSpeed)) + " m/s");
+      fail(where(ballKey(i, ".velocity"), i),
+           ball + "speed must be at most " + std::to_string(static_cast<int>(kMaxSpeed)) + " m/s");
     if (!numbers.insert(b.number).second)
-      fail(where(key + ".number", i), "ball number " + std::to_string(b.number) + " is used twice");
+      fail(where(ballKey(i, ".number"), i), "ball number " + std::to_string(b.number) + " is used twice");
     if (const char* why = placementProblem(table, b.position, b.radius); *why)
-      fail(where(key + ".position", i), why);
+      fail(where(ballKey(i, ".position"), i), ball + why);
   }
   // overlaps: sort by x so only near neighbours are compared
   std::vector<int> order(s.balls.size());
@@ -140,9 +149,11 @@ void validate(const Scenario& s, const Locate& where) {
     for (std::size_t w = u + 1; w < order.size(); ++w) {
       const BallSpec& b = s.balls[order[w]];
       if (b.position.x() - a.position.x() > 2.0 * rmax) break;
-      if ((a.position - b.position).norm() < a.radius + b.radius) {
+      // touching is allowed, and so is roundoff below the simulator's slop (the exact frozen
+      // rack puts neighbours 2r apart up to roundoff)
+      if ((a.position - b.position).norm() < a.radius + b.radius - tol::kLinearSlop) {
         const int later = std::max(order[u], order[w]), earlier = std::min(order[u], order[w]);
-        fail(where(indexed("balls", static_cast<std::size_t>(later)) + ".position", later),
+        fail(where(ballKey(later, ".position"), later),
              "ball " + std::to_string(s.balls[later].number) + " overlaps ball " +
                  std::to_string(s.balls[earlier].number));
       }
@@ -354,7 +365,7 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
     if (ball >= 0 && ball < static_cast<int>(ballMarks.size())) return Where{source, key, ballMarks[ball]};
     auto it = marks.find(key);
     return Where{source, key, it != marks.end() ? it->second : root.Mark()};
-  });
+  }, root["rack"] ? "rack" : root["random"] ? "random" : "balls");
   return s;
 }
 

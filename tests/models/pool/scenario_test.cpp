@@ -2,6 +2,7 @@
 // command end to end.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -103,6 +104,27 @@ shots: [{ball: 0, speed: 1}]
 )"),
             "s.yaml:3:9: shots[0].angle: missing key");
   EXPECT_EQ(errorOf("table: [1, 2"), "s.yaml:1:1: (syntax): end of sequence flow not found");
+}
+
+TEST(Scenario, FrozenRackLoadsAndRackErrorsNameTheRack) {
+  // gap 0 puts neighbours 2r apart up to roundoff: touching, not overlapping (it used to be
+  // refused as "ball 9 overlaps ball 1")
+  const Scenario s = parseScenario("table: {width: 2.54, height: 1.27}\nrack: {gap: 0}\n", "s.yaml");
+  ASSERT_EQ(s.balls.size(), 16u);
+  int touching = 0;
+  for (std::size_t i = 0; i < s.balls.size(); ++i)
+    for (std::size_t j = i + 1; j < s.balls.size(); ++j)
+      if (std::abs((s.balls[i].position - s.balls[j].position).norm() - 2.0 * kBallRadius) < 1e-12) ++touching;
+  EXPECT_EQ(touching, 30);  // the triangle of 15 has 3 * (1 + 2 + 3 + 4) = 30 contacts
+  // a real overlap is still refused; a generated ball is named by the key that made it
+  EXPECT_EQ(errorOf(R"(table: {width: 2.54, height: 1.27}
+balls:
+  - {number: 0, position: [0.6, 0.6]}
+  - {number: 1, position: [0.657, 0.6]}
+)"),
+            "s.yaml:4:27: balls[1].position: ball 1 overlaps ball 0");
+  EXPECT_EQ(errorOf("table: {width: 2.54, height: 1.27}\nrack: {apex: [2.45, 0.6]}\n"),
+            "s.yaml:2:7: rack: ball 10: ball is off the table (its edge crosses a cushion)");
 }
 
 TEST(Scenario, AbsurdSpeedsAndMarginNamed) {
