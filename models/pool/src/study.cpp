@@ -125,6 +125,9 @@ void printFig13Study(std::ostream& os) {
     for (const auto& r : all[i]) os << std::setw(12) << 1e3 * r.cpuSeconds;
     os << std::defaultfloat << "\n";
   }
+  os << "wall clock (ms, with any preemption) at 15 mobile:" << std::fixed << std::setprecision(2);
+  for (std::size_t j = 0; j < all.back().size(); ++j) os << " " << label(spaces[j]) << " " << 1e3 * all.back()[j].wallSeconds;
+  os << std::defaultfloat << "\n";
   os << "events (collisions + space crossings) at 15 mobile:";
   for (std::size_t j = 0; j < all.back().size(); ++j) os << " " << label(spaces[j]) << " " << all.back()[j].events;
   os << "\nreport (Fig. 13) at 15 mobile: NS 16756, one space 17078, df 10 12081, df 5 10742, df 2 11210\n";
