@@ -4,8 +4,14 @@
 
 #include <libsumo/libtraci.h>
 
-#include <set>
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
 
+#include <atomic>
+#include <random>
+#include <set>
 #include <thread>
 
 #include "sumo_process.hpp"
@@ -239,17 +245,186 @@ TEST(Backends, AttachesToRunningSumoAsSecondClient) {
   EXPECT_EQ(a, slurp(dir / "ref/warnings.csv"));
 }
 
-// SUMO dies mid-run: stsim reports the lost connection in one line, exits non-zero and leaves a
-// valid warnings.csv with the warnings up to that point and a summary saying why it stopped.
-TEST(Backends, DroppedConnectionGivesClearErrorAndValidOutputs) {
-  const auto dir = freshDir("dropped");
+// A TraCI peer that is not (or stops being) SUMO: it listens on a free loopback port; its first
+// client is relayed to a real SUMO at `upstreamPort` (0: none) until `replies` whole replies have
+// passed, then it sends `garbage` instead and holds the connection open (at most `holdSeconds`, so
+// a client that waits for more bytes forever is not hidden by a test that hangs).
+class TamperingPeer {
+ public:
+  TamperingPeer(int upstreamPort, int replies, std::string garbage, double holdSeconds = 60.0)
+      : upstream_(upstreamPort), replies_(replies), garbage_(std::move(garbage)), hold_(holdSeconds) {
+    listen_ = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t len = sizeof a;
+    EXPECT_EQ(::bind(listen_, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+    EXPECT_EQ(::listen(listen_, 4), 0);
+    ::getsockname(listen_, reinterpret_cast<sockaddr*>(&a), &len);
+    port_ = ntohs(a.sin_port);
+    thread_ = std::thread([this] { run(); });
+  }
+  ~TamperingPeer() {
+    stop_ = true;
+    thread_.join();
+    for (int fd : {listen_, client_, server_})
+      if (fd >= 0) ::close(fd);
+  }
+  int port() const { return port_; }
+  int repliesPassed() const { return passed_; }
+
+ private:
+  static bool sendAll(int fd, const char* p, std::size_t n) {
+    while (n > 0) {
+      const ssize_t k = ::send(fd, p, n, MSG_NOSIGNAL);
+      if (k <= 0) return false;
+      p += k;
+      n -= static_cast<std::size_t>(k);
+    }
+    return true;
+  }
+  // waits for fd to be readable; false on stop or timeout
+  bool readable(int fd, double seconds) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (!stop_ && std::chrono::steady_clock::now() < until) {
+      pollfd p{fd, POLLIN, 0};
+      if (::poll(&p, 1, 50) > 0) return true;
+    }
+    return false;
+  }
+  void run() {
+    if (!readable(listen_, 120.0)) return;
+    client_ = ::accept(listen_, nullptr, nullptr);
+    if (upstream_ > 0) {
+      server_ = ::socket(AF_INET, SOCK_STREAM, 0);
+      sockaddr_in a{};
+      a.sin_family = AF_INET;
+      a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+      a.sin_port = htons(static_cast<std::uint16_t>(upstream_));
+      if (::connect(server_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) return;
+    }
+    std::string fromServer;
+    char buf[65536];
+    while (!stop_ && passed_ < replies_) {
+      pollfd p[2] = {{client_, POLLIN, 0}, {server_, POLLIN, 0}};
+      if (::poll(p, server_ >= 0 ? 2 : 1, 50) <= 0) continue;
+      if (p[0].revents) {
+        const ssize_t n = ::recv(client_, buf, sizeof buf, 0);
+        if (n <= 0 || !sendAll(server_, buf, static_cast<std::size_t>(n))) return;
+      }
+      if (server_ >= 0 && p[1].revents) {
+        const ssize_t n = ::recv(server_, buf, sizeof buf, 0);
+        if (n <= 0) return;
+        fromServer.append(buf, static_cast<std::size_t>(n));
+        // pass on whole replies ([length32] ...) until the count is reached
+        while (fromServer.size() >= 4 && passed_ < replies_) {
+          const auto* u = reinterpret_cast<const unsigned char*>(fromServer.data());
+          const std::size_t len = (std::size_t{u[0]} << 24) | (std::size_t{u[1]} << 16) | (std::size_t{u[2]} << 8) | u[3];
+          if (fromServer.size() < len) break;
+          if (!sendAll(client_, fromServer.data(), len)) return;
+          fromServer.erase(0, len);
+          ++passed_;
+        }
+      }
+    }
+    // SUMO loses its client (and ends); the next request gets garbage
+    if (server_ >= 0) ::shutdown(server_, SHUT_RDWR);
+    if (!readable(client_, 120.0)) return;
+    if (::recv(client_, buf, sizeof buf, 0) <= 0) return;
+    sendAll(client_, garbage_.data(), garbage_.size());
+    // hold the connection until the client gives up (or the time is over)
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(hold_);
+    while (!stop_ && std::chrono::steady_clock::now() < until) {
+      pollfd p{client_, POLLIN, 0};
+      if (::poll(&p, 1, 50) > 0 && ::recv(client_, buf, sizeof buf, 0) <= 0) break;
+    }
+  }
+
+  int upstream_, replies_;
+  std::string garbage_;
+  double hold_;
+  int listen_ = -1, client_ = -1, server_ = -1, port_ = 0;
+  std::atomic<bool> stop_{false};
+  std::atomic<int> passed_{0};
+  std::thread thread_;
+};
+
+std::string randomBytes(std::size_t n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::string s(n, '\0');
+  for (auto& c : s) c = static_cast<char>(rng() & 0xff);
+  return s;
+}
+
+// What a user sees when --traci points at something that is not SUMO: one line naming the
+// endpoint and what was wrong, exit 1, never a crash or a hang. libtraci alone aborts on a length
+// field <= 4 and waits forever for the gigabyte that "HTTP/1.1" announces.
+TEST(Backends, GarbageFromANonSumoPeerIsAOneLineError) {
+  const auto dir = freshDir("garbage_peer");
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"http", "HTTP/1.1 400 Bad Request\r\n\r\n"},
+      {"tiny_length", std::string("\0\0\0\x02", 4)},
+      {"negative_length", std::string("\xff\xff\xff\xf0\0\0\0\0", 8)},
+      {"random", randomBytes(4000, 7)},
+      // a plausible length, then a status block for a command nobody sent
+      {"wrong_command", std::string("\0\0\0\x0b\x07\x42\0\0\0\0\0", 11)},
+  };
+  for (const auto& [name, bytes] : cases) {
+    TamperingPeer peer(0, 0, bytes);
+    const auto r = runStsim({"highway", motorway().string(), "--traci", "localhost:" + std::to_string(peer.port()),
+                             "--out", (dir / name).string()},
+                            dir);
+    EXPECT_EQ(r.code, 1) << name << ": " << r.err;
+    const auto ls = lines(r.err);
+    ASSERT_EQ(ls.size(), 1u) << name << ": " << r.err;
+    EXPECT_NE(ls[0].find("localhost:" + std::to_string(peer.port())), std::string::npos) << ls[0];
+    EXPECT_NE(ls[0].find("not a TraCI server"), std::string::npos) << name << ": " << ls[0];
+  }
+}
+
+// SUMO's replies pass through a peer that, after 2000 of them (some 120 s of simulated time),
+// answers with random bytes and keeps the connection open: stsim stops with one line, exit 1, and
+// leaves everything computed up to then.
+TEST(Backends, GarbageMidRunFlushesResultsSoFar) {
+  const auto dir = freshDir("garbage_mid_run");
   Scenario s = shortMotorway(420.0);
   detail::SumoProcess sumo("sumo", sumoArguments(s), (dir / "sumo.log").string());
-  StsimProcess attached({"highway", motorway().string(), "--traci", "localhost:" + std::to_string(sumo.port()),
-                         "--out", (dir / "out").string()},
+  TamperingPeer peer(sumo.port(), 2000, randomBytes(3000, 11));
+  const auto r = runStsim({"highway", motorway().string(), "--traci", "localhost:" + std::to_string(peer.port()),
+                           "--out", (dir / "out").string()},
+                          dir);
+  sumo.stop(0.0);
+  EXPECT_EQ(peer.repliesPassed(), 2000);
+  EXPECT_EQ(r.code, 1) << r.err;
+  const auto ls = lines(r.err);
+  ASSERT_EQ(ls.size(), 1u) << r.err;
+  EXPECT_NE(ls[0].find("broken at t = "), std::string::npos) << ls[0];
+  EXPECT_NE(ls[0].find("not a TraCI server"), std::string::npos) << ls[0];
+  std::size_t rows = 0;
+  EXPECT_TRUE(validWarningsCsv(dir / "out/warnings.csv", &rows));
+  EXPECT_GT(rows, 0u);
+  const std::string summary = slurp(dir / "out/summary.json");
+  EXPECT_EQ(jsonString(summary, "stop_reason"), "error");
+  const double simulated = jsonNumber(summary, "simulated_s");
+  EXPECT_GT(simulated, 10.0);
+  EXPECT_LT(simulated, 420.0);
+  EXPECT_DOUBLE_EQ(jsonNumber(summary, "total"), static_cast<double>(rows));
+}
+
+// SUMO dies mid-run: stsim reports the lost connection in one line, exits non-zero and leaves a
+// valid warnings.csv with the warnings up to that point and a summary saying why it stopped.
+// SUMO is killed once stsim has written warnings (so it has stepped), on the ring with a 10 h end,
+// which no machine finishes before the kill: no sleeps to tune.
+TEST(Backends, DroppedConnectionGivesClearErrorAndValidOutputs) {
+  const auto dir = freshDir("dropped");
+  const auto ring = sourceDir() / "networks/ring/scenario.yaml";
+  Scenario s = loadScenario(ring);
+  s.end = 36000.0;
+  detail::SumoProcess sumo("sumo", sumoArguments(s), (dir / "sumo.log").string());
+  StsimProcess attached({"highway", ring.string(), "--end", "36000", "--traci",
+                         "localhost:" + std::to_string(sumo.port()), "--out", (dir / "out").string()},
                         dir);
-  // let it run until it has written some simulated time, then kill SUMO
-  std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+  ASSERT_TRUE(waitForWarningRows(dir / "out/warnings.csv", attached)) << attached.err();
   ::kill(sumo.pid(), SIGKILL);
   const int code = attached.wait();
   sumo.stop(0.0);
@@ -265,7 +440,8 @@ TEST(Backends, DroppedConnectionGivesClearErrorAndValidOutputs) {
   EXPECT_EQ(jsonString(summary, "stop_reason"), "error");
   const double simulated = jsonNumber(summary, "simulated_s");
   EXPECT_GT(simulated, 0.0);
-  EXPECT_LT(simulated, 420.0);
+  EXPECT_LT(simulated, 36000.0);
+  EXPECT_DOUBLE_EQ(jsonNumber(summary, "total"), static_cast<double>(rows));
 }
 
 }  // namespace

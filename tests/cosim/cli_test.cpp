@@ -112,10 +112,9 @@ TEST(HighwayCli, CtrlCStopsCleanlyWithResultsFlushed) {
   const auto ring = sourceDir() / "networks/ring/scenario.yaml";
   constexpr double kEnd = 36000.0;
   StsimProcess p({"highway", ring.string(), "--end", "36000", "--out", (dir / "out").string()}, dir);
-  // wait until SUMO runs (the summary is written only at the end, so watch for the warnings file)
-  for (int i = 0; i < 200 && !std::filesystem::exists(dir / "out/warnings.csv"); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  // signal once the run has stepped and written a warning (the ring has its first ones within
+  // 11 s of simulated time): not before the handler is installed, not before t > 0; no sleeps
+  ASSERT_TRUE(waitForWarningRows(dir / "out/warnings.csv", p)) << p.err();
   p.signal(SIGINT);
   const int code = p.wait();
   EXPECT_EQ(code, 130) << p.err();

@@ -13,6 +13,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 extern char** environ;
@@ -85,10 +86,21 @@ class StsimProcess {
   void signal(int sig) { ::kill(pid_, sig); }
   // Exit code, or 128 + signal.
   int wait() {
+    if (pid_ > 0) {
+      int status = 0;
+      ::waitpid(pid_, &status, 0);
+      pid_ = -1;
+      code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    }
+    return code_;
+  }
+  // True while the process runs (reaps it when it has ended; wait() then gives its code).
+  bool running() {
     int status = 0;
-    ::waitpid(pid_, &status, 0);
+    if (pid_ <= 0 || ::waitpid(pid_, &status, WNOHANG) != pid_) return pid_ > 0;
     pid_ = -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return false;
   }
   std::string out() const { return slurp(dir_ / "stdout.txt"); }
   std::string err() const { return slurp(dir_ / "stderr.txt"); }
@@ -96,7 +108,19 @@ class StsimProcess {
  private:
   std::filesystem::path dir_;
   pid_t pid_ = -1;
+  int code_ = -1;
 };
+
+// Waits until `csv` holds at least one warning row (the run has stepped and finished an
+// episode), or the process has exited (false). No deadline: a slow machine only waits longer; the
+// caller's scenario must produce warnings early and not end on its own.
+inline bool waitForWarningRows(const std::filesystem::path& csv, StsimProcess& p) {
+  for (;;) {
+    if (lines(slurp(csv)).size() >= 2) return true;
+    if (!p.running()) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+}
 
 struct RunResult {
   int code;

@@ -122,8 +122,18 @@ void SumoProcess::stop(double seconds) noexcept {
   int status = 0;
   while (::waitpid(pid_, &status, WNOHANG) == 0) {
     if (std::chrono::steady_clock::now() >= deadline) {
+      // SUMO exits "gracefully" on SIGTERM only when its loop gets control back; blocked on a
+      // TraCI client that keeps its socket open it would not, so it gets a moment, then SIGKILL
       ::kill(pid_, SIGTERM);
-      ::waitpid(pid_, &status, 0);
+      const auto grace = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+      while (::waitpid(pid_, &status, WNOHANG) == 0) {
+        if (std::chrono::steady_clock::now() >= grace) {
+          ::kill(pid_, SIGKILL);
+          ::waitpid(pid_, &status, 0);
+          break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      }
       break;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(5));

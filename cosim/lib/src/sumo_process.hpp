@@ -18,7 +18,8 @@ class SumoProcess {
 
   int port() const { return port_; }
   pid_t pid() const { return pid_; }
-  // Waits up to `seconds` for a normal exit, then terminates it. Idempotent.
+  // Waits up to `seconds` for a normal exit, then terminates it (SIGTERM, SIGKILL 2 s later).
+  // Idempotent.
   void stop(double seconds) noexcept;
   // The last lines of the log (for error messages), "" if none.
   std::string logTail() const;

@@ -14,6 +14,7 @@
 
 #include "backend_common.hpp"
 #include "sumo_process.hpp"
+#include "traci_relay.hpp"
 #include <stcosim/backend.hpp>
 
 namespace st::cosim {
@@ -61,11 +62,23 @@ class TraciBackend final : public Backend {
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
       }
     }
+    // a server we did not start is reached through the relay, which checks its replies' framing
+    // before libtraci (which trusts them) sees them
+    if (!process_) {
+      try {
+        relay_ = std::make_unique<detail::TraciRelay>(host, port, local ? 1 : 10);
+      } catch (const SumoError& e) {
+        closed_ = true;
+        throw SumoError("cannot connect to SUMO at " + where() + ": " + e.what());
+      }
+    }
     try {
-      libtraci::Simulation::init(port, local ? 0 : 10, host, label_);
+      if (relay_) libtraci::Simulation::init(relay_->localPort(), 0, "127.0.0.1", label_);
+      else libtraci::Simulation::init(port, local ? 0 : 10, host, label_);
       if (order_ > 0) libtraci::Simulation::setOrder(order_);
     } catch (const std::exception& e) {
-      std::string msg = "cannot connect to SUMO at " + where() + ": " + e.what();
+      const std::string why = relay_ && !relay_->failure().empty() ? relay_->failure() : std::string(e.what());
+      std::string msg = "cannot connect to SUMO at " + where() + ": " + why;
       if (process_) {
         // SUMO listens before it loads its inputs: a bad input shows up as a dropped connection;
         // give it a moment to exit and report its own error line
@@ -204,11 +217,13 @@ class TraciBackend final : public Backend {
   void close() noexcept override {
     if (closed_) return;
     closed_ = true;
+    if (relay_) relay_->closeWithin(5.0);
     try {
       libtraci::Simulation::switchConnection(label_);
       if (!broken_) libtraci::Simulation::close();
     } catch (...) {
     }
+    relay_.reset();
     if (process_) process_->stop(broken_ ? 0.0 : 10.0);
   }
 
@@ -235,20 +250,35 @@ class TraciBackend final : public Backend {
       libtraci::Simulation::switchConnection(label_);
       f();
     } catch (const libsumo::TraCIException& e) {
-      // SUMO refused a command (unknown id, bad value); the connection is fine
+      // SUMO refused a command (unknown id, bad value); the connection is fine, unless the relay
+      // cut it (libtraci may report a cut reply as a parse error)
+      if (relayFailed()) throw lost(e.what());
       throw SumoError(std::string("TraCI: ") + e.what());
     } catch (const SumoError&) {
       throw;
     } catch (const std::exception& e) {
       // FatalTraCIError, or tcpip::SocketException when the peer resets the connection
-      broken_ = true;
-      std::string msg = "TraCI connection to " + where() + " lost at t = " + std::to_string(time_) + " s: " + e.what();
-      if (process_) {
-        const std::string tail = process_->logTail();
-        if (!tail.empty()) msg += " (SUMO: " + tail + ")";
-      }
-      throw SumoError(msg);
+      throw lost(e.what());
     }
+  }
+
+  bool relayFailed() const { return relay_ && !relay_->failure().empty(); }
+
+  // Marks the connection broken and says why: the relay's reason if it cut the connection, else
+  // libtraci's; SUMO's own last error line if we launched it.
+  SumoError lost(const std::string& what) {
+    broken_ = true;
+    std::string msg = "TraCI connection to " + where();
+    if (relayFailed()) {
+      msg += " broken at t = " + std::to_string(time_) + " s: " + relay_->failure();
+    } else {
+      msg += " lost at t = " + std::to_string(time_) + " s: " + what;
+    }
+    if (process_) {
+      const std::string tail = process_->logTail();
+      if (!tail.empty()) msg += " (SUMO: " + tail + ")";
+    }
+    return SumoError(msg);
   }
 
   void readVehicles() {
@@ -278,6 +308,7 @@ class TraciBackend final : public Backend {
   int port_;
   int order_;
   std::unique_ptr<detail::SumoProcess> process_;
+  std::unique_ptr<detail::TraciRelay> relay_;  // attached servers only
   std::string label_;
   bool broken_ = false;
   bool closed_ = false;

@@ -1,0 +1,261 @@
+#include "traci_relay.hpp"
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+#include <stcosim/backend.hpp>
+
+namespace st::cosim::detail {
+namespace {
+
+std::uint32_t bigEndian32(const unsigned char* p) {
+  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | std::uint32_t{p[3]};
+}
+
+// The first bytes of a message, printable, for an error line: "HTTP/1.1" or "\x00\x00\x00\x03".
+std::string preview(const std::vector<unsigned char>& b) {
+  std::string out = "\"";
+  for (std::size_t i = 0; i < b.size() && i < 8; ++i) {
+    const unsigned char c = b[i];
+    if (c >= 0x20 && c < 0x7f && c != '"' && c != '\\') {
+      out += static_cast<char>(c);
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", c);
+      out += hex;
+    }
+  }
+  out += '"';
+  return out;
+}
+
+void noDelay(int fd) {
+  int one = 1;
+  ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+}
+
+bool sendAll(int fd, const unsigned char* p, std::size_t n) {
+  while (n > 0) {
+    const ssize_t k = ::send(fd, p, n, MSG_NOSIGNAL);
+    if (k < 0 && errno == EINTR) continue;
+    if (k <= 0) return false;
+    p += k;
+    n -= static_cast<std::size_t>(k);
+  }
+  return true;
+}
+
+int connectTo(const std::string& host, int port, std::string& error) {
+  addrinfo hints{};
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = SOCK_STREAM;
+  addrinfo* found = nullptr;
+  const int rc = ::getaddrinfo(host.c_str(), std::to_string(port).c_str(), &hints, &found);
+  if (rc != 0) {
+    error = std::string("cannot resolve '") + host + "': " + ::gai_strerror(rc);
+    return -1;
+  }
+  int fd = -1;
+  for (addrinfo* a = found; a != nullptr && fd < 0; a = a->ai_next) {
+    fd = ::socket(a->ai_family, a->ai_socktype | SOCK_CLOEXEC, a->ai_protocol);
+    if (fd < 0) continue;
+    if (::connect(fd, a->ai_addr, a->ai_addrlen) != 0) {
+      error = std::strerror(errno);
+      ::close(fd);
+      fd = -1;
+    }
+  }
+  ::freeaddrinfo(found);
+  return fd;
+}
+
+}  // namespace
+
+TraciRelay::TraciRelay(const std::string& host, int port, int attempts) {
+  std::string error;
+  for (int i = 0; i < std::max(1, attempts) && serverFd_ < 0; ++i) {
+    if (i > 0) std::this_thread::sleep_for(std::chrono::seconds(1));
+    serverFd_ = connectTo(host, port, error);
+  }
+  if (serverFd_ < 0) throw SumoError(error);
+  noDelay(serverFd_);
+
+  listenFd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t len = sizeof addr;
+  if (listenFd_ < 0 || ::bind(listenFd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 ||
+      ::listen(listenFd_, 1) != 0 || ::getsockname(listenFd_, reinterpret_cast<sockaddr*>(&addr), &len) != 0 ||
+      ::pipe2(wakeFd_, O_CLOEXEC) != 0) {
+    const std::string why = std::strerror(errno);
+    for (int fd : {serverFd_, listenFd_, wakeFd_[0], wakeFd_[1]})
+      if (fd >= 0) ::close(fd);
+    throw SumoError("cannot open a loopback socket for TraCI: " + why);
+  }
+  localPort_ = ntohs(addr.sin_port);
+  thread_ = std::thread([this] { run(); });
+}
+
+TraciRelay::~TraciRelay() {
+  const char stop = 1;
+  [[maybe_unused]] const ssize_t k = ::write(wakeFd_[1], &stop, 1);
+  thread_.join();
+  for (int fd : {clientFd_, serverFd_, listenFd_, wakeFd_[0], wakeFd_[1]})
+    if (fd >= 0) ::close(fd);
+}
+
+std::string TraciRelay::failure() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return failure_;
+}
+
+void TraciRelay::closeWithin(double seconds) {
+  closeDeadline_.store(std::chrono::duration<double>(Clock::now().time_since_epoch()).count() + seconds);
+}
+
+void TraciRelay::fail(const std::string& why) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (failure_.empty()) failure_ = why;
+}
+
+// Passes the client's bytes on; notes the command of each complete request (the first command in
+// it: that is the status block its reply starts with).
+bool TraciRelay::forwardRequests() {
+  unsigned char buf[65536];
+  const ssize_t n = ::recv(clientFd_, buf, sizeof buf, 0);
+  if (n < 0 && (errno == EINTR || errno == EAGAIN)) return true;
+  if (n <= 0) return false;  // libtraci closed its side: we are done
+  if (!sendAll(serverFd_, buf, static_cast<std::size_t>(n))) return false;  // the server is gone: libtraci learns on recv
+  request_.insert(request_.end(), buf, buf + n);
+  while (request_.size() >= 4) {
+    // [length32] [command length | 0, length32] [command] ...; the shortest is 6 bytes (getVersion)
+    const std::uint32_t length = bigEndian32(request_.data());
+    if (length < 6 || (request_.size() > 4 && request_[4] == 0 && length < 10)) {
+      request_.clear();  // libtraci never sends this; stop tracking rather than guess
+      break;
+    }
+    if (request_.size() < length) break;
+    const int command = request_[4] == 0 ? request_[9] : request_[5];
+    pending_.push_back({command, Clock::now()});
+    request_.erase(request_.begin(), request_.begin() + length);
+  }
+  return true;
+}
+
+// Passes on every complete, well-framed reply; returns false (after fail()) on a malformed one.
+bool TraciRelay::checkReplies() {
+  while (reply_.size() >= 4) {
+    const std::uint32_t length = bigEndian32(reply_.data());
+    if (length < kMinReply || length > kMaxReply) {
+      fail("not a TraCI server: reply length field " + std::to_string(length) + " (bytes " + preview(reply_) + ")");
+      return false;
+    }
+    if (reply_.size() < length) return true;
+    // the status block: [len | 0, len32] [command] [result] [string: len32, bytes]
+    const unsigned char* s = reply_.data() + 4;
+    const std::size_t header = s[0] == 0 ? 5 : 1;
+    const std::size_t fixed = header + 2 + 4;
+    bool sound = 4 + fixed <= length;
+    if (sound) {
+      const std::uint32_t blockLength = header == 5 ? bigEndian32(s + 1) : s[0];
+      const int result = s[header + 1];
+      const std::uint32_t text = bigEndian32(s + header + 2);
+      sound = (result == 0x00 || result == 0x01 || result == 0xff) && text <= length &&
+              blockLength == fixed + text && 4 + blockLength <= length;
+    }
+    if (!sound) {
+      fail("not a TraCI server: malformed status in a reply (bytes " + preview(reply_) + ")");
+      return false;
+    }
+    const int command = s[header];
+    if (pending_.empty()) {
+      fail("not a TraCI server: a reply to no request (bytes " + preview(reply_) + ")");
+      return false;
+    }
+    if (command != pending_.front().command) {
+      char msg[96];
+      std::snprintf(msg, sizeof msg, "not a TraCI server: reply to command 0x%02x, asked 0x%02x", command,
+                    pending_.front().command);
+      fail(msg);
+      return false;
+    }
+    pending_.pop_front();
+    if (!sendAll(clientFd_, reply_.data(), length)) return false;
+    reply_.erase(reply_.begin(), reply_.begin() + length);
+    replyBegan_ = Clock::now();  // the next reply's first bytes, if any, arrived now
+  }
+  return true;
+}
+
+void TraciRelay::run() {
+  unsigned char buf[65536];
+  for (;;) {
+    pollfd fds[3];
+    fds[0] = {wakeFd_[0], POLLIN, 0};
+    fds[1] = {clientFd_ >= 0 ? clientFd_ : listenFd_, POLLIN, 0};
+    fds[2] = {serverFd_, POLLIN, 0};
+    const int ready = ::poll(fds, 3, 100);
+    if (ready < 0 && errno != EINTR) break;
+    if (fds[0].revents) break;  // destructor
+    const auto now = Clock::now();
+    if (ready > 0 && fds[1].revents) {
+      if (clientFd_ < 0) {
+        clientFd_ = ::accept4(listenFd_, nullptr, nullptr, SOCK_CLOEXEC);
+        if (clientFd_ >= 0) {
+          noDelay(clientFd_);
+          ::close(listenFd_);
+          listenFd_ = -1;
+        }
+      } else if (!forwardRequests()) {
+        break;
+      }
+    }
+    if (ready > 0 && fds[2].revents) {
+      const ssize_t n = ::recv(serverFd_, buf, sizeof buf, 0);
+      if (n <= 0 && !(n < 0 && (errno == EINTR || errno == EAGAIN))) {
+        if (!reply_.empty())
+          fail("the server closed the connection in the middle of a reply (" + std::to_string(reply_.size()) +
+               " bytes of it received)");
+        break;  // closing our side tells libtraci
+      }
+      if (n > 0) {
+        if (reply_.empty()) replyBegan_ = now;
+        reply_.insert(reply_.end(), buf, buf + n);
+        if (!checkReplies()) break;
+      }
+    }
+    if (!reply_.empty() && now - replyBegan_ > std::chrono::duration<double>(kStallSeconds)) {
+      fail("a TraCI reply stopped after " + std::to_string(reply_.size()) + " bytes for " +
+           std::to_string(static_cast<int>(kStallSeconds)) + " s");
+      break;
+    }
+    const double deadline = closeDeadline_.load();
+    if (deadline >= 0.0 && !pending_.empty() &&
+        std::chrono::duration<double>(now.time_since_epoch()).count() > deadline) {
+      fail("no reply to the closing request");
+      break;
+    }
+  }
+  // end both connections: libtraci's next (or current) receive fails with "peer shutdown"; a
+  // connection still waiting to be accepted is reset when the listener closes
+  if (listenFd_ >= 0) {
+    ::close(listenFd_);
+    listenFd_ = -1;
+  }
+  if (clientFd_ >= 0) ::shutdown(clientFd_, SHUT_RDWR);
+  if (serverFd_ >= 0) ::shutdown(serverFd_, SHUT_RDWR);
+}
+
+}  // namespace st::cosim::detail
