@@ -18,7 +18,7 @@ struct Column {
   const char* label;
   st::SpaceKind kind;
   int df;
-  double margin = 0.5;  // fat-box margin, fraction of the radius (space.margin)
+  double margin = -1.0;  // fat-box margin, fraction of the radius (space.margin; -1: the pool's automatic default)
 };
 
 }  // namespace
@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
   }
   const Column columns[] = {{"none (NS)", st::SpaceKind::None, 0}, {"single (I)", st::SpaceKind::Single, 0},
                             {"tree df 2", st::SpaceKind::Tree, 2},  {"tree df 5", st::SpaceKind::Tree, 5},
-                            {"tree df 10", st::SpaceKind::Tree, 10}, {"df 5 marg 2", st::SpaceKind::Tree, 5, 2.0},
+                            {"tree df 10", st::SpaceKind::Tree, 10}, {"df 5 marg .5", st::SpaceKind::Tree, 5, 0.5},
                             {"df 5 marg 4", st::SpaceKind::Tree, 5, 4.0}, {"cells 0.15m", st::SpaceKind::Cells, 0}};
   std::printf("pool_break: %s, %zu balls, %d repeats (median wall time)\n\n", path.c_str(), base.balls.size(),
               repeats);

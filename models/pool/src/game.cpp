@@ -31,7 +31,7 @@ SimulatorConfig simulatorConfig(const SpaceSpec& space, const TableSpec& table, 
   c.rule.decompositionFactor = space.decompositionFactor;
   c.rule.divisions = space.divisions;
   c.rule.cellSize = space.cellSize;
-  c.marginFactor = space.margin;
+  c.marginFactor = space.marginFactor();
   c.rule.maxDepth = space.maxDepth;
   if (c.rule.maxDepth < 0) {
     double rmax = kBallRadius;

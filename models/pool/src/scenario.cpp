@@ -173,7 +173,7 @@ void validate(const Scenario& s, const Locate& where, const std::string& ballsKe
   if (sp.divisions != 2 && sp.divisions != 4) fail(where("space.divisions", -1), "must be 2 or 4");
   if (sp.maxDepth < -1 || sp.maxDepth > 30) fail(where("space.max_depth", -1), "must be between 0 and 30 (or -1: automatic)");
   if (sp.kind == SpaceKind::Cells && !(sp.cellSize > 0.0)) fail(where("space.cell_size", -1), "must be positive");
-  if (!(sp.margin > 0.0) || !std::isfinite(sp.margin)) fail(where("space.margin", -1), "must be positive");
+  if (!(sp.marginFactor() > 0.0) || !std::isfinite(sp.marginFactor())) fail(where("space.margin", -1), "must be positive");
 }
 
 Scenario parse(const YAML::Node& root, const std::string& source) {
@@ -358,6 +358,7 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
     if (sp["margin"]) {
       mark("space.margin", sp["margin"]);
       s.space.margin = rd.number(sp["margin"], "space.margin");
+      if (!(s.space.margin > 0.0)) fail(rd.at(sp["margin"], "space.margin"), "must be positive");
     }
   }
 

@@ -15,12 +15,12 @@ using test::physical;
 struct Variant {
   SpaceKind kind;
   int df;
-  double margin = 0.5;  // fat-box margin (space.margin)
+  double margin = -1.0;  // fat-box margin (space.margin; -1: the pool's automatic default)
 };
 
 const Variant kVariants[] = {{SpaceKind::None, 0},  {SpaceKind::Single, 0}, {SpaceKind::Tree, 1},
                              {SpaceKind::Tree, 2},  {SpaceKind::Tree, 5},   {SpaceKind::Tree, 10},
-                             {SpaceKind::Tree, 5, 3.0}, {SpaceKind::Cells, 0}};
+                             {SpaceKind::Tree, 5, 0.5}, {SpaceKind::Tree, 5, 3.0}, {SpaceKind::Cells, 0}};
 
 SimulatorConfig configOf(const Variant& v) {
   SpaceSpec s;
