@@ -2,6 +2,7 @@
 #include <cstring>
 #include <exception>
 #include <iostream>
+#include <string>
 
 #include <stsim/cli.hpp>
 #include <stsim/commands.hpp>
@@ -32,7 +33,11 @@ int main(int argc, char** argv) {
       std::cerr << "stsim " << c.name << ": " << e.what() << "\n";
       return 2;
     } catch (const std::exception& e) {
-      std::cerr << "stsim " << c.name << ": error: " << e.what() << "\n";
+      // one line, whatever a library below put in the message (SUMO's span lines)
+      std::string msg = e.what();
+      for (char& ch : msg)
+        if (ch == '\n' || ch == '\r') ch = ' ';
+      std::cerr << "stsim " << c.name << ": error: " << msg << "\n";
       return 1;
     }
   }

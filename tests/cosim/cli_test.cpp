@@ -105,6 +105,38 @@ TEST(HighwayCli, MissingScenarioAndMalformedYamlAreOneLineErrors) {
   EXPECT_NE(r.err.find("bad.yaml:2: end: must be a number"), std::string::npos) << r.err;
 }
 
+// SUMO refusing its inputs at start: SUMO prints some errors itself and spreads others over
+// several lines; the user sees one line naming the config and SUMO's reason, exit 1.
+TEST(HighwayCli, SumoStartErrorsAreOneLine) {
+  const auto dir = freshDir("cli_sumo_start");
+  std::filesystem::copy_file(sourceDir() / "networks/motorway/motorway.net.xml", dir / "m.net.xml");
+  // a route over an edge the network does not have (SUMO's message spans two lines)
+  std::ofstream(dir / "r.rou.xml") << "<routes><vType id=\"car\"/><vehicle id=\"a\" type=\"car\" depart=\"0\">"
+                                      "<route edges=\"nosuchedge\"/></vehicle></routes>";
+  std::ofstream(dir / "a.sumocfg") << "<configuration><input><net-file value=\"m.net.xml\"/>"
+                                      "<route-files value=\"r.rou.xml\"/></input></configuration>";
+  // an end before the begin (SUMO prints "Error: ..." itself and throws "Process Error")
+  std::ofstream(dir / "b.rou.xml") << "<routes/>";
+  std::ofstream(dir / "b.sumocfg") << "<configuration><input><net-file value=\"m.net.xml\"/>"
+                                      "<route-files value=\"b.rou.xml\"/></input>"
+                                      "<time><begin value=\"10\"/><end value=\"5\"/></time></configuration>";
+  // an option SUMO does not know, through the scenario's sumo_args
+  std::ofstream(dir / "c.yaml") << "sumocfg: b.sumocfg\nend: 20\nsumo_args: [\"--no-such-option\", \"1\"]\n";
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"a.sumocfg", "'nosuchedge' within the route for vehicle 'a' is not known"},
+      {"b.sumocfg", "The end time should be after the begin time"},
+      {"c.yaml", "no-such-option"}};
+  for (const auto& [input, reason] : cases) {
+    const auto r = runStsim({"highway", (dir / input).string(), "--out", (dir / ("out_" + input)).string()}, dir);
+    EXPECT_EQ(r.code, 1) << input << ": " << r.err;
+    const auto ls = lines(r.err);
+    ASSERT_EQ(ls.size(), 1u) << input << ": " << r.err;
+    EXPECT_NE(ls[0].find("SUMO failed to start"), std::string::npos) << ls[0];
+    EXPECT_NE(ls[0].find(reason), std::string::npos) << ls[0];
+    EXPECT_EQ(ls[0].find("Process Error"), std::string::npos) << ls[0];
+  }
+}
+
 TEST(HighwayCli, CtrlCStopsCleanlyWithResultsFlushed) {
   const auto dir = freshDir("cli_sigint");
   // the ring's vehicles circle for hours of simulated time, so the run cannot end on its own

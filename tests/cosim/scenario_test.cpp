@@ -77,5 +77,30 @@ TEST(Scenario, UnknownKeyAndBadValuesAreNamed) {
   EXPECT_NE(e.find("sumocfg: missing"), std::string::npos) << e;
 }
 
+// A typo in smart_types would equip nobody without a word; whole-number keys must not be
+// truncated silently; an empty file names itself.
+TEST(Scenario, UnknownSmartTypeFractionalIntegersAndEmptyFileAreNamed) {
+  const auto dir = freshDir("smart_types");
+  const std::string cfg = (sourceDir() / "networks/motorway/motorway.sumocfg").string();
+  std::ofstream(dir / "a.yaml") << "sumocfg: " << cfg << "\nsmart_types: [truck, lorry]\n";
+  std::string e = errorOf([&] { loadScenario(dir / "a.yaml"); });
+  EXPECT_NE(e.find("a.yaml:2: smart_types[1]: unknown vType 'lorry'"), std::string::npos) << e;
+  EXPECT_NE(e.find("define: car, truck"), std::string::npos) << e;  // motorway.rou.xml's vTypes
+  // the route file's types and SUMO's default type are accepted
+  std::ofstream(dir / "b.yaml") << "sumocfg: " << cfg << "\nsmart_types: [truck, DEFAULT_VEHTYPE]\n";
+  EXPECT_EQ(errorOf([&] { loadScenario(dir / "b.yaml"); }), "");
+  EXPECT_EQ(loadScenario(dir / "b.yaml").plugin.smart.types, (std::vector<std::string>{"truck", "DEFAULT_VEHTYPE"}));
+  std::ofstream(dir / "c.yaml") << "sumocfg: " << cfg << "\nseed: 1.5\n";
+  e = errorOf([&] { loadScenario(dir / "c.yaml"); });
+  EXPECT_NE(e.find("c.yaml:2: seed: must be a whole number, got 1.5"), std::string::npos) << e;
+  std::ofstream(dir / "d.yaml") << "sumocfg: " << cfg << "\ncells: {decomposition_factor: 2.7}\n";
+  e = errorOf([&] { loadScenario(dir / "d.yaml"); });
+  EXPECT_NE(e.find("d.yaml:2: cells.decomposition_factor: must be a whole number"), std::string::npos) << e;
+  std::ofstream(dir / "e.yaml") << "";
+  e = errorOf([&] { loadScenario(dir / "e.yaml"); });
+  EXPECT_NE(e.find("e.yaml"), std::string::npos) << e;
+  EXPECT_NE(e.find("scenario: must be a mapping"), std::string::npos) << e;
+}
+
 }  // namespace
 }  // namespace st::cosim

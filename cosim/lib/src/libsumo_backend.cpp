@@ -189,14 +189,25 @@ std::unique_ptr<Backend> startLibsumo(const SumoLaunch& launch) {
   detail::ensureSumoHome();
   std::vector<std::string> cmd{"sumo"};
   cmd.insert(cmd.end(), launch.args.begin(), launch.args.end());
-  try {
-    libsumo::Simulation::start(cmd);
-  } catch (const libsumo::TraCIException& e) {
-    throw SumoError(std::string("SUMO failed to start: ") + e.what());
-  } catch (const std::exception& e) {
-    throw SumoError(std::string("SUMO failed to start: ") + e.what());
+  // SUMO prints some start errors itself (option checks: "Error: The end time should be after
+  // the begin time.") and throws a bare "Process Error"; others come only in the exception, over
+  // several lines. Its stderr is held during the start and both become one line.
+  std::string what;
+  std::string printed;
+  {
+    detail::StderrCapture capture;
+    try {
+      libsumo::Simulation::start(cmd);
+    } catch (const std::exception& e) {
+      what = e.what();
+    }
+    printed = capture.finish();
   }
-  return std::make_unique<LibsumoBackend>(true);
+  if (what.empty()) return std::make_unique<LibsumoBackend>(true);
+  std::string config;
+  for (std::size_t i = 0; i + 1 < launch.args.size(); ++i)
+    if (launch.args[i] == "-c") config = " " + launch.args[i + 1];
+  throw SumoError("SUMO failed to start" + config + ": " + detail::sumoErrorLine(printed, what));
 }
 
 std::unique_ptr<Backend> attachLibsumo() {

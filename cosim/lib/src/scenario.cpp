@@ -2,6 +2,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <sthighway/sumo_files.hpp>
+
 #include <boost/property_tree/ptree.hpp>
 #include <boost/property_tree/xml_parser.hpp>
 #include <cmath>
@@ -42,7 +44,9 @@ class Reader {
     throw ScenarioError(os.str());
   }
   void checkKeys(const YAML::Node& map, const std::string& where, const std::set<std::string>& allowed) const {
-    if (!map.IsMap()) fail(map, where, "must be a mapping");
+    if (!map.IsMap())
+      fail(map, where.empty() ? std::string("scenario") : where,
+           where.empty() ? "must be a mapping of keys (at least sumocfg: FILE.sumocfg)" : "must be a mapping");
     for (const auto& kv : map) {
       const std::string k = kv.first.as<std::string>();
       if (!allowed.count(k)) fail(kv.first, where.empty() ? k : where + "." + k, "unknown key");
@@ -58,6 +62,15 @@ class Reader {
     if (!std::isfinite(v) || v < lo || v > hi) {
       std::ostringstream os;
       os << "must be in [" << lo << ", " << hi << "], got " << v;
+      fail(n, key, os.str());
+    }
+    return v;
+  }
+  double integer(const YAML::Node& n, const std::string& key, double lo, double hi) const {
+    const double v = number(n, key, lo, hi);
+    if (v != std::floor(v)) {
+      std::ostringstream os;
+      os << "must be a whole number, got " << v;
       fail(n, key, os.str());
     }
     return v;
@@ -86,6 +99,35 @@ class Reader {
 
 constexpr double kBig = 1e12;
 
+// smart_types must name vTypes the run can have (a typo would equip nobody, silently): those of
+// the sumocfg's route and additional files and SUMO's built-in defaults. Skipped when sumo_args
+// loads further route or additional files, which may define more.
+void checkSmartTypes(const Reader& r, const YAML::Node& node, const Scenario& s) {
+  for (const auto& a : s.sumoArgs)
+    if (a == "-r" || a == "-a" || a.rfind("--route-files", 0) == 0 || a.rfind("--additional-files", 0) == 0) return;
+  std::set<std::string> known{"DEFAULT_VEHTYPE",  "DEFAULT_PEDTYPE", "DEFAULT_BIKETYPE",
+                              "DEFAULT_TAXITYPE", "DEFAULT_RAILTYPE", "DEFAULT_CONTAINERTYPE"};
+  std::set<std::string> defined;
+  const SumoConfigFiles files = checkSumoConfig(s.sumocfg);
+  std::vector<fs::path> sources = files.routes;
+  sources.insert(sources.end(), files.additionals.begin(), files.additionals.end());
+  for (const auto& f : sources)
+    for (const auto& [id, info] : hw::readSumoVehicleTypes(f)) defined.insert(id);
+  known.insert(defined.begin(), defined.end());
+  std::size_t i = 0;
+  for (const auto& e : node) {
+    const std::string t = e.as<std::string>();
+    if (!known.count(t)) {
+      std::string list;
+      for (const auto& d : defined) list.append(list.empty() ? "" : ", ").append(d);
+      r.fail(e, "smart_types[" + std::to_string(i) + "]",
+             "unknown vType '" + t + "' (" + s.sumocfg.filename().string() + "'s files define: " +
+                 (list.empty() ? std::string("none") : list) + ")");
+    }
+    ++i;
+  }
+}
+
 void readYaml(const fs::path& path, Scenario& s) {
   YAML::Node root;
   try {
@@ -102,7 +144,7 @@ void readYaml(const fs::path& path, Scenario& s) {
   if (!root["sumocfg"]) r.fail(root, "sumocfg", "missing (the SUMO configuration to run)");
   s.sumocfg = path.parent_path() / r.text(root["sumocfg"], "sumocfg");
   hw::MonitorConfig& m = s.plugin.monitor;
-  if (auto n = root["seed"]) s.seed = static_cast<std::uint64_t>(r.number(n, "seed", 0, 2147483647));
+  if (auto n = root["seed"]) s.seed = static_cast<std::uint64_t>(r.integer(n, "seed", 0, 2147483647));
   if (auto n = root["end"]) s.end = r.number(n, "end", 0, kBig);
   if (auto n = root["demand_scale"]) s.demandScale = r.number(n, "demand_scale", 0, 1000);
   if (auto n = root["validate_ssm"]) s.validateSsm = r.boolean(n, "validate_ssm");
@@ -162,8 +204,8 @@ void readYaml(const fs::path& path, Scenario& s) {
     if (auto n = c["reference_distance"]) cc.referenceDistance = r.number(n, "cells.reference_distance", 0.01, 1000);
     if (auto n = c["radio_range"]) cc.radioRange = r.number(n, "cells.radio_range", 1, 1e6);
     if (auto n = c["decomposition_factor"])
-      cc.decompositionFactor = static_cast<int>(r.number(n, "cells.decomposition_factor", 1, 1e6));
-    if (auto n = c["max_depth"]) cc.maxDepth = static_cast<int>(r.number(n, "cells.max_depth", 0, 32));
+      cc.decompositionFactor = static_cast<int>(r.integer(n, "cells.decomposition_factor", 1, 1e6));
+    if (auto n = c["max_depth"]) cc.maxDepth = static_cast<int>(r.integer(n, "cells.max_depth", 0, 32));
   }
   if (auto n = root["collision_action"]) {
     s.collisionAction = r.text(n, "collision_action");
@@ -174,6 +216,7 @@ void readYaml(const fs::path& path, Scenario& s) {
   if (auto n = root["sumo_args"]) s.sumoArgs = r.list(n, "sumo_args");
   if (auto n = root["out"]) s.out = fs::path(r.text(n, "out"));
   s.plugin.smart.seed = s.seed;
+  if (auto n = root["smart_types"]) checkSmartTypes(r, n, s);
 }
 
 }  // namespace

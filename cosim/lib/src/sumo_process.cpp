@@ -9,7 +9,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <deque>
@@ -26,6 +28,84 @@ namespace st::cosim::detail {
 void ensureSumoHome() {
   if (std::getenv("SUMO_HOME") == nullptr && ::access("/usr/share/sumo/data/xsd", F_OK) == 0)
     ::setenv("SUMO_HOME", "/usr/share/sumo", 0);
+}
+
+StderrCapture::StderrCapture() {
+  std::fflush(stderr);
+  char path[] = "/tmp/stsim_sumo_stderr_XXXXXX";
+  file_ = ::mkstemp(path);
+  if (file_ < 0) return;  // nothing captured: SUMO prints as it would
+  ::unlink(path);
+  saved_ = ::dup(STDERR_FILENO);
+  if (saved_ < 0 || ::dup2(file_, STDERR_FILENO) < 0) {
+    if (saved_ >= 0) ::close(saved_);
+    ::close(file_);
+    saved_ = file_ = -1;
+  }
+}
+
+StderrCapture::~StderrCapture() { finish(); }
+
+std::string StderrCapture::finish() {
+  if (file_ < 0) return {};
+  std::fflush(stderr);
+  ::dup2(saved_, STDERR_FILENO);
+  ::close(saved_);
+  std::string text;
+  char buf[4096];
+  ::lseek(file_, 0, SEEK_SET);
+  for (ssize_t n; (n = ::read(file_, buf, sizeof buf)) > 0;) text.append(buf, static_cast<std::size_t>(n));
+  ::close(file_);
+  saved_ = file_ = -1;
+  return text;
+}
+
+namespace {
+
+// "a\n  b" -> "a b": one line, single spaces at the joints, trimmed.
+std::string collapse(const std::string& s) {
+  std::string out;
+  bool space = false;
+  for (char c : s) {
+    if (c == '\n' || c == '\r' || c == '\t' || c == ' ') {
+      space = !out.empty();
+      continue;
+    }
+    if (space) out += ' ';
+    space = false;
+    out += c;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string sumoErrorLine(const std::string& printed, const std::string& what) {
+  std::vector<std::string> parts;
+  std::istringstream in(printed);
+  std::string line;
+  bool inError = false;
+  while (std::getline(in, line)) {
+    if (line.rfind("Error: ", 0) == 0) {
+      parts.push_back(collapse(line.substr(7)));
+      inError = true;
+    } else if (inError && !line.empty() && line[0] == ' ') {
+      parts.back().append(" ").append(collapse(line));
+    } else {
+      inError = false;
+    }
+  }
+  const std::string w = collapse(what);
+  if (!w.empty() && w != "Process Error" && w != "Loading failed." &&
+      std::find(parts.begin(), parts.end(), w) == parts.end())
+    parts.push_back(w);
+  if (parts.empty()) parts.push_back(w.empty() ? std::string("unknown error") : w);
+  std::string out;
+  for (const auto& p : parts) {
+    if (!out.empty()) out.append("; ");
+    out.append(p);
+  }
+  return out;
 }
 
 int freePort() {

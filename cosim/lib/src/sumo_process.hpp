@@ -35,6 +35,28 @@ class SumoProcess {
 // Debian's /usr/share/sumo exists, sets it (for this process and the SUMO processes it starts).
 void ensureSumoHome();
 
+// Holds this process's stderr (fd 2) in a temporary file from construction to finish() (or
+// destruction), for SUMO's own error lines during libsumo's start. Not for use while other threads
+// write to stderr.
+class StderrCapture {
+ public:
+  StderrCapture();
+  ~StderrCapture();
+  StderrCapture(const StderrCapture&) = delete;
+  StderrCapture& operator=(const StderrCapture&) = delete;
+  // Restores stderr and returns what was written meanwhile (idempotent: "" the second time).
+  std::string finish();
+
+ private:
+  int saved_ = -1;
+  int file_ = -1;
+};
+
+// One line from SUMO's error output and an exception's text: the "Error: ..." lines SUMO printed
+// (with their indented detail lines) and the exception's message unless it is SUMO's bare
+// "Process Error" / "Loading failed.", newlines and indentation collapsed, joined by "; ".
+std::string sumoErrorLine(const std::string& printed, const std::string& what);
+
 // A TCP port that nothing listens on right now.
 int freePort();
 // True if some socket on this host listens on `port` (from /proc/net/tcp{,6}); lets us wait for
