@@ -365,6 +365,9 @@ bool FcdReader::next(FcdFrame& frame) {
     }
     // lateral speed is not in FCD: the sideways part of the centre's motion since the last frame
     auto it = m.last.find(v.id);
+    // times increase strictly, so a vehicle last seen at this frame's time is listed twice in it
+    if (it != m.last.end() && it->second.time == frame.time)
+      x.fail(t.line, "vehicle '" + v.id + "' appears twice in the timestep (line " + std::to_string(stepLine) + ")");
     if (it != m.last.end() && frame.time > it->second.time) {
       const Vec2 vel = (v.position - it->second.centre) / (frame.time - it->second.time);
       const Vec2 d = v.direction();

@@ -92,6 +92,23 @@ TEST(SumoFiles, BadInputNamesFileAndLine) {
   EXPECT_THROW(readSumoNet(kData / "missing.net.xml"), InputError);
   EXPECT_THROW(readSumoNet(kData / "lanedrop.rou.xml"), InputError);  // not a network
   fs::remove(trunc);
+  // a vehicle twice in one timestep (the monitor would refuse the frame without naming the line);
+  // the same id in the next timestep is fine
+  const fs::path dup = writeTemp("dup.fcd.xml",
+                                 "<fcd-export>\n<timestep time=\"0\">\n"
+                                 "<vehicle id=\"a\" x=\"1\" y=\"0\" angle=\"90\" speed=\"1\"/>\n</timestep>\n"
+                                 "<timestep time=\"1\">\n<vehicle id=\"a\" x=\"2\" y=\"0\" angle=\"90\" speed=\"1\"/>\n"
+                                 "<vehicle id=\"a\" x=\"9\" y=\"0\" angle=\"90\" speed=\"1\"/>\n</timestep>\n</fcd-export>\n");
+  FcdReader r3(dup);
+  EXPECT_TRUE(r3.next(f));
+  try {
+    r3.next(f);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("dup.fcd.xml:7: vehicle 'a' appears twice"), std::string::npos) << what;
+  }
+  fs::remove(dup);
 }
 
 TEST(SumoFiles, NetworkLanes) {
