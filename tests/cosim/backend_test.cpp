@@ -29,7 +29,7 @@ using namespace st::cosim::test;
 struct Recorded {
   std::vector<std::vector<SumoVehicle>> steps;
   std::vector<std::string> warnings;  // CSV rows
-  std::uint64_t departed = 0, arrived = 0;
+  std::uint64_t departed = 0, arrived = 0, teleports = 0;
 };
 
 Scenario shortMotorway(double end) {
@@ -51,6 +51,7 @@ Recorded run(Backend& b, const Scenario& s) {
   for (const auto& w : plugin.takeFinished()) r.warnings.push_back(highway::warningCsvRow(w));
   r.departed = plugin.counters().departed;
   r.arrived = plugin.counters().arrived;
+  r.teleports = plugin.counters().teleports;
   b.close();
   return r;
 }
@@ -111,6 +112,23 @@ TEST(Backends, LibsumoAndLibtraciAgreeOnTheSublaneModel) {
     }
   EXPECT_GT(lateral, 1000u);
   EXPECT_GT(blinking, 100u);
+  expectSameStates(viaLibsumo, viaTraci);
+  EXPECT_EQ(viaLibsumo.warnings, viaTraci.warnings);
+}
+
+// A teleport (a ramp car stuck for 1 s, t = 112.7 s, starting and ending in one step) goes
+// through both backends' event lists the same way: identical states and warnings.
+TEST(Backends, LibsumoAndLibtraciAgreeThroughTeleports) {
+  Scenario s = shortMotorway(130.0);
+  s.collisionAction = "teleport";
+  s.sumoArgs.insert(s.sumoArgs.end(), {"--time-to-teleport", "1"});
+  const SumoLaunch launch{sumoArguments(s), false, "", ""};
+  auto a = startLibsumo(launch);
+  const Recorded viaLibsumo = run(*a, s);
+  auto b = launchTraci(launch);
+  const Recorded viaTraci = run(*b, s);
+  EXPECT_GT(viaLibsumo.teleports, 0u);
+  EXPECT_EQ(viaLibsumo.teleports, viaTraci.teleports);
   expectSameStates(viaLibsumo, viaTraci);
   EXPECT_EQ(viaLibsumo.warnings, viaTraci.warnings);
 }

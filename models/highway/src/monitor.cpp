@@ -470,7 +470,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
   for (int i = 0; i < static_cast<int>(vehicles.size()); ++i) {
     const VehicleState& v = vehicles[i];
     checkFinite(v);
-    auto [it, inserted] = m.slotOf.emplace(v.id, -1);
+    auto [it, inserted] = m.slotOf.try_emplace(v.id, -1);  // no node built for a known id
     if (inserted) {
       int s;
       if (!m.freeSlots.empty()) {
