@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -112,14 +113,17 @@ class StsimProcess {
 };
 
 // Waits until `csv` holds at least one warning row (the run has stepped and finished an
-// episode), or the process has exited (false). No deadline: a slow machine only waits longer; the
-// caller's scenario must produce warnings early and not end on its own.
+// episode); false if the process exits first, or after 10 minutes (a run that hangs fails the
+// test instead of blocking it; no working run comes near that). The caller's scenario must
+// produce warnings early and not end on its own.
 inline bool waitForWarningRows(const std::filesystem::path& csv, StsimProcess& p) {
-  for (;;) {
+  const auto giveUp = std::chrono::steady_clock::now() + std::chrono::minutes(10);
+  while (std::chrono::steady_clock::now() < giveUp) {
     if (lines(slurp(csv)).size() >= 2) return true;
     if (!p.running()) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+  return false;
 }
 
 struct RunResult {
