@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -180,6 +182,45 @@ int runStsim(const std::string& args, std::string* err = nullptr) {
   if (err) *err = slurp(errFile);
   fs::remove(errFile);
   return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+// The trace generated from networks/motorway (15 s around its first rear-end collision at the
+// ramp merge, t = 210-225 s, 0.5 s frames; command in tests/data/highway/README.md), replayed on
+// the shipped network with the route file's vTypes: cells == all pairs (brute force), every
+// detector and both motion models, with car-car, curb and lane-marker warnings present.
+TEST(Trace, MotorwayTraceFromTheShippedNetworkCellsEqualAllPairs) {
+  const fs::path net = fs::path(STSIM_SOURCE_DIR) / "networks/motorway";
+  const RoadGeometry road = readSumoNet(net / "motorway.net.xml");
+  const VehicleTypes types = readSumoVehicleTypes(net / "motorway.rou.xml");
+  EXPECT_EQ(types.at("truck").mass, 20000.0);  // the vType's mass param
+  for (MotionModel motion : {MotionModel::ConstantVelocity, MotionModel::ConstantAcceleration})
+    for (DetectorKind k : {DetectorKind::Concentric, DetectorKind::FiveCircle, DetectorKind::Box}) {
+      std::vector<std::string> rows[2];
+      std::array<std::uint64_t, kWarningKindCount> byKind{};
+      for (int b = 0; b < 2; ++b) {
+        MonitorConfig cfg;
+        cfg.detector.kind = k;
+        cfg.detector.motion = motion;
+        cfg.broadphase = b == 0 ? Broadphase::Cells : Broadphase::AllPairs;
+        HighwayMonitor m(road, cfg);
+        FcdReader r(kData / "motorway_merge.fcd.xml", types);
+        FcdFrame f;
+        double last = 0.0;
+        while (r.next(f)) {
+          m.step(f.time, f.vehicles);
+          for (auto& w : m.takeFinished()) rows[b].push_back(warningCsvRow(w));
+          last = f.time;
+        }
+        m.finish(last);
+        for (auto& w : m.takeFinished()) rows[b].push_back(warningCsvRow(w));
+        if (b == 0) byKind = m.counters().warningsByKind;
+        EXPECT_EQ(m.counters().ticks, 30u);
+      }
+      EXPECT_EQ(rows[0], rows[1]) << toString(k);
+      EXPECT_GT(byKind[static_cast<int>(WarningKind::Vehicle)], 10u) << toString(k);
+      EXPECT_GT(byKind[static_cast<int>(WarningKind::Curb)], 0u) << toString(k);
+      EXPECT_GT(byKind[static_cast<int>(WarningKind::LaneMarker)], 0u) << toString(k);
+    }
 }
 
 TEST(Cli, TraceModeWritesWarningsAndSummary) {
