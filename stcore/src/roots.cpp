@@ -5,6 +5,8 @@
 #include <limits>
 #include <utility>
 
+#include <stcore/tolerances.hpp>
+
 namespace st {
 
 QuadraticRoots solveQuadratic(double a, double b, double c) {
@@ -71,7 +73,8 @@ double refineBracketed(const std::array<double, N>& c, double lo, double hi) {
     const double df = horner(d, t);
     double next = (df != 0.0) ? t - f / df : 0.5 * (lo + hi);
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    if (std::abs(next - t) <= 1e-15 * std::max(1.0, std::abs(t)) || hi - lo <= 1e-15 * std::max(1.0, std::abs(t)))
+    const double resolution = tol::kRootResolution * std::max(1.0, std::abs(t));
+    if (std::abs(next - t) <= resolution || hi - lo <= resolution)
       return next;
     t = next;
   }
@@ -92,13 +95,13 @@ PolynomialRoots rootsBetweenCriticalPoints(const std::array<double, N>& c, const
     if (crit[i] > lo && crit[i] < hi) knots[nk++] = crit[i];
   knots[nk++] = hi;
   // p(t) counts as zero within the rounding of its evaluation (Horner: ~2n eps sum |c_i| |t|^i)
-  // plus what p can change over the solver's resolution in t (1e-15 relative, as in
+  // plus what p can change over the solver's resolution in t (tol::kRootResolution, as in
   // refineBracketed), since knots are critical points found to that resolution; both bounded by
   // the majorant sum |c_i| s^i and its derivatives at s = |t| + dt. A fixed fraction of the largest
   // coefficient is wrong both ways: away from |t| ~ 1 the rounding exceeds it and a double root
   // splits in two or vanishes.
   auto isZero = [&](double t, double f) {
-    const double dt = 1e-15 * std::max(1.0, std::abs(t)), s = std::abs(t) + dt;
+    const double dt = tol::kRootResolution * std::max(1.0, std::abs(t)), s = std::abs(t) + dt;
     double m = 0.0, m1 = 0.0, m2 = 0.0;
     for (double ci : c) {
       m2 = m2 * s + 2.0 * m1;
@@ -109,7 +112,7 @@ PolynomialRoots rootsBetweenCriticalPoints(const std::array<double, N>& c, const
     return std::abs(f) <= rounding + m1 * dt + 0.5 * m2 * dt * dt;
   };
   auto push = [&](double t) {
-    if (out.count > 0 && std::abs(out.root[out.count - 1] - t) <= 1e-13 * std::max(1.0, std::abs(t))) return;
+    if (out.count > 0 && std::abs(out.root[out.count - 1] - t) <= tol::kRootMerge * std::max(1.0, std::abs(t))) return;
     if (out.count < 4) out.root[out.count++] = t;
   };
   for (int i = 0; i + 1 < nk; ++i) {

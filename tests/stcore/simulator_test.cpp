@@ -18,6 +18,7 @@
 
 #include <stcore/resolve.hpp>
 #include <stcore/simulator.hpp>
+#include <stcore/tolerances.hpp>
 #include <stcore/toi.hpp>
 
 namespace st {
@@ -477,6 +478,74 @@ void deterministic(unsigned seed) {
 TEST(Simulator, DeterministicAndSpaceIndependent2D) { deterministic<2>(3001); }
 TEST(Simulator, DeterministicAndSpaceIndependent3D) { deterministic<3>(3002); }
 
+// ---- long run ---------------------------------------------------------------------------------
+
+// 1000 disks in a walled box (packing fraction 0.3), 10^6 ball-ball collisions: elastic
+// resolution and exact event times keep the kinetic energy (a conserved quantity, computed
+// independently of the simulator's bookkeeping) to 1e-9 relative, every collision happens at
+// contact, and no two disks ever overlap deeper than the documented slop.
+TEST(SimulatorLongRun, ThousandDisksMillionCollisions) {
+  constexpr int kSide = 32;  // lattice sites per row; the first 1000 hold a disk
+  constexpr int kN = 1000;
+  const double radius = 0.5, phi = 0.3;
+  const double L = std::sqrt(kN * M_PI * radius * radius / phi);
+  const double pitch = L / kSide;
+  SimulatorConfig cfg;
+  cfg.spaceKind = SpaceKind::Cells;
+  cfg.rule.cellSize = 2.0;
+  Simulator<2> sim({{0, 0}, {L, L}}, cfg);
+  addWalls<2>(sim, L);
+  std::mt19937_64 rng(4001);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  for (int k = 0; k < kN; ++k)
+    sim.addBall(Vec2((k % kSide + 0.5) * pitch, (k / kSide + 0.5) * pitch), Vec2(gauss(rng), gauss(rng)), radius,
+                0.5 + (k % 3));
+  auto energy = [&] {
+    double e = 0;
+    for (const auto& b : sim.balls()) e += 0.5 * b.mass * b.v.squaredNorm();
+    return e;
+  };
+  // deepest overlap over all pairs at the current time
+  auto deepestOverlap = [&] {
+    sim.synchronize(sim.now());
+    double deepest = 0;
+    for (int i = 0; i < kN; ++i)
+      for (int j = i + 1; j < kN; ++j)
+        deepest = std::max(deepest, 2 * radius - (sim.ball(j).p - sim.ball(i).p).norm());
+    return deepest;
+  };
+  const double e0 = energy();
+  double worstContact = 0, worstOverlap = 0;
+  std::uint64_t ballBall = 0;
+  auto observe = [&](const EventRecord& e) {
+    // the balls involved stand at the event time: at contact, one diameter apart / one radius off the wall
+    if (e.kind == EventKind::BallBall) {
+      ++ballBall;
+      worstContact = std::max(worstContact, std::abs((sim.ball(e.b).p - sim.ball(e.a).p).norm() - 2 * radius));
+    } else if (e.kind == EventKind::BallWall) {
+      const Wall<2>& w = sim.walls()[e.b];
+      worstContact = std::max(worstContact, std::abs(std::abs(w.normal.dot(sim.ball(e.a).p) - w.offset) - radius));
+    }
+  };
+  while (ballBall < 1000000) {
+    const std::uint64_t target = ballBall + 100000;
+    while (ballBall < target) sim.run(kInf, observe, target - ballBall);
+    worstOverlap = std::max(worstOverlap, deepestOverlap());
+  }
+  EXPECT_GE(ballBall, 1000000u);
+  EXPECT_LT(std::abs(energy() - e0) / e0, 1e-9);
+  EXPECT_LE(worstContact, tol::kLinearSlop);
+  EXPECT_LE(worstOverlap, tol::kLinearSlop);
+  auto sci = [](double x) {
+    std::ostringstream o;
+    o << x;
+    return o.str();
+  };
+  ::testing::Test::RecordProperty("energy_drift", sci(std::abs(energy() - e0) / e0));
+  ::testing::Test::RecordProperty("worst_contact_error", sci(worstContact));
+  ::testing::Test::RecordProperty("worst_overlap", sci(worstOverlap));
+}
+
 // ---- targeted behaviour -----------------------------------------------------------------------
 
 TEST(Simulator, TwoBallsHeadOn) {
@@ -494,6 +563,40 @@ TEST(Simulator, TwoBallsHeadOn) {
   EXPECT_NEAR(events[0].t, 2.5, 1e-12);
   EXPECT_EQ(sim.now(), 2.5);
   EXPECT_NEAR(sim.ball(0).v.x(), -1, 1e-15);
+}
+
+// Overlapping-and-approaching pairs collide now; overlapping-and-separating pairs are left alone.
+TEST(Simulator, OverlapsApproachingCollideNowSeparatingAreSkipped) {
+  for (SpaceKind kind : {SpaceKind::None, SpaceKind::Single, SpaceKind::Tree, SpaceKind::Cells}) {
+    SimulatorConfig cfg;
+    cfg.spaceKind = kind;
+    cfg.rule.cellSize = 1;
+    {
+      Simulator<2> sim({{0, 0}, {10, 10}}, cfg);
+      sim.addBall({4.6, 5}, {1, 0}, 0.5, 1.0);  // 0.2 m deep, closing at 2 m/s
+      sim.addBall({5.4, 5}, {-1, 0}, 0.5, 1.0);
+      const auto events = runPhysical(sim, 2);
+      ASSERT_GE(events.size(), 1u) << toString(kind);
+      EXPECT_EQ(events[0].kind, EventKind::BallBall);
+      EXPECT_EQ(events[0].t, 0.0);
+      EXPECT_EQ(sim.ball(0).v.x(), -1.0);  // equal masses head on: velocities swap
+      EXPECT_EQ(sim.ball(1).v.x(), 1.0);
+      ASSERT_EQ(events.size(), 1u) << toString(kind) << ": now separating, they must not collide again";
+    }
+    {
+      Simulator<3> sim({Vec3::Zero(), Vec3::Constant(10)}, cfg);
+      addWalls<3>(sim, 10);
+      sim.addBall(Vec3(4.6, 5, 5), Vec3(-1, 0, 0), 0.5, 1.0);  // overlapping, moving apart
+      sim.addBall(Vec3(5.4, 5, 5), Vec3(0.5, 0, 0), 0.5, 1.0);
+      sim.addBall(Vec3(5, 5, 0.3), Vec3(0, 0, 1), 0.5, 1.0);  // into the wall z = 0, moving out
+      const auto events = runPhysical(sim, 1);
+      ASSERT_EQ(events.size(), 1u);
+      // the first thing to happen: ball 0 reaches the wall x = 0 at 4.6 - 0.5 = 4.1 s
+      EXPECT_EQ(events[0].kind, EventKind::BallWall) << toString(kind);
+      EXPECT_EQ(events[0].a, 0);
+      EXPECT_NEAR(events[0].t, 4.1, 1e-12);
+    }
+  }
 }
 
 TEST(Simulator, PocketRemovesBallAtAnalyticTime) {

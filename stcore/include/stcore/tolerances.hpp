@@ -17,6 +17,15 @@ inline constexpr double kSpeedSqEpsilon = 1e-24;
 // Below it the quadratic is solved as linear; this guards parallel motion.
 inline constexpr double kRelativeEpsilon = 1e-14;
 
+// Polynomial root finding (roots.hpp, the decelerating-ball kernels), relative to max(1, |t|):
+// the solver stops refining a root once its bracket or Newton step is this small. Smaller values
+// cannot be met in double precision (the loop runs out its iterations); larger ones move event times.
+inline constexpr double kRootResolution = 1e-15;
+// Two roots closer than this (relative, as above) are one root: a double root (a grazing contact)
+// found once from each side. Much smaller and a graze is reported as two contacts; larger and two
+// real contacts that close together are merged.
+inline constexpr double kRootMerge = 1e-13;
+
 // Events closer in time than this are treated as simultaneous when comparing event orders in tests (s).
 inline constexpr double kTimeEpsilon = 1e-12;
 
