@@ -86,7 +86,8 @@ struct Yaml {
   void knownKeys(const YAML::Node& n, const std::string& key, std::initializer_list<const char*> keys) const {
     if (!n.IsMap()) fail(n, key, "expected a mapping");
     for (auto it = n.begin(); it != n.end(); ++it) {
-      const std::string k = it->first.as<std::string>();
+      if (!it->first.IsScalar()) fail(it->first, key.empty() ? "(key)" : key, "keys must be names");
+      const std::string k = it->first.Scalar();
       if (std::find_if(keys.begin(), keys.end(), [&](const char* s) { return k == s; }) == keys.end())
         fail(it->first, key.empty() ? k : key + "." + k, "unknown key");
     }

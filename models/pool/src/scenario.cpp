@@ -43,7 +43,8 @@ class Reader {
   void onlyKeys(const YAML::Node& n, const std::string& key, std::initializer_list<const char*> allowed) const {
     if (!n.IsMap()) fail(at(n, key), "must be a map");
     for (const auto& kv : n) {
-      const std::string k = kv.first.as<std::string>();
+      if (!kv.first.IsScalar()) fail(at(kv.first, key.empty() ? "(key)" : key), "keys must be names");
+      const std::string k = kv.first.Scalar();
       bool ok = false;
       for (const char* a : allowed) ok = ok || k == a;
       if (!ok) fail(at(kv.first, join(key, k)), "unknown key");
@@ -383,7 +384,12 @@ Scenario parseScenario(const std::string& yamlText, const std::string& source) {
   } catch (const YAML::ParserException& e) {
     fail(Where{source, "(syntax)", e.mark}, e.msg);
   }
-  return parse(root, source);
+  try {
+    return parse(root, source);
+  } catch (const YAML::Exception& e) {
+    // a shape the checks in parse() did not foresee: still one line naming the file and place
+    fail(Where{source, "(scenario)", e.mark}, e.msg);
+  }
 }
 
 Scenario loadScenario(const std::string& path) {

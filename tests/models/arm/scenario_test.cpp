@@ -122,6 +122,7 @@ TEST(Scenario, MisshapenYamlNamesFileLineAndKey) {
   expectError("bounds.yaml", arm + "octree:\n  bounds: {min: [1, 1, 1], max: [2, 0, 2]}\n",
               ":4: octree.bounds.max: must exceed octree.bounds.min on every axis");
   expectError("duration.yaml", arm + "duration: -5\n", ":3: duration: must not be negative");
+  expectError("complex_key.yaml", arm + "? [1, 2]\n: 3\n", ":3: (key): keys must be names");
   // 1 rad in 1 ms on joint 1: a 1000 rad/s piece
   expectError("fast_waypoints.yaml",
               "arms:\n  - name: a\n    model: panda\n    waypoints:\n      - {t: 0, q: [0, 0, 0, -1, 0, 1, 0]}\n"

@@ -104,6 +104,9 @@ shots: [{ball: 0, speed: 1}]
 )"),
             "s.yaml:3:9: shots[0].angle: missing key");
   EXPECT_EQ(errorOf("table: [1, 2"), "s.yaml:1:1: (syntax): end of sequence flow not found");
+  // a complex key used to escape as yaml-cpp's "bad conversion" with no file or key
+  EXPECT_EQ(errorOf("table: {width: 2.54, height: 1.27}\n? [1, 2]\n: 3\nrack: standard\n"),
+            "s.yaml:2:3: (key): keys must be names");
 }
 
 TEST(Scenario, FrozenRackLoadsAndRackErrorsNameTheRack) {
