@@ -155,12 +155,7 @@ void Simulator<D>::synchronize(double t) {
 
 template <int D>
 void Simulator<D>::spaceUpdate(int i) {
-  // After a velocity change (collision, strike, rest) the ball is still inside the cells it is
-  // listed in (boundary events see to that) and predict recomputes exitTime from the listed block
-  // and the new velocity, so fixed cells need no update here; the block only stays wider until the
-  // next boundary event. Trees update to split and reunite as objects move.
-  if (space_ && space_->kind() != SpaceKind::Cells)
-    space_->update(i, boxOf(i, balls_[i].t), config_.marginFactor * balls_[i].radius);
+  if (space_) space_->update(i, boxOf(i, balls_[i].t), config_.marginFactor * balls_[i].radius);
 }
 
 template <int D>
@@ -204,14 +199,7 @@ void Simulator<D>::predict(int i) {
     if (hit.acts()) consider(best, t0 + hit.actTime(), EventKind::BallBall, j, bj.gen);
   };
   if (space_) {
-    // gather first, prefetching each candidate's state: the loads then overlap instead of each
-    // cache miss waiting behind the previous pair's arithmetic
-    candidates_.clear();
-    space_->forEachNeighbor(i, [&](int j) {
-      __builtin_prefetch(&balls_[j]);
-      candidates_.push_back(j);
-    });
-    for (int j : candidates_) pair(j);
+    space_->forEachNeighbor(i, pair);
   } else {
     for (int j = 0; j < static_cast<int>(balls_.size()); ++j) pair(j);
   }

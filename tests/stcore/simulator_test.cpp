@@ -370,8 +370,7 @@ void againstReference(unsigned seed, int systems, int events) {
       for (int e = 0; e < events; ++e) worst = std::max(worst, std::abs(got[e].t - want[e].t));
     }
   }
-  // the comparison covered collisions across cell faces (membership is not refreshed after a
-  // collision in a cells space: the ball is still inside its listed cells)
+  // the comparison covered collisions across cell faces, where a cells space's membership matters
   for (const auto& [name, count] : straddling)
     if (name.rfind("cells", 0) == 0) {
       EXPECT_GE(count, 20) << name;

@@ -187,7 +187,6 @@ class Simulator {
   std::vector<Next> next_;
   std::vector<HeapEntry> heap_;
   std::vector<int> heapPos_;
-  std::vector<int> candidates_;  // predict's scratch: neighbours of the ball being predicted
   std::vector<Wall<D>> walls_;
   std::vector<Vec<D>> points_;
   std::vector<Segment> segments_;
