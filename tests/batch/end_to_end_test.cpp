@@ -214,5 +214,28 @@ TEST(BatchEndToEnd, KilledBatchResumesWithoutRedoingRuns) {
   EXPECT_EQ(table, tableWithoutTimings(dir / "whole/runs.csv"));
 }
 
+// validate_ssm: the runs' agreement with SUMO's SSM device reaches runs.csv as ssm.* columns, the
+// same numbers as each run's validation.json.
+TEST(BatchEndToEnd, SsmAgreementReachesRunsCsv) {
+  const auto dir = freshDir("ssm");
+  const fs::path file = dir / "experiment.yaml";
+  std::ofstream(file) << "name: ssm\nbase: " << STSIM_SOURCE_DIR
+                      << "/networks/motorway/scenario.yaml\nsweep:\n  detector: [five]\n"
+                         "fixed:\n  end: 40\n  validate_ssm: true\nseeds: 1\n";
+  std::string err;
+  ASSERT_EQ(runStsim({"batch", file.string(), "--out", (dir / "out").string(), "--no-plots"}, dir, &err), 0) << err;
+  const auto table = tableWithoutTimings(dir / "out/runs.csv");
+  ASSERT_EQ(table.size(), 2u);
+  std::map<std::string, std::string> row;
+  for (std::size_t i = 0; i < table[0].size(); ++i) row[table[0][i]] = table[1][i];
+  ASSERT_TRUE(row.count("ssm.following.matched_samples"));
+  ASSERT_TRUE(row.count("ssm.detectors.box.recall"));
+  const std::string json = slurp(dir / "out/runs" / table[1][1] / "validation.json");
+  const auto at = json.find("\"matched_samples\": ");
+  ASSERT_NE(at, std::string::npos) << json;
+  EXPECT_EQ(std::stod(row["ssm.following.matched_samples"]), std::stod(json.substr(at + 19)));
+  EXPECT_GT(std::stod(row["ssm.following.matched_samples"]), 100.0);
+}
+
 }  // namespace
 }  // namespace st::batch

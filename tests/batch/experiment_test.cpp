@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <fstream>
 #include <set>
 #include <stbatch/experiment.hpp>
@@ -11,7 +13,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path writeExperiment(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / "stsim_batch_tests";
+  // per process: ctest runs the tests in parallel, and other checkouts may run theirs at once
+  const fs::path dir = fs::temp_directory_path() / ("stsim_batch_tests_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   fs::copy_file(fs::path(STSIM_SOURCE_DIR) / "tests/batch/data/base.yaml", dir / "base.yaml",
                 fs::copy_options::overwrite_existing);

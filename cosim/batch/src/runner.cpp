@@ -78,12 +78,19 @@ std::string number(double v) {
   return buf;
 }
 
-// Numeric leaves of a JSON document as (dotted.key, value), array elements skipped.
+// Numeric leaves of a JSON document as (dotted.key, value). An array element that is an object
+// naming itself ("detector" or "name", as validation.json's per-detector entries do) is reached
+// by that name; other array elements are skipped.
 void flatten(const boost::property_tree::ptree& t, const std::string& prefix,
              std::vector<std::pair<std::string, double>>& out) {
   for (const auto& [key, child] : t) {
-    if (key.empty()) continue;  // array element
-    const std::string name = prefix.empty() ? key : prefix + "." + key;
+    std::string label = key;
+    if (label.empty()) {  // array element
+      for (const char* k : {"detector", "name"})
+        if (auto n = child.get_optional<std::string>(k); n && !n->empty() && label.empty()) label = *n;
+      if (label.empty()) continue;
+    }
+    const std::string name = prefix.empty() ? label : prefix + "." + label;
     if (child.empty()) {
       const std::string v = child.data();
       char* end = nullptr;
@@ -118,6 +125,12 @@ RunResult loadRunResult(const fs::path& outDir, const RunSpec& spec) {
       boost::property_tree::ptree tree;
       boost::property_tree::read_json((dir / "summary.json").string(), tree);
       flatten(tree, "", r.metrics);
+      // --validate-ssm / validate_ssm: the agreement with SUMO's SSM device, as ssm.*
+      if (fs::exists(dir / "validation.json")) {
+        boost::property_tree::ptree validation;
+        boost::property_tree::read_json((dir / "validation.json").string(), validation);
+        flatten(validation, "ssm", r.metrics);
+      }
     } catch (const std::exception& ex) {
       r.status = RunStatus::Failed;
       r.error = std::string("summary.json unreadable: ") + ex.what();

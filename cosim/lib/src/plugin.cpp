@@ -90,7 +90,6 @@ void HighwayPlugin::update() {
 void HighwayPlugin::act() {
   const ActionConfig& a = config_.actions;
   if (a.action == Action::None) return;
-  const double now = backend_.time();
   std::unordered_set<std::string> alerted;
   for (const highway::Alert& al : monitor_.alerts()) {
     const highway::VehicleState& s = states_.at(static_cast<std::size_t>(al.vehicle));

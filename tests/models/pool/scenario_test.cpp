@@ -185,7 +185,9 @@ TEST(Scenario, PracticeShotsFollowOneAnotherFromRest) {
     EXPECT_EQ(sh.keEnd, 0.0) << "shot " << k;
     EXPECT_GT(sh.keStart, 0.0) << "shot " << k;
     EXPECT_LT(sh.end - sh.start, s.until) << "shot " << k;
-    if (k > 0) EXPECT_EQ(sh.start, run.shots[k - 1].end) << "shot " << k;
+    if (k > 0) {
+      EXPECT_EQ(sh.start, run.shots[k - 1].end) << "shot " << k;
+    }
   }
   // the cue's strike is the only energy put in: 1/2 m v^2 with v from the scenario
   EXPECT_NEAR(run.shots[1].keStart, 0.5 * kBallMass * 2.5 * 2.5, 1e-12);
