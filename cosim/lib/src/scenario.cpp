@@ -290,20 +290,15 @@ std::vector<std::string> sumoArguments(const Scenario& s) {
   std::vector<std::string> a{"-c", s.sumocfg.string(), "--seed", std::to_string(s.seed), "--collision.action",
                              s.collisionAction, "--no-step-log", "true", "--duration-log.disable", "true",
                              "--duration-log.statistics", "false", "--no-warnings", "true"};
-  if (s.end) {
+  auto option = [&](const char* name, double value) {
     std::ostringstream os;
-    os.precision(17);
-    os << *s.end;
-    a.push_back("--end");
+    os.precision(17);  // round-trips the double
+    os << value;
+    a.push_back(name);
     a.push_back(os.str());
-  }
-  if (s.demandScale) {
-    std::ostringstream os;
-    os.precision(17);
-    os << *s.demandScale;
-    a.push_back("--scale");
-    a.push_back(os.str());
-  }
+  };
+  if (s.end) option("--end", *s.end);
+  if (s.demandScale) option("--scale", *s.demandScale);
   a.insert(a.end(), s.sumoArgs.begin(), s.sumoArgs.end());
   return a;
 }
