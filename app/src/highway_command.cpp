@@ -48,20 +48,6 @@ Args makeArgs() {
   return a;
 }
 
-// Deterministic for a seed and an id, independent of the standard library (splitmix64 of FNV-1a).
-double unitHash(std::uint64_t seed, const std::string& id) {
-  std::uint64_t h = 1469598103934665603ull ^ seed;
-  for (unsigned char c : id) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  h += 0x9e3779b97f4a7c15ull;
-  h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
-  h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
-  h ^= h >> 31;
-  return static_cast<double>(h >> 11) * 0x1.0p-53;
-}
-
 hw::MonitorConfig monitorConfig(const Args& a) {
   hw::MonitorConfig cfg;
   if (!hw::parseDetectorKind(a.get("detector"), cfg.detector.kind))
@@ -126,7 +112,7 @@ int runTrace(const Args& a) {
     while (reader.next(frame)) {
       if (hasEnd && frame.time > end) break;
       if (penetration < 1.0)
-        for (auto& v : frame.vehicles) v.equipped = unitHash(static_cast<std::uint64_t>(seed), v.id) < penetration;
+        for (auto& v : frame.vehicles) v.equipped = hw::drawnEquipped(static_cast<std::uint64_t>(seed), v.id, penetration);
       monitor.step(frame.time, frame.vehicles);
       if (!any) first = frame.time;
       any = true;

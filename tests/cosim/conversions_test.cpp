@@ -69,20 +69,5 @@ TEST(Conversions, BlinkerBits) {
   EXPECT_EQ(toVehicleState(v, car()).signals, highway::kSignalRight);
 }
 
-TEST(Conversions, EquipmentDrawIsDeterministicAndUniform) {
-  EXPECT_EQ(unitHash(42, "main0.17"), unitHash(42, "main0.17"));
-  EXPECT_NE(unitHash(42, "main0.17"), unitHash(43, "main0.17"));
-  int below = 0;
-  const int n = 20000;
-  for (int i = 0; i < n; ++i) {
-    const double u = unitHash(7, "veh" + std::to_string(i));
-    ASSERT_GE(u, 0.0);
-    ASSERT_LT(u, 1.0);
-    below += u < 0.3;
-  }
-  // binomial(20000, 0.3): sd = 65; 5 sd
-  EXPECT_NEAR(below, 0.3 * n, 5 * 65);
-}
-
 }  // namespace
 }  // namespace st::cosim

@@ -1,6 +1,10 @@
 #pragma once
-// Bookkeeping shared by the backends, so both see exactly the same vehicles in the same order.
+// What the backends share: the bookkeeping that makes both see exactly the same vehicles in the
+// same order, and the reads that are the same call in libsumo and libtraci (the two libraries
+// expose one API in two namespaces; the templates take the namespace's classes, e.g.
+// readLanes<libsumo::Lane>(), and are instantiated where that library's header is included).
 #include <algorithm>
+#include <cstdint>
 #include <string>
 #include <unordered_set>
 #include <vector>
@@ -32,5 +36,73 @@ class ActiveVehicles {
   std::vector<std::string> order_;
   std::unordered_set<std::string> present_;
 };
+
+// SUMO lane ids end in "_<index>".
+inline int laneIndex(const std::string& laneId) {
+  const auto us = laneId.rfind('_');
+  return us == std::string::npos ? 0 : std::stoi(laneId.substr(us + 1));
+}
+
+template <class Lane>
+std::vector<SumoLane> readLanes() {
+  std::vector<SumoLane> out;
+  for (const auto& id : Lane::getIDList()) {
+    SumoLane l;
+    l.id = id;
+    l.edge = Lane::getEdgeID(id);
+    l.index = laneIndex(id);
+    l.width = Lane::getWidth(id);
+    for (const auto& p : Lane::getShape(id).value) l.shape.emplace_back(p.x, p.y);
+    l.internal = !id.empty() && id[0] == ':';
+    out.push_back(std::move(l));
+  }
+  return out;
+}
+
+// A vType's size, class and `mass` param (kg); a mass that is not a positive number is an error.
+template <class VehicleType>
+SumoVehicleType readVehicleType(const std::string& typeId) {
+  SumoVehicleType t;
+  t.id = typeId;
+  t.vClass = VehicleType::getVehicleClass(typeId);
+  t.length = VehicleType::getLength(typeId);
+  t.width = VehicleType::getWidth(typeId);
+  const std::string mass = VehicleType::getParameter(typeId, "mass");
+  if (!mass.empty()) {
+    std::size_t used = 0;
+    double m = 0.0;
+    try {
+      m = std::stod(mass, &used);
+    } catch (...) {
+    }
+    if (used != mass.size() || !(m > 0.0))
+      throw SumoError("vType '" + typeId + "': param 'mass' must be a positive number of kg, got '" + mass + "'");
+    t.mass = m;
+  }
+  return t;
+}
+
+// The colour the vehicle is drawn in: a vehicle without a colour of its own reports SUMO's default
+// yellow but is drawn in its type's colour, which is then the colour to restore.
+template <class Vehicle, class VehicleType>
+Rgba readColor(const std::string& id) {
+  auto c = Vehicle::getColor(id);
+  if (c.r == 255 && c.g == 255 && c.b == 0 && c.a == 255) c = VehicleType::getColor(Vehicle::getTypeID(id));
+  return {static_cast<std::uint8_t>(c.r), static_cast<std::uint8_t>(c.g), static_cast<std::uint8_t>(c.b),
+          static_cast<std::uint8_t>(c.a)};
+}
+
+template <class Polygon, class PositionVector, class Color>
+void addPolygon(const std::string& id, const std::vector<std::pair<double, double>>& shape, Rgba c, bool fill,
+                int layer) {
+  PositionVector pv;
+  for (const auto& [x, y] : shape) {
+    typename decltype(pv.value)::value_type p;
+    p.x = x;
+    p.y = y;
+    pv.value.push_back(p);
+  }
+  Polygon::add(id, pv, Color(c.r, c.g, c.b, c.a), fill, "stsim", layer);
+}
 
 }  // namespace st::cosim::detail

@@ -38,17 +38,4 @@ highway::RoadGeometry toRoadGeometry(const std::vector<SumoLane>& lanes) {
   return road;
 }
 
-double unitHash(std::uint64_t seed, const std::string& id) {
-  std::uint64_t h = 1469598103934665603ull ^ seed;
-  for (unsigned char c : id) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  h += 0x9e3779b97f4a7c15ull;
-  h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
-  h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
-  h ^= h >> 31;
-  return static_cast<double>(h >> 11) * 0x1.0p-53;
-}
-
 }  // namespace st::cosim

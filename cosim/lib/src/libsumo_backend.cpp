@@ -56,39 +56,14 @@ class LibsumoBackend final : public Backend {
   const SumoVehicleType& vehicleType(const std::string& typeId) override {
     auto it = types_.find(typeId);
     if (it != types_.end()) return it->second;
-    SumoVehicleType t;
-    t.id = typeId;
-    t.vClass = libsumo::VehicleType::getVehicleClass(typeId);
-    t.length = libsumo::VehicleType::getLength(typeId);
-    t.width = libsumo::VehicleType::getWidth(typeId);
-    const std::string mass = libsumo::VehicleType::getParameter(typeId, "mass");
-    if (!mass.empty()) t.mass = parseMass(typeId, mass);
+    SumoVehicleType t = detail::readVehicleType<libsumo::VehicleType>(typeId);
     return types_.emplace(typeId, std::move(t)).first->second;
   }
 
-  std::vector<SumoLane> lanes() override {
-    std::vector<SumoLane> out;
-    for (const auto& id : libsumo::Lane::getIDList()) {
-      SumoLane l;
-      l.id = id;
-      l.edge = libsumo::Lane::getEdgeID(id);
-      l.index = laneIndex(id);
-      l.width = libsumo::Lane::getWidth(id);
-      for (const auto& p : libsumo::Lane::getShape(id).value) l.shape.emplace_back(p.x, p.y);
-      l.internal = !id.empty() && id[0] == ':';
-      out.push_back(std::move(l));
-    }
-    return out;
-  }
+  std::vector<SumoLane> lanes() override { return detail::readLanes<libsumo::Lane>(); }
 
   Rgba color(const std::string& id) override {
-    auto c = libsumo::Vehicle::getColor(id);
-    // a vehicle without a colour of its own reports SUMO's default yellow but is drawn in its
-    // type's colour: that is the colour to restore
-    if (c.r == 255 && c.g == 255 && c.b == 0 && c.a == 255)
-      c = libsumo::VehicleType::getColor(libsumo::Vehicle::getTypeID(id));
-    return {static_cast<std::uint8_t>(c.r), static_cast<std::uint8_t>(c.g), static_cast<std::uint8_t>(c.b),
-            static_cast<std::uint8_t>(c.a)};
+    return detail::readColor<libsumo::Vehicle, libsumo::VehicleType>(id);
   }
   void setColor(const std::string& id, Rgba c) override {
     libsumo::Vehicle::setColor(id, libsumo::TraCIColor(c.r, c.g, c.b, c.a));
@@ -98,14 +73,7 @@ class LibsumoBackend final : public Backend {
   }
   void addPolygon(const std::string& id, const std::vector<std::pair<double, double>>& shape, Rgba c, bool fill,
                   int layer) override {
-    libsumo::TraCIPositionVector pv;
-    for (const auto& [x, y] : shape) {
-      libsumo::TraCIPosition p;
-      p.x = x;
-      p.y = y;
-      pv.value.push_back(p);
-    }
-    libsumo::Polygon::add(id, pv, libsumo::TraCIColor(c.r, c.g, c.b, c.a), fill, "stsim", layer);
+    detail::addPolygon<libsumo::Polygon, libsumo::TraCIPositionVector, libsumo::TraCIColor>(id, shape, c, fill, layer);
   }
   bool hasGui() override { return false; }
 
@@ -139,20 +107,6 @@ class LibsumoBackend final : public Backend {
       return true;  // unknown: read it
     }
   }
-  static int laneIndex(const std::string& laneId) {
-    const auto us = laneId.rfind('_');
-    return us == std::string::npos ? 0 : std::stoi(laneId.substr(us + 1));
-  }
-  static double parseMass(const std::string& typeId, const std::string& text) {
-    try {
-      std::size_t used = 0;
-      const double m = std::stod(text, &used);
-      if (used == text.size() && m > 0.0) return m;
-    } catch (...) {
-    }
-    throw SumoError("vType '" + typeId + "': param 'mass' must be a positive number of kg, got '" + text + "'");
-  }
-
   void readVehicles() {
     vehicles_.clear();
     vehicles_.reserve(active_.ids().size());

@@ -42,7 +42,7 @@ std::unique_ptr<HighwayPlugin> HighwayPlugin::forLibsumo(PluginConfig config) {
 bool HighwayPlugin::isEquipped(const std::string& id, const std::string& type) const {
   const auto& types = config_.smart.types;
   if (std::find(types.begin(), types.end(), type) != types.end()) return true;
-  return config_.smart.penetration >= 1.0 || unitHash(config_.smart.seed, id) < config_.smart.penetration;
+  return highway::drawnEquipped(config_.smart.seed, id, config_.smart.penetration);
 }
 
 void HighwayPlugin::step() {

@@ -137,56 +137,19 @@ class TraciBackend final : public Backend {
     auto it = types_.find(typeId);
     if (it != types_.end()) return it->second;
     SumoVehicleType t;
-    guard([&] {
-      t.id = typeId;
-      t.vClass = libtraci::VehicleType::getVehicleClass(typeId);
-      t.length = libtraci::VehicleType::getLength(typeId);
-      t.width = libtraci::VehicleType::getWidth(typeId);
-      const std::string mass = libtraci::VehicleType::getParameter(typeId, "mass");
-      if (!mass.empty()) {
-        std::size_t used = 0;
-        double m = 0.0;
-        try {
-          m = std::stod(mass, &used);
-        } catch (...) {
-        }
-        if (used != mass.size() || !(m > 0.0))
-          throw SumoError("vType '" + typeId + "': param 'mass' must be a positive number of kg, got '" + mass + "'");
-        t.mass = m;
-      }
-    });
+    guard([&] { t = detail::readVehicleType<libtraci::VehicleType>(typeId); });
     return types_.emplace(typeId, std::move(t)).first->second;
   }
 
   std::vector<SumoLane> lanes() override {
     std::vector<SumoLane> out;
-    guard([&] {
-      for (const auto& id : libtraci::Lane::getIDList()) {
-        SumoLane l;
-        l.id = id;
-        l.edge = libtraci::Lane::getEdgeID(id);
-        const auto us = id.rfind('_');
-        l.index = us == std::string::npos ? 0 : std::stoi(id.substr(us + 1));
-        l.width = libtraci::Lane::getWidth(id);
-        for (const auto& p : libtraci::Lane::getShape(id).value) l.shape.emplace_back(p.x, p.y);
-        l.internal = !id.empty() && id[0] == ':';
-        out.push_back(std::move(l));
-      }
-    });
+    guard([&] { out = detail::readLanes<libtraci::Lane>(); });
     return out;
   }
 
   Rgba color(const std::string& id) override {
     Rgba out;
-    guard([&] {
-      auto c = libtraci::Vehicle::getColor(id);
-      // a vehicle without a colour of its own reports SUMO's default yellow but is drawn in its
-      // type's colour: that is the colour to restore
-      if (c.r == 255 && c.g == 255 && c.b == 0 && c.a == 255)
-        c = libtraci::VehicleType::getColor(libtraci::Vehicle::getTypeID(id));
-      out = {static_cast<std::uint8_t>(c.r), static_cast<std::uint8_t>(c.g), static_cast<std::uint8_t>(c.b),
-             static_cast<std::uint8_t>(c.a)};
-    });
+    guard([&] { out = detail::readColor<libtraci::Vehicle, libtraci::VehicleType>(id); });
     return out;
   }
   void setColor(const std::string& id, Rgba c) override {
@@ -198,14 +161,8 @@ class TraciBackend final : public Backend {
   void addPolygon(const std::string& id, const std::vector<std::pair<double, double>>& shape, Rgba c, bool fill,
                   int layer) override {
     guard([&] {
-      libsumo::TraCIPositionVector pv;
-      for (const auto& [x, y] : shape) {
-        libsumo::TraCIPosition p;
-        p.x = x;
-        p.y = y;
-        pv.value.push_back(p);
-      }
-      libtraci::Polygon::add(id, pv, libsumo::TraCIColor(c.r, c.g, c.b, c.a), fill, "stsim", layer);
+      detail::addPolygon<libtraci::Polygon, libsumo::TraCIPositionVector, libsumo::TraCIColor>(id, shape, c, fill,
+                                                                                              layer);
     });
   }
   bool hasGui() override {

@@ -42,4 +42,17 @@ ClassDefaults classDefaults(VehicleClass c) {
   return {5.0, 1.8, 1500.0};
 }
 
+double equipmentDraw(std::uint64_t seed, std::string_view id) {
+  std::uint64_t h = 1469598103934665603ull ^ seed;
+  for (unsigned char c : id) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  h += 0x9e3779b97f4a7c15ull;
+  h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
+  h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
+  h ^= h >> 31;
+  return static_cast<double>(h >> 11) * 0x1.0p-53;
+}
+
 }  // namespace st::highway

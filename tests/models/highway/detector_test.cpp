@@ -264,5 +264,29 @@ TEST(Detector, FollowingMarginInTime) {
   }
 }
 
+TEST(Vehicle, EquipmentDrawIsDeterministicAndUniform) {
+  EXPECT_EQ(equipmentDraw(42, "main0.17"), equipmentDraw(42, "main0.17"));
+  EXPECT_NE(equipmentDraw(42, "main0.17"), equipmentDraw(43, "main0.17"));
+  int below = 0;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    const double u = equipmentDraw(7, "veh" + std::to_string(i));
+    ASSERT_GE(u, 0.0);
+    ASSERT_LT(u, 1.0);
+    below += u < 0.3;
+  }
+  // binomial(20000, 0.3): sd = 65; 5 sd
+  EXPECT_NEAR(below, 0.3 * n, 5 * 65);
+}
+
+TEST(Vehicle, DrawnEquippedFollowsThePenetration) {
+  EXPECT_TRUE(drawnEquipped(7, "any", 1.0));
+  EXPECT_FALSE(drawnEquipped(7, "any", 0.0));
+  for (int i = 0; i < 100; ++i) {
+    const std::string id = "veh" + std::to_string(i);
+    EXPECT_EQ(drawnEquipped(7, id, 0.4), equipmentDraw(7, id) < 0.4);
+  }
+}
+
 }  // namespace
 }  // namespace st::highway

@@ -24,8 +24,4 @@ highway::VehicleState toVehicleState(const SumoVehicle& v, const SumoVehicleType
 // Lanes as the highway model wants them (shapes and widths from the network).
 highway::RoadGeometry toRoadGeometry(const std::vector<SumoLane>& lanes);
 
-// Deterministic draw in [0, 1) for a seed and a vehicle id, independent of departure order and of
-// the standard library (FNV-1a of the id, mixed by splitmix64); the same as `stsim highway --fcd`.
-double unitHash(std::uint64_t seed, const std::string& id);
-
 }  // namespace st::cosim

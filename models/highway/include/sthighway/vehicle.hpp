@@ -65,4 +65,12 @@ inline Vec2 centreFromFrontBumper(const Vec2& front, double heading, double leng
   return front - 0.5 * length * Vec2(std::cos(heading), std::sin(heading));
 }
 
+// Which vehicles carry the smart-car system at a penetration rate: a deterministic draw in [0, 1)
+// per seed and vehicle id, independent of arrival order and of the standard library (FNV-1a of
+// the id mixed by splitmix64), so a trace replay and a live SUMO run equip the same vehicles.
+double equipmentDraw(std::uint64_t seed, std::string_view id);
+inline bool drawnEquipped(std::uint64_t seed, std::string_view id, double penetration) {
+  return penetration >= 1.0 || equipmentDraw(seed, id) < penetration;
+}
+
 }  // namespace st::highway
