@@ -1,6 +1,7 @@
 #include <starm/monitor.hpp>
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <stdexcept>
 
@@ -248,6 +249,22 @@ void Monitor::addWarning(const Warning& w) {
   ++counters_.warnings;
 }
 
+std::optional<Warning> Monitor::warningFor(int i, const TimeToCollision& r, double t) {
+  counters_.advanceSteps += r.steps;
+  if (r.capped) ++counters_.cappedAdvances;
+  if (!(r.outcome == Approach::Touching || (r.outcome == Approach::Hit && r.t <= safety_.safeTime())))
+    return std::nullopt;
+  Warning w;
+  w.t = t;
+  w.distance = r.distance;
+  w.ttc = r.t;
+  w.outcome = r.outcome;
+  w.arm = capArm_[i];
+  w.body = capBody_[i];
+  w.capsule = capLocal_[i];
+  return w;
+}
+
 void Monitor::testPair(int i, int j, double t) {
   const int ai = capArm_[i], aj = capArm_[j];
   if (ai == aj && arms_[ai].inst.model.isAllowed(capBody_[i], capBody_[j])) return;
@@ -255,17 +272,9 @@ void Monitor::testPair(int i, int j, double t) {
   if (!swept_[i].overlaps(swept_[j])) return;  // cannot come within the separation in the look-ahead
   ++counters_.exactPairs;
   const TimeToCollision r = timeToCollision(movingCapsule(i), movingCapsule(j), safety_.minSeparation, safety_.lookAhead());
-  counters_.advanceSteps += r.steps;
-  if (r.capped) ++counters_.cappedAdvances;
-  if (!(r.outcome == Approach::Touching || (r.outcome == Approach::Hit && r.t <= safety_.safeTime()))) return;
-  Warning w;
-  w.t = t;
-  w.distance = r.distance;
-  w.ttc = r.t;
-  w.outcome = r.outcome;
-  w.arm = ai;
-  w.body = capBody_[i];
-  w.capsule = capLocal_[i];
+  std::optional<Warning> found = warningFor(i, r, t);
+  if (!found) return;
+  Warning& w = *found;
   w.otherArm = aj;
   w.otherBody = capBody_[j];
   w.otherCapsule = capLocal_[j];
@@ -295,19 +304,10 @@ void Monitor::testObstacle(int i, int o, double t) {
       break;
     case ShapeKind::Box: r = timeToCollision(c, MovingBox{ob.box, ob.velocity}, sep, h); break;
   }
-  counters_.advanceSteps += r.steps;
-  if (r.capped) ++counters_.cappedAdvances;
-  if (!(r.outcome == Approach::Touching || (r.outcome == Approach::Hit && r.t <= safety_.safeTime()))) return;
-  Warning w;
-  w.t = t;
-  w.distance = r.distance;
-  w.ttc = r.t;
-  w.outcome = r.outcome;
-  w.arm = capArm_[i];
-  w.body = capBody_[i];
-  w.capsule = capLocal_[i];
-  w.obstacle = o;
-  addWarning(w);
+  std::optional<Warning> w = warningFor(i, r, t);
+  if (!w) return;
+  w->obstacle = o;
+  addWarning(*w);
 }
 
 }  // namespace st::arm

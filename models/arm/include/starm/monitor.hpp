@@ -125,6 +125,8 @@ class Monitor {
   void testPair(int i, int j, double t);
   void testObstacle(int i, int o, double t);
   void addWarning(const Warning& w);
+  // Counts the advancement; a Warning for capsule i (ego side filled) if r warns at time t.
+  std::optional<Warning> warningFor(int i, const TimeToCollision& r, double t);
 
   std::vector<ArmState> arms_;
   std::vector<Obstacle> obstacles_;
