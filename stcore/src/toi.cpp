@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stcore/roots.hpp>
 #include <stcore/tolerances.hpp>
 
@@ -73,20 +74,29 @@ Impact toiBalls(const Vec<D>& p_rel, const Vec<D>& v_rel, double radiusSum) {
 template Impact toiBalls<2>(const Vec2&, const Vec2&, double);
 template Impact toiBalls<3>(const Vec3&, const Vec3&, double);
 
-SegmentImpact toiCircleSegment(const Circle& c, const Vec2& v, const Segment& s) {
-  SegmentImpact best{miss(), SegmentFeature::Face};
+namespace {
+
+// Touching or overlapping now: the closest feature alone decides. Asked one by one, the features
+// would report an end point approached, or struck later, by a ball moving out of the face.
+std::optional<SegmentImpact> segmentContactNow(const Circle& c, const Vec2& v, const Segment& s) {
   const Vec2 dir = s.b - s.a;
   const double len2 = dir.squaredNorm();
-  // Touching or overlapping now: the closest feature alone decides. Asked one by one, the features
-  // would report an end point approached, or struck later, by a ball moving out of the face.
   const double u0 = len2 > 0.0 ? std::clamp((c.center - s.a).dot(dir) / len2, 0.0, 1.0) : 0.0;
   const Vec2 out0 = c.center - (s.a + u0 * dir);
   const double dist0 = out0.norm();
-  if (dist0 - c.radius <= tol::kLinearSlop) {
-    const SegmentFeature f = u0 <= 0.0 ? SegmentFeature::EndA : u0 >= 1.0 ? SegmentFeature::EndB : SegmentFeature::Face;
-    if (dist0 == 0.0) return {separating(), f};  // centre on the segment: no normal to approach along
-    return {contactAlongNormal(dist0 - c.radius, -out0.dot(v) / dist0), f};
-  }
+  if (dist0 - c.radius > tol::kLinearSlop) return std::nullopt;
+  const SegmentFeature f = u0 <= 0.0 ? SegmentFeature::EndA : u0 >= 1.0 ? SegmentFeature::EndB : SegmentFeature::Face;
+  if (dist0 == 0.0) return SegmentImpact{separating(), f};  // centre on the segment: no normal to approach along
+  return SegmentImpact{contactAlongNormal(dist0 - c.radius, -out0.dot(v) / dist0), f};
+}
+
+}  // namespace
+
+SegmentImpact toiCircleSegment(const Circle& c, const Vec2& v, const Segment& s) {
+  if (auto now = segmentContactNow(c, v, s)) return *now;
+  SegmentImpact best{miss(), SegmentFeature::Face};
+  const Vec2 dir = s.b - s.a;
+  const double len2 = dir.squaredNorm();
   if (len2 > 0.0) {
     const Vec2 n = Vec2(-dir.y(), dir.x()) / std::sqrt(len2);
     const double d0 = n.dot(c.center - s.a);
@@ -211,18 +221,10 @@ template Impact toiBallPlaneAccelerated<3>(const Ball<3>&, const Vec3&, const Ve
 
 SegmentImpact toiCircleSegmentAccelerated(const Circle& c, const Vec2& v, const Vec2& a, const Segment& s,
                                           double tMax) {
+  if (auto now = segmentContactNow(c, v, s)) return *now;
   SegmentImpact best{miss(), SegmentFeature::Face};
   const Vec2 dir = s.b - s.a;
   const double len2 = dir.squaredNorm();
-  // in contact now: the closest feature decides, as in toiCircleSegment
-  const double u0 = len2 > 0.0 ? std::clamp((c.center - s.a).dot(dir) / len2, 0.0, 1.0) : 0.0;
-  const Vec2 out0 = c.center - (s.a + u0 * dir);
-  const double dist0 = out0.norm();
-  if (dist0 - c.radius <= tol::kLinearSlop) {
-    const SegmentFeature f = u0 <= 0.0 ? SegmentFeature::EndA : u0 >= 1.0 ? SegmentFeature::EndB : SegmentFeature::Face;
-    if (dist0 == 0.0) return {separating(), f};
-    return {contactAlongNormal(dist0 - c.radius, -out0.dot(v) / dist0), f};
-  }
   if (len2 > 0.0) {
     const Vec2 n = Vec2(-dir.y(), dir.x()) / std::sqrt(len2);
     const double d0 = n.dot(c.center - s.a);
