@@ -143,6 +143,17 @@ struct HighwayMonitor::Impl {
   double lastT = -std::numeric_limits<double>::infinity();
   bool started = false;
 
+  // Time exposed (TET) and integrated deficit (TIT) over the interval dt that just ended, from
+  // the threats of its first tick.
+  void accumulateExposure(double dt) {
+    for (int s : activeSlots)
+      for (int k = 0; k < kWarningKindCount; ++k)
+        if (slots[s].exposed[k]) {
+          counters.tet[k] += dt;
+          counters.tit[k] += dt * slots[s].deficit[k];
+        }
+  }
+
   void ensureSlotArrays(std::size_t n) {
     if (body.size() >= n) return;
     body.resize(n);
@@ -453,16 +464,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
   Impl& m = *impl_;
   if (!std::isfinite(t)) throw std::invalid_argument("step time must be finite");
   if (m.started && !(t > m.lastT)) throw std::invalid_argument("step times must increase strictly");
-  // exposure of the interval that just ended, from the last tick's threats
-  if (m.started) {
-    const double dt = t - m.lastT;
-    for (int s : m.activeSlots)
-      for (int k = 0; k < kWarningKindCount; ++k)
-        if (m.slots[s].exposed[k]) {
-          m.counters.tet[k] += dt;
-          m.counters.tit[k] += dt * m.slots[s].deficit[k];
-        }
-  }
+  if (m.started) m.accumulateExposure(t - m.lastT);
   // who is here: map ids to slots
   for (int s : m.activeSlots) m.slots[s].input = -1;
   std::vector<int> now;
@@ -609,15 +611,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
 
 void HighwayMonitor::finish(double t) {
   Impl& m = *impl_;
-  if (m.started && t > m.lastT) {
-    const double dt = t - m.lastT;
-    for (int s : m.activeSlots)
-      for (int k = 0; k < kWarningKindCount; ++k)
-        if (m.slots[s].exposed[k]) {
-          m.counters.tet[k] += dt;
-          m.counters.tit[k] += dt * m.slots[s].deficit[k];
-        }
-  }
+  if (m.started && t > m.lastT) m.accumulateExposure(t - m.lastT);
   for (int s : m.activeSlots) {
     m.close(m.slots[s], std::max(t, m.lastT));
     m.slots[s].exposed.fill(false);
