@@ -54,14 +54,10 @@ hw::MonitorConfig monitorConfig(const Args& a) {
     throw UsageError("--detector must be concentric, five or box, got '" + a.get("detector") + "'");
   if (!hw::parseBroadphase(a.get("broadphase"), cfg.broadphase))
     throw UsageError("--broadphase must be cells or all-pairs, got '" + a.get("broadphase") + "'");
-  const std::string layout = a.get("layout");
-  if (layout == "a") cfg.detector.five = hw::FiveCircleLayout::fig11a();
-  else if (layout == "b") cfg.detector.five = hw::FiveCircleLayout::fig11b();
-  else throw UsageError("--layout must be a or b, got '" + layout + "'");
-  const std::string motion = a.get("motion");
-  if (motion == "velocity") cfg.detector.motion = hw::MotionModel::ConstantVelocity;
-  else if (motion == "acceleration") cfg.detector.motion = hw::MotionModel::ConstantAcceleration;
-  else throw UsageError("--motion must be velocity or acceleration, got '" + motion + "'");
+  if (!hw::parseFiveCircleLayout(a.get("layout"), cfg.detector.five))
+    throw UsageError("--layout must be a or b, got '" + a.get("layout") + "'");
+  if (!hw::parseMotionModel(a.get("motion"), cfg.detector.motion))
+    throw UsageError("--motion must be velocity or acceleration, got '" + a.get("motion") + "'");
   return cfg;
 }
 

@@ -97,18 +97,10 @@ void applyOptions(const st::cli::Args& a, Scenario& s) {
     throw st::cli::UsageError("--detector must be concentric, five or box, got '" + a.get("detector") + "'");
   if (a.has("broadphase") && !hw::parseBroadphase(a.get("broadphase"), m.broadphase))
     throw st::cli::UsageError("--broadphase must be cells or all-pairs, got '" + a.get("broadphase") + "'");
-  if (a.has("layout")) {
-    const std::string l = a.get("layout");
-    if (l == "a") m.detector.five = hw::FiveCircleLayout::fig11a();
-    else if (l == "b") m.detector.five = hw::FiveCircleLayout::fig11b();
-    else throw st::cli::UsageError("--layout must be a or b, got '" + l + "'");
-  }
-  if (a.has("motion")) {
-    const std::string l = a.get("motion");
-    if (l == "velocity") m.detector.motion = hw::MotionModel::ConstantVelocity;
-    else if (l == "acceleration") m.detector.motion = hw::MotionModel::ConstantAcceleration;
-    else throw st::cli::UsageError("--motion must be velocity or acceleration, got '" + l + "'");
-  }
+  if (a.has("layout") && !hw::parseFiveCircleLayout(a.get("layout"), m.detector.five))
+    throw st::cli::UsageError("--layout must be a or b, got '" + a.get("layout") + "'");
+  if (a.has("motion") && !hw::parseMotionModel(a.get("motion"), m.detector.motion))
+    throw st::cli::UsageError("--motion must be velocity or acceleration, got '" + a.get("motion") + "'");
   if (a.has("penetration")) {
     const double p = a.getDouble("penetration");
     if (p < 0.0 || p > 1.0) throw st::cli::UsageError("--penetration must be in [0, 1]");

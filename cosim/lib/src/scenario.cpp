@@ -151,18 +151,11 @@ void readYaml(const fs::path& path, Scenario& s) {
   if (auto n = root["detector"])
     if (!hw::parseDetectorKind(r.text(n, "detector"), m.detector.kind))
       r.fail(n, "detector", "must be concentric, five or box");
-  if (auto n = root["layout"]) {
-    const std::string l = r.text(n, "layout");
-    if (l == "a") m.detector.five = hw::FiveCircleLayout::fig11a();
-    else if (l == "b") m.detector.five = hw::FiveCircleLayout::fig11b();
-    else r.fail(n, "layout", "must be a or b");
-  }
-  if (auto n = root["motion"]) {
-    const std::string l = r.text(n, "motion");
-    if (l == "velocity") m.detector.motion = hw::MotionModel::ConstantVelocity;
-    else if (l == "acceleration") m.detector.motion = hw::MotionModel::ConstantAcceleration;
-    else r.fail(n, "motion", "must be velocity or acceleration");
-  }
+  if (auto n = root["layout"])
+    if (!hw::parseFiveCircleLayout(r.text(n, "layout"), m.detector.five)) r.fail(n, "layout", "must be a or b");
+  if (auto n = root["motion"])
+    if (!hw::parseMotionModel(r.text(n, "motion"), m.detector.motion))
+      r.fail(n, "motion", "must be velocity or acceleration");
   if (auto n = root["broadphase"])
     if (!hw::parseBroadphase(r.text(n, "broadphase"), m.broadphase)) r.fail(n, "broadphase", "must be cells or all-pairs");
   if (auto n = root["check_road"]) m.checkRoad = r.boolean(n, "check_road");

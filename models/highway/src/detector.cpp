@@ -28,6 +28,20 @@ bool parseDetectorKind(const std::string& text, DetectorKind& out) {
   return true;
 }
 
+bool parseMotionModel(const std::string& text, MotionModel& out) {
+  if (text == "velocity") out = MotionModel::ConstantVelocity;
+  else if (text == "acceleration") out = MotionModel::ConstantAcceleration;
+  else return false;
+  return true;
+}
+
+bool parseFiveCircleLayout(const std::string& text, FiveCircleLayout& out) {
+  if (text == "a") out = FiveCircleLayout::fig11a();
+  else if (text == "b") out = FiveCircleLayout::fig11b();
+  else return false;
+  return true;
+}
+
 const char* toString(Zone z) {
   switch (z) {
     case Zone::Front: return "front";

@@ -25,6 +25,7 @@ const char* toString(DetectorKind k);
 bool parseDetectorKind(const std::string& text, DetectorKind& out);  // "concentric", "five", "box"
 
 enum class MotionModel : std::uint8_t { ConstantVelocity, ConstantAcceleration };
+bool parseMotionModel(const std::string& text, MotionModel& out);  // "velocity", "acceleration"
 
 // Which circle (or shape) fired.
 enum class Zone : std::uint8_t { Front, Rear, Left, Right, Center, Inner, Outer, Body };
@@ -45,6 +46,7 @@ struct ZoneCircle {
 struct FiveCircleLayout {
   static constexpr int kFront = 0, kRear = 1, kLeft = 2, kRight = 3, kCenter = 4;
   std::array<ZoneCircle, 5> zones{};
+
   // Fig. 11(a): small overlaps. Front/rear circles around the front/rear thirds, left/right
   // around the two halves of the middle third, centre circle of radius W/2.
   static FiveCircleLayout fig11a();
@@ -52,6 +54,7 @@ struct FiveCircleLayout {
   // the middle half.
   static FiveCircleLayout fig11b();
 };
+bool parseFiveCircleLayout(const std::string& text, FiveCircleLayout& out);  // "a" (Fig. 11a), "b" (11b)
 
 struct ConcentricLayout {
   double innerMargin = 0.0;  // inner radius = W/2 + innerMargin (m)
