@@ -12,8 +12,8 @@
 #include <stsim/cli.hpp>
 #include <stsim/commands.hpp>
 
-#if defined(STSIM_HAVE_COSIM) && __has_include(<stcosim/highway_run.hpp>)
-#include <stcosim/highway_run.hpp>
+#ifdef STSIM_HAVE_COSIM
+#include "highway_run.hpp"
 #define STSIM_HIGHWAY_COSIM 1
 #endif
 

@@ -1,6 +1,6 @@
-// `stsim highway SCENARIO`: the co-simulation front end. It is the app layer of cosim, so it is the
-// one place here that prints (a progress line on a terminal, a summary at the end).
-#include <stcosim/highway_run.hpp>
+// `stsim highway SCENARIO`: the co-simulation front end (a progress line on a terminal, a summary
+// at the end); st::cosim below it does not print.
+#include "highway_run.hpp"
 
 #include <signal.h>
 #include <unistd.h>
