@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 
 #include <stcore/resolve.hpp>
@@ -23,6 +24,7 @@ const char* toString(EventKind kind) {
     case EventKind::Sensor: return "sensor";
     case EventKind::Boundary: return "boundary";
     case EventKind::Rest: return "rest";
+    case EventKind::Model: return "model";
     case EventKind::Count: break;
   }
   return "?";
@@ -281,7 +283,51 @@ void Simulator<D>::predictObstaclesAccelerated(int i, Next& best) {
 
 template <int D>
 double Simulator<D>::nextEventTime() const {
-  return heap_.empty() ? kInf : heap_.front().t;
+  const double t = heap_.empty() ? kInf : heap_.front().t;
+  return modelHeap_.empty() ? t : std::min(t, modelHeap_.front().t);
+}
+
+template <int D>
+int Simulator<D>::scheduleEvent(double t, int tag) {
+  if (!(t >= now_) || !std::isfinite(t)) throw std::invalid_argument("a model event needs a finite time not before now");
+  const int handle = static_cast<int>(modelTags_.size());
+  modelTags_.push_back(tag);
+  modelCancelled_.push_back(false);
+  modelHeap_.push_back({t, handle});
+  std::push_heap(modelHeap_.begin(), modelHeap_.end(), std::greater<>{});
+  return handle;
+}
+
+template <int D>
+void Simulator<D>::cancelEvent(int handle) {
+  if (handle >= 0 && handle < static_cast<int>(modelCancelled_.size())) modelCancelled_[handle] = true;
+  dropCancelledModelEvents();
+}
+
+// Keeps the heap's front a live event, so nextEventTime need not look further.
+template <int D>
+void Simulator<D>::dropCancelledModelEvents() {
+  while (!modelHeap_.empty() && modelCancelled_[modelHeap_.front().handle]) {
+    std::pop_heap(modelHeap_.begin(), modelHeap_.end(), std::greater<>{});
+    modelHeap_.pop_back();
+  }
+}
+
+template <int D>
+bool Simulator<D>::modelEventDue() const {
+  return !modelHeap_.empty() && (heap_.empty() || modelHeap_.front().t <= heap_.front().t);
+}
+
+template <int D>
+void Simulator<D>::processModelEvent() {
+  const ModelEvent m = modelHeap_.front();
+  std::pop_heap(modelHeap_.begin(), modelHeap_.end(), std::greater<>{});
+  modelHeap_.pop_back();
+  modelCancelled_[m.handle] = true;  // happened: a later cancelEvent is a no-op
+  dropCancelledModelEvents();
+  now_ = std::max(now_, m.t);
+  ++counters_.events[static_cast<int>(EventKind::Model)];
+  last_ = EventRecord{m.t, EventKind::Model, -1, modelTags_[m.handle]};
 }
 
 template <int D>
@@ -348,6 +394,7 @@ void Simulator<D>::process(int i) {
       space_->update(i, boxOf(i, e.t), config_.marginFactor * bi.radius);
       predict(i);
       break;
+    case EventKind::Model:  // never a ball's event: processModelEvent handles these
     case EventKind::Count:
       return;
   }

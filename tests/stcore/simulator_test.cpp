@@ -474,6 +474,101 @@ void deterministic(unsigned seed) {
   }
 }
 
+// ---- model-defined events ------------------------------------------------------------------------
+
+// A controller ticking every 1.1 s gives a seeded ball a seeded new velocity (or, now and then,
+// takes it out). The ticks are model events scheduled from inside the observer; the reference
+// gets the same interventions between its own runs up to each tick. Every space kind must match.
+template <int D>
+void controllerAgainstReference(unsigned seed) {
+  constexpr double kTick = 1.1;
+  constexpr int kTicks = 24;
+  std::mt19937_64 rng(seed);
+  const System<D> sys = randomSystem<D>(rng, 14, true);
+  auto intervene = [&](std::mt19937_64& local, int k, auto& target, auto isActive) {
+    const int i = static_cast<int>(local() % sys.balls.size());
+    std::uniform_real_distribution<double> u(-3, 3);
+    Vec<D> v;
+    for (int d = 0; d < D; ++d) v[d] = u(local);
+    if (!isActive(i)) return;
+    if (k % 8 == 7) target.deactivate(i);
+    else target.setVelocity(i, v);
+  };
+  Reference<D> ref = makeReference(sys);
+  std::vector<EventRecord> want;
+  std::mt19937_64 refRng(seed + 7);
+  for (int k = 0; k < kTicks; ++k) {
+    const double tick = (k + 1) * kTick;
+    for (const EventRecord& e : ref.run(1 << 20, tick)) want.push_back(e);
+    ref.now = tick;
+    intervene(refRng, k, ref, [&](int i) { return ref.balls[i].active; });
+  }
+  for (const EventRecord& e : ref.run(1 << 20, (kTicks + 1) * kTick)) want.push_back(e);
+  ASSERT_GT(want.size(), 100u) << "too few events to mean anything";
+
+  for (const auto& [name, cfg] : allConfigs<D>()) {
+    Simulator<D> sim = makeSimulator(sys, cfg);
+    std::mt19937_64 simRng(seed + 7);
+    std::vector<EventRecord> got;
+    int ticks = 0;
+    sim.scheduleEvent(kTick, 0);
+    sim.run((kTicks + 1) * kTick, [&](const EventRecord& e) {
+      if (e.kind == EventKind::Boundary) return;
+      if (e.kind != EventKind::Model) {
+        got.push_back(e);
+        return;
+      }
+      EXPECT_EQ(e.b, ticks) << name;  // the tag comes back
+      EXPECT_DOUBLE_EQ(e.t, (ticks + 1) * kTick) << name;
+      EXPECT_EQ(e.a, -1);
+      intervene(simRng, ticks, sim, [&](int i) { return sim.ball(i).active; });
+      if (++ticks < kTicks) sim.scheduleEvent((ticks + 1) * kTick, ticks);
+    });
+    EXPECT_EQ(ticks, kTicks) << name;
+    EXPECT_EQ(sim.counters().events[static_cast<int>(EventKind::Model)], static_cast<std::uint64_t>(kTicks));
+    ASSERT_EQ(got.size(), want.size()) << name;
+    ASSERT_TRUE(sameHistory(got, want, got.size(), 1e-9)) << name;
+  }
+}
+
+TEST(SimulatorModelEvents, ControllerTicksAgainstReference2D) { controllerAgainstReference<2>(4001); }
+TEST(SimulatorModelEvents, ControllerTicksAgainstReference3D) { controllerAgainstReference<3>(4002); }
+
+// Scheduling, cancelling and the clock, on two balls whose only event is at t = 2.5.
+TEST(SimulatorModelEvents, OrderCancelAndClock) {
+  SimulatorConfig cfg;
+  cfg.spaceKind = SpaceKind::None;
+  Simulator<2> sim({Vec2(-10, -10), Vec2(10, 10)}, cfg);
+  sim.addBall(Vec2(-3, 0), Vec2(1, 0), 0.5, 1);
+  sim.addBall(Vec2(3, 0), Vec2(-1, 0), 0.5, 1);
+  sim.scheduleEvent(4.0, 40);
+  const int dropped = sim.scheduleEvent(1.0, 10);
+  sim.scheduleEvent(2.5, 25);  // same time as the collision: the model event comes first
+  sim.scheduleEvent(2.5, 26);  // and equal model times keep their scheduling order
+  sim.cancelEvent(dropped);
+  EXPECT_DOUBLE_EQ(sim.nextEventTime(), 2.5);
+  EXPECT_THROW(sim.scheduleEvent(-1.0, 0), std::invalid_argument);
+  EXPECT_THROW(sim.scheduleEvent(std::nan(""), 0), std::invalid_argument);
+
+  std::vector<std::pair<EventKind, int>> seen;
+  EXPECT_EQ(sim.run(3.0, [&](const EventRecord& e) { seen.push_back({e.kind, e.b}); }), StopReason::TimeLimit);
+  ASSERT_EQ(seen.size(), 3u);
+  EXPECT_EQ(seen[0], std::make_pair(EventKind::Model, 25));
+  EXPECT_EQ(seen[1], std::make_pair(EventKind::Model, 26));
+  EXPECT_EQ(seen[2].first, EventKind::BallBall);
+  EXPECT_DOUBLE_EQ(sim.now(), 3.0);
+  // the balls now fly apart forever: only the model event at 4 is left, then nothing
+  EXPECT_DOUBLE_EQ(sim.nextEventTime(), 4.0);
+  seen.clear();
+  EXPECT_EQ(sim.run(kInf, [&](const EventRecord& e) { seen.push_back({e.kind, e.b}); }), StopReason::NothingLeft);
+  ASSERT_EQ(seen.size(), 1u);
+  EXPECT_EQ(seen[0], std::make_pair(EventKind::Model, 40));
+  EXPECT_DOUBLE_EQ(sim.now(), 4.0);
+  sim.cancelEvent(dropped);  // already cancelled, or happened: no effect
+  sim.cancelEvent(12345);
+  EXPECT_EQ(sim.nextEventTime(), kInf);
+}
+
 TEST(Simulator, DeterministicAndSpaceIndependent2D) { deterministic<2>(3001); }
 TEST(Simulator, DeterministicAndSpaceIndependent3D) { deterministic<3>(3002); }
 

@@ -133,6 +133,7 @@ PoolEvent Game::translate(const EventRecord& r) const {
     case EventKind::Sensor: e.kind = PoolEventKind::Pocket; break;
     case EventKind::Boundary: e.kind = PoolEventKind::Boundary; break;
     case EventKind::Rest: e.kind = PoolEventKind::Rest; break;
+    case EventKind::Model:  // the pool game schedules none
     case EventKind::Count: break;
   }
   return e;

@@ -20,7 +20,8 @@
 namespace st {
 
 // Rest: a decelerating ball comes to a stop (only with setDeceleration).
-enum class EventKind : std::uint8_t { BallBall, BallWall, BallSegment, BallPoint, Sensor, Boundary, Rest, Count };
+// Model: an event the caller scheduled (scheduleEvent): a timer, a controller tick, a cue strike.
+enum class EventKind : std::uint8_t { BallBall, BallWall, BallSegment, BallPoint, Sensor, Boundary, Rest, Model, Count };
 const char* toString(EventKind kind);
 
 // A body's handle is its index; generations tell whether a prediction is still current.
@@ -73,8 +74,8 @@ struct Sensor {
 struct EventRecord {
   double t = 0.0;
   EventKind kind = EventKind::BallBall;
-  int a = -1;  // ball
-  int b = -1;  // other ball, or index of the wall / segment / point / sensor
+  int a = -1;  // ball (-1 for a Model event)
+  int b = -1;  // other ball, index of the wall / segment / point / sensor, or a Model event's tag
 };
 
 struct SimulatorCounters {
@@ -121,6 +122,15 @@ class Simulator {
   // slows along its path and stops (a Rest event). 0 (the default) leaves the frictionless
   // simulation bit-identical.
   void setDeceleration(int ball, double decel);
+
+  // Schedules a model-defined event at absolute time t (>= now): run() hands it to the observer as
+  // EventKind::Model with b = tag, in time order with the physical events. At equal times model
+  // events come first (in the order they were scheduled), so a controller acting at t sees the
+  // state just before t's collisions. The observer may change velocities or schedule more events.
+  // Returns a handle for cancelEvent.
+  int scheduleEvent(double t, int tag);
+  // Drops a scheduled model event that has not happened yet (no effect otherwise).
+  void cancelEvent(int handle);
 
   // Processes events up to `until` (inclusive) or `maxEvents`, calling observer(const EventRecord&)
   // after each. Then the clock stands at the last event's time (or `until` if it was reached).
@@ -177,6 +187,15 @@ class Simulator {
   }
   void heapUpdate(int i);
   void heapRemove(int i);
+  // model events: a min-heap on (time, scheduling order); cancelled ones are skipped when they surface
+  struct ModelEvent {
+    double t;
+    int handle;  // scheduling order, also the index into modelTags_ / modelCancelled_
+    bool operator>(const ModelEvent& o) const { return t > o.t || (t == o.t && handle > o.handle); }
+  };
+  void dropCancelledModelEvents();  // keeps modelHeap_'s front live
+  bool modelEventDue() const;  // the earliest event overall is a model event
+  void processModelEvent();
   void siftUp(int pos);
   void siftDown(int pos);
 
@@ -192,6 +211,9 @@ class Simulator {
   std::vector<Segment> segments_;
   std::vector<Sensor<D>> sensors_;
   double now_ = 0.0;
+  std::vector<ModelEvent> modelHeap_;
+  std::vector<int> modelTags_;
+  std::vector<bool> modelCancelled_;
   SimulatorCounters counters_;
   EventRecord last_;
 };
@@ -201,17 +223,16 @@ template <class Observer>
 StopReason Simulator<D>::run(double until, Observer&& observer, std::uint64_t maxEvents) {
   std::uint64_t done = 0;
   while (true) {
-    if (heap_.empty() || !(heap_.front().t < std::numeric_limits<double>::infinity())) {
-      return StopReason::NothingLeft;
-    }
-    const int i = heap_.front().ball;
-    if (heap_.front().t > until) {
+    const double next = nextEventTime();
+    if (!(next < std::numeric_limits<double>::infinity())) return StopReason::NothingLeft;
+    if (next > until) {
       now_ = std::max(now_, until);
       return StopReason::TimeLimit;
     }
     if (done >= maxEvents) return StopReason::EventLimit;
     last_.kind = EventKind::Count;
-    process(i);
+    if (modelEventDue()) processModelEvent();
+    else process(heap_.front().ball);
     if (last_.kind != EventKind::Count) {
       ++done;
       observer(static_cast<const EventRecord&>(last_));
