@@ -166,7 +166,7 @@ template Impact toiBallPlane<3>(const Ball<3>&, const Vec3&, const Vec3&, double
 
 namespace {
 
-// First root of h(t) = h0 + hv t + ha t^2 / 2 (h0 > 0) in [0, tMax] where h is falling.
+// First root of h(t) = h0 + hv t + ha t^2 / 2 in [0, tMax] where h is falling.
 double firstFallingRoot(double h0, double hv, double ha, double tMax) {
   const QuadraticRoots q = solveQuadratic(0.5 * ha, hv, h0);
   for (int k = 0; k < q.count; ++k) {
@@ -194,10 +194,26 @@ Impact toiBallsAccelerated(const Vec<D>& p_rel, const Vec<D>& v_rel, const Vec<D
                c1 = 2.0 * b, c0 = gap * (dist + radiusSum);
   const PolynomialRoots r = solveQuarticInInterval(c4, c3, c2, c1, c0, 0.0, tMax);
   for (int k = 0; k < r.count; ++k) {
-    const double t = r.root[k];
+    double t = r.root[k];
     const Vec<D> d = p_rel + t * v_rel + (0.5 * t * t) * a_rel;
     // closing at the root; a double root (grazing, no momentum exchanged) is not a hit
-    if (d.dot(v_rel + t * a_rel) < 0.0) return hitAt(t);
+    if (d.dot(v_rel + t * a_rel) < 0.0) {
+      // The quartic's roots lose digits when the radii are small against the distance (its
+      // constant term cancels against the rest near the root); Newton on the distance itself,
+      // whose slope is the closing speed, gives them back. Small steps only: near a grazing
+      // double root the slope vanishes and either root is right.
+      for (int it = 0; it < 2; ++it) {
+        const Vec<D> x = p_rel + t * v_rel + (0.5 * t * t) * a_rel;
+        const double len = x.norm();
+        const double slope = x.dot(v_rel + t * a_rel) / len;
+        if (!(slope < 0.0)) break;
+        const double step = (len - radiusSum) / slope;
+        const double next = t - step;
+        if (!(std::abs(step) <= 1e-6 * std::max(1.0, t)) || next < 0.0 || next > tMax) break;
+        t = next;
+      }
+      return hitAt(t);
+    }
   }
   return miss();
 }
@@ -228,15 +244,16 @@ SegmentImpact toiCircleSegmentAccelerated(const Circle& c, const Vec2& v, const 
   if (len2 > 0.0) {
     const Vec2 n = Vec2(-dir.y(), dir.x()) / std::sqrt(len2);
     const double d0 = n.dot(c.center - s.a);
-    const double side = d0 >= 0.0 ? 1.0 : -1.0;
-    const double gap = std::abs(d0) - c.radius;
-    if (gap > tol::kLinearSlop) {
-      const double t = firstFallingRoot(gap, side * n.dot(v), side * n.dot(a), tMax);
-      if (t < kInf) {
-        // the tangent point must lie on the segment's interior at the time of contact
-        const double u = (c.center + v * t + (0.5 * t * t) * a - s.a).dot(dir) / len2;
-        if (u >= 0.0 && u <= 1.0) keepEarliest(best, hitAt(t), SegmentFeature::Face);
-      }
+    // A curved path can pass the line beyond an end and come back at the face from the other
+    // side, so both sides are tried. Each side's clearance is a quadratic with one falling root
+    // at most: the near side's first root, the far side's second (after the path crosses). (Not
+    // in contact now, so a ball already within r of the line is beyond an end.)
+    for (const double side : {1.0, -1.0}) {
+      const double t = firstFallingRoot(side * d0 - c.radius, side * n.dot(v), side * n.dot(a), tMax);
+      if (t == kInf) continue;
+      // the tangent point must lie on the segment's interior at the time of contact
+      const double u = (c.center + v * t + (0.5 * t * t) * a - s.a).dot(dir) / len2;
+      if (u >= 0.0 && u <= 1.0) keepEarliest(best, hitAt(t), SegmentFeature::Face);
     }
   }
   keepEarliest(best, toiBallsAccelerated<2>(s.a - c.center, -v, -a, c.radius, tMax), SegmentFeature::EndA);

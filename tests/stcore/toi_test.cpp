@@ -3,9 +3,10 @@
 // For every case the test evaluates the clearance g(t) (distance between the surfaces, negative
 // when overlapping) straight from the geometry on a uniform grid over a horizon long enough to
 // contain every contact, then refines: bisection at the first (or last) sign change, and a
-// golden-section search around the grid minimum, so a grazing dip between two samples is not
-// missed. Every clearance here is convex in t (distance from a point moving on a line to a convex
-// set, minus a radius), so the sublevel sets are intervals and this refinement is exact.
+// golden-section search around every grid-local minimum, so a grazing dip between two samples is
+// not missed. On straight paths the clearance is convex in t (distance from a point moving on a
+// line to a convex set, minus a radius); on the decelerating kernels' quadratic paths it can have
+// two minima, so those are sampled on a 16x finer grid.
 //
 // A reported Hit time must lie in the band where |g| is within a roundoff tolerance of contact
 // (1e-12 of the scene's length scale), before the clearance falls below minus that tolerance; a
@@ -17,9 +18,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <random>
 #include <sstream>
+#include <vector>
 
 #include <stcore/toi.hpp>
 #include <stcore/tolerances.hpp>
@@ -43,21 +46,70 @@ const char* name(Outcome o) {
 
 // ---- sampling truth ---------------------------------------------------------------------------
 
-// g sampled on kGrid intervals of [0, T] and refined around its minimum.
-template <class G>
+// g sampled on Grid intervals of [0, T] and refined around every grid-local minimum, so a
+// dip between two samples is not missed even when g has several minima (quadratic paths).
+template <class G, int Grid = 128>
 class Sampled {
  public:
-  static constexpr int kGrid = 128;
+  static constexpr int kGrid = Grid;
 
   Sampled(G g, double horizon) : g_(g), T_(horizon) {
-    int m = 0;
+    for (int k = 0; k <= kGrid; ++k) s_[k] = g_(at(k));
     for (int k = 0; k <= kGrid; ++k) {
-      s_[k] = g_(at(k));
-      if (s_[k] < s_[m]) m = k;
+      const bool left = k == 0 || s_[k] < s_[k - 1];
+      const bool right = k == kGrid || s_[k] <= s_[k + 1];
+      if (left && right) minima_.push_back(refine(k));
     }
-    m_ = m;
-    // golden section on the two grid intervals around the sampled minimum
-    double a = at(std::max(m - 1, 0)), b = at(std::min(m + 1, kGrid));
+    if (minima_.empty()) minima_.push_back(refine(0));  // constant g
+    global_ = *std::min_element(minima_.begin(), minima_.end(),
+                                [](const Minimum& a, const Minimum& b) { return a.g < b.g; });
+  }
+
+  double horizon() const { return T_; }
+  double g0() const { return s_[0]; }
+  double minimum() const { return global_.g; }
+  double argMinimum() const { return global_.t; }
+  double operator()(double t) const { return g_(t); }
+
+  // First t in [0, T] with g(t) <= level.
+  std::optional<double> firstBelow(double level) const {
+    if (s_[0] <= level) return 0.0;
+    double best = kInfinity;
+    for (int k = 1; k <= kGrid; ++k)
+      if (s_[k] <= level) {
+        best = bisectDown(level, at(k - 1), at(k));
+        break;
+      }
+    for (const Minimum& m : minima_)  // a dip below level between samples
+      if (m.g <= level && m.t < best) best = std::min(best, bisectDown(level, at(std::max(m.k - 1, 0)), m.t));
+    if (best == kInfinity) return std::nullopt;
+    return best;
+  }
+  // Last t in [0, T] with g(t) <= level.
+  std::optional<double> lastBelow(double level) const {
+    if (s_[kGrid] <= level) return T_;
+    double best = -kInfinity;
+    for (int k = kGrid - 1; k >= 0; --k)
+      if (s_[k] <= level) {
+        best = bisectUp(level, at(k), at(k + 1));
+        break;
+      }
+    for (const Minimum& m : minima_)
+      if (m.g <= level && m.t > best) best = std::max(best, bisectUp(level, m.t, at(std::min(m.k + 1, kGrid))));
+    if (best == -kInfinity) return std::nullopt;
+    return best;
+  }
+
+ private:
+  static constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  struct Minimum {
+    int k;  // grid index it was found at
+    double t, g;
+  };
+  double at(int k) const { return T_ * k / kGrid; }
+  // golden section on the two grid intervals around grid point k
+  Minimum refine(int k) const {
+    double a = at(std::max(k - 1, 0)), b = at(std::min(k + 1, kGrid));
     const double r = 0.5 * (std::sqrt(5.0) - 1.0);
     double x1 = b - r * (b - a), x2 = a + r * (b - a);
     double f1 = g_(x1), f2 = g_(x2);
@@ -70,36 +122,10 @@ class Sampled {
         x2 = a + r * (b - a), f2 = g_(x2);
       }
     }
-    tMin_ = f1 <= f2 ? x1 : x2;
-    gMin_ = std::min(f1, f2);
-    if (s_[m] <= gMin_) tMin_ = at(m), gMin_ = s_[m];
+    Minimum m{k, f1 <= f2 ? x1 : x2, std::min(f1, f2)};
+    if (s_[k] <= m.g) m.t = at(k), m.g = s_[k];
+    return m;
   }
-
-  double horizon() const { return T_; }
-  double g0() const { return s_[0]; }
-  double minimum() const { return gMin_; }
-  double argMinimum() const { return tMin_; }
-  double operator()(double t) const { return g_(t); }
-
-  // First t in [0, T] with g(t) <= level.
-  std::optional<double> firstBelow(double level) const {
-    if (s_[0] <= level) return 0.0;
-    for (int k = 1; k <= kGrid; ++k)
-      if (s_[k] <= level) return bisectDown(level, at(k - 1), at(k));
-    if (gMin_ <= level) return bisectDown(level, at(std::max(m_ - 1, 0)), tMin_);
-    return std::nullopt;
-  }
-  // Last t in [0, T] with g(t) <= level.
-  std::optional<double> lastBelow(double level) const {
-    if (s_[kGrid] <= level) return T_;
-    for (int k = kGrid - 1; k >= 0; --k)
-      if (s_[k] <= level) return bisectUp(level, at(k), at(k + 1));
-    if (gMin_ <= level) return bisectUp(level, tMin_, at(std::min(m_ + 1, kGrid)));
-    return std::nullopt;
-  }
-
- private:
-  double at(int k) const { return T_ * k / kGrid; }
   // g(lo) > level >= g(hi): the crossing, from above
   double bisectDown(double level, double lo, double hi) const {
     for (int it = 0; it < 200; ++it) {
@@ -122,8 +148,8 @@ class Sampled {
   G g_;
   double T_;
   std::array<double, kGrid + 1> s_{};
-  int m_ = 0;
-  double tMin_ = 0, gMin_ = 0;
+  std::vector<Minimum> minima_;
+  Minimum global_{0, 0, 0};
 };
 
 // What a kernel run saw; every category that a kernel can produce must be exercised.
@@ -155,8 +181,8 @@ enum class Semantics { Slop, Boundary };
 
 // Checks a first-contact kernel result. rate0 is dg/dt at t = 0+, speed |v|, scale the length
 // scale of the case (coordinates, radius, distance travelled) that roundoff is relative to.
-template <class G>
-::testing::AssertionResult checkFirstContact(const Impact& got, const Sampled<G>& s, double rate0,
+template <class G, int Grid>
+::testing::AssertionResult checkFirstContact(const Impact& got, const Sampled<G, Grid>& s, double rate0,
                                              double speed, double scale, Semantics sem, Tally& tally) {
   if (auto c = contractHolds(got); !c) return c;
   const double tolG = 1e-12 * scale;
@@ -232,8 +258,8 @@ template <class G>
 
 // Checks a departure kernel (the time the trailing surface leaves a line / plane): the last
 // time the clearance is <= 0. vn is the speed across the line; below `still` it does not move.
-template <class G>
-::testing::AssertionResult checkDeparture(const Impact& got, const Sampled<G>& s, double vn, double still,
+template <class G, int Grid>
+::testing::AssertionResult checkDeparture(const Impact& got, const Sampled<G, Grid>& s, double vn, double still,
                                           double scale, Tally& tally) {
   if (auto c = contractHolds(got); !c) return c;
   if (got.outcome == Outcome::Overlapping || got.outcome == Outcome::Separating)
@@ -674,6 +700,255 @@ TEST(ToiPlaneSampled, AxisPlaneEnter2D) { planeKernel<2>(PlaneKernel::AxisEnter,
 TEST(ToiPlaneSampled, AxisPlaneEnter3D) { planeKernel<3>(PlaneKernel::AxisEnter, 306); }
 TEST(ToiPlaneSampled, AxisPlaneLeave2D) { planeKernel<2>(PlaneKernel::AxisLeave, 307); }
 TEST(ToiPlaneSampled, AxisPlaneLeave3D) { planeKernel<3>(PlaneKernel::AxisLeave, 308); }
+
+// ---- decelerating (quadratic) paths ---------------------------------------------------------------
+//
+// The same truth on p(t) = p + v t + a t^2 / 2 over [0, tMax]. The clearance is no longer convex
+// (a curving path can pass a ball, turn and come back), so it is sampled on a finer grid and every
+// local minimum is refined. Most cases are what the simulator builds: each ball decelerating
+// against its own velocity, until the first of them stops; some take an arbitrary acceleration.
+
+constexpr int kFineGrid = 2048;
+
+// A ball's deceleration: none now and then, else a rolling resistance of 0.01 to 3 m/s^2.
+template <int D>
+Vec<D> decelerationOf(Gen& gen, const Vec<D>& v, double& stop) {
+  const double mu = gen.pick(4) ? gen.logUni(-2, 0.5) : 0.0;
+  const double speed = v.norm();
+  if (mu == 0.0 || speed == 0.0) return Vec<D>::Zero();
+  stop = std::min(stop, speed / mu);
+  return -mu * v / speed;
+}
+
+// Relative motion of ball B seen from ball A, both decelerating: v_rel and a_rel from the two
+// balls' own velocities; tMax is the first stop (or a random horizon if neither decelerates).
+template <int D>
+void twoDeceleratingBalls(Gen& gen, const Vec<D>& vRel, Vec<D>& a, double& tMax) {
+  const Vec<D> va = gen.box<D>(3), vb = va + vRel;
+  double stop = std::numeric_limits<double>::infinity();
+  a = decelerationOf<D>(gen, vb, stop) - decelerationOf<D>(gen, va, stop);
+  tMax = stop < std::numeric_limits<double>::infinity() ? stop : gen.uni(0.5, 20);
+}
+
+template <int D>
+void ballsAcceleratedKernel(unsigned seed) {
+  Gen gen(seed);
+  Tally tally;
+  for (int k = 0; k < kCases; ++k) {
+    double R = gen.uni(0.01, 3);
+    Vec<D> p, v, a = Vec<D>::Zero();
+    double tMax = 1.0;
+    const Vec<D> u = gen.unit<D>(), w = gen.perpendicular<D>(u);
+    const int family = k % 8;
+    switch (family) {
+      case 0:  // generic
+        p = gen.box<D>(10), v = gen.box<D>(5);
+        twoDeceleratingBalls<D>(gen, v, a, tMax);
+        break;
+      case 1:  // aimed with an impact parameter around R
+        p = gen.uni(R, 10 + R) * u + gen.uni(0, 1.5 * R) * w, v = -gen.uni(0.1, 5) * u;
+        twoDeceleratingBalls<D>(gen, v, a, tMax);
+        break;
+      case 2:  // grazing aim
+        p = gen.uni(R, 10 + R) * u + R * (1.0 + (gen.pick(5) ? gen.sign() * gen.logUni(-15, -2) : 0.0)) * w;
+        v = -gen.uni(0.1, 5) * u;
+        twoDeceleratingBalls<D>(gen, v, a, tMax);
+        break;
+      case 3:  // touching
+        p = (R + gen.touchOffset()) * u, v = touchVelocity<D>(gen, u);
+        twoDeceleratingBalls<D>(gen, v, a, tMax);
+        break;
+      case 4:  // overlapping
+        p = (gen.pick(10) ? gen.uni(0, 0.999) * R : 0.0) * u, v = gen.box<D>(5);
+        twoDeceleratingBalls<D>(gen, v, a, tMax);
+        break;
+      case 5: {  // head-on at a ball at rest, stopping just short of it or just reaching it
+        const double gap = gen.uni(0.1, 8), speed = gen.uni(0.1, 5);
+        const double reach = gap * (1.0 + (gen.pick(5) ? gen.sign() * gen.logUni(-12, -1) : 0.0));
+        const double mu = speed * speed / (2.0 * reach);
+        p = (gap + R) * u + gen.uni(0, 0.5 * R) * w * (gen.pick(2) ? 1.0 : 0.0);
+        v = -speed * u, a = mu * u;  // the moving ball's deceleration, seen from it: B accelerates towards +u
+        tMax = speed / mu;
+        break;
+      }
+      case 6:  // any acceleration: curving paths that pass, turn and come back
+        p = gen.box<D>(6), v = gen.box<D>(4), a = gen.box<D>(4), tMax = gen.uni(0.1, 10);
+        break;
+      default:  // tiny radii, slow starts
+        R = gen.logUni(-6, -2);
+        p = gen.uni(R, 2) * u + gen.uni(0, 1.5 * R) * w, v = -gen.logUni(-4, 0.5) * u;
+        twoDeceleratingBalls<D>(gen, v, a, tMax);
+        break;
+    }
+    const Impact got = toiBallsAccelerated<D>(p, v, a, R, tMax);
+    auto g = [p, v, a, R](double t) { return (p + v * t + (0.5 * t * t) * a).norm() - R; };
+    const Sampled<decltype(g), kFineGrid> s(g, tMax);
+    const double speed = v.norm();
+    const double rate0 = p.norm() > 0 ? p.dot(v) / p.norm() : speed;
+    const double scale = p.norm() + R + speed * tMax + a.norm() * tMax * tMax;
+    ::testing::AssertionResult r = ::testing::AssertionSuccess();
+    r = checkFirstContact(got, s, rate0, speed, scale, Semantics::Slop, tally);
+    ASSERT_TRUE(r) << "case " << k << " family " << family << std::hexfloat << " p=" << p.transpose()
+                   << " v=" << v.transpose() << " a=" << a.transpose() << " R=" << R << " tMax=" << tMax;
+  }
+  EXPECT_GT(tally.hit, kCases / 10);
+  EXPECT_GT(tally.miss, kCases / 10);
+  EXPECT_GT(tally.hitAtZero, 500);
+  EXPECT_GT(tally.overlapping, 1000);
+  EXPECT_GT(tally.separating, 1000);
+  EXPECT_LT(tally.band, kCases / 5);
+  EXPECT_EQ(tally.total(), kCases);
+}
+
+TEST(ToiAcceleratedSampled, Circles) { ballsAcceleratedKernel<2>(401); }
+TEST(ToiAcceleratedSampled, Spheres) { ballsAcceleratedKernel<3>(402); }
+
+template <int D>
+void planeAcceleratedKernel(unsigned seed) {
+  Gen gen(seed);
+  Tally tally;
+  for (int k = 0; k < kCases; ++k) {
+    const int family = k % 8;
+    const Vec<D> n = gen.pick(4) ? gen.unit<D>() : Vec<D>::Unit(gen.pick(D));
+    const double offset = gen.uni(-5, 5);
+    PlaneCase<D> pc = planeCase<D>(gen, std::min(family, 6), n, offset);
+    Vec<D> a = Vec<D>::Zero();
+    double stop = std::numeric_limits<double>::infinity();
+    if (family == 7) {  // towards the plane, stopping just short of it or just reaching it
+      const double side = (pc.c.dot(n) - offset) >= 0 ? 1.0 : -1.0;
+      pc.c = pc.c + (gen.uni(pc.r + 0.1, 8) - std::abs(pc.c.dot(n) - offset)) * side * n;
+      const double gap = std::abs(pc.c.dot(n) - offset) - pc.r, speed = gen.uni(0.1, 5);
+      const double reach = gap * (1.0 + (gen.pick(5) ? gen.sign() * gen.logUni(-12, -1) : 0.0));
+      pc.v = -speed * side * n;
+      a = (speed * speed / (2.0 * reach)) * side * n;
+      stop = 2.0 * reach / speed;
+    } else if (family == 6 && gen.coin()) {  // any acceleration
+      a = gen.box<D>(4), stop = gen.uni(0.1, 10);
+    } else {
+      a = decelerationOf<D>(gen, pc.v, stop);
+    }
+    const double tMax = stop < std::numeric_limits<double>::infinity() ? stop : gen.uni(0.5, 20);
+    const Vec<D> c = pc.c, v = pc.v;
+    const double r = pc.r;
+    const Impact got = toiBallPlaneAccelerated<D>(Ball<D>{c, r}, v, a, n, offset, tMax);
+    auto g = [c, v, a, n, offset, r](double t) { return std::abs(n.dot(c + v * t + (0.5 * t * t) * a) - offset) - r; };
+    const Sampled<decltype(g), kFineGrid> s(g, tMax);
+    const double d0 = n.dot(c) - offset, vn = n.dot(v), speed = v.norm();
+    const double rate0 = d0 > 0 ? vn : d0 < 0 ? -vn : 0.0;
+    const double scale = c.norm() + std::abs(offset) + r + speed * tMax + a.norm() * tMax * tMax;
+    const ::testing::AssertionResult res = checkFirstContact(got, s, rate0, speed, scale, Semantics::Slop, tally);
+    ASSERT_TRUE(res) << "case " << k << " family " << family << std::hexfloat << " c=" << c.transpose()
+                     << " v=" << v.transpose() << " a=" << a.transpose() << " n=" << n.transpose()
+                     << " offset=" << offset << " r=" << r << " tMax=" << tMax;
+  }
+  EXPECT_GT(tally.hit, kCases / 10);
+  EXPECT_GT(tally.miss, kCases / 10);
+  EXPECT_GT(tally.hitAtZero, 500);
+  EXPECT_GT(tally.overlapping, 1000);
+  EXPECT_GT(tally.separating, 1000);
+  EXPECT_LT(tally.band, kCases / 5);
+  EXPECT_EQ(tally.total(), kCases);
+}
+
+TEST(ToiAcceleratedSampled, BallPlane2D) { planeAcceleratedKernel<2>(403); }
+TEST(ToiAcceleratedSampled, BallPlane3D) { planeAcceleratedKernel<3>(404); }
+
+TEST(ToiAcceleratedSampled, CircleSegment) {
+  Gen gen(405);
+  Tally tally;
+  int faceHits = 0, endHits = 0;
+  for (int k = 0; k < kCases; ++k) {
+    const Vec2 a = gen.box<2>(5);
+    const double len = gen.pick(20) ? gen.uni(0.1, 6) : 0.0;
+    const Vec2 dirUnit = gen.unit<2>();
+    const Vec2 b = a + len * dirUnit;
+    const Vec2 nrm(-dirUnit.y(), dirUnit.x());
+    const double r = gen.uni(0.05, 2);
+    Vec2 c, v, acc = Vec2::Zero();
+    double stop = std::numeric_limits<double>::infinity();
+    const int family = k % 8;
+    switch (family) {
+      case 0:  // generic
+        c = gen.box<2>(10), v = gen.box<2>(5);
+        break;
+      case 1:
+      case 2: {  // aimed near a point on or beyond the segment; grazing the end points in family 2
+        const Vec2 target = family == 1 ? a + gen.uni(-0.3, 1.3) * (b - a) : (gen.coin() ? a : b);
+        const Vec2 d = gen.unit<2>();
+        const double h = family == 1 ? gen.uni(-1.5, 1.5) * r
+                                     : gen.sign() * r * (1.0 + (gen.pick(5) ? gen.sign() * gen.logUni(-15, -2) : 0.0));
+        c = target - gen.uni(r + 0.1, 8) * d + h * Vec2(-d.y(), d.x());
+        v = gen.uni(0.1, 5) * d;
+        break;
+      }
+      case 3: {  // touching the face or an end
+        const bool face = gen.coin();
+        const Vec2 q = face ? Vec2(a + gen.uni(0.05, 0.95) * (b - a)) : (gen.coin() ? a : b);
+        Vec2 out = face ? Vec2(gen.sign() * nrm) : gen.unit<2>();
+        if (!face && out.dot((q == a ? -1.0 : 1.0) * dirUnit) < 0) out = -out;
+        c = q + (r + gen.touchOffset()) * out;
+        v = touchVelocity<2>(gen, out);
+        break;
+      }
+      case 4:  // overlapping
+        c = a + gen.uni(0, 1) * (b - a) + gen.uni(0, 0.999) * r * gen.unit<2>(), v = gen.box<2>(5);
+        break;
+      case 5: {  // straight at the face, stopping just short of it or just reaching it
+        const Vec2 q = a + gen.uni(0.05, 0.95) * (b - a);
+        const Vec2 out = gen.sign() * (len > 0 ? nrm : gen.unit<2>());
+        const double gap = gen.uni(0.1, 8), speed = gen.uni(0.1, 5);
+        const double reach = gap * (1.0 + (gen.pick(5) ? gen.sign() * gen.logUni(-12, -1) : 0.0));
+        c = q + (r + gap) * out, v = -speed * out;
+        acc = (speed * speed / (2.0 * reach)) * out;
+        stop = 2.0 * reach / speed;
+        break;
+      }
+      case 6:  // any acceleration
+        c = gen.box<2>(8), v = gen.box<2>(4), acc = gen.box<2>(4), stop = gen.uni(0.1, 10);
+        break;
+      default:  // sliding along the segment's line at about clearance r, decelerating
+        c = a - gen.uni(r + 0.1, 3) * dirUnit + gen.sign() * (r * (1.0 + gen.uni(-0.5, 0.01))) * nrm;
+        v = gen.uni(0.1, 5) * dirUnit;
+        break;
+    }
+    if (family != 5 && family != 6) acc = decelerationOf<2>(gen, v, stop);
+    const double tMax = stop < std::numeric_limits<double>::infinity() ? stop : gen.uni(0.5, 20);
+    const Segment seg{a, b};
+    const SegmentImpact got = toiCircleSegmentAccelerated(Circle{c, r}, v, acc, seg, tMax);
+    auto g = [a, b, c, v, acc, r](double t) { return distanceToSegment(c + v * t + (0.5 * t * t) * acc, a, b) - r; };
+    const Sampled<decltype(g), kFineGrid> s(g, tMax);
+    Vec2 q0;
+    const double d0 = distanceToSegment(c, a, b, &q0);
+    const double speed = v.norm();
+    const double rate0 = d0 > 0 ? (c - q0).dot(v) / d0 : 0.0;
+    const double scale = c.norm() + a.norm() + len + r + speed * tMax + acc.norm() * tMax * tMax;
+    ::testing::AssertionResult res = checkFirstContact(got.impact, s, rate0, speed, scale, Semantics::Slop, tally);
+    if (res && got.impact.outcome == Outcome::Hit && got.impact.t > 0 && len > 0) {
+      const double t = got.impact.t;
+      const Vec2 x = c + v * t + (0.5 * t * t) * acc;
+      const double u = (x - a).dot(b - a) / (len * len);
+      const double margin = 1e-6;
+      const SegmentFeature want = u < -margin ? SegmentFeature::EndA : u > 1 + margin ? SegmentFeature::EndB
+                                                                                      : SegmentFeature::Face;
+      const bool junction = std::abs(u) <= margin || std::abs(u - 1) <= margin;
+      if (!junction && got.feature != want)
+        res = ::testing::AssertionFailure() << "feature " << static_cast<int>(got.feature) << " but u=" << u;
+      if (!junction) ++(want == SegmentFeature::Face ? faceHits : endHits);
+    }
+    ASSERT_TRUE(res) << "case " << k << " family " << family << std::hexfloat << " a=" << a.transpose()
+                     << " b=" << b.transpose() << " c=" << c.transpose() << " v=" << v.transpose()
+                     << " acc=" << acc.transpose() << " r=" << r << " tMax=" << tMax;
+  }
+  EXPECT_GT(tally.hit, kCases / 10);
+  EXPECT_GT(tally.miss, kCases / 10);
+  EXPECT_GT(tally.hitAtZero, 500);
+  EXPECT_GT(tally.overlapping, 1000);
+  EXPECT_GT(tally.separating, 1000);
+  EXPECT_LT(tally.band, kCases / 5);
+  EXPECT_GT(faceHits, kCases / 20);
+  EXPECT_GT(endHits, kCases / 20);
+  EXPECT_EQ(tally.total(), kCases);
+}
 
 // ---- hand-checked cases (analytic) ---------------------------------------------------------------
 
