@@ -174,6 +174,18 @@ struct Tally {
   return ::testing::AssertionFailure() << name(got.outcome) << " with t = " << got.t;
 }
 
+// Every outcome of a first-contact kernel was exercised on kCases cases; the roundoff band (either
+// answer right: grazing and tangential families sit there by design) stays a minority.
+void expectEveryOutcome(const Tally& tally) {
+  EXPECT_GT(tally.hit, kCases / 10);
+  EXPECT_GT(tally.miss, kCases / 10);
+  EXPECT_GT(tally.hitAtZero, 500);
+  EXPECT_GT(tally.overlapping, 1000);
+  EXPECT_GT(tally.separating, 1000);
+  EXPECT_LT(tally.band, kCases / 5);
+  EXPECT_EQ(tally.total(), kCases);
+}
+
 // Which start conditions count as contact: Slop for obstacles (touching within the linear slop
 // acts at once when approaching; separating contacts are left alone), Boundary for space
 // boundaries (any overlap with the line or plane is "already overlapping").
@@ -417,14 +429,7 @@ void ballsKernel(unsigned seed, bool throughPointWrapper) {
     ASSERT_TRUE(r) << "case " << k << " family " << family << std::hexfloat << " p=" << p.transpose()
                    << " v=" << v.transpose() << " R=" << R;
   }
-  // every outcome was exercised; the roundoff band (either answer right) stays a minority
-  EXPECT_GT(tally.hit, kCases / 10);
-  EXPECT_GT(tally.miss, kCases / 10);
-  EXPECT_GT(tally.hitAtZero, 500);
-  EXPECT_GT(tally.overlapping, 1000);
-  EXPECT_GT(tally.separating, 1000);
-  EXPECT_LT(tally.band, kCases / 5);  // grazing and tangential families sit in the band by design
-  EXPECT_EQ(tally.total(), kCases);
+  expectEveryOutcome(tally);
 }
 
 TEST(ToiBallsSampled, Circles) { ballsKernel<2>(101, false); }
@@ -442,17 +447,56 @@ double distanceToSegment(const Vec2& x, const Vec2& a, const Vec2& b, Vec2* clos
   return (x - q).norm();
 }
 
+// A random segment (now and then a degenerate point) and ball radius.
+struct SegmentCase {
+  Vec2 a, b, dirUnit, nrm;
+  double len = 0, r = 0;
+};
+
+SegmentCase randomSegment(Gen& gen) {
+  SegmentCase sc;
+  sc.a = gen.box<2>(5);
+  sc.len = gen.pick(20) ? gen.uni(0.1, 6) : 0.0;
+  sc.dirUnit = gen.unit<2>();
+  sc.b = sc.a + sc.len * sc.dirUnit;
+  sc.nrm = Vec2(-sc.dirUnit.y(), sc.dirUnit.x());
+  sc.r = gen.uni(0.05, 2);
+  return sc;
+}
+
+// Aimed near a point on or beyond the segment, or grazing its end points.
+void aimAtSegment(Gen& gen, const SegmentCase& sc, bool grazeEnds, Vec2& c, Vec2& v) {
+  const Vec2 target = !grazeEnds ? Vec2(sc.a + gen.uni(-0.3, 1.3) * (sc.b - sc.a)) : (gen.coin() ? sc.a : sc.b);
+  const Vec2 d = gen.unit<2>();
+  const double h = !grazeEnds ? gen.uni(-1.5, 1.5) * sc.r
+                              : gen.sign() * sc.r * (1.0 + (gen.pick(5) ? gen.sign() * gen.logUni(-15, -2) : 0.0));
+  c = target - gen.uni(sc.r + 0.1, 8) * d + h * Vec2(-d.y(), d.x());
+  v = gen.uni(0.1, 5) * d;
+}
+
+// The feature reported is the one touched: the circle's centre x at contact projects inside the
+// segment for Face, beyond the named end for EndA / EndB (unless at the junction).
+::testing::AssertionResult touchedFeature(const SegmentImpact& got, const SegmentCase& sc, const Vec2& x,
+                                          int& faceHits, int& endHits) {
+  const double u = (x - sc.a).dot(sc.b - sc.a) / (sc.len * sc.len);
+  const double margin = 1e-6;
+  const SegmentFeature want = u < -margin ? SegmentFeature::EndA : u > 1 + margin ? SegmentFeature::EndB
+                                                                                  : SegmentFeature::Face;
+  if (std::abs(u) <= margin || std::abs(u - 1) <= margin) return ::testing::AssertionSuccess();
+  if (got.feature != want)
+    return ::testing::AssertionFailure() << "feature " << static_cast<int>(got.feature) << " but u=" << u;
+  ++(want == SegmentFeature::Face ? faceHits : endHits);
+  return ::testing::AssertionSuccess();
+}
+
 TEST(ToiSegmentSampled, AgainstDenseSampling) {
   Gen gen(201);
   Tally tally;
   int faceHits = 0, endHits = 0;
   for (int k = 0; k < kCases; ++k) {
-    const Vec2 a = gen.box<2>(5);
-    const double len = gen.pick(20) ? gen.uni(0.1, 6) : 0.0;  // some degenerate (point) segments
-    const Vec2 dirUnit = gen.unit<2>();
-    const Vec2 b = a + len * dirUnit;
-    const Vec2 nrm(-dirUnit.y(), dirUnit.x());
-    const double r = gen.uni(0.05, 2);
+    const SegmentCase sc = randomSegment(gen);
+    const Vec2 a = sc.a, b = sc.b, dirUnit = sc.dirUnit, nrm = sc.nrm;
+    const double len = sc.len, r = sc.r;
     Vec2 c, v;
     const int family = k % 9;
     switch (family) {
@@ -460,15 +504,9 @@ TEST(ToiSegmentSampled, AgainstDenseSampling) {
         c = gen.box<2>(10), v = gen.box<2>(5);
         break;
       case 1:
-      case 2: {  // aimed near a point on or beyond the segment; grazing the end points in family 2
-        const Vec2 target = family == 1 ? a + gen.uni(-0.3, 1.3) * (b - a) : (gen.coin() ? a : b);
-        const Vec2 d = gen.unit<2>();
-        const double h = family == 1 ? gen.uni(-1.5, 1.5) * r
-                                     : gen.sign() * r * (1.0 + (gen.pick(5) ? gen.sign() * gen.logUni(-15, -2) : 0.0));
-        c = target - gen.uni(r + 0.1, 8) * d + h * Vec2(-d.y(), d.x());
-        v = gen.uni(0.1, 5) * d;
+      case 2:  // aimed near a point on or beyond the segment; grazing the end points in family 2
+        aimAtSegment(gen, sc, family == 2, c, v);
         break;
-      }
       case 3: {  // sliding parallel to the segment, at or near clearance r from its line
         static constexpr double offsets[] = {0.0, 1e-12, -1e-12, 1e-6, -1e-6, -0.5, -1.0};
         const double off = offsets[gen.pick(7)];
@@ -521,31 +559,14 @@ TEST(ToiSegmentSampled, AgainstDenseSampling) {
     } else {
       res = checkFirstContact(got.impact, s, rate0, speed, scale, Semantics::Slop, tally);
     }
-    // the feature reported is the one touched: the circle's centre at contact projects inside
-    // the segment for Face, beyond the named end for EndA / EndB (unless at the junction)
-    if (res && got.impact.outcome == Outcome::Hit && got.impact.t > 0 && len > 0) {
-      const Vec2 x = c + v * got.impact.t;
-      const double u = (x - a).dot(b - a) / (len * len);
-      const double margin = 1e-6;
-      const SegmentFeature want = u < -margin ? SegmentFeature::EndA : u > 1 + margin ? SegmentFeature::EndB
-                                                                                      : SegmentFeature::Face;
-      const bool junction = std::abs(u) <= margin || std::abs(u - 1) <= margin;
-      if (!junction && got.feature != want)
-        res = ::testing::AssertionFailure() << "feature " << static_cast<int>(got.feature) << " but u=" << u;
-      if (!junction) ++(want == SegmentFeature::Face ? faceHits : endHits);
-    }
+    if (res && got.impact.outcome == Outcome::Hit && got.impact.t > 0 && len > 0)
+      res = touchedFeature(got, sc, c + v * got.impact.t, faceHits, endHits);
     ASSERT_TRUE(res) << "case " << k << " family " << family << std::hexfloat << " a=" << a.transpose()
                      << " b=" << b.transpose() << " c=" << c.transpose() << " v=" << v.transpose() << " r=" << r;
   }
-  EXPECT_GT(tally.hit, kCases / 10);
-  EXPECT_GT(tally.miss, kCases / 10);
-  EXPECT_GT(tally.hitAtZero, 500);
-  EXPECT_GT(tally.overlapping, 1000);
-  EXPECT_GT(tally.separating, 1000);
-  EXPECT_LT(tally.band, kCases / 5);  // grazing and tangential families sit in the band by design
+  expectEveryOutcome(tally);
   EXPECT_GT(faceHits, kCases / 20);
   EXPECT_GT(endHits, kCases / 20);
-  EXPECT_EQ(tally.total(), kCases);
 }
 
 // ---- lines and planes ------------------------------------------------------------------------------
@@ -791,13 +812,7 @@ void ballsAcceleratedKernel(unsigned seed) {
     ASSERT_TRUE(r) << "case " << k << " family " << family << std::hexfloat << " p=" << p.transpose()
                    << " v=" << v.transpose() << " a=" << a.transpose() << " R=" << R << " tMax=" << tMax;
   }
-  EXPECT_GT(tally.hit, kCases / 10);
-  EXPECT_GT(tally.miss, kCases / 10);
-  EXPECT_GT(tally.hitAtZero, 500);
-  EXPECT_GT(tally.overlapping, 1000);
-  EXPECT_GT(tally.separating, 1000);
-  EXPECT_LT(tally.band, kCases / 5);
-  EXPECT_EQ(tally.total(), kCases);
+  expectEveryOutcome(tally);
 }
 
 TEST(ToiAcceleratedSampled, Circles) { ballsAcceleratedKernel<2>(401); }
@@ -841,13 +856,7 @@ void planeAcceleratedKernel(unsigned seed) {
                      << " v=" << v.transpose() << " a=" << a.transpose() << " n=" << n.transpose()
                      << " offset=" << offset << " r=" << r << " tMax=" << tMax;
   }
-  EXPECT_GT(tally.hit, kCases / 10);
-  EXPECT_GT(tally.miss, kCases / 10);
-  EXPECT_GT(tally.hitAtZero, 500);
-  EXPECT_GT(tally.overlapping, 1000);
-  EXPECT_GT(tally.separating, 1000);
-  EXPECT_LT(tally.band, kCases / 5);
-  EXPECT_EQ(tally.total(), kCases);
+  expectEveryOutcome(tally);
 }
 
 TEST(ToiAcceleratedSampled, BallPlane2D) { planeAcceleratedKernel<2>(403); }
@@ -858,12 +867,9 @@ TEST(ToiAcceleratedSampled, CircleSegment) {
   Tally tally;
   int faceHits = 0, endHits = 0;
   for (int k = 0; k < kCases; ++k) {
-    const Vec2 a = gen.box<2>(5);
-    const double len = gen.pick(20) ? gen.uni(0.1, 6) : 0.0;
-    const Vec2 dirUnit = gen.unit<2>();
-    const Vec2 b = a + len * dirUnit;
-    const Vec2 nrm(-dirUnit.y(), dirUnit.x());
-    const double r = gen.uni(0.05, 2);
+    const SegmentCase sc = randomSegment(gen);
+    const Vec2 a = sc.a, b = sc.b, dirUnit = sc.dirUnit, nrm = sc.nrm;
+    const double len = sc.len, r = sc.r;
     Vec2 c, v, acc = Vec2::Zero();
     double stop = std::numeric_limits<double>::infinity();
     const int family = k % 8;
@@ -872,15 +878,9 @@ TEST(ToiAcceleratedSampled, CircleSegment) {
         c = gen.box<2>(10), v = gen.box<2>(5);
         break;
       case 1:
-      case 2: {  // aimed near a point on or beyond the segment; grazing the end points in family 2
-        const Vec2 target = family == 1 ? a + gen.uni(-0.3, 1.3) * (b - a) : (gen.coin() ? a : b);
-        const Vec2 d = gen.unit<2>();
-        const double h = family == 1 ? gen.uni(-1.5, 1.5) * r
-                                     : gen.sign() * r * (1.0 + (gen.pick(5) ? gen.sign() * gen.logUni(-15, -2) : 0.0));
-        c = target - gen.uni(r + 0.1, 8) * d + h * Vec2(-d.y(), d.x());
-        v = gen.uni(0.1, 5) * d;
+      case 2:  // aimed near a point on or beyond the segment; grazing the end points in family 2
+        aimAtSegment(gen, sc, family == 2, c, v);
         break;
-      }
       case 3: {  // touching the face or an end
         const bool face = gen.coin();
         const Vec2 q = face ? Vec2(a + gen.uni(0.05, 0.95) * (b - a)) : (gen.coin() ? a : b);
@@ -925,29 +925,15 @@ TEST(ToiAcceleratedSampled, CircleSegment) {
     ::testing::AssertionResult res = checkFirstContact(got.impact, s, rate0, speed, scale, Semantics::Slop, tally);
     if (res && got.impact.outcome == Outcome::Hit && got.impact.t > 0 && len > 0) {
       const double t = got.impact.t;
-      const Vec2 x = c + v * t + (0.5 * t * t) * acc;
-      const double u = (x - a).dot(b - a) / (len * len);
-      const double margin = 1e-6;
-      const SegmentFeature want = u < -margin ? SegmentFeature::EndA : u > 1 + margin ? SegmentFeature::EndB
-                                                                                      : SegmentFeature::Face;
-      const bool junction = std::abs(u) <= margin || std::abs(u - 1) <= margin;
-      if (!junction && got.feature != want)
-        res = ::testing::AssertionFailure() << "feature " << static_cast<int>(got.feature) << " but u=" << u;
-      if (!junction) ++(want == SegmentFeature::Face ? faceHits : endHits);
+      res = touchedFeature(got, sc, c + v * t + (0.5 * t * t) * acc, faceHits, endHits);
     }
     ASSERT_TRUE(res) << "case " << k << " family " << family << std::hexfloat << " a=" << a.transpose()
                      << " b=" << b.transpose() << " c=" << c.transpose() << " v=" << v.transpose()
                      << " acc=" << acc.transpose() << " r=" << r << " tMax=" << tMax;
   }
-  EXPECT_GT(tally.hit, kCases / 10);
-  EXPECT_GT(tally.miss, kCases / 10);
-  EXPECT_GT(tally.hitAtZero, 500);
-  EXPECT_GT(tally.overlapping, 1000);
-  EXPECT_GT(tally.separating, 1000);
-  EXPECT_LT(tally.band, kCases / 5);
+  expectEveryOutcome(tally);
   EXPECT_GT(faceHits, kCases / 20);
   EXPECT_GT(endHits, kCases / 20);
-  EXPECT_EQ(tally.total(), kCases);
 }
 
 // ---- hand-checked cases (analytic) ---------------------------------------------------------------
