@@ -10,6 +10,9 @@
 #include <stbatch/experiment.hpp>
 #include <stbatch/mpi.hpp>
 #include <stbatch/runner.hpp>
+#ifdef STSIM_HAVE_COSIM
+#include <stcosim/scenario.hpp>
+#endif
 #include <stsim/cli.hpp>
 #include <stsim/commands.hpp>
 
@@ -26,11 +29,9 @@ void onInterrupt(int) { gStop = 1; }
 std::vector<std::string> optionalKeysFor(const std::string& command) {
   if (command == "pool")
     return {"until", "friction", "seed", "space.kind", "space.decomposition_factor", "space.divisions", "rack_gap"};
-  if (command == "highway")
-    return {"seed", "end", "demand_scale", "validate_ssm", "detector", "layout", "motion", "broadphase", "check_road",
-            "penetration", "action", "brake.deceleration", "brake.duration", "safe_time.vehicle_reaction",
-            "safe_time.road_reaction", "concentric.inner_margin", "concentric.outer_margin", "cells.length",
-            "cells.hysteresis_db", "cells.decomposition_factor", "cells.max_depth", "collision_action"};
+#ifdef STSIM_HAVE_COSIM
+  if (command == "highway") return st::cosim::scenarioKeys();
+#endif
   return {"seed"};
 }
 

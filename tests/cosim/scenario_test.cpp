@@ -77,6 +77,50 @@ TEST(Scenario, UnknownKeyAndBadValuesAreNamed) {
   EXPECT_NE(e.find("sumocfg: missing"), std::string::npos) << e;
 }
 
+TEST(Scenario, BrakeSettingsAndTheRetiredDurationKey) {
+  const auto dir = freshDir("brake_keys");
+  std::filesystem::copy(motorway().parent_path(), dir / "net", std::filesystem::copy_options::recursive);
+  std::ofstream(dir / "a.yaml") << "sumocfg: net/motorway.sumocfg\naction: brake\n"
+                                   "brake: {deceleration: 2.5, max_deceleration: 6, standstill_gap: 2}\n";
+  const Scenario s = loadScenario(dir / "a.yaml");
+  EXPECT_EQ(s.plugin.actions.action, Action::Brake);
+  EXPECT_DOUBLE_EQ(s.plugin.actions.brakeDeceleration, 2.5);
+  EXPECT_DOUBLE_EQ(s.plugin.actions.brakeMaxDeceleration, 6.0);
+  EXPECT_DOUBLE_EQ(s.plugin.actions.brakeStandstillGap, 2.0);
+  std::ofstream(dir / "b.yaml") << "sumocfg: net/motorway.sumocfg\nbrake:\n  duration: 1.0\n";
+  std::string e = errorOf([&] { loadScenario(dir / "b.yaml"); });
+  EXPECT_NE(e.find("b.yaml:3: brake.duration: no longer used"), std::string::npos) << e;
+  std::ofstream(dir / "c.yaml") << "sumocfg: net/motorway.sumocfg\nbrake: {deceleration: 5, max_deceleration: 4}\n";
+  e = errorOf([&] { loadScenario(dir / "c.yaml"); });
+  EXPECT_NE(e.find("brake.max_deceleration: must be at least brake.deceleration"), std::string::npos) << e;
+}
+
+// scenarioKeys() is what the reader accepts (and what a batch may sweep): each key, nested as its
+// dots say, is known to the reader (its value may still be wrong), and a near miss is not.
+TEST(Scenario, EveryListedKeyIsKnownToTheReader) {
+  const auto dir = freshDir("listed_keys");
+  auto yamlFor = [](const std::string& dotted) {
+    std::string yaml = "sumocfg: x.sumocfg\n", indent;
+    std::size_t from = 0;
+    if (dotted == "sumocfg") return yaml;
+    while (true) {
+      const std::size_t dot = dotted.find('.', from);
+      yaml += indent + dotted.substr(from, dot - from) + (dot == std::string::npos ? ": 0\n" : ":\n");
+      if (dot == std::string::npos) return yaml;
+      indent += "  ";
+      from = dot + 1;
+    }
+  };
+  ASSERT_GT(scenarioKeys().size(), 30u);
+  for (const std::string& k : scenarioKeys()) {
+    std::ofstream(dir / "k.yaml") << yamlFor(k);
+    const std::string e = errorOf([&] { loadScenario(dir / "k.yaml"); });
+    EXPECT_EQ(e.find("unknown key"), std::string::npos) << k << ": " << e;
+    std::ofstream(dir / "k.yaml") << yamlFor(k + "x");
+    EXPECT_NE(errorOf([&] { loadScenario(dir / "k.yaml"); }).find(k + "x: unknown key"), std::string::npos) << k;
+  }
+}
+
 // A typo in smart_types would equip nobody without a word; whole-number keys must not be
 // truncated silently; an empty file names itself.
 TEST(Scenario, UnknownSmartTypeFractionalIntegersAndEmptyFileAreNamed) {

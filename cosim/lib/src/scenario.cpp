@@ -31,6 +31,15 @@ std::vector<std::string> splitList(const std::string& s) {
   return out;
 }
 
+// The keys directly under a section of scenarioKeys() ("" for the top level).
+std::set<std::string> keysUnder(const std::string& section) {
+  const std::string prefix = section.empty() ? "" : section + ".";
+  std::set<std::string> out;
+  for (const std::string& k : scenarioKeys())
+    if (k.compare(0, prefix.size(), prefix) == 0) out.insert(k.substr(prefix.size(), k.find('.', prefix.size()) - prefix.size()));
+  return out;
+}
+
 // A YAML reader that names the file, line and key in every error.
 class Reader {
  public:
@@ -138,9 +147,7 @@ void readYaml(const fs::path& path, Scenario& s) {
     throw ScenarioError(path.string() + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
   }
   const Reader r(path);
-  r.checkKeys(root, "", {"sumocfg", "seed", "end", "demand_scale", "validate_ssm", "detector", "layout", "motion", "broadphase", "check_road",
-                         "penetration", "smart_types", "action", "brake", "safe_time", "concentric", "cells",
-                         "collision_action", "sumo_args", "out", "description"});
+  r.checkKeys(root, "", keysUnder(""));
   if (!root["sumocfg"]) r.fail(root, "sumocfg", "missing (the SUMO configuration to run)");
   s.sumocfg = path.parent_path() / r.text(root["sumocfg"], "sumocfg");
   hw::MonitorConfig& m = s.plugin.monitor;
@@ -164,31 +171,36 @@ void readYaml(const fs::path& path, Scenario& s) {
   if (auto n = root["action"])
     if (!parseAction(r.text(n, "action"), s.plugin.actions.action)) r.fail(n, "action", "must be none, color or brake");
   if (auto b = root["brake"]) {
-    r.checkKeys(b, "brake", {"deceleration", "duration"});
-    if (auto n = b["deceleration"]) s.plugin.actions.brakeDeceleration = r.number(n, "brake.deceleration", 0.1, 20);
-    if (auto n = b["duration"]) s.plugin.actions.brakeDuration = r.number(n, "brake.duration", 0.01, 60);
+    if (auto n = b["duration"])  // an early version's key: say what replaced it rather than "unknown"
+      r.fail(n, "brake.duration", "no longer used: a braking car slows to its foe's speed (see brake.deceleration)");
+    r.checkKeys(b, "brake", keysUnder("brake"));
+    ActionConfig& a = s.plugin.actions;
+    if (auto n = b["deceleration"]) a.brakeDeceleration = r.number(n, "brake.deceleration", 0.1, 20);
+    if (auto n = b["max_deceleration"]) a.brakeMaxDeceleration = r.number(n, "brake.max_deceleration", 0.1, 50);
+    if (auto n = b["standstill_gap"]) a.brakeStandstillGap = r.number(n, "brake.standstill_gap", 0, 100);
+    if (a.brakeMaxDeceleration < a.brakeDeceleration)
+      r.fail(b, "brake.max_deceleration", "must be at least brake.deceleration");
   }
   if (auto st = root["safe_time"]) {
-    r.checkKeys(st, "safe_time", {"vehicle_reaction", "road_reaction", "brake_force"});
+    r.checkKeys(st, "safe_time", keysUnder("safe_time"));
     if (auto n = st["vehicle_reaction"]) m.safeTime.vehicleReactionTime = r.number(n, "safe_time.vehicle_reaction", 0, 60);
     if (auto n = st["road_reaction"]) m.safeTime.roadReactionTime = r.number(n, "safe_time.road_reaction", 0, 60);
     if (auto bf = st["brake_force"]) {
-      static const char* names[] = {"passenger", "truck", "bus", "motorcycle", "emergency", "other"};
-      r.checkKeys(bf, "safe_time.brake_force", {names, names + hw::kVehicleClassCount});
-      for (int c = 0; c < hw::kVehicleClassCount; ++c)
-        if (auto n = bf[names[c]])
-          m.safeTime.brakeForce[static_cast<std::size_t>(c)] =
-              r.number(n, std::string("safe_time.brake_force.") + names[c], 1, 1e8);
+      r.checkKeys(bf, "safe_time.brake_force", keysUnder("safe_time.brake_force"));
+      for (int c = 0; c < hw::kVehicleClassCount; ++c) {
+        const char* name = hw::toString(static_cast<hw::VehicleClass>(c));
+        if (auto n = bf[name])
+          m.safeTime.brakeForce[static_cast<std::size_t>(c)] = r.number(n, std::string("safe_time.brake_force.") + name, 1, 1e8);
+      }
     }
   }
   if (auto c = root["concentric"]) {
-    r.checkKeys(c, "concentric", {"inner_margin", "outer_margin"});
+    r.checkKeys(c, "concentric", keysUnder("concentric"));
     if (auto n = c["inner_margin"]) m.detector.concentric.innerMargin = r.number(n, "concentric.inner_margin", 0, 100);
     if (auto n = c["outer_margin"]) m.detector.concentric.outerMargin = r.number(n, "concentric.outer_margin", 0, 100);
   }
   if (auto c = root["cells"]) {
-    r.checkKeys(c, "cells", {"length", "hysteresis_db", "tx_power_dbm", "path_loss_exponent", "reference_distance",
-                             "radio_range", "decomposition_factor", "max_depth"});
+    r.checkKeys(c, "cells", keysUnder("cells"));
     hw::CellConfig& cc = m.cells;
     if (auto n = c["length"]) cc.cellLength = r.number(n, "cells.length", 1, 1e6);
     if (auto n = c["hysteresis_db"]) cc.hysteresisDb = r.number(n, "cells.hysteresis_db", 0, 100);
@@ -213,6 +225,24 @@ void readYaml(const fs::path& path, Scenario& s) {
 }
 
 }  // namespace
+
+const std::vector<std::string>& scenarioKeys() {
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> k = {"sumocfg", "description", "seed", "end", "demand_scale", "validate_ssm",
+                                  "detector", "layout", "motion", "broadphase", "check_road", "penetration",
+                                  "smart_types", "action", "brake.deceleration", "brake.max_deceleration",
+                                  "brake.standstill_gap", "safe_time.vehicle_reaction", "safe_time.road_reaction"};
+    for (int c = 0; c < hw::kVehicleClassCount; ++c)
+      k.push_back(std::string("safe_time.brake_force.") + hw::toString(static_cast<hw::VehicleClass>(c)));
+    for (const char* more : {"concentric.inner_margin", "concentric.outer_margin", "cells.length", "cells.hysteresis_db",
+                             "cells.tx_power_dbm", "cells.path_loss_exponent", "cells.reference_distance",
+                             "cells.radio_range", "cells.decomposition_factor", "cells.max_depth", "collision_action",
+                             "sumo_args", "out"})
+      k.push_back(more);
+    return k;
+  }();
+  return keys;
+}
 
 Scenario loadScenario(const fs::path& path) {
   if (!fs::exists(path)) throw ScenarioError(path.string() + ": no such file");

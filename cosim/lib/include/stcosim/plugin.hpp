@@ -51,11 +51,9 @@ struct ActionConfig {
   // slower along the heading, once matching its speed before the gap (less a standstill margin)
   // is used up needs at least `brakeDeceleration` m/s^2, the smart car slows to the foe's speed
   // at that deceleration (at most `brakeMaxDeceleration`) with SUMO's slowDown.
-  // `brakeDuration` is not used any more (kept so existing scenarios still load).
   double brakeDeceleration = 3.0;
   double brakeMaxDeceleration = 9.0;  // SUMO's default emergencyDecel for cars
   double brakeStandstillGap = 1.0;    // m
-  double brakeDuration = 1.0;
 };
 
 struct PluginConfig {

@@ -15,7 +15,7 @@
 //   penetration: 1.0                  # fraction of vehicles equipped
 //   smart_types: [truck]              # vTypes always equipped
 //   action: color                     # none | color | brake
-//   brake: {deceleration: 3.0, duration: 1.0}
+//   brake: {deceleration: 3.0, max_deceleration: 9.0, standstill_gap: 1.0}   # action brake (m/s^2, m)
 //   safe_time:
 //     vehicle_reaction: 1.0           # s
 //     road_reaction: 0.5              # s
@@ -55,6 +55,10 @@ struct Scenario {
   std::vector<std::string> sumoArgs;
   std::optional<std::filesystem::path> out;
 };
+
+// Every key a scenario YAML accepts, dotted ("brake.deceleration"): the reader checks files
+// against it, and `stsim batch` may sweep any of them.
+const std::vector<std::string>& scenarioKeys();
 
 // Reads a scenario YAML, or wraps a .sumocfg with default settings. Throws ScenarioError.
 Scenario loadScenario(const std::filesystem::path& path);
