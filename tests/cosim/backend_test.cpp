@@ -38,9 +38,12 @@ Scenario shortMotorway(double end) {
   return s;
 }
 
-Recorded run(Backend& b, const Scenario& s) {
+// The plugin reads only what its configuration needs; allReads = true reads every variable anyway,
+// so the backends are compared on all of them.
+Recorded run(Backend& b, const Scenario& s, bool allReads = true) {
   Recorded r;
   HighwayPlugin plugin(b, s.plugin);
+  if (allReads) b.setReads(VehicleReads{});
   while (b.running()) {
     b.step();
     plugin.update();
@@ -73,6 +76,8 @@ void expectSameStates(const Recorded& a, const Recorded& b) {
       EXPECT_EQ(x.acceleration, y.acceleration);
       EXPECT_EQ(x.signals, y.signals);
       EXPECT_EQ(x.type, y.type);
+      EXPECT_EQ(x.typeIndex, y.typeIndex);
+      EXPECT_EQ(x.serial, y.serial);
     }
   }
 }
@@ -93,6 +98,51 @@ TEST(Backends, LibsumoAndLibtraciGiveIdenticalStatesAndWarnings) {
   EXPECT_GT(viaLibsumo.warnings.size(), 50u);
   expectSameStates(viaLibsumo, viaTraci);
   EXPECT_EQ(viaLibsumo.warnings, viaTraci.warnings);
+}
+
+// The plugin asks the backend for acceleration only with the constant-acceleration motion model
+// and for blinkers only when it checks the road (lane markers); leaving them out changes no
+// warning, and what is left out is 0.
+TEST(Plugin, ReadsOnlyWhatItsConfigurationNeedsWithTheSameWarnings) {
+  Scenario s = shortMotorway(90.0);
+  const SumoLaunch launch{sumoArguments(s), false, "", ""};
+  auto a = startLibsumo(launch);
+  const Recorded all = run(*a, s);
+  ASSERT_TRUE(a->reads().acceleration && a->reads().signals);
+  auto b = startLibsumo(launch);
+  const Recorded narrowed = run(*b, s, false);
+  EXPECT_FALSE(b->reads().acceleration);  // the motorway scenario predicts with constant velocity
+  EXPECT_TRUE(b->reads().signals);
+  ASSERT_EQ(all.steps.size(), narrowed.steps.size());
+  std::size_t accelerating = 0, blinking = 0;
+  for (std::size_t k = 0; k < all.steps.size(); ++k) {
+    ASSERT_EQ(all.steps[k].size(), narrowed.steps[k].size());
+    for (std::size_t i = 0; i < all.steps[k].size(); ++i) {
+      const SumoVehicle& x = all.steps[k][i];
+      const SumoVehicle& y = narrowed.steps[k][i];
+      ASSERT_EQ(x.id, y.id);
+      EXPECT_EQ(x.x, y.x);
+      EXPECT_EQ(x.angle, y.angle);
+      EXPECT_EQ(x.speed, y.speed);
+      EXPECT_EQ(x.signals, y.signals);
+      EXPECT_EQ(y.acceleration, 0.0);
+      accelerating += x.acceleration != 0.0;
+      blinking += x.signals != 0;
+    }
+  }
+  EXPECT_GT(accelerating, 1000u);  // so leaving acceleration out was tested
+  EXPECT_GT(blinking, 0u);
+  EXPECT_GT(all.warnings.size(), 50u);
+  EXPECT_EQ(all.warnings, narrowed.warnings);
+
+  // the other configurations ask for what they use
+  s.plugin.monitor.detector.motion = highway::MotionModel::ConstantAcceleration;
+  s.plugin.monitor.checkRoad = false;
+  auto c = startLibsumo(launch);
+  HighwayPlugin plugin(*c, s.plugin);
+  EXPECT_TRUE(c->reads().acceleration);
+  EXPECT_FALSE(c->reads().signals);
+  c->close();
 }
 
 // The sublane model: lateral speeds and blinkers are non-zero here, and must agree as well.

@@ -6,6 +6,8 @@
 #include <libsumo/libsumo.h>
 
 #include <algorithm>
+#include <map>
+#include <set>
 
 #include "test_util.hpp"
 #include <stcosim/backend.hpp>
@@ -26,6 +28,8 @@ TEST(Backends, VehicleListFollowsDeparturesArrivalsAndTeleports) {
   s.sumoArgs.insert(s.sumoArgs.end(), {"--time-to-teleport", "1"});
   auto b = startLibsumo(SumoLaunch{sumoArguments(s), false, "", ""});
   std::size_t departed = 0, arrived = 0, teleportStarts = 0, teleportEnds = 0, steps = 0;
+  std::map<std::string, std::uint32_t> serialOf;  // until arrival
+  std::size_t keptThroughTeleport = 0;
   while (b->running()) {
     b->step();
     ++steps;
@@ -40,6 +44,25 @@ TEST(Backends, VehicleListFollowsDeparturesArrivalsAndTeleports) {
     std::sort(ours.begin(), ours.end());
     std::sort(sumo.begin(), sumo.end());
     ASSERT_EQ(ours, sumo) << "t = " << b->time();
+    // the list is updated in place: every value is this step's, as SUMO's getters give it; a
+    // vehicle keeps its serial through a teleport, serials on the road are distinct
+    std::set<std::uint32_t> serials;
+    for (const auto& id : ev.teleportEnded) keptThroughTeleport += serialOf.count(id);  // seen before
+    for (const auto& v : b->vehicles()) {
+      const auto p = libsumo::Vehicle::getPosition(v.id);
+      ASSERT_EQ(v.x, p.x) << v.id;
+      ASSERT_EQ(v.y, p.y) << v.id;
+      ASSERT_EQ(v.angle, libsumo::Vehicle::getAngle(v.id)) << v.id;
+      ASSERT_EQ(v.speed, libsumo::Vehicle::getSpeed(v.id)) << v.id;
+      ASSERT_EQ(v.acceleration, libsumo::Vehicle::getAcceleration(v.id)) << v.id;
+      ASSERT_EQ(v.signals, libsumo::Vehicle::getSignals(v.id)) << v.id;
+      ASSERT_EQ(v.type, libsumo::Vehicle::getTypeID(v.id)) << v.id;
+      ASSERT_EQ(b->vehicleType(v.typeIndex).id, v.type) << v.id;
+      ASSERT_TRUE(serials.insert(v.serial).second) << v.id;
+      const auto [it, fresh] = serialOf.try_emplace(v.id, v.serial);
+      ASSERT_EQ(it->second, v.serial) << v.id;
+    }
+    for (const auto& id : ev.arrived) serialOf.erase(id);
   }
   b->close();
   EXPECT_EQ(steps, 1300u);
@@ -47,6 +70,7 @@ TEST(Backends, VehicleListFollowsDeparturesArrivalsAndTeleports) {
   EXPECT_GT(arrived, 20u);
   EXPECT_GT(teleportStarts, 0u);
   EXPECT_GT(teleportEnds, 0u);
+  EXPECT_GT(keptThroughTeleport, 0u);
 }
 
 }  // namespace

@@ -1,41 +1,16 @@
 #pragma once
-// What the backends share: the bookkeeping that makes both see exactly the same vehicles in the
-// same order, and the reads that are the same call in libsumo and libtraci (the two libraries
+// What the backends share (besides Backend's vehicle bookkeeping, which makes both see exactly the
+// same vehicles in the same order): the reads that are the same call in libsumo and libtraci (the two libraries
 // expose one API in two namespaces; the templates take the namespace's classes, e.g.
 // readLanes<libsumo::Lane>(), and are instantiated where that library's header is included).
 #include <algorithm>
 #include <cstdint>
 #include <string>
-#include <unordered_set>
 #include <vector>
 
 #include <stcosim/backend.hpp>
 
 namespace st::cosim::detail {
-
-// The vehicles on the road, in departure order: departures are appended, teleports remove a
-// vehicle until it is placed again (appended then), arrivals remove it.
-class ActiveVehicles {
- public:
-  void apply(const StepEvents& e) {
-    for (const auto& id : e.departed) add(id);
-    for (const auto& id : e.teleportStarted) remove(id);
-    for (const auto& id : e.teleportEnded) add(id);
-    for (const auto& id : e.arrived) remove(id);
-  }
-  const std::vector<std::string>& ids() const { return order_; }
-
- private:
-  void add(const std::string& id) {
-    if (present_.insert(id).second) order_.push_back(id);
-  }
-  void remove(const std::string& id) {
-    if (present_.erase(id) == 0) return;
-    order_.erase(std::find(order_.begin(), order_.end(), id));
-  }
-  std::vector<std::string> order_;
-  std::unordered_set<std::string> present_;
-};
 
 // SUMO lane ids end in "_<index>".
 inline int laneIndex(const std::string& laneId) {

@@ -4,13 +4,21 @@
 
 namespace st::cosim {
 
-highway::VehicleState toVehicleState(const SumoVehicle& v, const SumoVehicleType& type) {
-  highway::VehicleState s;
+VehicleTypeInfo toVehicleTypeInfo(const SumoVehicleType& type) {
+  VehicleTypeInfo t;
+  t.vehicleClass = highway::vehicleClassFromName(type.vClass);
+  t.length = type.length;
+  t.width = type.width;
+  t.mass = type.mass ? *type.mass : highway::classDefaults(t.vehicleClass).mass;
+  return t;
+}
+
+void toVehicleState(const SumoVehicle& v, const VehicleTypeInfo& type, highway::VehicleState& s) {
   s.id = v.id;
-  s.vehicleClass = highway::vehicleClassFromName(type.vClass);
+  s.vehicleClass = type.vehicleClass;
   s.length = type.length;
   s.width = type.width;
-  s.mass = type.mass ? *type.mass : highway::classDefaults(s.vehicleClass).mass;
+  s.mass = type.mass;
   s.heading = highway::headingFromNavigationDegrees(v.angle);
   s.position = highway::centreFromFrontBumper(Vec2(v.x, v.y), s.heading, s.length);
   s.speed = v.lateralSpeed == 0.0 ? v.speed : std::copysign(std::hypot(v.speed, v.lateralSpeed), v.speed);
@@ -19,6 +27,11 @@ highway::VehicleState toVehicleState(const SumoVehicle& v, const SumoVehicleType
   s.signals = 0;
   if (v.signals & kSumoBlinkerLeft) s.signals |= highway::kSignalLeft;
   if (v.signals & kSumoBlinkerRight) s.signals |= highway::kSignalRight;
+}
+
+highway::VehicleState toVehicleState(const SumoVehicle& v, const SumoVehicleType& type) {
+  highway::VehicleState s;
+  toVehicleState(v, toVehicleTypeInfo(type), s);
   return s;
 }
 

@@ -1,8 +1,10 @@
-// The embedded backend: SUMO runs inside this process; vehicle state comes from direct getters,
-// which for libsumo are plain function calls (no serialisation), cheaper than subscriptions.
+// The embedded backend: SUMO runs inside this process; vehicle state comes from direct getters.
+// Measured in SUMO 1.15 (bench/cosim_overhead, cosim/README.md): libsumo's subscriptions fill a
+// map of shared_ptr results per vehicle and variable in every step and cost more than the getters;
+// each getter costs a lookup by id (std::map) in SUMO's vehicle dictionary, so only what is needed
+// is read (VehicleReads) and the id, type and serial are read once per vehicle.
 #include <libsumo/libsumo.h>
 
-#include <unordered_map>
 #include <memory>
 
 #include "backend_common.hpp"
@@ -23,7 +25,7 @@ class LibsumoBackend final : public Backend {
     // vehicles already on the road when we attach
     StepEvents initial;
     initial.departed = libsumo::Vehicle::getIDList();
-    active_.apply(initial);
+    applyEvents(initial);
     readVehicles();
   }
   ~LibsumoBackend() override { close(); }
@@ -40,8 +42,7 @@ class LibsumoBackend final : public Backend {
       events_.collisions.clear();
       for (const auto& c : libsumo::Simulation::getCollisions())
         events_.collisions.push_back({c.collider, c.victim, c.type, c.lane, c.colliderSpeed, c.victimSpeed, c.pos, time_});
-      for (const auto& id : events_.arrived) typeOf_.erase(id);
-      active_.apply(events_);
+      applyEvents(events_);
       readVehicles();
     } catch (const libsumo::TraCIException& e) {
       throw SumoError(std::string("libsumo: ") + e.what());
@@ -51,13 +52,6 @@ class LibsumoBackend final : public Backend {
   bool running() override {
     return libsumo::Simulation::getMinExpectedNumber() > 0 &&
            (libsumo::Simulation::getEndTime() < 0 || time_ < libsumo::Simulation::getEndTime() - 0.5 * deltaT_);
-  }
-
-  const SumoVehicleType& vehicleType(const std::string& typeId) override {
-    auto it = types_.find(typeId);
-    if (it != types_.end()) return it->second;
-    SumoVehicleType t = detail::readVehicleType<libsumo::VehicleType>(typeId);
-    return types_.emplace(typeId, std::move(t)).first->second;
   }
 
   std::vector<SumoLane> lanes() override { return detail::readLanes<libsumo::Lane>(); }
@@ -89,6 +83,11 @@ class LibsumoBackend final : public Backend {
   std::string describe() const override { return owns_ ? "libsumo" : "libsumo (attached)"; }
 
  protected:
+  SumoVehicleType readVehicleType(const std::string& typeId) override {
+    return detail::readVehicleType<libsumo::VehicleType>(typeId);
+  }
+  std::string readTypeId(const std::string& vehicleId) override { return libsumo::Vehicle::getTypeID(vehicleId); }
+
   void advance() override {
     try {
       libsumo::Simulation::step();
@@ -107,33 +106,22 @@ class LibsumoBackend final : public Backend {
       return true;  // unknown: read it
     }
   }
+  // the per-step values, in place
   void readVehicles() {
-    vehicles_.clear();
-    vehicles_.reserve(active_.ids().size());
-    for (const auto& id : active_.ids()) {
-      SumoVehicle v;
-      v.id = id;
-      // a vehicle's type is read once (a type change through TraCI by another client is not seen)
-      auto t = typeOf_.find(id);
-      if (t == typeOf_.end()) t = typeOf_.emplace(id, libsumo::Vehicle::getTypeID(id)).first;
-      v.type = t->second;
-      const auto p = libsumo::Vehicle::getPosition(id);
+    for (SumoVehicle& v : vehicles_) {
+      const auto p = libsumo::Vehicle::getPosition(v.id);
       v.x = p.x;
       v.y = p.y;
-      v.angle = libsumo::Vehicle::getAngle(id);
-      v.speed = libsumo::Vehicle::getSpeed(id);
-      v.lateralSpeed = lateral_ ? libsumo::Vehicle::getLateralSpeed(id) : 0.0;
-      v.acceleration = libsumo::Vehicle::getAcceleration(id);
-      v.signals = libsumo::Vehicle::getSignals(id);
-      vehicles_.push_back(std::move(v));
+      v.angle = libsumo::Vehicle::getAngle(v.id);
+      v.speed = libsumo::Vehicle::getSpeed(v.id);
+      if (lateral_) v.lateralSpeed = libsumo::Vehicle::getLateralSpeed(v.id);
+      if (reads_.acceleration) v.acceleration = libsumo::Vehicle::getAcceleration(v.id);
+      if (reads_.signals) v.signals = libsumo::Vehicle::getSignals(v.id);
     }
   }
 
   bool owns_;
   bool open_ = true;
-  detail::ActiveVehicles active_;
-  std::unordered_map<std::string, SumoVehicleType> types_;
-  std::unordered_map<std::string, std::string> typeOf_;  // vehicle id -> vType id, read on departure
   bool lateral_ = true;  // SUMO moves vehicles sideways at finite speed (sublane model or lane-change duration)
 };
 

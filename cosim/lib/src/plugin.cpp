@@ -1,7 +1,6 @@
 #include <stcosim/plugin.hpp>
 
 #include <algorithm>
-#include <unordered_set>
 
 #include <stcosim/conversions.hpp>
 
@@ -24,14 +23,29 @@ bool parseAction(const std::string& text, Action& out) {
   return true;
 }
 
+namespace {
+// What the monitor uses: acceleration only to predict with constant acceleration, blinkers only
+// to excuse a lane-marker crossing.
+VehicleReads readsFor(const highway::MonitorConfig& m) {
+  VehicleReads r;
+  r.acceleration = m.detector.motion == highway::MotionModel::ConstantAcceleration;
+  r.signals = m.checkRoad;
+  return r;
+}
+}  // namespace
+
 HighwayPlugin::HighwayPlugin(Backend& backend, PluginConfig config)
-    : backend_(backend), config_(std::move(config)), monitor_(toRoadGeometry(backend_.lanes()), config_.monitor) {}
+    : backend_(backend), config_(std::move(config)), monitor_(toRoadGeometry(backend_.lanes()), config_.monitor) {
+  backend_.setReads(readsFor(config_.monitor));
+}
 
 HighwayPlugin::HighwayPlugin(std::unique_ptr<Backend> owned, PluginConfig config)
     : owned_(std::move(owned)),
       backend_(*owned_),
       config_(std::move(config)),
-      monitor_(toRoadGeometry(backend_.lanes()), config_.monitor) {}
+      monitor_(toRoadGeometry(backend_.lanes()), config_.monitor) {
+  backend_.setReads(readsFor(config_.monitor));
+}
 
 HighwayPlugin::~HighwayPlugin() = default;
 
@@ -39,10 +53,18 @@ std::unique_ptr<HighwayPlugin> HighwayPlugin::forLibsumo(PluginConfig config) {
   return std::unique_ptr<HighwayPlugin>(new HighwayPlugin(attachLibsumo(), std::move(config)));
 }
 
-bool HighwayPlugin::isEquipped(const std::string& id, const std::string& type) const {
-  const auto& types = config_.smart.types;
-  if (std::find(types.begin(), types.end(), type) != types.end()) return true;
-  return highway::drawnEquipped(config_.smart.seed, id, config_.smart.penetration);
+const HighwayPlugin::TypeInfo& HighwayPlugin::typeInfo(int typeIndex) {
+  const auto k = static_cast<std::size_t>(typeIndex);
+  if (k >= types_.size()) types_.resize(k + 1);
+  TypeInfo& t = types_[k];
+  if (!t.known) {
+    const SumoVehicleType& sumo = backend_.vehicleType(typeIndex);
+    t.info = toVehicleTypeInfo(sumo);
+    const auto& smart = config_.smart.types;
+    t.smart = std::find(smart.begin(), smart.end(), sumo.id) != smart.end();
+    t.known = true;
+  }
+  return t;
 }
 
 void HighwayPlugin::step() {
@@ -65,23 +87,21 @@ void HighwayPlugin::update() {
   }
   touching_ = std::move(touching);
   collisions_.insert(collisions_.end(), ev.collisions.begin(), ev.collisions.end());
-  for (const auto& id : ev.arrived) {
-    equipped_.erase(id);
-    painted_.erase(id);
-  }
 
-  // convert once; decide each vehicle's equipment once, on first sight
+  // convert in place; decide each vehicle's equipment once, on first sight
   const auto& vehicles = backend_.vehicles();
   states_.resize(vehicles.size());
   for (std::size_t i = 0; i < vehicles.size(); ++i) {
     const SumoVehicle& v = vehicles[i];
-    states_[i] = toVehicleState(v, backend_.vehicleType(v.type));
-    auto [it, fresh] = equipped_.try_emplace(v.id, false);
-    if (fresh) {
-      it->second = isEquipped(v.id, v.type);
-      if (it->second) counters_.equipped++;
+    const TypeInfo& t = typeInfo(v.typeIndex);
+    toVehicleState(v, t.info, states_[i]);
+    if (v.serial >= perVehicle_.size()) perVehicle_.resize(v.serial + 1);
+    PerVehicle& pv = perVehicle_[v.serial];
+    if (pv.equipped < 0) {
+      pv.equipped = t.smart || highway::drawnEquipped(config_.smart.seed, v.id, config_.smart.penetration);
+      if (pv.equipped) counters_.equipped++;
     }
-    states_[i].equipped = it->second;
+    states_[i].equipped = pv.equipped != 0;
   }
   monitor_.step(backend_.time(), states_);
   act();
@@ -90,16 +110,21 @@ void HighwayPlugin::update() {
 void HighwayPlugin::act() {
   const ActionConfig& a = config_.actions;
   if (a.action == Action::None) return;
-  std::unordered_set<std::string> alerted;
+  const auto& vehicles = backend_.vehicles();
+  alerted_.assign(states_.size(), 0);
   for (const highway::Alert& al : monitor_.alerts()) {
-    const highway::VehicleState& s = states_.at(static_cast<std::size_t>(al.vehicle));
-    alerted.insert(s.id);
+    const auto i = static_cast<std::size_t>(al.vehicle);
+    const highway::VehicleState& s = states_.at(i);
+    alerted_[i] = 1;
     const int level = al.ttc < a.redFraction * al.safeTime ? 2 : 1;
-    auto [it, fresh] = painted_.try_emplace(s.id);
-    if (fresh) it->second.original = backend_.color(s.id);
-    if (it->second.level != level) {
+    PerVehicle& pv = perVehicle_[vehicles[i].serial];
+    if (!pv.painted) {
+      pv.original = backend_.color(s.id);
+      pv.painted = true;
+    }
+    if (pv.level != level) {
       backend_.setColor(s.id, level == 2 ? a.dangerColor : a.warningColor);
-      it->second.level = level;
+      pv.level = static_cast<std::uint8_t>(level);
       counters_.colorChanges++;
     }
     if (a.action == Action::Brake && al.kind == highway::WarningKind::Vehicle && al.foe >= 0) {
@@ -126,13 +151,13 @@ void HighwayPlugin::act() {
       }
     }
   }
-  // warnings over: give the vehicle its own colour back (only vehicles still on the road)
-  std::unordered_set<std::string> onRoad;
-  for (const auto& s : states_) onRoad.insert(s.id);
-  for (auto& [id, p] : painted_) {
-    if (p.level == 0 || alerted.count(id) || !onRoad.count(id)) continue;
-    backend_.setColor(id, p.original);
-    p.level = 0;
+  // warnings over: give the vehicle its own colour back (only vehicles on the road: a teleporting
+  // one keeps its level until it is back)
+  for (std::size_t i = 0; i < vehicles.size(); ++i) {
+    PerVehicle& pv = perVehicle_[vehicles[i].serial];
+    if (pv.level == 0 || alerted_[i]) continue;
+    backend_.setColor(vehicles[i].id, pv.original);
+    pv.level = 0;
     counters_.colorChanges++;
   }
 }

@@ -8,7 +8,6 @@
 #include <atomic>
 #include <chrono>
 #include <thread>
-#include <unordered_map>
 #include <memory>
 #include <optional>
 
@@ -22,6 +21,9 @@ namespace {
 
 using libsumo::TraCIResults;
 
+// Every variable is subscribed whatever VehicleReads says (a vehicle teleporting when the reads
+// change would otherwise come back without one); only the asked ones are copied out. The type is
+// needed once per vehicle, but as a getter it would cost a round trip: it rides along.
 const std::vector<int> kVehicleVars{libsumo::VAR_TYPE,      libsumo::VAR_POSITION,     libsumo::VAR_ANGLE,
                                     libsumo::VAR_SPEED,     libsumo::VAR_SPEED_LAT,    libsumo::VAR_ACCELERATION,
                                     libsumo::VAR_SIGNALS};
@@ -98,10 +100,13 @@ class TraciBackend final : public Backend {
       for (const auto& id : ids) libtraci::Vehicle::subscribe(id, kVehicleVars);
       StepEvents initial;
       initial.departed = ids;
-      active_.apply(initial);
+      const auto results = libtraci::Vehicle::getAllSubscriptionResults();  // a const copy: not moved
+      results_ = &results;
+      applyEvents(initial);
       time_ = libtraci::Simulation::getTime();
       minExpected_ = libtraci::Simulation::getMinExpectedNumber();
       readVehicles();
+      results_ = nullptr;
     });
   }
   ~TraciBackend() override { close(); }
@@ -126,20 +131,15 @@ class TraciBackend final : public Backend {
               {c.collider, c.victim, c.type, c.lane, c.colliderSpeed, c.victimSpeed, c.pos, time_});
       // a subscription's answer carries the current values, so departing vehicles are read this step
       for (const auto& id : events_.departed) libtraci::Vehicle::subscribe(id, kVehicleVars);
-      active_.apply(events_);
+      const auto results = libtraci::Vehicle::getAllSubscriptionResults();
+      results_ = &results;
+      applyEvents(events_);
       readVehicles();
+      results_ = nullptr;
     });
   }
 
   bool running() override { return minExpected_ > 0 && (endTime_ < 0 || time_ < endTime_ - 0.5 * deltaT_); }
-
-  const SumoVehicleType& vehicleType(const std::string& typeId) override {
-    auto it = types_.find(typeId);
-    if (it != types_.end()) return it->second;
-    SumoVehicleType t;
-    guard([&] { t = detail::readVehicleType<libtraci::VehicleType>(typeId); });
-    return types_.emplace(typeId, std::move(t)).first->second;
-  }
 
   std::vector<SumoLane> lanes() override {
     std::vector<SumoLane> out;
@@ -195,6 +195,15 @@ class TraciBackend final : public Backend {
   void advance() override {
     guard([&] { libtraci::Simulation::step(); });
   }
+  SumoVehicleType readVehicleType(const std::string& typeId) override {
+    SumoVehicleType t;
+    guard([&] { t = detail::readVehicleType<libtraci::VehicleType>(typeId); });
+    return t;
+  }
+  // from the subscription results of the step (called within read())
+  std::string readTypeId(const std::string& vehicleId) override {
+    return resultAs<libsumo::TraCIString>(vehicleResults(vehicleId), libsumo::VAR_TYPE, "type").value;
+  }
 
  private:
   std::string where() const { return host_ + ":" + std::to_string(port_); }
@@ -238,26 +247,25 @@ class TraciBackend final : public Backend {
     return SumoError(msg);
   }
 
+  const TraCIResults& vehicleResults(const std::string& id) const {
+    const auto it = results_->find(id);
+    if (it == results_->end()) throw SumoError("TraCI: no subscription results for vehicle '" + id + "'");
+    return it->second;
+  }
+
+  // the per-step values, in place
   void readVehicles() {
-    const auto results = libtraci::Vehicle::getAllSubscriptionResults();
-    vehicles_.clear();
-    vehicles_.reserve(active_.ids().size());
-    for (const auto& id : active_.ids()) {
-      const auto it = results.find(id);
-      if (it == results.end()) throw SumoError("TraCI: no subscription results for vehicle '" + id + "'");
-      const TraCIResults& r = it->second;
-      SumoVehicle v;
-      v.id = id;
-      v.type = resultAs<libsumo::TraCIString>(r, libsumo::VAR_TYPE, "type").value;
+    for (SumoVehicle& v : vehicles_) {
+      const TraCIResults& r = vehicleResults(v.id);
       const auto& p = resultAs<libsumo::TraCIPosition>(r, libsumo::VAR_POSITION, "position");
       v.x = p.x;
       v.y = p.y;
       v.angle = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_ANGLE, "angle").value;
       v.speed = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_SPEED, "speed").value;
       v.lateralSpeed = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_SPEED_LAT, "lateral speed").value;
-      v.acceleration = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_ACCELERATION, "acceleration").value;
-      v.signals = resultAs<libsumo::TraCIInt>(r, libsumo::VAR_SIGNALS, "signals").value;
-      vehicles_.push_back(std::move(v));
+      if (reads_.acceleration)
+        v.acceleration = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_ACCELERATION, "acceleration").value;
+      if (reads_.signals) v.signals = resultAs<libsumo::TraCIInt>(r, libsumo::VAR_SIGNALS, "signals").value;
     }
   }
 
@@ -271,8 +279,7 @@ class TraciBackend final : public Backend {
   bool closed_ = false;
   double endTime_ = -1.0;
   int minExpected_ = 1;
-  detail::ActiveVehicles active_;
-  std::unordered_map<std::string, SumoVehicleType> types_;
+  const libsumo::SubscriptionResults* results_ = nullptr;  // the step's, while read() runs
 };
 
 }  // namespace

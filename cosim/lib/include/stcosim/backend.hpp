@@ -8,10 +8,12 @@
 // degrees); conversion to ours happens once, in conversions.hpp. Errors (SUMO refusing a file, a
 // dropped connection) are thrown as SumoError with a one-line message.
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace st::cosim {
@@ -27,10 +29,15 @@ const char* toString(BackendKind k);
 inline constexpr int kSumoBlinkerRight = 1;
 inline constexpr int kSumoBlinkerLeft = 2;
 
-// One vehicle on the road after a step, as SUMO reports it.
+// One vehicle on the road after a step, as SUMO reports it. Its id, type and serial are read
+// when it appears; the rest every step (acceleration and signals only if asked, VehicleReads).
 struct SumoVehicle {
   std::string id;
   std::string type;           // vType id
+  int typeIndex = -1;         // Backend::vehicleType(typeIndex) is this vehicle's vType
+  // 0, 1, 2, ... in order of first appearance, kept through a teleport, new after an arrival:
+  // an index for per-vehicle data that needs no lookup by id
+  std::uint32_t serial = 0;
   double x = 0.0, y = 0.0;    // front-bumper centre (m)
   double angle = 0.0;         // navigational degrees: 0 = north, clockwise
   double speed = 0.0;         // longitudinal (m/s)
@@ -74,6 +81,15 @@ struct StepEvents {
   std::vector<SumoCollision> collisions;
 };
 
+// The per-step variables read besides position, angle and speed (and lateral speed, which is
+// read only when SUMO can move vehicles sideways). Each is one more call per vehicle and step into
+// libsumo, whose getters cost a lookup by id each. What is not read is 0.
+struct VehicleReads {
+  bool acceleration = true;  // used by the constant-acceleration motion model only
+  bool signals = true;       // blinkers: used by the lane-marker check only
+  bool operator==(const VehicleReads&) const = default;
+};
+
 struct Rgba {
   std::uint8_t r = 255, g = 255, b = 255, a = 255;
 };
@@ -115,7 +131,14 @@ class Backend {
   // True while SUMO still expects vehicles or the end time is not reached.
   virtual bool running() = 0;
 
-  virtual const SumoVehicleType& vehicleType(const std::string& typeId) = 0;
+  // Which optional variables are read from the next read() on (default: all).
+  void setReads(const VehicleReads& reads);
+  const VehicleReads& reads() const { return reads_; }
+
+  // A vType, read from SUMO on first use and cached (references stay valid).
+  const SumoVehicleType& vehicleType(const std::string& typeId);
+  const SumoVehicleType& vehicleType(int index) const { return types_[static_cast<std::size_t>(index)]; }
+  int vehicleTypeCount() const { return static_cast<int>(types_.size()); }
   virtual std::vector<SumoLane> lanes() = 0;
 
   // Actions.
@@ -135,11 +158,33 @@ class Backend {
  protected:
   Backend() = default;
   virtual void advance() = 0;
+  virtual SumoVehicleType readVehicleType(const std::string& typeId) = 0;
+  // The vType id of a vehicle that just appeared.
+  virtual std::string readTypeId(const std::string& vehicleId) = 0;
+  // Applies the step's departures, teleports and arrivals to vehicles_ in place: departures are
+  // appended, a teleport removes a vehicle until it is placed again (appended then), an arrival
+  // removes it; a vehicle seen for the first time gets its serial and type.
+  void applyEvents(const StepEvents& e);
 
   double time_ = 0.0;
   double deltaT_ = 0.0;
   std::vector<SumoVehicle> vehicles_;
   StepEvents events_;
+  VehicleReads reads_;
+
+ private:
+  void appear(const std::string& id);
+  void leave(const std::string& id);
+  int typeIndexOf(const std::string& typeId);
+  struct Known {
+    std::uint32_t serial = 0;
+    int typeIndex = -1;
+    bool onRoad = false;
+  };
+  std::unordered_map<std::string, Known> known_;  // vehicles until they arrive
+  std::uint32_t nextSerial_ = 0;
+  std::deque<SumoVehicleType> types_;  // a deque: references handed out stay valid
+  std::unordered_map<std::string, int> typeIndex_;
 };
 
 // libsumo: starts SUMO in this process. Only one embedded SUMO can run per process.

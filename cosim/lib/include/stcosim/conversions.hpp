@@ -20,7 +20,16 @@
 
 namespace st::cosim {
 
+// A vType as the highway model wants it, converted once per type.
+struct VehicleTypeInfo {
+  highway::VehicleClass vehicleClass = highway::VehicleClass::Other;
+  double length = 0.0, width = 0.0, mass = 0.0;
+};
+VehicleTypeInfo toVehicleTypeInfo(const SumoVehicleType& type);
+
 highway::VehicleState toVehicleState(const SumoVehicle& v, const SumoVehicleType& type);
+// The same into an existing state (its id's buffer is reused); `equipped` is left as it is.
+void toVehicleState(const SumoVehicle& v, const VehicleTypeInfo& type, highway::VehicleState& s);
 // Lanes as the highway model wants them (shapes and widths from the network).
 highway::RoadGeometry toRoadGeometry(const std::vector<SumoLane>& lanes);
 

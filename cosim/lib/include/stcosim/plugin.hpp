@@ -18,11 +18,11 @@
 #include <span>
 #include <set>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include <sthighway/monitor.hpp>
 #include <stcosim/backend.hpp>
+#include <stcosim/conversions.hpp>
 
 namespace st::cosim {
 
@@ -77,8 +77,9 @@ struct PluginCounters {
 
 class HighwayPlugin {
  public:
-  // Reads the network's lanes from the backend and builds the monitor. Throws
-  // std::invalid_argument for a bad configuration, SumoError for a SUMO failure.
+  // Reads the network's lanes from the backend and builds the monitor; tells the backend which
+  // optional variables the configuration needs (VehicleReads). Throws std::invalid_argument for a
+  // bad configuration, SumoError for a SUMO failure.
   HighwayPlugin(Backend& backend, PluginConfig config);
   ~HighwayPlugin();
   // A plugin on the libsumo simulation the caller started in this process; it owns its backend.
@@ -110,7 +111,6 @@ class HighwayPlugin {
 
  private:
   HighwayPlugin(std::unique_ptr<Backend> owned, PluginConfig config);
-  bool isEquipped(const std::string& id, const std::string& type) const;
   void act();
 
   std::unique_ptr<Backend> owned_;
@@ -118,12 +118,23 @@ class HighwayPlugin {
   PluginConfig config_;
   highway::HighwayMonitor monitor_;
   std::vector<highway::VehicleState> states_;
-  std::unordered_map<std::string, bool> equipped_;   // decided once per vehicle
-  struct Painted {
-    Rgba original;
-    int level = 0;  // 0 own colour, 1 warning, 2 danger
+  // per vType (by the backend's type index): converted once, and whether it is a smart type
+  struct TypeInfo {
+    bool known = false;
+    bool smart = false;
+    VehicleTypeInfo info;
   };
-  std::unordered_map<std::string, Painted> painted_;
+  std::vector<TypeInfo> types_;
+  const TypeInfo& typeInfo(int typeIndex);
+  // per vehicle, by its serial (SumoVehicle::serial): equipment decided once, the colour painted
+  struct PerVehicle {
+    std::int8_t equipped = -1;  // -1 not decided yet
+    std::uint8_t level = 0;     // 0 own colour, 1 warning, 2 danger
+    bool painted = false;       // `original` read (at its first warning)
+    Rgba original;
+  };
+  std::vector<PerVehicle> perVehicle_;
+  std::vector<char> alerted_;  // per state index, act()'s scratch
   std::vector<SumoCollision> collisions_;
   std::set<std::pair<std::string, std::string>> touching_;  // pairs in contact at the last step
   PluginCounters counters_;
