@@ -3,7 +3,8 @@
 // every vehicle equipped):
 //   sumo                plain `sumo` process (the reference)
 //   libsumo only        SUMO embedded, stepping, no state read (libsumo vs the binary)
-//   libsumo reads       the libsumo backend: stepping + event lists + every vehicle's state
+//   libsumo reads       the libsumo backend: stepping + event lists + every vehicle's state, with
+//                       every variable, and with those the five-circle run needs (VehicleReads)
 //   stsim <detector>    libsumo + plugin, for concentric, five, box (actions off: detection cost)
 //   stsim via libtraci  launched sumo + TraCI subscriptions + plugin (five)
 //   sumo + SSM          `sumo` with the SSM device on every vehicle (SUMO's own conflict detection)
@@ -157,13 +158,19 @@ int main(int argc, char** argv) {
     return 0.0;
   }));
   rows.back().note = "SUMO embedded, nothing read";
-  rows.push_back(inProcess("libsumo backend, reads only", [&] {
-    auto b = startLibsumo(SumoLaunch{args, false, "", ""});
-    while (b->running()) b->step();
-    b->close();
-    return 0.0;
-  }));
-  rows.back().note = "+ event lists and 8 getters per vehicle";
+  auto readsOnly = [&](VehicleReads reads) {
+    return [&, reads] {
+      auto b = startLibsumo(SumoLaunch{args, false, "", ""});
+      b->setReads(reads);
+      while (b->running()) b->step();
+      b->close();
+      return 0.0;
+    };
+  };
+  rows.push_back(inProcess("libsumo backend, all variables", readsOnly(VehicleReads{})));
+  rows.back().note = "+ event lists, 6 getters per vehicle and step";
+  rows.push_back(inProcess("libsumo backend, five's reads", readsOnly(VehicleReads{false, true})));
+  rows.back().note = "position, angle, speed, signals: 4 getters";
 
   auto stsim = [&](st::highway::DetectorKind k, bool traci) {
     return [&, k, traci] {
@@ -211,7 +218,7 @@ int main(int argc, char** argv) {
     if (r.peakRssKb > 0) std::printf(" [peak RSS %.0f MB]", static_cast<double>(r.peakRssKb) / 1024.0);
     std::printf("\n");
   }
-  const Row& five = rows[4];
+  const Row& five = rows[5];
   const Row& ssm = rows.back();
   std::printf("targets: five-circle CPU %.2fx plain sumo (target <= 1.3x); sumo+SSM / five-circle CPU = %.2fx "
               "(target >= 4x)\n",
