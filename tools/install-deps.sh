@@ -8,6 +8,7 @@ packages=(
   sumo sumo-tools
   libfcl-dev
   python3-matplotlib openmpi-bin libopenmpi-dev
+  xvfb xauth  # a virtual X display for the sumo-gui test (xvfb-run needs xauth, only recommended)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -63,8 +63,12 @@ inline std::string jsonString(const std::string& json, const std::string& key) {
 // stsim started as a child process; stdout/stderr go to files in `dir`.
 class StsimProcess {
  public:
-  StsimProcess(const std::vector<std::string>& args, const std::filesystem::path& dir) : dir_(dir) {
-    std::vector<std::string> argv{STSIM_BINARY};
+  // `launcher` runs stsim (e.g. {"xvfb-run", "-a"}), found on PATH.
+  StsimProcess(const std::vector<std::string>& args, const std::filesystem::path& dir,
+               const std::vector<std::string>& launcher = {})
+      : dir_(dir) {
+    std::vector<std::string> argv = launcher;
+    argv.push_back(STSIM_BINARY);
     argv.insert(argv.end(), args.begin(), args.end());
     std::vector<char*> c;
     for (auto& a : argv) c.push_back(a.data());
@@ -74,7 +78,7 @@ class StsimProcess {
     const std::string out = (dir / "stdout.txt").string(), err = (dir / "stderr.txt").string();
     posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (posix_spawn(&pid_, c[0], &fa, nullptr, c.data(), environ) != 0) pid_ = -1;
+    if (posix_spawnp(&pid_, c[0], &fa, nullptr, c.data(), environ) != 0) pid_ = -1;
     posix_spawn_file_actions_destroy(&fa);
   }
   ~StsimProcess() {
@@ -130,10 +134,23 @@ struct RunResult {
   int code;
   std::string out, err;
 };
-inline RunResult runStsim(const std::vector<std::string>& args, const std::filesystem::path& dir) {
-  StsimProcess p(args, dir);
+inline RunResult runStsim(const std::vector<std::string>& args, const std::filesystem::path& dir,
+                          const std::vector<std::string>& launcher = {}) {
+  StsimProcess p(args, dir, launcher);
   const int code = p.wait();
   return {code, p.out(), p.err()};
+}
+
+// The full path of an executable on PATH, or "".
+inline std::string onPath(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  std::istringstream dirs(path ? path : "");
+  std::string d;
+  while (std::getline(dirs, d, ':')) {
+    const auto f = std::filesystem::path(d.empty() ? "." : d) / name;
+    if (::access(f.c_str(), X_OK) == 0) return f.string();
+  }
+  return {};
 }
 
 // warnings.csv must be a header plus rows of exactly 10 fields.

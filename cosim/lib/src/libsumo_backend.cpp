@@ -69,6 +69,7 @@ class LibsumoBackend final : public Backend {
                   int layer) override {
     detail::addPolygon<libsumo::Polygon, libsumo::TraCIPositionVector, libsumo::TraCIColor>(id, shape, c, fill, layer);
   }
+  std::vector<std::string> polygonIds() override { return libsumo::Polygon::getIDList(); }
   bool hasGui() override { return false; }
 
   void close() noexcept override {

@@ -180,7 +180,11 @@ int HighwayPlugin::drawCells() {
     backend_.addPolygon("stsim_cell_" + std::to_string(c), {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}, {x0, y0}}, col,
                         false, 5);
   }
-  return cells.cellCount();
+  // read back: what SUMO holds, not what was sent
+  const std::string prefix = "stsim_cell_";
+  int held = 0;
+  for (const auto& id : backend_.polygonIds()) held += id.rfind(prefix, 0) == 0;
+  return held;
 }
 
 }  // namespace st::cosim

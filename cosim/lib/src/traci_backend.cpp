@@ -93,6 +93,7 @@ class TraciBackend final : public Backend {
     }
     guard([&] {
       deltaT_ = libtraci::Simulation::getDeltaT();
+      gui_ = libtraci::Simulation::hasGUI();
       endTime_ = libtraci::Simulation::getEndTime();
       libtraci::Simulation::subscribe(kSimulationVars);
       // vehicles already on the road when we attach
@@ -165,11 +166,12 @@ class TraciBackend final : public Backend {
                                                                                               layer);
     });
   }
-  bool hasGui() override {
-    bool gui = false;
-    guard([&] { gui = libtraci::Simulation::hasGUI(); });
-    return gui;
+  std::vector<std::string> polygonIds() override {
+    std::vector<std::string> ids;
+    guard([&] { ids = libtraci::Polygon::getIDList(); });
+    return ids;
   }
+  bool hasGui() override { return gui_; }
 
   void close() noexcept override {
     if (closed_) return;
@@ -186,7 +188,8 @@ class TraciBackend final : public Backend {
 
   std::string describe() const override {
     std::string d = "libtraci " + where();
-    if (process_) d += " (launched)";
+    if (process_) d += gui_ ? " (launched sumo-gui)" : " (launched)";
+    else if (gui_) d += " (sumo-gui)";
     if (order_ > 0) d += " (client order " + std::to_string(order_) + ")";
     return d;
   }
@@ -275,6 +278,7 @@ class TraciBackend final : public Backend {
   std::unique_ptr<detail::SumoProcess> process_;
   std::unique_ptr<detail::TraciRelay> relay_;  // attached servers only
   std::string label_;
+  bool gui_ = false;  // SUMO's own answer (hasGUI)
   bool broken_ = false;
   bool closed_ = false;
   double endTime_ = -1.0;

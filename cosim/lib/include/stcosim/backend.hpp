@@ -148,6 +148,9 @@ class Backend {
   virtual void slowDown(const std::string& vehicleId, double speed, double duration) = 0;
   virtual void addPolygon(const std::string& id, const std::vector<std::pair<double, double>>& shape, Rgba c,
                           bool fill, int layer) = 0;
+  // The ids of the polygons SUMO holds (to check what addPolygon drew).
+  virtual std::vector<std::string> polygonIds() = 0;
+  // True when SUMO says it runs with a GUI (sumo-gui).
   virtual bool hasGui() = 0;
 
   // Ends the session (closes SUMO or the connection); idempotent; never throws.

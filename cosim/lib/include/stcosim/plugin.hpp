@@ -106,7 +106,7 @@ class HighwayPlugin {
   Backend& backend() { return backend_; }
 
   // Draws every cell's extent as an unfilled polygon (ids "stsim_cell_<n>") in SUMO; visible in
-  // sumo-gui. Returns the number of polygons.
+  // sumo-gui. Returns the number of "stsim_cell_" polygons SUMO reports holding afterwards.
   int drawCells();
 
  private:

@@ -1,0 +1,60 @@
+// `stsim highway SCENARIO --gui`: sumo-gui launched through libtraci, run unattended on a virtual
+// X display (xvfb-run), with the cells drawn as polygons. Skipped only where xvfb-run is missing
+// (tools/install-deps.sh installs it).
+#include <gtest/gtest.h>
+
+#include "test_util.hpp"
+#include <stcosim/backend.hpp>
+#include <stcosim/plugin.hpp>
+#include <stcosim/scenario.hpp>
+
+namespace st::cosim {
+namespace {
+
+using namespace st::cosim::test;
+
+TEST(HighwayGui, SumoGuiRunsUnattendedWithTheEmbeddedRunsWarningsAndDrawsEveryCell) {
+  const std::string xvfb = onPath("xvfb-run");
+  if (xvfb.empty()) GTEST_SKIP() << "xvfb-run is not installed (Debian package xvfb): no X display for sumo-gui";
+  const auto dir = freshDir("gui");
+  const std::vector<std::string> common{"highway", motorway().string(), "--end", "40"};
+
+  // sumo-gui must start, run and quit by itself (--start --quit-on-end), or this never returns
+  auto gui = common;
+  gui.insert(gui.end(), {"--gui", "--out", (dir / "gui").string()});
+  const auto g = runStsim(gui, dir, {xvfb, "-a"});
+  ASSERT_EQ(g.code, 0) << g.err << " (sumo-gui's log: " << slurp(dir / "gui/sumo.log") << ")";
+
+  auto embedded = common;
+  embedded.insert(embedded.end(), {"--out", (dir / "embedded").string()});
+  const auto e = runStsim(embedded, dir);
+  ASSERT_EQ(e.code, 0) << e.err;
+
+  // the same SUMO run seen through libtraci from sumo-gui: the same warnings, byte for byte
+  std::size_t rows = 0;
+  EXPECT_TRUE(validWarningsCsv(dir / "gui/warnings.csv", &rows));
+  EXPECT_GT(rows, 10u);
+  EXPECT_EQ(slurp(dir / "gui/warnings.csv"), slurp(dir / "embedded/warnings.csv"));
+  const std::string gs = slurp(dir / "gui/summary.json");
+  const std::string es = slurp(dir / "embedded/summary.json");
+  EXPECT_EQ(jsonString(gs, "stop_reason"), "end");
+  EXPECT_DOUBLE_EQ(jsonNumber(gs, "steps"), 400.0);
+  // SUMO itself says it has a GUI (libtraci's hasGUI)
+  EXPECT_NE(jsonString(gs, "backend").find("sumo-gui"), std::string::npos) << jsonString(gs, "backend");
+  EXPECT_DOUBLE_EQ(jsonNumber(gs, "color_changes"), jsonNumber(es, "color_changes"));
+  EXPECT_GT(jsonNumber(gs, "color_changes"), 0.0);
+
+  // one polygon per cell in SUMO (cell_polygons is the count sumo-gui reports holding after the
+  // drawing), against the cell count of a monitor built here on the same network
+  Scenario s = loadScenario(motorway());
+  s.end = 1.0;
+  auto b = startLibsumo(SumoLaunch{sumoArguments(s), false, "", ""});
+  const int cells = HighwayPlugin(*b, s.plugin).monitor().cells().cellCount();
+  b->close();
+  EXPECT_GE(cells, 15);
+  EXPECT_DOUBLE_EQ(jsonNumber(gs, "cell_polygons"), static_cast<double>(cells));
+  EXPECT_DOUBLE_EQ(jsonNumber(es, "cell_polygons"), 0.0);  // nothing drawn without a GUI
+}
+
+}  // namespace
+}  // namespace st::cosim
