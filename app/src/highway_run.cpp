@@ -21,6 +21,7 @@
 #include <stcosim/conversions.hpp>
 #include <stcosim/plugin.hpp>
 #include <stcosim/scenario.hpp>
+#include <stcosim/collisions.hpp>
 #include <stcosim/ssm_validation.hpp>
 
 namespace st::cosim {
@@ -177,6 +178,17 @@ int runHighwayCommand(const st::cli::Args& a) {
     args.insert(args.end(), extra.begin(), extra.end());
   }
 
+  // Over TraCI SUMO's collisions come from its --collision-output file, read after the run (SUMO
+  // 1.15's libtraci cannot fetch them per step); attached to a SUMO started elsewhere, stsim cannot
+  // ask for that file, so the run has no collision figures.
+  const bool collisionsFromFile = gui;
+  const fs::path collisionFile = fs::absolute(out / "sumo_collisions.xml");
+  if (collisionsFromFile) {
+    fs::remove(collisionFile, ec);
+    const auto extra = collisionOutputArguments(collisionFile);
+    args.insert(args.end(), extra.begin(), extra.end());
+  }
+
   InterruptGuard interruptGuard;
   std::unique_ptr<Backend> backend;
   if (attach) {
@@ -203,13 +215,14 @@ int runHighwayCommand(const st::cli::Args& a) {
   std::uint64_t collisionRows = 0;
   const double endTime = s.end ? *s.end : (files.end ? *files.end : -1.0);
 
+  auto writeCollision = [&](const SumoCollision& c) {
+    collisionsCsv << fmt(c.time, 3) << "," << csvCell(c.collider) << "," << csvCell(c.victim) << ","
+                  << csvCell(c.type) << "," << csvCell(c.lane) << "," << fmt(c.pos, 3) << ","
+                  << fmt(c.colliderSpeed, 3) << "," << fmt(c.victimSpeed, 3) << "\n";
+    collisionRows++;
+  };
   auto writeCollisions = [&] {
-    for (const auto& c : plugin.takeCollisions()) {
-      collisionsCsv << fmt(c.time, 3) << "," << csvCell(c.collider) << "," << csvCell(c.victim) << ","
-                    << csvCell(c.type) << "," << csvCell(c.lane) << "," << fmt(c.pos, 3) << ","
-                    << fmt(c.colliderSpeed, 3) << "," << fmt(c.victimSpeed, 3) << "\n";
-      collisionRows++;
-    }
+    for (const auto& c : plugin.takeCollisions()) writeCollision(c);
   };
 
   try {
@@ -259,6 +272,24 @@ int runHighwayCommand(const st::cli::Args& a) {
   const std::string backendName = backend->describe();
   backend->close();
 
+  PluginCounters pc = plugin.counters();
+  if (collisionsFromFile) {
+    try {
+      std::vector<SumoCollision> all = readCollisionOutput(collisionFile);
+      // SUMO stamps a step's collisions with the time the step began; stsim's timeline (and
+      // libsumo's getCollisions after a step) is the step's end, where the vehicles now are
+      for (SumoCollision& c : all) c.time += backend->deltaT();
+      for (const SumoCollision& c : all) writeCollision(c);
+      collisionsCsv.flush();
+      CollisionCounter counter;
+      countCollisions(counter, all, backend->deltaT());
+      pc.collisions = counter.distinct();
+      pc.collisionSteps = counter.reports();
+    } catch (const std::exception& e) {
+      if (error.empty()) error = e.what();
+    }
+  }
+
   std::optional<ValidationReport> validation;
   if (validator && error.empty()) {
     validation = validator->evaluate(readSsmOutput(ssmFile));
@@ -272,7 +303,6 @@ int runHighwayCommand(const st::cli::Args& a) {
   info.broadphase = hw::toString(s.plugin.monitor.broadphase);
   info.simulatedSeconds = simEnd;
   info.wallSeconds = std::chrono::duration<double>(Clock::now() - wallStart).count();
-  const PluginCounters& pc = plugin.counters();
   info.numbers = {{"sumo_seconds", sumoSeconds},
                   {"stsim_seconds", stsimSeconds},
                   {"validation_seconds", validationSeconds},
@@ -284,15 +314,20 @@ int runHighwayCommand(const st::cli::Args& a) {
                   {"departed", static_cast<double>(pc.departed)},
                   {"arrived", static_cast<double>(pc.arrived)},
                   {"teleports", static_cast<double>(pc.teleports)},
-                  {"sumo_collisions", static_cast<double>(pc.collisions)},
-                  {"sumo_collision_steps", static_cast<double>(pc.collisionSteps)},
                   {"color_changes", static_cast<double>(pc.colorChanges)},
                   {"brake_commands", static_cast<double>(pc.brakeCommands)},
                   {"cell_polygons", static_cast<double>(cellPolygons)}};
+  if (!attach) {
+    info.numbers.push_back({"sumo_collisions", static_cast<double>(pc.collisions)});
+    info.numbers.push_back({"sumo_collision_steps", static_cast<double>(pc.collisionSteps)});
+  }
   info.strings = {{"sumocfg", s.sumocfg.string()},
                   {"backend", backendName},
                   {"action", toString(s.plugin.actions.action)},
                   {"stop_reason", stopReason}};
+  if (attach)
+    info.strings.emplace_back("sumo_collisions", "unknown: attached to a SUMO started elsewhere, which stsim cannot ask "
+                                                 "for --collision-output (libtraci 1.15 has no getCollisions)");
   if (!error.empty()) info.strings.emplace_back("error", error);
   hw::writeSummaryJson(out / "summary.json", plugin.monitor().counters(), info);
 
@@ -306,7 +341,8 @@ int runHighwayCommand(const st::cli::Args& a) {
             << " vehicle-km\n  warnings " << total << ": vehicle " << c.warningsByKind[0] << ", curb "
             << c.warningsByKind[1] << ", lane_marker " << c.warningsByKind[2] << ", hazard " << c.warningsByKind[3]
             << " (" << fmt(c.vehicleMeters > 0 ? static_cast<double>(total) / (c.vehicleMeters / 1000.0) : 0.0, 2)
-            << " per vehicle-km); SUMO collisions " << pc.collisions << "; handoffs " << c.handoffs
+            << " per vehicle-km); SUMO collisions " << (attach ? std::string("unknown") : std::to_string(pc.collisions))
+            << "; handoffs " << c.handoffs
             << "\n  time: SUMO " << fmt(sumoSeconds) << " s, stsim " << fmt(stsimSeconds) << " s, wall "
             << fmt(info.wallSeconds) << " s\n";
   if (validation) {

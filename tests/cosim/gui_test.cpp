@@ -17,7 +17,8 @@ TEST(HighwayGui, SumoGuiRunsUnattendedWithTheEmbeddedRunsWarningsAndDrawsEveryCe
   const std::string xvfb = onPath("xvfb-run");
   if (xvfb.empty()) GTEST_SKIP() << "xvfb-run is not installed (Debian package xvfb): no X display for sumo-gui";
   const auto dir = freshDir("gui");
-  const std::vector<std::string> common{"highway", motorway().string(), "--end", "40"};
+  // to 232 s: the motorway's first four collisions happen between 210 and 231 s
+  const std::vector<std::string> common{"highway", motorway().string(), "--end", "232"};
 
   // sumo-gui must start, run and quit by itself (--start --quit-on-end), or this never returns
   auto gui = common;
@@ -38,11 +39,27 @@ TEST(HighwayGui, SumoGuiRunsUnattendedWithTheEmbeddedRunsWarningsAndDrawsEveryCe
   const std::string gs = slurp(dir / "gui/summary.json");
   const std::string es = slurp(dir / "embedded/summary.json");
   EXPECT_EQ(jsonString(gs, "stop_reason"), "end");
-  EXPECT_DOUBLE_EQ(jsonNumber(gs, "steps"), 400.0);
+  EXPECT_DOUBLE_EQ(jsonNumber(gs, "steps"), 2320.0);
   // SUMO itself says it has a GUI (libtraci's hasGUI)
   EXPECT_NE(jsonString(gs, "backend").find("sumo-gui"), std::string::npos) << jsonString(gs, "backend");
   EXPECT_DOUBLE_EQ(jsonNumber(gs, "color_changes"), jsonNumber(es, "color_changes"));
   EXPECT_GT(jsonNumber(gs, "color_changes"), 0.0);
+
+  // SUMO's collisions: libtraci 1.15 cannot fetch them, so they come from SUMO's collision file;
+  // the same rows as libsumo's getCollisions in the embedded run (the file has SUMO's 2 decimals)
+  EXPECT_GE(jsonNumber(es, "sumo_collisions"), 2.0);
+  EXPECT_DOUBLE_EQ(jsonNumber(gs, "sumo_collisions"), jsonNumber(es, "sumo_collisions"));
+  EXPECT_DOUBLE_EQ(jsonNumber(gs, "sumo_collision_steps"), jsonNumber(es, "sumo_collision_steps"));
+  const auto gc = lines(slurp(dir / "gui/collisions.csv")), ec = lines(slurp(dir / "embedded/collisions.csv"));
+  ASSERT_EQ(gc.size(), ec.size());
+  ASSERT_GT(gc.size(), 5u);
+  for (std::size_t i = 1; i < gc.size(); ++i) {
+    const auto gf = splitCsv(gc[i]), ef = splitCsv(ec[i]);
+    ASSERT_EQ(gf.size(), 8u) << gc[i];
+    ASSERT_EQ(ef.size(), 8u) << ec[i];
+    for (int k : {0, 1, 2, 3, 4}) EXPECT_EQ(gf[k], ef[k]) << "row " << i << ": " << gc[i] << " vs " << ec[i];
+    for (int k : {5, 6, 7}) EXPECT_NEAR(std::stod(gf[k]), std::stod(ef[k]), 0.0051) << "row " << i;
+  }
 
   // one polygon per cell in SUMO (cell_polygons is the count sumo-gui reports holding after the
   // drawing), against the cell count of a monitor built here on the same network

@@ -48,6 +48,16 @@ inline std::vector<std::string> lines(const std::string& s) {
   return out;
 }
 
+// The fields of a CSV line without quoting (ids and numbers).
+inline std::vector<std::string> splitCsv(const std::string& line) {
+  std::vector<std::string> out(1);
+  for (char c : line) {
+    if (c == ',') out.emplace_back();
+    else out.back() += c;
+  }
+  return out;
+}
+
 // A number after "key": in a JSON text (first occurrence); NaN if absent.
 inline double jsonNumber(const std::string& json, const std::string& key, std::size_t from = 0) {
   const auto k = json.find("\"" + key + "\":", from);

@@ -78,14 +78,9 @@ void HighwayPlugin::update() {
   counters_.departed += ev.departed.size();
   counters_.arrived += ev.arrived.size();
   counters_.teleports += ev.teleportStarted.size();
-  counters_.collisionSteps += ev.collisions.size();
-  std::set<std::pair<std::string, std::string>> touching;
-  for (const auto& c : ev.collisions) {
-    std::pair<std::string, std::string> pair = std::minmax(c.collider, c.victim);
-    if (!touching_.count(pair)) counters_.collisions++;
-    touching.insert(std::move(pair));
-  }
-  touching_ = std::move(touching);
+  collisionCounter_.step(ev.collisions);
+  counters_.collisions = collisionCounter_.distinct();
+  counters_.collisionSteps = collisionCounter_.reports();
   collisions_.insert(collisions_.end(), ev.collisions.begin(), ev.collisions.end());
 
   // convert in place; decide each vehicle's equipment once, on first sight

@@ -22,6 +22,7 @@
 
 #include <sthighway/monitor.hpp>
 #include <stcosim/backend.hpp>
+#include <stcosim/collisions.hpp>
 #include <stcosim/conversions.hpp>
 
 namespace st::cosim {
@@ -136,7 +137,7 @@ class HighwayPlugin {
   std::vector<PerVehicle> perVehicle_;
   std::vector<char> alerted_;  // per state index, act()'s scratch
   std::vector<SumoCollision> collisions_;
-  std::set<std::pair<std::string, std::string>> touching_;  // pairs in contact at the last step
+  CollisionCounter collisionCounter_;
   PluginCounters counters_;
 };
 
