@@ -183,6 +183,34 @@ TEST(Backends, LibsumoAndLibtraciAgreeThroughTeleports) {
   EXPECT_EQ(viaLibsumo.warnings, viaTraci.warnings);
 }
 
+// The brake action's slowDown must get the deceleration it asks for: SUMO's default speed mode
+// caps a commanded slowdown at the vType's comfortable decel (4.5 m/s^2 for the motorway's cars).
+TEST(Backends, SlowDownBrakesAtTheCommandedRateBeyondTheTypesDecel) {
+  const Scenario s = shortMotorway(120.0);
+  const SumoLaunch launch{sumoArguments(s), false, "", ""};
+  for (int viaTraci = 0; viaTraci < 2; ++viaTraci) {
+    auto b = viaTraci ? launchTraci(launch) : startLibsumo(launch);
+    auto speedOf = [&](const std::string& id) {
+      for (const SumoVehicle& v : b->vehicles())
+        if (v.id == id) return v.speed;
+      ADD_FAILURE() << id << " left the road";
+      return 0.0;
+    };
+    while (b->time() < 100.0 - 1e-9) b->step();
+    std::string id;
+    for (const SumoVehicle& v : b->vehicles())
+      if (v.type == "car" && v.speed > 25.0) id = v.id;
+    ASSERT_FALSE(id.empty());
+    const double v0 = speedOf(id), commanded = 8.0;
+    b->slowDown(id, 0.0, v0 / commanded);
+    for (int k = 0; k < 5; ++k) b->step();
+    const double rate = (v0 - speedOf(id)) / 0.5;
+    EXPECT_GT(rate, 7.0) << (viaTraci ? "libtraci" : "libsumo") << ": " << id << " from " << v0 << " m/s";
+    EXPECT_LE(rate, commanded + 1e-9) << (viaTraci ? "libtraci" : "libsumo");
+    b->close();
+  }
+}
+
 TEST(Backends, VehicleTypesCarryMassParamAndClass) {
   const Scenario s = shortMotorway(5.0);
   auto b = startLibsumo(SumoLaunch{sumoArguments(s), false, "", ""});

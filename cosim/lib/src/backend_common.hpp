@@ -80,4 +80,16 @@ void addPolygon(const std::string& id, const std::vector<std::pair<double, doubl
   Polygon::add(id, pv, Color(c.r, c.g, c.b, c.a), fill, "stsim", layer);
 }
 
+// SUMO caps a commanded slowdown at the vType's comfortable `decel` while the vehicle's speed mode
+// has bit 2 ("regard maximum deceleration", set by default): a slowDown asking 8 m/s^2 of a car
+// with decel 4.5 gets 4.5. Clearing that bit (the others, safe speed among them, stay) lets the
+// duration set the deceleration, as the caller computed it.
+template <class Vehicle>
+void slowDownAtCommandedRate(const std::string& id, double speed, double duration) {
+  constexpr int kRegardMaxDecel = 1 << 2;
+  const int mode = Vehicle::getSpeedMode(id);
+  if (mode & kRegardMaxDecel) Vehicle::setSpeedMode(id, mode & ~kRegardMaxDecel);
+  Vehicle::slowDown(id, speed, duration);
+}
+
 }  // namespace st::cosim::detail

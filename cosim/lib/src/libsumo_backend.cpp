@@ -63,7 +63,7 @@ class LibsumoBackend final : public Backend {
     libsumo::Vehicle::setColor(id, libsumo::TraCIColor(c.r, c.g, c.b, c.a));
   }
   void slowDown(const std::string& id, double speed, double duration) override {
-    libsumo::Vehicle::slowDown(id, speed, duration);
+    detail::slowDownAtCommandedRate<libsumo::Vehicle>(id, speed, duration);
   }
   void addPolygon(const std::string& id, const std::vector<std::pair<double, double>>& shape, Rgba c, bool fill,
                   int layer) override {

@@ -157,7 +157,7 @@ class TraciBackend final : public Backend {
     guard([&] { libtraci::Vehicle::setColor(id, libsumo::TraCIColor(c.r, c.g, c.b, c.a)); });
   }
   void slowDown(const std::string& id, double speed, double duration) override {
-    guard([&] { libtraci::Vehicle::slowDown(id, speed, duration); });
+    guard([&] { detail::slowDownAtCommandedRate<libtraci::Vehicle>(id, speed, duration); });
   }
   void addPolygon(const std::string& id, const std::vector<std::pair<double, double>>& shape, Rgba c, bool fill,
                   int layer) override {

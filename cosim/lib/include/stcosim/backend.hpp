@@ -145,6 +145,8 @@ class Backend {
   // The colour the vehicle is drawn in (its own, else its type's).
   virtual Rgba color(const std::string& vehicleId) = 0;
   virtual void setColor(const std::string& vehicleId, Rgba c) = 0;
+  // Brings the vehicle to `speed` linearly over `duration` s, at that rate even beyond its vType's
+  // comfortable decel (SUMO's safe-speed rule still applies).
   virtual void slowDown(const std::string& vehicleId, double speed, double duration) = 0;
   virtual void addPolygon(const std::string& id, const std::vector<std::pair<double, double>>& shape, Rgba c,
                           bool fill, int layer) = 0;
