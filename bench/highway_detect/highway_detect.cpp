@@ -11,6 +11,7 @@
 // machine is shared.
 //
 // usage: highway_detect [--n 1000,10000,100000] [--ticks K] [--seed S] [--all-pairs yes|no]
+//                       [--detector concentric|five|box]  (default: all three)
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -207,13 +208,16 @@ int main(int argc, char** argv) {
   int ticksOverride = 0;
   std::uint64_t seed = 1;
   bool allPairs = true;
+  std::vector<DetectorKind> kinds{DetectorKind::Concentric, DetectorKind::FiveCircle, DetectorKind::Box};
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--n")) ns = parseList(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--all-pairs")) allPairs = std::strcmp(argv[i + 1], "no") != 0;
     else if (!std::strcmp(argv[i], "--ticks")) ticksOverride = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--seed")) seed = std::strtoull(argv[i + 1], nullptr, 10);
+    else if (DetectorKind k; !std::strcmp(argv[i], "--detector") && parseDetectorKind(argv[i + 1], k)) kinds = {k};
     else {
-      std::fprintf(stderr, "usage: highway_detect [--n 1000,10000,100000] [--ticks K] [--seed S] [--all-pairs yes|no]\n");
+      std::fprintf(stderr, "usage: highway_detect [--n 1000,10000,100000] [--ticks K] [--seed S] [--all-pairs yes|no] "
+                           "[--detector concentric|five|box]\n");
       return 2;
     }
   }
@@ -223,7 +227,7 @@ int main(int argc, char** argv) {
               "veh-updates/s", "pairs/veh", "toi/veh", "warnings", "speedup");
   std::vector<Row> rows;
   for (long n : ns) {
-    for (DetectorKind kind : {DetectorKind::Concentric, DetectorKind::FiveCircle, DetectorKind::Box}) {
+    for (DetectorKind kind : kinds) {
       const int cellTicks = ticksOverride ? ticksOverride : n <= 1000 ? 200 : n <= 10000 ? 40 : 8;
       const Row cells = measure(n, kind, Broadphase::Cells, cellTicks, seed);
       rows.push_back(cells);
@@ -247,7 +251,7 @@ int main(int argc, char** argv) {
   // exactness of the cells against all pairs on the same ticks
   for (long n : ns)
     if (n <= 10000 && allPairs)
-      for (DetectorKind kind : {DetectorKind::Concentric, DetectorKind::FiveCircle, DetectorKind::Box})
+      for (DetectorKind kind : kinds)
         std::printf("same warnings cells vs all-pairs, %ld vehicles, %s, %d ticks: %s\n", n, toString(kind),
                     n <= 1000 ? 30 : 4, sameWarnings(n, kind, n <= 1000 ? 30 : 4, seed) ? "yes" : "NO");
   // the issue-4 targets at 1e4

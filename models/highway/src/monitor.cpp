@@ -93,6 +93,8 @@ struct HighwayMonitor::Impl {
     int input = -1;         // index in the current span
     Vec2 prev = Vec2::Zero();
     double length = -1.0, width = -1.0, heading = 0.0;  // of the cached envelopes
+    double axisHeading = std::numeric_limits<double>::quiet_NaN();  // of the cached axis
+    Vec2 axis = Vec2(1.0, 0.0);                          // (cos, sin) of axisHeading
     std::vector<Episode> open;
     std::array<bool, kWarningKindCount> exposed{};
     std::array<double, kWarningKindCount> deficit{};
@@ -103,6 +105,8 @@ struct HighwayMonitor::Impl {
   std::vector<int> groupOf;                 // feature -> group (one polyline or hazard)
   std::vector<std::string> groupName;
   std::vector<FeatureKind> groupKind;
+  std::vector<Vec2> featureNormal;          // unit normal of each segment feature (left of a -> b)
+  std::vector<char> featureHasNormal;       // 0 for hazards and zero-length segments
   std::optional<Space<2>> featureIndex;
   std::optional<CellNetwork> cells;
 
@@ -111,16 +115,20 @@ struct HighwayMonitor::Impl {
   std::vector<int> freeSlots;
   std::uint64_t nextSerial = 1;
   std::vector<int> activeSlots;              // present slots, in input order
+  std::vector<int> nextActive;               // scratch for the next tick's
 
   // hot state, struct of arrays by slot
   std::vector<Body> body;
-  std::vector<Vec2> centre;                  // body[].position, compact for the neighbour filter
+  std::vector<Vec2> centre;                  // body[].position, compact for the pair tests
+  std::vector<Vec2> vel;                     // body[].velocity
   std::vector<double> mass, env, accelAbs;
   std::vector<Vec2> ext;                     // envelopeExtent per slot
   std::vector<double> brakeRatio;            // m / (2 F_brake) per slot (s per m/s)
   std::vector<VehicleClass> vclass;
   std::vector<std::uint8_t> signals;
   std::vector<char> equipped;
+  std::vector<std::uint64_t> serialOf;       // slots[].serial, the key of vehicle episodes
+  std::vector<int> cellOf;                   // serving cell (cells broadphase)
 
   // per-cell bounds of the members' velocities, accelerations and envelopes (cells broadphase)
   struct CellStats {
@@ -140,6 +148,7 @@ struct HighwayMonitor::Impl {
   std::vector<Warning> finished;
   std::vector<Alert> alerts;
   std::vector<Threat> threats;  // scratch
+  std::vector<Episode> episodeScratch;
   double lastT = -std::numeric_limits<double>::infinity();
   bool started = false;
 
@@ -158,6 +167,7 @@ struct HighwayMonitor::Impl {
     if (body.size() >= n) return;
     body.resize(n);
     centre.resize(n);
+    vel.resize(n);
     mass.resize(n);
     env.resize(n);
     ext.resize(n);
@@ -166,6 +176,8 @@ struct HighwayMonitor::Impl {
     vclass.resize(n);
     signals.resize(n);
     equipped.resize(n);
+    serialOf.resize(n);
+    cellOf.resize(n);
   }
 
   void close(Slot& s, double endTime) {
@@ -182,17 +194,24 @@ struct HighwayMonitor::Impl {
     return cfg.safeTime.vehicleReactionTime + brakeRatio[e] * relSpeedBound;
   }
 
-  void checkPair(int e, int f) {
-    ++counters.candidatePairs;
-    const Body& a = body[e];
-    const Body& b = body[f];
-    const Vec2 p = b.position - a.position;
-    const Vec2 v = b.velocity - a.velocity;
+  // The pair test, the same for both broad phases (the callers count the candidate pair).
+  // First a cheap bound: the closing speed is at most |v_x| + |v_y|, so the safe time is at most
+  // the one at that speed; the exact per-axis test is monotone in the horizon, so at the bound
+  // it prunes only pairs it prunes at the exact safe time, without a sqrt or a division.
+  // p, v: the foe's centre and velocity relative to the ego's; extSum: both envelope extents.
+  bool pairMayWarn(int e, const Vec2& p, const Vec2& v, const Vec2& extSum, double accel) const {
+    const double closingBound = (std::abs(v.x()) + std::abs(v.y())) * (1.0 + tol::kBoundRelativeSlop);
+    const double safeBound = cfg.safeTime.vehicleReactionTime + brakeRatio[e] * closingBound;
+    const double grow = 0.5 * accel * safeBound * safeBound + tol::kPruneSlop;
+    return std::abs(p.x()) <= extSum.x() + std::abs(v.x()) * safeBound + grow &&
+           std::abs(p.y()) <= extSum.y() + std::abs(v.y()) * safeBound + grow;
+  }
+
+  void checkPair(int e, int f, const Vec2& p, const Vec2& v, double accel) {
     const double dist = p.norm();
     const double closing = dist > 0.0 ? -p.dot(v) / dist : v.norm();
     const double safe = cfg.safeTime.vehicleSafeTime(mass[e], closing, vclass[e]);
     // exact prune: the envelopes cannot meet within the safe time
-    const double accel = cfg.detector.motion == MotionModel::ConstantAcceleration ? accelAbs[e] + accelAbs[f] : 0.0;
     const double envSum = env[e] + env[f] + tol::kPruneSlop;
     const double grow = 0.5 * accel * safe * safe + tol::kPruneSlop;
     // per axis, then as discs: the envelopes cannot meet within the safe time
@@ -206,30 +225,25 @@ struct HighwayMonitor::Impl {
       if (!hit.acts() || hit.actTime() > safe) return;
     }
     ++counters.toiChecks;
-    const Ttc ttc = vehicleTtc(cfg.detector, a, b, safe);
-    if (ttc.found() && ttc.t <= safe)
-      threats.push_back({slots[f].serial, WarningKind::Vehicle, ttc.zone, ttc.t, safe, f});
+    const Ttc ttc = vehicleTtc(cfg.detector, body[e], body[f], safe);
+    if (ttc.found() && ttc.t <= safe) threats.push_back({serialOf[f], WarningKind::Vehicle, ttc.zone, ttc.t, safe, f});
   }
 
-  void checkFeature(int e, int fi) {
+  // hMax: the ego's largest road safe time (at its full speed)
+  void checkFeature(int e, int fi, double hMax) {
     ++counters.featureChecks;
     const RoadFeature& f = features.features[fi];
     const Body& a = body[e];
     const double accel = cfg.detector.motion == MotionModel::ConstantAcceleration ? accelAbs[e] : 0.0;
-    if (f.kind != FeatureKind::Hazard) {
+    if (f.kind != FeatureKind::Hazard && featureHasNormal[fi]) {
       // exact prune: to touch the segment the shape must first reach its line, which it
       // approaches at most at the normal speed, within at most the largest road safe time
-      const Vec2 dir = f.segment.b - f.segment.a;
-      const double len = dir.norm();
-      if (len > 0.0) {
-        const Vec2 n(-dir.y() / len, dir.x() / len);
-        const double s = n.dot(a.position - f.segment.a);
-        const Vec2 toward = s > 0.0 ? Vec2(-n) : n;
-        const double hMax = cfg.safeTime.roadSafeTime(mass[e], a.velocity.norm(), vclass[e]);
-        const double approach = std::max(0.0, a.velocity.dot(toward));
-        if (std::abs(s) > roadSupport(cfg.detector, a, toward) + approach * hMax + 0.5 * accel * hMax * hMax + tol::kPruneSlop)
-          return;
-      }
+      const Vec2& n = featureNormal[fi];
+      const double s = n.dot(a.position - f.segment.a);
+      const Vec2 toward = s > 0.0 ? Vec2(-n) : n;
+      const double approach = std::max(0.0, a.velocity.dot(toward));
+      if (std::abs(s) > roadSupport(cfg.detector, a, toward) + approach * hMax + 0.5 * accel * hMax * hMax + tol::kPruneSlop)
+        return;
     }
     const Vec2 closest = f.kind == FeatureKind::Hazard ? f.segment.a : closestPointOnSegment(f.segment, a.position);
     const Vec2 d = closest - a.position;
@@ -251,39 +265,54 @@ struct HighwayMonitor::Impl {
   }
 
   void candidatesVehicles(int e) {
+    const Vec2 pe = centre[e];
+    const Vec2 ve = vel[e];
+    const bool accelModel = cfg.detector.motion == MotionModel::ConstantAcceleration;
     if (cfg.broadphase == Broadphase::AllPairs) {
       for (int f : activeSlots)
-        if (f != e) checkPair(e, f);
+        if (f != e) {
+          ++counters.candidatePairs;
+          const Vec2 p = centre[f] - pe, v = vel[f] - ve;
+          const double accel = accelModel ? accelAbs[e] + accelAbs[f] : 0.0;
+          if (pairMayWarn(e, p, v, ext[e] + ext[f], accel)) checkPair(e, f, p, v, accel);
+        }
       return;
     }
-    const Body& a = body[e];
-    const bool accel = cfg.detector.motion == MotionModel::ConstantAcceleration;
-    for (const auto& nb : neighbours[cells->servingCell(e)]) {
-      const int cell = nb.first;
-      const CellStats& c = cellStats[cell];
+    for (const Neighbour& c : neighbours[cellOf[e]]) {
       // per axis: the relative displacement along x (y) within the look-ahead is bounded by
       // the largest relative velocity along x (y) against the cell's members
-      const double dx = std::max(std::abs(a.velocity.x() - c.vmin.x()), std::abs(a.velocity.x() - c.vmax.x()));
-      const double dy = std::max(std::abs(a.velocity.y() - c.vmin.y()), std::abs(a.velocity.y() - c.vmax.y()));
-      const double ac = accel ? accelAbs[e] + c.amax : 0.0;
+      const double dx = std::max(std::abs(ve.x() - c.vmin.x()), std::abs(ve.x() - c.vmax.x()));
+      const double dy = std::max(std::abs(ve.y() - c.vmin.y()), std::abs(ve.y() - c.vmax.y()));
+      const double ac = accelModel ? accelAbs[e] + c.amax : 0.0;
       const double h = vehicleHorizonBound(e, std::sqrt(dx * dx + dy * dy));
       const Vec2 r = Vec2(dx, dy) * h + ext[e] + c.extMax + Vec2::Constant(0.5 * ac * h * h + tol::kPruneSlop);
-      const Aabb<2> cb{a.position - r, a.position + r};
+      const Aabb<2> cb{pe - r, pe + r};
       // the reach bounds foe centres: skip a cell none of whose members' centres is inside
       if (!c.centres.overlaps(cb)) continue;
-      auto visit = [&](int f) {
-        if (f != e && cb.contains(centre[f])) checkPair(e, f);
-      };
       // a congested (subdivided) cell is searched through its space; a small one through its
       // members sorted along the cell's long axis (a binary search for the reach's range)
       if (c.subdivided) {
-        cells->forEachInCellBox(cell, cb, visit);
-      } else {
-        const auto& list = sortedMembers[cell];
-        const int ax = c.axis;
-        auto it = std::lower_bound(list.begin(), list.end(), cb.min[ax],
-                                   [](const std::pair<double, int>& m, double v) { return m.first < v; });
-        for (; it != list.end() && it->first <= cb.max[ax]; ++it) visit(it->second);
+        cells->forEachInCellBox(c.cell, cb, [&](int f) {
+          if (f == e || !cb.contains(centre[f])) return;
+          ++counters.candidatePairs;
+          const Vec2 p = centre[f] - pe, v = vel[f] - ve;
+          const double accel = accelModel ? accelAbs[e] + accelAbs[f] : 0.0;
+          if (pairMayWarn(e, p, v, ext[e] + ext[f], accel)) checkPair(e, f, p, v, accel);
+        });
+        continue;
+      }
+      const double* key = memberKey.data();
+      int i = static_cast<int>(std::lower_bound(key + c.begin, key + c.end, cb.min[c.axis]) - key);
+      for (; i < c.end && key[i] <= cb.max[c.axis]; ++i) {
+        const Vec2& q = memberPos[i];
+        if (q.x() < cb.min.x() || q.x() > cb.max.x() || q.y() < cb.min.y() || q.y() > cb.max.y()) continue;
+        const int f = memberSlot[i];
+        if (f == e) continue;
+        ++counters.candidatePairs;
+        // the member arrays hold the foe's state in walk order (no slot indirection)
+        const Vec2 p = q - pe, v = memberVel[i] - ve;
+        const double accel = accelModel ? accelAbs[e] + memberAcc[i] : 0.0;
+        if (pairMayWarn(e, p, v, ext[e] + memberExt[i], accel)) checkPair(e, f, p, v, accel);
       }
     }
   }
@@ -313,7 +342,9 @@ struct HighwayMonitor::Impl {
         const double ab = accel ? ca.amax + cb.amax : 0.0;
         const double h = tr + ca.kMax * std::sqrt(dx * dx + dy * dy);
         const Vec2 r = Vec2(dx, dy) * h + ca.extMax + cb.extMax + Vec2::Constant(0.5 * ab * h * h + 2 * tol::kPruneSlop);
-        if (Aabb<2>{ca.centres.min - r, ca.centres.max + r}.overlaps(cb.centres)) neighbours[A].emplace_back(B, r);
+        if (Aabb<2>{ca.centres.min - r, ca.centres.max + r}.overlaps(cb.centres))
+          neighbours[A].push_back({cb.vmin, cb.vmax, cb.extMax, cb.centres, cb.amax, memberStart[B], memberStart[B + 1], B,
+                                   cb.axis, cb.subdivided});
       });
       // road features any member could reach within its largest road safe time
       roadNear[A].clear();
@@ -328,20 +359,41 @@ struct HighwayMonitor::Impl {
   }
   // per cell, this tick: (cell, reach half extents) of the cells its cars may meet, and the road
   // features they may reach
-  std::vector<std::vector<std::pair<int, Vec2>>> neighbours;
+  // what the per-ego reach needs of a neighbour cell, copied so the ego's walk reads one array
+  struct Neighbour {
+    Vec2 vmin, vmax, extMax;
+    Aabb<2> centres;
+    double amax;
+    int begin, end;  // its members in the member arrays
+    int cell;
+    int axis;
+    bool subdivided;
+  };
+  std::vector<std::vector<Neighbour>> neighbours;
   std::vector<std::vector<int>> roadNear;
-  std::vector<std::vector<std::pair<double, int>>> sortedMembers;  // per cell: (coordinate, slot)
+  // the cars of every cell, contiguous by cell (memberStart[c] .. memberStart[c + 1]), each cell's
+  // sorted by (coordinate along its long axis, slot): key, centre, slot
+  std::vector<int> memberStart;
+  std::vector<int> memberNext;                      // scratch for the counting sort
+  std::vector<std::pair<double, int>> memberOrder;  // scratch for the sort
+  std::vector<double> memberKey;
+  std::vector<Vec2> memberPos;
+  std::vector<Vec2> memberVel;
+  std::vector<Vec2> memberExt;
+  std::vector<double> memberAcc;
+  std::vector<int> memberSlot;
   Vec2 globalVmax = Vec2::Zero();
   double globalAmax = 0.0, globalEnvMax = 0.0;
   Vec2 globalExtMax = Vec2::Zero();
 
   void candidatesFeatures(int e) {
     if (!featureIndex) return;
+    const double hMax = cfg.safeTime.roadSafeTime(mass[e], vel[e].norm(), vclass[e]);
     if (cfg.broadphase == Broadphase::AllPairs) {
-      for (int fi = 0; fi < static_cast<int>(features.features.size()); ++fi) checkFeature(e, fi);
+      for (int fi = 0; fi < static_cast<int>(features.features.size()); ++fi) checkFeature(e, fi, hMax);
       return;
     }
-    for (int fi : roadNear[cells->servingCell(e)]) checkFeature(e, fi);
+    for (int fi : roadNear[cellOf[e]]) checkFeature(e, fi, hMax);
   }
 
   void merge(int e, double t) {
@@ -358,8 +410,43 @@ struct HighwayMonitor::Impl {
     });
     threats.erase(std::unique(threats.begin(), threats.end(), [](const Threat& x, const Threat& y) { return x.key == y.key; }),
                   threats.end());
-    std::vector<Episode> next;
-    next.reserve(threats.size());
+    // the common case while threats last: the same keys as at the last tick, updated in place
+    bool same = threats.size() == s.open.size();
+    for (std::size_t k = 0; same && k < threats.size(); ++k) same = s.open[k].key == threats[k].key;
+    if (same) {
+      for (std::size_t k = 0; k < threats.size(); ++k) continueEpisode(s.open[k].w, threats[k], t);
+    } else {
+      mergeKeys(s, t);
+    }
+    // exposure and the alert
+    s.exposed.fill(false);
+    s.deficit.fill(0.0);
+    const Threat* worst = nullptr;
+    for (const Threat& th : threats) {
+      const int k = static_cast<int>(th.kind);
+      s.exposed[k] = true;
+      s.deficit[k] = std::max(s.deficit[k], th.safe - th.ttc);
+      if (!worst || th.ttc * worst->safe < worst->ttc * th.safe) worst = &th;
+    }
+    if (worst)
+      alerts.push_back({s.input, worst->kind, worst->zone, worst->ttc, worst->safe,
+                        worst->kind == WarningKind::Vehicle ? slots[worst->foe].input : -1});
+  }
+
+  static void continueEpisode(Warning& w, const Threat& th, double t) {
+    w.end = t;
+    if (th.ttc < w.minTtc) {
+      w.minTtc = th.ttc;
+      w.minTtcTime = t;
+      w.safeTimeAtMin = th.safe;
+    }
+  }
+
+  // Episodes by key: those without a threat end, those with one go on, new keys begin. The
+  // slot's list and the scratch list swap buffers, so no tick allocates once they have grown.
+  void mergeKeys(Slot& s, double t) {
+    std::vector<Episode>& next = episodeScratch;
+    next.clear();
     std::size_t i = 0, j = 0;
     while (i < s.open.size() || j < threats.size()) {
       if (j == threats.size() || (i < s.open.size() && s.open[i].key < threats[j].key)) {
@@ -371,13 +458,8 @@ struct HighwayMonitor::Impl {
       }
       const Threat& th = threats[j++];
       if (i < s.open.size() && s.open[i].key == th.key) {
-        Episode ep = std::move(s.open[i++]);
-        ep.w.end = t;
-        if (th.ttc < ep.w.minTtc) {
-          ep.w.minTtc = th.ttc;
-          ep.w.minTtcTime = t;
-          ep.w.safeTimeAtMin = th.safe;
-        }
+        Episode& ep = s.open[i++];
+        continueEpisode(ep.w, th, t);
         next.push_back(std::move(ep));
         continue;
       }
@@ -398,20 +480,8 @@ struct HighwayMonitor::Impl {
       ++counters.warningsByZone[static_cast<int>(th.zone)];
       next.push_back(std::move(ep));
     }
-    s.open = std::move(next);
-    // exposure and the alert
-    s.exposed.fill(false);
-    s.deficit.fill(0.0);
-    const Threat* worst = nullptr;
-    for (const Threat& th : threats) {
-      const int k = static_cast<int>(th.kind);
-      s.exposed[k] = true;
-      s.deficit[k] = std::max(s.deficit[k], th.safe - th.ttc);
-      if (!worst || th.ttc * worst->safe < worst->ttc * th.safe) worst = &th;
-    }
-    if (worst)
-      alerts.push_back({s.input, worst->kind, worst->zone, worst->ttc, worst->safe,
-                        worst->kind == WarningKind::Vehicle ? slots[worst->foe].input : -1});
+    std::swap(s.open, next);
+    next.clear();
   }
 };
 
@@ -438,6 +508,12 @@ HighwayMonitor::HighwayMonitor(const RoadGeometry& road, const MonitorConfig& co
       m.groupKind.push_back(f.kind);
     }
     m.groupOf.push_back(it->second);
+  }
+  for (const RoadFeature& f : m.features.features) {
+    const Vec2 dir = f.segment.b - f.segment.a;
+    const double len = dir.norm();
+    m.featureHasNormal.push_back(f.kind != FeatureKind::Hazard && len > 0.0);
+    m.featureNormal.push_back(len > 0.0 ? Vec2(-dir.y() / len, dir.x() / len) : Vec2(0.0, 0.0));
   }
   if (!m.features.features.empty()) {
     const Aabb<2> b{m.features.bounds.min.array() - 10.0, m.features.bounds.max.array() + 10.0};
@@ -467,11 +543,22 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
   if (m.started) m.accumulateExposure(t - m.lastT);
   // who is here: map ids to slots
   for (int s : m.activeSlots) m.slots[s].input = -1;
-  std::vector<int> now;
-  now.reserve(vehicles.size());
+  std::vector<int>& now = m.nextActive;
+  now.clear();
   for (int i = 0; i < static_cast<int>(vehicles.size()); ++i) {
     const VehicleState& v = vehicles[i];
     checkFinite(v);
+    if (i < static_cast<int>(m.activeSlots.size())) {
+      // the common case: the same vehicle at the same place in the input as at the last tick
+      // (no hash of its id); a duplicate id falls through to the lookup, which reports it
+      const int s = m.activeSlots[i];
+      Impl::Slot& sl = m.slots[s];
+      if (sl.input < 0 && sl.id == v.id) {
+        sl.input = i;
+        now.push_back(s);
+        continue;
+      }
+    }
     auto [it, inserted] = m.slotOf.try_emplace(v.id, -1);  // no node built for a known id
     if (inserted) {
       int s;
@@ -487,6 +574,8 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       sl = Impl::Slot{};
       sl.id = v.id;
       sl.serial = m.nextSerial++;
+      m.ensureSlotArrays(m.slots.size());
+      m.serialOf[s] = sl.serial;
       sl.prev = v.position;
       ++m.counters.vehiclesSeen;
     }
@@ -508,14 +597,28 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     m.slotOf.erase(sl.id);
     m.freeSlots.push_back(s);
   }
-  m.activeSlots = std::move(now);
+  std::swap(m.activeSlots, now);
   // hot state
   const DetectorConfig& dc = m.cfg.detector;
   for (int s : m.activeSlots) {
     Impl::Slot& sl = m.slots[s];
     const VehicleState& v = vehicles[sl.input];
-    m.body[s] = bodyOf(v);
+    if (v.heading != sl.axisHeading) {
+      // headings change only on curves and lane changes: keep (cos, sin) until they do
+      sl.axis = v.direction();
+      sl.axisHeading = v.heading;
+    }
+    // as bodyOf(v), with the cached axis
+    Body& b = m.body[s];
+    const Vec2& d = sl.axis;
+    b.position = v.position;
+    b.axis = d;
+    b.velocity = v.speed * d + v.lateralSpeed * Vec2(-d.y(), d.x());
+    b.acceleration = v.acceleration;
+    b.length = v.length;
+    b.width = v.width;
     m.centre[s] = v.position;
+    m.vel[s] = b.velocity;
     m.mass[s] = v.mass;
     if (v.length != sl.length || v.width != sl.width || v.heading != sl.heading) {
       // sizes rarely change, headings only on curves: keep the envelopes until they do
@@ -538,7 +641,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
   ++m.counters.ticks;
   // cells: every car measures its sites, hand-offs happen, then the cells' extents are known
   if (m.cfg.broadphase == Broadphase::Cells) {
-    for (int s : m.activeSlots) m.cells->place(s, m.body[s].position, boxOf(m.body[s]));
+    for (int s : m.activeSlots) m.cellOf[s] = m.cells->place(s, m.body[s].position, boxOf(m.body[s]));
     m.cells->refreshExtents();
     m.cells->takeHandoffs();
     const CellCounters& cc = m.cells->counters();
@@ -547,14 +650,13 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     m.counters.reunions = cc.reunions;
     const int nc = m.cells->cellCount();
     m.cellStats.assign(nc, Impl::CellStats{});
-    m.sortedMembers.resize(nc);
-    for (auto& v : m.sortedMembers) v.clear();
+    m.memberStart.assign(nc + 1, 0);
     m.globalVmax = Vec2::Zero();
     m.globalAmax = m.globalEnvMax = 0.0;
     m.globalExtMax = Vec2::Zero();
     const SafeTimeConfig& st = m.cfg.safeTime;
     for (int s : m.activeSlots) {
-      const int cell = m.cells->servingCell(s);
+      const int cell = m.cellOf[s];
       Impl::CellStats& c = m.cellStats[cell];
       const Vec2& v = m.body[s].velocity;
       if (c.count++ == 0) {
@@ -566,7 +668,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
         c.centres.min = c.centres.min.cwiseMin(m.centre[s]);
         c.centres.max = c.centres.max.cwiseMax(m.centre[s]);
       }
-      m.sortedMembers[cell].emplace_back(0.0, s);
+      ++m.memberStart[cell + 1];
       c.amax = std::max(c.amax, m.accelAbs[s]);
       c.envMax = std::max(c.envMax, m.env[s]);
       c.extMax = c.extMax.cwiseMax(m.ext[s]);
@@ -579,16 +681,39 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       m.globalEnvMax = std::max(m.globalEnvMax, m.env[s]);
       m.globalExtMax = m.globalExtMax.cwiseMax(m.ext[s]);
     }
+    // members contiguous by cell (a counting sort), then each cell's sorted along its long axis
+    for (int c = 0; c < nc; ++c) m.memberStart[c + 1] += m.memberStart[c];
+    const std::size_t na = m.activeSlots.size();
+    m.memberOrder.resize(na);
+    m.memberKey.resize(na);
+    m.memberPos.resize(na);
+    m.memberVel.resize(na);
+    m.memberExt.resize(na);
+    m.memberAcc.resize(na);
+    m.memberSlot.resize(na);
     for (int c = 0; c < nc; ++c) {
       Impl::CellStats& cs = m.cellStats[c];
       const SpaceCounters& sc = m.cells->cellSpace(c).counters();
       cs.subdivided = sc.subdivisions > sc.reunions;
-      if (cs.count == 0 || cs.subdivided) continue;
+      if (cs.count == 0) continue;
       const Vec2 ext = cs.centres.extent();
       cs.axis = ext.y() > ext.x() ? 1 : 0;
-      auto& list = m.sortedMembers[c];
-      for (auto& [coord, slot] : list) coord = m.centre[slot][cs.axis];
-      std::sort(list.begin(), list.end());
+    }
+    m.memberNext.assign(m.memberStart.begin(), m.memberStart.end() - 1);
+    for (int s : m.activeSlots) {
+      const int cell = m.cellOf[s];
+      m.memberOrder[m.memberNext[cell]++] = {m.centre[s][m.cellStats[cell].axis], s};
+    }
+    for (int c = 0; c < nc; ++c)
+      std::sort(m.memberOrder.begin() + m.memberStart[c], m.memberOrder.begin() + m.memberStart[c + 1]);
+    for (std::size_t i = 0; i < na; ++i) {
+      const auto [key, slot] = m.memberOrder[i];
+      m.memberKey[i] = key;
+      m.memberPos[i] = m.centre[slot];
+      m.memberVel[i] = m.vel[slot];
+      m.memberExt[i] = m.ext[slot];
+      m.memberAcc[i] = m.accelAbs[slot];
+      m.memberSlot[i] = slot;
     }
     m.buildNeighbourLists();
   }

@@ -22,6 +22,12 @@ inline constexpr double kMaxMiterRatio = 4.0;
 // Far above the kernels' slop, far below any physical distance.
 inline constexpr double kPruneSlop = 1e-6;
 
+// Relative growth of the cheap pair bounds that stand in for an exact prune (closing speed <=
+// |v_x| + |v_y|, so the safe time is at most the one at that speed), dimensionless. Roundoff
+// makes the exact quantities a few ulps (1e-16) off their real values; this keeps each bound
+// above the exact one it replaces, so it never prunes a pair the exact test keeps.
+inline constexpr double kBoundRelativeSlop = 1e-12;
+
 // Accelerations below this are treated as zero: the constant-velocity kernels are used (m/s^2).
 inline constexpr double kAccelerationEpsilon = 1e-9;
 
