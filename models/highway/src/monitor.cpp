@@ -90,14 +90,15 @@ struct HighwayMonitor::Impl {
     std::string id;
     std::uint64_t serial = 0;
     bool present = false;
-    int input = -1;         // index in the current span
     Vec2 prev = Vec2::Zero();
     double length = -1.0, width = -1.0, heading = 0.0;  // of the cached envelopes
     double axisHeading = std::numeric_limits<double>::quiet_NaN();  // of the cached axis
     Vec2 axis = Vec2(1.0, 0.0);                          // (cos, sin) of axisHeading
-    std::vector<Episode> open;
-    std::array<bool, kWarningKindCount> exposed{};
+  };
+  // what the exposure counters need of a car's threats at its last tick
+  struct Exposure {
     std::array<double, kWarningKindCount> deficit{};
+    std::array<bool, kWarningKindCount> exposed{};
   };
 
   MonitorConfig cfg;
@@ -129,6 +130,13 @@ struct HighwayMonitor::Impl {
   std::vector<char> equipped;
   std::vector<std::uint64_t> serialOf;       // slots[].serial, the key of vehicle episodes
   std::vector<int> cellOf;                   // serving cell (cells broadphase)
+  std::vector<int> inputOf;                  // index in the current span, -1 if absent
+  std::vector<Exposure> exposure;
+  // Open episodes of every car, contiguous in the order the cars were processed at the last
+  // tick (keys ascending per car): a tick reads them in that order and writes the next pool in
+  // the same order, so the bookkeeping streams through memory instead of chasing per-car lists.
+  std::vector<Episode> pool, poolNext;
+  std::vector<int> openBegin, openCount;     // per slot, into pool
 
   // per-cell bounds of the members' velocities, accelerations and envelopes (cells broadphase)
   struct CellStats {
@@ -148,7 +156,6 @@ struct HighwayMonitor::Impl {
   std::vector<Warning> finished;
   std::vector<Alert> alerts;
   std::vector<Threat> threats;  // scratch
-  std::vector<Episode> episodeScratch;
   double lastT = -std::numeric_limits<double>::infinity();
   bool started = false;
 
@@ -157,9 +164,9 @@ struct HighwayMonitor::Impl {
   void accumulateExposure(double dt) {
     for (int s : activeSlots)
       for (int k = 0; k < kWarningKindCount; ++k)
-        if (slots[s].exposed[k]) {
+        if (exposure[s].exposed[k]) {
           counters.tet[k] += dt;
-          counters.tit[k] += dt * slots[s].deficit[k];
+          counters.tit[k] += dt * exposure[s].deficit[k];
         }
   }
 
@@ -178,15 +185,22 @@ struct HighwayMonitor::Impl {
     equipped.resize(n);
     serialOf.resize(n);
     cellOf.resize(n);
+    inputOf.resize(n, -1);
+    exposure.resize(n);
+    openBegin.resize(n);
+    openCount.resize(n);
   }
 
-  void close(Slot& s, double endTime) {
-    for (Episode& e : s.open) {
-      e.w.end = endTime;
-      e.w.open = false;
-      finished.push_back(std::move(e.w));
+  // Ends every open episode of slot s at endTime.
+  void close(int s, double endTime) {
+    Episode* open = pool.data() + openBegin[s];
+    for (int k = 0; k < openCount[s]; ++k) {
+      open[k].w.end = endTime;
+      open[k].w.open = false;
+      finished.push_back(std::move(open[k].w));
     }
-    s.open.clear();
+    openCount[s] = 0;
+    exposure[s].exposed.fill(false);
   }
 
   // the largest car-car safe time of ego e against closing speeds up to relSpeedBound
@@ -200,11 +214,11 @@ struct HighwayMonitor::Impl {
   // it prunes only pairs it prunes at the exact safe time, without a sqrt or a division.
   // p, v: the foe's centre and velocity relative to the ego's; extSum: both envelope extents.
   bool pairMayWarn(int e, const Vec2& p, const Vec2& v, const Vec2& extSum, double accel) const {
-    const double closingBound = (std::abs(v.x()) + std::abs(v.y())) * (1.0 + tol::kBoundRelativeSlop);
+    const Eigen::Array2d va = v.array().abs();
+    const double closingBound = (va.x() + va.y()) * (1.0 + tol::kBoundRelativeSlop);
     const double safeBound = cfg.safeTime.vehicleReactionTime + brakeRatio[e] * closingBound;
     const double grow = 0.5 * accel * safeBound * safeBound + tol::kPruneSlop;
-    return std::abs(p.x()) <= extSum.x() + std::abs(v.x()) * safeBound + grow &&
-           std::abs(p.y()) <= extSum.y() + std::abs(v.y()) * safeBound + grow;
+    return (p.array().abs() <= extSum.array() + va * safeBound + grow).all();
   }
 
   void checkPair(int e, int f, const Vec2& p, const Vec2& v, double accel) {
@@ -264,6 +278,18 @@ struct HighwayMonitor::Impl {
     threats.push_back({kFeatureBit | static_cast<std::uint64_t>(g), kindOf(f.kind), ttc.zone, ttc.t, safe, g});
   }
 
+  // First index in [begin, end) with key[i] >= value (end if none), as std::lower_bound, with
+  // conditional moves instead of unpredictable branches.
+  static int lowerBound(const double* key, int begin, int end, double value) {
+    int base = begin, n = end - begin;
+    while (n > 1) {
+      const int half = n / 2;
+      base = key[base + half - 1] < value ? base + half : base;
+      n -= half;
+    }
+    return base + (n == 1 && key[base] < value);
+  }
+
   void candidatesVehicles(int e) {
     const Vec2 pe = centre[e];
     const Vec2 ve = vel[e];
@@ -301,19 +327,23 @@ struct HighwayMonitor::Impl {
         });
         continue;
       }
+      // the member arrays hold the foes' state in walk order (no slot indirection); the
+      // containment and the pair bound are evaluated without branches (their outcomes are
+      // unpredictable), only the few pairs that pass both branch to the exact test
       const double* key = memberKey.data();
-      int i = static_cast<int>(std::lower_bound(key + c.begin, key + c.end, cb.min[c.axis]) - key);
-      for (; i < c.end && key[i] <= cb.max[c.axis]; ++i) {
+      const double lo = cb.min[c.axis], hi = cb.max[c.axis];
+      int i = lowerBound(key, c.begin, c.end, lo);
+      std::uint64_t candidates = 0;
+      for (; i < c.end && key[i] <= hi; ++i) {
         const Vec2& q = memberPos[i];
-        if (q.x() < cb.min.x() || q.x() > cb.max.x() || q.y() < cb.min.y() || q.y() > cb.max.y()) continue;
-        const int f = memberSlot[i];
-        if (f == e) continue;
-        ++counters.candidatePairs;
-        // the member arrays hold the foe's state in walk order (no slot indirection)
+        const bool in = (q.array() >= cb.min.array()).all() & (q.array() <= cb.max.array()).all() & (memberSlot[i] != e);
+        candidates += in;
         const Vec2 p = q - pe, v = memberVel[i] - ve;
         const double accel = accelModel ? accelAbs[e] + memberAcc[i] : 0.0;
-        if (pairMayWarn(e, p, v, ext[e] + memberExt[i], accel)) checkPair(e, f, p, v, accel);
+        if (in & pairMayWarn(e, p, v, ext[e] + memberExt[i], accel)) [[unlikely]]
+          checkPair(e, memberSlot[i], p, v, accel);
       }
+      counters.candidatePairs += candidates;
     }
   }
 
@@ -396,76 +426,47 @@ struct HighwayMonitor::Impl {
     for (int fi : roadNear[cellOf[e]]) checkFeature(e, fi, hMax);
   }
 
+  // Merges ego e's threats of this tick (at time t) into its episodes, from pool to poolNext.
   void merge(int e, double t) {
-    Slot& s = slots[e];
-    if (threats.empty() && s.open.empty()) {
-      // the common case: nothing now, nothing before
-      s.exposed.fill(false);
-      s.deficit.fill(0.0);
-      return;
-    }
+    Episode* open = pool.data() + openBegin[e];
+    const int nOpen = openCount[e];
+    openBegin[e] = static_cast<int>(poolNext.size());
+    Exposure& x = exposure[e];
+    x.exposed.fill(false);
+    x.deficit.fill(0.0);
+    if (threats.empty() && nOpen == 0) return;  // the common case: nothing now, nothing before
     // the worst (smallest) TTC per key, keys ascending
-    std::sort(threats.begin(), threats.end(), [](const Threat& x, const Threat& y) {
-      return x.key != y.key ? x.key < y.key : x.ttc < y.ttc;
+    std::sort(threats.begin(), threats.end(), [](const Threat& a, const Threat& b) {
+      return a.key != b.key ? a.key < b.key : a.ttc < b.ttc;
     });
-    threats.erase(std::unique(threats.begin(), threats.end(), [](const Threat& x, const Threat& y) { return x.key == y.key; }),
+    threats.erase(std::unique(threats.begin(), threats.end(), [](const Threat& a, const Threat& b) { return a.key == b.key; }),
                   threats.end());
-    // the common case while threats last: the same keys as at the last tick, updated in place
-    bool same = threats.size() == s.open.size();
-    for (std::size_t k = 0; same && k < threats.size(); ++k) same = s.open[k].key == threats[k].key;
-    if (same) {
-      for (std::size_t k = 0; k < threats.size(); ++k) continueEpisode(s.open[k].w, threats[k], t);
-    } else {
-      mergeKeys(s, t);
-    }
-    // exposure and the alert
-    s.exposed.fill(false);
-    s.deficit.fill(0.0);
-    const Threat* worst = nullptr;
-    for (const Threat& th : threats) {
-      const int k = static_cast<int>(th.kind);
-      s.exposed[k] = true;
-      s.deficit[k] = std::max(s.deficit[k], th.safe - th.ttc);
-      if (!worst || th.ttc * worst->safe < worst->ttc * th.safe) worst = &th;
-    }
-    if (worst)
-      alerts.push_back({s.input, worst->kind, worst->zone, worst->ttc, worst->safe,
-                        worst->kind == WarningKind::Vehicle ? slots[worst->foe].input : -1});
-  }
-
-  static void continueEpisode(Warning& w, const Threat& th, double t) {
-    w.end = t;
-    if (th.ttc < w.minTtc) {
-      w.minTtc = th.ttc;
-      w.minTtcTime = t;
-      w.safeTimeAtMin = th.safe;
-    }
-  }
-
-  // Episodes by key: those without a threat end, those with one go on, new keys begin. The
-  // slot's list and the scratch list swap buffers, so no tick allocates once they have grown.
-  void mergeKeys(Slot& s, double t) {
-    std::vector<Episode>& next = episodeScratch;
-    next.clear();
-    std::size_t i = 0, j = 0;
-    while (i < s.open.size() || j < threats.size()) {
-      if (j == threats.size() || (i < s.open.size() && s.open[i].key < threats[j].key)) {
-        Episode& ep = s.open[i++];
+    // episodes without a threat end, those with one go on, new keys begin
+    int i = 0;
+    std::size_t j = 0;
+    while (i < nOpen || j < threats.size()) {
+      if (j == threats.size() || (i < nOpen && open[i].key < threats[j].key)) {
+        Episode& ep = open[i++];
         ep.w.end = t;
         ep.w.open = false;
         finished.push_back(std::move(ep.w));
         continue;
       }
       const Threat& th = threats[j++];
-      if (i < s.open.size() && s.open[i].key == th.key) {
-        Episode& ep = s.open[i++];
-        continueEpisode(ep.w, th, t);
-        next.push_back(std::move(ep));
+      if (i < nOpen && open[i].key == th.key) {
+        Episode& ep = open[i++];
+        ep.w.end = t;
+        if (th.ttc < ep.w.minTtc) {
+          ep.w.minTtc = th.ttc;
+          ep.w.minTtcTime = t;
+          ep.w.safeTimeAtMin = th.safe;
+        }
+        poolNext.push_back(std::move(ep));
         continue;
       }
-      Episode ep;
+      Episode& ep = poolNext.emplace_back();
       ep.key = th.key;
-      ep.w.ego = s.id;
+      ep.w.ego = slots[e].id;
       if (th.kind == WarningKind::Vehicle) ep.w.foe = slots[th.foe].id;
       else ep.w.foe = groupName[th.foe];
       ep.w.kind = th.kind;
@@ -478,10 +479,19 @@ struct HighwayMonitor::Impl {
       ++counters.warningsBegun;
       ++counters.warningsByKind[static_cast<int>(th.kind)];
       ++counters.warningsByZone[static_cast<int>(th.zone)];
-      next.push_back(std::move(ep));
     }
-    std::swap(s.open, next);
-    next.clear();
+    openCount[e] = static_cast<int>(poolNext.size()) - openBegin[e];
+    // exposure and the alert
+    const Threat* worst = nullptr;
+    for (const Threat& th : threats) {
+      const int k = static_cast<int>(th.kind);
+      x.exposed[k] = true;
+      x.deficit[k] = std::max(x.deficit[k], th.safe - th.ttc);
+      if (!worst || th.ttc * worst->safe < worst->ttc * th.safe) worst = &th;
+    }
+    if (worst)
+      alerts.push_back({inputOf[e], worst->kind, worst->zone, worst->ttc, worst->safe,
+                        worst->kind == WarningKind::Vehicle ? inputOf[worst->foe] : -1});
   }
 };
 
@@ -542,7 +552,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
   if (m.started && !(t > m.lastT)) throw std::invalid_argument("step times must increase strictly");
   if (m.started) m.accumulateExposure(t - m.lastT);
   // who is here: map ids to slots
-  for (int s : m.activeSlots) m.slots[s].input = -1;
+  for (int s : m.activeSlots) m.inputOf[s] = -1;
   std::vector<int>& now = m.nextActive;
   now.clear();
   for (int i = 0; i < static_cast<int>(vehicles.size()); ++i) {
@@ -552,9 +562,8 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       // the common case: the same vehicle at the same place in the input as at the last tick
       // (no hash of its id); a duplicate id falls through to the lookup, which reports it
       const int s = m.activeSlots[i];
-      Impl::Slot& sl = m.slots[s];
-      if (sl.input < 0 && sl.id == v.id) {
-        sl.input = i;
+      if (m.inputOf[s] < 0 && m.slots[s].id == v.id) {
+        m.inputOf[s] = i;
         now.push_back(s);
         continue;
       }
@@ -576,23 +585,24 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       sl.serial = m.nextSerial++;
       m.ensureSlotArrays(m.slots.size());
       m.serialOf[s] = sl.serial;
+      m.openCount[s] = 0;
+      m.exposure[s] = Impl::Exposure{};
       sl.prev = v.position;
       ++m.counters.vehiclesSeen;
     }
     const int s = it->second;
     Impl::Slot& sl = m.slots[s];
-    if (sl.input >= 0) throw std::invalid_argument("vehicle '" + v.id + "' appears twice at t=" + std::to_string(t));
-    sl.input = i;
+    if (m.inputOf[s] >= 0) throw std::invalid_argument("vehicle '" + v.id + "' appears twice at t=" + std::to_string(t));
+    m.inputOf[s] = i;
     now.push_back(s);
   }
   m.ensureSlotArrays(m.slots.size());
   // vehicles that left: their episodes end at their last tick
   for (int s : m.activeSlots) {
+    if (m.inputOf[s] >= 0) continue;
     Impl::Slot& sl = m.slots[s];
-    if (sl.input >= 0) continue;
-    m.close(sl, m.lastT);
+    m.close(s, m.lastT);
     sl.present = false;
-    sl.exposed.fill(false);
     if (m.cells) m.cells->remove(s);
     m.slotOf.erase(sl.id);
     m.freeSlots.push_back(s);
@@ -602,7 +612,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
   const DetectorConfig& dc = m.cfg.detector;
   for (int s : m.activeSlots) {
     Impl::Slot& sl = m.slots[s];
-    const VehicleState& v = vehicles[sl.input];
+    const VehicleState& v = vehicles[m.inputOf[s]];
     if (v.heading != sl.axisHeading) {
       // headings change only on curves and lane changes: keep (cos, sin) until they do
       sl.axis = v.direction();
@@ -719,10 +729,10 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
   }
   // detection, ego by ego in input order
   m.alerts.clear();
+  m.poolNext.clear();
   for (int s : m.activeSlots) {
     if (!m.equipped[s]) {
-      m.close(m.slots[s], t);
-      m.slots[s].exposed.fill(false);
+      m.close(s, t);
       continue;
     }
     m.threats.clear();
@@ -730,6 +740,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     if (m.cfg.checkRoad) m.candidatesFeatures(s);
     m.merge(s, t);
   }
+  std::swap(m.pool, m.poolNext);
   m.lastT = t;
   m.started = true;
 }
@@ -737,10 +748,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
 void HighwayMonitor::finish(double t) {
   Impl& m = *impl_;
   if (m.started && t > m.lastT) m.accumulateExposure(t - m.lastT);
-  for (int s : m.activeSlots) {
-    m.close(m.slots[s], std::max(t, m.lastT));
-    m.slots[s].exposed.fill(false);
-  }
+  for (int s : m.activeSlots) m.close(s, std::max(t, m.lastT));
   m.alerts.clear();
 }
 
@@ -752,8 +760,9 @@ std::vector<Warning> HighwayMonitor::takeFinished() {
 
 std::vector<Warning> HighwayMonitor::openWarnings() const {
   std::vector<Warning> out;
-  for (int s : impl_->activeSlots)
-    for (const auto& e : impl_->slots[s].open) out.push_back(e.w);
+  const Impl& m = *impl_;
+  for (int s : m.activeSlots)
+    for (int k = 0; k < m.openCount[s]; ++k) out.push_back(m.pool[m.openBegin[s] + k].w);
   return out;
 }
 
