@@ -213,12 +213,14 @@ struct HighwayMonitor::Impl {
   // the one at that speed; the exact per-axis test is monotone in the horizon, so at the bound
   // it prunes only pairs it prunes at the exact safe time, without a sqrt or a division.
   // p, v: the foe's centre and velocity relative to the ego's; extSum: both envelope extents.
-  bool pairMayWarn(int e, const Vec2& p, const Vec2& v, const Vec2& extSum, double accel) const {
-    const Eigen::Array2d va = v.array().abs();
-    const double closingBound = (va.x() + va.y()) * (1.0 + tol::kBoundRelativeSlop);
-    const double safeBound = cfg.safeTime.vehicleReactionTime + brakeRatio[e] * closingBound;
+  // k: the ego's m / (2 F_brake); evaluated without branches (an int, 1 if the pair may warn).
+  static int pairMayWarn(double tr, double k, const Vec2& p, const Vec2& v, const Vec2& extSum, double accel) {
+    const double ax = std::abs(v.x()), ay = std::abs(v.y());
+    const double closingBound = (ax + ay) * (1.0 + tol::kBoundRelativeSlop);
+    const double safeBound = tr + k * closingBound;
     const double grow = 0.5 * accel * safeBound * safeBound + tol::kPruneSlop;
-    return (p.array().abs() <= extSum.array() + va * safeBound + grow).all();
+    return static_cast<int>(std::abs(p.x()) <= extSum.x() + ax * safeBound + grow) &
+           static_cast<int>(std::abs(p.y()) <= extSum.y() + ay * safeBound + grow);
   }
 
   void checkPair(int e, int f, const Vec2& p, const Vec2& v, double accel) {
@@ -293,6 +295,8 @@ struct HighwayMonitor::Impl {
   void candidatesVehicles(int e) {
     const Vec2 pe = centre[e];
     const Vec2 ve = vel[e];
+    const Vec2 exe = ext[e];
+    const double tr = cfg.safeTime.vehicleReactionTime, k = brakeRatio[e];
     const bool accelModel = cfg.detector.motion == MotionModel::ConstantAcceleration;
     if (cfg.broadphase == Broadphase::AllPairs) {
       for (int f : activeSlots)
@@ -300,7 +304,7 @@ struct HighwayMonitor::Impl {
           ++counters.candidatePairs;
           const Vec2 p = centre[f] - pe, v = vel[f] - ve;
           const double accel = accelModel ? accelAbs[e] + accelAbs[f] : 0.0;
-          if (pairMayWarn(e, p, v, ext[e] + ext[f], accel)) checkPair(e, f, p, v, accel);
+          if (pairMayWarn(tr, k, p, v, exe + ext[f], accel)) checkPair(e, f, p, v, accel);
         }
       return;
     }
@@ -323,7 +327,7 @@ struct HighwayMonitor::Impl {
           ++counters.candidatePairs;
           const Vec2 p = centre[f] - pe, v = vel[f] - ve;
           const double accel = accelModel ? accelAbs[e] + accelAbs[f] : 0.0;
-          if (pairMayWarn(e, p, v, ext[e] + ext[f], accel)) checkPair(e, f, p, v, accel);
+          if (pairMayWarn(tr, k, p, v, exe + ext[f], accel)) checkPair(e, f, p, v, accel);
         });
         continue;
       }
@@ -331,17 +335,26 @@ struct HighwayMonitor::Impl {
       // containment and the pair bound are evaluated without branches (their outcomes are
       // unpredictable), only the few pairs that pass both branch to the exact test
       const double* key = memberKey.data();
+      const Vec2* pos = memberPos.data();
+      const Vec2* mvel = memberVel.data();
+      const Vec2* mext = memberExt.data();
+      const double* macc = memberAcc.data();
+      const int* mslot = memberSlot.data();
+      const double accE = accelModel ? accelAbs[e] : 0.0;
       const double lo = cb.min[c.axis], hi = cb.max[c.axis];
-      int i = lowerBound(key, c.begin, c.end, lo);
+      const int end = c.end;
+      int i = lowerBound(key, c.begin, end, lo);
       std::uint64_t candidates = 0;
-      for (; i < c.end && key[i] <= hi; ++i) {
-        const Vec2& q = memberPos[i];
-        const bool in = (q.array() >= cb.min.array()).all() & (q.array() <= cb.max.array()).all() & (memberSlot[i] != e);
-        candidates += in;
-        const Vec2 p = q - pe, v = memberVel[i] - ve;
-        const double accel = accelModel ? accelAbs[e] + memberAcc[i] : 0.0;
-        if (in & pairMayWarn(e, p, v, ext[e] + memberExt[i], accel)) [[unlikely]]
-          checkPair(e, memberSlot[i], p, v, accel);
+      for (; i < end && key[i] <= hi; ++i) {
+        const Vec2& q = pos[i];
+        const int in = static_cast<int>(q.x() >= cb.min.x()) & static_cast<int>(q.x() <= cb.max.x()) &
+                       static_cast<int>(q.y() >= cb.min.y()) & static_cast<int>(q.y() <= cb.max.y()) &
+                       static_cast<int>(mslot[i] != e);
+        candidates += static_cast<unsigned>(in);
+        const Vec2 p = q - pe, v = mvel[i] - ve;
+        const double accel = accelModel ? accE + macc[i] : 0.0;
+        if (in & pairMayWarn(tr, k, p, v, exe + mext[i], accel)) [[unlikely]]
+          checkPair(e, mslot[i], p, v, accel);
       }
       counters.candidatePairs += candidates;
     }
