@@ -209,14 +209,15 @@ struct HighwayMonitor::Impl {
   }
 
   // The pair test, the same for both broad phases (the callers count the candidate pair).
-  // First a cheap bound: the closing speed is at most |v_x| + |v_y|, so the safe time is at most
-  // the one at that speed; the exact per-axis test is monotone in the horizon, so at the bound
-  // it prunes only pairs it prunes at the exact safe time, without a sqrt or a division.
-  // p, v: the foe's centre and velocity relative to the ego's; extSum: both envelope extents.
-  // k: the ego's m / (2 F_brake); evaluated without branches (an int, 1 if the pair may warn).
+  // First a cheap bound: the closing speed is at most |v_x| + |v_y|, and not positive when the
+  // pair separates (p . v > 0, then the safe time is exactly the reaction time), so the safe
+  // time is at most the one at that bound; the exact per-axis test is monotone in the horizon,
+  // so at the bound it prunes only pairs it prunes at the exact safe time, without a sqrt or a
+  // division. p, v: the foe's centre and velocity relative to the ego's; extSum: both envelope
+  // extents; k: the ego's m / (2 F_brake). Without branches: an int, 1 if the pair may warn.
   static int pairMayWarn(double tr, double k, const Vec2& p, const Vec2& v, const Vec2& extSum, double accel) {
     const double ax = std::abs(v.x()), ay = std::abs(v.y());
-    const double closingBound = (ax + ay) * (1.0 + tol::kBoundRelativeSlop);
+    const double closingBound = p.dot(v) > 0.0 ? 0.0 : (ax + ay) * (1.0 + tol::kBoundRelativeSlop);
     const double safeBound = tr + k * closingBound;
     const double grow = 0.5 * accel * safeBound * safeBound + tol::kPruneSlop;
     return static_cast<int>(std::abs(p.x()) <= extSum.x() + ax * safeBound + grow) &
