@@ -143,7 +143,8 @@ struct HighwayMonitor::Impl {
     Vec2 vmin, vmax;
     double amax = 0.0, envMax = 0.0;
     Vec2 extMax = Vec2::Zero();
-    double kMax = 0.0;          // largest m / (2 F_brake) of its equipped cars (s^2/m... s per m/s)
+    double kMax = 0.0;          // largest m / (2 F_brake) of its equipped cars (s per m/s)
+    double kLight = 0.0;        // the largest below kMax (0 if none): the lighter cars' own list
     Aabb<2> centres;
     int count = 0;
     int equipped = 0;
@@ -281,16 +282,13 @@ struct HighwayMonitor::Impl {
     threats.push_back({kFeatureBit | static_cast<std::uint64_t>(g), kindOf(f.kind), ttc.zone, ttc.t, safe, g});
   }
 
-  // First index in [begin, end) with key[i] >= value (end if none), as std::lower_bound, with
-  // conditional moves instead of unpredictable branches.
+  // First index in [begin, end) with key[i] >= value (end if none) of sorted keys, as
+  // std::lower_bound: a count of the smaller keys, which vectorizes (a cell holds a few dozen
+  // cars at most; a congested one is searched through its space).
   static int lowerBound(const double* key, int begin, int end, double value) {
-    int base = begin, n = end - begin;
-    while (n > 1) {
-      const int half = n / 2;
-      base = key[base + half - 1] < value ? base + half : base;
-      n -= half;
-    }
-    return base + (n == 1 && key[base] < value);
+    int below = 0;
+    for (int i = begin; i < end; ++i) below += static_cast<int>(key[i] < value);
+    return begin + below;
   }
 
   void candidatesVehicles(int e) {
@@ -309,7 +307,8 @@ struct HighwayMonitor::Impl {
         }
       return;
     }
-    for (const Neighbour& c : neighbours[cellOf[e]]) {
+    const int own = cellOf[e];
+    for (const Neighbour& c : k <= cellStats[own].kLight ? neighboursLight[own] : neighbours[own]) {
       // per axis: the relative displacement along x (y) within the look-ahead is bounded by
       // the largest relative velocity along x (y) against the cell's members
       const double dx = std::max(std::abs(ve.x() - c.vmin.x()), std::abs(ve.x() - c.vmax.x()));
@@ -367,9 +366,11 @@ struct HighwayMonitor::Impl {
     const bool accel = cfg.detector.motion == MotionModel::ConstantAcceleration;
     const double tr = cfg.safeTime.vehicleReactionTime;
     neighbours.resize(cellStats.size());
+    neighboursLight.resize(cellStats.size());
     roadNear.resize(cellStats.size());
     for (int A = 0; A < static_cast<int>(cellStats.size()); ++A) {
       neighbours[A].clear();
+      neighboursLight[A].clear();
       const CellStats& ca = cellStats[A];
       if (ca.equipped == 0) continue;
       const Vec2 va = ca.vmin.cwiseAbs().cwiseMax(ca.vmax.cwiseAbs());
@@ -384,11 +385,18 @@ struct HighwayMonitor::Impl {
         const double dx = std::max({0.0, ca.vmax.x() - cb.vmin.x(), cb.vmax.x() - ca.vmin.x()});
         const double dy = std::max({0.0, ca.vmax.y() - cb.vmin.y(), cb.vmax.y() - ca.vmin.y()});
         const double ab = accel ? ca.amax + cb.amax : 0.0;
-        const double h = tr + ca.kMax * std::sqrt(dx * dx + dy * dy);
-        const Vec2 r = Vec2(dx, dy) * h + ca.extMax + cb.extMax + Vec2::Constant(0.5 * ab * h * h + 2 * tol::kPruneSlop);
-        if (Aabb<2>{ca.centres.min - r, ca.centres.max + r}.overlaps(cb.centres))
-          neighbours[A].push_back({cb.vmin, cb.vmax, cb.extMax, cb.centres, cb.amax, memberStart[B], memberStart[B + 1], B,
-                                   cb.axis, cb.subdivided});
+        // the reach grows with the brake ratio k: with kMax for every car of A, with kLight
+        // for the cars at or below it (the list they walk is then a subsequence of the full one)
+        auto reaches = [&](double k) {
+          const double h = tr + k * std::sqrt(dx * dx + dy * dy);
+          const Vec2 r = Vec2(dx, dy) * h + ca.extMax + cb.extMax + Vec2::Constant(0.5 * ab * h * h + 2 * tol::kPruneSlop);
+          return Aabb<2>{ca.centres.min - r, ca.centres.max + r}.overlaps(cb.centres);
+        };
+        if (!reaches(ca.kMax)) return;
+        const Neighbour nb{cb.vmin, cb.vmax, cb.extMax, cb.centres, cb.amax, memberStart[B], memberStart[B + 1], B,
+                           cb.axis, cb.subdivided};
+        neighbours[A].push_back(nb);
+        if (ca.kLight > 0.0 && reaches(ca.kLight)) neighboursLight[A].push_back(nb);
       });
       // road features any member could reach within its largest road safe time
       roadNear[A].clear();
@@ -414,6 +422,7 @@ struct HighwayMonitor::Impl {
     bool subdivided;
   };
   std::vector<std::vector<Neighbour>> neighbours;
+  std::vector<std::vector<Neighbour>> neighboursLight;  // for the cars with k <= the cell's kLight
   std::vector<std::vector<int>> roadNear;
   // the cars of every cell, contiguous by cell (memberStart[c] .. memberStart[c + 1]), each cell's
   // sorted by (coordinate along its long axis, slot): key, centre, slot
@@ -698,7 +707,13 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       c.extMax = c.extMax.cwiseMax(m.ext[s]);
       if (m.equipped[s]) {
         ++c.equipped;
-        c.kMax = std::max(c.kMax, m.mass[s] / (2.0 * st.brakeForce[static_cast<int>(m.vclass[s])]));
+        const double k = m.mass[s] / (2.0 * st.brakeForce[static_cast<int>(m.vclass[s])]);
+        if (k > c.kMax) {
+          c.kLight = c.kMax;
+          c.kMax = k;
+        } else if (k < c.kMax) {
+          c.kLight = std::max(c.kLight, k);
+        }
       }
       m.globalVmax = m.globalVmax.cwiseMax(v.cwiseAbs());
       m.globalAmax = std::max(m.globalAmax, m.accelAbs[s]);
