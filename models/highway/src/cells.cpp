@@ -6,6 +6,8 @@
 #include <map>
 #include <stdexcept>
 
+#include <sthighway/tolerances.hpp>
+
 namespace st::highway {
 
 namespace {
@@ -70,6 +72,11 @@ struct CellNetwork::Impl {
     int local = -1;
     Aabb<2> fat;
     Vec2 centre = Vec2::Zero();
+    // where the car last measured every site, and a lower bound on its distance from there to
+    // every site but its serving one (m, <= 0: none): while it stays near enough, no other site
+    // can be stronger by the hysteresis margin, so the sites need not be measured again
+    Vec2 measuredAt = Vec2::Zero();
+    double othersAway = 0.0;
   };
 
   CellConfig cfg;
@@ -149,6 +156,31 @@ struct CellNetwork::Impl {
       }
     }
     return best;
+  }
+
+  // A lower bound on the distance from p to every site but `cell`: the nearest of the sites in
+  // the grid squares around p, or the distance beyond which the unscanned squares lie.
+  double othersLowerBound(int cell, const Vec2& p) const {
+    const int gx = static_cast<int>(std::floor((p.x() - gridOrigin.x()) / gridSize));
+    const int gy = static_cast<int>(std::floor((p.y() - gridOrigin.y()) / gridSize));
+    if (gx < 0 || gy < 0 || gx >= gridNx || gy >= gridNy) return 0.0;  // off the grid: no bound
+    double best = gridSize;  // every site outside the 3 x 3 squares around p is at least this far
+    for (int x = gx - 1; x <= gx + 1; ++x)
+      for (int y = gy - 1; y <= gy + 1; ++y) {
+        if (x < 0 || y < 0 || x >= gridNx || y >= gridNy) continue;
+        for (int s : grid[x * gridNy + y])
+          if (s != cell) best = std::min(best, (sites[s].position - p).norm());
+      }
+    return best;
+  }
+
+  // True if no site can take the car from its serving cell at p: its serving site's power
+  // exceeds every other's less the margin (d_serving^2 <= ratio^2 d_other^2, d_other bounded
+  // below by the distance measured at measuredAt less the distance moved since).
+  bool keepsServingCell(const Served& s, const Vec2& p) const {
+    if (s.othersAway <= 0.0) return false;
+    const double away = (s.othersAway - (p - s.measuredAt).norm()) * (1.0 - tol::kBoundRelativeSlop);
+    return away > 0.0 && distSq(s.cell, p) <= ratioSq * away * away;
   }
 
   void join(int v, int cell, const Aabb<2>& box) {
@@ -267,20 +299,25 @@ int CellNetwork::place(int v, const Vec2& centre, const Aabb<2>& box) {
   if (v >= static_cast<int>(m.vehicles.size())) m.vehicles.resize(v + 1);
   Impl::Served& s = m.vehicles[v];
   s.centre = centre;
-  const int best = m.strongest(centre);
-  if (s.cell < 0) {
-    m.join(v, best, box);
-    ++m.counters.attaches;
-    return best;
-  }
-  if (best != s.cell && m.distSq(s.cell, centre) > m.ratioSq * m.distSq(best, centre)) {
-    // the car tells its old cell, which hands it to the stronger one
-    const int from = s.cell;
-    m.leave(v);
-    m.join(v, best, box);
-    ++m.counters.handoffs;
-    m.handoffs.push_back({v, from, best});
-    return best;
+  if (s.cell < 0 || !m.keepsServingCell(s, centre)) {
+    const int best = m.strongest(centre);
+    bool joined = true;
+    if (s.cell < 0) {
+      m.join(v, best, box);
+      ++m.counters.attaches;
+    } else if (best != s.cell && m.distSq(s.cell, centre) > m.ratioSq * m.distSq(best, centre)) {
+      // the car tells its old cell, which hands it to the stronger one
+      const int from = s.cell;
+      m.leave(v);
+      m.join(v, best, box);
+      ++m.counters.handoffs;
+      m.handoffs.push_back({v, from, best});
+    } else {
+      joined = false;
+    }
+    s.measuredAt = centre;
+    s.othersAway = m.othersLowerBound(s.cell, centre);
+    if (joined) return best;
   }
   if (!inside(box, s.fat)) {
     s.fat = grown(box, m.cfg.fatMargin);
