@@ -260,6 +260,10 @@ struct HighwayMonitor::Impl {
       const double s = n.dot(a.position - f.segment.a);
       const Vec2 toward = s > 0.0 ? Vec2(-n) : n;
       const double approach = std::max(0.0, a.velocity.dot(toward));
+      // first with the envelope radius, which holds the shape's support in every direction
+      // (the test is monotone in the support): most features are pruned without computing it
+      if (std::abs(s) > env[e] * (1.0 + tol::kBoundRelativeSlop) + approach * hMax + 0.5 * accel * hMax * hMax + tol::kPruneSlop)
+        return;
       if (std::abs(s) > roadSupport(cfg.detector, a, toward) + approach * hMax + 0.5 * accel * hMax * hMax + tol::kPruneSlop)
         return;
     }
