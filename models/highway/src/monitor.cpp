@@ -106,8 +106,16 @@ struct HighwayMonitor::Impl {
   std::vector<int> groupOf;                 // feature -> group (one polyline or hazard)
   std::vector<std::string> groupName;
   std::vector<FeatureKind> groupKind;
-  std::vector<Vec2> featureNormal;          // unit normal of each segment feature (left of a -> b)
-  std::vector<char> featureHasNormal;       // 0 for hazards and zero-length segments
+  // a segment feature's line: its first point and unit normal (left of a -> b); line is 0 for
+  // hazards and zero-length segments (no line to prune with)
+  struct FeatureLine {
+    Vec2 a = Vec2::Zero();
+    Vec2 n = Vec2::Zero();
+    int line = 0;
+  };
+  std::vector<FeatureLine> featureLine;
+  std::vector<int> allFeatures;             // 0 .. n-1 (all-pairs)
+  std::vector<int> featureNear;             // scratch: the features an ego may reach
   std::optional<Space<2>> featureIndex;
   std::optional<CellNetwork> cells;
 
@@ -247,25 +255,26 @@ struct HighwayMonitor::Impl {
     if (ttc.found() && ttc.t <= safe) threats.push_back({serialOf[f], WarningKind::Vehicle, ttc.zone, ttc.t, safe, f});
   }
 
+  // Exact prune of a segment feature: to touch the segment the shape must first reach its
+  // line, which it approaches at most at the normal speed, within at most the largest road safe
+  // time hMax (the ego's at its full speed); `support` is how far the shape reaches along the
+  // normal. Monotone in the support. Returns an int, 1 if the feature may be reached.
+  static int lineReachable(const FeatureLine& l, const Body& a, double support, double hMax, double accel) {
+    const double s = l.n.dot(a.position - l.a);
+    const Vec2 toward = s > 0.0 ? Vec2(-l.n) : l.n;
+    const double approach = std::max(0.0, a.velocity.dot(toward));
+    return static_cast<int>(std::abs(s) <= support + approach * hMax + 0.5 * accel * hMax * hMax + tol::kPruneSlop);
+  }
+
   // hMax: the ego's largest road safe time (at its full speed)
   void checkFeature(int e, int fi, double hMax) {
-    ++counters.featureChecks;
     const RoadFeature& f = features.features[fi];
     const Body& a = body[e];
     const double accel = cfg.detector.motion == MotionModel::ConstantAcceleration ? accelAbs[e] : 0.0;
-    if (f.kind != FeatureKind::Hazard && featureHasNormal[fi]) {
-      // exact prune: to touch the segment the shape must first reach its line, which it
-      // approaches at most at the normal speed, within at most the largest road safe time
-      const Vec2& n = featureNormal[fi];
-      const double s = n.dot(a.position - f.segment.a);
-      const Vec2 toward = s > 0.0 ? Vec2(-n) : n;
-      const double approach = std::max(0.0, a.velocity.dot(toward));
-      // first with the envelope radius, which holds the shape's support in every direction
-      // (the test is monotone in the support): most features are pruned without computing it
-      if (std::abs(s) > env[e] * (1.0 + tol::kBoundRelativeSlop) + approach * hMax + 0.5 * accel * hMax * hMax + tol::kPruneSlop)
-        return;
-      if (std::abs(s) > roadSupport(cfg.detector, a, toward) + approach * hMax + 0.5 * accel * hMax * hMax + tol::kPruneSlop)
-        return;
+    if (featureLine[fi].line) {
+      const double s = featureLine[fi].n.dot(a.position - f.segment.a);
+      const Vec2 toward = s > 0.0 ? Vec2(-featureLine[fi].n) : featureLine[fi].n;
+      if (!lineReachable(featureLine[fi], a, roadSupport(cfg.detector, a, toward), hMax, accel)) return;
     }
     const Vec2 closest = f.kind == FeatureKind::Hazard ? f.segment.a : closestPointOnSegment(f.segment, a.position);
     const Vec2 d = closest - a.position;
@@ -446,11 +455,21 @@ struct HighwayMonitor::Impl {
   void candidatesFeatures(int e) {
     if (!featureIndex) return;
     const double hMax = cfg.safeTime.roadSafeTime(mass[e], vel[e].norm(), vclass[e]);
-    if (cfg.broadphase == Broadphase::AllPairs) {
-      for (int fi = 0; fi < static_cast<int>(features.features.size()); ++fi) checkFeature(e, fi, hMax);
-      return;
+    const std::vector<int>& list = cfg.broadphase == Broadphase::AllPairs ? allFeatures : roadNear[cellOf[e]];
+    counters.featureChecks += list.size();
+    // first every line against the envelope radius, which holds the shape's support in every
+    // direction: most are pruned without computing the support, and without branches (the
+    // near ones keep their order)
+    const Body& a = body[e];
+    const double accel = cfg.detector.motion == MotionModel::ConstantAcceleration ? accelAbs[e] : 0.0;
+    const double envSupport = env[e] * (1.0 + tol::kBoundRelativeSlop);
+    featureNear.resize(list.size());
+    int near = 0;
+    for (int fi : list) {
+      featureNear[near] = fi;
+      near += static_cast<int>(!featureLine[fi].line) | lineReachable(featureLine[fi], a, envSupport, hMax, accel);
     }
-    for (int fi : roadNear[cellOf[e]]) checkFeature(e, fi, hMax);
+    for (int k = 0; k < near; ++k) checkFeature(e, featureNear[k], hMax);
   }
 
   // Merges ego e's threats of this tick (at time t) into its episodes, from pool to poolNext.
@@ -549,8 +568,9 @@ HighwayMonitor::HighwayMonitor(const RoadGeometry& road, const MonitorConfig& co
   for (const RoadFeature& f : m.features.features) {
     const Vec2 dir = f.segment.b - f.segment.a;
     const double len = dir.norm();
-    m.featureHasNormal.push_back(f.kind != FeatureKind::Hazard && len > 0.0);
-    m.featureNormal.push_back(len > 0.0 ? Vec2(-dir.y() / len, dir.x() / len) : Vec2(0.0, 0.0));
+    const bool line = f.kind != FeatureKind::Hazard && len > 0.0;
+    m.featureLine.push_back({f.segment.a, line ? Vec2(-dir.y() / len, dir.x() / len) : Vec2(0.0, 0.0), line ? 1 : 0});
+    m.allFeatures.push_back(static_cast<int>(m.allFeatures.size()));
   }
   if (!m.features.features.empty()) {
     const Aabb<2> b{m.features.bounds.min.array() - 10.0, m.features.bounds.max.array() + 10.0};
