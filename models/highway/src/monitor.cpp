@@ -224,11 +224,13 @@ struct HighwayMonitor::Impl {
   // so at the bound it prunes only pairs it prunes at the exact safe time, without a sqrt or a
   // division. p, v: the foe's centre and velocity relative to the ego's; extSum: both envelope
   // extents; k: the ego's m / (2 F_brake). Without branches: an int, 1 if the pair may warn.
+  // kAccel false: accel is 0 and the growth term is the slop alone (0.5 * 0 * t^2 == 0 exactly).
+  template <bool kAccel>
   static int pairMayWarn(double tr, double k, const Vec2& p, const Vec2& v, const Vec2& extSum, double accel) {
     const double ax = std::abs(v.x()), ay = std::abs(v.y());
     const double closingBound = p.dot(v) > 0.0 ? 0.0 : (ax + ay) * (1.0 + tol::kBoundRelativeSlop);
     const double safeBound = tr + k * closingBound;
-    const double grow = 0.5 * accel * safeBound * safeBound + tol::kPruneSlop;
+    const double grow = kAccel ? 0.5 * accel * safeBound * safeBound + tol::kPruneSlop : tol::kPruneSlop;
     return static_cast<int>(std::abs(p.x()) <= extSum.x() + ax * safeBound + grow) &
            static_cast<int>(std::abs(p.y()) <= extSum.y() + ay * safeBound + grow);
   }
@@ -305,18 +307,24 @@ struct HighwayMonitor::Impl {
   }
 
   void candidatesVehicles(int e) {
+    if (cfg.detector.motion == MotionModel::ConstantAcceleration) candidatesVehiclesFor<true>(e);
+    else candidatesVehiclesFor<false>(e);
+  }
+
+  template <bool kAccel>
+  void candidatesVehiclesFor(int e) {
     const Vec2 pe = centre[e];
     const Vec2 ve = vel[e];
     const Vec2 exe = ext[e];
     const double tr = cfg.safeTime.vehicleReactionTime, k = brakeRatio[e];
-    const bool accelModel = cfg.detector.motion == MotionModel::ConstantAcceleration;
+    constexpr bool accelModel = kAccel;
     if (cfg.broadphase == Broadphase::AllPairs) {
       for (int f : activeSlots)
         if (f != e) {
           ++counters.candidatePairs;
           const Vec2 p = centre[f] - pe, v = vel[f] - ve;
           const double accel = accelModel ? accelAbs[e] + accelAbs[f] : 0.0;
-          if (pairMayWarn(tr, k, p, v, exe + ext[f], accel)) checkPair(e, f, p, v, accel);
+          if (pairMayWarn<kAccel>(tr, k, p, v, exe + ext[f], accel)) checkPair(e, f, p, v, accel);
         }
       return;
     }
@@ -340,7 +348,7 @@ struct HighwayMonitor::Impl {
           ++counters.candidatePairs;
           const Vec2 p = centre[f] - pe, v = vel[f] - ve;
           const double accel = accelModel ? accelAbs[e] + accelAbs[f] : 0.0;
-          if (pairMayWarn(tr, k, p, v, exe + ext[f], accel)) checkPair(e, f, p, v, accel);
+          if (pairMayWarn<kAccel>(tr, k, p, v, exe + ext[f], accel)) checkPair(e, f, p, v, accel);
         });
         continue;
       }
@@ -366,7 +374,7 @@ struct HighwayMonitor::Impl {
         candidates += static_cast<unsigned>(in);
         const Vec2 p = q - pe, v = mvel[i] - ve;
         const double accel = accelModel ? accE + macc[i] : 0.0;
-        if (in & pairMayWarn(tr, k, p, v, exe + mext[i], accel)) [[unlikely]]
+        if (in & pairMayWarn<kAccel>(tr, k, p, v, exe + mext[i], accel)) [[unlikely]]
           checkPair(e, mslot[i], p, v, accel);
       }
       counters.candidatePairs += candidates;
