@@ -162,12 +162,18 @@ TEST(BatchEndToEnd, JobsShardsAndMpiGiveTheSameRuns) {
   // summary.csv holds no timing columns' means only where runs agree; compare its deterministic part
   const auto summaryRef = tableWithoutTimings(dir / "j1/summary.csv");
   EXPECT_EQ(tableWithoutTimings(dir / "merged/summary.csv"), summaryRef);
+  // paired comparisons: box vs five at each scale, 1.0 vs 0.5 for each detector
+  const auto pairedRef = tableWithoutTimings(dir / "j1/paired.csv");
+  ASSERT_EQ(pairedRef.size(), 5u);
+  EXPECT_EQ(pairedRef[1][4], "2");  // both seeds paired
+  EXPECT_EQ(tableWithoutTimings(dir / "merged/paired.csv"), pairedRef);
 
   Process mpi({"mpirun", "-np", "2", STSIM_BINARY, "batch", exp, "--mpi", "--out", (dir / "mpi").string(), "--no-plots"},
               dir, {"OMPI_ALLOW_RUN_AS_ROOT=1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1", "OMPI_MCA_plm_rsh_agent="});
   ASSERT_EQ(mpi.wait(), 0) << mpi.err();
   EXPECT_EQ(tableWithoutTimings(dir / "mpi/runs.csv"), reference);
   EXPECT_EQ(tableWithoutTimings(dir / "mpi/summary.csv"), summaryRef);
+  EXPECT_EQ(tableWithoutTimings(dir / "mpi/paired.csv"), pairedRef);
 }
 
 TEST(BatchEndToEnd, KilledBatchResumesWithoutRedoingRuns) {

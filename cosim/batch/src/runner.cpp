@@ -240,6 +240,68 @@ std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpe
   return results;
 }
 
+namespace {
+
+// Paired comparisons (common random numbers): for each swept key, each of its values against the
+// first, with every other key held, run by run on the same seed. The spread of the differences
+// leaves out what the seeds share, so a small effect shows here long before the summary's CIs part.
+std::string pairedTable(const Experiment& e, const std::vector<RunResult>& results,
+                        const std::vector<std::string>& metricCols) {
+  // a done run's metrics by (parameters, seed)
+  std::map<std::pair<std::vector<std::string>, std::int64_t>, const RunResult*> byKey;
+  for (const auto& r : results) {
+    if (r.status != RunStatus::Done) continue;
+    std::vector<std::string> key;
+    for (const auto& [k, v] : r.spec.params) key.push_back(v);
+    byKey[{key, r.spec.seed}] = &r;
+  }
+  auto metric = [](const RunResult& r, const std::string& name, double& out) {
+    for (const auto& [k, v] : r.metrics)
+      if (k == name) return out = v, true;
+    return false;
+  };
+  std::ostringstream t;
+  t << "compared,baseline";
+  for (const auto& axis : e.sweep) t << "," << csvField(axis.key);
+  t << ",pairs";
+  for (const auto& m : metricCols) t << "," << csvField(m + ".diff_mean") << "," << csvField(m + ".diff_sd") << "," << csvField(m + ".diff_ci95");
+  t << "\n";
+  for (std::size_t a = 0; a < e.sweep.size(); ++a) {
+    const SweepAxis& axis = e.sweep[a];
+    // rows in the summary's order: every parameter combination whose compared key is not the baseline
+    std::set<std::vector<std::string>> done;
+    for (const auto& r : results) {
+      std::vector<std::string> key;
+      for (const auto& [k, v] : r.spec.params) key.push_back(v);
+      if (key[a] == axis.values.front() || !done.insert(key).second) continue;
+      std::vector<std::string> baseKey = key;
+      baseKey[a] = axis.values.front();
+      std::vector<std::pair<const RunResult*, const RunResult*>> pairs;
+      for (std::int64_t seed : e.seeds) {
+        const auto x = byKey.find({key, seed}), y = byKey.find({baseKey, seed});
+        if (x != byKey.end() && y != byKey.end()) pairs.emplace_back(x->second, y->second);
+      }
+      t << csvField(axis.key) << "," << csvField(axis.values.front());
+      for (const auto& v : key) t << "," << csvField(v);
+      t << "," << pairs.size();
+      for (const auto& c : metricCols) {
+        std::vector<double> diffs;
+        for (const auto& [x, y] : pairs) {
+          double vx = 0.0, vy = 0.0;
+          if (metric(*x, c, vx) && metric(*y, c, vy)) diffs.push_back(vx - vy);
+        }
+        const Summary s = summarize(diffs);
+        if (s.n == 0) t << ",,,";
+        else t << "," << number(s.mean) << "," << (s.n > 1 ? number(s.sd) : "") << "," << (s.n > 1 ? number(s.ci95) : "");
+      }
+      t << "\n";
+    }
+  }
+  return t.str();
+}
+
+}  // namespace
+
 void writeTables(const Experiment& e, std::vector<RunResult> results, const fs::path& outDir) {
   std::sort(results.begin(), results.end(), [](const RunResult& a, const RunResult& b) { return a.spec.index < b.spec.index; });
   // metric columns: first-seen order over runs in index order (deterministic for any job count)
@@ -302,6 +364,7 @@ void writeTables(const Experiment& e, std::vector<RunResult> results, const fs::
     sum << "\n";
   }
   writeFileAtomically(outDir / "summary.csv", sum.str());
+  writeFileAtomically(outDir / "paired.csv", pairedTable(e, results, metricCols));
 }
 
 void writeExperimentRecord(const Experiment& e, const fs::path& outDir) {

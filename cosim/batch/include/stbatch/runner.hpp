@@ -41,7 +41,9 @@ std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpe
 // Reads the result of one run from outDir/runs/<id>, if there is one.
 RunResult loadRunResult(const std::filesystem::path& outDir, const RunSpec& spec);
 
-// Writes runs.csv and summary.csv (atomically) for the given results, in run-index order.
+// Writes runs.csv, summary.csv and paired.csv (atomically) for the given results, in run-index
+// order. paired.csv: each swept key's values against its first value, other keys held, as
+// differences run by run on the same seed (mean, sd, 95 % CI of the differences).
 void writeTables(const Experiment& e, std::vector<RunResult> results, const std::filesystem::path& outDir);
 
 // The experiment as resolved for this batch (absolute base), stored in the output folder so
