@@ -215,7 +215,16 @@ int runHighwayCommand(const st::cli::Args& a) {
   std::uint64_t collisionRows = 0;
   const double endTime = s.end ? *s.end : (files.end ? *files.end : -1.0);
 
+  // kept for the collisions' warning lead times, worked out at the end
+  std::vector<SumoCollision> collisionReports;
+  std::vector<hw::Warning> vehicleWarnings;
+  auto writeWarnings = [&](const std::vector<hw::Warning>& finished) {
+    csv.write(finished);
+    for (const hw::Warning& w : finished)
+      if (w.kind == hw::WarningKind::Vehicle) vehicleWarnings.push_back(w);
+  };
   auto writeCollision = [&](const SumoCollision& c) {
+    collisionReports.push_back(c);
     collisionsCsv << fmt(c.time, 3) << "," << csvCell(c.collider) << "," << csvCell(c.victim) << ","
                   << csvCell(c.type) << "," << csvCell(c.lane) << "," << fmt(c.pos, 3) << ","
                   << fmt(c.colliderSpeed, 3) << "," << fmt(c.victimSpeed, 3) << "\n";
@@ -243,7 +252,7 @@ int runHighwayCommand(const st::cli::Args& a) {
         validator->record(backend->time(), plugin.states());
         validationSeconds += std::chrono::duration<double>(Clock::now() - t2).count();
       }
-      csv.write(plugin.takeFinished());
+      writeWarnings(plugin.takeFinished());
       writeCollisions();
       if (progress && t2 - lastProgress > std::chrono::milliseconds(250)) {
         lastProgress = t2;
@@ -263,7 +272,7 @@ int runHighwayCommand(const st::cli::Args& a) {
 
   // close the episodes, write everything, then close SUMO (which writes the SSM file)
   plugin.finish();
-  csv.write(plugin.takeFinished());
+  writeWarnings(plugin.takeFinished());
   csv.flush();
   writeCollisions();
   collisionsCsv.flush();
@@ -288,6 +297,19 @@ int runHighwayCommand(const st::cli::Args& a) {
     } catch (const std::exception& e) {
       if (error.empty()) error = e.what();
     }
+  }
+
+  // how long before each collision its collider was warning about the victim
+  std::vector<CollisionWarning> leads;
+  if (!attach) {
+    CollisionCounter counter;
+    leads = collisionWarnings(countCollisions(counter, collisionReports, backend->deltaT()), backend->deltaT(),
+                              vehicleWarnings);
+    std::ofstream lc(out / "collision_warnings.csv");
+    lc << "time,collider,victim,collider_warned,lead_time_s\n";
+    for (const CollisionWarning& w : leads)
+      lc << fmt(w.collision.time, 3) << "," << csvCell(w.collision.collider) << "," << csvCell(w.collision.victim) << ","
+         << (w.leadTime ? 1 : 0) << "," << (w.leadTime ? fmt(*w.leadTime, 3) : std::string()) << "\n";
   }
 
   std::optional<ValidationReport> validation;
@@ -320,6 +342,18 @@ int runHighwayCommand(const st::cli::Args& a) {
   if (!attach) {
     info.numbers.push_back({"sumo_collisions", static_cast<double>(pc.collisions)});
     info.numbers.push_back({"sumo_collision_steps", static_cast<double>(pc.collisionSteps)});
+    double warned = 0.0, sum = 0.0, least = 0.0;
+    for (const CollisionWarning& w : leads)
+      if (w.leadTime) {
+        least = warned == 0.0 ? *w.leadTime : std::min(least, *w.leadTime);
+        warned += 1.0;
+        sum += *w.leadTime;
+      }
+    info.numbers.push_back({"collisions_warned", warned});
+    if (warned > 0.0) {
+      info.numbers.push_back({"collision_lead_time_mean_s", sum / warned});
+      info.numbers.push_back({"collision_lead_time_min_s", least});
+    }
   }
   info.strings = {{"sumocfg", s.sumocfg.string()},
                   {"backend", backendName},

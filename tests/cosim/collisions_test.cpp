@@ -48,6 +48,41 @@ TEST(Collisions, ReplayedReportsSeeTheStepsWithoutReports) {
   EXPECT_EQ(fine.distinct(), 2u);
 }
 
+highway::Warning warning(const std::string& ego, const std::string& foe, double begin, double end,
+                         highway::WarningKind kind = highway::WarningKind::Vehicle) {
+  highway::Warning w;
+  w.ego = ego;
+  w.foe = foe;
+  w.kind = kind;
+  w.begin = begin;
+  w.end = end;
+  return w;
+}
+
+TEST(Collisions, LeadTimeIsTheCollidersWarningOnAtTheCollision) {
+  const std::vector<SumoCollision> firsts = {report(10.0, "a", "b"), report(12.0, "c", "d"), report(12.0, "e", "f"),
+                                             report(20.0, "g", "h"), report(30.0, "a", "b")};
+  const std::vector<highway::Warning> warnings = {
+      warning("a", "b", 7.0, 8.0),    // 0.5 s before the next: one warning from 7.0
+      warning("a", "b", 8.5, 10.3),   // on at 10.0: lead 3.0
+      warning("d", "c", 9.0, 12.5),   // the victim's warning: the collider was not warned
+      warning("e", "f", 8.0, 9.0),    // over 3 s before: not warned
+      warning("g", "h", 15.0, 20.0, highway::WarningKind::Curb),  // not about the victim
+      warning("g", "h", 19.5, 19.95),  // ended one step (0.1 s) before the contact: still counts
+      warning("a", "b", 25.0, 26.0), warning("a", "b", 28.0, 30.0)};  // 2 s gap: from 28.0
+  const auto w = collisionWarnings(firsts, 0.1, warnings);
+  ASSERT_EQ(w.size(), 5u);
+  ASSERT_TRUE(w[0].leadTime.has_value());
+  EXPECT_DOUBLE_EQ(*w[0].leadTime, 3.0);
+  EXPECT_FALSE(w[1].leadTime.has_value());
+  EXPECT_FALSE(w[2].leadTime.has_value());
+  ASSERT_TRUE(w[3].leadTime.has_value());
+  EXPECT_DOUBLE_EQ(*w[3].leadTime, 0.5);
+  ASSERT_TRUE(w[4].leadTime.has_value());
+  EXPECT_DOUBLE_EQ(*w[4].leadTime, 2.0);
+  EXPECT_EQ(w[4].collision.time, 30.0);
+}
+
 TEST(Collisions, ReadsSumosFileAndNamesWhatIsWrong) {
   const auto dir = freshDir("collision_output");
   std::ofstream(dir / "ok.xml")

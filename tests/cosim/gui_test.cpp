@@ -60,6 +60,26 @@ TEST(HighwayGui, SumoGuiRunsUnattendedWithTheEmbeddedRunsWarningsAndDrawsEveryCe
     for (int k : {0, 1, 2, 3, 4}) EXPECT_EQ(gf[k], ef[k]) << "row " << i << ": " << gc[i] << " vs " << ec[i];
     for (int k : {5, 6, 7}) EXPECT_NEAR(std::stod(gf[k]), std::stod(ef[k]), 0.0051) << "row " << i;
   }
+  // each collision's lead time: the same either way, and the collider's warning row in warnings.csv
+  // (ego, foe, kind, zone, begin, ...) that it counts from
+  const std::string leads = slurp(dir / "embedded/collision_warnings.csv");
+  EXPECT_EQ(slurp(dir / "gui/collision_warnings.csv"), leads);
+  const auto leadRows = lines(leads);
+  ASSERT_EQ(leadRows.size(), 1 + static_cast<std::size_t>(jsonNumber(es, "sumo_collisions")));
+  const auto warningRows = lines(slurp(dir / "embedded/warnings.csv"));
+  for (std::size_t i = 1; i < leadRows.size(); ++i) {
+    const auto f = splitCsv(leadRows[i]);
+    ASSERT_EQ(f.size(), 5u) << leadRows[i];
+    if (f[3] != "1") continue;
+    bool found = false;
+    for (const auto& w : warningRows) {
+      const auto wf = splitCsv(w);
+      if (wf.size() > 4 && wf[0] == f[1] && wf[1] == f[2] && wf[2] == "vehicle")
+        found |= std::abs(std::stod(f[0]) - std::stod(f[4]) - std::stod(wf[4])) < 1e-6;
+    }
+    EXPECT_TRUE(found) << "no warning of " << f[1] << " about " << f[2] << " begins " << f[4] << " s before " << f[0];
+  }
+  EXPECT_DOUBLE_EQ(jsonNumber(gs, "collisions_warned"), jsonNumber(es, "collisions_warned"));
 
   // one polygon per cell in SUMO (cell_polygons is the count sumo-gui reports holding after the
   // drawing), against the cell count of a monitor built here on the same network

@@ -4,35 +4,75 @@
 #include <boost/property_tree/xml_parser.hpp>
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 namespace st::cosim {
 
-void CollisionCounter::step(const std::vector<SumoCollision>& reported) {
+std::vector<std::size_t> CollisionCounter::step(const std::vector<SumoCollision>& reported) {
   reports_ += reported.size();
+  std::vector<std::size_t> begun;
   std::set<std::pair<std::string, std::string>> touching;
-  for (const SumoCollision& c : reported) {
-    std::pair<std::string, std::string> pair = std::minmax(c.collider, c.victim);
-    if (!touching_.count(pair) && !touching.count(pair)) distinct_++;
+  for (std::size_t i = 0; i < reported.size(); ++i) {
+    std::pair<std::string, std::string> pair = std::minmax(reported[i].collider, reported[i].victim);
+    if (!touching_.count(pair) && !touching.count(pair)) {
+      distinct_++;
+      begun.push_back(i);
+    }
     touching.insert(std::move(pair));
   }
   touching_ = std::move(touching);
+  return begun;
 }
 
-void countCollisions(CollisionCounter& counter, const std::vector<SumoCollision>& reports, double stepLength) {
-  std::vector<SumoCollision> step;
+std::vector<SumoCollision> countCollisions(CollisionCounter& counter, const std::vector<SumoCollision>& reports,
+                                           double stepLength) {
+  std::vector<SumoCollision> firsts, step;
+  auto flush = [&] {
+    for (std::size_t i : counter.step(step)) firsts.push_back(step[i]);
+    step.clear();
+  };
   double stepTime = 0.0;
   for (const SumoCollision& c : reports) {
     if (!step.empty() && std::abs(c.time - stepTime) > 0.5 * stepLength) {
-      counter.step(step);
+      flush();
       // a step or more without reports in between ends every contact
       if (c.time - stepTime > 1.5 * stepLength) counter.step({});
-      step.clear();
     }
     stepTime = c.time;
     step.push_back(c);
   }
-  if (!step.empty()) counter.step(step);
+  if (!step.empty()) flush();
+  return firsts;
+}
+
+std::vector<CollisionWarning> collisionWarnings(const std::vector<SumoCollision>& firstReports, double stepLength,
+                                                const std::vector<highway::Warning>& warnings) {
+  // the vehicle warnings of each (ego, foe), by begin
+  std::map<std::pair<std::string, std::string>, std::vector<const highway::Warning*>> byPair;
+  for (const highway::Warning& w : warnings)
+    if (w.kind == highway::WarningKind::Vehicle) byPair[{w.ego, w.foe}].push_back(&w);
+  for (auto& [pair, list] : byPair)
+    std::sort(list.begin(), list.end(), [](const auto* a, const auto* b) { return a->begin < b->begin; });
+  std::vector<CollisionWarning> out;
+  for (const SumoCollision& c : firstReports) {
+    CollisionWarning cw{c, std::nullopt};
+    const auto it = byPair.find({c.collider, c.victim});
+    if (it != byPair.end()) {
+      const auto& list = it->second;
+      // the last episode begun by the collision, if it is still on then
+      std::size_t k = list.size();
+      while (k > 0 && list[k - 1]->begin > c.time + 1e-9) --k;
+      if (k > 0 && (list[k - 1]->open || list[k - 1]->end >= c.time - stepLength - 1e-9)) {
+        double begin = list[k - 1]->begin;
+        for (std::size_t j = k - 1; j > 0 && list[j - 1]->end >= begin - kWarningGapMerge; --j)
+          begin = std::min(begin, list[j - 1]->begin);
+        cw.leadTime = c.time - begin;
+      }
+    }
+    out.push_back(std::move(cw));
+  }
+  return out;
 }
 
 std::vector<std::string> collisionOutputArguments(const std::filesystem::path& file) {

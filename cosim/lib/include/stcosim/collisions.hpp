@@ -4,11 +4,13 @@
 // unimplemented (it returns nothing; eclipse-sumo/sumo#12861), while libsumo implements it.
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include <sthighway/monitor.hpp>
 #include <stcosim/backend.hpp>
 
 namespace st::cosim {
@@ -18,7 +20,8 @@ namespace st::cosim {
 class CollisionCounter {
  public:
   // The collisions SUMO reported at one step (none is a step too: it ends every contact).
-  void step(const std::vector<SumoCollision>& reported);
+  // Returns the indices into `reported` of the contacts that begin at this step.
+  std::vector<std::size_t> step(const std::vector<SumoCollision>& reported);
   std::uint64_t distinct() const { return distinct_; }
   std::uint64_t reports() const { return reports_; }
 
@@ -28,8 +31,21 @@ class CollisionCounter {
 };
 
 // Replays reports in time order through a counter, one step of `stepLength` seconds at a time, so
-// a gap of one step or more between two reports of a pair makes them two collisions.
-void countCollisions(CollisionCounter& counter, const std::vector<SumoCollision>& reports, double stepLength);
+// a gap of one step or more between two reports of a pair makes them two collisions. Returns the
+// first report of each collision.
+std::vector<SumoCollision> countCollisions(CollisionCounter& counter, const std::vector<SumoCollision>& reports,
+                                           double stepLength);
+
+// A collision and whether the collider had been warned of it: the collider's vehicle warning about
+// the victim that is on at the collision (an episode ending no earlier than one step before it),
+// counted from its begin, with episodes less than `kWarningGapMerge` apart taken as one warning.
+struct CollisionWarning {
+  SumoCollision collision;         // its first report
+  std::optional<double> leadTime;  // s; none if the collider was not warning about the victim
+};
+inline constexpr double kWarningGapMerge = 1.0;  // s
+std::vector<CollisionWarning> collisionWarnings(const std::vector<SumoCollision>& firstReports, double stepLength,
+                                                const std::vector<highway::Warning>& warnings);
 
 // The options that make SUMO write its collisions to `file`.
 std::vector<std::string> collisionOutputArguments(const std::filesystem::path& file);
