@@ -338,6 +338,7 @@ int runHighwayCommand(const st::cli::Args& a) {
                   {"teleports", static_cast<double>(pc.teleports)},
                   {"color_changes", static_cast<double>(pc.colorChanges)},
                   {"brake_commands", static_cast<double>(pc.brakeCommands)},
+                  {"incidents", static_cast<double>(pc.incidents)},
                   {"cell_polygons", static_cast<double>(cellPolygons)}};
   if (!attach) {
     info.numbers.push_back({"sumo_collisions", static_cast<double>(pc.collisions)});

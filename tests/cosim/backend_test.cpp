@@ -211,6 +211,53 @@ TEST(Backends, SlowDownBrakesAtTheCommandedRateBeyondTheTypesDecel) {
   }
 }
 
+// A scripted incident: the vehicle nearest the point brakes at the set rate to a stop, stands for
+// `hold` seconds, then SUMO's driver model takes it on again.
+TEST(Plugin, IncidentBrakesTheNearestVehicleHoldsItAndLetsGo) {
+  Scenario s = shortMotorway(130.0);
+  s.plugin.actions.action = Action::None;
+  s.plugin.incidents = {Incident{100.0, 2200.0, -5.62, 0.0, 8.0, 5.0}};
+  auto b = startLibsumo(SumoLaunch{sumoArguments(s), false, "", ""});
+  HighwayPlugin plugin(*b, s.plugin);
+  std::string id;
+  double nearest = 1e9;
+  std::vector<std::pair<double, double>> trace;  // (time, speed) of that vehicle
+  while (b->running()) {
+    b->step();
+    plugin.update();
+    if (id.empty() && b->time() >= 100.0 - 1e-9) {
+      for (std::size_t i = 0; i < plugin.states().size(); ++i) {
+        const double d = (plugin.states()[i].position - Vec2(2200.0, -5.62)).norm();
+        if (d < nearest) nearest = d, id = plugin.states()[i].id;
+      }
+    }
+    for (const auto& v : plugin.states())
+      if (!id.empty() && v.id == id) trace.emplace_back(b->time(), v.speed);
+  }
+  b->close();
+  ASSERT_FALSE(id.empty());
+  EXPECT_LT(nearest, 60.0);
+  EXPECT_EQ(plugin.counters().incidents, 1u);
+  ASSERT_GT(trace.size(), 100u);
+  const double v0 = trace.front().second;
+  ASSERT_GT(v0, 15.0);
+  const double stopAt = 100.0 + v0 / 8.0;  // commanded at 100 s, SUMO applies it from the next step
+  double firstStill = -1.0, lastStill = -1.0;
+  for (const auto& [t, v] : trace) {
+    if (v < 0.01) {
+      if (firstStill < 0) firstStill = t;
+      lastStill = t;
+    }
+    if (t > 100.05 && t < stopAt - 0.2) {
+      EXPECT_NEAR(v, v0 - 8.0 * (t - 100.0), 1.0) << "t=" << t;
+    }
+  }
+  ASSERT_GT(firstStill, 0.0) << "never stopped";
+  EXPECT_NEAR(firstStill, stopAt, 0.35);
+  EXPECT_NEAR(lastStill - firstStill, 5.0, 0.35);  // held for `hold`
+  EXPECT_GT(trace.back().second, 5.0);              // then driving again
+}
+
 TEST(Backends, VehicleTypesCarryMassParamAndClass) {
   const Scenario s = shortMotorway(5.0);
   auto b = startLibsumo(SumoLaunch{sumoArguments(s), false, "", ""});

@@ -95,6 +95,31 @@ TEST(Scenario, BrakeSettingsAndTheRetiredDurationKey) {
   EXPECT_NE(e.find("brake.max_deceleration: must be at least brake.deceleration"), std::string::npos) << e;
 }
 
+TEST(Scenario, IncidentsAreReadAndTheirMistakesNamed) {
+  const Scenario s = loadScenario(sourceDir() / "networks/motorway/incident.yaml");
+  ASSERT_EQ(s.plugin.incidents.size(), 4u);
+  EXPECT_DOUBLE_EQ(s.plugin.incidents[1].time, 200.0);
+  EXPECT_DOUBLE_EQ(s.plugin.incidents[1].x, 2400.0);
+  EXPECT_DOUBLE_EQ(s.plugin.incidents[1].y, -1.88);
+  EXPECT_DOUBLE_EQ(s.plugin.incidents[1].deceleration, 8.0);
+  EXPECT_DOUBLE_EQ(s.plugin.incidents[1].hold, 20.0);
+  const auto dir = freshDir("incident_keys");
+  auto errorIn = [&](const std::string& yaml) {
+    std::ofstream(dir / "i.yaml") << "sumocfg: x.sumocfg\n" << yaml;
+    return errorOf([&] { loadScenario(dir / "i.yaml"); });
+  };
+  std::string e = errorIn("incidents: {time: 1}\n");
+  EXPECT_NE(e.find("i.yaml:2: incidents: must be a list"), std::string::npos) << e;
+  e = errorIn("incidents:\n  - {time: 5, near: [1, 2, 3]}\n");
+  EXPECT_NE(e.find("incidents[0].near: must be [x, y]"), std::string::npos) << e;
+  e = errorIn("incidents:\n  - {time: 5, near: [1, 2]}\n  - {near: [1, 2]}\n");
+  EXPECT_NE(e.find("i.yaml:4: incidents[1].time: missing"), std::string::npos) << e;
+  e = errorIn("incidents:\n  - {time: 5, near: [1, 2], decel: 3}\n");
+  EXPECT_NE(e.find("incidents[0].decel: unknown key"), std::string::npos) << e;
+  e = errorIn("incidents:\n  - {time: 5, near: [1, 2], deceleration: 0}\n");
+  EXPECT_NE(e.find("incidents[0].deceleration: must be in [0.1, 50]"), std::string::npos) << e;
+}
+
 // scenarioKeys() is what the reader accepts (and what a batch may sweep): each key, nested as its
 // dots say, is known to the reader (its value may still be wrong), and a near miss is not.
 TEST(Scenario, EveryListedKeyIsKnownToTheReader) {

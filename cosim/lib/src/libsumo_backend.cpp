@@ -65,6 +65,7 @@ class LibsumoBackend final : public Backend {
   void slowDown(const std::string& id, double speed, double duration) override {
     detail::slowDownAtCommandedRate<libsumo::Vehicle>(id, speed, duration);
   }
+  void setSpeed(const std::string& id, double speed) override { libsumo::Vehicle::setSpeed(id, speed); }
   void addPolygon(const std::string& id, const std::vector<std::pair<double, double>>& shape, Rgba c, bool fill,
                   int layer) override {
     detail::addPolygon<libsumo::Polygon, libsumo::TraCIPositionVector, libsumo::TraCIColor>(id, shape, c, fill, layer);

@@ -99,7 +99,58 @@ void HighwayPlugin::update() {
     states_[i].equipped = pv.equipped != 0;
   }
   monitor_.step(backend_.time(), states_);
+  runIncidents();
   act();
+}
+
+bool HighwayPlugin::inIncident(std::uint32_t serial) const {
+  return std::any_of(incidentRuns_.begin(), incidentRuns_.end(), [&](const IncidentRun& r) {
+    return r.serial == serial && (r.phase == IncidentRun::Phase::Braking || r.phase == IncidentRun::Phase::Holding);
+  });
+}
+
+void HighwayPlugin::runIncidents() {
+  using Phase = IncidentRun::Phase;
+  if (incidentRuns_.size() != config_.incidents.size()) incidentRuns_.resize(config_.incidents.size());
+  const double t = backend_.time() + 1e-9;  // a phase ending at this step's time ends now
+  const auto& vehicles = backend_.vehicles();
+  for (std::size_t k = 0; k < incidentRuns_.size(); ++k) {
+    IncidentRun& run = incidentRuns_[k];
+    const Incident& inc = config_.incidents[k];
+    if (run.phase == Phase::Done || t < inc.time) continue;
+    if (run.phase == Phase::Pending) {
+      std::size_t best = vehicles.size();
+      double bestDistance = 0.0;
+      for (std::size_t i = 0; i < vehicles.size(); ++i) {
+        const double d = (states_[i].position - Vec2(inc.x, inc.y)).squaredNorm();
+        if (best == vehicles.size() || d < bestDistance) best = i, bestDistance = d;
+      }
+      if (best == vehicles.size()) continue;  // an empty road: the next step
+      run.vehicle = vehicles[best].id;
+      run.serial = vehicles[best].serial;
+      const double duration = std::max((states_[best].speed - inc.speed) / inc.deceleration, backend_.deltaT());
+      backend_.slowDown(run.vehicle, inc.speed, duration);
+      run.until = backend_.time() + duration;
+      run.phase = Phase::Braking;
+      counters_.incidents++;
+      continue;
+    }
+    const bool onRoad = std::any_of(vehicles.begin(), vehicles.end(),
+                                    [&](const SumoVehicle& v) { return v.serial == run.serial; });
+    if (!onRoad) {  // arrived or teleported: the incident is over
+      run.phase = Phase::Done;
+      continue;
+    }
+    if (t < run.until) continue;
+    if (run.phase == Phase::Braking) {
+      backend_.setSpeed(run.vehicle, inc.speed);
+      run.until = backend_.time() + inc.hold;
+      run.phase = Phase::Holding;
+    } else {
+      backend_.setSpeed(run.vehicle, -1.0);
+      run.phase = Phase::Done;
+    }
+  }
 }
 
 void HighwayPlugin::act() {
@@ -122,7 +173,8 @@ void HighwayPlugin::act() {
       pv.level = static_cast<std::uint8_t>(level);
       counters_.colorChanges++;
     }
-    if (a.action == Action::Brake && al.kind == highway::WarningKind::Vehicle && al.foe >= 0) {
+    if (a.action == Action::Brake && al.kind == highway::WarningKind::Vehicle && al.foe >= 0 &&
+        !inIncident(vehicles[i].serial)) {
       // Brake for a foe ahead in our path that is slower along our heading, once avoiding it
       // within the remaining gap needs at least the configured deceleration (gentler cases are the
       // driver's), and only down to its speed: braking for a foe behind or alongside, or to a

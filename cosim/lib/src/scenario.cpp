@@ -218,6 +218,26 @@ void readYaml(const fs::path& path, Scenario& s) {
         s.collisionAction != "remove")
       r.fail(n, "collision_action", "must be none, warn, teleport or remove");
   }
+  if (auto list = root["incidents"]) {
+    if (!list.IsSequence()) r.fail(list, "incidents", "must be a list of {time, near: [x, y], speed, deceleration, hold}");
+    int i = 0;
+    for (const auto& e : list) {
+      const std::string where = "incidents[" + std::to_string(i++) + "]";
+      r.checkKeys(e, where, {"time", "near", "speed", "deceleration", "hold"});
+      Incident inc;
+      if (!e["time"]) r.fail(e, where + ".time", "missing (when the vehicle starts braking, s)");
+      inc.time = r.number(e["time"], where + ".time", 0, kBig);
+      const YAML::Node near = e["near"];
+      if (!near || !near.IsSequence() || near.size() != 2)
+        r.fail(near ? near : e, where + ".near", "must be [x, y]: the vehicle nearest to this point brakes");
+      inc.x = r.number(near[0], where + ".near", -kBig, kBig);
+      inc.y = r.number(near[1], where + ".near", -kBig, kBig);
+      if (auto n = e["speed"]) inc.speed = r.number(n, where + ".speed", 0, 200);
+      if (auto n = e["deceleration"]) inc.deceleration = r.number(n, where + ".deceleration", 0.1, 50);
+      if (auto n = e["hold"]) inc.hold = r.number(n, where + ".hold", 0, kBig);
+      s.plugin.incidents.push_back(inc);
+    }
+  }
   if (auto n = root["sumo_args"]) s.sumoArgs = r.list(n, "sumo_args");
   if (auto n = root["out"]) s.out = fs::path(r.text(n, "out"));
   s.plugin.smart.seed = s.seed;
@@ -237,7 +257,7 @@ const std::vector<std::string>& scenarioKeys() {
     for (const char* more : {"concentric.inner_margin", "concentric.outer_margin", "cells.length", "cells.hysteresis_db",
                              "cells.tx_power_dbm", "cells.path_loss_exponent", "cells.reference_distance",
                              "cells.radio_range", "cells.decomposition_factor", "cells.max_depth", "collision_action",
-                             "sumo_args", "out"})
+                             "incidents", "sumo_args", "out"})
       k.push_back(more);
     return k;
   }();

@@ -159,6 +159,9 @@ class TraciBackend final : public Backend {
   void slowDown(const std::string& id, double speed, double duration) override {
     guard([&] { detail::slowDownAtCommandedRate<libtraci::Vehicle>(id, speed, duration); });
   }
+  void setSpeed(const std::string& id, double speed) override {
+    guard([&] { libtraci::Vehicle::setSpeed(id, speed); });
+  }
   void addPolygon(const std::string& id, const std::vector<std::pair<double, double>>& shape, Rgba c, bool fill,
                   int layer) override {
     guard([&] {

@@ -148,6 +148,9 @@ class Backend {
   // Brings the vehicle to `speed` linearly over `duration` s, at that rate even beyond its vType's
   // comfortable decel (SUMO's safe-speed rule still applies).
   virtual void slowDown(const std::string& vehicleId, double speed, double duration) = 0;
+  // Holds the vehicle at `speed` (m/s) until called with a negative speed, which gives it back to
+  // SUMO's driver model.
+  virtual void setSpeed(const std::string& vehicleId, double speed) = 0;
   virtual void addPolygon(const std::string& id, const std::vector<std::pair<double, double>>& shape, Rgba c,
                           bool fill, int layer) = 0;
   // The ids of the polygons SUMO holds (to check what addPolygon drew).

@@ -57,10 +57,24 @@ struct ActionConfig {
   double brakeStandstillGap = 1.0;    // m
 };
 
+// A scripted incident, for studies of what the warnings and actions do when a leader brakes hard:
+// at `time` the vehicle nearest to (x, y) brakes to `speed` at `deceleration` (beyond its vType's
+// comfortable decel if need be), holds that speed for `hold` seconds, then drives on under SUMO's
+// driver model. Picking by place rather than by id keeps an incident where it is meant to be
+// whatever the seed's departures.
+struct Incident {
+  double time = 0.0;          // s
+  double x = 0.0, y = 0.0;    // m, network coordinates
+  double speed = 0.0;         // m/s
+  double deceleration = 8.0;  // m/s^2
+  double hold = 30.0;         // s
+};
+
 struct PluginConfig {
   highway::MonitorConfig monitor;
   SmartCars smart;
   ActionConfig actions;
+  std::vector<Incident> incidents;
 };
 
 struct PluginCounters {
@@ -69,6 +83,7 @@ struct PluginCounters {
   std::uint64_t equipped = 0;        // distinct smart cars seen
   std::uint64_t colorChanges = 0;
   std::uint64_t brakeCommands = 0;
+  std::uint64_t incidents = 0;  // scripted incidents started
   // SUMO's collisions (needs --collision.action warn). With "warn" SUMO reports a pair again at
   // every step it still overlaps, so `collisionSteps` counts those reports and `collisions` the
   // distinct collisions: a pair counts again only after a step without contact.
@@ -113,6 +128,8 @@ class HighwayPlugin {
  private:
   HighwayPlugin(std::unique_ptr<Backend> owned, PluginConfig config);
   void act();
+  void runIncidents();
+  bool inIncident(std::uint32_t serial) const;  // braking or held by a scripted incident
 
   std::unique_ptr<Backend> owned_;
   Backend& backend_;
@@ -138,6 +155,14 @@ class HighwayPlugin {
   std::vector<char> alerted_;  // per state index, act()'s scratch
   std::vector<SumoCollision> collisions_;
   CollisionCounter collisionCounter_;
+  // config_.incidents' progress, by index
+  struct IncidentRun {
+    enum class Phase : std::uint8_t { Pending, Braking, Holding, Done } phase = Phase::Pending;
+    std::string vehicle;
+    std::uint32_t serial = 0;
+    double until = 0.0;  // s, end of the current phase
+  };
+  std::vector<IncidentRun> incidentRuns_;
   PluginCounters counters_;
 };
 

@@ -24,6 +24,8 @@
 //   cells: {length: 200, hysteresis_db: 3, tx_power_dbm: 40, path_loss_exponent: 3,
 //           reference_distance: 1, radio_range: 600, decomposition_factor: 8, max_depth: 8}
 //   collision_action: warn            # passed to SUMO's --collision.action
+//   incidents:                        # scripted hard braking (plugin.hpp Incident)
+//     - {time: 150, near: [2200, -5.6], speed: 0, deceleration: 8, hold: 30}
 //   sumo_args: ["--lateral-resolution", "0.8"]   # extra SUMO options
 //   out: out/motorway                 # output directory (relative to the working directory)
 // Unknown keys are errors (a typo must not silently fall back to a default).
