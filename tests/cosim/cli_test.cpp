@@ -31,6 +31,30 @@ TEST(HighwayCli, MotorwayRunWritesWarningsSummaryAndCollisions) {
   EXPECT_EQ(lines(slurp(dir / "collisions.csv"))[0], "time,collider,victim,type,lane,pos,collider_speed,victim_speed");
 }
 
+// SUMO's default rule counts a gap below minGap (1.5 m here) as a collision, crawling queues
+// included; with collision_mingap_factor 0 only physical contacts count, and each of those must
+// have been warned of by its collider (every car is equipped: touching is TTC 0).
+TEST(HighwayCli, PhysicalCollisionsAreFewerAndEveryOneWarned) {
+  const auto dir = freshDir("cli_mingap");
+  std::filesystem::copy(motorway().parent_path(), dir / "net", std::filesystem::copy_options::recursive);
+  std::string yaml = slurp(dir / "net/scenario.yaml");
+  yaml += "collision_mingap_factor: 0\n";
+  std::ofstream(dir / "net/physical.yaml") << yaml;
+  const auto p = runStsim({"highway", (dir / "net/physical.yaml").string(), "--end", "232", "--out", (dir / "p").string()}, dir);
+  ASSERT_EQ(p.code, 0) << p.err;
+  const auto d = runStsim({"highway", motorway().string(), "--end", "232", "--out", (dir / "d").string()}, dir);
+  ASSERT_EQ(d.code, 0) << d.err;
+  const double physical = jsonNumber(slurp(dir / "p/summary.json"), "sumo_collisions");
+  const double byMinGap = jsonNumber(slurp(dir / "d/summary.json"), "sumo_collisions");
+  EXPECT_GE(physical, 1.0);
+  EXPECT_LT(physical, byMinGap);
+  const auto rows = lines(slurp(dir / "p/collision_warnings.csv"));
+  ASSERT_EQ(rows.size(), 1 + static_cast<std::size_t>(physical));
+  for (std::size_t i = 1; i < rows.size(); ++i) EXPECT_EQ(splitCsv(rows[i])[3], "1") << rows[i];
+  // the warnings themselves do not depend on how SUMO counts collisions
+  EXPECT_EQ(slurp(dir / "p/warnings.csv"), slurp(dir / "d/warnings.csv"));
+}
+
 // The sublane network exists to produce lane-marker and curb warnings (lateral drift, filtering).
 TEST(HighwayCli, SublaneNetworkRaisesLaneMarkerAndCurbWarnings) {
   const auto dir = freshDir("cli_sublane");

@@ -1,6 +1,8 @@
 // Scenario YAML and SUMO configuration checks: bad input gives one line naming the file and field.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "test_util.hpp"
 #include <stcosim/scenario.hpp>
 
@@ -118,6 +120,22 @@ TEST(Scenario, IncidentsAreReadAndTheirMistakesNamed) {
   EXPECT_NE(e.find("incidents[0].decel: unknown key"), std::string::npos) << e;
   e = errorIn("incidents:\n  - {time: 5, near: [1, 2], deceleration: 0}\n");
   EXPECT_NE(e.find("incidents[0].deceleration: must be in [0.1, 50]"), std::string::npos) << e;
+}
+
+// SUMO's collision rule: by default a gap below the follower's minGap is a "collision"; the
+// factor 0 leaves physical contact only. The key reaches SUMO's command line.
+TEST(Scenario, CollisionMinGapFactorReachesSumo) {
+  const auto dir = freshDir("mingap");
+  std::filesystem::copy(motorway().parent_path(), dir / "net", std::filesystem::copy_options::recursive);
+  std::ofstream(dir / "a.yaml") << "sumocfg: net/motorway.sumocfg\ncollision_mingap_factor: 0\n";
+  const Scenario s = loadScenario(dir / "a.yaml");
+  ASSERT_TRUE(s.collisionMinGapFactor.has_value());
+  const auto args = sumoArguments(s);
+  const auto it = std::find(args.begin(), args.end(), "--collision.mingap-factor");
+  ASSERT_NE(it, args.end());
+  EXPECT_EQ(*std::next(it), "0");
+  const auto plain = sumoArguments(loadScenario(motorway()));
+  EXPECT_EQ(std::find(plain.begin(), plain.end(), "--collision.mingap-factor"), plain.end());
 }
 
 // scenarioKeys() is what the reader accepts (and what a batch may sweep): each key, nested as its

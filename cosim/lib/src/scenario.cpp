@@ -218,6 +218,7 @@ void readYaml(const fs::path& path, Scenario& s) {
         s.collisionAction != "remove")
       r.fail(n, "collision_action", "must be none, warn, teleport or remove");
   }
+  if (auto n = root["collision_mingap_factor"]) s.collisionMinGapFactor = r.number(n, "collision_mingap_factor", 0, 10);
   if (auto list = root["incidents"]) {
     if (!list.IsSequence()) r.fail(list, "incidents", "must be a list of {time, near: [x, y], speed, deceleration, hold}");
     int i = 0;
@@ -257,7 +258,7 @@ const std::vector<std::string>& scenarioKeys() {
     for (const char* more : {"concentric.inner_margin", "concentric.outer_margin", "cells.length", "cells.hysteresis_db",
                              "cells.tx_power_dbm", "cells.path_loss_exponent", "cells.reference_distance",
                              "cells.radio_range", "cells.decomposition_factor", "cells.max_depth", "collision_action",
-                             "incidents", "sumo_args", "out"})
+                             "collision_mingap_factor", "incidents", "sumo_args", "out"})
       k.push_back(more);
     return k;
   }();
@@ -342,6 +343,7 @@ std::vector<std::string> sumoArguments(const Scenario& s) {
   };
   if (s.end) option("--end", *s.end);
   if (s.demandScale) option("--scale", *s.demandScale);
+  if (s.collisionMinGapFactor) option("--collision.mingap-factor", *s.collisionMinGapFactor);
   a.insert(a.end(), s.sumoArgs.begin(), s.sumoArgs.end());
   return a;
 }

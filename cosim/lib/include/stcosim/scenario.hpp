@@ -24,6 +24,9 @@
 //   cells: {length: 200, hysteresis_db: 3, tx_power_dbm: 40, path_loss_exponent: 3,
 //           reference_distance: 1, radio_range: 600, decomposition_factor: 8, max_depth: 8}
 //   collision_action: warn            # passed to SUMO's --collision.action
+//   collision_mingap_factor: 1        # SUMO's --collision.mingap-factor: SUMO registers a collision
+//                                     # when a gap falls below factor x the follower's minGap (SUMO's
+//                                     # default 1); 0 counts physical contact only
 //   incidents:                        # scripted hard braking (plugin.hpp Incident)
 //     - {time: 150, near: [2200, -5.6], speed: 0, deceleration: 8, hold: 30}
 //   sumo_args: ["--lateral-resolution", "0.8"]   # extra SUMO options
@@ -54,6 +57,7 @@ struct Scenario {
   std::optional<double> demandScale;  // SUMO --scale
   bool validateSsm = false;
   std::string collisionAction = "warn";
+  std::optional<double> collisionMinGapFactor;  // SUMO --collision.mingap-factor
   std::vector<std::string> sumoArgs;
   std::optional<std::filesystem::path> out;
 };
