@@ -365,6 +365,11 @@ struct HighwayMonitor::Impl {
       const double lo = cb.min[c.axis], hi = cb.max[c.axis];
       const int end = c.end;
       int i = lowerBound(key, c.begin, end, lo);
+      // first the walk, collecting the pairs that pass (no call in the loop, so its state
+      // stays in registers), then the exact test for those, in walk order
+      if (static_cast<int>(passed.size()) < end - c.begin) passed.resize(end - c.begin);
+      int* pass = passed.data();
+      int npass = 0;
       std::uint64_t candidates = 0;
       for (; i < end && key[i] <= hi; ++i) {
         const Vec2& q = pos[i];
@@ -374,10 +379,14 @@ struct HighwayMonitor::Impl {
         candidates += static_cast<unsigned>(in);
         const Vec2 p = q - pe, v = mvel[i] - ve;
         const double accel = accelModel ? accE + macc[i] : 0.0;
-        if (in & pairMayWarn<kAccel>(tr, k, p, v, exe + mext[i], accel)) [[unlikely]]
-          checkPair(e, mslot[i], p, v, accel);
+        pass[npass] = i;
+        npass += in & pairMayWarn<kAccel>(tr, k, p, v, exe + mext[i], accel);
       }
       counters.candidatePairs += candidates;
+      for (int j = 0; j < npass; ++j) {
+        const int m = pass[j];
+        checkPair(e, mslot[m], pos[m] - pe, mvel[m] - ve, accelModel ? accE + macc[m] : 0.0);
+      }
     }
   }
 
@@ -456,6 +465,7 @@ struct HighwayMonitor::Impl {
   std::vector<Vec2> memberExt;
   std::vector<double> memberAcc;
   std::vector<int> memberSlot;
+  std::vector<int> passed;  // scratch: member indices whose pair passed the bound
   Vec2 globalVmax = Vec2::Zero();
   double globalAmax = 0.0, globalEnvMax = 0.0;
   Vec2 globalExtMax = Vec2::Zero();
