@@ -317,13 +317,12 @@ struct HighwayMonitor::Impl {
     const Vec2 ve = vel[e];
     const Vec2 exe = ext[e];
     const double tr = cfg.safeTime.vehicleReactionTime, k = brakeRatio[e];
-    constexpr bool accelModel = kAccel;
     if (cfg.broadphase == Broadphase::AllPairs) {
       for (int f : activeSlots)
         if (f != e) {
           ++counters.candidatePairs;
           const Vec2 p = centre[f] - pe, v = vel[f] - ve;
-          const double accel = accelModel ? accelAbs[e] + accelAbs[f] : 0.0;
+          const double accel = kAccel ? accelAbs[e] + accelAbs[f] : 0.0;
           if (pairMayWarn<kAccel>(tr, k, p, v, exe + ext[f], accel)) checkPair(e, f, p, v, accel);
         }
       return;
@@ -334,39 +333,38 @@ struct HighwayMonitor::Impl {
       // the largest relative velocity along x (y) against the cell's members
       const double dx = std::max(std::abs(ve.x() - c.vmin.x()), std::abs(ve.x() - c.vmax.x()));
       const double dy = std::max(std::abs(ve.y() - c.vmin.y()), std::abs(ve.y() - c.vmax.y()));
-      const double ac = accelModel ? accelAbs[e] + c.amax : 0.0;
+      const double ac = kAccel ? accelAbs[e] + c.amax : 0.0;
       const double h = vehicleHorizonBound(e, std::sqrt(dx * dx + dy * dy));
       const Vec2 r = Vec2(dx, dy) * h + ext[e] + c.extMax + Vec2::Constant(0.5 * ac * h * h + tol::kPruneSlop);
       const Aabb<2> cb{pe - r, pe + r};
       // the reach bounds foe centres: skip a cell none of whose members' centres is inside
       if (!c.centres.overlaps(cb)) continue;
       // a congested (subdivided) cell is searched through its space; a small one through its
-      // members sorted along the cell's long axis (a binary search for the reach's range)
+      // members sorted along the cell's long axis (from the first inside the reach's range)
       if (c.subdivided) {
         cells->forEachInCellBox(c.cell, cb, [&](int f) {
           if (f == e || !cb.contains(centre[f])) return;
           ++counters.candidatePairs;
           const Vec2 p = centre[f] - pe, v = vel[f] - ve;
-          const double accel = accelModel ? accelAbs[e] + accelAbs[f] : 0.0;
+          const double accel = kAccel ? accelAbs[e] + accelAbs[f] : 0.0;
           if (pairMayWarn<kAccel>(tr, k, p, v, exe + ext[f], accel)) checkPair(e, f, p, v, accel);
         });
         continue;
       }
       // the member arrays hold the foes' state in walk order (no slot indirection); the
       // containment and the pair bound are evaluated without branches (their outcomes are
-      // unpredictable), only the few pairs that pass both branch to the exact test
+      // unpredictable) and without a call (the loop's state stays in registers): the walk
+      // collects the few pairs that pass both, the exact test follows for those, in walk order
       const double* key = memberKey.data();
       const Vec2* pos = memberPos.data();
       const Vec2* mvel = memberVel.data();
       const Vec2* mext = memberExt.data();
       const double* macc = memberAcc.data();
       const int* mslot = memberSlot.data();
-      const double accE = accelModel ? accelAbs[e] : 0.0;
+      const double accE = kAccel ? accelAbs[e] : 0.0;
       const double lo = cb.min[c.axis], hi = cb.max[c.axis];
       const int end = c.end;
       int i = lowerBound(key, c.begin, end, lo);
-      // first the walk, collecting the pairs that pass (no call in the loop, so its state
-      // stays in registers), then the exact test for those, in walk order
       if (static_cast<int>(passed.size()) < end - c.begin) passed.resize(end - c.begin);
       int* pass = passed.data();
       int npass = 0;
@@ -378,14 +376,14 @@ struct HighwayMonitor::Impl {
                        static_cast<int>(mslot[i] != e);
         candidates += static_cast<unsigned>(in);
         const Vec2 p = q - pe, v = mvel[i] - ve;
-        const double accel = accelModel ? accE + macc[i] : 0.0;
+        const double accel = kAccel ? accE + macc[i] : 0.0;
         pass[npass] = i;
         npass += in & pairMayWarn<kAccel>(tr, k, p, v, exe + mext[i], accel);
       }
       counters.candidatePairs += candidates;
       for (int j = 0; j < npass; ++j) {
         const int m = pass[j];
-        checkPair(e, mslot[m], pos[m] - pe, mvel[m] - ve, accelModel ? accE + macc[m] : 0.0);
+        checkPair(e, mslot[m], pos[m] - pe, mvel[m] - ve, kAccel ? accE + macc[m] : 0.0);
       }
     }
   }
@@ -439,9 +437,8 @@ struct HighwayMonitor::Impl {
       }
     }
   }
-  // per cell, this tick: (cell, reach half extents) of the cells its cars may meet, and the road
-  // features they may reach
-  // what the per-ego reach needs of a neighbour cell, copied so the ego's walk reads one array
+  // Per cell, this tick: the cells its cars may meet and the road features they may reach. A
+  // neighbour entry holds what the per-ego reach needs, copied so an ego's search reads one array.
   struct Neighbour {
     Vec2 vmin, vmax, extMax;
     Aabb<2> centres;

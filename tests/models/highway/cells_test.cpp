@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include <sthighway/cells.hpp>
 
@@ -74,6 +75,56 @@ TEST(Cells, HandoffInOrderNeverLostNeverTwice) {
   net.remove(0);
   EXPECT_EQ(net.servingCell(0), -1);
   EXPECT_EQ(cellsHolding(net, 0), 0);
+}
+
+// A car re-measures its sites only when it may have come within the hysteresis margin of
+// another site; the serving cells and handoffs are those of measuring at every step (brute force
+// over every site), for cars wandering over two opposite carriageways (sites 14.4 m apart across
+// the median), with small steps, large jumps and reversals.
+TEST(Cells, HandoffsEqualMeasuringEveryStep) {
+  RoadGeometry road = straightRoad(1400.0);
+  for (int i = 0; i < 3; ++i) {
+    Lane l;
+    l.id = "back_";
+    l.id += std::to_string(i);
+    l.edge = "back";
+    l.index = i;
+    l.shape = {Vec2(1400.0, 20.8 - 3.2 * i), Vec2(0.0, 20.8 - 3.2 * i)};
+    road.lanes.push_back(l);
+  }
+  CellConfig cfg;
+  CellNetwork net(road, deriveFeatures(road), cfg);
+  const double ratioSq = std::pow(10.0, 2.0 * cfg.hysteresisDb / (10.0 * cfg.pathLossExponent));
+  auto d2 = [&](int c, const Vec2& p) {
+    return std::max((net.site(c).position - p).squaredNorm(), cfg.referenceDistance * cfg.referenceDistance);
+  };
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  const int cars = 40;
+  std::vector<Vec2> p(cars);
+  std::vector<int> want(cars, -1);
+  int handoffs = 0;
+  for (int v = 0; v < cars; ++v) p[v] = Vec2(1400.0 * U(rng), 22.0 * U(rng) - 1.0);
+  for (int step = 0; step < 3000; ++step) {
+    for (int v = 0; v < cars; ++v) {
+      const double r = U(rng);
+      if (r < 0.01) p[v] = Vec2(1400.0 * U(rng), 22.0 * U(rng) - 1.0);             // a jump
+      else p[v] += Vec2((v % 2 ? -1.0 : 1.0) * 3.0 * U(rng), 0.6 * (U(rng) - 0.5));  // a tick
+      // the reference: the nearest site (ties: lowest index), handed over past the margin
+      int best = 0;
+      for (int c = 1; c < net.cellCount(); ++c)
+        if (d2(c, p[v]) < d2(best, p[v])) best = c;
+      if (want[v] < 0) want[v] = best;
+      else if (best != want[v] && d2(want[v], p[v]) > ratioSq * d2(best, p[v])) {
+        want[v] = best;
+        ++handoffs;
+      }
+      ASSERT_EQ(net.place(v, p[v], carBox(p[v])), want[v]) << "car " << v << " step " << step;
+    }
+    net.refreshExtents();
+  }
+  EXPECT_EQ(net.counters().handoffs, static_cast<std::uint64_t>(handoffs));
+  EXPECT_GT(handoffs, 1000);
 }
 
 TEST(Cells, HysteresisPreventsPingPong) {

@@ -7,6 +7,7 @@
 
 #include <stcore/toi.hpp>
 #include <sthighway/monitor.hpp>
+#include <sthighway/report.hpp>
 
 namespace st::highway {
 namespace {
@@ -393,10 +394,67 @@ TEST(Monitor, CutInFromTheRightFiresTheRightZone) {
   EXPECT_EQ(open[0].foe, "cutter");
 }
 
+// The monitor maps ids to its slots by position when the input keeps its order (no lookup) and
+// by id otherwise: the same traffic given in a fixed order and reshuffled every tick gives the
+// same warnings, and the same cars are alerted.
+TEST(Monitor, InputOrderDoesNotChangeWarnings) {
+  std::mt19937_64 rng(777);
+  const RoadGeometry road = testRoad();
+  std::size_t total = 0;
+  for (int scene = 0; scene < 60; ++scene) {
+    MonitorConfig cfg;
+    cfg.detector.kind = static_cast<DetectorKind>(scene % 3);
+    cfg.broadphase = scene % 2 ? Broadphase::AllPairs : Broadphase::Cells;
+    cfg.cells.cellLength = 60.0;
+    auto ticks = randomScene(rng, cfg.cells.cellLength);
+    // a longer run: the scene's last tick moved on a few more ticks
+    for (int k = 0; k < 6; ++k) {
+      auto next = ticks.back();
+      for (VehicleState& v : next) v.position += 0.2 * v.velocity();
+      ticks.push_back(next);
+    }
+    auto shuffled = ticks;
+    for (auto& t : shuffled) std::shuffle(t.begin(), t.end(), rng);
+    HighwayMonitor fixed(road, cfg), moving(road, cfg);
+    std::vector<std::string> a, b;
+    for (std::size_t i = 0; i < ticks.size(); ++i) {
+      fixed.step(0.2 * static_cast<double>(i), ticks[i]);
+      moving.step(0.2 * static_cast<double>(i), shuffled[i]);
+      // the alerted cars (which foe is named among exact ties follows the order of arrival)
+      std::vector<std::string> alertsA, alertsB;
+      for (const Alert& x : fixed.alerts()) alertsA.push_back(ticks[i][x.vehicle].id);
+      for (const Alert& x : moving.alerts()) alertsB.push_back(shuffled[i][x.vehicle].id);
+      std::sort(alertsA.begin(), alertsA.end());
+      std::sort(alertsB.begin(), alertsB.end());
+      ASSERT_EQ(alertsA, alertsB) << "scene " << scene << " tick " << i;
+      for (const auto& w : fixed.takeFinished()) a.push_back(warningCsvRow(w));
+      for (const auto& w : moving.takeFinished()) b.push_back(warningCsvRow(w));
+    }
+    for (const auto& w : fixed.openWarnings()) a.push_back(warningCsvRow(w));
+    for (const auto& w : moving.openWarnings()) b.push_back(warningCsvRow(w));
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    ASSERT_EQ(a, b) << "scene " << scene;
+    total += a.size();
+  }
+  EXPECT_GT(total, 500u);
+}
+
 TEST(Monitor, RejectsBadInput) {
   HighwayMonitor m(straightRoad(), MonitorConfig{});
   std::vector<VehicleState> dup{vehicle("x", {1, 0}, 0, 1), vehicle("x", {50, 0}, 0, 1)};
   EXPECT_THROW(m.step(0.0, dup), std::invalid_argument);
+  {
+    // a duplicate where the last tick had another vehicle, or the same one (the by-position map)
+    HighwayMonitor m2(straightRoad(), MonitorConfig{});
+    m2.step(0.0, std::vector<VehicleState>{vehicle("a", {1, 0}, 0, 1), vehicle("b", {50, 0}, 0, 1)});
+    EXPECT_THROW(m2.step(1.0, std::vector<VehicleState>{vehicle("a", {2, 0}, 0, 1), vehicle("a", {51, 0}, 0, 1)}),
+                 std::invalid_argument);
+    HighwayMonitor m3(straightRoad(), MonitorConfig{});
+    m3.step(0.0, std::vector<VehicleState>{vehicle("a", {1, 0}, 0, 1), vehicle("b", {50, 0}, 0, 1)});
+    EXPECT_THROW(m3.step(1.0, std::vector<VehicleState>{vehicle("b", {2, 0}, 0, 1), vehicle("b", {51, 0}, 0, 1)}),
+                 std::invalid_argument);
+  }
   std::vector<VehicleState> nan{vehicle("y", {std::nan(""), 0}, 0, 1)};
   EXPECT_THROW(m.step(1.0, nan), std::invalid_argument);
   std::vector<VehicleState> ok{vehicle("z", {1, 0}, 0, 1)};
