@@ -653,7 +653,6 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       ++m.counters.vehiclesSeen;
     }
     const int s = it->second;
-    Impl::Slot& sl = m.slots[s];
     if (m.inputOf[s] >= 0) throw std::invalid_argument("vehicle '" + v.id + "' appears twice at t=" + std::to_string(t));
     m.inputOf[s] = i;
     now.push_back(s);
