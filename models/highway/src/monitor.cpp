@@ -329,14 +329,16 @@ struct HighwayMonitor::Impl {
     }
     const int own = cellOf[e];
     for (const Neighbour& c : k <= cellStats[own].kLight ? neighboursLight[own] : neighbours[own]) {
-      // per axis: the relative displacement along x (y) within the look-ahead is bounded by
-      // the largest relative velocity along x (y) against the cell's members
-      const double dx = std::max(std::abs(ve.x() - c.vmin.x()), std::abs(ve.x() - c.vmax.x()));
-      const double dy = std::max(std::abs(ve.y() - c.vmin.y()), std::abs(ve.y() - c.vmax.y()));
+      // per axis, with its sign: a member moving at v relative to the ego reaches it within
+      // the look-ahead h only from where v carries it towards the ego, so a foe's centre lies
+      // within the shapes' extents of the ego, further only behind by (fastest relative
+      // velocity forwards) * h and ahead by (fastest backwards) * h; h from the largest speed
+      const Vec2 up = (c.vmax - ve).cwiseMax(0.0), down = (ve - c.vmin).cwiseMax(0.0);
+      const double dx = std::max(up.x(), down.x()), dy = std::max(up.y(), down.y());
       const double ac = kAccel ? accelAbs[e] + c.amax : 0.0;
       const double h = vehicleHorizonBound(e, std::sqrt(dx * dx + dy * dy));
-      const Vec2 r = Vec2(dx, dy) * h + ext[e] + c.extMax + Vec2::Constant(0.5 * ac * h * h + tol::kPruneSlop);
-      const Aabb<2> cb{pe - r, pe + r};
+      const Vec2 r0 = ext[e] + c.extMax + Vec2::Constant(0.5 * ac * h * h + tol::kPruneSlop);
+      const Aabb<2> cb{pe - (up * h + r0), pe + (down * h + r0)};
       // the reach bounds foe centres: skip a cell none of whose members' centres is inside
       if (!c.centres.overlaps(cb)) continue;
       // a congested (subdivided) cell is searched through its space; a small one through its
