@@ -412,15 +412,17 @@ struct HighwayMonitor::Impl {
       cells->forEachCellInBox(box, [&](int B) {
         const CellStats& cb = cellStats[B];
         if (cb.count == 0) return;
-        const double dx = std::max({0.0, ca.vmax.x() - cb.vmin.x(), cb.vmax.x() - ca.vmin.x()});
-        const double dy = std::max({0.0, ca.vmax.y() - cb.vmin.y(), cb.vmax.y() - ca.vmin.y()});
+        // signed per axis, as the per-ego reach: B's members lie behind A's by at most their
+        // fastest relative velocity forwards times h, ahead by the fastest backwards
+        const Vec2 up = (cb.vmax - ca.vmin).cwiseMax(0.0), down = (ca.vmax - cb.vmin).cwiseMax(0.0);
+        const double dx = std::max(up.x(), down.x()), dy = std::max(up.y(), down.y());
         const double ab = accel ? ca.amax + cb.amax : 0.0;
         // the reach grows with the brake ratio k: with kMax for every car of A, with kLight
         // for the cars at or below it (the list they walk is then a subsequence of the full one)
         auto reaches = [&](double k) {
           const double h = tr + k * std::sqrt(dx * dx + dy * dy);
-          const Vec2 r = Vec2(dx, dy) * h + ca.extMax + cb.extMax + Vec2::Constant(0.5 * ab * h * h + 2 * tol::kPruneSlop);
-          return Aabb<2>{ca.centres.min - r, ca.centres.max + r}.overlaps(cb.centres);
+          const Vec2 r0 = ca.extMax + cb.extMax + Vec2::Constant(0.5 * ab * h * h + 2 * tol::kPruneSlop);
+          return Aabb<2>{ca.centres.min - (up * h + r0), ca.centres.max + (down * h + r0)}.overlaps(cb.centres);
         };
         if (!reaches(ca.kMax)) return;
         const Neighbour nb{cb.vmin, cb.vmax, cb.extMax, cb.centres, cb.amax, memberStart[B], memberStart[B + 1], B,
