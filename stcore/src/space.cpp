@@ -54,7 +54,8 @@ Space<D>::Space(SpaceKind kind, const Box& bounds, const SpaceRule& rule)
     }
     const double total = dims_.template cast<double>().prod();
     if (total > 5e7) throw std::invalid_argument("cells space would need too many cells");
-    cells_.resize(static_cast<std::size_t>(total));
+    cellCount_ = static_cast<int>(total);
+    cellData_.assign(static_cast<std::size_t>(cellCount_) * stride_, 0);
   } else {
     nodes_.push_back(Node{bounds_, -1, -1, 0, 0, {}});
   }
@@ -70,18 +71,11 @@ typename Space<D>::Box Space<D>::clampToBounds(const Box& b) const {
 }
 
 template <int D>
-void Space<D>::cellRange(const Box& b, Eigen::Array<int, D, 1>& lo, Eigen::Array<int, D, 1>& hi) const {
+void Space<D>::cellRange(const Box& b, Index& lo, Index& hi) const {
   for (int i = 0; i < D; ++i) {
     lo[i] = std::clamp(static_cast<int>(std::floor((b.min[i] - bounds_.min[i]) / cellSize_[i])), 0, dims_[i] - 1);
     hi[i] = std::clamp(static_cast<int>(std::floor((b.max[i] - bounds_.min[i]) / cellSize_[i])), 0, dims_[i] - 1);
   }
-}
-
-template <int D>
-int Space<D>::cellIndex(const Eigen::Array<int, D, 1>& c) const {
-  int idx = 0;
-  for (int i = D - 1; i >= 0; --i) idx = idx * dims_[i] + c[i];
-  return idx;
 }
 
 template <int D>
@@ -99,15 +93,30 @@ typename Space<D>::Box Space<D>::leafBounds(int leaf) const {
 }
 
 template <int D>
-const std::vector<int>& Space<D>::objectsIn(int leaf) const {
-  return kind_ == SpaceKind::Cells ? cells_[leaf] : nodes_[leaf].objects;
+ObjectList Space<D>::objectsIn(int leaf) const {
+  if (kind_ == SpaceKind::Cells) {
+    const int* cell = cellData_.data() + static_cast<std::ptrdiff_t>(leaf) * stride_;
+    return {cell + 1, static_cast<std::size_t>(cell[0]), D};
+  }
+  const std::vector<int>& objs = nodes_[leaf].objects;
+  return {objs.data(), objs.size(), 0};
+}
+
+template <int D>
+const std::vector<int>& Space<D>::leavesOf(int id) const {
+  const Member& m = members_[id];
+  if (kind_ == SpaceKind::Cells) {
+    m.leaves.clear();
+    forEachCell(m.lo, m.hi, [&](int idx, const Index&) { m.leaves.push_back(idx); });
+  }
+  return m.leaves;
 }
 
 template <int D>
 std::vector<int> Space<D>::leaves() const {
   std::vector<int> out;
   if (kind_ == SpaceKind::Cells) {
-    for (int i = 0; i < static_cast<int>(cells_.size()); ++i) out.push_back(i);
+    for (int i = 0; i < cellCount_; ++i) out.push_back(i);
     return out;
   }
   std::vector<int> stack{0};
@@ -140,9 +149,10 @@ std::vector<int> Space<D>::takeWidened() {
 template <int D>
 void Space<D>::insert(int id, const Box& box, double margin) {
   assert(id >= 0);
+  if (kind_ == SpaceKind::Cells && id >= (1 << (30 - D))) throw std::length_error("cells space: object id too large");
   if (id >= static_cast<int>(members_.size())) {
     members_.resize(id + 1);
-    stamp_.resize(id + 1, 0u);
+    if (kind_ != SpaceKind::Cells) stamp_.resize(id + 1, 0u);
   }
   Member& m = members_[id];
   if (m.present) throw std::logic_error("space: object inserted twice");
@@ -179,40 +189,33 @@ void Space<D>::update(int id, const Box& box, double margin) {
 }
 
 // Cells: most updates (one per collision) leave the ball in the same block of cells; then only the
-// stored box changes. Otherwise leave the cells outside the new block and enter those outside the old.
+// stored box changes. Otherwise leave the cells outside the new block, re-mark the cells kept whose
+// corner bits change, and enter those outside the old.
 template <int D>
 void Space<D>::updateCells(int id, const Box& fat) {
-  using Index = Eigen::Array<int, D, 1>;
   Member& m = members_[id];
   m.fat = fat;
   Index lo, hi;
   cellRange(clampToBounds(fat), lo, hi);
+  m.prevLo = m.lo;
+  m.prevHi = m.hi;
   if ((lo == m.lo).all() && (hi == m.hi).all()) return;
   auto within = [](const Index& c, const Index& a, const Index& b) { return (c >= a).all() && (c <= b).all(); };
-  auto forEachCell = [this](const Index& a, const Index& b, auto&& f) {
-    Index c = a;
-    while (true) {
-      f(c, cellIndex(c));
-      int k = 0;
-      for (; k < D; ++k) {
-        if (++c[k] <= b[k]) break;
-        c[k] = a[k];
-      }
-      if (k == D) break;
+  forEachCell(m.lo, m.hi, [&](int idx, const Index& c) {
+    const int old = (id << D) | cornerBits(c, m.lo);
+    if (!within(c, lo, hi)) {
+      cellErase(idx, old);
+      return;
     }
-  };
-  forEachCell(m.lo, m.hi, [&](const Index& c, int idx) {
-    if (within(c, lo, hi)) return;
-    auto& v = cells_[idx];
-    auto it = std::find(v.begin(), v.end(), id);
-    assert(it != v.end());
-    *it = v.back();  // order within a cell carries no meaning
-    v.pop_back();
+    const int now = (id << D) | cornerBits(c, lo);
+    if (now == old) return;
+    int* cell = cellData_.data() + static_cast<std::ptrdiff_t>(idx) * stride_;
+    int* it = std::find(cell + 1, cell + 1 + cell[0], old);
+    assert(it != cell + 1 + cell[0]);
+    *it = now;
   });
-  m.leaves.clear();
-  forEachCell(lo, hi, [&](const Index& c, int idx) {
-    if (!within(c, m.lo, m.hi)) cells_[idx].push_back(id);
-    m.leaves.push_back(idx);
+  forEachCell(lo, hi, [&](int idx, const Index& c) {
+    if (!within(c, m.lo, m.hi)) cellPush(idx, (id << D) | cornerBits(c, lo));
   });
   m.lo = lo;
   m.hi = hi;
@@ -220,28 +223,41 @@ void Space<D>::updateCells(int id, const Box& fat) {
 }
 
 template <int D>
+void Space<D>::cellPush(int idx, int entry) {
+  if (cellData_[static_cast<std::size_t>(idx) * stride_] == stride_ - 1) {
+    // full: double every cell's room (cells are few times fuller than average at most)
+    const int wider = 2 * stride_;
+    std::vector<int> data(static_cast<std::size_t>(cellCount_) * wider, 0);
+    for (std::size_t c = 0; c < static_cast<std::size_t>(cellCount_); ++c)
+      std::copy_n(cellData_.begin() + c * stride_, stride_, data.begin() + c * wider);
+    cellData_.swap(data);
+    stride_ = wider;
+  }
+  int* cell = cellData_.data() + static_cast<std::ptrdiff_t>(idx) * stride_;
+  cell[++cell[0]] = entry;
+}
+
+template <int D>
+void Space<D>::cellErase(int idx, int entry) {
+  int* cell = cellData_.data() + static_cast<std::ptrdiff_t>(idx) * stride_;
+  int* last = cell + cell[0];
+  int* it = std::find(cell + 1, last + 1, entry);
+  assert(it != last + 1);
+  *it = *last;  // order within a cell carries no meaning
+  --cell[0];
+}
+
+template <int D>
 void Space<D>::attach(int id) {
   Member& m = members_[id];
-  m.leaves.clear();
   if (kind_ == SpaceKind::Cells) {
-    Eigen::Array<int, D, 1> lo, hi;
-    cellRange(clampToBounds(m.fat), lo, hi);
-    m.lo = lo;
-    m.hi = hi;
-    Eigen::Array<int, D, 1> c = lo;
-    while (true) {
-      const int idx = cellIndex(c);
-      cells_[idx].push_back(id);
-      m.leaves.push_back(idx);
-      int k = 0;
-      for (; k < D; ++k) {
-        if (++c[k] <= hi[k]) break;
-        c[k] = lo[k];
-      }
-      if (k == D) break;
-    }
+    cellRange(clampToBounds(m.fat), m.lo, m.hi);
+    m.prevLo = m.lo;
+    m.prevHi = m.hi;
+    forEachCell(m.lo, m.hi, [&](int idx, const Index& c) { cellPush(idx, (id << D) | cornerBits(c, m.lo)); });
     return;
   }
+  m.leaves.clear();
   addRec(0, id);
   if (rule_.subdivide) {
     const std::vector<int> landed = members_[id].leaves;  // copy: splits rewrite it
@@ -253,11 +269,7 @@ template <int D>
 void Space<D>::detach(int id, bool allowCollapse) {
   Member& m = members_[id];
   if (kind_ == SpaceKind::Cells) {
-    for (int idx : m.leaves) {
-      auto& v = cells_[idx];
-      v.erase(std::find(v.begin(), v.end(), id));
-    }
-    m.leaves.clear();
+    forEachCell(m.lo, m.hi, [&](int idx, const Index& c) { cellErase(idx, (id << D) | cornerBits(c, m.lo)); });
     return;
   }
   const std::vector<int> old = m.leaves;
@@ -417,8 +429,8 @@ double Space<D>::exitTime(int id, const Vec<D>& p, const Vec<D>& v, double r) co
   // the box the tight ball may roam without touching an unlisted leaf
   Box safe;
   if (kind_ == SpaceKind::Cells) {
-    const Eigen::Array<int, D, 1>& lo = members_[id].lo;
-    const Eigen::Array<int, D, 1>& hi = members_[id].hi;
+    const Index& lo = members_[id].lo;
+    const Index& hi = members_[id].hi;
     for (int i = 0; i < D; ++i) {
       safe.min[i] = lo[i] == 0 ? -kInf : bounds_.min[i] + lo[i] * cellSize_[i];
       safe.max[i] = hi[i] == dims_[i] - 1 ? kInf : bounds_.min[i] + (hi[i] + 1) * cellSize_[i];

@@ -43,36 +43,6 @@ void keepEarliest(SegmentImpact& best, const Impact& candidate, SegmentFeature f
 
 }  // namespace
 
-template <int D>
-Impact toiBalls(const Vec<D>& p_rel, const Vec<D>& v_rel, double radiusSum) {
-  const double dist = p_rel.norm();
-  const double gap = dist - radiusSum;
-  const double b = p_rel.dot(v_rel);  // negative when closing
-  if (gap <= tol::kLinearSlop) {
-    if (gap < -tol::kLinearSlop) return b < 0.0 ? overlapping() : separating();
-    return b < 0.0 ? hitAt(0.0) : separating();
-  }
-  if (b >= 0.0) return miss();
-  const double a = v_rel.squaredNorm();
-  if (a <= tol::kSpeedSqEpsilon) return miss();
-  // |p + v t|^2 = R^2  ->  a t^2 + 2 b t + c = 0 with c = (dist - R)(dist + R), free of the
-  // cancellation in dist^2 - R^2; the smaller root is c / (-b + sqrt(b^2 - a c)), stable for b < 0.
-  // b^2 - a c is evaluated as a R^2 - |p x v|^2 (Lagrange's identity): b^2 - a |p|^2 cancels when
-  // the pair is far apart for its size, costing relative error eps |p|^2 / R^2 in the hit time.
-  const double c = gap * (dist + radiusSum);
-  double cross2 = 0.0;
-  for (int i = 0; i < D; ++i)
-    for (int j = i + 1; j < D; ++j) {
-      const double m = p_rel[i] * v_rel[j] - p_rel[j] * v_rel[i];
-      cross2 += m * m;
-    }
-  const double disc = a * radiusSum * radiusSum - cross2;
-  if (disc <= 0.0) return miss();  // passes by, or grazes without exchanging momentum
-  return hitAt(c / (-b + std::sqrt(disc)));
-}
-
-template Impact toiBalls<2>(const Vec2&, const Vec2&, double);
-template Impact toiBalls<3>(const Vec3&, const Vec3&, double);
 
 namespace {
 

@@ -11,8 +11,10 @@
 // caller how long the current membership stays valid for a moving ball (exitTime).
 // Nodes live in one pool (std::vector) addressed by int, children in contiguous blocks reused
 // through a free list.
+#include <cstddef>
 #include <cstdint>
 #include <algorithm>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
@@ -46,6 +48,49 @@ struct SpaceCounters {
   std::uint64_t transfers = 0;  // membership changes of an object (the report's TransferObject)
 };
 
+// The objects listed in one leaf: a view, valid until the space changes. Cells store each entry as
+// (object << D) | corner bits (see Space::cellData_); the view yields the objects.
+class ObjectList {
+ public:
+  class iterator {
+   public:
+    using iterator_category = std::input_iterator_tag;
+    using iterator_concept = std::forward_iterator_tag;
+    using value_type = int;
+    using difference_type = std::ptrdiff_t;
+    using pointer = void;
+    using reference = int;
+    iterator() = default;
+    iterator(const int* p, int shift) : p_(p), shift_(shift) {}
+    int operator*() const { return *p_ >> shift_; }
+    iterator& operator++() {
+      ++p_;
+      return *this;
+    }
+    iterator operator++(int) {
+      iterator old = *this;
+      ++p_;
+      return old;
+    }
+    bool operator==(const iterator& o) const { return p_ == o.p_; }
+
+   private:
+    const int* p_ = nullptr;
+    int shift_ = 0;
+  };
+  ObjectList(const int* first, std::size_t count, int shift) : first_(first), count_(count), shift_(shift) {}
+  iterator begin() const { return {first_, shift_}; }
+  iterator end() const { return {first_ + count_, shift_}; }
+  std::size_t size() const { return count_; }
+  bool empty() const { return count_ == 0; }
+  int operator[](std::size_t k) const { return first_[k] >> shift_; }
+
+ private:
+  const int* first_;
+  std::size_t count_;
+  int shift_;
+};
+
 template <int D>
 class Space {
  public:
@@ -66,6 +111,11 @@ class Space {
   // Calls f(other) once for every other object sharing a leaf with id.
   template <class F>
   void forEachNeighbor(int id, F&& f) const;
+  // Calls f(other) once for every other object that may share a leaf with id since id's last
+  // update and may not have before it: a superset of the new neighbours (cells: the objects of
+  // the cells entered; trees: every neighbour).
+  template <class F>
+  void forEachNeighborGained(int id, F&& f) const;
   // Calls f(object) once for every object listed in a leaf the box touches.
   template <class F>
   void forEachInBox(const Box& box, F&& f) const;
@@ -74,10 +124,10 @@ class Space {
   // space could touch a leaf it is not listed in; infinity if never.
   double exitTime(int id, const Vec<D>& p, const Vec<D>& v, double r) const;
 
-  // Leaf regions id is listed in.
-  const std::vector<int>& leavesOf(int id) const { return members_[id].leaves; }
+  // Leaf regions id is listed in (cells: filled on demand, valid until the next call).
+  const std::vector<int>& leavesOf(int id) const;
   Box leafBounds(int leaf) const;
-  const std::vector<int>& objectsIn(int leaf) const;
+  ObjectList objectsIn(int leaf) const;
   // All current leaves (for drawing and invariant checks).
   std::vector<int> leaves() const;
   int depthOf(int leaf) const;
@@ -98,13 +148,17 @@ class Space {
     int count = 0;        // distinct objects whose box overlaps this node
     std::vector<int> objects;  // leaves only
   };
+  using Index = Eigen::Array<int, D, 1>;
   struct Member {
     Box fat;
-    std::vector<int> leaves;
+    // trees: the leaves; cells: a cache for leavesOf (the block below is the membership)
+    mutable std::vector<int> leaves;
     bool present = false;
-    // cells kind: the listed block of cells, so updates and exit times need not recompute it
-    Eigen::Array<int, D, 1> lo = Eigen::Array<int, D, 1>::Zero();
-    Eigen::Array<int, D, 1> hi = Eigen::Array<int, D, 1>::Zero();
+    // cells kind: the listed block of cells, and the block before the last update
+    Index lo = Index::Zero();
+    Index hi = Index::Zero();
+    Index prevLo = Index::Zero();
+    Index prevHi = Index::Zero();
   };
 
   Box clampToBounds(const Box& b) const;
@@ -117,8 +171,27 @@ class Space {
   void collapseUpFrom(int node);
   int allocBlock();
   // cells
-  void cellRange(const Box& b, Eigen::Array<int, D, 1>& lo, Eigen::Array<int, D, 1>& hi) const;
-  int cellIndex(const Eigen::Array<int, D, 1>& c) const;
+  void cellRange(const Box& b, Index& lo, Index& hi) const;
+  int cellIndex(const Index& c) const {
+    int idx = 0;
+    for (int i = D - 1; i >= 0; --i) idx = idx * dims_[i] + c[i];
+    return idx;
+  }
+  // bit k set when c[k] == lo[k]: c is the block's first cell along axis k
+  static int cornerBits(const Index& c, const Index& lo) {
+    int bits = 0;
+    for (int k = 0; k < D; ++k) bits |= (c[k] == lo[k] ? 1 : 0) << k;
+    return bits;
+  }
+  // f(cell index, cell coordinates) for every cell of the block [lo, hi]
+  template <class F>
+  void forEachCell(const Index& lo, const Index& hi, F&& f) const;
+  // f(entry) for every entry of a cell block touched by [lo, hi] that is listed there for the
+  // first cell the two blocks share: each object once, without marks
+  template <class F>
+  void forEachEntryOnce(const Index& lo, const Index& hi, F&& f) const;
+  void cellPush(int idx, int entry);
+  void cellErase(int idx, int entry);
 
   void attach(int id);
   void detach(int id, bool allowCollapse);
@@ -134,11 +207,16 @@ class Space {
   std::vector<int> freeBlocks_;
   std::vector<Member> members_;
   std::vector<int> widened_;
-  // cells
-  Eigen::Array<int, D, 1> dims_;
+  // cells: one flat array, stride_ ints per cell: [count, entry...]. An entry is
+  // (object << D) | bits, bit k set when the cell is the first of the object's block along axis k,
+  // so a walk over another block meets each object once (at the first cell both blocks share)
+  // without marking it. A cell that outgrows the stride doubles it for all.
+  Index dims_;
   Vec<D> cellSize_;
-  std::vector<std::vector<int>> cells_;
-  // neighbour de-duplication stamps
+  int cellCount_ = 0;
+  int stride_ = 8;
+  std::vector<int> cellData_;
+  // trees: neighbour de-duplication stamps
   mutable std::vector<std::uint32_t> stamp_;
   mutable std::uint32_t stampNow_ = 0;
   std::vector<int> scratch_;
@@ -148,14 +226,52 @@ class Space {
 
 template <int D>
 template <class F>
+void Space<D>::forEachCell(const Index& lo, const Index& hi, F&& f) const {
+  Index c = lo;
+  while (true) {
+    f(cellIndex(c), c);
+    int k = 0;
+    for (; k < D; ++k) {
+      if (++c[k] <= hi[k]) break;
+      c[k] = lo[k];
+    }
+    if (k == D) break;
+  }
+}
+
+// An object listed in cell c of the walked block [lo, hi] is met there first iff c is the first
+// cell, along every axis, of the overlap of its block with [lo, hi]: c[k] is lo[k] or the object's own lo.
+template <int D>
+template <class F>
+void Space<D>::forEachEntryOnce(const Index& lo, const Index& hi, F&& f) const {
+  constexpr int kAll = (1 << D) - 1;
+  forEachCell(lo, hi, [&](int idx, const Index& c) {
+    const int bits = cornerBits(c, lo);
+    const int* cell = cellData_.data() + static_cast<std::ptrdiff_t>(idx) * stride_;
+    const int n = cell[0];
+    for (int k = 1; k <= n; ++k)
+      if (((cell[k] | bits) & kAll) == kAll) f(cell[k]);
+  });
+}
+
+template <int D>
+template <class F>
 void Space<D>::forEachNeighbor(int id, F&& f) const {
+  if (kind_ == SpaceKind::Cells) {
+    const Member& m = members_[id];
+    forEachEntryOnce(m.lo, m.hi, [&](int entry) {
+      const int other = entry >> D;
+      if (other != id) f(other);
+    });
+    return;
+  }
   if (++stampNow_ == 0) {
     std::fill(stamp_.begin(), stamp_.end(), 0u);
     stampNow_ = 1;
   }
   stamp_[id] = stampNow_;
   for (int leaf : members_[id].leaves) {
-    for (int other : objectsIn(leaf)) {
+    for (int other : nodes_[leaf].objects) {
       if (stamp_[other] == stampNow_) continue;
       stamp_[other] = stampNow_;
       f(other);
@@ -165,7 +281,39 @@ void Space<D>::forEachNeighbor(int id, F&& f) const {
 
 template <int D>
 template <class F>
+void Space<D>::forEachNeighborGained(int id, F&& f) const {
+  if (kind_ != SpaceKind::Cells) {
+    forEachNeighbor(id, f);
+    return;
+  }
+  // the cells entered: an object met first in one of them may be new; one met first in a cell
+  // kept shares that cell with id and was a neighbour already
+  constexpr int kAll = (1 << D) - 1;
+  const Member& m = members_[id];
+  if ((m.lo == m.prevLo).all() && (m.hi == m.prevHi).all()) return;
+  forEachCell(m.lo, m.hi, [&](int idx, const Index& c) {
+    if ((c >= m.prevLo).all() && (c <= m.prevHi).all()) return;
+    const int bits = cornerBits(c, m.lo);
+    const int* cell = cellData_.data() + static_cast<std::ptrdiff_t>(idx) * stride_;
+    const int n = cell[0];
+    for (int k = 1; k <= n; ++k) {
+      if (((cell[k] | bits) & kAll) != kAll) continue;
+      const int other = cell[k] >> D;
+      if (other != id) f(other);
+    }
+  });
+}
+
+template <int D>
+template <class F>
 void Space<D>::forEachInBox(const Box& box, F&& f) const {
+  const Box b = clampToBounds(box);
+  if (kind_ == SpaceKind::Cells) {
+    Index lo, hi;
+    cellRange(b, lo, hi);
+    forEachEntryOnce(lo, hi, [&](int entry) { f(entry >> D); });
+    return;
+  }
   if (++stampNow_ == 0) {
     std::fill(stamp_.begin(), stamp_.end(), 0u);
     stampNow_ = 1;
@@ -177,22 +325,6 @@ void Space<D>::forEachInBox(const Box& box, F&& f) const {
       f(other);
     }
   };
-  const Box b = clampToBounds(box);
-  if (kind_ == SpaceKind::Cells) {
-    Eigen::Array<int, D, 1> lo, hi;
-    cellRange(b, lo, hi);
-    Eigen::Array<int, D, 1> c = lo;
-    while (true) {
-      visitLeaf(cells_[cellIndex(c)]);
-      int k = 0;
-      for (; k < D; ++k) {
-        if (++c[k] <= hi[k]) break;
-        c[k] = lo[k];
-      }
-      if (k == D) break;
-    }
-    return;
-  }
   // iterative tree walk
   int stackBuf[256];
   int top = 0;
