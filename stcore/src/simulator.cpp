@@ -61,6 +61,7 @@ int Simulator<D>::addBall(const Vec<D>& p, const Vec<D>& v, double radius, doubl
   b.mass = mass;
   b.type = type;
   balls_.push_back(b);
+  motion_.push_back(Motion{b.p, b.v, b.t, b.radius});
   next_.push_back(Next{});
   heapPos_.push_back(-1);
   if (space_) space_->insert(i, boxOf(i, now_), config_.marginFactor * radius);
@@ -109,6 +110,7 @@ void Simulator<D>::advance(int i, double t) {
     b.p = b.positionAt(t);
   }
   b.t = t;
+  syncMotion(i);
 }
 
 template <int D>
@@ -118,6 +120,7 @@ void Simulator<D>::setVelocity(int i, const Vec<D>& v) {
   if (!b.active) throw std::invalid_argument("ball is no longer in the simulation");
   advance(i, now_);
   b.v = v;
+  syncMotion(i);
   ++b.gen;
   spaceUpdate(i);
   predict(i);
@@ -142,6 +145,7 @@ void Simulator<D>::setDeceleration(int i, double decel) {
   BallState<D>& b = balls_[i];
   if (!b.active) throw std::invalid_argument("ball is no longer in the simulation");
   advance(i, now_);
+  if ((b.decel > 0.0) != (decel > 0.0)) decelerating_ += decel > 0.0 ? 1 : -1;
   b.decel = decel;
   ++b.gen;
   predict(i);
@@ -168,82 +172,137 @@ void Simulator<D>::repredictWidened() {
 }
 
 template <int D>
-void Simulator<D>::consider(Next& best, double t, EventKind kind, int other, std::uint32_t otherGen) const {
+void Simulator<D>::consider(Next& best, double t, EventKind kind, int other) const {
   t = std::max(t, now_);
   // ties broken by kind, then by the other index: independent of the order candidates arrive in
-  if (t < best.t || (t == best.t && (kind < best.kind || (kind == best.kind && other < best.other))))
-    best = Next{t, kind, other, otherGen};
+  if (t < best.t || (t == best.t && (kind < best.kind || (kind == best.kind && other < best.other)))) {
+    best.t = t;
+    best.kind = kind;
+    best.other = other;
+  }
+}
+
+// Ball i against ball j (both active, j != i).
+template <int D>
+inline void Simulator<D>::pairCandidate(int i, int j, Next& best) {
+  ++counters_.pairChecks;
+  if (decelerating_ > 0 && (balls_[i].accelerating() || balls_[j].accelerating())) {
+    const BallState<D>& bi = balls_[i];
+    const BallState<D>& bj = balls_[j];
+    const double t0 = std::max(bi.t, bj.t);
+    // quadratic paths until the first of the two stops; that ball's Rest event re-predicts it
+    const double tEnd = std::min(bi.stopTime(), bj.stopTime());
+    const Impact hit = toiBallsAccelerated<D>(bj.positionAt(t0) - bi.positionAt(t0), bj.velocityAt(t0) - bi.velocityAt(t0),
+                                              bj.acceleration() - bi.acceleration(), bi.radius + bj.radius, tEnd - t0);
+    if (hit.acts()) consider(best, t0 + hit.actTime(), EventKind::BallBall, j);
+    return;
+  }
+  const Motion& mi = motion_[i];
+  const Motion& mj = motion_[j];
+  const double t0 = std::max(mi.t, mj.t);
+  // BallState::positionAt on a straight path, term for term
+  const Vec<D> p_rel = (mj.p + mj.v * (t0 - mj.t)) - (mi.p + mi.v * (t0 - mi.t));
+  const Vec<D> v_rel = mj.v - mi.v;
+  // toiBalls acts only on closing pairs (p_rel . v_rel < 0): skip the rest before its square root
+  if (!(p_rel.dot(v_rel) < 0.0)) return;
+  const Impact hit = toiBalls<D>(p_rel, v_rel, mi.radius + mj.radius);
+  if (hit.acts()) consider(best, t0 + hit.actTime(), EventKind::BallBall, j);
 }
 
 template <int D>
 void Simulator<D>::predict(int i) {
-  const BallState<D>& bi = balls_[i];
   Next best;
-  auto pair = [&](int j) {
-    if (j == i) return;
-    const BallState<D>& bj = balls_[j];
-    if (!bj.active) return;
-    ++counters_.pairChecks;
-    const double t0 = std::max(bi.t, bj.t);
-    if (bi.accelerating() || bj.accelerating()) {
-      // quadratic paths until the first of the two stops; that ball's Rest event re-predicts it
-      const double tEnd = std::min(bi.stopTime(), bj.stopTime());
-      const Impact hit = toiBallsAccelerated<D>(bj.positionAt(t0) - bi.positionAt(t0), bj.velocityAt(t0) - bi.velocityAt(t0),
-                                                bj.acceleration() - bi.acceleration(), bi.radius + bj.radius, tEnd - t0);
-      if (hit.acts()) consider(best, t0 + hit.actTime(), EventKind::BallBall, j, bj.gen);
-      return;
-    }
-    const Vec<D> p_rel = bj.positionAt(t0) - bi.positionAt(t0);
-    const Vec<D> v_rel = bj.v - bi.v;
-    // toiBalls acts only on closing pairs (p_rel . v_rel < 0): skip the rest before its square root
-    if (!(p_rel.dot(v_rel) < 0.0)) return;
-    const Impact hit = toiBalls<D>(p_rel, v_rel, bi.radius + bj.radius);
-    if (hit.acts()) consider(best, t0 + hit.actTime(), EventKind::BallBall, j, bj.gen);
-  };
   if (space_) {
-    space_->forEachNeighbor(i, pair);
+    // gather, then predict: the neighbours' motion comes from memory while the cells are walked
+    // (the order candidates arrive in does not matter: consider() breaks every tie)
+    constexpr int kGather = 64;
+    int gathered[kGather];
+    int n = 0;
+    space_->forEachNeighbor(i, [&](int j) {
+      if (n == kGather) {
+        pairCandidate(i, j, best);
+        return;
+      }
+      __builtin_prefetch(&motion_[j]);
+      gathered[n++] = j;
+    });
+    for (int k = 0; k < n; ++k) pairCandidate(i, gathered[k], best);
   } else {
-    for (int j = 0; j < static_cast<int>(balls_.size()); ++j) pair(j);
+    for (int j = 0; j < static_cast<int>(balls_.size()); ++j)
+      if (j != i && balls_[j].active) pairCandidate(i, j, best);
   }
-  if (bi.accelerating()) {
-    predictObstaclesAccelerated(i, best);
-    next_[i] = best;
-    heapUpdate(i);
-    return;
+  if (accelerating(i)) predictObstaclesAccelerated(i, best);
+  else predictObstacles(i, best);
+  if (best.kind == EventKind::BallBall) best.otherGen = balls_[best.other].gen;
+  schedule(i, best);
+}
+
+// After a Boundary event: the path is unchanged, so the physical prediction stands (a partner that
+// changed since makes it stale, as ever); only the neighbours gained can bring an earlier contact.
+template <int D>
+void Simulator<D>::predictGained(int i) {
+  const Next old = next_[i];
+  Next best = old;
+  space_->forEachNeighborGained(i, [&](int j) { pairCandidate(i, j, best); });
+  // a new partner is taken as it is now; the old one keeps the generation it was predicted with
+  if (best.kind == EventKind::BallBall && (best.other != old.other || best.t != old.t || old.kind != best.kind))
+    best.otherGen = balls_[best.other].gen;
+  schedule(i, best);
+}
+
+// The boundary time, then the heap.
+template <int D>
+void Simulator<D>::schedule(int i, Next best) {
+  best.exit = std::max(exitTime(i), now_);
+  next_[i] = best;
+  heapUpdate(i);
+}
+
+// When the ball may first touch a region it is not listed in (infinity without a space).
+template <int D>
+double Simulator<D>::exitTime(int i) const {
+  if (!space_) return kInf;
+  const BallState<D>& bi = balls_[i];
+  if (accelerating(i)) {
+    // the straight constant-velocity path from now runs ahead of the decelerating one along every
+    // axis, so its exit time is a safe (early) bound
+    const double dt = space_->exitTime(i, bi.positionAt(now_), bi.velocityAt(now_), bi.radius);
+    return dt < kInf ? std::max(now_, bi.t) + dt : kInf;
   }
+  const double dt = space_->exitTime(i, bi.p, bi.v, bi.radius);
+  return dt < kInf ? bi.t + dt : kInf;
+}
+
+template <int D>
+void Simulator<D>::predictObstacles(int i, Next& best) {
+  const BallState<D>& bi = balls_[i];
   const Ball<D> me{bi.p, bi.radius};
   for (int w = 0; w < static_cast<int>(walls_.size()); ++w) {
     ++counters_.staticChecks;
     const Impact hit = toiBallPlane<D>(me, bi.v, walls_[w].normal, walls_[w].offset);
-    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallWall, w, 0);
+    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallWall, w);
   }
   if constexpr (D == 2) {
     for (int s = 0; s < static_cast<int>(segments_.size()); ++s) {
       ++counters_.staticChecks;
       const Impact hit = toiCircleSegment(Circle{bi.p, bi.radius}, bi.v, segments_[s]).impact;
-      if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallSegment, s, 0);
+      if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallSegment, s);
     }
   }
   for (int q = 0; q < static_cast<int>(points_.size()); ++q) {
     ++counters_.staticChecks;
     const Impact hit = toiBalls<D>(points_[q] - bi.p, -bi.v, bi.radius);
-    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallPoint, q, 0);
+    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallPoint, q);
   }
   for (int s = 0; s < static_cast<int>(sensors_.size()); ++s) {
     ++counters_.staticChecks;
     const Impact hit = toiBalls<D>(sensors_[s].center - bi.p, -bi.v, sensors_[s].radius);
-    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::Sensor, s, 0);
+    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::Sensor, s);
   }
-  if (space_) {
-    const double dt = space_->exitTime(i, bi.p, bi.v, bi.radius);
-    if (dt < kInf) consider(best, bi.t + dt, EventKind::Boundary, -1, 0);
-  }
-  next_[i] = best;
-  heapUpdate(i);
 }
 
-// A decelerating ball against the obstacles, its space region and its own stop: the same
-// queries as predict's on quadratic paths, each searched only until the ball stops.
+// A decelerating ball against the obstacles and its own stop: the same queries as
+// predictObstacles' on quadratic paths, each searched only until the ball stops.
 template <int D>
 void Simulator<D>::predictObstaclesAccelerated(int i, Next& best) {
   const BallState<D>& bi = balls_[i];
@@ -253,32 +312,26 @@ void Simulator<D>::predictObstaclesAccelerated(int i, Next& best) {
   for (int w = 0; w < static_cast<int>(walls_.size()); ++w) {
     ++counters_.staticChecks;
     const Impact hit = toiBallPlaneAccelerated<D>(me, bi.v, a, walls_[w].normal, walls_[w].offset, tEnd);
-    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallWall, w, 0);
+    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallWall, w);
   }
   if constexpr (D == 2) {
     for (int s = 0; s < static_cast<int>(segments_.size()); ++s) {
       ++counters_.staticChecks;
       const Impact hit = toiCircleSegmentAccelerated(Circle{bi.p, bi.radius}, bi.v, a, segments_[s], tEnd).impact;
-      if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallSegment, s, 0);
+      if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallSegment, s);
     }
   }
   for (int q = 0; q < static_cast<int>(points_.size()); ++q) {
     ++counters_.staticChecks;
     const Impact hit = toiBallsAccelerated<D>(points_[q] - bi.p, -bi.v, -a, bi.radius, tEnd);
-    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallPoint, q, 0);
+    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallPoint, q);
   }
   for (int s = 0; s < static_cast<int>(sensors_.size()); ++s) {
     ++counters_.staticChecks;
     const Impact hit = toiBallsAccelerated<D>(sensors_[s].center - bi.p, -bi.v, -a, sensors_[s].radius, tEnd);
-    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::Sensor, s, 0);
+    if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::Sensor, s);
   }
-  if (space_) {
-    // the straight constant-velocity path from now runs ahead of the decelerating one along every
-    // axis, so its exit time is a safe (early) bound
-    const double dt = space_->exitTime(i, bi.positionAt(now_), bi.velocityAt(now_), bi.radius);
-    if (dt < kInf) consider(best, std::max(now_, bi.t) + dt, EventKind::Boundary, -1, 0);
-  }
-  consider(best, bi.stopTime(), EventKind::Rest, -1, 0);
+  consider(best, bi.stopTime(), EventKind::Rest, -1);
 }
 
 template <int D>
@@ -332,49 +385,65 @@ void Simulator<D>::processModelEvent() {
 
 template <int D>
 void Simulator<D>::process(int i) {
-  const Next e = next_[i];
-  now_ = std::max(now_, e.t);
+  const Next n = next_[i];
   BallState<D>& bi = balls_[i];
-  switch (e.kind) {
+  if (n.boundaryFirst()) {
+    // membership follows the ball; its path is unchanged, so only its own prediction is redone
+    now_ = std::max(now_, n.exit);
+    space_->update(i, boxOf(i, n.exit), config_.marginFactor * bi.radius);
+    if (accelerating(i)) predict(i);
+    else predictGained(i);
+    repredictWidened();
+    ++counters_.events[static_cast<int>(EventKind::Boundary)];
+    last_ = EventRecord{n.exit, EventKind::Boundary, i, -1};
+    return;
+  }
+  now_ = std::max(now_, n.t);
+  switch (n.kind) {
     case EventKind::BallBall: {
-      BallState<D>& bj = balls_[e.other];
-      if (!bj.active || bj.gen != e.otherGen) {
+      BallState<D>& bj = balls_[n.other];
+      if (!bj.active || bj.gen != n.otherGen) {
         ++counters_.staleEvents;
         predict(i);
         return;
       }
-      advance(i, e.t);
-      advance(e.other, e.t);
+      advance(i, n.t);
+      advance(n.other, n.t);
       const VelocityPair<D> out = resolveBalls<D>(bi.v, bi.mass, bj.v, bj.mass, bj.p - bi.p);
       bi.v = out.a;
       bj.v = out.b;
+      syncMotion(i);
+      syncMotion(n.other);
       ++bi.gen;
       ++bj.gen;
       spaceUpdate(i);
-      spaceUpdate(e.other);
+      spaceUpdate(n.other);
       predict(i);
-      predict(e.other);
+      predict(n.other);
       break;
     }
     case EventKind::BallWall:
-      advance(i, e.t);
-      bi.v = reflect<D>(bi.v, walls_[e.other].normal);
+      advance(i, n.t);
+      bi.v = reflect<D>(bi.v, walls_[n.other].normal);
+      syncMotion(i);
       ++bi.gen;
       spaceUpdate(i);
       predict(i);
       break;
     case EventKind::BallSegment:
       if constexpr (D == 2) {
-        advance(i, e.t);
-        bi.v = reflect<D>(bi.v, bi.p - closestPointOnSegment(segments_[e.other], bi.p));
+        advance(i, n.t);
+        bi.v = reflect<D>(bi.v, bi.p - closestPointOnSegment(segments_[n.other], bi.p));
+        syncMotion(i);
         ++bi.gen;
         spaceUpdate(i);
         predict(i);
       }
       break;
     case EventKind::BallPoint:
-      advance(i, e.t);
-      bi.v = reflect<D>(bi.v, bi.p - points_[e.other]);
+      advance(i, n.t);
+      bi.v = reflect<D>(bi.v, bi.p - points_[n.other]);
+      syncMotion(i);
       ++bi.gen;
       spaceUpdate(i);
       predict(i);
@@ -383,24 +452,21 @@ void Simulator<D>::process(int i) {
       deactivate(i);
       break;
     case EventKind::Rest:
-      advance(i, e.t);
+      advance(i, n.t);
       bi.v = Vec<D>::Zero();  // exactly, whatever the rounding of v + a t
+      syncMotion(i);
       ++bi.gen;
       spaceUpdate(i);
       predict(i);
       break;
-    case EventKind::Boundary:
-      // membership follows the ball; its path is unchanged, so only its own prediction is redone
-      space_->update(i, boxOf(i, e.t), config_.marginFactor * bi.radius);
-      predict(i);
-      break;
-    case EventKind::Model:  // never a ball's event: processModelEvent handles these
+    case EventKind::Boundary:  // boundaryFirst() above
+    case EventKind::Model:     // never a ball's event: processModelEvent handles these
     case EventKind::Count:
       return;
   }
   repredictWidened();
-  ++counters_.events[static_cast<int>(e.kind)];
-  last_ = EventRecord{e.t, e.kind, i, e.other};
+  ++counters_.events[static_cast<int>(n.kind)];
+  last_ = EventRecord{n.t, n.kind, i, n.other};
 }
 
 // ---- indexed heap ---------------------------------------------------------------------------
@@ -409,7 +475,7 @@ template <int D>
 void Simulator<D>::siftUp(int pos) {
   const HeapEntry item = heap_[pos];
   while (pos > 0) {
-    const int parent = (pos - 1) / 2;
+    const int parent = (pos - 1) / kHeapArity;
     if (!before(item, heap_[parent])) break;
     heap_[pos] = heap_[parent];
     heapPos_[heap_[pos].ball] = pos;
@@ -424,9 +490,12 @@ void Simulator<D>::siftDown(int pos) {
   const int n = static_cast<int>(heap_.size());
   const HeapEntry item = heap_[pos];
   while (true) {
-    int child = 2 * pos + 1;
-    if (child >= n) break;
-    if (child + 1 < n && before(heap_[child + 1], heap_[child])) ++child;
+    const int first = kHeapArity * pos + 1;
+    if (first >= n) break;
+    const int end = std::min(first + kHeapArity, n);
+    int child = first;
+    for (int c = first + 1; c < end; ++c)
+      if (before(heap_[c], heap_[child])) child = c;
     if (!before(heap_[child], item)) break;
     heap_[pos] = heap_[child];
     heapPos_[heap_[pos].ball] = pos;
@@ -438,7 +507,7 @@ void Simulator<D>::siftDown(int pos) {
 
 template <int D>
 void Simulator<D>::heapUpdate(int i) {
-  const HeapEntry e{next_[i].t, i};
+  const HeapEntry e{next_[i].due(), i};
   if (heapPos_[i] < 0) {
     heap_.push_back(e);
     heapPos_[i] = static_cast<int>(heap_.size()) - 1;

@@ -17,14 +17,7 @@ Impact overlapping() { return {Outcome::Overlapping, 0.0}; }
 Impact separating() { return {Outcome::Separating, kInf}; }
 Impact miss() { return {Outcome::Miss, kInf}; }
 
-// A contact along a line of approach: gap is the signed clearance (negative when overlapping),
-// approach the closing speed along the normal (positive when closing).
-Impact contactAlongNormal(double gap, double approach) {
-  if (gap < -tol::kLinearSlop) return approach > 0.0 ? overlapping() : separating();
-  if (gap <= tol::kLinearSlop) return approach > 0.0 ? hitAt(0.0) : separating();
-  if (approach <= 0.0) return miss();
-  return hitAt(gap / approach);
-}
+using detail::contactAlongNormal;
 
 // Earliest acting impact of several; overlaps act first, then hits by time, then separating.
 void keepEarliest(SegmentImpact& best, const Impact& candidate, SegmentFeature feature) {
@@ -125,14 +118,6 @@ template Impact toiBallAxisPlaneEnter<3>(const Ball<3>&, const Vec3&, int, doubl
 template Impact toiBallAxisPlaneLeave<2>(const Ball<2>&, const Vec2&, int, double);
 template Impact toiBallAxisPlaneLeave<3>(const Ball<3>&, const Vec3&, int, double);
 
-template <int D>
-Impact toiBallPlane(const Ball<D>& b, const Vec<D>& v, const Vec<D>& n, double offset) {
-  const double d0 = n.dot(b.center) - offset;
-  const double side = d0 >= 0.0 ? 1.0 : -1.0;
-  return contactAlongNormal(std::abs(d0) - b.radius, -side * n.dot(v));
-}
-template Impact toiBallPlane<2>(const Ball<2>&, const Vec2&, const Vec2&, double);
-template Impact toiBallPlane<3>(const Ball<3>&, const Vec3&, const Vec3&, double);
 
 namespace {
 

@@ -160,28 +160,52 @@ class Simulator {
   Vec<D> momentum() const;
 
  private:
+  // A ball's next event: its earliest physical event (kind Count if none) and, apart, the time its
+  // path may first touch a cell it is not listed in, so that a Boundary event keeps the
+  // physical prediction and checks only the neighbours gained.
   struct Next {
     double t = std::numeric_limits<double>::infinity();
-    EventKind kind = EventKind::Count;
+    double exit = std::numeric_limits<double>::infinity();
     int other = -1;
     std::uint32_t otherGen = 0;
+    EventKind kind = EventKind::Count;
+    // Boundary orders after the contacts and before Rest at equal times
+    bool boundaryFirst() const { return exit < t || (exit == t && kind > EventKind::Boundary); }
+    double due() const { return exit < t ? exit : t; }
+  };
+  // The part of a ball's state that pair predictions read, packed apart from the rest so that a
+  // neighbour costs one cache line; a copy of balls_[i]'s fields, written wherever those change.
+  struct alignas(D == 3 ? 64 : 16) Motion {
+    Vec<D> p;
+    Vec<D> v;
+    double t;
+    double radius;
   };
 
   void predict(int i);
-  void consider(Next& best, double t, EventKind kind, int other, std::uint32_t otherGen) const;
+  void predictGained(int i);
+  void pairCandidate(int i, int j, Next& best);
+  void predictObstacles(int i, Next& best);
   void predictObstaclesAccelerated(int i, Next& best);
+  void consider(Next& best, double t, EventKind kind, int other) const;
+  double exitTime(int i) const;
+  void schedule(int i, Next best);
   void process(int i);
   void advance(int i, double t);
+  void syncMotion(int i) { motion_[i] = Motion{balls_[i].p, balls_[i].v, balls_[i].t, balls_[i].radius}; }
+  bool accelerating(int i) const { return decelerating_ > 0 && balls_[i].accelerating(); }
   Aabb<D> boxOf(int i, double t) const;
   void spaceUpdate(int i);
   void repredictWidened();
 
-  // indexed binary min-heap of balls by next event (time, then ball index); entries carry their
-  // key so that sifting reads one contiguous array instead of chasing next_ per comparison
+  // indexed 4-ary min-heap of balls by next event (time, then ball index): half the depth of a
+  // binary heap, and a node's children share a cache line. Entries carry their key so that
+  // sifting reads one contiguous array instead of chasing next_ per comparison.
   struct HeapEntry {
     double t;
     int ball;
   };
+  static constexpr int kHeapArity = 4;
   static bool before(const HeapEntry& a, const HeapEntry& b) {
     return a.t < b.t || (a.t == b.t && a.ball < b.ball);
   }
@@ -203,6 +227,7 @@ class Simulator {
   Aabb<D> bounds_;
   std::unique_ptr<Space<D>> space_;
   std::vector<BallState<D>> balls_;
+  std::vector<Motion> motion_;
   std::vector<Next> next_;
   std::vector<HeapEntry> heap_;
   std::vector<int> heapPos_;
@@ -210,6 +235,7 @@ class Simulator {
   std::vector<Vec<D>> points_;
   std::vector<Segment> segments_;
   std::vector<Sensor<D>> sensors_;
+  int decelerating_ = 0;  // balls given a deceleration: none, and every path is a straight line
   double now_ = 0.0;
   std::vector<ModelEvent> modelHeap_;
   std::vector<int> modelTags_;

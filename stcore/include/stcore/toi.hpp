@@ -24,6 +24,18 @@ struct Impact {
   double actTime() const { return outcome == Outcome::Overlapping ? 0.0 : t; }
 };
 
+namespace detail {
+// A contact along a line of approach: gap is the signed clearance (negative when overlapping),
+// approach the closing speed along the normal (positive when closing).
+inline Impact contactAlongNormal(double gap, double approach) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  if (gap < -tol::kLinearSlop) return approach > 0.0 ? Impact{Outcome::Overlapping, 0.0} : Impact{Outcome::Separating, kInf};
+  if (gap <= tol::kLinearSlop) return approach > 0.0 ? Impact{Outcome::Hit, 0.0} : Impact{Outcome::Separating, kInf};
+  if (approach <= 0.0) return {Outcome::Miss, kInf};
+  return {Outcome::Hit, gap / approach};
+}
+}  // namespace detail
+
 // Two balls of any dimension, given relative position p_rel = p_b - p_a and relative velocity
 // v_rel = v_b - v_a, touching when |p_rel| == radiusSum. Covers circle-circle, sphere-sphere,
 // and circle-point (radiusSum = circle radius). Inline: the simulator's innermost loop.
@@ -97,7 +109,11 @@ Impact toiBallAxisPlaneLeave(const Ball<D>& b, const Vec<D>& v, int axis, double
 // A ball against the infinite plane n.x == offset (n unit), approaching from its current side
 // (a wall of a box; a line in 2-D).
 template <int D>
-Impact toiBallPlane(const Ball<D>& b, const Vec<D>& v, const Vec<D>& n, double offset);
+inline Impact toiBallPlane(const Ball<D>& b, const Vec<D>& v, const Vec<D>& n, double offset) {
+  const double d0 = n.dot(b.center) - offset;
+  const double side = d0 >= 0.0 ? 1.0 : -1.0;
+  return detail::contactAlongNormal(std::abs(d0) - b.radius, -side * n.dot(v));
+}
 inline Impact toiSpherePlane(const Sphere& s, const Vec3& v, const Vec3& n, double offset) {
   return toiBallPlane<3>({s.center, s.radius}, v, n, offset);
 }
