@@ -72,9 +72,10 @@ typename Space<D>::Box Space<D>::clampToBounds(const Box& b) const {
 
 template <int D>
 void Space<D>::cellRange(const Box& b, Index& lo, Index& hi) const {
+  // b is clamped to the bounds: the offsets are >= 0, where truncation is floor (and needs no libm call)
   for (int i = 0; i < D; ++i) {
-    lo[i] = std::clamp(static_cast<int>(std::floor((b.min[i] - bounds_.min[i]) / cellSize_[i])), 0, dims_[i] - 1);
-    hi[i] = std::clamp(static_cast<int>(std::floor((b.max[i] - bounds_.min[i]) / cellSize_[i])), 0, dims_[i] - 1);
+    lo[i] = std::min(static_cast<int>((b.min[i] - bounds_.min[i]) / cellSize_[i]), dims_[i] - 1);
+    hi[i] = std::min(static_cast<int>((b.max[i] - bounds_.min[i]) / cellSize_[i]), dims_[i] - 1);
   }
 }
 
@@ -194,7 +195,6 @@ void Space<D>::update(int id, const Box& box, double margin) {
 template <int D>
 void Space<D>::updateCells(int id, const Box& fat) {
   Member& m = members_[id];
-  m.fat = fat;
   Index lo, hi;
   cellRange(clampToBounds(fat), lo, hi);
   m.prevLo = m.lo;

@@ -150,15 +150,16 @@ class Space {
   };
   using Index = Eigen::Array<int, D, 1>;
   struct Member {
-    Box fat;
-    // trees: the leaves; cells: a cache for leavesOf (the block below is the membership)
-    mutable std::vector<int> leaves;
-    bool present = false;
-    // cells kind: the listed block of cells, and the block before the last update
+    // cells kind: the listed block of cells, and the block before the last update (first: all a
+    // cells update reads)
     Index lo = Index::Zero();
     Index hi = Index::Zero();
     Index prevLo = Index::Zero();
     Index prevHi = Index::Zero();
+    bool present = false;
+    Box fat;  // trees (cells: as inserted)
+    // trees: the leaves; cells: a cache for leavesOf (the block above is the membership)
+    mutable std::vector<int> leaves;
   };
 
   Box clampToBounds(const Box& b) const;
