@@ -215,17 +215,22 @@ void Simulator<D>::predict(int i) {
   if (space_) {
     // gather, then predict: the neighbours' motion comes from memory while the cells are walked
     // (the order candidates arrive in does not matter: consider() breaks every tie)
-    constexpr int kGather = 64;
+    constexpr int kGather = 256;
     int gathered[kGather];
-    int n = 0;
-    space_->forEachNeighbor(i, [&](int j) {
-      if (n == kGather) {
-        pairCandidate(i, j, best);
-        return;
-      }
-      __builtin_prefetch(&motion_[j]);
-      gathered[n++] = j;
-    });
+    int n = space_->kind() == SpaceKind::Cells ? space_->gatherNeighbors(i, gathered, kGather) : -1;
+    if (n >= 0) {
+      for (int k = 0; k < n; ++k) __builtin_prefetch(&motion_[gathered[k]]);
+    } else {
+      n = 0;
+      space_->forEachNeighbor(i, [&](int j) {
+        if (n == kGather) {
+          pairCandidate(i, j, best);
+          return;
+        }
+        __builtin_prefetch(&motion_[j]);
+        gathered[n++] = j;
+      });
+    }
     for (int k = 0; k < n; ++k) pairCandidate(i, gathered[k], best);
   } else {
     for (int j = 0; j < static_cast<int>(balls_.size()); ++j)

@@ -111,6 +111,9 @@ class Space {
   // Calls f(other) once for every other object sharing a leaf with id.
   template <class F>
   void forEachNeighbor(int id, F&& f) const;
+  // Cells kind: the objects forEachNeighbor would visit, written to out in its order without a
+  // branch per entry; how many, or -1 if more than `room` entries had to be looked at.
+  int gatherNeighbors(int id, int* out, int room) const;
   // Calls f(other) once for every other object that may share a leaf with id since id's last
   // update and may not have before it: a superset of the new neighbours (cells: the objects of
   // the cells entered; trees: every neighbour).
@@ -278,6 +281,27 @@ void Space<D>::forEachNeighbor(int id, F&& f) const {
       f(other);
     }
   }
+}
+
+template <int D>
+int Space<D>::gatherNeighbors(int id, int* out, int room) const {
+  constexpr int kAll = (1 << D) - 1;
+  const Member& m = members_[id];
+  int n = 0;
+  bool fits = true;
+  forEachCell(m.lo, m.hi, [&](int idx, const Index& c) {
+    const int* cell = cellData_.data() + static_cast<std::ptrdiff_t>(idx) * stride_;
+    const int count = cell[0];
+    if (n + count > room) fits = false;
+    if (!fits) return;
+    const int bits = cornerBits(c, m.lo);
+    for (int k = 1; k <= count; ++k) {
+      const int other = cell[k] >> D;
+      out[n] = other;
+      n += static_cast<int>((((cell[k] | bits) & kAll) == kAll) & (other != id));
+    }
+  });
+  return fits ? n : -1;
 }
 
 template <int D>
