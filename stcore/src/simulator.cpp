@@ -182,19 +182,25 @@ void Simulator<D>::consider(Next& best, double t, EventKind kind, int other) con
   }
 }
 
+// Ball i against ball j when either decelerates: quadratic paths until the first of the two stops
+// (that ball's Rest event re-predicts it). Out of line: pairCandidate stays small.
+template <int D>
+void Simulator<D>::pairCandidateAccelerated(int i, int j, Next& best) {
+  const BallState<D>& bi = balls_[i];
+  const BallState<D>& bj = balls_[j];
+  const double t0 = std::max(bi.t, bj.t);
+  const double tEnd = std::min(bi.stopTime(), bj.stopTime());
+  const Impact hit = toiBallsAccelerated<D>(bj.positionAt(t0) - bi.positionAt(t0), bj.velocityAt(t0) - bi.velocityAt(t0),
+                                            bj.acceleration() - bi.acceleration(), bi.radius + bj.radius, tEnd - t0);
+  if (hit.acts()) consider(best, t0 + hit.actTime(), EventKind::BallBall, j);
+}
+
 // Ball i against ball j (both active, j != i).
 template <int D>
 inline void Simulator<D>::pairCandidate(int i, int j, Next& best) {
   ++counters_.pairChecks;
   if (decelerating_ > 0 && (balls_[i].accelerating() || balls_[j].accelerating())) {
-    const BallState<D>& bi = balls_[i];
-    const BallState<D>& bj = balls_[j];
-    const double t0 = std::max(bi.t, bj.t);
-    // quadratic paths until the first of the two stops; that ball's Rest event re-predicts it
-    const double tEnd = std::min(bi.stopTime(), bj.stopTime());
-    const Impact hit = toiBallsAccelerated<D>(bj.positionAt(t0) - bi.positionAt(t0), bj.velocityAt(t0) - bi.velocityAt(t0),
-                                              bj.acceleration() - bi.acceleration(), bi.radius + bj.radius, tEnd - t0);
-    if (hit.acts()) consider(best, t0 + hit.actTime(), EventKind::BallBall, j);
+    pairCandidateAccelerated(i, j, best);
     return;
   }
   const Motion& mi = motion_[i];
