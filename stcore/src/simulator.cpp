@@ -203,6 +203,12 @@ inline void Simulator<D>::pairCandidate(int i, int j, Next& best) {
     pairCandidateAccelerated(i, j, best);
     return;
   }
+  pairStraight(i, j, best);
+}
+
+// Ball i against ball j on straight paths.
+template <int D>
+inline void Simulator<D>::pairStraight(int i, int j, Next& best) const {
   const Motion& mi = motion_[i];
   const Motion& mj = motion_[j];
   const double t0 = std::max(mi.t, mj.t);
@@ -237,7 +243,24 @@ void Simulator<D>::predict(int i) {
         gathered[n++] = j;
       });
     }
-    for (int k = 0; k < n; ++k) pairCandidate(i, gathered[k], best);
+    if (decelerating_ == 0) {
+      // keep the closing pairs first, without a branch (half of them close, unpredictably), then
+      // predict those
+      const Motion& mi = motion_[i];
+      int closing[kGather];
+      int m = 0;
+      for (int k = 0; k < n; ++k) {
+        const Motion& mj = motion_[gathered[k]];
+        const double t0 = std::max(mi.t, mj.t);
+        const Vec<D> p_rel = (mj.p + mj.v * (t0 - mj.t)) - (mi.p + mi.v * (t0 - mi.t));
+        closing[m] = gathered[k];
+        m += static_cast<int>(p_rel.dot(mj.v - mi.v) < 0.0);
+      }
+      counters_.pairChecks += static_cast<std::uint64_t>(n);
+      for (int k = 0; k < m; ++k) pairStraight(i, closing[k], best);
+    } else {
+      for (int k = 0; k < n; ++k) pairCandidate(i, gathered[k], best);
+    }
   } else {
     for (int j = 0; j < static_cast<int>(balls_.size()); ++j)
       if (j != i && balls_[j].active) pairCandidate(i, j, best);

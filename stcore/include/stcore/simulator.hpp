@@ -185,6 +185,7 @@ class Simulator {
   void predict(int i);
   void predictGained(int i);
   void pairCandidate(int i, int j, Next& best);
+  void pairStraight(int i, int j, Next& best) const;
   void pairCandidateAccelerated(int i, int j, Next& best);
   void predictObstacles(int i, Next& best);
   void predictObstaclesAccelerated(int i, Next& best);
