@@ -162,6 +162,13 @@ template <int D>
     const std::set<int> gotSet(got.begin(), got.end());
     if (gotSet.size() != got.size()) return ::testing::AssertionFailure() << "neighbour reported twice for " << id;
     if (gotSet != bruteNeighbors(s, id)) return ::testing::AssertionFailure() << "neighbours of " << id << " differ from shared leaves";
+    if (cells) {  // the gathered list is the visited one
+      std::vector<int> gathered(1 << 16);
+      const int n = s.gatherNeighbors(id, gathered.data(), static_cast<int>(gathered.size()));
+      if (n < 0) return ::testing::AssertionFailure() << "neighbours of " << id << " do not fit 2^16";
+      gathered.resize(static_cast<std::size_t>(n));
+      if (gathered != got) return ::testing::AssertionFailure() << "gathered neighbours of " << id << " differ from visited";
+    }
     const Aabb<D> fat = clampTo(objs[id].fat(), bounds);
     for (int other = 0; other < static_cast<int>(objs.size()); ++other)
       if (other != id && objs[other].present && fat.overlaps(clampTo(objs[other].fat(), bounds)) && !gotSet.count(other))
@@ -257,6 +264,14 @@ void randomOps(const OpsConfig& cfg, unsigned seed) {
       const Aabb<D> old = o.box;
       o.box = randomBox(op == 1 ? &old : nullptr);
       s.update(id, o.box, o.margin);
+      // the neighbours the update brought are among those forEachNeighborGained reports, once each
+      std::vector<int> gained;
+      s.forEachNeighborGained(id, [&](int other) { gained.push_back(other); });
+      const std::set<int> gainedSet(gained.begin(), gained.end());
+      ASSERT_EQ(gainedSet.size(), gained.size()) << "step " << step << ": a gained neighbour reported twice";
+      ASSERT_FALSE(gainedSet.count(id)) << "step " << step;
+      for (int k : bruteNeighbors(s, id))
+        if (!before[id].count(k)) ASSERT_TRUE(gainedSet.count(k)) << "step " << step << ": " << id << " gained " << k << " unreported";
     }
     // every new pair of leaf-sharers (other than with the object just changed) has one member
     // reported as widened, so the simulator re-predicts it
