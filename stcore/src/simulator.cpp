@@ -425,7 +425,9 @@ void Simulator<D>::process(int i) {
     // membership follows the ball; its path is unchanged, so only its own prediction is redone
     now_ = std::max(now_, n.exit);
     space_->update(i, boxOf(i, n.exit), config_.marginFactor * bi.radius);
-    if (accelerating(i)) predict(i);
+    // cells: only the cells entered can hold new neighbours; a tree's leaves may have split or
+    // merged anywhere, and a full prediction also drops candidates gone stale
+    if (accelerating(i) || space_->kind() != SpaceKind::Cells) predict(i);
     else predictGained(i);
     repredictWidened();
     ++counters_.events[static_cast<int>(EventKind::Boundary)];
