@@ -1,6 +1,7 @@
 #include <stcore/simulator.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <functional>
@@ -529,9 +530,22 @@ void Simulator<D>::siftDown(int pos) {
     const int first = kHeapArity * pos + 1;
     if (first >= n) break;
     const int end = std::min(first + kHeapArity, n);
+    // the least child by selects on integer keys: which child it is cannot be predicted, and a
+    // branch on it costs a misprediction per level (times are >= +0.0, where the bits of a
+    // double order as the double does)
     int child = first;
-    for (int c = first + 1; c < end; ++c)
-      if (before(heap_[c], heap_[child])) child = c;
+    std::int64_t ct = std::bit_cast<std::int64_t>(heap_[first].t);
+    int cb = heap_[first].ball;
+    for (int c = first + 1; c < end; ++c) {
+      const std::int64_t t = std::bit_cast<std::int64_t>(heap_[c].t);
+      const int b = heap_[c].ball;
+      // as arithmetic, or the compiler turns the selects back into a branch
+      const std::int64_t less = static_cast<std::int64_t>((t < ct) | ((t == ct) & (b < cb)));
+      const std::int64_t keep = less - 1;  // all ones when not less
+      child = static_cast<int>((c & ~keep) | (child & keep));
+      ct = (t & ~keep) | (ct & keep);
+      cb = static_cast<int>((b & ~keep) | (cb & keep));
+    }
     if (!before(heap_[child], item)) break;
     heap_[pos] = heap_[child];
     heapPos_[heap_[pos].ball] = pos;
@@ -543,7 +557,7 @@ void Simulator<D>::siftDown(int pos) {
 
 template <int D>
 void Simulator<D>::heapUpdate(int i) {
-  const HeapEntry e{next_[i].due(), i};
+  const HeapEntry e{next_[i].due() + 0.0, i};  // + 0.0: no -0.0 in the heap (see siftDown)
   if (heapPos_[i] < 0) {
     heap_.push_back(e);
     heapPos_[i] = static_cast<int>(heap_.size()) - 1;
