@@ -173,8 +173,9 @@ class Simulator {
     bool boundaryFirst() const { return exit < t || (exit == t && kind > EventKind::Boundary); }
     double due() const { return exit < t ? exit : t; }
   };
-  // The part of a ball's state that pair predictions read, packed apart from the rest so that a
-  // neighbour costs one cache line; a copy of balls_[i]'s fields, written wherever those change.
+  // The part of a ball's state that pair predictions read, packed apart from the rest (48 bytes in
+  // 2-D, one aligned line in 3-D, against BallState's 80/96); a copy of balls_[i]'s fields, written
+  // wherever those change.
   struct alignas(D == 3 ? 64 : 16) Motion {
     Vec<D> p;
     Vec<D> v;
@@ -201,7 +202,7 @@ class Simulator {
   void repredictWidened();
 
   // indexed 4-ary min-heap of balls by next event (time, then ball index): half the depth of a
-  // binary heap, and a node's children share a cache line. Entries carry their key so that
+  // binary heap, a node's children in 64 contiguous bytes. Entries carry their key so that
   // sifting reads one contiguous array instead of chasing next_ per comparison.
   struct HeapEntry {
     double t;
