@@ -166,7 +166,8 @@ def main(out):
             len(runs), done, len(runs) - done, ", ".join(sweep) or "nothing",
             len({r[seed_key] for r in runs})))
         f.write("Tables: [runs.csv](runs.csv) (one row per run), [summary.csv](summary.csv) "
-                "(mean, standard deviation and 95% confidence interval over seeds).\n\n")
+                "(mean, standard deviation and 95% confidence interval over seeds), [paired.csv](paired.csv) "
+                "(differences on the same seeds).\n\n")
         for name, title in plots:
             f.write("## %s\n\n![%s](%s)\n\n" % (title, title, name))
         if headline:
@@ -176,6 +177,24 @@ def main(out):
             for r in summary:
                 f.write("| " + " | ".join([r[p] for p in sweep] + [fmt(r.get(headline + ".mean")),
                                                                     fmt(r.get(headline + ".ci95"))]) + " |\n")
+        # paired comparisons (paired.csv): the headline metric and SUMO's collisions, each swept
+        # value against the key's first value on the same seeds
+        paired_path = os.path.join(out, "paired.csv")
+        paired_metrics = [m for m in (headline, coll, find_col(metrics, r"^collisions_warned$")) if m]
+        if os.path.exists(paired_path) and paired_metrics:
+            _, paired = read_csv(paired_path)
+            if paired:
+                f.write("\n## Paired comparisons (same seeds; [paired.csv](paired.csv))\n\n")
+                f.write("Differences run by run against the key's first value, the other keys held: "
+                        "the seeds' shared variation drops out.\n\n")
+                f.write("| compared | " + " | ".join(sweep) + " | pairs | " +
+                        " | ".join("%s difference (95%% CI)" % m for m in paired_metrics) + " |\n")
+                f.write("|" + "---|" * (len(sweep) + 2 + len(paired_metrics)) + "\n")
+                for r in paired:
+                    cells = ["%s vs %s" % (r["compared"], r["baseline"])] + [r[p] for p in sweep] + [r["pairs"]]
+                    for m in paired_metrics:
+                        cells.append("%s ± %s" % (fmt(r.get(m + ".diff_mean")), fmt(r.get(m + ".diff_ci95"))))
+                    f.write("| " + " | ".join(cells) + " |\n")
         if collision_rows:
             others = [p for p in sweep if p != "action"]
             f.write("\n## %s by action\n\n" % coll)
