@@ -284,10 +284,7 @@ int runHighwayCommand(const st::cli::Args& a) {
   PluginCounters pc = plugin.counters();
   if (collisionsFromFile) {
     try {
-      std::vector<SumoCollision> all = readCollisionOutput(collisionFile);
-      // SUMO stamps a step's collisions with the time the step began; stsim's timeline (and
-      // libsumo's getCollisions after a step) is the step's end, where the vehicles now are
-      for (SumoCollision& c : all) c.time += backend->deltaT();
+      const std::vector<SumoCollision> all = readCollisionOutput(collisionFile, backend->deltaT());
       for (const SumoCollision& c : all) writeCollision(c);
       collisionsCsv.flush();
       CollisionCounter counter;

@@ -391,6 +391,20 @@ TEST(Backends, AttachesToRunningSumoAsSecondClient) {
   EXPECT_EQ(a, slurp(dir / "ref/warnings.csv"));
 }
 
+// A run stopped by an error leaves what it had: a valid warnings.csv with rows, and a summary
+// that says why it stopped, counts those rows and ends strictly between `after` and `before`.
+void expectOutputsSoFar(const std::filesystem::path& out, double after, double before) {
+  std::size_t rows = 0;
+  EXPECT_TRUE(validWarningsCsv(out / "warnings.csv", &rows));
+  EXPECT_GT(rows, 0u);
+  const std::string summary = slurp(out / "summary.json");
+  EXPECT_EQ(jsonString(summary, "stop_reason"), "error");
+  const double simulated = jsonNumber(summary, "simulated_s");
+  EXPECT_GT(simulated, after);
+  EXPECT_LT(simulated, before);
+  EXPECT_DOUBLE_EQ(jsonNumber(summary, "total"), static_cast<double>(rows));
+}
+
 // A TraCI peer that is not (or stops being) SUMO: it listens on a free loopback port; its first
 // client is relayed to a real SUMO at `upstreamPort` (0: none) until `replies` whole replies have
 // passed, then it sends `garbage` instead and holds the connection open (at most `holdSeconds`, so
@@ -546,15 +560,7 @@ TEST(Backends, GarbageMidRunFlushesResultsSoFar) {
   ASSERT_EQ(ls.size(), 1u) << r.err;
   EXPECT_NE(ls[0].find("broken at t = "), std::string::npos) << ls[0];
   EXPECT_NE(ls[0].find("not a TraCI server"), std::string::npos) << ls[0];
-  std::size_t rows = 0;
-  EXPECT_TRUE(validWarningsCsv(dir / "out/warnings.csv", &rows));
-  EXPECT_GT(rows, 0u);
-  const std::string summary = slurp(dir / "out/summary.json");
-  EXPECT_EQ(jsonString(summary, "stop_reason"), "error");
-  const double simulated = jsonNumber(summary, "simulated_s");
-  EXPECT_GT(simulated, 10.0);
-  EXPECT_LT(simulated, 420.0);
-  EXPECT_DOUBLE_EQ(jsonNumber(summary, "total"), static_cast<double>(rows));
+  expectOutputsSoFar(dir / "out", 10.0, 420.0);
 }
 
 // SUMO dies mid-run: stsim reports the lost connection in one line, exits non-zero and leaves a
@@ -579,15 +585,7 @@ TEST(Backends, DroppedConnectionGivesClearErrorAndValidOutputs) {
   ASSERT_EQ(errLines.size(), 1u) << attached.err();
   EXPECT_NE(errLines[0].find("TraCI connection to localhost:"), std::string::npos) << errLines[0];
   EXPECT_NE(errLines[0].find("lost at t = "), std::string::npos) << errLines[0];
-  std::size_t rows = 0;
-  EXPECT_TRUE(validWarningsCsv(dir / "out/warnings.csv", &rows));
-  EXPECT_GT(rows, 0u);
-  const std::string summary = slurp(dir / "out/summary.json");
-  EXPECT_EQ(jsonString(summary, "stop_reason"), "error");
-  const double simulated = jsonNumber(summary, "simulated_s");
-  EXPECT_GT(simulated, 0.0);
-  EXPECT_LT(simulated, 36000.0);
-  EXPECT_DOUBLE_EQ(jsonNumber(summary, "total"), static_cast<double>(rows));
+  expectOutputsSoFar(dir / "out", 0.0, 36000.0);
 }
 
 }  // namespace

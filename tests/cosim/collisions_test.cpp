@@ -91,9 +91,9 @@ TEST(Collisions, ReadsSumosFileAndNamesWhatIsWrong) {
          "victim=\"ramp.17\" colliderType=\"car\" victimType=\"car\" colliderSpeed=\"25.95\" victimSpeed=\"23.57\"/>\n"
          "    <collision time=\"210.40\" type=\"frontal\" lane=\"x_0\" collider=\"a\" victim=\"b\" colliderType=\"t\" "
          "victimType=\"t\" colliderSpeed=\"1\" victimSpeed=\"0\"/>\n</collisions>\n";
-  const auto all = readCollisionOutput(dir / "ok.xml");
+  const auto all = readCollisionOutput(dir / "ok.xml", 0.1);  // SUMO's step-begin stamps + one step
   ASSERT_EQ(all.size(), 2u);
-  EXPECT_DOUBLE_EQ(all[0].time, 210.3);
+  EXPECT_DOUBLE_EQ(all[0].time, 210.3 + 0.1);
   EXPECT_EQ(all[0].collider, "main2.39");
   EXPECT_EQ(all[0].victim, "ramp.17");
   EXPECT_EQ(all[0].lane, "downstream_2");
@@ -106,7 +106,7 @@ TEST(Collisions, ReadsSumosFileAndNamesWhatIsWrong) {
   auto errorOf = [&](const std::string& name, const std::string& text) {
     std::ofstream(dir / name) << text;
     try {
-      readCollisionOutput(dir / name);
+      readCollisionOutput(dir / name, 0.1);
     } catch (const std::runtime_error& e) {
       return std::string(e.what());
     }
@@ -125,7 +125,7 @@ TEST(Collisions, ReadsSumosFileAndNamesWhatIsWrong) {
   EXPECT_NE(errorOf("absent.xml", "").find("absent.xml"), std::string::npos);
   std::filesystem::remove(dir / "absent.xml");
   try {
-    readCollisionOutput(dir / "absent.xml");
+    readCollisionOutput(dir / "absent.xml", 0.1);
     ADD_FAILURE() << "a missing file must throw";
   } catch (const std::runtime_error& ex) {
     EXPECT_NE(std::string(ex.what()).find("absent.xml"), std::string::npos) << ex.what();

@@ -60,10 +60,12 @@ std::vector<CollisionWarning> collisionWarnings(const std::vector<SumoCollision>
     const auto it = byPair.find({c.collider, c.victim});
     if (it != byPair.end()) {
       const auto& list = it->second;
-      // the last episode begun by the collision, if it is still on then
+      // the last episode begun by the collision, if it is still on then (times are whole steps up
+      // to rounding: half a step absorbs it)
+      const double slack = 0.5 * stepLength;
       std::size_t k = list.size();
-      while (k > 0 && list[k - 1]->begin > c.time + 1e-9) --k;
-      if (k > 0 && (list[k - 1]->open || list[k - 1]->end >= c.time - stepLength - 1e-9)) {
+      while (k > 0 && list[k - 1]->begin > c.time + slack) --k;
+      if (k > 0 && (list[k - 1]->open || list[k - 1]->end >= c.time - stepLength - slack)) {
         double begin = list[k - 1]->begin;
         for (std::size_t j = k - 1; j > 0 && list[j - 1]->end >= begin - kWarningGapMerge; --j)
           begin = std::min(begin, list[j - 1]->begin);
@@ -79,7 +81,7 @@ std::vector<std::string> collisionOutputArguments(const std::filesystem::path& f
   return {"--collision-output", file.string()};
 }
 
-std::vector<SumoCollision> readCollisionOutput(const std::filesystem::path& file) {
+std::vector<SumoCollision> readCollisionOutput(const std::filesystem::path& file, double stepLength) {
   namespace pt = boost::property_tree;
   pt::ptree tree;
   try {
@@ -108,7 +110,7 @@ std::vector<SumoCollision> readCollisionOutput(const std::filesystem::path& file
       throw std::runtime_error(file.string() + ": <collision " + key + "=\"" + text + "\">: not a number");
     };
     SumoCollision c;
-    c.time = number("time");
+    c.time = number("time") + stepLength;
     c.collider = attr("collider");
     c.victim = attr("victim");
     c.type = attr("type");

@@ -37,6 +37,7 @@ VehicleReads readsFor(const highway::MonitorConfig& m) {
 HighwayPlugin::HighwayPlugin(Backend& backend, PluginConfig config)
     : backend_(backend), config_(std::move(config)), monitor_(toRoadGeometry(backend_.lanes()), config_.monitor) {
   backend_.setReads(readsFor(config_.monitor));
+  incidentRuns_.resize(config_.incidents.size());
 }
 
 HighwayPlugin::HighwayPlugin(std::unique_ptr<Backend> owned, PluginConfig config)
@@ -45,6 +46,7 @@ HighwayPlugin::HighwayPlugin(std::unique_ptr<Backend> owned, PluginConfig config
       config_(std::move(config)),
       monitor_(toRoadGeometry(backend_.lanes()), config_.monitor) {
   backend_.setReads(readsFor(config_.monitor));
+  incidentRuns_.resize(config_.incidents.size());
 }
 
 HighwayPlugin::~HighwayPlugin() = default;
@@ -111,8 +113,8 @@ bool HighwayPlugin::inIncident(std::uint32_t serial) const {
 
 void HighwayPlugin::runIncidents() {
   using Phase = IncidentRun::Phase;
-  if (incidentRuns_.size() != config_.incidents.size()) incidentRuns_.resize(config_.incidents.size());
-  const double t = backend_.time() + 1e-9;  // a phase ending at this step's time ends now
+  // times are multiples of the step up to rounding: what falls within half a step is due now
+  const double t = backend_.time() + 0.5 * backend_.deltaT();
   const auto& vehicles = backend_.vehicles();
   for (std::size_t k = 0; k < incidentRuns_.size(); ++k) {
     IncidentRun& run = incidentRuns_[k];

@@ -1,8 +1,9 @@
 // The TraCI backend (libtraci). Vehicle state comes from one variable subscription per vehicle,
-// made when it departs; the simulation's departures, arrivals, teleports, collision count, time and
-// expected-vehicle count come from one simulation subscription. SUMO sends all subscription results
-// with the answer to the step command, so a step costs one round trip however many vehicles there
-// are. Only departures (subscribe) and steps with collisions (getCollisions) cost extra trips.
+// made when it departs; the simulation's departures, arrivals, teleports, time and expected-vehicle
+// count come from one simulation subscription. SUMO sends all subscription results with the answer
+// to the step command, so a step costs one round trip however many vehicles there are. Only
+// departures (subscribe) cost extra trips. Collisions are not read per step: SUMO 1.15's libtraci
+// leaves getCollisions unimplemented (collisions.hpp reads SUMO's collision file instead).
 #include <libsumo/libtraci.h>
 
 #include <atomic>
@@ -32,7 +33,6 @@ const std::vector<int> kSimulationVars{libsumo::VAR_TIME,
                                        libsumo::VAR_ARRIVED_VEHICLES_IDS,
                                        libsumo::VAR_TELEPORT_STARTING_VEHICLES_IDS,
                                        libsumo::VAR_TELEPORT_ENDING_VEHICLES_IDS,
-                                       libsumo::VAR_COLLIDING_VEHICLES_NUMBER,
                                        libsumo::VAR_MIN_EXPECTED_VEHICLES};
 
 template <class T>
@@ -125,11 +125,6 @@ class TraciBackend final : public Backend {
       events_.teleportEnded =
           resultAs<libsumo::TraCIStringList>(sim, libsumo::VAR_TELEPORT_ENDING_VEHICLES_IDS, "teleports").value;
       minExpected_ = resultAs<libsumo::TraCIInt>(sim, libsumo::VAR_MIN_EXPECTED_VEHICLES, "expected").value;
-      events_.collisions.clear();
-      if (resultAs<libsumo::TraCIInt>(sim, libsumo::VAR_COLLIDING_VEHICLES_NUMBER, "collisions").value > 0)
-        for (const auto& c : libtraci::Simulation::getCollisions())
-          events_.collisions.push_back(
-              {c.collider, c.victim, c.type, c.lane, c.colliderSpeed, c.victimSpeed, c.pos, time_});
       // a subscription's answer carries the current values, so departing vehicles are read this step
       for (const auto& id : events_.departed) libtraci::Vehicle::subscribe(id, kVehicleVars);
       const auto results = libtraci::Vehicle::getAllSubscriptionResults();

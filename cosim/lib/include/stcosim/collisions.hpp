@@ -49,8 +49,11 @@ std::vector<CollisionWarning> collisionWarnings(const std::vector<SumoCollision>
 
 // The options that make SUMO write its collisions to `file`.
 std::vector<std::string> collisionOutputArguments(const std::filesystem::path& file);
-// Reads a --collision-output file, in its order (time order). Throws std::runtime_error naming the
-// file (and line) if it cannot be read or a record lacks a required attribute.
-std::vector<SumoCollision> readCollisionOutput(const std::filesystem::path& file);
+// Reads a --collision-output file, in its order (time order), on stsim's timeline: SUMO stamps a
+// step's collisions with the time the step began, libsumo's getCollisions (and stsim's vehicle
+// states) with the step's end, so each time is moved on by `stepLength`. Throws
+// std::runtime_error naming the file (and line) if it cannot be read or a record lacks a required
+// attribute.
+std::vector<SumoCollision> readCollisionOutput(const std::filesystem::path& file, double stepLength);
 
 }  // namespace st::cosim
