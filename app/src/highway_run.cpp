@@ -14,6 +14,7 @@
 #include <iomanip>
 #include <iostream>
 #include <optional>
+#include <ranges>
 #include <sstream>
 
 #include <sthighway/report.hpp>
@@ -63,16 +64,7 @@ TraciEndpoint parseTraci(const std::string& text) {
   // HOST:PORT[:ORDER]
   TraciEndpoint e;
   std::vector<std::string> parts;
-  std::string cur;
-  for (char c : text) {
-    if (c == ':') {
-      parts.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  parts.push_back(cur);
+  for (const auto part : std::views::split(text, ':')) parts.emplace_back(part.begin(), part.end());
   auto number = [&](const std::string& s, const char* what) {
     try {
       std::size_t used = 0;

@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <ranges>
 #include <set>
 #include <sstream>
 
@@ -22,16 +23,7 @@ namespace {
 
 std::vector<std::string> splitKey(const std::string& key) {
   std::vector<std::string> parts;
-  std::string cur;
-  for (char c : key) {
-    if (c == '.') {
-      parts.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  parts.push_back(cur);
+  for (const auto part : std::views::split(key, '.')) parts.emplace_back(part.begin(), part.end());
   return parts;
 }
 
