@@ -468,7 +468,7 @@ struct HighwayMonitor::Impl {
   std::vector<int> memberSlot;
   std::vector<int> passed;  // scratch: member indices whose pair passed the bound
   Vec2 globalVmax = Vec2::Zero();
-  double globalAmax = 0.0, globalEnvMax = 0.0;
+  double globalAmax = 0.0;
   Vec2 globalExtMax = Vec2::Zero();
 
   void candidatesFeatures(int e) {
@@ -727,7 +727,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     m.cellStats.assign(nc, Impl::CellStats{});
     m.memberStart.assign(nc + 1, 0);
     m.globalVmax = Vec2::Zero();
-    m.globalAmax = m.globalEnvMax = 0.0;
+    m.globalAmax = 0.0;
     m.globalExtMax = Vec2::Zero();
     const SafeTimeConfig& st = m.cfg.safeTime;
     for (int s : m.activeSlots) {
@@ -759,7 +759,6 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       }
       m.globalVmax = m.globalVmax.cwiseMax(v.cwiseAbs());
       m.globalAmax = std::max(m.globalAmax, m.accelAbs[s]);
-      m.globalEnvMax = std::max(m.globalEnvMax, m.env[s]);
       m.globalExtMax = m.globalExtMax.cwiseMax(m.ext[s]);
     }
     // members contiguous by cell (a counting sort), then each cell's sorted along its long axis
