@@ -317,14 +317,16 @@ struct HighwayMonitor::Impl {
     const Vec2 ve = vel[e];
     const Vec2 exe = ext[e];
     const double tr = cfg.safeTime.vehicleReactionTime, k = brakeRatio[e];
+    // a candidate foe by slot: counted, then the cheap bound, then the exact test
+    auto consider = [&](int f) {
+      ++counters.candidatePairs;
+      const Vec2 p = centre[f] - pe, v = vel[f] - ve;
+      const double accel = kAccel ? accelAbs[e] + accelAbs[f] : 0.0;
+      if (pairMayWarn<kAccel>(tr, k, p, v, exe + ext[f], accel)) checkPair(e, f, p, v, accel);
+    };
     if (cfg.broadphase == Broadphase::AllPairs) {
       for (int f : activeSlots)
-        if (f != e) {
-          ++counters.candidatePairs;
-          const Vec2 p = centre[f] - pe, v = vel[f] - ve;
-          const double accel = kAccel ? accelAbs[e] + accelAbs[f] : 0.0;
-          if (pairMayWarn<kAccel>(tr, k, p, v, exe + ext[f], accel)) checkPair(e, f, p, v, accel);
-        }
+        if (f != e) consider(f);
       return;
     }
     const int own = cellOf[e];
@@ -345,11 +347,7 @@ struct HighwayMonitor::Impl {
       // members sorted along the cell's long axis (from the first inside the reach's range)
       if (c.subdivided) {
         cells->forEachInCellBox(c.cell, cb, [&](int f) {
-          if (f == e || !cb.contains(centre[f])) return;
-          ++counters.candidatePairs;
-          const Vec2 p = centre[f] - pe, v = vel[f] - ve;
-          const double accel = kAccel ? accelAbs[e] + accelAbs[f] : 0.0;
-          if (pairMayWarn<kAccel>(tr, k, p, v, exe + ext[f], accel)) checkPair(e, f, p, v, accel);
+          if (f != e && cb.contains(centre[f])) consider(f);
         });
         continue;
       }
