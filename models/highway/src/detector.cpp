@@ -77,11 +77,13 @@ FiveCircleLayout FiveCircleLayout::fig11b() {
   return l;
 }
 
-Body bodyOf(const VehicleState& v) {
+Body bodyOf(const VehicleState& v) { return bodyOf(v, v.direction()); }
+
+Body bodyOf(const VehicleState& v, const Vec2& axis) {
   Body b;
   b.position = v.position;
-  b.axis = v.direction();
-  b.velocity = v.velocity();
+  b.axis = axis;
+  b.velocity = v.speed * axis + v.lateralSpeed * Vec2(-axis.y(), axis.x());  // as v.velocity()
   b.acceleration = v.acceleration;
   b.length = v.length;
   b.width = v.width;

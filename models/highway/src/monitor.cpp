@@ -681,17 +681,9 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       sl.axis = v.direction();
       sl.axisHeading = v.heading;
     }
-    // as bodyOf(v), with the cached axis
-    Body& b = m.body[s];
-    const Vec2& d = sl.axis;
-    b.position = v.position;
-    b.axis = d;
-    b.velocity = v.speed * d + v.lateralSpeed * Vec2(-d.y(), d.x());
-    b.acceleration = v.acceleration;
-    b.length = v.length;
-    b.width = v.width;
+    m.body[s] = bodyOf(v, sl.axis);
     m.centre[s] = v.position;
-    m.vel[s] = b.velocity;
+    m.vel[s] = m.body[s].velocity;
     m.mass[s] = v.mass;
     if (v.length != sl.length || v.width != sl.width || v.heading != sl.heading) {
       // sizes rarely change, headings only on curves: keep the envelopes until they do

@@ -79,6 +79,8 @@ struct Body {
   double width = 1.8;
 };
 Body bodyOf(const VehicleState& v);
+// The same with the unit heading axis given (v.direction(), computed once and cached by the caller).
+Body bodyOf(const VehicleState& v, const Vec2& axis);
 
 struct Ttc {
   double t = std::numeric_limits<double>::infinity();  // s from now; 0 when already touching and closing
