@@ -91,9 +91,8 @@ struct HighwayMonitor::Impl {
     std::uint64_t serial = 0;
     bool present = false;
     Vec2 prev = Vec2::Zero();
-    double length = -1.0, width = -1.0, heading = 0.0;  // of the cached envelopes
-    double axisHeading = std::numeric_limits<double>::quiet_NaN();  // of the cached axis
-    Vec2 axis = Vec2(1.0, 0.0);                          // (cos, sin) of axisHeading
+    double length = -1.0, width = -1.0, heading = 0.0;  // of the cached axis and envelopes
+    Vec2 axis = Vec2(1.0, 0.0);                          // (cos, sin) of heading
   };
   // what the exposure counters need of a car's threats at its last tick
   struct Exposure {
@@ -676,17 +675,15 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
   for (int s : m.activeSlots) {
     Impl::Slot& sl = m.slots[s];
     const VehicleState& v = vehicles[m.inputOf[s]];
-    if (v.heading != sl.axisHeading) {
-      // headings change only on curves and lane changes: keep (cos, sin) until they do
-      sl.axis = v.direction();
-      sl.axisHeading = v.heading;
-    }
+    // sizes rarely change, headings only on curves and lane changes: keep the axis (cos, sin)
+    // and the envelopes until they do
+    const bool reshaped = v.length != sl.length || v.width != sl.width || v.heading != sl.heading;
+    if (reshaped) sl.axis = v.direction();
     m.body[s] = bodyOf(v, sl.axis);
     m.centre[s] = v.position;
     m.vel[s] = m.body[s].velocity;
     m.mass[s] = v.mass;
-    if (v.length != sl.length || v.width != sl.width || v.heading != sl.heading) {
-      // sizes rarely change, headings only on curves: keep the envelopes until they do
+    if (reshaped) {
       m.env[s] = envelopeRadius(dc, v.length, v.width);
       m.ext[s] = envelopeExtent(dc, m.body[s]);
       sl.length = v.length;
