@@ -301,23 +301,20 @@ int CellNetwork::place(int v, const Vec2& centre, const Aabb<2>& box) {
   s.centre = centre;
   if (s.cell < 0 || !m.keepsServingCell(s, centre)) {
     const int best = m.strongest(centre);
-    bool joined = true;
-    if (s.cell < 0) {
+    const int from = s.cell;
+    if (from < 0) {
       m.join(v, best, box);
       ++m.counters.attaches;
-    } else if (best != s.cell && m.distSq(s.cell, centre) > m.ratioSq * m.distSq(best, centre)) {
+    } else if (best != from && m.distSq(from, centre) > m.ratioSq * m.distSq(best, centre)) {
       // the car tells its old cell, which hands it to the stronger one
-      const int from = s.cell;
       m.leave(v);
       m.join(v, best, box);
       ++m.counters.handoffs;
       m.handoffs.push_back({v, from, best});
-    } else {
-      joined = false;
     }
     s.measuredAt = centre;
     s.othersAway = m.othersLowerBound(s.cell, centre);
-    if (joined) return best;
+    if (s.cell != from) return best;  // joined a cell: its fat box is new
   }
   if (!inside(box, s.fat)) {
     s.fat = grown(box, m.cfg.fatMargin);
