@@ -453,7 +453,8 @@ struct HighwayMonitor::Impl {
   std::vector<std::vector<Neighbour>> neighboursLight;  // for the cars with k <= the cell's kLight
   std::vector<std::vector<int>> roadNear;
   // the cars of every cell, contiguous by cell (memberStart[c] .. memberStart[c + 1]), each cell's
-  // sorted by (coordinate along its long axis, slot): key, centre, slot
+  // sorted by (coordinate along its long axis, slot): key, centre, velocity, envelope extent,
+  // |acceleration|, slot
   std::vector<int> memberStart;
   std::vector<int> memberNext;                      // scratch for the counting sort
   std::vector<std::pair<double, int>> memberOrder;  // scratch for the sort
