@@ -398,6 +398,7 @@ struct HighwayMonitor::Impl {
     for (int A = 0; A < static_cast<int>(cellStats.size()); ++A) {
       neighbours[A].clear();
       neighboursLight[A].clear();
+      roadNear[A].clear();
       const CellStats& ca = cellStats[A];
       if (ca.equipped == 0) continue;
       const Vec2 va = ca.vmin.cwiseAbs().cwiseMax(ca.vmax.cwiseAbs());
@@ -428,7 +429,6 @@ struct HighwayMonitor::Impl {
         if (ca.kLight > 0.0 && reaches(ca.kLight)) neighboursLight[A].push_back(nb);
       });
       // road features any member could reach within its largest road safe time
-      roadNear[A].clear();
       if (featureIndex && cfg.checkRoad) {
         const double speed = va.norm();
         const double h = cfg.safeTime.roadReactionTime + ca.kMax * speed;
