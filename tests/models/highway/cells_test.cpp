@@ -5,21 +5,15 @@
 
 #include <sthighway/cells.hpp>
 
+#include "roads.hpp"
+
 namespace st::highway {
 namespace {
 
 // One straight three-lane edge along +x, 2 km, lanes 3.2 m wide centred on y = 0, 3.2, 6.4.
 RoadGeometry straightRoad(double length = 2000.0) {
   RoadGeometry r;
-  for (int i = 0; i < 3; ++i) {
-    Lane l;
-    l.id = "road_";
-    l.id += std::to_string(i);
-    l.edge = "road";
-    l.index = i;
-    l.shape = {Vec2(0, 3.2 * i), Vec2(length, 3.2 * i)};
-    r.lanes.push_back(l);
-  }
+  for (int i = 0; i < 3; ++i) r.lanes.push_back(laneOf("road", i, {Vec2(0, 3.2 * i), Vec2(length, 3.2 * i)}));
   return r;
 }
 
@@ -83,15 +77,8 @@ TEST(Cells, HandoffInOrderNeverLostNeverTwice) {
 // the median), with small steps, large jumps and reversals.
 TEST(Cells, HandoffsEqualMeasuringEveryStep) {
   RoadGeometry road = straightRoad(1400.0);
-  for (int i = 0; i < 3; ++i) {
-    Lane l;
-    l.id = "back_";
-    l.id += std::to_string(i);
-    l.edge = "back";
-    l.index = i;
-    l.shape = {Vec2(1400.0, 20.8 - 3.2 * i), Vec2(0.0, 20.8 - 3.2 * i)};
-    road.lanes.push_back(l);
-  }
+  for (int i = 0; i < 3; ++i)
+    road.lanes.push_back(laneOf("back", i, {Vec2(1400.0, 20.8 - 3.2 * i), Vec2(0.0, 20.8 - 3.2 * i)}));
   CellConfig cfg;
   CellNetwork net(road, deriveFeatures(road), cfg);
   const double ratioSq = std::pow(10.0, 2.0 * cfg.hysteresisDb / (10.0 * cfg.pathLossExponent));

@@ -9,6 +9,8 @@
 #include <sthighway/monitor.hpp>
 #include <sthighway/report.hpp>
 
+#include "roads.hpp"
+
 namespace st::highway {
 namespace {
 
@@ -16,15 +18,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 RoadGeometry straightRoad(double length = 2000.0, int lanes = 3) {
   RoadGeometry r;
-  for (int i = 0; i < lanes; ++i) {
-    Lane l;
-    l.id = "a_";
-    l.id += std::to_string(i);
-    l.edge = "a";
-    l.index = i;
-    l.shape = {Vec2(0, 3.2 * i), Vec2(length, 3.2 * i)};
-    r.lanes.push_back(l);
-  }
+  for (int i = 0; i < lanes; ++i) r.lanes.push_back(laneOf("a", i, {Vec2(0, 3.2 * i), Vec2(length, 3.2 * i)}));
   return r;
 }
 
@@ -32,17 +26,13 @@ RoadGeometry straightRoad(double length = 2000.0, int lanes = 3) {
 RoadGeometry testRoad() {
   RoadGeometry r = straightRoad(1200.0);
   for (int i = 0; i < 2; ++i) {
-    Lane l;
-    l.id = "b_";
-    l.id += std::to_string(i);
-    l.edge = "b";
-    l.index = i;
     const double radius = 500.0 - 3.2 * i;
+    std::vector<Vec2> shape;
     for (int k = 0; k <= 20; ++k) {
       const double th = 0.8 * k / 20.0;
-      l.shape.emplace_back(1200.0 + radius * std::sin(th), 500.0 - radius * std::cos(th));
+      shape.emplace_back(1200.0 + radius * std::sin(th), 500.0 - radius * std::cos(th));
     }
-    r.lanes.push_back(l);
+    r.lanes.push_back(laneOf("b", i, std::move(shape)));
   }
   r.hazards.push_back(Hazard{"pothole", Vec2(600.0, 3.2), 0.4});
   return r;
