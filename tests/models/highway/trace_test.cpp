@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <regex>
 #include <set>
@@ -35,6 +36,31 @@ std::string slurp(const fs::path& p) {
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+// A trace replayed through a monitor, finished at its last frame: the warnings in the order
+// they finished, and the counters; onFrame sees every frame after its step.
+struct Replay {
+  std::vector<Warning> warnings;
+  MonitorCounters counters;
+};
+Replay replay(const RoadGeometry& road, const VehicleTypes& types, const fs::path& fcd, const MonitorConfig& cfg,
+              const std::function<void(const FcdFrame&)>& onFrame = {}) {
+  HighwayMonitor m(road, cfg);
+  FcdReader r(fcd, types);
+  FcdFrame f;
+  double last = 0.0;
+  Replay out;
+  while (r.next(f)) {
+    m.step(f.time, f.vehicles);
+    for (auto& w : m.takeFinished()) out.warnings.push_back(std::move(w));
+    if (onFrame) onFrame(f);
+    last = f.time;
+  }
+  m.finish(last);
+  for (auto& w : m.takeFinished()) out.warnings.push_back(std::move(w));
+  out.counters = m.counters();
+  return out;
 }
 
 TEST(SumoFiles, FcdConventionsAreConverted) {
@@ -142,23 +168,15 @@ TEST(Trace, ShippedTraceCellsEqualAllPairsAndDistanceAdds) {
       MonitorConfig cfg;
       cfg.detector.kind = k;
       cfg.broadphase = b == 0 ? Broadphase::Cells : Broadphase::AllPairs;
-      HighwayMonitor m(road, cfg);
-      FcdReader r(kData / "lanedrop.fcd.xml", types);
-      FcdFrame f;
-      double last = 0.0;
-      while (r.next(f)) {
-        m.step(f.time, f.vehicles);
-        for (auto& w : m.takeFinished()) out[b].push_back(w);
+      Replay run = replay(road, types, kData / "lanedrop.fcd.xml", cfg, [&](const FcdFrame& f) {
         if (b == 0)
           for (const auto& v : f.vehicles) {
             speedTimesDt += v.speed * 0.5;
             ids.insert(v.id);
           }
-        last = f.time;
-      }
-      m.finish(last);
-      for (auto& w : m.takeFinished()) out[b].push_back(w);
-      counters[b] = m.counters();
+      });
+      out[b] = std::move(run.warnings);
+      counters[b] = run.counters;
     }
     ASSERT_EQ(out[0].size(), out[1].size()) << toString(k);
     for (std::size_t i = 0; i < out[0].size(); ++i) {
@@ -202,19 +220,10 @@ TEST(Trace, MotorwayTraceFromTheShippedNetworkCellsEqualAllPairs) {
         cfg.detector.kind = k;
         cfg.detector.motion = motion;
         cfg.broadphase = b == 0 ? Broadphase::Cells : Broadphase::AllPairs;
-        HighwayMonitor m(road, cfg);
-        FcdReader r(kData / "motorway_merge.fcd.xml", types);
-        FcdFrame f;
-        double last = 0.0;
-        while (r.next(f)) {
-          m.step(f.time, f.vehicles);
-          for (auto& w : m.takeFinished()) rows[b].push_back(warningCsvRow(w));
-          last = f.time;
-        }
-        m.finish(last);
-        for (auto& w : m.takeFinished()) rows[b].push_back(warningCsvRow(w));
-        if (b == 0) byKind = m.counters().warningsByKind;
-        EXPECT_EQ(m.counters().ticks, 30u);
+        const Replay run = replay(road, types, kData / "motorway_merge.fcd.xml", cfg);
+        for (const auto& w : run.warnings) rows[b].push_back(warningCsvRow(w));
+        if (b == 0) byKind = run.counters.warningsByKind;
+        EXPECT_EQ(run.counters.ticks, 30u);
       }
       EXPECT_EQ(rows[0], rows[1]) << toString(k);
       EXPECT_GT(byKind[static_cast<int>(WarningKind::Vehicle)], 10u) << toString(k);
