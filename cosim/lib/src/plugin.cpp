@@ -113,8 +113,9 @@ bool HighwayPlugin::inIncident(std::uint32_t serial) const {
 
 void HighwayPlugin::runIncidents() {
   using Phase = IncidentRun::Phase;
-  // times are multiples of the step up to rounding: what falls within half a step is due now
-  const double t = backend_.time() + 0.5 * backend_.deltaT();
+  // a phase starts at the first step at or after its time; the slack only absorbs the rounding of
+  // SUMO's summed step times (a phase end is rarely on a step, so half a step would start it early)
+  const double t = backend_.time() + 1e-6 * backend_.deltaT();
   const auto& vehicles = backend_.vehicles();
   for (std::size_t k = 0; k < incidentRuns_.size(); ++k) {
     IncidentRun& run = incidentRuns_[k];
