@@ -189,9 +189,9 @@ void Space<D>::update(int id, const Box& box, double margin) {
     for (int old : scratch_) collapseUpFrom(old);
 }
 
-// Cells: most updates (one per collision) leave the ball in the same block of cells; then only the
-// stored box changes. Otherwise leave the cells outside the new block, re-mark the cells kept whose
-// corner bits change, and enter those outside the old.
+// Cells: most updates (one per collision) leave the ball in the same block of cells; then nothing
+// changes but the previous block (now the same). Otherwise leave the cells outside the new block,
+// re-mark the cells kept whose corner bits change, and enter those outside the old.
 template <int D>
 void Space<D>::updateCells(int id, const Box& fat) {
   Member& m = members_[id];
