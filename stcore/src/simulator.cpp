@@ -120,12 +120,19 @@ void Simulator<D>::setVelocity(int i, const Vec<D>& v) {
   BallState<D>& b = balls_[i];
   if (!b.active) throw std::invalid_argument("ball is no longer in the simulation");
   advance(i, now_);
+  redirect(i, v);
+  repredictWidened();
+}
+
+// Ball i, advanced to now, leaves with velocity v: a new generation, membership and prediction.
+template <int D>
+void Simulator<D>::redirect(int i, const Vec<D>& v) {
+  BallState<D>& b = balls_[i];
   b.v = v;
   syncMotion(i);
   ++b.gen;
   spaceUpdate(i);
   predict(i);
-  repredictWidened();
 }
 
 template <int D>
@@ -461,40 +468,24 @@ void Simulator<D>::process(int i) {
     }
     case EventKind::BallWall:
       advance(i, n.t);
-      bi.v = reflect<D>(bi.v, walls_[n.other].normal);
-      syncMotion(i);
-      ++bi.gen;
-      spaceUpdate(i);
-      predict(i);
+      redirect(i, reflect<D>(bi.v, walls_[n.other].normal));
       break;
     case EventKind::BallSegment:
       if constexpr (D == 2) {
         advance(i, n.t);
-        bi.v = reflect<D>(bi.v, bi.p - closestPointOnSegment(segments_[n.other], bi.p));
-        syncMotion(i);
-        ++bi.gen;
-        spaceUpdate(i);
-        predict(i);
+        redirect(i, reflect<D>(bi.v, bi.p - closestPointOnSegment(segments_[n.other], bi.p)));
       }
       break;
     case EventKind::BallPoint:
       advance(i, n.t);
-      bi.v = reflect<D>(bi.v, bi.p - points_[n.other]);
-      syncMotion(i);
-      ++bi.gen;
-      spaceUpdate(i);
-      predict(i);
+      redirect(i, reflect<D>(bi.v, bi.p - points_[n.other]));
       break;
     case EventKind::Sensor:
       deactivate(i);
       break;
     case EventKind::Rest:
       advance(i, n.t);
-      bi.v = Vec<D>::Zero();  // exactly, whatever the rounding of v + a t
-      syncMotion(i);
-      ++bi.gen;
-      spaceUpdate(i);
-      predict(i);
+      redirect(i, Vec<D>::Zero());  // exactly, whatever the rounding of v + a t
       break;
     case EventKind::Boundary:  // boundaryFirst() above
     case EventKind::Model:     // never a ball's event: processModelEvent handles these

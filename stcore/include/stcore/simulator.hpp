@@ -195,6 +195,7 @@ class Simulator {
   void schedule(int i, Next best);
   void process(int i);
   void advance(int i, double t);
+  void redirect(int i, const Vec<D>& v);
   void syncMotion(int i) { motion_[i] = Motion{balls_[i].p, balls_[i].v, balls_[i].t, balls_[i].radius}; }
   bool accelerating(int i) const { return decelerating_ > 0 && balls_[i].accelerating(); }
   Aabb<D> boxOf(int i, double t) const;
