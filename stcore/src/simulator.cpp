@@ -207,7 +207,7 @@ void Simulator<D>::pairCandidateAccelerated(int i, int j, Next& best) {
 template <int D>
 inline void Simulator<D>::pairCandidate(int i, int j, Next& best) {
   ++counters_.pairChecks;
-  if (decelerating_ > 0 && (balls_[i].accelerating() || balls_[j].accelerating())) {
+  if (accelerating(i) || accelerating(j)) {
     pairCandidateAccelerated(i, j, best);
     return;
   }
