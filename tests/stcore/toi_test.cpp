@@ -807,8 +807,7 @@ void ballsAcceleratedKernel(unsigned seed) {
     const double speed = v.norm();
     const double rate0 = p.norm() > 0 ? p.dot(v) / p.norm() : speed;
     const double scale = p.norm() + R + speed * tMax + a.norm() * tMax * tMax;
-    ::testing::AssertionResult r = ::testing::AssertionSuccess();
-    r = checkFirstContact(got, s, rate0, speed, scale, Semantics::Slop, tally);
+    const ::testing::AssertionResult r = checkFirstContact(got, s, rate0, speed, scale, Semantics::Slop, tally);
     ASSERT_TRUE(r) << "case " << k << " family " << family << std::hexfloat << " p=" << p.transpose()
                    << " v=" << v.transpose() << " a=" << a.transpose() << " R=" << R << " tMax=" << tMax;
   }
