@@ -34,11 +34,6 @@ void keepEarliest(SegmentImpact& best, const Impact& candidate, SegmentFeature f
   if (rc < rb || (rc == rb && rc == 1 && candidate.t < best.impact.t)) best = {candidate, feature};
 }
 
-}  // namespace
-
-
-namespace {
-
 // Touching or overlapping now: the closest feature alone decides. Asked one by one, the features
 // would report an end point approached, or struck later, by a ball moving out of the face.
 std::optional<SegmentImpact> segmentContactNow(const Circle& c, const Vec2& v, const Segment& s) {
@@ -117,7 +112,6 @@ template Impact toiBallAxisPlaneEnter<2>(const Ball<2>&, const Vec2&, int, doubl
 template Impact toiBallAxisPlaneEnter<3>(const Ball<3>&, const Vec3&, int, double);
 template Impact toiBallAxisPlaneLeave<2>(const Ball<2>&, const Vec2&, int, double);
 template Impact toiBallAxisPlaneLeave<3>(const Ball<3>&, const Vec3&, int, double);
-
 
 namespace {
 
