@@ -64,7 +64,6 @@ int Simulator<D>::addBall(const Vec<D>& p, const Vec<D>& v, double radius, doubl
   balls_.push_back(b);
   motion_.push_back(Motion{b.p, b.v, b.t, b.radius});
   next_.push_back(Next{});
-  heapPos_.push_back(-1);
   if (space_) space_->insert(i, boxOf(i, now_), config_.marginFactor * radius);
   repredictWidened();
   predict(i);
@@ -142,7 +141,7 @@ void Simulator<D>::deactivate(int i) {
   advance(i, now_);
   b.active = false;
   ++b.gen;
-  heapRemove(i);
+  heap_.remove(i);
   if (space_) space_->remove(i);
   repredictWidened();
 }
@@ -297,7 +296,7 @@ template <int D>
 void Simulator<D>::schedule(int i, Next best) {
   best.exit = std::max(exitTime(i), now_);
   next_[i] = best;
-  heapUpdate(i);
+  heap_.set(i, next_[i].due());
 }
 
 // When the ball may first touch a region it is not listed in (infinity without a space).
@@ -378,7 +377,7 @@ void Simulator<D>::predictObstaclesAccelerated(int i, Next& best) {
 
 template <int D>
 double Simulator<D>::nextEventTime() const {
-  const double t = heap_.empty() ? kInf : heap_.front().t;
+  const double t = heap_.empty() ? kInf : heap_.topTime();
   return modelHeap_.empty() ? t : std::min(t, modelHeap_.front().t);
 }
 
@@ -410,7 +409,7 @@ void Simulator<D>::dropCancelledModelEvents() {
 
 template <int D>
 bool Simulator<D>::modelEventDue() const {
-  return !modelHeap_.empty() && (heap_.empty() || modelHeap_.front().t <= heap_.front().t);
+  return !modelHeap_.empty() && (heap_.empty() || modelHeap_.front().t <= heap_.topTime());
 }
 
 template <int D>
@@ -495,86 +494,6 @@ void Simulator<D>::process(int i) {
   repredictWidened();
   ++counters_.events[static_cast<int>(n.kind)];
   last_ = EventRecord{n.t, n.kind, i, n.other};
-}
-
-// ---- indexed heap ---------------------------------------------------------------------------
-
-template <int D>
-void Simulator<D>::siftUp(int pos) {
-  const HeapEntry item = heap_[pos];
-  while (pos > 0) {
-    const int parent = (pos - 1) / kHeapArity;
-    if (!before(item, heap_[parent])) break;
-    heap_[pos] = heap_[parent];
-    heapPos_[heap_[pos].ball] = pos;
-    pos = parent;
-  }
-  heap_[pos] = item;
-  heapPos_[item.ball] = pos;
-}
-
-template <int D>
-void Simulator<D>::siftDown(int pos) {
-  const int n = static_cast<int>(heap_.size());
-  const HeapEntry item = heap_[pos];
-  while (true) {
-    const int first = kHeapArity * pos + 1;
-    if (first >= n) break;
-    const int end = std::min(first + kHeapArity, n);
-    // the least child by selects on integer keys: which child it is cannot be predicted, and a
-    // branch on it costs a misprediction per level (times are >= +0.0, where the bits of a
-    // double order as the double does)
-    int child = first;
-    std::int64_t ct = std::bit_cast<std::int64_t>(heap_[first].t);
-    int cb = heap_[first].ball;
-    for (int c = first + 1; c < end; ++c) {
-      const std::int64_t t = std::bit_cast<std::int64_t>(heap_[c].t);
-      const int b = heap_[c].ball;
-      // as arithmetic, or the compiler turns the selects back into a branch
-      const std::int64_t less = static_cast<std::int64_t>((t < ct) | ((t == ct) & (b < cb)));
-      const std::int64_t keep = less - 1;  // all ones when not less
-      child = static_cast<int>((c & ~keep) | (child & keep));
-      ct = (t & ~keep) | (ct & keep);
-      cb = static_cast<int>((b & ~keep) | (cb & keep));
-    }
-    if (!before(heap_[child], item)) break;
-    heap_[pos] = heap_[child];
-    heapPos_[heap_[pos].ball] = pos;
-    pos = child;
-  }
-  heap_[pos] = item;
-  heapPos_[item.ball] = pos;
-}
-
-template <int D>
-void Simulator<D>::heapUpdate(int i) {
-  const HeapEntry e{next_[i].due() + 0.0, i};  // + 0.0: no -0.0 in the heap (see siftDown)
-  if (heapPos_[i] < 0) {
-    heap_.push_back(e);
-    heapPos_[i] = static_cast<int>(heap_.size()) - 1;
-    siftUp(heapPos_[i]);
-    return;
-  }
-  const int pos = heapPos_[i];
-  // an event only moves one way: sift in that direction
-  const bool earlier = before(e, heap_[pos]);
-  heap_[pos] = e;
-  if (earlier) siftUp(pos);
-  else siftDown(pos);
-}
-
-template <int D>
-void Simulator<D>::heapRemove(int i) {
-  const int pos = heapPos_[i];
-  if (pos < 0) return;
-  const HeapEntry last = heap_.back();
-  heap_.pop_back();
-  heapPos_[i] = -1;
-  if (last.ball == i) return;
-  heap_[pos] = last;
-  heapPos_[last.ball] = pos;
-  siftUp(pos);
-  siftDown(heapPos_[last.ball]);
 }
 
 template <int D>

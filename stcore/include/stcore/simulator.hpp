@@ -14,6 +14,7 @@
 #include <memory>
 #include <vector>
 
+#include <stcore/event_heap.hpp>
 #include <stcore/shapes.hpp>
 #include <stcore/space.hpp>
 
@@ -202,19 +203,6 @@ class Simulator {
   void spaceUpdate(int i);
   void repredictWidened();
 
-  // indexed 4-ary min-heap of balls by next event (time, then ball index): half the depth of a
-  // binary heap, a node's children in 64 contiguous bytes. Entries carry their key so that
-  // sifting reads one contiguous array instead of chasing next_ per comparison.
-  struct HeapEntry {
-    double t;
-    int ball;
-  };
-  static constexpr int kHeapArity = 4;
-  static bool before(const HeapEntry& a, const HeapEntry& b) {
-    return a.t < b.t || (a.t == b.t && a.ball < b.ball);
-  }
-  void heapUpdate(int i);
-  void heapRemove(int i);
   // model events: a min-heap on (time, scheduling order); cancelled ones are skipped when they surface
   struct ModelEvent {
     double t;
@@ -224,8 +212,6 @@ class Simulator {
   void dropCancelledModelEvents();  // keeps modelHeap_'s front live
   bool modelEventDue() const;  // the earliest event overall is a model event
   void processModelEvent();
-  void siftUp(int pos);
-  void siftDown(int pos);
 
   SimulatorConfig config_;
   Aabb<D> bounds_;
@@ -233,8 +219,7 @@ class Simulator {
   std::vector<BallState<D>> balls_;
   std::vector<Motion> motion_;
   std::vector<Next> next_;
-  std::vector<HeapEntry> heap_;
-  std::vector<int> heapPos_;
+  EventHeap heap_;  // balls by next event
   std::vector<Wall<D>> walls_;
   std::vector<Vec<D>> points_;
   std::vector<Segment> segments_;
@@ -262,7 +247,7 @@ StopReason Simulator<D>::run(double until, Observer&& observer, std::uint64_t ma
     if (done >= maxEvents) return StopReason::EventLimit;
     last_.kind = EventKind::Count;
     if (modelEventDue()) processModelEvent();
-    else process(heap_.front().ball);
+    else process(heap_.top());
     if (last_.kind != EventKind::Count) {
       ++done;
       observer(static_cast<const EventRecord&>(last_));
