@@ -293,10 +293,15 @@ void Simulator<D>::predictGained(int i) {
 
 // The boundary time, then the heap.
 template <int D>
-void Simulator<D>::schedule(int i, Next best) {
-  best.exit = std::max(exitTime(i), now_);
-  next_[i] = best;
-  heap_.set(i, next_[i].due());
+void Simulator<D>::schedule(int i, const Next& best) {
+  // field by field: a copy of the whole struct after writing exit into it stalls on store forwarding
+  Next& n = next_[i];
+  n.t = best.t;
+  n.exit = std::max(exitTime(i), now_);
+  n.other = best.other;
+  n.otherGen = best.otherGen;
+  n.kind = best.kind;
+  heap_.set(i, n.due());
 }
 
 // When the ball may first touch a region it is not listed in (infinity without a space).

@@ -193,7 +193,7 @@ class Simulator {
   void predictObstaclesAccelerated(int i, Next& best);
   void consider(Next& best, double t, EventKind kind, int other) const;
   double exitTime(int i) const;
-  void schedule(int i, Next best);
+  void schedule(int i, const Next& best);
   void process(int i);
   void advance(int i, double t);
   void redirect(int i, const Vec<D>& v);
