@@ -108,6 +108,13 @@ class EventHeap {
       if (first >= size_) break;
       const int count = std::min(kArity, size_ - first);
       const double* times = &time_[kPad + first];
+      // the grandchildren's times are contiguous: fetch them while these are compared
+      const double* grand = times + (kArity - 1) * first + 1;
+      if (grand + kArity * kArity <= time_.data() + time_.size()) {
+        // (the two ends; a third prefetch for the middle line measured no faster)
+        __builtin_prefetch(grand);
+        __builtin_prefetch(grand + kArity * kArity - 1);
+      }
       // the least time by selects on the times' bits (times are >= +0.0, where the bits of a
       // double order as the double does): which child it is cannot be predicted, and a branch
       // per child costs a misprediction per level
