@@ -7,6 +7,8 @@
 #include <set>
 #include <sstream>
 
+#include <stcore/hash.hpp>
+
 namespace st::batch {
 
 namespace fs = std::filesystem;
@@ -52,14 +54,6 @@ std::string scalarText(const YAML::Node& n) {
   return out.c_str();
 }
 
-std::uint64_t fnv1a(const std::string& s) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : s) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  return h;
-}
 
 std::string slug(const std::string& s) {
   std::string out;
@@ -209,7 +203,7 @@ std::vector<RunSpec> expandRuns(const Experiment& e) {
       canon.append(e.seedKey).append("=").append(std::to_string(seed));
       for (const auto& [k, v] : sorted) readable.append(slug(v).substr(0, 16)).append("_");
       readable.append("s").append(std::to_string(seed));
-      const std::uint64_t h = fnv1a(canon);
+      const std::uint64_t h = st::fnv1a(canon);
       char hex[9];
       std::snprintf(hex, sizeof hex, "%08x", static_cast<unsigned>((h ^ (h >> 32)) & 0xffffffffu));
       r.id = readable + "-" + hex;

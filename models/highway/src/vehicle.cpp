@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cctype>
 
+#include <stcore/hash.hpp>
+
 namespace st::highway {
 
 const char* toString(VehicleClass c) {
@@ -43,16 +45,7 @@ ClassDefaults classDefaults(VehicleClass c) {
 }
 
 double equipmentDraw(std::uint64_t seed, std::string_view id) {
-  std::uint64_t h = 1469598103934665603ull ^ seed;
-  for (unsigned char c : id) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  h += 0x9e3779b97f4a7c15ull;
-  h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
-  h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
-  h ^= h >> 31;
-  return static_cast<double>(h >> 11) * 0x1.0p-53;
+  return unitInterval(splitmixMix(fnv1a(id, kHashBasis ^ seed) + kSplitmixGamma));
 }
 
 }  // namespace st::highway

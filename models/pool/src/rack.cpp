@@ -6,16 +6,13 @@
 #include <stdexcept>
 #include <string>
 
+#include <stcore/hash.hpp>
+
 namespace st::pool {
 
-std::uint64_t Rng::next() {
-  std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
+std::uint64_t Rng::next() { return splitmixMix(state_ += kSplitmixGamma); }
 
-double Rng::uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+double Rng::uniform() { return unitInterval(next()); }
 
 std::vector<BallSpec> standardRack(const Table& table, const RackSpec& spec, Rng& rng) {
   const double w = table.spec.width, h = table.spec.height;
