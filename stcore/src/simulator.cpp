@@ -1,7 +1,6 @@
 #include <stcore/simulator.hpp>
 
 #include <algorithm>
-#include <bit>
 #include <cassert>
 #include <cmath>
 #include <functional>
