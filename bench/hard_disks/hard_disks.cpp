@@ -60,6 +60,7 @@ struct Options {
   double interior = -1.0;     // interior margin w in diameters; <0: automatic
   bool json = false;
   bool single = false;        // exactly one point requested: run in-process
+  std::optional<double> maxDz;  // --max-dz: the largest |Z / Z_ref - 1| (%) that passes
 };
 
 struct Point {
@@ -332,14 +333,15 @@ void printHeader() {
   std::fflush(stdout);
 }
 
-void printRow(const Point& p, const Result& r, bool json) {
+// Prints a point's row; returns its deviation from the reference Z (%), NaN if it was skipped.
+double printRow(const Point& p, const Result& r, bool json) {
   if (!r.ok) {
     std::printf("%-3d %8ld %5.2f %-6s  skipped: %s\n", p.dim, p.n, p.phi, st::toString(p.kind), r.why.c_str());
     if (json)
       std::printf("{\"dim\":%d,\"n\":%ld,\"phi\":%g,\"space\":\"%s\",\"skipped\":\"%s\"}\n", p.dim, p.n, p.phi,
                   st::toString(p.kind), r.why.c_str());
     std::fflush(stdout);
-    return;
+    return std::numeric_limits<double>::quiet_NaN();
   }
   const double cps = static_cast<double>(r.collisions) / r.seconds;
   const double eps = static_cast<double>(r.events) / r.seconds;
@@ -365,6 +367,17 @@ void printRow(const Point& p, const Result& r, bool json) {
         dz, r.energyDrift);
   }
   std::fflush(stdout);
+  return dz;
+}
+
+constexpr int kOffReference = 3;  // a grid point's exit status when its Z failed --max-dz
+
+// --max-dz: a point whose Z is further than that from its reference fails the run (exit 1)
+bool withinReference(const Point& p, double dz, const Options& o) {
+  if (!o.maxDz || !(std::abs(dz) > *o.maxDz)) return true;
+  std::fprintf(stderr, "hard_disks: dim %d N %ld phi %g %s: Z is %+.2f %% off its reference (limit %g %%)\n", p.dim,
+               p.n, p.phi, st::toString(p.kind), dz, *o.maxDz);
+  return false;
 }
 
 Result runAny(const Point& p, const Options& o) {
@@ -376,7 +389,7 @@ Result runAny(const Point& p, const Options& o) {
 const char* kUsage =
     "usage: hard_disks [--dim 2|3] [--n N] [--phi PHI] [--space none|single|tree|cells]\n"
     "                  [--collisions K] [--warmup W] [--seed S] [--cell-size C] [--margin M]\n"
-    "                  [--df F] [--interior W] [--json]\n"
+    "                  [--df F] [--interior W] [--max-dz PCT] [--json]\n"
     "Hard disks (2-D) / spheres (3-D), diameter 1, mass 1, kT 1, in a walled box, from a lattice.\n"
     "Axes not given run over the grid: dim {2,3}, N {1e3,1e4,1e5,1e6}, phi {0.1,0.3,0.5,0.7},\n"
     "space {none,single,tree,cells} (none and single only up to N=1e4); each grid point runs in its\n"
@@ -389,6 +402,8 @@ const char* kUsage =
     "                  0.02 in 3-D; other kinds the simulator's 0.5)\n"
     "  --df F          tree kind: decomposition factor (default 5)\n"
     "  --interior W    pressure measured in the box shrunk by W diameters (default max(5, L/10))\n"
+    "  --max-dz PCT    exit 1 if a point's Z is more than PCT % off its reference (Henderson in\n"
+    "                  2-D, Carnahan-Starling in 3-D; fluids only: below phi 0.7 / 0.49)\n"
     "  --json          also print one JSON object per point\n";
 
 [[noreturn]] void usageError(const std::string& msg) {
@@ -452,6 +467,8 @@ Options parse(int argc, char** argv) {
       o.decomposition = static_cast<int>(number(value()));
     } else if (a == "--interior") {
       o.interior = number(value());
+    } else if (a == "--max-dz") {
+      o.maxDz = number(value());
     } else {
       usageError("unknown option " + a);
     }
@@ -475,9 +492,10 @@ int main(int argc, char** argv) {
         }
   printHeader();
   if (opt.single) {
-    printRow(points[0], runAny(points[0], opt), opt.json);
-    return 0;
+    const double dz = printRow(points[0], runAny(points[0], opt), opt.json);
+    return withinReference(points[0], dz, opt) ? 0 : 1;
   }
+  bool allWithin = true;
   // one child process per point: peak memory and allocator state do not leak between points
   for (const Point& p : points) {
     const pid_t pid = fork();
@@ -486,14 +504,15 @@ int main(int argc, char** argv) {
       return 1;
     }
     if (pid == 0) {
-      printRow(p, runAny(p, opt), opt.json);
+      const double dz = printRow(p, runAny(p, opt), opt.json);
       std::fflush(stdout);
-      _exit(0);
+      _exit(withinReference(p, dz, opt) ? 0 : kOffReference);
     }
     int status = 0;
     waitpid(pid, &status, 0);
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    if (WIFEXITED(status) && WEXITSTATUS(status) == kOffReference) allWithin = false;
+    else if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
       std::printf("%-3d %8ld %5.2f %-6s  failed (status %d)\n", p.dim, p.n, p.phi, st::toString(p.kind), status);
   }
-  return 0;
+  return allWithin ? 0 : 1;
 }
