@@ -181,9 +181,9 @@ void Space<D>::update(int id, const Box& box, double margin) {
   detach(id, false);
   members_[id].fat = {box.min.array() - margin, box.max.array() + margin};
   attach(id);
-  std::vector<int> now = members_[id].leaves;
-  std::sort(now.begin(), now.end());
-  if (now != scratch_) ++counters_.transfers;
+  scratchNow_ = members_[id].leaves;
+  std::sort(scratchNow_.begin(), scratchNow_.end());
+  if (scratchNow_ != scratch_) ++counters_.transfers;
   // reunite regions the object left, now that it is listed where it belongs
   if (kind_ == SpaceKind::Tree)
     for (int old : scratch_) collapseUpFrom(old);
@@ -260,8 +260,13 @@ void Space<D>::attach(int id) {
   m.leaves.clear();
   addRec(0, id);
   if (rule_.subdivide) {
-    const std::vector<int> landed = members_[id].leaves;  // copy: splits rewrite it
-    for (int leaf : landed) maybeSplit(leaf);
+    // the leaves it landed in, copied (splits rewrite them); an undivided tree has one, the root
+    if (m.leaves.size() == 1) {
+      maybeSplit(m.leaves[0]);
+    } else {
+      const std::vector<int> landed = m.leaves;
+      for (int leaf : landed) maybeSplit(leaf);
+    }
   }
 }
 
@@ -272,11 +277,15 @@ void Space<D>::detach(int id, bool allowCollapse) {
     forEachCell(m.lo, m.hi, [&](int idx, const Index& c) { cellErase(idx, (id << D) | cornerBits(c, m.lo)); });
     return;
   }
+  if (!allowCollapse) {
+    removeRec(0, id);
+    m.leaves.clear();
+    return;
+  }
   const std::vector<int> old = m.leaves;
   removeRec(0, id);
   m.leaves.clear();
-  if (allowCollapse)
-    for (int leaf : old) collapseUpFrom(leaf);
+  for (int leaf : old) collapseUpFrom(leaf);
 }
 
 template <int D>

@@ -223,7 +223,9 @@ class Space {
   // trees: neighbour de-duplication stamps
   mutable std::vector<std::uint32_t> stamp_;
   mutable std::uint32_t stampNow_ = 0;
+  // trees: an update's old and new leaves (kept to reuse their storage: an update allocates nothing)
   std::vector<int> scratch_;
+  std::vector<int> scratchNow_;
 };
 
 // ---- inline templates -------------------------------------------------------------------------
