@@ -74,9 +74,15 @@ void checkFinite(const VehicleState& v) {
 }  // namespace
 
 struct HighwayMonitor::Impl {
+  // An open warning, compact (no strings: the pool is rewritten every tick): the names are
+  // looked up when it ends, while the foe's slot still holds it (a slot is reused no earlier
+  // than the tick after its car left, and every episode against that car ends on that tick).
   struct Episode {
     std::uint64_t key = 0;
-    Warning w;
+    int foe = -1;  // slot, or feature group
+    WarningKind kind = WarningKind::Vehicle;
+    Zone zone = Zone::Body;
+    double begin = 0.0, end = 0.0, minTtc = 0.0, minTtcTime = 0.0, safeTimeAtMin = 0.0;
   };
   struct Threat {
     std::uint64_t key = 0;
@@ -199,13 +205,17 @@ struct HighwayMonitor::Impl {
     openCount.resize(n);
   }
 
+  Warning warningOf(int e, const Episode& ep, bool open) const {
+    return {slots[e].id, ep.kind == WarningKind::Vehicle ? slots[ep.foe].id : groupName[ep.foe], ep.kind, ep.zone, ep.begin,
+            ep.end, ep.minTtc, ep.minTtcTime, ep.safeTimeAtMin, open};
+  }
+
   // Ends every open episode of slot s at endTime.
   void close(int s, double endTime) {
     Episode* open = pool.data() + openBegin[s];
     for (int k = 0; k < openCount[s]; ++k) {
-      open[k].w.end = endTime;
-      open[k].w.open = false;
-      finished.push_back(std::move(open[k].w));
+      open[k].end = endTime;
+      finished.push_back(warningOf(s, open[k], false));
     }
     openCount[s] = 0;
     exposure[s].exposed.fill(false);
@@ -510,35 +520,23 @@ struct HighwayMonitor::Impl {
     while (i < nOpen || j < threats.size()) {
       if (j == threats.size() || (i < nOpen && open[i].key < threats[j].key)) {
         Episode& ep = open[i++];
-        ep.w.end = t;
-        ep.w.open = false;
-        finished.push_back(std::move(ep.w));
+        ep.end = t;
+        finished.push_back(warningOf(e, ep, false));
         continue;
       }
       const Threat& th = threats[j++];
       if (i < nOpen && open[i].key == th.key) {
         Episode& ep = open[i++];
-        ep.w.end = t;
-        if (th.ttc < ep.w.minTtc) {
-          ep.w.minTtc = th.ttc;
-          ep.w.minTtcTime = t;
-          ep.w.safeTimeAtMin = th.safe;
+        ep.end = t;
+        if (th.ttc < ep.minTtc) {
+          ep.minTtc = th.ttc;
+          ep.minTtcTime = t;
+          ep.safeTimeAtMin = th.safe;
         }
-        poolNext.push_back(std::move(ep));
+        poolNext.push_back(ep);
         continue;
       }
-      Episode& ep = poolNext.emplace_back();
-      ep.key = th.key;
-      ep.w.ego = slots[e].id;
-      if (th.kind == WarningKind::Vehicle) ep.w.foe = slots[th.foe].id;
-      else ep.w.foe = groupName[th.foe];
-      ep.w.kind = th.kind;
-      ep.w.zone = th.zone;
-      ep.w.begin = ep.w.end = t;
-      ep.w.minTtc = th.ttc;
-      ep.w.minTtcTime = t;
-      ep.w.safeTimeAtMin = th.safe;
-      ep.w.open = true;
+      poolNext.push_back({th.key, th.foe, th.kind, th.zone, t, t, th.ttc, t, th.safe});
       ++counters.warningsBegun;
       ++counters.warningsByKind[static_cast<int>(th.kind)];
       ++counters.warningsByZone[static_cast<int>(th.zone)];
@@ -820,7 +818,7 @@ std::vector<Warning> HighwayMonitor::openWarnings() const {
   std::vector<Warning> out;
   const Impl& m = *impl_;
   for (int s : m.activeSlots)
-    for (int k = 0; k < m.openCount[s]; ++k) out.push_back(m.pool[m.openBegin[s] + k].w);
+    for (int k = 0; k < m.openCount[s]; ++k) out.push_back(m.warningOf(s, m.pool[m.openBegin[s] + k], true));
   return out;
 }
 
