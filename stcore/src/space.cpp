@@ -176,6 +176,20 @@ void Space<D>::update(int id, const Box& box, double margin) {
     updateCells(id, {box.min.array() - margin, box.max.array() + margin});
     return;
   }
+  if (nodes_[0].firstChild < 0) {
+    // an undivided tree lists every object in its root before and after: only the box changes,
+    // and the object moves to the back of the root's list, where the remove and insert below
+    // would leave it (a split follows as there)
+    members_[id].fat = {box.min.array() - margin, box.max.array() + margin};
+    std::vector<int>& objects = nodes_[0].objects;
+    std::swap(*std::find(objects.begin(), objects.end(), id), objects.back());
+    if (rule_.subdivide) {
+      maybeSplit(0);
+      if (nodes_[0].firstChild >= 0) ++counters_.transfers;  // now listed in the root's children
+    }
+    if (kind_ == SpaceKind::Tree) collapseUpFrom(0);
+    return;
+  }
   scratch_ = members_[id].leaves;  // old membership, to count transfers
   std::sort(scratch_.begin(), scratch_.end());
   detach(id, false);
