@@ -209,6 +209,19 @@ double roadSupport(const DetectorConfig& cfg, const Body& ego, const Vec2& n) {
   return halfDiagonal(ego.length, ego.width);
 }
 
+SupportBound roadSupportBound(const DetectorConfig& cfg, const Body& ego) {
+  switch (cfg.kind) {
+    case DetectorKind::Concentric: return {innerRadius(cfg, ego.width), 0.0, 0.0};
+    case DetectorKind::FiveCircle: {
+      // |offset . n| <= |offset| (zero for the presets' centred circle)
+      const Circ c = zoneCircle(cfg.five.zones[FiveCircleLayout::kCenter], ego.length, ego.width);
+      return {c.offset.norm() + c.radius, 0.0, 0.0};
+    }
+    case DetectorKind::Box: return {0.0, 0.5 * ego.length, 0.5 * ego.width};
+  }
+  return {halfDiagonal(ego.length, ego.width), 0.0, 0.0};
+}
+
 bool layoutCoversBody(const FiveCircleLayout& layout, double length, double width) {
   // every point of a fine grid over the rectangle (boundary included) lies in a car-checking zone
   const int nx = 64, ny = 32;

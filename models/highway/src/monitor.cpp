@@ -484,17 +484,21 @@ struct HighwayMonitor::Impl {
     const double hMax = cfg.safeTime.roadSafeTime(mass[e], vel[e].norm(), vclass[e]);
     const std::vector<int>& list = cfg.broadphase == Broadphase::AllPairs ? allFeatures : roadNear[cellOf[e]];
     counters.featureChecks += list.size();
-    // first every line against the envelope radius, which holds the shape's support in every
-    // direction: most are pruned without computing the support, and without branches (the
-    // near ones keep their order)
+    // first every line against a bound on the shape's support towards it (no wider than the
+    // envelope, and most lines are further off than that), without branches and without a call
+    // (the near ones keep their order); checkFeature then prunes with the support itself
     const Body& a = body[e];
     const double accel = cfg.detector.motion == MotionModel::ConstantAcceleration ? accelAbs[e] : 0.0;
-    const double envSupport = env[e] * (1.0 + tol::kBoundRelativeSlop);
+    const SupportBound sb = roadSupportBound(cfg.detector, a);
+    const Vec2 normal(-a.axis.y(), a.axis.x());
     featureNear.resize(list.size());
     int near = 0;
     for (int fi : list) {
+      const FeatureLine& l = featureLine[fi];
+      const double support = (sb.base + sb.along * std::abs(a.axis.dot(l.n)) + sb.across * std::abs(normal.dot(l.n))) *
+                             (1.0 + tol::kBoundRelativeSlop);
       featureNear[near] = fi;
-      near += static_cast<int>(!featureLine[fi].line) | lineReachable(featureLine[fi], a, envSupport, hMax, accel);
+      near += static_cast<int>(!l.line) | lineReachable(l, a, support, hMax, accel);
     }
     for (int k = 0; k < near; ++k) checkFeature(e, featureNear[k], hMax);
   }

@@ -249,6 +249,35 @@ TEST(Detector, CirclesAreNeverLaterThanBoxAndWithinMargin) {
   RecordProperty("circle_hits_without_box_hit", falseAlarms);
 }
 
+// The monitor prunes road lines with roadSupportBound before it computes roadSupport: the
+// bound must hold in every direction (else a feature would be lost), and is never wider than
+// the envelope it replaced; for the circles and the rectangle it is the support itself.
+TEST(Detector, RoadSupportBoundHoldsInEveryDirection) {
+  FiveCircleLayout offCentre = FiveCircleLayout::fig11a();
+  offCentre.zones[FiveCircleLayout::kCenter] = {0.2, -0.1, 0.0, 1.0, 0.1};
+  const DetectorConfig configs[] = {config(DetectorKind::Concentric), config(DetectorKind::Box),
+                                    config(DetectorKind::FiveCircle), config(DetectorKind::FiveCircle, MotionModel::ConstantVelocity, FiveCircleLayout::fig11b()),
+                                    config(DetectorKind::FiveCircle, MotionModel::ConstantVelocity, offCentre)};
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (const DetectorConfig& cfg : configs)
+    for (int i = 0; i < 2000; ++i) {
+      const Body b = car(Vec2(100.0 * U(rng), 10.0 * U(rng)), 6.3 * U(rng), 30.0 * U(rng), 0.0, 2.0 + 14.0 * U(rng),
+                         1.5 + 1.2 * U(rng));
+      const double phi = 6.3 * U(rng);
+      const Vec2 n(std::cos(phi), std::sin(phi));
+      const SupportBound sb = roadSupportBound(cfg, b);
+      const Vec2 normal(-b.axis.y(), b.axis.x());
+      const double bound = sb.base + sb.along * std::abs(b.axis.dot(n)) + sb.across * std::abs(normal.dot(n));
+      const double exact = roadSupport(cfg, b, n);
+      EXPECT_LE(exact, bound * (1.0 + 1e-12)) << toString(cfg.kind) << " " << i;
+      EXPECT_LE(bound, envelopeRadius(cfg, b.length, b.width) * (1.0 + 1e-12)) << toString(cfg.kind) << " " << i;
+      if (&cfg != &configs[4]) {
+        EXPECT_NEAR(exact, bound, 1e-12 * bound);  // the off-centre circle's bound is |offset| wider at most
+      }
+    }
+}
+
 TEST(Detector, FollowingMarginInTime) {
   // rear-end approach in one lane: the circle TTC leads the box TTC by exactly the circles'
   // reach along the axis divided by the closing speed

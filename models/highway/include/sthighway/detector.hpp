@@ -98,6 +98,16 @@ Ttc featureTtc(const DetectorConfig& cfg, const Body& ego, const RoadFeature& f,
 // from the car's centre along the unit direction n; used to prune features exactly.
 double roadSupport(const DetectorConfig& cfg, const Body& ego, const Vec2& n);
 
+// A bound on roadSupport in every unit direction n, in a form cheap enough to evaluate for every
+// nearby feature: roadSupport(cfg, ego, n) <= base + along |axis . n| + across |normal . n|
+// (equal for the circles about the centre and for the rectangle, up to rounding).
+struct SupportBound {
+  double base = 0.0;
+  double along = 0.0;
+  double across = 0.0;
+};
+SupportBound roadSupportBound(const DetectorConfig& cfg, const Body& ego);
+
 // The exact oriented-rectangle TTC (Box detector) under the given motion model.
 double boxTtc(const Body& a, const Body& b, MotionModel motion, double horizon);
 
