@@ -444,7 +444,24 @@ struct HighwayMonitor::Impl {
         const double h = cfg.safeTime.roadReactionTime + ca.kMax * speed;
         const double rr = ca.envMax + speed * h + 0.5 * (accel ? ca.amax : 0.0) * h * h + 2 * tol::kPruneSlop;
         const Aabb<2> rb{ca.centres.min.array() - rr, ca.centres.max.array() + rr};
-        featureIndex->forEachInBox(rb, [&](int fi) { roadNear[A].push_back(fi); });
+        // and of those a line only if some member could reach it at its fastest normal speed (a
+        // corner of the velocity box), from the nearest of its centres (a corner of the box,
+        // or on it): the per-ego prune with every term at the cell's bound
+        const double ah = 0.5 * (accel ? ca.amax : 0.0) * h * h + 2 * tol::kPruneSlop;
+        featureIndex->forEachInBox(rb, [&](int fi) {
+          const FeatureLine& l = featureLine[fi];
+          if (l.line) {
+            const double s0 = l.n.dot(ca.centres.min - l.a), s1 = l.n.dot(Vec2(ca.centres.max.x(), ca.centres.min.y()) - l.a),
+                         s2 = l.n.dot(Vec2(ca.centres.min.x(), ca.centres.max.y()) - l.a), s3 = l.n.dot(ca.centres.max - l.a);
+            const double sMin = std::min({s0, s1, s2, s3}), sMax = std::max({s0, s1, s2, s3});
+            const double nearest = sMin > 0.0 ? sMin : sMax < 0.0 ? -sMax : 0.0;
+            const double approach = std::max({std::abs(l.n.dot(ca.vmin)), std::abs(l.n.dot(ca.vmax)),
+                                              std::abs(l.n.dot(Vec2(ca.vmin.x(), ca.vmax.y()))),
+                                              std::abs(l.n.dot(Vec2(ca.vmax.x(), ca.vmin.y())))});
+            if (nearest > ca.envMax + approach * h + ah) return;
+          }
+          roadNear[A].push_back(fi);
+        });
       }
     }
   }
