@@ -221,11 +221,6 @@ struct HighwayMonitor::Impl {
     exposure[s].exposed.fill(false);
   }
 
-  // the largest car-car safe time of ego e against closing speeds up to relSpeedBound
-  double vehicleHorizonBound(int e, double relSpeedBound) const {
-    return cfg.safeTime.vehicleReactionTime + brakeRatio[e] * relSpeedBound;
-  }
-
   // The pair test, the same for both broad phases (the callers count the candidate pair).
   // First a cheap bound: the closing speed is at most |v_x| + |v_y|, and not positive when the
   // pair separates (p . v > 0, then the safe time is exactly the reaction time), so the safe
@@ -245,6 +240,12 @@ struct HighwayMonitor::Impl {
   }
 
   void checkPair(int e, int f, const Vec2& p, const Vec2& v, double accel) {
+    Threat th;
+    if (pairThreat(e, f, p, v, accel, th)) threats.push_back(th);
+  }
+
+  // The exact pair test of ego e against foe f: true, and the threat in out, if it warns.
+  bool pairThreat(int e, int f, const Vec2& p, const Vec2& v, double accel, Threat& out) {
     const double dist = p.norm();
     const double closing = dist > 0.0 ? -p.dot(v) / dist : v.norm();
     const double safe = cfg.safeTime.vehicleSafeTime(mass[e], closing, vclass[e]);
@@ -254,16 +255,18 @@ struct HighwayMonitor::Impl {
     // per axis, then as discs: the envelopes cannot meet within the safe time
     if (std::abs(p.x()) > ext[e].x() + ext[f].x() + std::abs(v.x()) * safe + grow ||
         std::abs(p.y()) > ext[e].y() + ext[f].y() + std::abs(v.y()) * safe + grow)
-      return;
-    if (dist > envSum + v.norm() * safe + grow) return;
+      return false;
+    if (dist > envSum + v.norm() * safe + grow) return false;
     if (accel == 0.0 && dist > envSum) {
       // the envelopes (circles holding every shape a detector uses) do not meet in time
       const Impact hit = toiBalls<2>(p, v, envSum);
-      if (!hit.acts() || hit.actTime() > safe) return;
+      if (!hit.acts() || hit.actTime() > safe) return false;
     }
     ++counters.toiChecks;
     const Ttc ttc = vehicleTtc(cfg.detector, body[e], body[f], safe);
-    if (ttc.found() && ttc.t <= safe) threats.push_back({serialOf[f], WarningKind::Vehicle, ttc.zone, ttc.t, safe, f});
+    if (!ttc.found() || ttc.t > safe) return false;
+    out = {serialOf[f], WarningKind::Vehicle, ttc.zone, ttc.t, safe, f};
+    return true;
   }
 
   // Exact prune of a segment feature: to touch the segment the shape must first reach its
@@ -320,6 +323,21 @@ struct HighwayMonitor::Impl {
     else candidatesVehiclesFor<false>(e);
   }
 
+  // Where the centre of a foe moving with a velocity in [vmin, vmax] (extent up to extMax,
+  // |acceleration| up to amax) must lie to meet ego e within the safe time of brake ratio k.
+  // Symmetric in the roles but for k: with the larger of the two cars' k it holds for both
+  // directions of the pair.
+  template <bool kAccel>
+  Aabb<2> reachBox(int e, double k, const Vec2& vmin, const Vec2& vmax, const Vec2& extMax, double amax) const {
+    const Vec2 ve = vel[e];
+    const Vec2 up = (vmax - ve).cwiseMax(0.0), down = (ve - vmin).cwiseMax(0.0);
+    const double dx = std::max(up.x(), down.x()), dy = std::max(up.y(), down.y());
+    const double ac = kAccel ? accelAbs[e] + amax : 0.0;
+    const double h = cfg.safeTime.vehicleReactionTime + k * std::sqrt(dx * dx + dy * dy);
+    const Vec2 r0 = ext[e] + extMax + Vec2::Constant(0.5 * ac * h * h + tol::kPruneSlop);
+    return {centre[e] - (up * h + r0), centre[e] + (down * h + r0)};
+  }
+
   template <bool kAccel>
   void candidatesVehiclesFor(int e) {
     const Vec2 pe = centre[e];
@@ -344,12 +362,7 @@ struct HighwayMonitor::Impl {
       // the look-ahead h only from where v carries it towards the ego, so a foe's centre lies
       // within the shapes' extents of the ego, further only behind by (fastest relative
       // velocity forwards) * h and ahead by (fastest backwards) * h; h from the largest speed
-      const Vec2 up = (c.vmax - ve).cwiseMax(0.0), down = (ve - c.vmin).cwiseMax(0.0);
-      const double dx = std::max(up.x(), down.x()), dy = std::max(up.y(), down.y());
-      const double ac = kAccel ? accelAbs[e] + c.amax : 0.0;
-      const double h = vehicleHorizonBound(e, std::sqrt(dx * dx + dy * dy));
-      const Vec2 r0 = ext[e] + c.extMax + Vec2::Constant(0.5 * ac * h * h + tol::kPruneSlop);
-      const Aabb<2> cb{pe - (up * h + r0), pe + (down * h + r0)};
+      const Aabb<2> cb = reachBox<kAccel>(e, k, c.vmin, c.vmax, c.extMax, c.amax);
       // the reach bounds foe centres: skip a cell none of whose members' centres is inside
       if (!c.centres.overlaps(cb)) continue;
       // a congested (subdivided) cell is searched through its space; a small one through its
@@ -395,6 +408,154 @@ struct HighwayMonitor::Impl {
         checkPair(e, mslot[m], pos[m] - pe, mvel[m] - ve, kAccel ? accE + macc[m] : 0.0);
       }
     }
+  }
+
+  // Each pair of cars in small (undivided) cells is walked once, by the car earlier in the
+  // member arrays (its own cell's later members, then the later cells that either cell's cars
+  // may reach), and tested in each direction whose ego is equipped: half the walks of a search
+  // per ego. The reach and the bound use the larger brake ratio of the two (the cell's largest
+  // for its members), so they hold for both directions; that widens them (a truck in most
+  // cells), yet it measured faster than leaving each pair to its heavier car (reach at the
+  // walker's own ratio, but the trucks walk the earlier cells too). The threats are kept per
+  // ego (pairFound) and put in the order of the per-ego search when the ego's turn comes
+  // (vehicleThreatsOfPairs), so the episodes and alerts are those of that search, bit for bit.
+  struct PairThreat {
+    int ego;
+    int foeMember;  // the foe's index in the member arrays
+    Threat threat;
+  };
+  std::vector<PairThreat> pairFound, pairFoundByEgo;
+  std::vector<int> pairFoundStart;       // per slot, into pairFoundByEgo (a counting sort)
+  std::vector<std::vector<int>> pairCells;  // per cell A: the later cells B its pairs reach
+  std::vector<char> listHasSubdivided;      // per cell: its neighbour list names a subdivided cell
+  std::vector<std::pair<std::uint64_t, Threat>> ranked;  // scratch: an ego's threats by search order
+
+  void findPairsOnce() {
+    pairFound.clear();
+    if (cfg.detector.motion == MotionModel::ConstantAcceleration) findPairsOnceFor<true>();
+    else findPairsOnceFor<false>();
+    // by ego (slot), a counting sort
+    pairFoundStart.assign(slots.size() + 1, 0);
+    for (const PairThreat& pt : pairFound) ++pairFoundStart[pt.ego + 1];
+    for (std::size_t s = 0; s < slots.size(); ++s) pairFoundStart[s + 1] += pairFoundStart[s];
+    pairFoundByEgo.resize(pairFound.size());
+    memberNext.assign(pairFoundStart.begin(), pairFoundStart.end() - 1);
+    for (const PairThreat& pt : pairFound) pairFoundByEgo[memberNext[pt.ego]++] = pt;
+  }
+
+  template <bool kAccel>
+  void findPairsOnceFor() {
+    for (int A = 0; A < static_cast<int>(cellStats.size()); ++A) {
+      const CellStats& ca = cellStats[A];
+      if (ca.count == 0 || ca.subdivided) continue;
+      for (int i = memberStart[A]; i < memberStart[A + 1]; ++i) {
+        const bool equippedE = memberEquipped[i] != 0;
+        if (ca.equipped > 0) walkPairsOnce<kAccel, true>(i, A, i + 1);
+        for (int B : pairCells[A])
+          if (equippedE || cellStats[B].equipped > 0) walkPairsOnce<kAccel, false>(i, B, memberStart[B]);
+      }
+    }
+  }
+
+  // The car at member index ie against cell B's members from index `from` on.
+  // kOwn: B is the car's own cell, `from` the next member: its reach holds the car's centre
+  // and starts before it along the sorted axis (no overlap test, no search)
+  template <bool kAccel, bool kOwn>
+  void walkPairsOnce(int ie, int B, int from) {
+    const CellStats& c = cellStats[B];
+    const int e = memberSlot[ie];
+    const int equippedE = memberEquipped[ie];
+    const double kE = brakeRatio[e];
+    const Aabb<2> cb = reachBox<kAccel>(e, std::max(kE, c.kMax), c.vmin, c.vmax, c.extMax, c.amax);
+    if (!kOwn && !c.centres.overlaps(cb)) return;
+    const Vec2 pe = centre[e], ve = vel[e], exe = ext[e];
+    const double tr = cfg.safeTime.vehicleReactionTime;
+    const double* key = memberKey.data();
+    const Vec2* pos = memberPos.data();
+    const Vec2* mvel = memberVel.data();
+    const Vec2* mext = memberExt.data();
+    const double* macc = memberAcc.data();
+    const double* mk = memberBrake.data();
+    const int* meq = memberEquipped.data();
+    const double accE = kAccel ? accelAbs[e] : 0.0;
+    const int end = memberStart[B + 1];
+    int i = kOwn ? from : lowerBound(key, from, end, cb.min[c.axis]);
+    const double hi = cb.max[c.axis];
+    if (static_cast<int>(passed.size()) < end - from) passed.resize(end - from);
+    int* pass = passed.data();
+    int npass = 0;
+    std::uint64_t candidates = 0;
+    // as the per-ego walk, without branches; a pair counts once per equipped ego
+    for (; i < end && key[i] <= hi; ++i) {
+      const Vec2& q = pos[i];
+      const int in = static_cast<int>(q.x() >= cb.min.x()) & static_cast<int>(q.x() <= cb.max.x()) &
+                     static_cast<int>(q.y() >= cb.min.y()) & static_cast<int>(q.y() <= cb.max.y()) & (equippedE | meq[i]);
+      candidates += static_cast<unsigned>(in * (equippedE + meq[i]));
+      const Vec2 p = q - pe, v = mvel[i] - ve;
+      const double accel = kAccel ? accE + macc[i] : 0.0;
+      pass[npass] = i;
+      npass += in & pairMayWarn<kAccel>(tr, std::max(kE, mk[i]), p, v, exe + mext[i], accel);
+    }
+    counters.candidatePairs += candidates;
+    // each direction with its own ego's bound, then the exact test (the same arithmetic as
+    // the per-ego search: p and v from the ego's side)
+    for (int j = 0; j < npass; ++j) {
+      const int m = pass[j];
+      const int f = memberSlot[m];
+      const Vec2 p = pos[m] - pe, v = mvel[m] - ve;
+      const double accel = kAccel ? accE + macc[m] : 0.0;
+      Threat th;
+      if (equippedE && pairMayWarn<kAccel>(tr, kE, p, v, exe + mext[m], accel) && pairThreat(e, f, p, v, accel, th))
+        pairFound.push_back({e, m, th});
+      if (meq[m] && pairMayWarn<kAccel>(tr, mk[m], p, v, exe + mext[m], accel) &&
+          pairThreat(f, e, pe - pos[m], ve - mvel[m], accel, th))
+        pairFound.push_back({f, ie, th});
+    }
+  }
+
+  // Ego e's vehicle threats (its cell undivided) in the order its own search would find them:
+  // by the position of the foe's cell in its neighbour list, then along the cell's members; the
+  // foes in subdivided cells searched per ego as before.
+  void vehicleThreatsOfPairs(int e) {
+    const int own = cellOf[e];
+    const int found = pairFoundStart[e + 1] - pairFoundStart[e];
+    if (found <= 1 && !listHasSubdivided[own]) {  // the common cases: nothing to order
+      if (found == 1) threats.push_back(pairFoundByEgo[pairFoundStart[e]].threat);
+      return;
+    }
+    const std::vector<Neighbour>& list = brakeRatio[e] <= cellStats[own].kLight ? neighboursLight[own] : neighbours[own];
+    ranked.clear();
+    for (int x = pairFoundStart[e]; x < pairFoundStart[e + 1]; ++x) {
+      const PairThreat& pt = pairFoundByEgo[x];
+      std::size_t at = 0;
+      while (at < list.size() && !(pt.foeMember >= list[at].begin && pt.foeMember < list[at].end)) ++at;
+      ranked.push_back({(static_cast<std::uint64_t>(at) << 32) | static_cast<std::uint64_t>(pt.foeMember), pt.threat});
+    }
+    if (listHasSubdivided[own]) {
+      const bool accel = cfg.detector.motion == MotionModel::ConstantAcceleration;
+      const double tr = cfg.safeTime.vehicleReactionTime, k = brakeRatio[e];
+      for (std::size_t at = 0; at < list.size(); ++at) {
+        const Neighbour& c = list[at];
+        if (!c.subdivided) continue;
+        const Aabb<2> cb = accel ? reachBox<true>(e, k, c.vmin, c.vmax, c.extMax, c.amax)
+                                 : reachBox<false>(e, k, c.vmin, c.vmax, c.extMax, c.amax);
+        if (!c.centres.overlaps(cb)) continue;
+        std::uint64_t seq = 0;
+        cells->forEachInCellBox(c.cell, cb, [&](int f) {
+          if (f == e || !cb.contains(centre[f])) return;
+          ++counters.candidatePairs;
+          const Vec2 p = centre[f] - centre[e], v = vel[f] - vel[e];
+          const double acc = accel ? accelAbs[e] + accelAbs[f] : 0.0;
+          Threat th;
+          const int may = accel ? pairMayWarn<true>(tr, k, p, v, ext[e] + ext[f], acc)
+                                : pairMayWarn<false>(tr, k, p, v, ext[e] + ext[f], acc);
+          if (may && pairThreat(e, f, p, v, acc, th)) ranked.push_back({(static_cast<std::uint64_t>(at) << 32) | seq++, th});
+        });
+      }
+    }
+    // ranks are distinct: any sort gives the one order
+    std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& r : ranked) threats.push_back(r.second);
   }
 
   // For every cell with equipped cars, the cells whose members any of them could reach within
@@ -465,6 +626,25 @@ struct HighwayMonitor::Impl {
       }
     }
   }
+  // The cell pairs walked once (both undivided, each pair under its lower cell): those where
+  // either cell's cars may reach the other's (the reach is symmetric but for the brake ratio).
+  void buildPairCells() {
+    const int nc = static_cast<int>(cellStats.size());
+    pairCells.resize(nc);
+    listHasSubdivided.assign(nc, 0);
+    for (int A = 0; A < nc; ++A) pairCells[A].clear();
+    for (int A = 0; A < nc; ++A) {
+      if (cellStats[A].subdivided) continue;
+      for (const Neighbour& nb : neighbours[A]) {
+        const int B = nb.cell;
+        listHasSubdivided[A] |= static_cast<char>(nb.subdivided);
+        if (B == A || nb.subdivided) continue;
+        std::vector<int>& list = pairCells[std::min(A, B)];
+        if (std::find(list.begin(), list.end(), std::max(A, B)) == list.end()) list.push_back(std::max(A, B));
+      }
+    }
+  }
+
   // Per cell, this tick: the cells its cars may meet and the road features they may reach. A
   // neighbour entry holds what the per-ego reach needs, copied so an ego's search reads one array.
   struct Neighbour {
@@ -491,6 +671,8 @@ struct HighwayMonitor::Impl {
   std::vector<Vec2> memberExt;
   std::vector<double> memberAcc;
   std::vector<int> memberSlot;
+  std::vector<double> memberBrake;   // m / (2 F_brake)
+  std::vector<int> memberEquipped;   // 1 or 0
   std::vector<int> passed;  // scratch: member indices whose pair passed the bound
   Vec2 globalVmax = Vec2::Zero();
   double globalAmax = 0.0;
@@ -778,6 +960,8 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     m.memberExt.resize(na);
     m.memberAcc.resize(na);
     m.memberSlot.resize(na);
+    m.memberBrake.resize(na);
+    m.memberEquipped.resize(na);
     for (int c = 0; c < nc; ++c) {
       Impl::CellStats& cs = m.cellStats[c];
       const SpaceCounters& sc = m.cells->cellSpace(c).counters();
@@ -801,8 +985,12 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       m.memberExt[i] = m.ext[slot];
       m.memberAcc[i] = m.accelAbs[slot];
       m.memberSlot[i] = slot;
+      m.memberBrake[i] = m.brakeRatio[slot];
+      m.memberEquipped[i] = m.equipped[slot];
     }
     m.buildNeighbourLists();
+    m.buildPairCells();
+    m.findPairsOnce();
   }
   // detection, ego by ego in input order
   m.alerts.clear();
@@ -813,7 +1001,8 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       continue;
     }
     m.threats.clear();
-    m.candidatesVehicles(s);
+    if (m.cfg.broadphase == Broadphase::Cells && !m.cellStats[m.cellOf[s]].subdivided) m.vehicleThreatsOfPairs(s);
+    else m.candidatesVehicles(s);
     if (m.cfg.checkRoad) m.candidatesFeatures(s);
     m.merge(s, t);
   }

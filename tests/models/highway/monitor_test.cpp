@@ -124,13 +124,16 @@ std::vector<std::vector<VehicleState>> randomScene(std::mt19937_64& rng, double 
 TEST(Monitor, CellsEqualAllPairsOnRandomScenes) {
   std::mt19937_64 rng(424242);
   const RoadGeometry road = testRoad();
-  std::uint64_t total = 0, cellPairs = 0, allPairs = 0, handoffs = 0;
+  std::uint64_t total = 0, cellPairs = 0, allPairs = 0, handoffs = 0, subdivisions = 0;
   std::array<std::uint64_t, kWarningKindCount> byKind{};
   for (int scene = 0; scene < 1000; ++scene) {
     MonitorConfig cfg;
     cfg.detector.kind = static_cast<DetectorKind>(scene % 3);
     cfg.detector.motion = (scene / 3) % 2 ? MotionModel::ConstantAcceleration : MotionModel::ConstantVelocity;
     cfg.cells.cellLength = 60.0 + 10.0 * (scene % 7);
+    // some scenes with small cells' spaces subdivided: pairs walked once (undivided cells) next
+    // to pairs searched per ego (a subdivided cell on either side)
+    if (scene % 5 == 4) cfg.cells.decompositionFactor = 4;
     const auto ticks = randomScene(rng, cfg.cells.cellLength);
     cfg.broadphase = Broadphase::Cells;
     HighwayMonitor cells(road, cfg);
@@ -147,12 +150,15 @@ TEST(Monitor, CellsEqualAllPairsOnRandomScenes) {
     cellPairs += cells.counters().candidatePairs;
     allPairs += all.counters().candidatePairs;
     handoffs += cells.counters().handoffs;
+    subdivisions += cells.counters().subdivisions;
   }
   // the scenes exercise every kind of warning, and the cells do prune
   for (int k = 0; k < kWarningKindCount; ++k) EXPECT_GT(byKind[k], 20u) << toString(static_cast<WarningKind>(k));
   EXPECT_LT(cellPairs * 2, allPairs);
   EXPECT_GT(handoffs, 0u);
+  EXPECT_GT(subdivisions, 50u);
   RecordProperty("warnings", static_cast<int>(total));
+  RecordProperty("subdivisions", static_cast<int>(subdivisions));
 }
 
 // Brute force without any pruning: every equipped ego against every other car and every road
