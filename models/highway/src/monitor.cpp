@@ -338,6 +338,28 @@ struct HighwayMonitor::Impl {
     return {centre[e] - (up * h + r0), centre[e] + (down * h + r0)};
   }
 
+  // The member arrays' data for a walk's locals: through the vectors, every store in the walk
+  // (an int) could alias their bounds, and the compiler would reload them each iteration.
+  struct MemberView {
+    const double* key;
+    const Vec2* pos;
+    const Vec2* vel;
+    const Vec2* ext;
+    const double* acc;
+    const int* slot;
+    const double* brake;
+    const int* equipped;
+  };
+  MemberView memberView() const {
+    return {memberKey.data(), memberPos.data(), memberVel.data(), memberExt.data(),
+            memberAcc.data(), memberSlot.data(), memberBrake.data(), memberEquipped.data()};
+  }
+  // 1 if the centre q lies in the box b, else 0: without a branch (walks use it on every member)
+  static int inside(const Vec2& q, const Aabb<2>& b) {
+    return static_cast<int>(q.x() >= b.min.x()) & static_cast<int>(q.x() <= b.max.x()) &
+           static_cast<int>(q.y() >= b.min.y()) & static_cast<int>(q.y() <= b.max.y());
+  }
+
   template <bool kAccel>
   void candidatesVehiclesFor(int e) {
     const Vec2 pe = centre[e];
@@ -377,35 +399,28 @@ struct HighwayMonitor::Impl {
       // containment and the pair bound are evaluated without branches (their outcomes are
       // unpredictable) and without a call (the loop's state stays in registers): the walk
       // collects the few pairs that pass both, the exact test follows for those, in walk order
-      const double* key = memberKey.data();
-      const Vec2* pos = memberPos.data();
-      const Vec2* mvel = memberVel.data();
-      const Vec2* mext = memberExt.data();
-      const double* macc = memberAcc.data();
-      const int* mslot = memberSlot.data();
+      const MemberView mv = memberView();
       const double accE = kAccel ? accelAbs[e] : 0.0;
       const double lo = cb.min[c.axis], hi = cb.max[c.axis];
       const int end = c.end;
-      int i = lowerBound(key, c.begin, end, lo);
+      int i = lowerBound(mv.key, c.begin, end, lo);
       if (static_cast<int>(passed.size()) < end - c.begin) passed.resize(end - c.begin);
       int* pass = passed.data();
       int npass = 0;
       std::uint64_t candidates = 0;
-      for (; i < end && key[i] <= hi; ++i) {
-        const Vec2& q = pos[i];
-        const int in = static_cast<int>(q.x() >= cb.min.x()) & static_cast<int>(q.x() <= cb.max.x()) &
-                       static_cast<int>(q.y() >= cb.min.y()) & static_cast<int>(q.y() <= cb.max.y()) &
-                       static_cast<int>(mslot[i] != e);
+      for (; i < end && mv.key[i] <= hi; ++i) {
+        const Vec2& q = mv.pos[i];
+        const int in = inside(q, cb) & static_cast<int>(mv.slot[i] != e);
         candidates += static_cast<unsigned>(in);
-        const Vec2 p = q - pe, v = mvel[i] - ve;
-        const double accel = kAccel ? accE + macc[i] : 0.0;
+        const Vec2 p = q - pe, v = mv.vel[i] - ve;
+        const double accel = kAccel ? accE + mv.acc[i] : 0.0;
         pass[npass] = i;
-        npass += in & pairMayWarn<kAccel>(tr, k, p, v, exe + mext[i], accel);
+        npass += in & pairMayWarn<kAccel>(tr, k, p, v, exe + mv.ext[i], accel);
       }
       counters.candidatePairs += candidates;
       for (int j = 0; j < npass; ++j) {
         const int m = pass[j];
-        checkPair(e, mslot[m], pos[m] - pe, mvel[m] - ve, kAccel ? accE + macc[m] : 0.0);
+        checkPair(e, mv.slot[m], mv.pos[m] - pe, mv.vel[m] - ve, kAccel ? accE + mv.acc[m] : 0.0);
       }
     }
   }
@@ -470,45 +485,38 @@ struct HighwayMonitor::Impl {
     if (!kOwn && !c.centres.overlaps(cb)) return;
     const Vec2 pe = centre[e], ve = vel[e], exe = ext[e];
     const double tr = cfg.safeTime.vehicleReactionTime;
-    const double* key = memberKey.data();
-    const Vec2* pos = memberPos.data();
-    const Vec2* mvel = memberVel.data();
-    const Vec2* mext = memberExt.data();
-    const double* macc = memberAcc.data();
-    const double* mk = memberBrake.data();
-    const int* meq = memberEquipped.data();
+    const MemberView mv = memberView();
     const double accE = kAccel ? accelAbs[e] : 0.0;
     const int end = memberStart[B + 1];
-    int i = kOwn ? from : lowerBound(key, from, end, cb.min[c.axis]);
+    int i = kOwn ? from : lowerBound(mv.key, from, end, cb.min[c.axis]);
     const double hi = cb.max[c.axis];
     if (static_cast<int>(passed.size()) < end - from) passed.resize(end - from);
     int* pass = passed.data();
     int npass = 0;
     std::uint64_t candidates = 0;
     // as the per-ego walk, without branches; a pair counts once per equipped ego
-    for (; i < end && key[i] <= hi; ++i) {
-      const Vec2& q = pos[i];
-      const int in = static_cast<int>(q.x() >= cb.min.x()) & static_cast<int>(q.x() <= cb.max.x()) &
-                     static_cast<int>(q.y() >= cb.min.y()) & static_cast<int>(q.y() <= cb.max.y()) & (equippedE | meq[i]);
-      candidates += static_cast<unsigned>(in * (equippedE + meq[i]));
-      const Vec2 p = q - pe, v = mvel[i] - ve;
-      const double accel = kAccel ? accE + macc[i] : 0.0;
+    for (; i < end && mv.key[i] <= hi; ++i) {
+      const Vec2& q = mv.pos[i];
+      const int in = inside(q, cb) & (equippedE | mv.equipped[i]);
+      candidates += static_cast<unsigned>(in * (equippedE + mv.equipped[i]));
+      const Vec2 p = q - pe, v = mv.vel[i] - ve;
+      const double accel = kAccel ? accE + mv.acc[i] : 0.0;
       pass[npass] = i;
-      npass += in & pairMayWarn<kAccel>(tr, std::max(kE, mk[i]), p, v, exe + mext[i], accel);
+      npass += in & pairMayWarn<kAccel>(tr, std::max(kE, mv.brake[i]), p, v, exe + mv.ext[i], accel);
     }
     counters.candidatePairs += candidates;
     // each direction with its own ego's bound, then the exact test (the same arithmetic as
     // the per-ego search: p and v from the ego's side)
     for (int j = 0; j < npass; ++j) {
       const int m = pass[j];
-      const int f = memberSlot[m];
-      const Vec2 p = pos[m] - pe, v = mvel[m] - ve;
-      const double accel = kAccel ? accE + macc[m] : 0.0;
+      const int f = mv.slot[m];
+      const Vec2 p = mv.pos[m] - pe, v = mv.vel[m] - ve;
+      const double accel = kAccel ? accE + mv.acc[m] : 0.0;
       Threat th;
-      if (equippedE && pairMayWarn<kAccel>(tr, kE, p, v, exe + mext[m], accel) && pairThreat(e, f, p, v, accel, th))
+      if (equippedE && pairMayWarn<kAccel>(tr, kE, p, v, exe + mv.ext[m], accel) && pairThreat(e, f, p, v, accel, th))
         pairFound.push_back({e, m, th});
-      if (meq[m] && pairMayWarn<kAccel>(tr, mk[m], p, v, exe + mext[m], accel) &&
-          pairThreat(f, e, pe - pos[m], ve - mvel[m], accel, th))
+      if (mv.equipped[m] && pairMayWarn<kAccel>(tr, mv.brake[m], p, v, exe + mv.ext[m], accel) &&
+          pairThreat(f, e, pe - mv.pos[m], ve - mv.vel[m], accel, th))
         pairFound.push_back({f, ie, th});
     }
   }
