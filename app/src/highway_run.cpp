@@ -274,26 +274,28 @@ int runHighwayCommand(const st::cli::Args& a) {
   backend->close();
 
   PluginCounters pc = plugin.counters();
+  bool fileRead = false;
   if (collisionsFromFile) {
     try {
-      const std::vector<SumoCollision> all = readCollisionOutput(collisionFile, backend->deltaT());
-      for (const SumoCollision& c : all) writeCollision(c);
+      for (const SumoCollision& c : readCollisionOutput(collisionFile, backend->deltaT())) writeCollision(c);
       collisionsCsv.flush();
-      CollisionCounter counter;
-      countCollisions(counter, all, backend->deltaT());
-      pc.collisions = counter.distinct();
-      pc.collisionSteps = counter.reports();
+      fileRead = true;
     } catch (const std::exception& e) {
       if (error.empty()) error = e.what();
     }
+  }
+  // each collision's first report, counted once whichever way the reports came
+  CollisionCounter counter;
+  const std::vector<SumoCollision> firstReports = countCollisions(counter, collisionReports, backend->deltaT());
+  if (fileRead) {  // the plugin saw none of them
+    pc.collisions = counter.distinct();
+    pc.collisionSteps = counter.reports();
   }
 
   // how long before each collision its collider was warning about the victim
   std::vector<CollisionWarning> leads;
   if (!attach) {
-    CollisionCounter counter;
-    leads = collisionWarnings(countCollisions(counter, collisionReports, backend->deltaT()), backend->deltaT(),
-                              vehicleWarnings);
+    leads = collisionWarnings(firstReports, backend->deltaT(), vehicleWarnings);
     std::ofstream lc(out / "collision_warnings.csv");
     lc << "time,collider,victim,collider_warned,lead_time_s\n";
     for (const CollisionWarning& w : leads)
