@@ -158,6 +158,7 @@ struct HighwayMonitor::Impl {
     Vec2 extMax = Vec2::Zero();
     double kMax = 0.0;          // largest m / (2 F_brake) of its equipped cars (s per m/s)
     double kLight = 0.0;        // the largest below kMax (0 if none): the lighter cars' own list
+    double kAll = 0.0;          // largest m / (2 F_brake) of all its cars, equipped or not
     Aabb<2> centres;
     int count = 0;
     int equipped = 0;
@@ -431,19 +432,17 @@ struct HighwayMonitor::Impl {
   // per ego. The reach and the bound use the larger brake ratio of the two (the cell's largest
   // for its members), so they hold for both directions; that widens them (a truck in most
   // cells), yet it measured faster than leaving each pair to its heavier car (reach at the
-  // walker's own ratio, but the trucks walk the earlier cells too). The threats are kept per
-  // ego (pairFound) and put in the order of the per-ego search when the ego's turn comes
-  // (vehicleThreatsOfPairs), so the episodes and alerts are those of that search, bit for bit.
+  // walker's own ratio, but the trucks walk the earlier cells too). The threats are grouped by
+  // ego (pairFound, a counting sort) for its turn (vehicleThreatsOfPairs).
   struct PairThreat {
     int ego;
-    int foeMember;  // the foe's index in the member arrays
     Threat threat;
   };
-  std::vector<PairThreat> pairFound, pairFoundByEgo;
+  std::vector<PairThreat> pairFound;
+  std::vector<Threat> pairFoundByEgo;
   std::vector<int> pairFoundStart;       // per slot, into pairFoundByEgo (a counting sort)
   std::vector<std::vector<int>> pairCells;  // per cell A: the later cells B its pairs reach
   std::vector<char> listHasSubdivided;      // per cell: its neighbour list names a subdivided cell
-  std::vector<std::pair<std::uint64_t, Threat>> ranked;  // scratch: an ego's threats by search order
 
   void findPairsOnce() {
     pairFound.clear();
@@ -455,19 +454,42 @@ struct HighwayMonitor::Impl {
     for (std::size_t s = 0; s < slots.size(); ++s) pairFoundStart[s + 1] += pairFoundStart[s];
     pairFoundByEgo.resize(pairFound.size());
     memberNext.assign(pairFoundStart.begin(), pairFoundStart.end() - 1);
-    for (const PairThreat& pt : pairFound) pairFoundByEgo[memberNext[pt.ego]++] = pt;
+    for (const PairThreat& pt : pairFound) pairFoundByEgo[memberNext[pt.ego]++] = pt.threat;
   }
 
   template <bool kAccel>
   void findPairsOnceFor() {
+    const double tr = cfg.safeTime.vehicleReactionTime;
     for (int A = 0; A < static_cast<int>(cellStats.size()); ++A) {
       const CellStats& ca = cellStats[A];
       if (ca.count == 0 || ca.subdivided) continue;
-      for (int i = memberStart[A]; i < memberStart[A + 1]; ++i) {
-        const bool equippedE = memberEquipped[i] != 0;
-        if (ca.equipped > 0) walkPairsOnce<kAccel, true>(i, A, i + 1);
-        for (int B : pairCells[A])
-          if (equippedE || cellStats[B].equipped > 0) walkPairsOnce<kAccel, false>(i, B, memberStart[B]);
+      const int first = memberStart[A], last = memberStart[A + 1];
+      if (ca.equipped > 0)
+        for (int i = first; i < last; ++i) walkPairsOnce<kAccel, true>(i, A, i + 1);
+      for (int B : pairCells[A]) {
+        const CellStats& cb = cellStats[B];
+        // Where an ego's centre must lie for its reach box to meet B's centres: the reach box
+        // of walkPairsOnce with every term at its bound over A's cars (the same expressions,
+        // larger operands, so the rounding keeps the order). Along A's sorted axis those egos
+        // are a run of its members; the rest are skipped without computing their reach.
+        const Vec2 up = (cb.vmax - ca.vmin).cwiseMax(0.0), down = (ca.vmax - cb.vmin).cwiseMax(0.0);
+        const double dx = std::max(up.x(), down.x()), dy = std::max(up.y(), down.y());
+        const double ac = kAccel ? ca.amax + cb.amax : 0.0;
+        const double h = tr + std::max(ca.kAll, cb.kMax) * std::sqrt(dx * dx + dy * dy);
+        const Vec2 r0 = ca.extMax + cb.extMax + Vec2::Constant(0.5 * ac * h * h + tol::kPruneSlop);
+        const Vec2 behind = up * h + r0, ahead = down * h + r0;
+        const int a = ca.axis, o = 1 - a;
+        int lo = first, hi = first;
+        for (int i = first; i < last; ++i) {
+          lo += static_cast<int>(!(memberKey[i] + ahead[a] >= cb.centres.min[a]));
+          hi += static_cast<int>(memberKey[i] - behind[a] <= cb.centres.max[a]);
+        }
+        const bool anyEgo = cb.equipped > 0;
+        for (int i = lo; i < hi; ++i) {
+          const double q = memberPos[i][o];
+          if (q - behind[o] <= cb.centres.max[o] && q + ahead[o] >= cb.centres.min[o] && (anyEgo || memberEquipped[i]))
+            walkPairsOnce<kAccel, false>(i, B, memberStart[B]);
+        }
       }
     }
   }
@@ -514,56 +536,38 @@ struct HighwayMonitor::Impl {
       const double accel = kAccel ? accE + mv.acc[m] : 0.0;
       Threat th;
       if (equippedE && pairMayWarn<kAccel>(tr, kE, p, v, exe + mv.ext[m], accel) && pairThreat(e, f, p, v, accel, th))
-        pairFound.push_back({e, m, th});
+        pairFound.push_back({e, th});
       if (mv.equipped[m] && pairMayWarn<kAccel>(tr, mv.brake[m], p, v, exe + mv.ext[m], accel) &&
           pairThreat(f, e, pe - mv.pos[m], ve - mv.vel[m], accel, th))
-        pairFound.push_back({f, ie, th});
+        pairFound.push_back({f, th});
     }
   }
 
-  // Ego e's vehicle threats (its cell undivided) in the order its own search would find them:
-  // by the position of the foe's cell in its neighbour list, then along the cell's members; the
-  // foes in subdivided cells searched per ego as before.
+  // Ego e's vehicle threats (its cell undivided): those its pairs walked once found, then the
+  // foes in subdivided neighbour cells, searched per ego. The order does not matter: merge
+  // orders the threats totally.
   void vehicleThreatsOfPairs(int e) {
     const int own = cellOf[e];
-    const int found = pairFoundStart[e + 1] - pairFoundStart[e];
-    if (found <= 1 && !listHasSubdivided[own]) {  // the common cases: nothing to order
-      if (found == 1) threats.push_back(pairFoundByEgo[pairFoundStart[e]].threat);
-      return;
-    }
+    threats.insert(threats.end(), pairFoundByEgo.begin() + pairFoundStart[e], pairFoundByEgo.begin() + pairFoundStart[e + 1]);
+    if (!listHasSubdivided[own]) return;
     const std::vector<Neighbour>& list = brakeRatio[e] <= cellStats[own].kLight ? neighboursLight[own] : neighbours[own];
-    ranked.clear();
-    for (int x = pairFoundStart[e]; x < pairFoundStart[e + 1]; ++x) {
-      const PairThreat& pt = pairFoundByEgo[x];
-      std::size_t at = 0;
-      while (at < list.size() && !(pt.foeMember >= list[at].begin && pt.foeMember < list[at].end)) ++at;
-      ranked.push_back({(static_cast<std::uint64_t>(at) << 32) | static_cast<std::uint64_t>(pt.foeMember), pt.threat});
+    const bool accel = cfg.detector.motion == MotionModel::ConstantAcceleration;
+    const double tr = cfg.safeTime.vehicleReactionTime, k = brakeRatio[e];
+    for (const Neighbour& c : list) {
+      if (!c.subdivided) continue;
+      const Aabb<2> cb = accel ? reachBox<true>(e, k, c.vmin, c.vmax, c.extMax, c.amax)
+                               : reachBox<false>(e, k, c.vmin, c.vmax, c.extMax, c.amax);
+      if (!c.centres.overlaps(cb)) continue;
+      cells->forEachInCellBox(c.cell, cb, [&](int f) {
+        if (f == e || !cb.contains(centre[f])) return;
+        ++counters.candidatePairs;
+        const Vec2 p = centre[f] - centre[e], v = vel[f] - vel[e];
+        const double acc = accel ? accelAbs[e] + accelAbs[f] : 0.0;
+        const int may = accel ? pairMayWarn<true>(tr, k, p, v, ext[e] + ext[f], acc)
+                              : pairMayWarn<false>(tr, k, p, v, ext[e] + ext[f], acc);
+        if (may) checkPair(e, f, p, v, acc);
+      });
     }
-    if (listHasSubdivided[own]) {
-      const bool accel = cfg.detector.motion == MotionModel::ConstantAcceleration;
-      const double tr = cfg.safeTime.vehicleReactionTime, k = brakeRatio[e];
-      for (std::size_t at = 0; at < list.size(); ++at) {
-        const Neighbour& c = list[at];
-        if (!c.subdivided) continue;
-        const Aabb<2> cb = accel ? reachBox<true>(e, k, c.vmin, c.vmax, c.extMax, c.amax)
-                                 : reachBox<false>(e, k, c.vmin, c.vmax, c.extMax, c.amax);
-        if (!c.centres.overlaps(cb)) continue;
-        std::uint64_t seq = 0;
-        cells->forEachInCellBox(c.cell, cb, [&](int f) {
-          if (f == e || !cb.contains(centre[f])) return;
-          ++counters.candidatePairs;
-          const Vec2 p = centre[f] - centre[e], v = vel[f] - vel[e];
-          const double acc = accel ? accelAbs[e] + accelAbs[f] : 0.0;
-          Threat th;
-          const int may = accel ? pairMayWarn<true>(tr, k, p, v, ext[e] + ext[f], acc)
-                                : pairMayWarn<false>(tr, k, p, v, ext[e] + ext[f], acc);
-          if (may && pairThreat(e, f, p, v, acc, th)) ranked.push_back({(static_cast<std::uint64_t>(at) << 32) | seq++, th});
-        });
-      }
-    }
-    // ranks are distinct: any sort gives the one order
-    std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (const auto& r : ranked) threats.push_back(r.second);
   }
 
   // For every cell with equipped cars, the cells whose members any of them could reach within
@@ -719,9 +723,14 @@ struct HighwayMonitor::Impl {
     x.exposed.fill(false);
     x.deficit.fill(0.0);
     if (threats.empty() && nOpen == 0) return;  // the common case: nothing now, nothing before
-    // the worst (smallest) TTC per key, keys ascending
+    // the worst threat per key, keys ascending: the smallest TTC, on a tie the longer safe time
+    // (the larger deficit), then the zone. A total order, so the episodes and the alert do not
+    // depend on the order the broad phase found the threats in.
     std::sort(threats.begin(), threats.end(), [](const Threat& a, const Threat& b) {
-      return a.key != b.key ? a.key < b.key : a.ttc < b.ttc;
+      if (a.key != b.key) return a.key < b.key;
+      if (a.ttc != b.ttc) return a.ttc < b.ttc;
+      if (a.safe != b.safe) return a.safe > b.safe;
+      return a.zone < b.zone;
     });
     threats.erase(std::unique(threats.begin(), threats.end(), [](const Threat& a, const Threat& b) { return a.key == b.key; }),
                   threats.end());
@@ -944,6 +953,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       c.amax = std::max(c.amax, m.accelAbs[s]);
       c.envMax = std::max(c.envMax, m.env[s]);
       c.extMax = c.extMax.cwiseMax(m.ext[s]);
+      c.kAll = std::max(c.kAll, m.brakeRatio[s]);
       if (m.equipped[s]) {
         ++c.equipped;
         const double k = m.mass[s] / (2.0 * st.brakeForce[static_cast<int>(m.vclass[s])]);

@@ -178,7 +178,8 @@ std::vector<Threat> bruteForce(const RoadGeometry& road, const MonitorConfig& cf
   auto keep = [&](const Threat& t) {
     auto key = std::make_tuple(t.ego, t.foe, static_cast<int>(t.kind));
     auto it = best.find(key);
-    if (it == best.end() || t.ttc < it->second.ttc) best[key] = t;
+    // the worst per key: the smallest TTC, on a tie the longer safe time (the monitor's rule)
+    if (it == best.end() || t.ttc < it->second.ttc || (t.ttc == it->second.ttc && t.safe > it->second.safe)) best[key] = t;
   };
   for (const VehicleState& e : vs) {
     if (!e.equipped) continue;
