@@ -149,6 +149,77 @@ int boxAxes(const Body& a, const Body& b, detail::Axis* axes) {
   return 4;
 }
 
+// Skipping circle pairs before their square roots when they provably cannot win, so the result
+// stays bit for bit: the clearance a skipped pair keeps (m), far above the rounding of the test
+// and of toiBalls' hit time (under 1e-5 m at the scales admitted); those scales, distances and
+// travel under kSkipRange (m), radii under kSkipRadius (m); and for surelyEntered a relative
+// speed over kSkipSpeed (m/s), far above toiBalls' standstill. A larger margin skips less; a much
+// smaller one could skip a pair whose hit time rounds into the window.
+constexpr double kSkipMargin = 1e-3;
+constexpr double kSkipRange = 1e3;
+constexpr double kSkipRadius = 100.0;
+constexpr double kSkipSpeed = 1e-6;
+
+// The five-circle pair loop on one piece of steady relative motion (no acceleration): the same
+// discEntry per zone circle x body circle in the same order, the same result, but pairs whose
+// circles stay apart until the earliest hit so far (they cannot win) are skipped: a zone at once
+// when its circle stays apart from the disc holding the foe's body circles (foeEnv about the
+// centre), else pair by pair.
+Ttc steadyFiveCircle(const detail::Piece& pc, const Circ* zones, const Vec2* egoOff, const Vec2* foeOff, int m,
+                     double foeR, double foeEnv) {
+  Ttc best;
+  const Vec2 v = pc.v;
+  const double a = v.squaredNorm();
+  double lim = pc.len;  // hits after this cannot win
+  // true if |p + v t| > r + kSkipMargin for t in [0, lim]: entering r takes longer than lim
+  auto apart = [&](const Vec2& p, double r) {
+    const double q = p.squaredNorm(), b = p.dot(v), rm = r + kSkipMargin;
+    if (!(q < kSkipRange * kSkipRange && a * lim * lim < kSkipRange * kSkipRange && r < kSkipRadius)) return false;
+    // the closest approach: now if receding, at lim if still closing then, else on the way
+    if (b >= 0.0) return q > rm * rm;
+    if (-b >= a * lim) return (p + v * lim).squaredNorm() > rm * rm;
+    const double cr = p.x() * v.y() - p.y() * v.x();
+    return cr * cr > rm * rm * a;
+  };
+  for (int z = 0; z < 4; ++z) {
+    if (apart(pc.p - egoOff[z], zones[z].radius + foeEnv)) continue;
+    const double r = zones[z].radius + foeR;
+    for (int k = 0; k < m; ++k) {
+      const Vec2 p = pc.p + (foeOff[k] - egoOff[z]);  // as discEntry forms it
+      double s = 0.0;
+      if (!(p.squaredNorm() <= r * r)) {
+        // receding (toiBalls misses or separates), or not entered by lim
+        if (p.dot(v) >= 0.0 || apart(p, r)) continue;
+        // discEntry's steady branch
+        const Impact hit = toiBalls<2>(p, v, r);
+        if (!hit.acts() || !(hit.actTime() <= pc.len)) continue;
+        s = hit.actTime();
+        if (!(s < best.t)) continue;
+      }
+      best = {s, static_cast<Zone>(static_cast<int>(Zone::Front) + z)};
+      if (s == 0.0) return best;  // nothing later is strictly earlier
+      lim = s;
+    }
+  }
+  return best;
+}
+
+// True if discEntry(pc, 0, r) certainly finds an entry for every r >= low, pc steady: the centres
+// come within low - kSkipMargin of each other in [0, len].
+bool surelyEntered(const detail::Piece& pc, double low) {
+  const double in = low - kSkipMargin;
+  const Vec2 p = pc.p, v = pc.v;
+  const double q = p.squaredNorm(), a = v.squaredNorm(), len = pc.len;
+  if (!(in > 0.0 && in < kSkipRadius)) return false;
+  if (q <= in * in) return true;
+  const double b = p.dot(v);
+  const double range2 = kSkipRange * kSkipRange;
+  if (!(b < 0.0 && q < range2 && a > kSkipSpeed * kSkipSpeed && a * len * len < range2)) return false;
+  // the closest approach on [0, len]: at the end if still closing there, else on the way
+  const double cr = p.x() * v.y() - p.y() * v.x();
+  return -b >= a * len ? (p + v * len).squaredNorm() < in * in : cr * cr < in * in * a;
+}
+
 }  // namespace
 
 double envelopeRadius(const DetectorConfig& cfg, double length, double width) {
@@ -243,7 +314,7 @@ double boxTtc(const Body& a, const Body& b, MotionModel motion, double horizon) 
   detail::Axis axes[4];
   boxAxes(a, b, axes);
   std::array<detail::Piece, 3> pcs;
-  const int n = detail::relativePieces(detail::trackOf(a, motion), detail::trackOf(b, motion), horizon, pcs);
+  const int n = detail::bodyPieces(a, b, motion, horizon, pcs);
   for (int i = 0; i < n; ++i) {
     const double s = detail::satEntry(pcs[i], axes, 4);
     if (s < kInf) return pcs[i].start + s;
@@ -255,7 +326,7 @@ Ttc vehicleTtc(const DetectorConfig& cfg, const Body& ego, const Body& foe, doub
   Ttc best;
   if (!(horizon >= 0.0)) return best;
   std::array<detail::Piece, 3> pcs;
-  const int n = detail::relativePieces(detail::trackOf(ego, cfg.motion), detail::trackOf(foe, cfg.motion), horizon, pcs);
+  const int n = detail::bodyPieces(ego, foe, cfg.motion, horizon, pcs);
   switch (cfg.kind) {
     case DetectorKind::Concentric: {
       // CheckOuter: outer circle against the other car's outer circle
@@ -276,24 +347,47 @@ Ttc vehicleTtc(const DetectorConfig& cfg, const Body& ego, const Body& foe, doub
       // every body circle of the foe; the earliest names the zone (ties: that order)
       Circ zones[4];
       Vec2 egoOff[4];
-      double egoEnv = halfDiagonal(ego.length, ego.width);
       for (int z = 0; z < 4; ++z) {
-        zones[z] = zoneCircle(cfg.five.zones[z], ego.length, ego.width);
+        // a zone sized like an earlier one has its radius (the presets' front/rear, left/right)
+        const ZoneCircle& c = cfg.five.zones[z];
+        const ZoneCircle* o = cfg.five.zones.data();
+        int j = 0;
+        while (j < z && !(o[j].rx == c.rx && o[j].ry == c.ry && o[j].margin == c.margin)) ++j;
+        zones[z] = j < z ? Circ{Vec2(c.x * (0.5 * ego.length), c.y * (0.5 * ego.width)), zones[j].radius}
+                         : zoneCircle(c, ego.length, ego.width);
         egoOff[z] = detail::toWorld(ego, zones[z].offset.x(), zones[z].offset.y());
-        egoEnv = std::max(egoEnv, zones[z].offset.norm() + zones[z].radius);
       }
       const int m = std::min(bodyCircleCount(cfg, foe.length, foe.width), 16);
       Vec2 foeOff[16];
       const Circ first = bodyCircle(0, m, foe.length, foe.width);
       const double foeR = first.radius;
-      const double env = egoEnv + std::max(first.offset.norm() + foeR, halfDiagonal(foe.length, foe.width));
+      const double slice = foe.length / m;
+      for (int k = 0; k < m; ++k)  // bodyCircle's offsets
+        foeOff[k] = detail::toWorld(foe, -0.5 * foe.length + (k + 0.5) * slice, 0.0);
+      auto envelope = [&] {
+        double egoEnv = halfDiagonal(ego.length, ego.width);
+        for (int z = 0; z < 4; ++z) egoEnv = std::max(egoEnv, zones[z].offset.norm() + zones[z].radius);
+        return egoEnv + std::max(first.offset.norm() + foeR, halfDiagonal(foe.length, foe.width));
+      };
+      if (n == 1 && !pcs[0].accelerating()) {
+        // the pairs first: the envelope prune only matters when they find a hit, and then the
+        // centres mostly come well inside the envelope (a lower bound of it suffices).
+        // foeEnv: a disc about the foe's centre holding its body circles (|axis| <= (1 + axis^2) / 2)
+        const double foeEnv = std::abs(first.offset.x()) * (0.5 * (1.0 + foe.axis.squaredNorm())) + foeR;
+        const Ttc hit = steadyFiveCircle(pcs[0], zones, egoOff, foeOff, m, foeR, foeEnv);
+        if (!hit.found()) return hit;
+        double egoLow = 0.0;  // |offset| >= its largest coordinate
+        for (int z = 0; z < 4; ++z)
+          egoLow = std::max(egoLow, zones[z].offset.cwiseAbs().maxCoeff() + zones[z].radius);
+        if (surelyEntered(pcs[0], egoLow + std::abs(first.offset.x()) + foeR) ||
+            detail::discEntry(pcs[0], Vec2::Zero(), envelope()) < kInf)
+          return hit;
+        return best;
+      }
+      const double env = envelope();
       bool near = false;
       for (int i = 0; i < n && !near; ++i) near = detail::discEntry(pcs[i], Vec2::Zero(), env) < kInf;
       if (!near) return best;
-      for (int k = 0; k < m; ++k) {
-        const Circ c = bodyCircle(k, m, foe.length, foe.width);
-        foeOff[k] = detail::toWorld(foe, c.offset.x(), c.offset.y());
-      }
       for (int i = 0; i < n; ++i) {
         detail::Piece pc = pcs[i];
         for (int z = 0; z < 4; ++z) {

@@ -43,8 +43,6 @@ State stateAt(const Track& tr, double s) {
 
 }  // namespace
 
-bool Piece::accelerating() const { return a.squaredNorm() > tol::kAccelerationEpsilon * tol::kAccelerationEpsilon; }
-
 int relativePieces(const Track& ego, const Track& foe, double horizon, std::array<Piece, 3>& out) {
   if (ego.stop == kInf && foe.stop == kInf) {
     // no stop inside: one piece (always so at constant velocity)
@@ -76,15 +74,7 @@ int relativePieces(const Track& ego, const Track& foe, double horizon, std::arra
   return count;
 }
 
-double discEntry(const Piece& pc, const Vec2& offset, double radius) {
-  const Vec2 p = pc.p + offset;
-  if (p.squaredNorm() <= radius * radius) return 0.0;
-  if (!pc.accelerating()) {
-    // the stcore kernel for constant velocity
-    const Impact hit = toiBalls<2>(p, pc.v, radius);
-    if (hit.acts() && hit.actTime() <= pc.len) return hit.actTime();
-    return kInf;
-  }
+double discEntryAccelerating(const Piece& pc, const Vec2& p, double radius) {
   // |p + v s + h s^2|^2 = R^2 with h = a / 2: a quartic in s
   const Vec2 h = 0.5 * pc.a;
   const PolynomialRoots roots = solveQuarticInInterval(h.dot(h), 2.0 * pc.v.dot(h), pc.v.dot(pc.v) + 2.0 * p.dot(h),

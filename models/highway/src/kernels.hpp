@@ -5,7 +5,9 @@
 #include <array>
 #include <limits>
 
+#include <stcore/toi.hpp>
 #include <sthighway/detector.hpp>
+#include <sthighway/tolerances.hpp>
 
 namespace st::highway::detail {
 
@@ -34,13 +36,31 @@ struct Piece {
   Vec2 a = Vec2::Zero();
   double start = 0.0;
   double len = 0.0;
-  bool accelerating() const;
+  bool accelerating() const { return a.squaredNorm() > tol::kAccelerationEpsilon * tol::kAccelerationEpsilon; }
 };
 // Splits [0, horizon] at the stop times; returns the number of pieces (1..3).
 int relativePieces(const Track& ego, const Track& foe, double horizon, std::array<Piece, 3>& out);
+// relativePieces of two bodies' tracks; at constant velocity directly (the one piece it gives).
+inline int bodyPieces(const Body& ego, const Body& foe, MotionModel motion, double horizon, std::array<Piece, 3>& out) {
+  if (motion == MotionModel::ConstantVelocity) {
+    out[0] = Piece{foe.position - ego.position, foe.velocity - ego.velocity, Vec2::Zero(), 0.0, horizon};
+    return 1;
+  }
+  return relativePieces(trackOf(ego, motion), trackOf(foe, motion), horizon, out);
+}
 
+// discEntry of an accelerating piece: the quartic, out of line.
+double discEntryAccelerating(const Piece& pc, const Vec2& p, double radius);
 // First s in [0, len] with |r(s) + offset| <= radius (0 if already so); kInf if none.
-double discEntry(const Piece& pc, const Vec2& offset, double radius);
+// Inline: the detectors' innermost call, mostly steady.
+inline double discEntry(const Piece& pc, const Vec2& offset, double radius) {
+  const Vec2 p = pc.p + offset;
+  if (p.squaredNorm() <= radius * radius) return 0.0;
+  if (pc.accelerating()) return discEntryAccelerating(pc, p, radius);
+  // the stcore kernel for constant velocity
+  const Impact hit = toiBalls<2>(p, pc.v, radius);
+  return hit.acts() && hit.actTime() <= pc.len ? hit.actTime() : kInf;
+}
 
 // One separating axis: the shapes overlap along it when |n . r(s) + c| <= e.
 struct Axis {
