@@ -5,6 +5,8 @@
 
 #include <stcore/toi.hpp>
 
+#include <sthighway/tolerances.hpp>
+
 #include "kernels.hpp"
 
 namespace st::highway {
@@ -149,16 +151,11 @@ int boxAxes(const Body& a, const Body& b, detail::Axis* axes) {
   return 4;
 }
 
-// Skipping circle pairs before their square roots when they provably cannot win, so the result
-// stays bit for bit: the clearance a skipped pair keeps (m), far above the rounding of the test
-// and of toiBalls' hit time (under 1e-5 m at the scales admitted); those scales, distances and
-// travel under kSkipRange (m), radii under kSkipRadius (m); and for surelyEntered a relative
-// speed over kSkipSpeed (m/s), far above toiBalls' standstill. A larger margin skips less; a much
-// smaller one could skip a pair whose hit time rounds into the window.
-constexpr double kSkipMargin = 1e-3;
-constexpr double kSkipRange = 1e3;
-constexpr double kSkipRadius = 100.0;
-constexpr double kSkipSpeed = 1e-6;
+// The skip constants (tol::kSkip*) are documented in tolerances.hpp.
+using tol::kSkipMargin;
+using tol::kSkipRadius;
+using tol::kSkipRange;
+using tol::kSkipSpeed;
 
 // The five-circle pair loop on one piece of steady relative motion (no acceleration): the same
 // discEntry per zone circle x body circle in the same order, the same result, but pairs whose

@@ -31,4 +31,16 @@ inline constexpr double kBoundRelativeSlop = 1e-12;
 // Accelerations below this are treated as zero: the constant-velocity kernels are used (m/s^2).
 inline constexpr double kAccelerationEpsilon = 1e-9;
 
+// The five-circle TTC skips a zone circle x body circle pair before its square root when the
+// pair provably cannot win, so the result stays bit for bit: the clearance a skipped pair keeps
+// (m), far above the rounding of the skip test and of toiBalls' hit time (under 1e-5 m at the
+// scales below); a larger margin skips less, a much smaller one could skip a pair whose hit time
+// rounds into the window. The skip is used only within these scales: distances and travel under
+// kSkipRange (m), radii under kSkipRadius (m), and (for the sure-entry test) a relative speed over
+// kSkipSpeed (m/s), far above toiBalls' standstill.
+inline constexpr double kSkipMargin = 1e-3;
+inline constexpr double kSkipRange = 1e3;
+inline constexpr double kSkipRadius = 100.0;
+inline constexpr double kSkipSpeed = 1e-6;
+
 }  // namespace st::highway::tol
