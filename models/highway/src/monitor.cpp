@@ -314,6 +314,7 @@ struct HighwayMonitor::Impl {
   // std::lower_bound: a count of the smaller keys, which vectorizes (a cell holds a few dozen
   // cars at most; a congested one is searched through its space).
   static int lowerBound(const double* key, int begin, int end, double value) {
+    if (begin == end || key[begin] >= value) return begin;  // the reach starts before the cell: common
     int below = 0;
     for (int i = begin; i < end; ++i) below += static_cast<int>(key[i] < value);
     return begin + below;
