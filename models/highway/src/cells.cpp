@@ -1,6 +1,7 @@
 #include <sthighway/cells.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -57,6 +58,7 @@ bool inside(const Aabb<2>& inner, const Aabb<2>& outer) {
 }  // namespace
 
 struct CellNetwork::Impl {
+  static constexpr int kRivals = 4;  // other sites a car tests exactly between measurements
   struct Cell {
     Aabb<2> region;            // its share of road (static)
     Aabb<2> extent;            // region united with its members' fat boxes (per tick)
@@ -72,11 +74,16 @@ struct CellNetwork::Impl {
     int local = -1;
     Aabb<2> fat;
     Vec2 centre = Vec2::Zero();
-    // where the car last measured every site, and a lower bound on its distance from there to
-    // every site but its serving one (m, <= 0: none): while it stays near enough, no other site
-    // can be stronger by the hysteresis margin, so the sites need not be measured again
+    // where the car last measured every site, the few other sites nearest it there (-1: none),
+    // and a lower bound on its distance from there to every other site but those (m, <= 0:
+    // none): while none of the few is stronger by the hysteresis margin (tested exactly, as a
+    // handoff would) and the car stays near enough for the rest, no site can take it, so the
+    // sites need not be measured again. The nearest other site is often beside the road (the
+    // other carriageway's), never stronger, yet it bounded every site and cost a measurement
+    // every few metres.
     Vec2 measuredAt = Vec2::Zero();
     double othersAway = 0.0;
+    std::array<int, kRivals> rivals{-1, -1, -1, -1};
   };
 
   CellConfig cfg;
@@ -158,59 +165,150 @@ struct CellNetwork::Impl {
     return best;
   }
 
-  // A lower bound on the distance from p to every site but `cell`: the nearest of the sites in
-  // the grid squares around p, or the distance beyond which the unscanned squares lie.
-  double othersLowerBound(int cell, const Vec2& p) const {
+  // The kRivals sites but `cell` nearest p in the grid squares around it, nearest first, and a
+  // lower bound on the distance from p to every other site: the nearest of the rest there, or
+  // the distance beyond which the unscanned squares lie (0 off the grid: no bound).
+  double rivalsAndBound(int cell, const Vec2& p, std::array<int, kRivals>& rivals) const {
+    rivals.fill(-1);
     const int gx = static_cast<int>(std::floor((p.x() - gridOrigin.x()) / gridSize));
     const int gy = static_cast<int>(std::floor((p.y() - gridOrigin.y()) / gridSize));
-    if (gx < 0 || gy < 0 || gx >= gridNx || gy >= gridNy) return 0.0;  // off the grid: no bound
+    if (gx < 0 || gy < 0 || gx >= gridNx || gy >= gridNy) return 0.0;
+    std::array<double, kRivals> near;
+    near.fill(std::numeric_limits<double>::infinity());
     double best = gridSize;  // every site outside the 3 x 3 squares around p is at least this far
     for (int x = gx - 1; x <= gx + 1; ++x)
       for (int y = gy - 1; y <= gy + 1; ++y) {
         if (x < 0 || y < 0 || x >= gridNx || y >= gridNy) continue;
-        for (int s : grid[x * gridNy + y])
-          if (s != cell) best = std::min(best, (sites[s].position - p).norm());
+        for (int site : grid[x * gridNy + y]) {
+          if (site == cell) continue;
+          // insert among the nearest; the one pushed out (or this one) joins the rest
+          double d = (sites[site].position - p).norm();
+          for (int k = 0; k < kRivals && site >= 0; ++k)
+            if (d < near[k]) {
+              std::swap(d, near[k]);
+              std::swap(site, rivals[k]);
+            }
+          if (site >= 0) best = std::min(best, d);
+        }
       }
     return best;
   }
 
   // True if no site can take the car from its serving cell at p: its serving site's power
-  // exceeds every other's less the margin (d_serving^2 <= ratio^2 d_other^2, d_other bounded
-  // below by the distance measured at measuredAt less the distance moved since).
+  // exceeds every other's less the margin (d_serving^2 <= ratio^2 d_other^2): for the rivals
+  // the handoff's own test, for the rest with d_other bounded below by the distance measured at
+  // measuredAt less the distance moved since.
   bool keepsServingCell(const Served& s, const Vec2& p) const {
     if (s.othersAway <= 0.0) return false;
+    const double serving = distSq(s.cell, p);
+    for (int r : s.rivals)
+      if (r >= 0 && serving > ratioSq * distSq(r, p)) return false;
     const double away = (s.othersAway - (p - s.measuredAt).norm()) * (1.0 - tol::kBoundRelativeSlop);
-    return away > 0.0 && distSq(s.cell, p) <= ratioSq * away * away;
+    return away > 0.0 && serving <= ratioSq * away * away;
   }
 
-  void join(int v, int cell, const Aabb<2>& box) {
-    Cell& c = cells[cell];
-    int local;
-    if (!c.freeSlots.empty()) {
-      local = c.freeSlots.back();
-      c.freeSlots.pop_back();
-      c.slots[local] = v;
-    } else {
-      local = static_cast<int>(c.slots.size());
-      c.slots.push_back(v);
+  // A change to one cell's space and slot table. place() makes it at once; placeDeferred()
+  // queues it, and commit() makes the queued ones grouped by cell, each cell's in queue order.
+  struct Move {
+    enum Kind { Leave, Join, Update };
+    int cell;
+    Kind kind;
+    int v;        // Join: the vehicle, which learns its local slot
+    int local;    // Leave, Update
+    Aabb<2> fat;  // Join, Update
+  };
+  std::vector<Move> moves;     // deferred, in the order placed
+  std::vector<Move> byCell;    // scratch: the same, grouped by cell (a stable counting sort)
+  std::vector<int> moveStart;  // scratch
+
+  void apply(const Move& mv) {
+    Cell& c = cells[mv.cell];
+    switch (mv.kind) {
+      case Move::Leave:
+        c.space.remove(mv.local);
+        c.slots[mv.local] = -1;
+        c.freeSlots.push_back(mv.local);
+        --c.members;
+        break;
+      case Move::Join: {
+        int local;
+        if (!c.freeSlots.empty()) {
+          local = c.freeSlots.back();
+          c.freeSlots.pop_back();
+          c.slots[local] = mv.v;
+        } else {
+          local = static_cast<int>(c.slots.size());
+          c.slots.push_back(mv.v);
+        }
+        vehicles[mv.v].local = local;
+        c.space.insert(local, mv.fat);
+        ++c.members;
+        break;
+      }
+      case Move::Update: c.space.update(mv.local, mv.fat); break;
     }
+  }
+
+  void submit(const Move& mv, bool defer) {
+    if (defer) moves.push_back(mv);
+    else apply(mv);
+  }
+
+  void commit() {
+    if (moves.empty()) return;
+    const int nc = static_cast<int>(cells.size());
+    moveStart.assign(nc + 1, 0);
+    for (const Move& mv : moves) ++moveStart[mv.cell + 1];
+    for (int c = 0; c < nc; ++c) moveStart[c + 1] += moveStart[c];
+    byCell.resize(moves.size());
+    for (const Move& mv : moves) byCell[moveStart[mv.cell]++] = mv;
+    for (const Move& mv : byCell) apply(mv);
+    moves.clear();
+  }
+
+  // the local slot is -1 from a deferred join to its commit
+  void join(int v, int cell, const Aabb<2>& box, bool defer) {
     Served& s = vehicles[v];
     s.cell = cell;
-    s.local = local;
+    s.local = -1;
     s.fat = grown(box, cfg.fatMargin);
-    c.space.insert(local, s.fat);
-    ++c.members;
+    submit({cell, Move::Join, v, -1, s.fat}, defer);
   }
 
-  void leave(int v) {
+  void leave(int v, bool defer) {
     Served& s = vehicles[v];
-    Cell& c = cells[s.cell];
-    c.space.remove(s.local);
-    c.slots[s.local] = -1;
-    c.freeSlots.push_back(s.local);
-    --c.members;
+    submit({s.cell, Move::Leave, v, s.local, {}}, defer);
     s.cell = -1;
     s.local = -1;
+  }
+
+  int place(int v, const Vec2& centre, const Aabb<2>& box, bool defer) {
+    if (v >= static_cast<int>(vehicles.size())) vehicles.resize(v + 1);
+    Served& s = vehicles[v];
+    if (s.cell >= 0 && s.local < 0) commit();  // placed twice: its join first
+    s.centre = centre;
+    if (s.cell < 0 || !keepsServingCell(s, centre)) {
+      const int best = strongest(centre);
+      const int from = s.cell;
+      if (from < 0) {
+        join(v, best, box, defer);
+        ++counters.attaches;
+      } else if (best != from && distSq(from, centre) > ratioSq * distSq(best, centre)) {
+        // the car tells its old cell, which hands it to the stronger one
+        leave(v, defer);
+        join(v, best, box, defer);
+        ++counters.handoffs;
+        handoffs.push_back({v, from, best});
+      }
+      s.measuredAt = centre;
+      s.othersAway = rivalsAndBound(s.cell, centre, s.rivals);
+      if (s.cell != from) return best;  // joined a cell: its fat box is new
+    }
+    if (!inside(box, s.fat)) {
+      s.fat = grown(box, cfg.fatMargin);
+      submit({s.cell, Move::Update, v, s.local, s.fat}, defer);
+    }
+    return s.cell;
   }
 };
 
@@ -295,38 +393,21 @@ double CellNetwork::signalDbm(int cell, const Vec2& p) const {
 }
 
 int CellNetwork::place(int v, const Vec2& centre, const Aabb<2>& box) {
-  Impl& m = *impl_;
-  if (v >= static_cast<int>(m.vehicles.size())) m.vehicles.resize(v + 1);
-  Impl::Served& s = m.vehicles[v];
-  s.centre = centre;
-  if (s.cell < 0 || !m.keepsServingCell(s, centre)) {
-    const int best = m.strongest(centre);
-    const int from = s.cell;
-    if (from < 0) {
-      m.join(v, best, box);
-      ++m.counters.attaches;
-    } else if (best != from && m.distSq(from, centre) > m.ratioSq * m.distSq(best, centre)) {
-      // the car tells its old cell, which hands it to the stronger one
-      m.leave(v);
-      m.join(v, best, box);
-      ++m.counters.handoffs;
-      m.handoffs.push_back({v, from, best});
-    }
-    s.measuredAt = centre;
-    s.othersAway = m.othersLowerBound(s.cell, centre);
-    if (s.cell != from) return best;  // joined a cell: its fat box is new
-  }
-  if (!inside(box, s.fat)) {
-    s.fat = grown(box, m.cfg.fatMargin);
-    m.cells[s.cell].space.update(s.local, s.fat);
-  }
-  return s.cell;
+  impl_->commit();  // a space sees its changes in the order placed
+  return impl_->place(v, centre, box, false);
 }
+
+int CellNetwork::placeDeferred(int v, const Vec2& centre, const Aabb<2>& box) {
+  return impl_->place(v, centre, box, true);
+}
+
+void CellNetwork::commitPlacements() { impl_->commit(); }
 
 void CellNetwork::remove(int v) {
   Impl& m = *impl_;
   if (v < 0 || v >= static_cast<int>(m.vehicles.size()) || m.vehicles[v].cell < 0) return;
-  m.leave(v);
+  m.commit();
+  m.leave(v, false);
   ++m.counters.detaches;
 }
 
@@ -336,6 +417,7 @@ int CellNetwork::servingCell(int v) const {
 
 void CellNetwork::refreshExtents() {
   Impl& m = *impl_;
+  m.commit();
   const Aabb<2> none{Vec2::Constant(std::numeric_limits<double>::infinity()),
                      Vec2::Constant(-std::numeric_limits<double>::infinity())};
   for (auto& c : m.cells) {

@@ -923,7 +923,9 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
   ++m.counters.ticks;
   // cells: every car measures its sites, hand-offs happen, then the cells' extents are known
   if (m.cfg.broadphase == Broadphase::Cells) {
-    for (int s : m.activeSlots) m.cellOf[s] = m.cells->place(s, m.body[s].position, boxOf(m.body[s]));
+    // the spaces change cell by cell at the commit (in refreshExtents): in input order
+    // consecutive cars are in different cells, and each space's tree would be a cache miss
+    for (int s : m.activeSlots) m.cellOf[s] = m.cells->placeDeferred(s, m.body[s].position, boxOf(m.body[s]));
     m.cells->refreshExtents();
     m.cells->takeHandoffs();
     const CellCounters& cc = m.cells->counters();

@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <span>
 
 #include <sthighway/cells.hpp>
 
@@ -158,6 +160,72 @@ TEST(Cells, CongestedCellSubdividesAndReunites) {
   net.refreshExtents();
   EXPECT_GT(net.counters().reunions, 0u);
   EXPECT_TRUE(net.membersOf(1).empty());
+}
+
+// Deferred placement makes each cell's changes in the order placed, so every space ends as
+// place() leaves it: the same trees (leaves, their lists in order), slots, counters, handoffs.
+TEST(Cells, DeferredPlacementMatchesPlace) {
+  const RoadGeometry road = straightRoad();
+  CellConfig cfg;
+  cfg.decompositionFactor = 4;  // jams subdivide and reunite
+  CellNetwork now(road, deriveFeatures(road), cfg), later(road, deriveFeatures(road), cfg);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  const int cars = 120;
+  std::vector<Vec2> p(cars);
+  std::vector<char> in(cars, 1);
+  for (int v = 0; v < cars; ++v) p[v] = Vec2(200.0 + 300.0 * U(rng), 6.4 * U(rng));
+  for (int step = 0; step < 300; ++step) {
+    for (int v = 0; v < cars; ++v) {
+      const double r = U(rng);
+      if (r < 0.01) {
+        in[v] = !in[v];  // leaves, or comes back
+        if (!in[v]) {
+          now.remove(v);
+          later.remove(v);
+        }
+      }
+      if (!in[v]) continue;
+      p[v] += Vec2((v % 3 ? 1.0 : -1.0) * 12.0 * U(rng), 0.6 * (U(rng) - 0.5));
+      if (p[v].x() < 0.0 || p[v].x() > 2000.0) p[v] = Vec2(200.0 + 300.0 * U(rng), 6.4 * U(rng));
+      ASSERT_EQ(later.placeDeferred(v, p[v], carBox(p[v])), now.place(v, p[v], carBox(p[v]))) << v << " " << step;
+      if (v % 17 == 0) {  // placed twice before the commit
+        p[v] += Vec2(20.0, 0.0);
+        ASSERT_EQ(later.placeDeferred(v, p[v], carBox(p[v])), now.place(v, p[v], carBox(p[v])));
+      }
+    }
+    now.refreshExtents();
+    later.refreshExtents();
+    const std::vector<Handoff> a = now.takeHandoffs(), b = later.takeHandoffs();
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].vehicle, b[i].vehicle);
+      EXPECT_EQ(a[i].from, b[i].from);
+      EXPECT_EQ(a[i].to, b[i].to);
+    }
+    for (int c = 0; c < now.cellCount(); ++c) {
+      const std::span<const int> sa = now.cellSlots(c), sb = later.cellSlots(c);
+      ASSERT_TRUE(std::equal(sa.begin(), sa.end(), sb.begin(), sb.end())) << c;
+      const Space<2>& ta = now.cellSpace(c);
+      const Space<2>& tb = later.cellSpace(c);
+      ASSERT_EQ(ta.leaves(), tb.leaves()) << c;
+      for (int leaf : ta.leaves()) {
+        const ObjectList la = ta.objectsIn(leaf), lb = tb.objectsIn(leaf);
+        ASSERT_TRUE(std::equal(la.begin(), la.end(), lb.begin(), lb.end())) << c << " " << leaf;
+      }
+      EXPECT_EQ(ta.counters().transfers, tb.counters().transfers);
+    }
+  }
+  const CellCounters& ca = now.counters();
+  const CellCounters& cb = later.counters();
+  EXPECT_EQ(ca.handoffs, cb.handoffs);
+  EXPECT_EQ(ca.attaches, cb.attaches);
+  EXPECT_EQ(ca.detaches, cb.detaches);
+  EXPECT_EQ(ca.subdivisions, cb.subdivisions);
+  EXPECT_EQ(ca.reunions, cb.reunions);
+  EXPECT_GT(ca.handoffs, 100u);
+  EXPECT_GT(ca.subdivisions, 10u);
+  EXPECT_GT(ca.reunions, 10u);
 }
 
 }  // namespace

@@ -71,6 +71,13 @@ class CellNetwork {
   // Places or moves vehicle `v` (dense index) with the given body box: measures the sites in
   // range and hands off if another is stronger by the hysteresis margin. Returns the serving cell.
   int place(int v, const Vec2& centre, const Aabb<2>& box);
+  // As place(), but the changes to the cells' spaces wait for commitPlacements(), which makes
+  // them cell by cell, each cell's in the order placed: every space sees what place() would
+  // show it, so spaces, counters and handoffs are the same, while a cell's tree stays in cache
+  // for all its cars (cars in input order hop between cells, a cache miss each). The serving
+  // cell and handoffs are known at once; the spaces (and forEachIn*) are stale until the commit.
+  int placeDeferred(int v, const Vec2& centre, const Aabb<2>& box);
+  void commitPlacements();
   void remove(int v);
   int servingCell(int v) const;  // -1 if not in the network
 
@@ -92,7 +99,8 @@ class CellNetwork {
   const Space<2>& cellSpace(int cell) const;
   std::span<const int> cellSlots(int cell) const;
 
-  // Recomputes the cells' extents from their members; call once per tick after placing all cars.
+  // Recomputes the cells' extents from their members (committing deferred placements first);
+  // call once per tick after placing all cars.
   void refreshExtents();
 
   // Cars currently served by a cell (dense vehicle indices).
