@@ -579,6 +579,14 @@ struct HighwayMonitor::Impl {
     neighbours.resize(cellStats.size());
     neighboursLight.resize(cellStats.size());
     roadNear.resize(cellStats.size());
+    // the signed velocity bounds over all cells with cars, for the box below
+    Vec2 vHi = Vec2::Constant(-std::numeric_limits<double>::infinity());
+    Vec2 vLo = Vec2::Constant(std::numeric_limits<double>::infinity());
+    for (const CellStats& c : cellStats)
+      if (c.count > 0) {
+        vHi = vHi.cwiseMax(c.vmax);
+        vLo = vLo.cwiseMin(c.vmin);
+      }
     for (int A = 0; A < static_cast<int>(cellStats.size()); ++A) {
       neighbours[A].clear();
       neighboursLight[A].clear();
@@ -586,14 +594,24 @@ struct HighwayMonitor::Impl {
       const CellStats& ca = cellStats[A];
       if (ca.equipped == 0) continue;
       const Vec2 va = ca.vmin.cwiseAbs().cwiseMax(ca.vmax.cwiseAbs());
-      const double gx = va.x() + globalVmax.x(), gy = va.y() + globalVmax.y();
+      // A box holding every cell's reach below, computed as it is but with every operand at its
+      // bound over all cells (the fastest of them behind A, the slowest ahead, the largest
+      // deceleration term and extent): each operation is monotone, so it holds each reach in
+      // floating point too (one more slop for contracted or reordered roundoff). It picks the
+      // cells to test from the index and rejects most of them without a square root; the
+      // neighbours' order differs from the symmetric box's, and nothing depends on it (merge
+      // orders threats totally).
+      const Vec2 upG = (vHi - ca.vmin).cwiseMax(0.0), downG = (ca.vmax - vLo).cwiseMax(0.0);
+      const double gx = std::max(upG.x(), downG.x()), gy = std::max(upG.y(), downG.y());
       const double ag = accel ? ca.amax + globalAmax : 0.0;
       const double hg = tr + ca.kMax * std::sqrt(gx * gx + gy * gy);
-      const Vec2 rg = Vec2(gx, gy) * hg + ca.extMax + globalExtMax + Vec2::Constant(0.5 * ag * hg * hg + 2 * tol::kPruneSlop);
-      const Aabb<2> box{ca.centres.min - rg, ca.centres.max + rg};
-      cells->forEachCellInBox(box, [&](int B) {
+      const Vec2 rg = ca.extMax + globalExtMax + Vec2::Constant(0.5 * ag * hg * hg + 3 * tol::kPruneSlop);
+      const Aabb<2> box{ca.centres.min - (upG * hg + rg), ca.centres.max + (downG * hg + rg)};
+      cellsNear.clear();
+      cells->forEachCellInBox(box, [&](int B) { cellsNear.push_back(B); });
+      for (int B : cellsNear) {
         const CellStats& cb = cellStats[B];
-        if (cb.count == 0) return;
+        if (cb.count == 0 || !box.overlaps(cb.centres)) continue;
         // signed per axis, as the per-ego reach: B's members lie behind A's by at most their
         // fastest relative velocity forwards times h, ahead by the fastest backwards
         const Vec2 up = (cb.vmax - ca.vmin).cwiseMax(0.0), down = (ca.vmax - cb.vmin).cwiseMax(0.0);
@@ -606,12 +624,12 @@ struct HighwayMonitor::Impl {
           const Vec2 r0 = ca.extMax + cb.extMax + Vec2::Constant(0.5 * ab * h * h + 2 * tol::kPruneSlop);
           return Aabb<2>{ca.centres.min - (up * h + r0), ca.centres.max + (down * h + r0)}.overlaps(cb.centres);
         };
-        if (!reaches(ca.kMax)) return;
+        if (!reaches(ca.kMax)) continue;
         const Neighbour nb{cb.vmin, cb.vmax, cb.extMax, cb.centres, cb.amax, memberStart[B], memberStart[B + 1], B,
                            cb.axis, cb.subdivided};
         neighbours[A].push_back(nb);
         if (ca.kLight > 0.0 && reaches(ca.kLight)) neighboursLight[A].push_back(nb);
-      });
+      }
       // road features any member could reach within its largest road safe time
       if (featureIndex && cfg.checkRoad) {
         const double speed = va.norm();
@@ -672,6 +690,7 @@ struct HighwayMonitor::Impl {
   std::vector<std::vector<Neighbour>> neighbours;
   std::vector<std::vector<Neighbour>> neighboursLight;  // for the cars with k <= the cell's kLight
   std::vector<std::vector<int>> roadNear;
+  std::vector<int> cellsNear;  // scratch: the cells the index finds for one cell
   // the cars of every cell, contiguous by cell (memberStart[c] .. memberStart[c + 1]), each cell's
   // sorted by (coordinate along its long axis, slot): key, centre, velocity, envelope extent,
   // |acceleration|, slot
