@@ -215,7 +215,7 @@ struct CellNetwork::Impl {
     Kind kind;
     int v;        // Join: the vehicle, which learns its local slot
     int local;    // Leave, Update
-    Aabb<2> fat;  // Join, Update
+    Aabb<2> fat;  // Join, Update (Leave: unused)
   };
   std::vector<Move> moves;     // deferred, in the order placed
   std::vector<Move> byCell;    // scratch: the same, grouped by cell (a stable counting sort)
@@ -277,7 +277,7 @@ struct CellNetwork::Impl {
 
   void leave(int v, bool defer) {
     Served& s = vehicles[v];
-    submit({s.cell, Move::Leave, v, s.local, {}}, defer);
+    submit({s.cell, Move::Leave, v, s.local, s.fat}, defer);  // the box is unused
     s.cell = -1;
     s.local = -1;
   }
