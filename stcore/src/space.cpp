@@ -132,6 +132,14 @@ std::vector<int> Space<D>::leaves() const {
 }
 
 template <int D>
+std::array<int, 2> Space<D>::cellBlock(const Box& box) const {
+  if (kind_ != SpaceKind::Cells) return {-1, -1};
+  Index lo, hi;
+  cellRange(clampToBounds(box), lo, hi);  // as forEachInBox
+  return {cellIndex(lo), cellIndex(hi)};
+}
+
+template <int D>
 int Space<D>::depthOf(int leaf) const {
   return kind_ == SpaceKind::Cells ? 0 : nodes_[leaf].depth;
 }

@@ -378,6 +378,31 @@ TEST(Space, SubdivideThenReuniteRestoresMembership2D) {
 }
 TEST(Space, SubdivideThenReuniteRestoresMembership3D) { splitThenReunite<3>(8, 23); }
 
+// A cells space's box visit is a function of the block of cells the box touches: boxes with one
+// block visit the same objects in the same order, and the block names its first and last cell.
+TEST(Space, CellBlockKeysTheBoxVisit) {
+  SpaceRule rule;
+  rule.cellSize = 10;
+  Space<2> cells(SpaceKind::Cells, {{0, 0}, {100, 100}}, rule);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> U(0.0, 100.0);
+  for (int id = 0; id < 200; ++id) cells.insert(id, boundsOf<2>(Vec2(U(rng), U(rng)), 0.05 * U(rng)));
+  auto visit = [&](const Aabb<2>& box) {
+    std::vector<int> out;
+    cells.forEachInBox(box, [&](int id) { out.push_back(id); });
+    return out;
+  };
+  const Aabb<2> a{{21, 33}, {48, 61}}, b{{20.5, 30.1}, {49.9, 69.9}}, c{{19.9, 30.1}, {49.9, 69.9}};
+  EXPECT_EQ(cells.cellBlock(a), (std::array<int, 2>{3 * 10 + 2, 6 * 10 + 4}));  // cells (2, 3) .. (4, 6)
+  EXPECT_EQ(cells.cellBlock(a), cells.cellBlock(b));
+  EXPECT_EQ(visit(a), visit(b));
+  EXPECT_NE(cells.cellBlock(a), cells.cellBlock(c));
+  // outside the bounds: clamped, as the visit is
+  EXPECT_EQ(cells.cellBlock({{-50, -50}, {5, 5}}), (std::array<int, 2>{0, 0}));
+  const Space<2> tree(SpaceKind::Tree, {{0, 0}, {100, 100}}, SpaceRule{});
+  EXPECT_EQ(tree.cellBlock(a), (std::array<int, 2>{-1, -1}));
+}
+
 TEST(Space, TransfersCountMembershipChangesOnly) {
   SpaceRule rule;
   rule.cellSize = 10;

@@ -1,6 +1,7 @@
 #include <sthighway/monitor.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -579,6 +580,7 @@ struct HighwayMonitor::Impl {
     neighbours.resize(cellStats.size());
     neighboursLight.resize(cellStats.size());
     roadNear.resize(cellStats.size());
+    featureVisits.resize(cellStats.size());
     // the signed velocity bounds over all cells with cars, for the box below
     Vec2 vHi = Vec2::Constant(-std::numeric_limits<double>::infinity());
     Vec2 vLo = Vec2::Constant(std::numeric_limits<double>::infinity());
@@ -640,7 +642,16 @@ struct HighwayMonitor::Impl {
         // corner of the velocity box), from the nearest of its centres (a corner of the box,
         // or on it): the per-ego prune with every term at the cell's bound
         const double ah = 0.5 * (accel ? ca.amax : 0.0) * h * h + 2 * tol::kPruneSlop;
-        featureIndex->forEachInBox(rb, [&](int fi) {
+        // the index's visit depends on the box only through its block of index cells, which
+        // moves rarely: the features found are kept per cell, for that block
+        FeatureVisit& fv = featureVisits[A];
+        const std::array<int, 2> block = featureIndex->cellBlock(rb);
+        if (block != fv.block) {
+          fv.block = block;
+          fv.features.clear();
+          featureIndex->forEachInBox(rb, [&](int fi) { fv.features.push_back(fi); });
+        }
+        for (int fi : fv.features) {
           const FeatureLine& l = featureLine[fi];
           if (l.line) {
             const double s0 = l.n.dot(ca.centres.min - l.a), s1 = l.n.dot(Vec2(ca.centres.max.x(), ca.centres.min.y()) - l.a),
@@ -650,10 +661,10 @@ struct HighwayMonitor::Impl {
             const double approach = std::max({std::abs(l.n.dot(ca.vmin)), std::abs(l.n.dot(ca.vmax)),
                                               std::abs(l.n.dot(Vec2(ca.vmin.x(), ca.vmax.y()))),
                                               std::abs(l.n.dot(Vec2(ca.vmax.x(), ca.vmin.y())))});
-            if (nearest > ca.envMax + approach * h + ah) return;
+            if (nearest > ca.envMax + approach * h + ah) continue;
           }
           roadNear[A].push_back(fi);
-        });
+        }
       }
     }
   }
@@ -691,6 +702,12 @@ struct HighwayMonitor::Impl {
   std::vector<std::vector<Neighbour>> neighboursLight;  // for the cars with k <= the cell's kLight
   std::vector<std::vector<int>> roadNear;
   std::vector<int> cellsNear;  // scratch: the cells the index finds for one cell
+  // per cell, the road features the index found for its last road box, and that box's block
+  struct FeatureVisit {
+    std::array<int, 2> block{-1, -1};
+    std::vector<int> features;
+  };
+  std::vector<FeatureVisit> featureVisits;
   // the cars of every cell, contiguous by cell (memberStart[c] .. memberStart[c + 1]), each cell's
   // sorted by (coordinate along its long axis, slot): key, centre, velocity, envelope extent,
   // |acceleration|, slot

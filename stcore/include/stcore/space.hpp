@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <algorithm>
+#include <array>
 #include <iterator>
 #include <limits>
 #include <string>
@@ -122,6 +123,10 @@ class Space {
   // Calls f(object) once for every object listed in a leaf the box touches.
   template <class F>
   void forEachInBox(const Box& box, F&& f) const;
+  // Cells kind: the first and last cell of the block of cells a box touches. What forEachInBox
+  // visits depends on the box through this block only (the same objects in the same order while
+  // the space is unchanged), so a caller may keep what it found per block. Trees: {-1, -1}.
+  std::array<int, 2> cellBlock(const Box& box) const;
 
   // Time from now until a ball (center p, radius r, velocity v) that was last updated into this
   // space could touch a leaf it is not listed in; infinity if never.
