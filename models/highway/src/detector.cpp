@@ -162,7 +162,7 @@ using tol::kSkipSpeed;
 // circles stay apart until the earliest hit so far (they cannot win) are skipped: a zone at once
 // when its circle stays apart from the disc holding the foe's body circles (foeEnv about the
 // centre), else pair by pair.
-Ttc steadyFiveCircle(const detail::Piece& pc, const Circ* zones, const Vec2* egoOff, const Vec2* foeOff, int m,
+Ttc steadyFiveCircle(const detail::Piece& pc, const double* zoneR, const Vec2* egoOff, const Vec2* foeOff, int m,
                      double foeR, double foeEnv) {
   Ttc best;
   const Vec2 v = pc.v;
@@ -179,8 +179,8 @@ Ttc steadyFiveCircle(const detail::Piece& pc, const Circ* zones, const Vec2* ego
     return cr * cr > rm * rm * a;
   };
   for (int z = 0; z < 4; ++z) {
-    if (apart(pc.p - egoOff[z], zones[z].radius + foeEnv)) continue;
-    const double r = zones[z].radius + foeR;
+    if (apart(pc.p - egoOff[z], zoneR[z] + foeEnv)) continue;
+    const double r = zoneR[z] + foeR;
     for (int k = 0; k < m; ++k) {
       const Vec2 p = pc.p + (foeOff[k] - egoOff[z]);  // as discEntry forms it
       double s = 0.0;
@@ -319,7 +319,52 @@ double boxTtc(const Body& a, const Body& b, MotionModel motion, double horizon) 
   return kInf;
 }
 
+CarShape carShape(const DetectorConfig& cfg, const Body& b) {
+  CarShape s;
+  s.road = roadSupportBound(cfg, b);
+  switch (cfg.kind) {
+    case DetectorKind::Concentric:
+      s.outer = outerRadius(cfg, b.length, b.width);
+      break;
+    case DetectorKind::Box:
+      break;
+    case DetectorKind::FiveCircle: {
+      Circ zones[4];
+      for (int z = 0; z < 4; ++z) {
+        // a zone sized like an earlier one has its radius (the presets' front/rear, left/right)
+        const ZoneCircle& c = cfg.five.zones[z];
+        const ZoneCircle* o = cfg.five.zones.data();
+        int j = 0;
+        while (j < z && !(o[j].rx == c.rx && o[j].ry == c.ry && o[j].margin == c.margin)) ++j;
+        zones[z] = j < z ? Circ{Vec2(c.x * (0.5 * b.length), c.y * (0.5 * b.width)), zones[j].radius}
+                         : zoneCircle(c, b.length, b.width);
+        s.zoneRadius[z] = zones[z].radius;
+        s.zoneOffset[z] = detail::toWorld(b, zones[z].offset.x(), zones[z].offset.y());
+      }
+      s.egoEnvelope = halfDiagonal(b.length, b.width);
+      for (int z = 0; z < 4; ++z) s.egoEnvelope = std::max(s.egoEnvelope, zones[z].offset.norm() + zones[z].radius);
+      s.egoLow = 0.0;  // |offset| >= its largest coordinate
+      for (int z = 0; z < 4; ++z) s.egoLow = std::max(s.egoLow, zones[z].offset.cwiseAbs().maxCoeff() + zones[z].radius);
+      s.circles = std::min(bodyCircleCount(cfg, b.length, b.width), 16);
+      const Circ first = bodyCircle(0, s.circles, b.length, b.width);
+      s.circleRadius = first.radius;
+      s.slice = b.length / s.circles;
+      s.firstX = first.offset.x();
+      s.foeEnvelope = std::max(first.offset.norm() + first.radius, halfDiagonal(b.length, b.width));
+      // |axis| <= (1 + axis^2) / 2
+      s.foeDisc = std::abs(first.offset.x()) * (0.5 * (1.0 + b.axis.squaredNorm())) + first.radius;
+      break;
+    }
+  }
+  return s;
+}
+
 Ttc vehicleTtc(const DetectorConfig& cfg, const Body& ego, const Body& foe, double horizon) {
+  return vehicleTtc(cfg, ego, carShape(cfg, ego), foe, carShape(cfg, foe), horizon);
+}
+
+Ttc vehicleTtc(const DetectorConfig& cfg, const Body& ego, const CarShape& es, const Body& foe, const CarShape& fs,
+               double horizon) {
   Ttc best;
   if (!(horizon >= 0.0)) return best;
   std::array<detail::Piece, 3> pcs;
@@ -327,7 +372,7 @@ Ttc vehicleTtc(const DetectorConfig& cfg, const Body& ego, const Body& foe, doub
   switch (cfg.kind) {
     case DetectorKind::Concentric: {
       // CheckOuter: outer circle against the other car's outer circle
-      const double r = outerRadius(cfg, ego.length, ego.width) + outerRadius(cfg, foe.length, foe.width);
+      const double r = es.outer + fs.outer;
       for (int i = 0; i < n && !best.found(); ++i) {
         const double s = detail::discEntry(pcs[i], Vec2::Zero(), r);
         if (s < kInf) best = {pcs[i].start + s, Zone::Outer};
@@ -342,46 +387,24 @@ Ttc vehicleTtc(const DetectorConfig& cfg, const Body& ego, const Body& foe, doub
     case DetectorKind::FiveCircle: {
       // prune with the envelopes, then CheckFront, CheckRear, CheckLeft, CheckRight against
       // every body circle of the foe; the earliest names the zone (ties: that order)
-      Circ zones[4];
-      Vec2 egoOff[4];
-      for (int z = 0; z < 4; ++z) {
-        // a zone sized like an earlier one has its radius (the presets' front/rear, left/right)
-        const ZoneCircle& c = cfg.five.zones[z];
-        const ZoneCircle* o = cfg.five.zones.data();
-        int j = 0;
-        while (j < z && !(o[j].rx == c.rx && o[j].ry == c.ry && o[j].margin == c.margin)) ++j;
-        zones[z] = j < z ? Circ{Vec2(c.x * (0.5 * ego.length), c.y * (0.5 * ego.width)), zones[j].radius}
-                         : zoneCircle(c, ego.length, ego.width);
-        egoOff[z] = detail::toWorld(ego, zones[z].offset.x(), zones[z].offset.y());
-      }
-      const int m = std::min(bodyCircleCount(cfg, foe.length, foe.width), 16);
+      const int m = fs.circles;
       Vec2 foeOff[16];
-      const Circ first = bodyCircle(0, m, foe.length, foe.width);
-      const double foeR = first.radius;
-      const double slice = foe.length / m;
+      const double foeR = fs.circleRadius;
       for (int k = 0; k < m; ++k)  // bodyCircle's offsets
-        foeOff[k] = detail::toWorld(foe, -0.5 * foe.length + (k + 0.5) * slice, 0.0);
-      auto envelope = [&] {
-        double egoEnv = halfDiagonal(ego.length, ego.width);
-        for (int z = 0; z < 4; ++z) egoEnv = std::max(egoEnv, zones[z].offset.norm() + zones[z].radius);
-        return egoEnv + std::max(first.offset.norm() + foeR, halfDiagonal(foe.length, foe.width));
-      };
+        foeOff[k] = detail::toWorld(foe, -0.5 * foe.length + (k + 0.5) * fs.slice, 0.0);
+      const double* zoneR = es.zoneRadius.data();
+      const Vec2* egoOff = es.zoneOffset.data();
       if (n == 1 && !pcs[0].accelerating()) {
         // the pairs first: the envelope prune only matters when they find a hit, and then the
         // centres mostly come well inside the envelope (a lower bound of it suffices).
-        // foeEnv: a disc about the foe's centre holding its body circles (|axis| <= (1 + axis^2) / 2)
-        const double foeEnv = std::abs(first.offset.x()) * (0.5 * (1.0 + foe.axis.squaredNorm())) + foeR;
-        const Ttc hit = steadyFiveCircle(pcs[0], zones, egoOff, foeOff, m, foeR, foeEnv);
+        const Ttc hit = steadyFiveCircle(pcs[0], zoneR, egoOff, foeOff, m, foeR, fs.foeDisc);
         if (!hit.found()) return hit;
-        double egoLow = 0.0;  // |offset| >= its largest coordinate
-        for (int z = 0; z < 4; ++z)
-          egoLow = std::max(egoLow, zones[z].offset.cwiseAbs().maxCoeff() + zones[z].radius);
-        if (surelyEntered(pcs[0], egoLow + std::abs(first.offset.x()) + foeR) ||
-            detail::discEntry(pcs[0], Vec2::Zero(), envelope()) < kInf)
+        if (surelyEntered(pcs[0], es.egoLow + std::abs(fs.firstX) + foeR) ||
+            detail::discEntry(pcs[0], Vec2::Zero(), es.egoEnvelope + fs.foeEnvelope) < kInf)
           return hit;
         return best;
       }
-      const double env = envelope();
+      const double env = es.egoEnvelope + fs.foeEnvelope;
       bool near = false;
       for (int i = 0; i < n && !near; ++i) near = detail::discEntry(pcs[i], Vec2::Zero(), env) < kInf;
       if (!near) return best;
@@ -390,7 +413,7 @@ Ttc vehicleTtc(const DetectorConfig& cfg, const Body& ego, const Body& foe, doub
         for (int z = 0; z < 4; ++z) {
           for (int k = 0; k < m; ++k) {
             pc.len = best.found() ? std::min(pcs[i].len, best.t - pcs[i].start) : pcs[i].len;
-            const double s = detail::discEntry(pc, foeOff[k] - egoOff[z], zones[z].radius + foeR);
+            const double s = detail::discEntry(pc, foeOff[k] - egoOff[z], zoneR[z] + foeR);
             if (s < kInf && (!best.found() || pcs[i].start + s < best.t))
               best = {pcs[i].start + s, static_cast<Zone>(static_cast<int>(Zone::Front) + z)};
           }

@@ -138,6 +138,7 @@ struct HighwayMonitor::Impl {
   std::vector<Vec2> vel;                     // body[].velocity
   std::vector<double> mass, env, accelAbs;
   std::vector<Vec2> ext;                     // envelopeExtent per slot
+  std::vector<CarShape> shape;               // carShape per slot
   std::vector<double> brakeRatio;            // m / (2 F_brake) per slot (s per m/s)
   std::vector<VehicleClass> vclass;
   std::vector<std::uint8_t> signals;
@@ -194,6 +195,7 @@ struct HighwayMonitor::Impl {
     mass.resize(n);
     env.resize(n);
     ext.resize(n);
+    shape.resize(n);
     brakeRatio.resize(n);
     accelAbs.resize(n);
     vclass.resize(n);
@@ -265,7 +267,7 @@ struct HighwayMonitor::Impl {
       if (!hit.acts() || hit.actTime() > safe) return false;
     }
     ++counters.toiChecks;
-    const Ttc ttc = vehicleTtc(cfg.detector, body[e], body[f], safe);
+    const Ttc ttc = vehicleTtc(cfg.detector, body[e], shape[e], body[f], shape[f], safe);
     if (!ttc.found() || ttc.t > safe) return false;
     out = {serialOf[f], WarningKind::Vehicle, ttc.zone, ttc.t, safe, f};
     return true;
@@ -942,6 +944,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     if (reshaped) {
       m.env[s] = envelopeRadius(dc, v.length, v.width);
       m.ext[s] = envelopeExtent(dc, m.body[s]);
+      m.shape[s] = carShape(dc, m.body[s]);
       sl.length = v.length;
       sl.width = v.width;
       sl.heading = v.heading;

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include <sthighway/detector.hpp>
@@ -191,6 +192,56 @@ TEST(Detector, BoxTtcMatchesSampledReference) {
     }
   }
   EXPECT_GT(hits, 300);  // the scenes are not all misses
+}
+
+// The monitor computes a car's shape once and keeps it while the car's size and heading stay:
+// a TTC from shapes made of other snapshots of the same cars (other positions, velocities,
+// accelerations) must be the one computed from scratch, bit for bit (the sign of a zero too).
+TEST(Detector, CarShapesGiveTheSameTtcBitForBit) {
+  DetectorConfig fourCircles = config(DetectorKind::FiveCircle);
+  fourCircles.bodyCircles = 4;
+  FiveCircleLayout offCentre = FiveCircleLayout::fig11a();
+  offCentre.zones[FiveCircleLayout::kCenter] = {0.2, -0.1, 0.0, 1.0, 0.1};
+  DetectorConfig concentricMargins = config(DetectorKind::Concentric);
+  concentricMargins.concentric = {0.3, 0.5};
+  const DetectorConfig configs[] = {config(DetectorKind::Concentric), concentricMargins, config(DetectorKind::Box),
+                                    config(DetectorKind::FiveCircle),
+                                    config(DetectorKind::FiveCircle, MotionModel::ConstantVelocity, FiveCircleLayout::fig11b()),
+                                    config(DetectorKind::FiveCircle, MotionModel::ConstantVelocity, offCentre), fourCircles};
+  std::mt19937_64 rng(20261125);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  // another snapshot of b: the same size and heading, elsewhere, moving otherwise
+  auto elsewhere = [&](const Body& b) {
+    Body o = b;
+    o.position = Vec2(1e4 * U(rng), 100.0 * (U(rng) - 0.5));
+    o.velocity = Vec2(40.0 * (U(rng) - 0.5), 5.0 * (U(rng) - 0.5));
+    o.acceleration = 8.0 * (U(rng) - 0.5);
+    return o;
+  };
+  auto same = [](const Ttc& a, const Ttc& b) {
+    return std::memcmp(&a.t, &b.t, sizeof(double)) == 0 && a.zone == b.zone;
+  };
+  int hits = 0;
+  for (int i = 0; i < 3000; ++i) {
+    Encounter e = randomEncounter(rng);
+    if (i % 3 == 0) e.foe.position = e.ego.position + 0.3 * (e.foe.position - e.ego.position);  // more touching
+    const double horizon = i % 50 == 0 ? 0.0 : 6.0 * U(rng);
+    for (bool accel : {false, true}) {
+      for (DetectorConfig c : configs) {
+        c.motion = accel ? MotionModel::ConstantAcceleration : MotionModel::ConstantVelocity;
+        const CarShape es = carShape(c, elsewhere(e.ego)), fs = carShape(c, elsewhere(e.foe));
+        const Ttc fresh = vehicleTtc(c, e.ego, e.foe, horizon);
+        const Ttc kept = vehicleTtc(c, e.ego, es, e.foe, fs, horizon);
+        ASSERT_TRUE(same(fresh, kept)) << toString(c.kind) << " pair " << i << " accel " << accel << ": " << fresh.t
+                                       << " vs " << kept.t;
+        hits += fresh.found();
+        const SupportBound sb = roadSupportBound(c, e.ego);
+        EXPECT_TRUE(std::memcmp(&sb.base, &es.road.base, sizeof(double)) == 0 && sb.along == es.road.along &&
+                    sb.across == es.road.across);
+      }
+    }
+  }
+  EXPECT_GT(hits, 3000);  // not all misses
 }
 
 // The most a layout's circles reach beyond the car's rectangle, from the documented geometry.
