@@ -432,8 +432,11 @@ Ttc featureTtc(const DetectorConfig& cfg, const Body& ego, const RoadFeature& f,
   const bool point = f.kind == FeatureKind::Hazard;
   const Vec2 mid = 0.5 * (f.segment.a + f.segment.b);
   // relative motion of the feature as seen from the ego: the ego's motion reversed
+  // (not needed by the circles at constant velocity: they call the stcore kernels directly)
   std::array<detail::Piece, 3> pcs;
-  const int n = detail::relativePieces(detail::trackOf(ego, cfg.motion), detail::staticTrack(mid), horizon, pcs);
+  const bool direct = cfg.kind != DetectorKind::Box && cfg.motion == MotionModel::ConstantVelocity;
+  const int n =
+      direct ? 0 : detail::relativePieces(detail::trackOf(ego, cfg.motion), detail::staticTrack(mid), horizon, pcs);
   double t = kInf;
   Zone zone = Zone::Body;
   if (cfg.kind == DetectorKind::Box) {

@@ -284,7 +284,7 @@ struct HighwayMonitor::Impl {
     return static_cast<int>(std::abs(s) <= support + approach * hMax + 0.5 * accel * hMax * hMax + tol::kPruneSlop);
   }
 
-  // hMax: the ego's largest road safe time (at its full speed)
+  // hMax: at least the ego's largest road safe time (the one at its full speed)
   void checkFeature(int e, int fi, double hMax) {
     const RoadFeature& f = features.features[fi];
     const Body& a = body[e];
@@ -731,7 +731,11 @@ struct HighwayMonitor::Impl {
 
   void candidatesFeatures(int e) {
     if (!featureIndex) return;
-    const double hMax = cfg.safeTime.roadSafeTime(mass[e], vel[e].norm(), vclass[e]);
+    // a bound on the ego's road safe times (the one at its full speed, grown by the relative
+    // slop over the rounding), from the cached brake ratio without roadSafeTime's division: it
+    // only prunes, and a larger one prunes less
+    const double hMax =
+        (cfg.safeTime.roadReactionTime + brakeRatio[e] * vel[e].norm()) * (1.0 + tol::kBoundRelativeSlop);
     const std::vector<int>& list = cfg.broadphase == Broadphase::AllPairs ? allFeatures : roadNear[cellOf[e]];
     counters.featureChecks += list.size();
     // first every line against a bound on the shape's support towards it (no wider than the
@@ -739,16 +743,25 @@ struct HighwayMonitor::Impl {
     // (the near ones keep their order); checkFeature then prunes with the support itself
     const Body& a = body[e];
     const double accel = cfg.detector.motion == MotionModel::ConstantAcceleration ? accelAbs[e] : 0.0;
-    const SupportBound sb = roadSupportBound(cfg.detector, a);
+    const SupportBound& sb = shape[e].road;
     const Vec2 normal(-a.axis.y(), a.axis.x());
-    featureNear.resize(list.size());
+    if (featureNear.size() < list.size()) featureNear.resize(list.size());
     int near = 0;
-    for (int fi : list) {
-      const FeatureLine& l = featureLine[fi];
-      const double support = (sb.base + sb.along * std::abs(a.axis.dot(l.n)) + sb.across * std::abs(normal.dot(l.n))) *
-                             (1.0 + tol::kBoundRelativeSlop);
-      featureNear[near] = fi;
-      near += static_cast<int>(!l.line) | lineReachable(l, a, support, hMax, accel);
+    if (sb.along == 0.0 && sb.across == 0.0) {
+      // the circles: the same support towards every line (base + 0 + 0 is base)
+      const double support = sb.base * (1.0 + tol::kBoundRelativeSlop);
+      for (int fi : list) {
+        featureNear[near] = fi;
+        near += static_cast<int>(!featureLine[fi].line) | lineReachable(featureLine[fi], a, support, hMax, accel);
+      }
+    } else {
+      for (int fi : list) {
+        const FeatureLine& l = featureLine[fi];
+        const double support = (sb.base + sb.along * std::abs(a.axis.dot(l.n)) + sb.across * std::abs(normal.dot(l.n))) *
+                               (1.0 + tol::kBoundRelativeSlop);
+        featureNear[near] = fi;
+        near += static_cast<int>(!l.line) | lineReachable(l, a, support, hMax, accel);
+      }
     }
     for (int k = 0; k < near; ++k) checkFeature(e, featureNear[k], hMax);
   }
