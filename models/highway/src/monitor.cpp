@@ -253,6 +253,17 @@ struct HighwayMonitor::Impl {
     const double dist = p.norm();
     const double closing = dist > 0.0 ? -p.dot(v) / dist : v.norm();
     const double safe = cfg.safeTime.vehicleSafeTime(mass[e], closing, vclass[e]);
+    if (cfg.detector.kind == DetectorKind::Concentric) {
+      // outer circles that already overlap: vehicleTtc's first test (TTC 0), without building
+      // the motion; most concentric threats are such (cars alongside), and the prunes below
+      // would pass them (the envelopes hold the outer circles)
+      const double r = shape[e].outer + shape[f].outer;
+      if (p.squaredNorm() <= r * r) {
+        ++counters.toiChecks;
+        out = {serialOf[f], WarningKind::Vehicle, Zone::Outer, 0.0, safe, f};
+        return true;
+      }
+    }
     // exact prune: the envelopes cannot meet within the safe time
     const double envSum = env[e] + env[f] + tol::kPruneSlop;
     const double grow = 0.5 * accel * safe * safe + tol::kPruneSlop;
@@ -725,7 +736,6 @@ struct HighwayMonitor::Impl {
   std::vector<double> memberBrake;   // m / (2 F_brake)
   std::vector<int> memberEquipped;   // 1 or 0
   std::vector<int> passed;  // scratch: member indices whose pair passed the bound
-  Vec2 globalVmax = Vec2::Zero();
   double globalAmax = 0.0;
   Vec2 globalExtMax = Vec2::Zero();
 
@@ -987,10 +997,8 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     const int nc = m.cells->cellCount();
     m.cellStats.assign(nc, Impl::CellStats{});
     m.memberStart.assign(nc + 1, 0);
-    m.globalVmax = Vec2::Zero();
     m.globalAmax = 0.0;
     m.globalExtMax = Vec2::Zero();
-    const SafeTimeConfig& st = m.cfg.safeTime;
     for (int s : m.activeSlots) {
       const int cell = m.cellOf[s];
       Impl::CellStats& c = m.cellStats[cell];
@@ -1011,15 +1019,11 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       c.kAll = std::max(c.kAll, m.brakeRatio[s]);
       if (m.equipped[s]) {
         ++c.equipped;
-        const double k = m.mass[s] / (2.0 * st.brakeForce[static_cast<int>(m.vclass[s])]);
-        if (k > c.kMax) {
-          c.kLight = c.kMax;
-          c.kMax = k;
-        } else if (k < c.kMax) {
-          c.kLight = std::max(c.kLight, k);
-        }
+        // kLight, the largest ratio below kMax, without a branch (the trucks come in no order)
+        const double k = m.brakeRatio[s], lo = std::min(k, c.kMax), hi = std::max(k, c.kMax);
+        c.kLight = lo < hi ? std::max(c.kLight, lo) : c.kLight;
+        c.kMax = hi;
       }
-      m.globalVmax = m.globalVmax.cwiseMax(v.cwiseAbs());
       m.globalAmax = std::max(m.globalAmax, m.accelAbs[s]);
       m.globalExtMax = m.globalExtMax.cwiseMax(m.ext[s]);
     }
