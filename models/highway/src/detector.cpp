@@ -81,16 +81,6 @@ FiveCircleLayout FiveCircleLayout::fig11b() {
 
 Body bodyOf(const VehicleState& v) { return bodyOf(v, v.direction()); }
 
-Body bodyOf(const VehicleState& v, const Vec2& axis) {
-  Body b;
-  b.position = v.position;
-  b.axis = axis;
-  b.velocity = v.speed * axis + v.lateralSpeed * Vec2(-axis.y(), axis.x());  // as v.velocity()
-  b.acceleration = v.acceleration;
-  b.length = v.length;
-  b.width = v.width;
-  return b;
-}
 
 namespace {
 

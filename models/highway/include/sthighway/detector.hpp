@@ -80,7 +80,16 @@ struct Body {
 };
 Body bodyOf(const VehicleState& v);
 // The same with the unit heading axis given (v.direction(), computed once and cached by the caller).
-Body bodyOf(const VehicleState& v, const Vec2& axis);
+inline Body bodyOf(const VehicleState& v, const Vec2& axis) {
+  Body b;
+  b.position = v.position;
+  b.axis = axis;
+  b.velocity = v.speed * axis + v.lateralSpeed * Vec2(-axis.y(), axis.x());  // as v.velocity()
+  b.acceleration = v.acceleration;
+  b.length = v.length;
+  b.width = v.width;
+  return b;
+}
 
 struct Ttc {
   double t = std::numeric_limits<double>::infinity();  // s from now; 0 when already touching and closing
