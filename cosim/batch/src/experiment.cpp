@@ -54,7 +54,6 @@ std::string scalarText(const YAML::Node& n) {
   return out.c_str();
 }
 
-
 std::string slug(const std::string& s) {
   std::string out;
   for (char c : s) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-') ? c : '_';

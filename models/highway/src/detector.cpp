@@ -81,7 +81,6 @@ FiveCircleLayout FiveCircleLayout::fig11b() {
 
 Body bodyOf(const VehicleState& v) { return bodyOf(v, v.direction()); }
 
-
 namespace {
 
 // sqrt of a sum of squares: car sizes never overflow, and std::hypot is several times slower
@@ -321,13 +320,7 @@ CarShape carShape(const DetectorConfig& cfg, const Body& b) {
     case DetectorKind::FiveCircle: {
       Circ zones[4];
       for (int z = 0; z < 4; ++z) {
-        // a zone sized like an earlier one has its radius (the presets' front/rear, left/right)
-        const ZoneCircle& c = cfg.five.zones[z];
-        const ZoneCircle* o = cfg.five.zones.data();
-        int j = 0;
-        while (j < z && !(o[j].rx == c.rx && o[j].ry == c.ry && o[j].margin == c.margin)) ++j;
-        zones[z] = j < z ? Circ{Vec2(c.x * (0.5 * b.length), c.y * (0.5 * b.width)), zones[j].radius}
-                         : zoneCircle(c, b.length, b.width);
+        zones[z] = zoneCircle(cfg.five.zones[z], b.length, b.width);
         s.zoneRadius[z] = zones[z].radius;
         s.zoneOffset[z] = detail::toWorld(b, zones[z].offset.x(), zones[z].offset.y());
       }

@@ -253,17 +253,6 @@ struct HighwayMonitor::Impl {
     const double dist = p.norm();
     const double closing = dist > 0.0 ? -p.dot(v) / dist : v.norm();
     const double safe = cfg.safeTime.vehicleSafeTime(mass[e], closing, vclass[e]);
-    if (cfg.detector.kind == DetectorKind::Concentric) {
-      // outer circles that already overlap: vehicleTtc's first test (TTC 0), without building
-      // the motion; most concentric threats are such (cars alongside), and the prunes below
-      // would pass them (the envelopes hold the outer circles)
-      const double r = shape[e].outer + shape[f].outer;
-      if (p.squaredNorm() <= r * r) {
-        ++counters.toiChecks;
-        out = {serialOf[f], WarningKind::Vehicle, Zone::Outer, 0.0, safe, f};
-        return true;
-      }
-    }
     // exact prune: the envelopes cannot meet within the safe time
     const double envSum = env[e] + env[f] + tol::kPruneSlop;
     const double grow = 0.5 * accel * safe * safe + tol::kPruneSlop;
@@ -354,6 +343,21 @@ struct HighwayMonitor::Impl {
     return {centre[e] - (up * h + r0), centre[e] + (down * h + r0)};
   }
 
+  // How far behind and ahead of any car of cell a a member of cell b can lie to meet it within
+  // the safe time of brake ratio k: reachBox with every term at its bound over a's cars (the same
+  // expressions with larger operands, so the rounding keeps the order; slop: the grown margin).
+  struct CellReach {
+    Vec2 behind, ahead;
+  };
+  CellReach cellReach(const CellStats& a, const CellStats& b, double k, bool accel, double slop) const {
+    const Vec2 up = (b.vmax - a.vmin).cwiseMax(0.0), down = (a.vmax - b.vmin).cwiseMax(0.0);
+    const double dx = std::max(up.x(), down.x()), dy = std::max(up.y(), down.y());
+    const double ac = accel ? a.amax + b.amax : 0.0;
+    const double h = cfg.safeTime.vehicleReactionTime + k * std::sqrt(dx * dx + dy * dy);
+    const Vec2 r0 = a.extMax + b.extMax + Vec2::Constant(0.5 * ac * h * h + slop);
+    return {up * h + r0, down * h + r0};
+  }
+
   // The member arrays' data for a walk's locals: through the vectors, every store in the walk
   // (an int) could alias their bounds, and the compiler would reload them each iteration.
   struct MemberView {
@@ -382,16 +386,9 @@ struct HighwayMonitor::Impl {
     const Vec2 ve = vel[e];
     const Vec2 exe = ext[e];
     const double tr = cfg.safeTime.vehicleReactionTime, k = brakeRatio[e];
-    // a candidate foe by slot: counted, then the cheap bound, then the exact test
-    auto consider = [&](int f) {
-      ++counters.candidatePairs;
-      const Vec2 p = centre[f] - pe, v = vel[f] - ve;
-      const double accel = kAccel ? accelAbs[e] + accelAbs[f] : 0.0;
-      if (pairMayWarn<kAccel>(tr, k, p, v, exe + ext[f], accel)) checkPair(e, f, p, v, accel);
-    };
     if (cfg.broadphase == Broadphase::AllPairs) {
       for (int f : activeSlots)
-        if (f != e) consider(f);
+        if (f != e) considerFoe<kAccel>(e, f, pe, ve, exe, k);
       return;
     }
     const int own = cellOf[e];
@@ -406,9 +403,7 @@ struct HighwayMonitor::Impl {
       // a congested (subdivided) cell is searched through its space; a small one through its
       // members sorted along the cell's long axis (from the first inside the reach's range)
       if (c.subdivided) {
-        cells->forEachInCellBox(c.cell, cb, [&](int f) {
-          if (f != e && cb.contains(centre[f])) consider(f);
-        });
+        searchSubdivided<kAccel>(e, c.cell, cb);
         continue;
       }
       // the member arrays hold the foes' state in walk order (no slot indirection); the
@@ -474,7 +469,6 @@ struct HighwayMonitor::Impl {
 
   template <bool kAccel>
   void findPairsOnceFor() {
-    const double tr = cfg.safeTime.vehicleReactionTime;
     for (int A = 0; A < static_cast<int>(cellStats.size()); ++A) {
       const CellStats& ca = cellStats[A];
       if (ca.count == 0 || ca.subdivided) continue;
@@ -483,16 +477,9 @@ struct HighwayMonitor::Impl {
         for (int i = first; i < last; ++i) walkPairsOnce<kAccel, true>(i, A, i + 1);
       for (int B : pairCells[A]) {
         const CellStats& cb = cellStats[B];
-        // Where an ego's centre must lie for its reach box to meet B's centres: the reach box
-        // of walkPairsOnce with every term at its bound over A's cars (the same expressions,
-        // larger operands, so the rounding keeps the order). Along A's sorted axis those egos
-        // are a run of its members; the rest are skipped without computing their reach.
-        const Vec2 up = (cb.vmax - ca.vmin).cwiseMax(0.0), down = (ca.vmax - cb.vmin).cwiseMax(0.0);
-        const double dx = std::max(up.x(), down.x()), dy = std::max(up.y(), down.y());
-        const double ac = kAccel ? ca.amax + cb.amax : 0.0;
-        const double h = tr + std::max(ca.kAll, cb.kMax) * std::sqrt(dx * dx + dy * dy);
-        const Vec2 r0 = ca.extMax + cb.extMax + Vec2::Constant(0.5 * ac * h * h + tol::kPruneSlop);
-        const Vec2 behind = up * h + r0, ahead = down * h + r0;
+        // the cars of A whose reach box (walkPairsOnce's) may meet B's centres: a run along A's
+        // sorted axis; the rest are skipped without computing their reach
+        const auto [behind, ahead] = cellReach(ca, cb, std::max(ca.kAll, cb.kMax), kAccel, tol::kPruneSlop);
         const int a = ca.axis, o = 1 - a;
         int lo = first, hi = first;
         for (int i = first; i < last; ++i) {
@@ -565,24 +552,36 @@ struct HighwayMonitor::Impl {
     const int own = cellOf[e];
     threats.insert(threats.end(), pairFoundByEgo.begin() + pairFoundStart[e], pairFoundByEgo.begin() + pairFoundStart[e + 1]);
     if (!listHasSubdivided[own]) return;
-    const std::vector<Neighbour>& list = brakeRatio[e] <= cellStats[own].kLight ? neighboursLight[own] : neighbours[own];
-    const bool accel = cfg.detector.motion == MotionModel::ConstantAcceleration;
-    const double tr = cfg.safeTime.vehicleReactionTime, k = brakeRatio[e];
-    for (const Neighbour& c : list) {
+    if (cfg.detector.motion == MotionModel::ConstantAcceleration) searchSubdividedNeighbours<true>(e);
+    else searchSubdividedNeighbours<false>(e);
+  }
+  template <bool kAccel>
+  void searchSubdividedNeighbours(int e) {
+    const int own = cellOf[e];
+    const double k = brakeRatio[e];
+    for (const Neighbour& c : k <= cellStats[own].kLight ? neighboursLight[own] : neighbours[own]) {
       if (!c.subdivided) continue;
-      const Aabb<2> cb = accel ? reachBox<true>(e, k, c.vmin, c.vmax, c.extMax, c.amax)
-                               : reachBox<false>(e, k, c.vmin, c.vmax, c.extMax, c.amax);
-      if (!c.centres.overlaps(cb)) continue;
-      cells->forEachInCellBox(c.cell, cb, [&](int f) {
-        if (f == e || !cb.contains(centre[f])) return;
-        ++counters.candidatePairs;
-        const Vec2 p = centre[f] - centre[e], v = vel[f] - vel[e];
-        const double acc = accel ? accelAbs[e] + accelAbs[f] : 0.0;
-        const int may = accel ? pairMayWarn<true>(tr, k, p, v, ext[e] + ext[f], acc)
-                              : pairMayWarn<false>(tr, k, p, v, ext[e] + ext[f], acc);
-        if (may) checkPair(e, f, p, v, acc);
-      });
+      const Aabb<2> cb = reachBox<kAccel>(e, k, c.vmin, c.vmax, c.extMax, c.amax);
+      if (c.centres.overlaps(cb)) searchSubdivided<kAccel>(e, c.cell, cb);
     }
+  }
+
+  // Ego e against the members of a congested (subdivided) cell whose centres lie in its reach
+  // box cb, found through the cell's space.
+  template <bool kAccel>
+  void searchSubdivided(int e, int cell, const Aabb<2>& cb) {
+    cells->forEachInCellBox(cell, cb, [&](int f) {
+      if (f != e && cb.contains(centre[f])) considerFoe<kAccel>(e, f, centre[e], vel[e], ext[e], brakeRatio[e]);
+    });
+  }
+  // A candidate foe by slot: counted, then the cheap bound, then the exact test (pe, ve, exe, k:
+  // the ego's centre, velocity, envelope extent and brake ratio, held by the caller's loop).
+  template <bool kAccel>
+  void considerFoe(int e, int f, const Vec2& pe, const Vec2& ve, const Vec2& exe, double k) {
+    ++counters.candidatePairs;
+    const Vec2 p = centre[f] - pe, v = vel[f] - ve;
+    const double accel = kAccel ? accelAbs[e] + accelAbs[f] : 0.0;
+    if (pairMayWarn<kAccel>(cfg.safeTime.vehicleReactionTime, k, p, v, exe + ext[f], accel)) checkPair(e, f, p, v, accel);
   }
 
   // For every cell with equipped cars, the cells whose members any of them could reach within
@@ -628,16 +627,12 @@ struct HighwayMonitor::Impl {
         const CellStats& cb = cellStats[B];
         if (cb.count == 0 || !box.overlaps(cb.centres)) continue;
         // signed per axis, as the per-ego reach: B's members lie behind A's by at most their
-        // fastest relative velocity forwards times h, ahead by the fastest backwards
-        const Vec2 up = (cb.vmax - ca.vmin).cwiseMax(0.0), down = (ca.vmax - cb.vmin).cwiseMax(0.0);
-        const double dx = std::max(up.x(), down.x()), dy = std::max(up.y(), down.y());
-        const double ab = accel ? ca.amax + cb.amax : 0.0;
-        // the reach grows with the brake ratio k: with kMax for every car of A, with kLight
-        // for the cars at or below it (the list they walk is then a subsequence of the full one)
+        // fastest relative velocity forwards times h, ahead by the fastest backwards. The reach
+        // grows with the brake ratio k: with kMax for every car of A, with kLight for the cars at
+        // or below it (the list they walk is then a subsequence of the full one)
         auto reaches = [&](double k) {
-          const double h = tr + k * std::sqrt(dx * dx + dy * dy);
-          const Vec2 r0 = ca.extMax + cb.extMax + Vec2::Constant(0.5 * ab * h * h + 2 * tol::kPruneSlop);
-          return Aabb<2>{ca.centres.min - (up * h + r0), ca.centres.max + (down * h + r0)}.overlaps(cb.centres);
+          const CellReach r = cellReach(ca, cb, k, accel, 2 * tol::kPruneSlop);
+          return Aabb<2>{ca.centres.min - r.behind, ca.centres.max + r.ahead}.overlaps(cb.centres);
         };
         if (!reaches(ca.kMax)) continue;
         const Neighbour nb{cb.vmin, cb.vmax, cb.extMax, cb.centres, cb.amax, memberStart[B], memberStart[B + 1], B,
@@ -757,21 +752,12 @@ struct HighwayMonitor::Impl {
     const Vec2 normal(-a.axis.y(), a.axis.x());
     if (featureNear.size() < list.size()) featureNear.resize(list.size());
     int near = 0;
-    if (sb.along == 0.0 && sb.across == 0.0) {
-      // the circles: the same support towards every line (base + 0 + 0 is base)
-      const double support = sb.base * (1.0 + tol::kBoundRelativeSlop);
-      for (int fi : list) {
-        featureNear[near] = fi;
-        near += static_cast<int>(!featureLine[fi].line) | lineReachable(featureLine[fi], a, support, hMax, accel);
-      }
-    } else {
-      for (int fi : list) {
-        const FeatureLine& l = featureLine[fi];
-        const double support = (sb.base + sb.along * std::abs(a.axis.dot(l.n)) + sb.across * std::abs(normal.dot(l.n))) *
-                               (1.0 + tol::kBoundRelativeSlop);
-        featureNear[near] = fi;
-        near += static_cast<int>(!l.line) | lineReachable(l, a, support, hMax, accel);
-      }
+    for (int fi : list) {
+      const FeatureLine& l = featureLine[fi];
+      const double support = (sb.base + sb.along * std::abs(a.axis.dot(l.n)) + sb.across * std::abs(normal.dot(l.n))) *
+                             (1.0 + tol::kBoundRelativeSlop);
+      featureNear[near] = fi;
+      near += static_cast<int>(!l.line) | lineReachable(l, a, support, hMax, accel);
     }
     for (int k = 0; k < near; ++k) checkFeature(e, featureNear[k], hMax);
   }
