@@ -168,6 +168,7 @@ void Space<D>::insert(int id, const Box& box, double margin) {
   m.present = true;
   m.fat = {box.min.array() - margin, box.max.array() + margin};
   attach(id);
+  ++revision_;
 }
 
 template <int D>
@@ -175,6 +176,7 @@ void Space<D>::remove(int id) {
   if (!contains(id)) return;
   detach(id, true);
   members_[id].present = false;
+  ++revision_;
 }
 
 template <int D>
@@ -184,6 +186,7 @@ void Space<D>::update(int id, const Box& box, double margin) {
     updateCells(id, {box.min.array() - margin, box.max.array() + margin});
     return;
   }
+  ++revision_;
   if (nodes_[0].firstChild < 0) {
     // an undivided tree lists every object in its root before and after: only the box changes,
     // and the object moves to the back of the root's list, where the remove and insert below
@@ -222,6 +225,7 @@ void Space<D>::updateCells(int id, const Box& fat) {
   m.prevLo = m.lo;
   m.prevHi = m.hi;
   if ((lo == m.lo).all() && (hi == m.hi).all()) return;
+  ++revision_;
   auto within = [](const Index& c, const Index& a, const Index& b) { return (c >= a).all() && (c <= b).all(); };
   forEachCell(m.lo, m.hi, [&](int idx, const Index& c) {
     const int old = (id << D) | cornerBits(c, m.lo);

@@ -403,6 +403,66 @@ TEST(Space, CellBlockKeysTheBoxVisit) {
   EXPECT_EQ(tree.cellBlock(a), (std::array<int, 2>{-1, -1}));
 }
 
+// A visit kept under (cellBlock, revision) is the visit made afresh whenever the key matches,
+// through random inserts, moves and removals; moves within the same cells keep the revision.
+TEST(Space, RevisionKeysCachedVisits) {
+  SpaceRule rule;
+  rule.cellSize = 10;
+  Space<2> cells(SpaceKind::Cells, {{0, 0}, {100, 100}}, rule);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> pos(0, 100), rad(0.2, 6), unit(0, 1);
+  auto visit = [&](const Aabb<2>& box) {
+    std::vector<int> out;
+    cells.forEachInBox(box, [&](int id) { out.push_back(id); });
+    return out;
+  };
+  struct Cached {
+    std::array<int, 2> block;
+    std::uint64_t revision;
+    std::vector<int> ids;
+  };
+  std::vector<Aabb<2>> boxes;
+  for (int k = 0; k < 8; ++k) boxes.push_back(boundsOf<2>(Vec2(pos(rng), pos(rng)), 4 * rad(rng)));
+  std::vector<Cached> cache(boxes.size());
+  for (std::size_t k = 0; k < boxes.size(); ++k) cache[k] = {cells.cellBlock(boxes[k]), cells.revision(), visit(boxes[k])};
+  std::vector<bool> present(40, false);
+  std::vector<Vec2> at(40, Vec2::Zero());
+  int hits = 0;
+  for (int step = 0; step < 4000; ++step) {
+    const int id = static_cast<int>(unit(rng) * 40);
+    // mostly small moves (most keep their cells), some jumps
+    at[id] = present[id] && unit(rng) < 0.8 ? Vec2(at[id] + Vec2(unit(rng) - 0.5, unit(rng) - 0.5)) : Vec2(pos(rng), pos(rng));
+    const Aabb<2> box = boundsOf<2>(at[id], 1.0);
+    if (!present[id]) {
+      cells.insert(id, box);
+      present[id] = true;
+    } else if (unit(rng) < 0.1) {
+      cells.remove(id);
+      present[id] = false;
+    } else {
+      cells.update(id, box);
+    }
+    for (std::size_t k = 0; k < boxes.size(); ++k) {
+      if (unit(rng) < 0.05) boxes[k] = boundsOf<2>(Vec2(pos(rng), pos(rng)), 4 * rad(rng));
+      const std::array<int, 2> block = cells.cellBlock(boxes[k]);
+      if (block == cache[k].block && cells.revision() == cache[k].revision) {
+        ++hits;
+        ASSERT_EQ(cache[k].ids, visit(boxes[k])) << "step " << step;
+      } else {
+        cache[k] = {block, cells.revision(), visit(boxes[k])};
+      }
+    }
+  }
+  // a move within the cells an object already touches changes nothing a visit sees
+  cells.insert(99, boundsOf<2>(Vec2(55, 55), 1));
+  const std::uint64_t before = cells.revision();
+  cells.update(99, boundsOf<2>(Vec2(54, 56), 2));
+  EXPECT_EQ(cells.revision(), before);
+  cells.update(99, boundsOf<2>(Vec2(59.5, 55), 1));  // across into the next cell
+  EXPECT_NE(cells.revision(), before);
+  EXPECT_GT(hits, 1000);
+}
+
 TEST(Space, TransfersCountMembershipChangesOnly) {
   SpaceRule rule;
   rule.cellSize = 10;

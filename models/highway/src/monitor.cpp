@@ -593,6 +593,7 @@ struct HighwayMonitor::Impl {
     neighboursLight.resize(cellStats.size());
     roadNear.resize(cellStats.size());
     featureVisits.resize(cellStats.size());
+    cellsVisits.resize(cellStats.size());
     // the signed velocity bounds over all cells with cars, for the box below
     Vec2 vHi = Vec2::Constant(-std::numeric_limits<double>::infinity());
     Vec2 vLo = Vec2::Constant(std::numeric_limits<double>::infinity());
@@ -621,9 +622,18 @@ struct HighwayMonitor::Impl {
       const double hg = tr + ca.kMax * std::sqrt(gx * gx + gy * gy);
       const Vec2 rg = ca.extMax + globalExtMax + Vec2::Constant(0.5 * ag * hg * hg + 3 * tol::kPruneSlop);
       const Aabb<2> box{ca.centres.min - (upG * hg + rg), ca.centres.max + (downG * hg + rg)};
-      cellsNear.clear();
-      cells->forEachCellInBox(box, [&](int B) { cellsNear.push_back(B); });
-      for (int B : cellsNear) {
+      // the index's visit depends on the box through its block of index cells, which moves
+      // rarely, and on the index, which changes rarely (a cell's extent outgrows its indexed box)
+      CellsVisit& cv = cellsVisits[A];
+      const Space<2>& index = cells->networkIndex();
+      const std::array<int, 2> cellBlock = index.cellBlock(box);
+      if (cellBlock != cv.block || index.revision() != cv.revision) {
+        cv.block = cellBlock;
+        cv.revision = index.revision();
+        cv.cells.clear();
+        cells->forEachCellInBox(box, [&](int B) { cv.cells.push_back(B); });
+      }
+      for (int B : cv.cells) {
         const CellStats& cb = cellStats[B];
         if (cb.count == 0 || !box.overlaps(cb.centres)) continue;
         // signed per axis, as the per-ego reach: B's members lie behind A's by at most their
@@ -709,7 +719,14 @@ struct HighwayMonitor::Impl {
   std::vector<std::vector<Neighbour>> neighbours;
   std::vector<std::vector<Neighbour>> neighboursLight;  // for the cars with k <= the cell's kLight
   std::vector<std::vector<int>> roadNear;
-  std::vector<int> cellsNear;  // scratch: the cells the index finds for one cell
+  // per cell, the cells the network index found for its last box, that box's block and the
+  // index's revision then
+  struct CellsVisit {
+    std::array<int, 2> block{-1, -1};
+    std::uint64_t revision = ~std::uint64_t{0};
+    std::vector<int> cells;
+  };
+  std::vector<CellsVisit> cellsVisits;
   // per cell, the road features the index found for its last road box, and that box's block
   struct FeatureVisit {
     std::array<int, 2> block{-1, -1};

@@ -127,6 +127,9 @@ class Space {
   // visits depends on the box through this block only (the same objects in the same order while
   // the space is unchanged), so a caller may keep what it found per block. Trees: {-1, -1}.
   std::array<int, 2> cellBlock(const Box& box) const;
+  // Changes whenever an insert, remove or update may change what forEachInBox visits (cells: an
+  // object's block of cells changed): with cellBlock, the key of a cached visit.
+  std::uint64_t revision() const { return revision_; }
 
   // Time from now until a ball (center p, radius r, velocity v) that was last updated into this
   // space could touch a leaf it is not listed in; infinity if never.
@@ -212,6 +215,7 @@ class Space {
   int childCount_ = 1 << D;
   std::vector<int> splitAxes_;
   SpaceCounters counters_;
+  std::uint64_t revision_ = 0;
   std::vector<Node> nodes_;
   std::vector<int> freeBlocks_;
   std::vector<Member> members_;
