@@ -342,6 +342,10 @@ CarShape carShape(const DetectorConfig& cfg, const Body& b) {
   return s;
 }
 
+bool vehicleTtcSymmetric(const DetectorConfig& cfg) {
+  return cfg.kind == DetectorKind::Concentric && cfg.motion == MotionModel::ConstantVelocity;
+}
+
 Ttc vehicleTtc(const DetectorConfig& cfg, const Body& ego, const Body& foe, double horizon) {
   return vehicleTtc(cfg, ego, carShape(cfg, ego), foe, carShape(cfg, foe), horizon);
 }

@@ -250,27 +250,64 @@ struct HighwayMonitor::Impl {
 
   // The exact pair test of ego e against foe f: true, and the threat in out, if it warns.
   bool pairThreat(int e, int f, const Vec2& p, const Vec2& v, double accel, Threat& out) {
+    Threat unused;
+    return (pairThreats(e, f, p, v, accel, true, false, out, unused) & 1) != 0;
+  }
+
+  // The exact pair test in the directions asked: ego e against foe f (p, v: f's centre and
+  // velocity relative to e's) and f against e. What the two share is computed once: distance
+  // and closing speed (the same expressions either way round: negating p and v changes no
+  // product), the envelopes' impact, and for a symmetric detector (vehicleTtcSymmetric) the TTC
+  // at the larger safe time. Each direction has its own safe time and prunes. Returns bit 0 if
+  // e warns (outE), bit 1 if f does (outF): the threats each would give alone, bit for bit.
+  int pairThreats(int e, int f, const Vec2& p, const Vec2& v, double accel, bool askE, bool askF, Threat& outE,
+                  Threat& outF) {
     const double dist = p.norm();
     const double closing = dist > 0.0 ? -p.dot(v) / dist : v.norm();
-    const double safe = cfg.safeTime.vehicleSafeTime(mass[e], closing, vclass[e]);
+    const int ego[2] = {e, f};
+    const bool ask[2] = {askE, askF};
+    double safe[2] = {0.0, 0.0};
+    bool near[2] = {false, false};
     // exact prune: the envelopes cannot meet within the safe time
     const double envSum = env[e] + env[f] + tol::kPruneSlop;
-    const double grow = 0.5 * accel * safe * safe + tol::kPruneSlop;
-    // per axis, then as discs: the envelopes cannot meet within the safe time
-    if (std::abs(p.x()) > ext[e].x() + ext[f].x() + std::abs(v.x()) * safe + grow ||
-        std::abs(p.y()) > ext[e].y() + ext[f].y() + std::abs(v.y()) * safe + grow)
-      return false;
-    if (dist > envSum + v.norm() * safe + grow) return false;
+    for (int d = 0; d < 2; ++d) {
+      if (!ask[d]) continue;
+      const int a = ego[d], b = ego[1 - d];
+      safe[d] = cfg.safeTime.vehicleSafeTime(mass[a], closing, vclass[a]);
+      const double grow = 0.5 * accel * safe[d] * safe[d] + tol::kPruneSlop;
+      // per axis, then as discs
+      near[d] = std::abs(p.x()) <= ext[a].x() + ext[b].x() + std::abs(v.x()) * safe[d] + grow &&
+                std::abs(p.y()) <= ext[a].y() + ext[b].y() + std::abs(v.y()) * safe[d] + grow &&
+                !(dist > envSum + v.norm() * safe[d] + grow);
+    }
+    if (!near[0] && !near[1]) return 0;
     if (accel == 0.0 && dist > envSum) {
       // the envelopes (circles holding every shape a detector uses) do not meet in time
       const Impact hit = toiBalls<2>(p, v, envSum);
-      if (!hit.acts() || hit.actTime() > safe) return false;
+      for (int d = 0; d < 2; ++d) near[d] = near[d] && hit.acts() && !(hit.actTime() > safe[d]);
     }
-    ++counters.toiChecks;
-    const Ttc ttc = vehicleTtc(cfg.detector, body[e], shape[e], body[f], shape[f], safe);
-    if (!ttc.found() || ttc.t > safe) return false;
-    out = {serialOf[f], WarningKind::Vehicle, ttc.zone, ttc.t, safe, f};
-    return true;
+    Threat* out[2] = {&outE, &outF};
+    int warns = 0;
+    auto record = [&](int d, const Ttc& ttc) {
+      if (!ttc.found() || ttc.t > safe[d]) return;
+      const int b = ego[1 - d];
+      *out[d] = {serialOf[b], WarningKind::Vehicle, ttc.zone, ttc.t, safe[d], b};
+      warns |= 1 << d;
+    };
+    if (near[0] && near[1] && vehicleTtcSymmetric(cfg.detector)) {
+      counters.toiChecks += 2;
+      const Ttc ttc = vehicleTtc(cfg.detector, body[e], shape[e], body[f], shape[f], std::max(safe[0], safe[1]));
+      record(0, ttc);
+      record(1, ttc);
+      return warns;
+    }
+    for (int d = 0; d < 2; ++d) {
+      if (!near[d]) continue;
+      ++counters.toiChecks;
+      const int a = ego[d], b = ego[1 - d];
+      record(d, vehicleTtc(cfg.detector, body[a], shape[a], body[b], shape[b], safe[d]));
+    }
+    return warns;
   }
 
   // Exact prune of a segment feature: to touch the segment the shape must first reach its
@@ -533,15 +570,16 @@ struct HighwayMonitor::Impl {
     // the per-ego search: p and v from the ego's side)
     for (int j = 0; j < npass; ++j) {
       const int m = pass[j];
-      const int f = mv.slot[m];
       const Vec2 p = mv.pos[m] - pe, v = mv.vel[m] - ve;
       const double accel = kAccel ? accE + mv.acc[m] : 0.0;
-      Threat th;
-      if (equippedE && pairMayWarn<kAccel>(tr, kE, p, v, exe + mv.ext[m], accel) && pairThreat(e, f, p, v, accel, th))
-        pairFound.push_back({e, th});
-      if (mv.equipped[m] && pairMayWarn<kAccel>(tr, mv.brake[m], p, v, exe + mv.ext[m], accel) &&
-          pairThreat(f, e, pe - mv.pos[m], ve - mv.vel[m], accel, th))
-        pairFound.push_back({f, th});
+      const bool askE = equippedE && pairMayWarn<kAccel>(tr, kE, p, v, exe + mv.ext[m], accel);
+      const bool askF = mv.equipped[m] && pairMayWarn<kAccel>(tr, mv.brake[m], p, v, exe + mv.ext[m], accel);
+      if (!askE && !askF) continue;
+      const int f = mv.slot[m];
+      Threat te, tf;
+      const int warns = pairThreats(e, f, p, v, accel, askE, askF, te, tf);
+      if (warns & 1) pairFound.push_back({e, te});
+      if (warns & 2) pairFound.push_back({f, tf});
     }
   }
 

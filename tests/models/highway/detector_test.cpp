@@ -244,6 +244,39 @@ TEST(Detector, CarShapesGiveTheSameTtcBitForBit) {
   EXPECT_GT(hits, 3000);  // not all misses
 }
 
+// vehicleTtcSymmetric: one evaluation serves both roles and any horizon holding its time (the
+// monitor tests a pair's two directions that way); the five-circle zones are not symmetric.
+TEST(Detector, SymmetricDetectorGivesOneTtcForBothRolesAndHorizons) {
+  DetectorConfig margins = config(DetectorKind::Concentric);
+  margins.concentric = {0.3, 0.5};
+  std::mt19937_64 rng(20261126);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  auto same = [](const Ttc& a, const Ttc& b) {
+    return std::memcmp(&a.t, &b.t, sizeof(double)) == 0 && a.zone == b.zone;
+  };
+  auto within = [](const Ttc& t, double h) { return t.found() && t.t <= h ? t : Ttc{}; };
+  int found = 0, asymmetric = 0;
+  for (int i = 0; i < 4000; ++i) {
+    Encounter e = randomEncounter(rng);
+    if (i % 3 == 0) e.foe.position = e.ego.position + 0.3 * (e.foe.position - e.ego.position);
+    const double h1 = 6.0 * U(rng), h2 = i % 7 == 0 ? h1 : 6.0 * U(rng);
+    for (const DetectorConfig& c : {config(DetectorKind::Concentric), margins}) {
+      ASSERT_TRUE(vehicleTtcSymmetric(c));
+      const Ttc once = vehicleTtc(c, e.ego, e.foe, std::max(h1, h2));
+      ASSERT_TRUE(same(vehicleTtc(c, e.ego, e.foe, h1), within(once, h1))) << "pair " << i;
+      ASSERT_TRUE(same(vehicleTtc(c, e.foe, e.ego, h2), within(once, h2))) << "pair " << i;
+      found += once.found();
+    }
+    const DetectorConfig five = config(DetectorKind::FiveCircle);
+    asymmetric += !same(vehicleTtc(five, e.ego, e.foe, h1), vehicleTtc(five, e.foe, e.ego, h1));
+  }
+  EXPECT_GT(found, 2000);
+  EXPECT_GT(asymmetric, 100);  // why the five-circle zones are excluded
+  EXPECT_FALSE(vehicleTtcSymmetric(config(DetectorKind::FiveCircle)));
+  EXPECT_FALSE(vehicleTtcSymmetric(config(DetectorKind::Box)));
+  EXPECT_FALSE(vehicleTtcSymmetric(config(DetectorKind::Concentric, MotionModel::ConstantAcceleration)));
+}
+
 // The most a layout's circles reach beyond the car's rectangle, from the documented geometry.
 double egoOvershoot(const DetectorConfig& c, double l, double w) {
   if (c.kind == DetectorKind::Concentric) return ref::overshoot({0, 0}, 0.5 * std::hypot(l, w), l, w);

@@ -140,6 +140,14 @@ CarShape carShape(const DetectorConfig& cfg, const Body& b);
 Ttc vehicleTtc(const DetectorConfig& cfg, const Body& ego, const CarShape& egoShape, const Body& foe, const CarShape& foeShape,
                double horizon);
 
+// True when vehicleTtc is the same for both roles and any horizon that holds it: for bodies and
+// shapes A, B and horizons h1, h2, vehicleTtc(A, B, h1) and vehicleTtc(B, A, h2) are each the
+// same time bit for bit, found exactly when that time is <= the horizon. A pair's two
+// directions then take one evaluation at the larger horizon. Concentric at constant velocity
+// (two discs; the kernel is unchanged by negating the relative position and velocity). Not the
+// five-circle zones (the roles differ) nor constant acceleration (roots found per interval).
+bool vehicleTtcSymmetric(const DetectorConfig& cfg);
+
 // The exact oriented-rectangle TTC (Box detector) under the given motion model.
 double boxTtc(const Body& a, const Body& b, MotionModel motion, double horizon);
 
