@@ -619,7 +619,9 @@ struct HighwayMonitor::Impl {
     ++counters.candidatePairs;
     const Vec2 p = centre[f] - pe, v = vel[f] - ve;
     const double accel = kAccel ? accelAbs[e] + accelAbs[f] : 0.0;
-    if (pairMayWarn<kAccel>(cfg.safeTime.vehicleReactionTime, k, p, v, exe + ext[f], accel)) checkPair(e, f, p, v, accel);
+    // most candidates fail the bound: the exact test kept out of the loop's way
+    if (pairMayWarn<kAccel>(cfg.safeTime.vehicleReactionTime, k, p, v, exe + ext[f], accel)) [[unlikely]]
+      checkPair(e, f, p, v, accel);
   }
 
   // For every cell with equipped cars, the cells whose members any of them could reach within
