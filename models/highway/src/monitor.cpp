@@ -785,6 +785,9 @@ struct HighwayMonitor::Impl {
   std::vector<Vec2> memberExt;
   std::vector<double> memberAcc;
   std::vector<int> memberSlot;
+  std::vector<int> memberSlotBefore;        // memberSlot at the last tick
+  std::vector<std::uint64_t> gathered;      // per slot: the gathering it was placed in
+  std::uint64_t gatherStamp = 0;
   std::vector<double> memberBrake;   // m / (2 F_brake)
   std::vector<int> memberEquipped;   // 1 or 0
   std::vector<int> passed;  // scratch: member indices whose pair passed the bound
@@ -1079,6 +1082,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     m.memberVel.resize(na);
     m.memberExt.resize(na);
     m.memberAcc.resize(na);
+    std::swap(m.memberSlot, m.memberSlotBefore);  // last tick's order, for the gathering below
     m.memberSlot.resize(na);
     m.memberBrake.resize(na);
     m.memberEquipped.resize(na);
@@ -1090,11 +1094,21 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       const Vec2 ext = cs.centres.extent();
       cs.axis = ext.y() > ext.x() ? 1 : 0;
     }
+    // gathered in last tick's member order, then the cars new to it: cars keep their order
+    // along the road from tick to tick, so each cell's sort (an insertion sort for a few dozen)
+    // finds its run nearly in order; the sort's total order decides the result either way
     m.memberNext.assign(m.memberStart.begin(), m.memberStart.end() - 1);
-    for (int s : m.activeSlots) {
+    ++m.gatherStamp;
+    auto gather = [&](int s) {
+      if (m.gathered[s] == m.gatherStamp) return;
+      m.gathered[s] = m.gatherStamp;
       const int cell = m.cellOf[s];
       m.memberOrder[m.memberNext[cell]++] = {m.centre[s][m.cellStats[cell].axis], s};
-    }
+    };
+    m.gathered.resize(m.slots.size());
+    for (int s : m.memberSlotBefore)
+      if (s < static_cast<int>(m.slots.size()) && m.inputOf[s] >= 0) gather(s);
+    for (int s : m.activeSlots) gather(s);
     for (int c = 0; c < nc; ++c)
       std::sort(m.memberOrder.begin() + m.memberStart[c], m.memberOrder.begin() + m.memberStart[c + 1]);
     for (std::size_t i = 0; i < na; ++i) {
