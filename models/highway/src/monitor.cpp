@@ -371,13 +371,18 @@ struct HighwayMonitor::Impl {
   // directions of the pair.
   template <bool kAccel>
   Aabb<2> reachBox(int e, double k, const Vec2& vmin, const Vec2& vmax, const Vec2& extMax, double amax) const {
-    const Vec2 ve = vel[e];
+    return reachBoxOf<kAccel>(centre[e], vel[e], ext[e], accelAbs[e], k, vmin, vmax, extMax, amax);
+  }
+  // the same for an ego given by its centre, velocity, envelope extent and |acceleration|
+  template <bool kAccel>
+  Aabb<2> reachBoxOf(const Vec2& pe, const Vec2& ve, const Vec2& exe, double accE, double k, const Vec2& vmin,
+                     const Vec2& vmax, const Vec2& extMax, double amax) const {
     const Vec2 up = (vmax - ve).cwiseMax(0.0), down = (ve - vmin).cwiseMax(0.0);
     const double dx = std::max(up.x(), down.x()), dy = std::max(up.y(), down.y());
-    const double ac = kAccel ? accelAbs[e] + amax : 0.0;
+    const double ac = kAccel ? accE + amax : 0.0;
     const double h = cfg.safeTime.vehicleReactionTime + k * std::sqrt(dx * dx + dy * dy);
-    const Vec2 r0 = ext[e] + extMax + Vec2::Constant(0.5 * ac * h * h + tol::kPruneSlop);
-    return {centre[e] - (up * h + r0), centre[e] + (down * h + r0)};
+    const Vec2 r0 = exe + extMax + Vec2::Constant(0.5 * ac * h * h + tol::kPruneSlop);
+    return {pe - (up * h + r0), pe + (down * h + r0)};
   }
 
   // How far behind and ahead of any car of cell a a member of cell b can lie to meet it within
@@ -539,15 +544,17 @@ struct HighwayMonitor::Impl {
   template <bool kAccel, bool kOwn>
   void walkPairsOnce(int ie, int B, int from) {
     const CellStats& c = cellStats[B];
-    const int e = memberSlot[ie];
-    const int equippedE = memberEquipped[ie];
-    const double kE = brakeRatio[e];
-    const Aabb<2> cb = reachBox<kAccel>(e, std::max(kE, c.kMax), c.vmin, c.vmax, c.extMax, c.amax);
-    if (!kOwn && !c.centres.overlaps(cb)) return;
-    const Vec2 pe = centre[e], ve = vel[e], exe = ext[e];
-    const double tr = cfg.safeTime.vehicleReactionTime;
+    // the car's state from the member arrays (copies of its slot's, in walk order: the slot
+    // arrays in this order would be a cache miss a car)
     const MemberView mv = memberView();
-    const double accE = kAccel ? accelAbs[e] : 0.0;
+    const int e = mv.slot[ie];
+    const int equippedE = mv.equipped[ie];
+    const double kE = mv.brake[ie];
+    const Vec2 pe = mv.pos[ie], ve = mv.vel[ie], exe = mv.ext[ie];
+    const double accE = kAccel ? mv.acc[ie] : 0.0;
+    const Aabb<2> cb = reachBoxOf<kAccel>(pe, ve, exe, mv.acc[ie], std::max(kE, c.kMax), c.vmin, c.vmax, c.extMax, c.amax);
+    if (!kOwn && !c.centres.overlaps(cb)) return;
+    const double tr = cfg.safeTime.vehicleReactionTime;
     const int end = memberStart[B + 1];
     int i = kOwn ? from : lowerBound(mv.key, from, end, cb.min[c.axis]);
     const double hi = cb.max[c.axis];
