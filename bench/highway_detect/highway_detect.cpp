@@ -7,6 +7,10 @@
 // 25-35 m/s), 10% trucks, drivers weaving within their lane (lateral speed ~0.15 m/s) and a few
 // lane changes with signals, 0.1 s ticks. Road length grows with N.
 //
+// All pairs (the reference of the speedup column): every equipped ego against every other car,
+// n(n-1) ordered pair tests, with the cells' narrow phase (cheap bound, exact prune, detector).
+// Its time moves by a few per cent with code layout between builds; compare builds side by side.
+//
 // Times are CPU seconds of the monitor's step() (thread CPU clock), not wall time: the build
 // machine is shared.
 //
