@@ -16,6 +16,8 @@
 //
 // usage: highway_detect [--n 1000,10000,100000] [--ticks K] [--seed S] [--all-pairs yes|no]
 //                       [--detector concentric|five|box]  (default: all three)
+//                       [--repeat R]  (R rounds of cells then all pairs: median times, and the
+//                                      speedup as the median of the rounds' own ratios)
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -137,7 +139,14 @@ struct Row {
   double pairsPerVehicle;
   double toiPerVehicle;
   std::uint64_t warnings;
+  double speedup = 0.0;  // all-pairs rows: all-pairs time over cells time, the median of the rounds'
 };
+
+// The row of median time of a round's measurements (rounds odd or even: the upper median).
+Row medianRow(std::vector<Row> rounds) {
+  std::sort(rounds.begin(), rounds.end(), [](const Row& a, const Row& b) { return a.usPerTick < b.usPerTick; });
+  return rounds[rounds.size() / 2];
+}
 
 Row measure(long n, DetectorKind kind, Broadphase bp, int ticks, std::uint64_t seed) {
   Traffic t = makeTraffic(n, seed);
@@ -210,6 +219,7 @@ std::vector<long> parseList(const char* s) {
 int main(int argc, char** argv) {
   std::vector<long> ns{1000, 10000, 100000};
   int ticksOverride = 0;
+  int repeat = 1;
   std::uint64_t seed = 1;
   bool allPairs = true;
   std::vector<DetectorKind> kinds{DetectorKind::Concentric, DetectorKind::FiveCircle, DetectorKind::Box};
@@ -218,10 +228,11 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--all-pairs")) allPairs = std::strcmp(argv[i + 1], "no") != 0;
     else if (!std::strcmp(argv[i], "--ticks")) ticksOverride = std::atoi(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--seed")) seed = std::strtoull(argv[i + 1], nullptr, 10);
+    else if (!std::strcmp(argv[i], "--repeat") && std::atoi(argv[i + 1]) >= 1) repeat = std::atoi(argv[i + 1]);
     else if (DetectorKind k; !std::strcmp(argv[i], "--detector") && parseDetectorKind(argv[i + 1], k)) kinds = {k};
     else {
       std::fprintf(stderr, "usage: highway_detect [--n 1000,10000,100000] [--ticks K] [--seed S] [--all-pairs yes|no] "
-                           "[--detector concentric|five|box]\n");
+                           "[--detector concentric|five|box] [--repeat R]\n");
       return 2;
     }
   }
@@ -233,18 +244,33 @@ int main(int argc, char** argv) {
   for (long n : ns) {
     for (DetectorKind kind : kinds) {
       const int cellTicks = ticksOverride ? ticksOverride : n <= 1000 ? 200 : n <= 10000 ? 40 : 8;
-      const Row cells = measure(n, kind, Broadphase::Cells, cellTicks, seed);
+      const bool withAllPairs = n <= 10000 && allPairs;
+      const int apTicks = n <= 1000 ? 20 : 2;
+      // rounds of cells then all pairs, back to back: each round's ratio sees one spell of the
+      // host's speed, which drifts between rounds
+      std::vector<Row> cellRounds, apRounds;
+      std::vector<double> ratios;
+      for (int r = 0; r < repeat; ++r) {
+        cellRounds.push_back(measure(n, kind, Broadphase::Cells, cellTicks, seed));
+        if (!withAllPairs) continue;
+        apRounds.push_back(measure(n, kind, Broadphase::AllPairs, apTicks, seed));
+        ratios.push_back(apRounds.back().usPerTick / cellRounds.back().usPerTick);
+      }
+      const Row cells = medianRow(cellRounds);
       rows.push_back(cells);
       std::printf("%8ld %-10s %-9s %5d %12.1f %14.3e %10.2f %9.2f %9llu %9s\n", n, toString(kind), "cells", cells.ticks,
                   cells.usPerTick, cells.updatesPerSecond, cells.pairsPerVehicle, cells.toiPerVehicle,
                   static_cast<unsigned long long>(cells.warnings), "");
-      if (n <= 10000 && allPairs) {
-        const int apTicks = n <= 1000 ? 20 : 2;
-        const Row ap = measure(n, kind, Broadphase::AllPairs, apTicks, seed);
+      if (withAllPairs) {
+        Row ap = medianRow(apRounds);
+        std::sort(ratios.begin(), ratios.end());
+        ap.speedup = ratios[ratios.size() / 2];
         rows.push_back(ap);
-        std::printf("%8ld %-10s %-9s %5d %12.1f %14.3e %10.2f %9.2f %9llu %8.0fx\n", n, toString(kind), "all-pairs",
+        std::printf("%8ld %-10s %-9s %5d %12.1f %14.3e %10.2f %9.2f %9llu %8.0fx", n, toString(kind), "all-pairs",
                     ap.ticks, ap.usPerTick, ap.updatesPerSecond, ap.pairsPerVehicle, ap.toiPerVehicle,
-                    static_cast<unsigned long long>(ap.warnings), ap.usPerTick / cells.usPerTick);
+                    static_cast<unsigned long long>(ap.warnings), ap.speedup);
+        if (repeat > 1) std::printf("  (rounds %.0f-%.0fx)", ratios.front(), ratios.back());
+        std::printf("\n");
       } else if (allPairs) {
         std::printf("%8ld %-10s %-9s %5s %12s (all pairs at 1e5: ~1e10 pair tests per tick, not run)\n", n,
                     toString(kind), "all-pairs", "-", "-");
@@ -269,8 +295,8 @@ int main(int argc, char** argv) {
                   r.updatesPerSecond >= 1e6 ? "met" : "NOT MET");
     for (const Row& a : rows)
       if (a.n == 10000 && a.kind == r.kind && a.bp == Broadphase::AllPairs)
-        std::printf("target cells >= 100x all pairs at 1e4 (%s): %.0fx %s\n", toString(r.kind), a.usPerTick / r.usPerTick,
-                    a.usPerTick / r.usPerTick >= 100 ? "met" : "NOT MET");
+        std::printf("target cells >= 100x all pairs at 1e4 (%s): %.0fx %s\n", toString(r.kind), a.speedup,
+                    a.speedup >= 100 ? "met" : "NOT MET");
   }
   return 0;
 }
