@@ -209,6 +209,36 @@ struct HighwayMonitor::Impl {
     openCount.resize(n);
   }
 
+  // Slot s's hot state from its vehicle this tick (while the ids are mapped: one pass over the
+  // input). Sizes rarely change, headings only on curves and lane changes: the axis (cos, sin)
+  // and the envelopes are kept until they do.
+  void takeState(int s, const VehicleState& v) {
+    Slot& sl = slots[s];
+    const DetectorConfig& dc = cfg.detector;
+    const bool reshaped = v.length != sl.length || v.width != sl.width || v.heading != sl.heading;
+    if (reshaped) sl.axis = v.direction();
+    body[s] = bodyOf(v, sl.axis);
+    centre[s] = v.position;
+    vel[s] = body[s].velocity;
+    mass[s] = v.mass;
+    if (reshaped) {
+      env[s] = envelopeRadius(dc, v.length, v.width);
+      ext[s] = envelopeExtent(dc, body[s]);
+      shape[s] = carShape(dc, body[s]);
+      sl.length = v.length;
+      sl.width = v.width;
+      sl.heading = v.heading;
+    }
+    brakeRatio[s] = v.mass / (2.0 * cfg.safeTime.brakeForce[static_cast<int>(v.vehicleClass)]);
+    accelAbs[s] = std::abs(v.acceleration);
+    vclass[s] = v.vehicleClass;
+    signals[s] = v.signals;
+    equipped[s] = v.equipped ? 1 : 0;
+    if (sl.present) counters.vehicleMeters += (v.position - sl.prev).norm();
+    sl.prev = v.position;
+    sl.present = true;
+  }
+
   Warning warningOf(int e, const Episode& ep, bool open) const {
     return {slots[e].id, ep.kind == WarningKind::Vehicle ? slots[ep.foe].id : groupName[ep.foe], ep.kind, ep.zone, ep.begin,
             ep.end, ep.minTtc, ep.minTtcTime, ep.safeTimeAtMin, open};
@@ -962,6 +992,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       if (m.inputOf[s] < 0 && m.slots[s].id == v.id) {
         m.inputOf[s] = i;
         now.push_back(s);
+        m.takeState(s, v);
         continue;
       }
     }
@@ -991,6 +1022,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     if (m.inputOf[s] >= 0) throw std::invalid_argument("vehicle '" + v.id + "' appears twice at t=" + std::to_string(t));
     m.inputOf[s] = i;
     now.push_back(s);
+    m.takeState(s, v);
   }
   m.ensureSlotArrays(m.slots.size());
   // vehicles that left: their episodes end at their last tick
@@ -1004,36 +1036,6 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     m.freeSlots.push_back(s);
   }
   std::swap(m.activeSlots, now);
-  // hot state
-  const DetectorConfig& dc = m.cfg.detector;
-  for (int s : m.activeSlots) {
-    Impl::Slot& sl = m.slots[s];
-    const VehicleState& v = vehicles[m.inputOf[s]];
-    // sizes rarely change, headings only on curves and lane changes: keep the axis (cos, sin)
-    // and the envelopes until they do
-    const bool reshaped = v.length != sl.length || v.width != sl.width || v.heading != sl.heading;
-    if (reshaped) sl.axis = v.direction();
-    m.body[s] = bodyOf(v, sl.axis);
-    m.centre[s] = v.position;
-    m.vel[s] = m.body[s].velocity;
-    m.mass[s] = v.mass;
-    if (reshaped) {
-      m.env[s] = envelopeRadius(dc, v.length, v.width);
-      m.ext[s] = envelopeExtent(dc, m.body[s]);
-      m.shape[s] = carShape(dc, m.body[s]);
-      sl.length = v.length;
-      sl.width = v.width;
-      sl.heading = v.heading;
-    }
-    m.brakeRatio[s] = v.mass / (2.0 * m.cfg.safeTime.brakeForce[static_cast<int>(v.vehicleClass)]);
-    m.accelAbs[s] = std::abs(v.acceleration);
-    m.vclass[s] = v.vehicleClass;
-    m.signals[s] = v.signals;
-    m.equipped[s] = v.equipped ? 1 : 0;
-    if (sl.present) m.counters.vehicleMeters += (v.position - sl.prev).norm();
-    sl.prev = v.position;
-    sl.present = true;
-  }
   m.counters.vehicleUpdates += m.activeSlots.size();
   ++m.counters.ticks;
   // cells: every car measures its sites, hand-offs happen, then the cells' extents are known
