@@ -1040,22 +1040,17 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
   ++m.counters.ticks;
   // cells: every car measures its sites, hand-offs happen, then the cells' extents are known
   if (m.cfg.broadphase == Broadphase::Cells) {
-    // the spaces change cell by cell at the commit (in refreshExtents): in input order
-    // consecutive cars are in different cells, and each space's tree would be a cache miss
-    for (int s : m.activeSlots) m.cellOf[s] = m.cells->placeDeferred(s, m.body[s].position, boxOf(m.body[s]));
-    m.cells->refreshExtents();
-    m.cells->takeHandoffs();
-    const CellCounters& cc = m.cells->counters();
-    m.counters.handoffs = cc.handoffs;
-    m.counters.subdivisions = cc.subdivisions;
-    m.counters.reunions = cc.reunions;
+    // each car placed, and its cell's statistics taken, in one pass; the spaces change cell by
+    // cell at the commit (in refreshExtents): in input order consecutive cars are in different
+    // cells, and each space's tree would be a cache miss
     const int nc = m.cells->cellCount();
     m.cellStats.assign(nc, Impl::CellStats{});
     m.memberStart.assign(nc + 1, 0);
     m.globalAmax = 0.0;
     m.globalExtMax = Vec2::Zero();
     for (int s : m.activeSlots) {
-      const int cell = m.cellOf[s];
+      const int cell = m.cells->placeDeferred(s, m.body[s].position, boxOf(m.body[s]));
+      m.cellOf[s] = cell;
       Impl::CellStats& c = m.cellStats[cell];
       const Vec2& v = m.body[s].velocity;
       if (c.count++ == 0) {
@@ -1082,6 +1077,12 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       m.globalAmax = std::max(m.globalAmax, m.accelAbs[s]);
       m.globalExtMax = m.globalExtMax.cwiseMax(m.ext[s]);
     }
+    m.cells->refreshExtents();
+    m.cells->takeHandoffs();
+    const CellCounters& cc = m.cells->counters();
+    m.counters.handoffs = cc.handoffs;
+    m.counters.subdivisions = cc.subdivisions;
+    m.counters.reunions = cc.reunions;
     // members contiguous by cell (a counting sort), then each cell's sorted along its long axis
     for (int c = 0; c < nc; ++c) m.memberStart[c + 1] += m.memberStart[c];
     const std::size_t na = m.activeSlots.size();
