@@ -139,7 +139,7 @@ struct Row {
   double pairsPerVehicle;
   double toiPerVehicle;
   std::uint64_t warnings;
-  double speedup = 0.0;  // all-pairs rows: all-pairs time over cells time, the median of the rounds'
+  double speedup = 0.0;  // all-pairs rows: the median over the rounds of all-pairs time / cells time
 };
 
 // The row of median time of a round's measurements (rounds odd or even: the upper median).

@@ -273,15 +273,10 @@ struct HighwayMonitor::Impl {
            static_cast<int>(std::abs(p.y()) <= extSum.y() + ay * safeBound + grow);
   }
 
+  // The exact test of ego e against foe f; its threat, if it warns, joins the ego's.
   void checkPair(int e, int f, const Vec2& p, const Vec2& v, double accel) {
-    Threat th;
-    if (pairThreat(e, f, p, v, accel, th)) threats.push_back(th);
-  }
-
-  // The exact pair test of ego e against foe f: true, and the threat in out, if it warns.
-  bool pairThreat(int e, int f, const Vec2& p, const Vec2& v, double accel, Threat& out) {
-    Threat unused;
-    return (pairThreats(e, f, p, v, accel, true, false, out, unused) & 1) != 0;
+    Threat th, unused;
+    if (pairThreats(e, f, p, v, accel, true, false, th, unused) & 1) threats.push_back(th);
   }
 
   // The exact pair test in the directions asked: ego e against foe f (p, v: f's centre and
@@ -582,7 +577,7 @@ struct HighwayMonitor::Impl {
     const double kE = mv.brake[ie];
     const Vec2 pe = mv.pos[ie], ve = mv.vel[ie], exe = mv.ext[ie];
     const double accE = kAccel ? mv.acc[ie] : 0.0;
-    const Aabb<2> cb = reachBoxOf<kAccel>(pe, ve, exe, mv.acc[ie], std::max(kE, c.kMax), c.vmin, c.vmax, c.extMax, c.amax);
+    const Aabb<2> cb = reachBoxOf<kAccel>(pe, ve, exe, accE, std::max(kE, c.kMax), c.vmin, c.vmax, c.extMax, c.amax);
     if (!kOwn && !c.centres.overlaps(cb)) return;
     const double tr = cfg.safeTime.vehicleReactionTime;
     const int end = memberStart[B + 1];
@@ -699,18 +694,7 @@ struct HighwayMonitor::Impl {
       const double hg = tr + ca.kMax * std::sqrt(gx * gx + gy * gy);
       const Vec2 rg = ca.extMax + globalExtMax + Vec2::Constant(0.5 * ag * hg * hg + 3 * tol::kPruneSlop);
       const Aabb<2> box{ca.centres.min - (upG * hg + rg), ca.centres.max + (downG * hg + rg)};
-      // the index's visit depends on the box through its block of index cells, which moves
-      // rarely, and on the index, which changes rarely (a cell's extent outgrows its indexed box)
-      CellsVisit& cv = cellsVisits[A];
-      const Space<2>& index = cells->networkIndex();
-      const std::array<int, 2> cellBlock = index.cellBlock(box);
-      if (cellBlock != cv.block || index.revision() != cv.revision) {
-        cv.block = cellBlock;
-        cv.revision = index.revision();
-        cv.cells.clear();
-        cells->forEachCellInBox(box, [&](int B) { cv.cells.push_back(B); });
-      }
-      for (int B : cv.cells) {
+      for (int B : cachedVisit(cells->networkIndex(), box, cellsVisits[A])) {
         const CellStats& cb = cellStats[B];
         if (cb.count == 0 || !box.overlaps(cb.centres)) continue;
         // signed per axis, as the per-ego reach: B's members lie behind A's by at most their
@@ -737,16 +721,7 @@ struct HighwayMonitor::Impl {
         // corner of the velocity box), from the nearest of its centres (a corner of the box,
         // or on it): the per-ego prune with every term at the cell's bound
         const double ah = 0.5 * (accel ? ca.amax : 0.0) * h * h + 2 * tol::kPruneSlop;
-        // the index's visit depends on the box only through its block of index cells, which
-        // moves rarely: the features found are kept per cell, for that block
-        FeatureVisit& fv = featureVisits[A];
-        const std::array<int, 2> block = featureIndex->cellBlock(rb);
-        if (block != fv.block) {
-          fv.block = block;
-          fv.features.clear();
-          featureIndex->forEachInBox(rb, [&](int fi) { fv.features.push_back(fi); });
-        }
-        for (int fi : fv.features) {
+        for (int fi : cachedVisit(*featureIndex, rb, featureVisits[A])) {
           const FeatureLine& l = featureLine[fi];
           if (l.line) {
             const double s0 = l.n.dot(ca.centres.min - l.a), s1 = l.n.dot(Vec2(ca.centres.max.x(), ca.centres.min.y()) - l.a),
@@ -796,20 +771,27 @@ struct HighwayMonitor::Impl {
   std::vector<std::vector<Neighbour>> neighbours;
   std::vector<std::vector<Neighbour>> neighboursLight;  // for the cars with k <= the cell's kLight
   std::vector<std::vector<int>> roadNear;
-  // per cell, the cells the network index found for its last box, that box's block and the
-  // index's revision then
-  struct CellsVisit {
+  // What an index's forEachInBox found for a box, kept under the box's block of index cells and
+  // the index's revision: the visit depends on nothing else, and per cell both change rarely (the
+  // block as the cell's box drifts across the index's cells, the network index when a cell's
+  // extent outgrows its indexed box; the feature index never).
+  struct IndexVisit {
     std::array<int, 2> block{-1, -1};
     std::uint64_t revision = ~std::uint64_t{0};
-    std::vector<int> cells;
+    std::vector<int> ids;
   };
-  std::vector<CellsVisit> cellsVisits;
-  // per cell, the road features the index found for its last road box, and that box's block
-  struct FeatureVisit {
-    std::array<int, 2> block{-1, -1};
-    std::vector<int> features;
-  };
-  std::vector<FeatureVisit> featureVisits;
+  static const std::vector<int>& cachedVisit(const Space<2>& index, const Aabb<2>& box, IndexVisit& visit) {
+    const std::array<int, 2> block = index.cellBlock(box);
+    if (block != visit.block || index.revision() != visit.revision) {
+      visit.block = block;
+      visit.revision = index.revision();
+      visit.ids.clear();
+      index.forEachInBox(box, [&](int id) { visit.ids.push_back(id); });
+    }
+    return visit.ids;
+  }
+  std::vector<IndexVisit> cellsVisits;    // per cell: the network index's cells near it
+  std::vector<IndexVisit> featureVisits;  // per cell: the feature index's features near it
   // the cars of every cell, contiguous by cell (memberStart[c] .. memberStart[c + 1]), each cell's
   // sorted by (coordinate along its long axis, slot): key, centre, velocity, envelope extent,
   // |acceleration|, slot
@@ -1024,7 +1006,6 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     now.push_back(s);
     m.takeState(s, v);
   }
-  m.ensureSlotArrays(m.slots.size());
   // vehicles that left: their episodes end at their last tick
   for (int s : m.activeSlots) {
     if (m.inputOf[s] >= 0) continue;
@@ -1117,7 +1098,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     };
     m.gathered.resize(m.slots.size());
     for (int s : m.memberSlotBefore)
-      if (s < static_cast<int>(m.slots.size()) && m.inputOf[s] >= 0) gather(s);
+      if (m.inputOf[s] >= 0) gather(s);
     for (int s : m.activeSlots) gather(s);
     for (int c = 0; c < nc; ++c)
       std::sort(m.memberOrder.begin() + m.memberStart[c], m.memberOrder.begin() + m.memberStart[c + 1]);
