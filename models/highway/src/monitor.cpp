@@ -663,6 +663,7 @@ struct HighwayMonitor::Impl {
     const double tr = cfg.safeTime.vehicleReactionTime;
     neighbours.resize(cellStats.size());
     neighboursLight.resize(cellStats.size());
+    nearCells.resize(cellStats.size());
     roadNear.resize(cellStats.size());
     featureVisits.resize(cellStats.size());
     cellsVisits.resize(cellStats.size());
@@ -677,6 +678,7 @@ struct HighwayMonitor::Impl {
     for (int A = 0; A < static_cast<int>(cellStats.size()); ++A) {
       neighbours[A].clear();
       neighboursLight[A].clear();
+      nearCells[A].clear();
       roadNear[A].clear();
       const CellStats& ca = cellStats[A];
       if (ca.equipped == 0) continue;
@@ -706,6 +708,9 @@ struct HighwayMonitor::Impl {
           return Aabb<2>{ca.centres.min - r.behind, ca.centres.max + r.ahead}.overlaps(cb.centres);
         };
         if (!reaches(ca.kMax)) continue;
+        if (!ca.subdivided) nearCells[A].push_back(B);
+        // the full entries only where an ego searches them: from a subdivided cell, or into one
+        if (!ca.subdivided && !cb.subdivided) continue;
         const Neighbour nb{cb.vmin, cb.vmax, cb.extMax, cb.centres, cb.amax, memberStart[B], memberStart[B + 1], B,
                            cb.axis, cb.subdivided};
         neighbours[A].push_back(nb);
@@ -747,10 +752,10 @@ struct HighwayMonitor::Impl {
     for (int A = 0; A < nc; ++A) pairCells[A].clear();
     for (int A = 0; A < nc; ++A) {
       if (cellStats[A].subdivided) continue;
-      for (const Neighbour& nb : neighbours[A]) {
-        const int B = nb.cell;
-        listHasSubdivided[A] |= static_cast<char>(nb.subdivided);
-        if (B == A || nb.subdivided) continue;
+      for (int B : nearCells[A]) {
+        const bool subdivided = cellStats[B].subdivided;
+        listHasSubdivided[A] |= static_cast<char>(subdivided);
+        if (B == A || subdivided) continue;
         std::vector<int>& list = pairCells[std::min(A, B)];
         if (std::find(list.begin(), list.end(), std::max(A, B)) == list.end()) list.push_back(std::max(A, B));
       }
@@ -758,7 +763,9 @@ struct HighwayMonitor::Impl {
   }
 
   // Per cell, this tick: the cells its cars may meet and the road features they may reach. A
-  // neighbour entry holds what the per-ego reach needs, copied so an ego's search reads one array.
+  // neighbour entry holds what the per-ego reach needs, copied so an ego's search reads one array;
+  // only the searches per ego read them (the cars of a subdivided cell, and every car against a
+  // subdivided neighbour), so an undivided cell keeps only its subdivided neighbours' entries.
   struct Neighbour {
     Vec2 vmin, vmax, extMax;
     Aabb<2> centres;
@@ -770,6 +777,7 @@ struct HighwayMonitor::Impl {
   };
   std::vector<std::vector<Neighbour>> neighbours;
   std::vector<std::vector<Neighbour>> neighboursLight;  // for the cars with k <= the cell's kLight
+  std::vector<std::vector<int>> nearCells;  // per undivided cell: the cells in its full list, subdivided or not
   std::vector<std::vector<int>> roadNear;
   // What an index's forEachInBox found for a box, kept under the box's block of index cells and
   // the index's revision: the visit depends on nothing else, and per cell both change rarely (the
