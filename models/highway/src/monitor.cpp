@@ -519,7 +519,6 @@ struct HighwayMonitor::Impl {
   std::vector<Threat> pairFoundByEgo;
   std::vector<int> pairFoundStart;       // per slot, into pairFoundByEgo (a counting sort)
   std::vector<std::vector<int>> pairCells;  // per cell A: the later cells B its pairs reach
-  std::vector<char> listHasSubdivided;      // per cell: its neighbour list names a subdivided cell
 
   void findPairsOnce() {
     pairFound.clear();
@@ -621,16 +620,16 @@ struct HighwayMonitor::Impl {
   void vehicleThreatsOfPairs(int e) {
     const int own = cellOf[e];
     threats.insert(threats.end(), pairFoundByEgo.begin() + pairFoundStart[e], pairFoundByEgo.begin() + pairFoundStart[e + 1]);
-    if (!listHasSubdivided[own]) return;
+    if (neighbours[own].empty()) return;  // no subdivided neighbour
     if (cfg.detector.motion == MotionModel::ConstantAcceleration) searchSubdividedNeighbours<true>(e);
     else searchSubdividedNeighbours<false>(e);
   }
+  // (an undivided cell's neighbour entries are its subdivided neighbours')
   template <bool kAccel>
   void searchSubdividedNeighbours(int e) {
     const int own = cellOf[e];
     const double k = brakeRatio[e];
     for (const Neighbour& c : k <= cellStats[own].kLight ? neighboursLight[own] : neighbours[own]) {
-      if (!c.subdivided) continue;
       const Aabb<2> cb = reachBox<kAccel>(e, k, c.vmin, c.vmax, c.extMax, c.amax);
       if (c.centres.overlaps(cb)) searchSubdivided<kAccel>(e, c.cell, cb);
     }
@@ -708,9 +707,10 @@ struct HighwayMonitor::Impl {
           return Aabb<2>{ca.centres.min - r.behind, ca.centres.max + r.ahead}.overlaps(cb.centres);
         };
         if (!reaches(ca.kMax)) continue;
-        if (!ca.subdivided) nearCells[A].push_back(B);
-        // the full entries only where an ego searches them: from a subdivided cell, or into one
-        if (!ca.subdivided && !cb.subdivided) continue;
+        if (!ca.subdivided && !cb.subdivided) {
+          nearCells[A].push_back(B);  // its pairs are walked once
+          continue;
+        }
         const Neighbour nb{cb.vmin, cb.vmax, cb.extMax, cb.centres, cb.amax, memberStart[B], memberStart[B + 1], B,
                            cb.axis, cb.subdivided};
         neighbours[A].push_back(nb);
@@ -748,24 +748,20 @@ struct HighwayMonitor::Impl {
   void buildPairCells() {
     const int nc = static_cast<int>(cellStats.size());
     pairCells.resize(nc);
-    listHasSubdivided.assign(nc, 0);
     for (int A = 0; A < nc; ++A) pairCells[A].clear();
-    for (int A = 0; A < nc; ++A) {
-      if (cellStats[A].subdivided) continue;
+    for (int A = 0; A < nc; ++A)
       for (int B : nearCells[A]) {
-        const bool subdivided = cellStats[B].subdivided;
-        listHasSubdivided[A] |= static_cast<char>(subdivided);
-        if (B == A || subdivided) continue;
+        if (B == A) continue;
         std::vector<int>& list = pairCells[std::min(A, B)];
         if (std::find(list.begin(), list.end(), std::max(A, B)) == list.end()) list.push_back(std::max(A, B));
       }
-    }
   }
 
   // Per cell, this tick: the cells its cars may meet and the road features they may reach. A
-  // neighbour entry holds what the per-ego reach needs, copied so an ego's search reads one array;
-  // only the searches per ego read them (the cars of a subdivided cell, and every car against a
-  // subdivided neighbour), so an undivided cell keeps only its subdivided neighbours' entries.
+  // neighbour entry holds what the per-ego reach needs, copied so an ego's search reads one array.
+  // Only the searches per ego read them: a subdivided cell's list names every cell its cars may
+  // meet, an undivided cell's only its subdivided ones (the undivided ones are in nearCells, their
+  // pairs walked once).
   struct Neighbour {
     Vec2 vmin, vmax, extMax;
     Aabb<2> centres;
@@ -777,7 +773,7 @@ struct HighwayMonitor::Impl {
   };
   std::vector<std::vector<Neighbour>> neighbours;
   std::vector<std::vector<Neighbour>> neighboursLight;  // for the cars with k <= the cell's kLight
-  std::vector<std::vector<int>> nearCells;  // per undivided cell: the cells in its full list, subdivided or not
+  std::vector<std::vector<int>> nearCells;  // per undivided cell: the undivided cells its cars may meet
   std::vector<std::vector<int>> roadNear;
   // What an index's forEachInBox found for a box, kept under the box's block of index cells and
   // the index's revision: the visit depends on nothing else, and per cell both change rarely (the
