@@ -21,6 +21,15 @@ RoadGeometry straightRoad(double length = 2000.0) {
 
 Aabb<2> carBox(const Vec2& c) { return {c - Vec2(2.5, 0.9), c + Vec2(2.5, 0.9)}; }
 
+// The layouts below are drawn for sites 200 m apart (ten on the 2 km road), not the default
+CellConfig config200() {
+  CellConfig c;
+  c.cellLength = 200.0;
+  c.radioRange = 600.0;
+  c.decompositionFactor = 32;
+  return c;
+}
+
 int cellsHolding(const CellNetwork& net, int v) {
   int n = 0;
   for (int c = 0; c < net.cellCount(); ++c)
@@ -30,7 +39,7 @@ int cellsHolding(const CellNetwork& net, int v) {
 
 TEST(Cells, SitesAlongTheSection) {
   const RoadGeometry road = straightRoad();
-  const CellNetwork net(road, deriveFeatures(road), CellConfig{});
+  const CellNetwork net(road, deriveFeatures(road), config200());
   ASSERT_EQ(net.cellCount(), 10);
   for (int c = 0; c < 10; ++c) {
     EXPECT_NEAR(net.site(c).position.x(), 100.0 + 200.0 * c, 1e-9);
@@ -42,7 +51,7 @@ TEST(Cells, SitesAlongTheSection) {
 
 TEST(Cells, HandoffInOrderNeverLostNeverTwice) {
   const RoadGeometry road = straightRoad();
-  CellConfig cfg;
+  CellConfig cfg = config200();
   CellNetwork net(road, deriveFeatures(road), cfg);
   // handoff where d_old / d_new passes 10^(h / 10n): between sites a and a + 200 at
   // a + 200 rho / (1 + rho) on the sites' line
@@ -81,7 +90,7 @@ TEST(Cells, HandoffsEqualMeasuringEveryStep) {
   RoadGeometry road = straightRoad(1400.0);
   for (int i = 0; i < 3; ++i)
     road.lanes.push_back(laneOf("back", i, {Vec2(1400.0, 20.8 - 3.2 * i), Vec2(0.0, 20.8 - 3.2 * i)}));
-  CellConfig cfg;
+  CellConfig cfg = config200();
   CellNetwork net(road, deriveFeatures(road), cfg);
   const double ratioSq = std::pow(10.0, 2.0 * cfg.hysteresisDb / (10.0 * cfg.pathLossExponent));
   auto d2 = [&](int c, const Vec2& p) {
@@ -120,7 +129,7 @@ TEST(Cells, HysteresisPreventsPingPong) {
   const RoadGeometry road = straightRoad();
   // a car weaving +-8 m around the boundary between cells 2 and 3 (x = 600)
   auto weave = [&](double hysteresisDb) {
-    CellConfig cfg;
+    CellConfig cfg = config200();
     cfg.hysteresisDb = hysteresisDb;
     CellNetwork net(road, deriveFeatures(road), cfg);
     for (int i = 0; i < 200; ++i) {
@@ -135,7 +144,7 @@ TEST(Cells, HysteresisPreventsPingPong) {
 
 TEST(Cells, CongestedCellSubdividesAndReunites) {
   const RoadGeometry road = straightRoad();
-  CellConfig cfg;
+  CellConfig cfg = config200();
   cfg.decompositionFactor = 4;
   CellNetwork net(road, deriveFeatures(road), cfg);
   // a jam: 3 lanes x 25 cars at 7 m spacing inside cell 1 (x in 200..400)
@@ -166,7 +175,7 @@ TEST(Cells, CongestedCellSubdividesAndReunites) {
 // place() leaves it: the same trees (leaves, their lists in order), slots, counters, handoffs.
 TEST(Cells, DeferredPlacementMatchesPlace) {
   const RoadGeometry road = straightRoad();
-  CellConfig cfg;
+  CellConfig cfg = config200();
   cfg.decompositionFactor = 4;  // jams subdivide and reunite
   CellNetwork now(road, deriveFeatures(road), cfg), later(road, deriveFeatures(road), cfg);
   std::mt19937_64 rng(7);
