@@ -1104,8 +1104,17 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     for (int s : m.memberSlotBefore)
       if (m.inputOf[s] >= 0) gather(s);
     for (int s : m.activeSlots) gather(s);
-    for (int c = 0; c < nc; ++c)
-      std::sort(m.memberOrder.begin() + m.memberStart[c], m.memberOrder.begin() + m.memberStart[c + 1]);
+    for (int c = 0; c < nc; ++c) {
+      // an insertion sort: the run is nearly in order (std::sort partitions a run past 16 first)
+      std::pair<double, int>* run = m.memberOrder.data() + m.memberStart[c];
+      const int count = m.memberStart[c + 1] - m.memberStart[c];
+      for (int i = 1; i < count; ++i) {
+        const std::pair<double, int> x = run[i];
+        int j = i;
+        for (; j > 0 && x < run[j - 1]; --j) run[j] = run[j - 1];
+        run[j] = x;
+      }
+    }
     for (std::size_t i = 0; i < na; ++i) {
       const auto [key, slot] = m.memberOrder[i];
       m.memberKey[i] = key;
