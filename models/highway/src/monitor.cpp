@@ -144,7 +144,14 @@ struct HighwayMonitor::Impl {
   std::vector<std::uint8_t> signals;
   std::vector<char> equipped;
   std::vector<std::uint64_t> serialOf;       // slots[].serial, the key of vehicle episodes
-  std::vector<int> cellOf;                   // serving cell (cells broadphase)
+  // The cells broad phase groups each cell's cars in two bins: 2 c + 0 for its compact cars (light,
+  // small, keeping their lane), 2 c + 1 for the rest (heavy or large ones, lane changers). The reach
+  // of a walk into a bin grows with the bin's largest brake ratio, envelope and lateral speed, so
+  // the few trucks and lane changers no longer widen every walk into their cell: the opposing
+  // carriageway's compact bin lies beyond a compact car's reach. Any split gives the same
+  // warnings (the bounds hold per bin); a subdivided cell keeps all its cars in bin 2 c.
+  std::vector<int> binOf;                    // the car's bin (cells broad phase)
+  std::vector<int> wideOf;                   // 1 if the car goes in its cell's second bin
   std::vector<int> inputOf;                  // index in the current span, -1 if absent
   std::vector<Exposure> exposure;
   // Open episodes of every car, contiguous in the order the cars were processed at the last
@@ -153,21 +160,47 @@ struct HighwayMonitor::Impl {
   std::vector<Episode> pool, poolNext;
   std::vector<int> openBegin, openCount;     // per slot, into pool
 
-  // per-cell bounds of the members' velocities, accelerations and envelopes (cells broadphase)
-  struct CellStats {
-    Vec2 vmin, vmax;
+  // per-bin bounds of the members' velocities, accelerations and envelopes (cells broad phase)
+  struct BinStats {
+    Vec2 vmin = Vec2::Zero(), vmax = Vec2::Zero();
     double amax = 0.0, envMax = 0.0;
     Vec2 extMax = Vec2::Zero();
     double kMax = 0.0;          // largest m / (2 F_brake) of its equipped cars (s per m/s)
     double kLight = 0.0;        // the largest below kMax (0 if none): the lighter cars' own list
     double kAll = 0.0;          // largest m / (2 F_brake) of all its cars, equipped or not
-    Aabb<2> centres;
+    Aabb<2> centres{Vec2::Zero(), Vec2::Zero()};
     int count = 0;
     int equipped = 0;
     bool subdivided = false;
     int axis = 0;               // the long axis of its members' centres
+
+    // takes in another bin's cars (the bounds as if they had been taken one by one)
+    void absorb(const BinStats& o) {
+      if (o.count == 0) return;
+      if (count == 0) {
+        *this = o;
+        return;
+      }
+      vmin = vmin.cwiseMin(o.vmin);
+      vmax = vmax.cwiseMax(o.vmax);
+      centres.min = centres.min.cwiseMin(o.centres.min);
+      centres.max = centres.max.cwiseMax(o.centres.max);
+      amax = std::max(amax, o.amax);
+      envMax = std::max(envMax, o.envMax);
+      extMax = extMax.cwiseMax(o.extMax);
+      kAll = std::max(kAll, o.kAll);
+      // the two largest distinct ratios of the union are among each side's two
+      const double hi = std::max(kMax, o.kMax);
+      double light = 0.0;
+      for (double k : {kMax, kLight, o.kMax, o.kLight})
+        if (k < hi) light = std::max(light, k);
+      kMax = hi;
+      kLight = light;
+      count += o.count;
+      equipped += o.equipped;
+    }
   };
-  std::vector<CellStats> cellStats;
+  std::vector<BinStats> binStats;
 
   MonitorCounters counters;
   std::vector<Warning> finished;
@@ -202,7 +235,8 @@ struct HighwayMonitor::Impl {
     signals.resize(n);
     equipped.resize(n);
     serialOf.resize(n);
-    cellOf.resize(n);
+    binOf.resize(n);
+    wideOf.resize(n);
     inputOf.resize(n, -1);
     exposure.resize(n);
     openBegin.resize(n);
@@ -230,6 +264,8 @@ struct HighwayMonitor::Impl {
       sl.heading = v.heading;
     }
     brakeRatio[s] = v.mass / (2.0 * cfg.safeTime.brakeForce[static_cast<int>(v.vehicleClass)]);
+    wideOf[s] = static_cast<int>(!(brakeRatio[s] <= tol::kCompactBrakeRatio && ext[s].maxCoeff() <= tol::kCompactExtent &&
+                                   std::abs(v.lateralSpeed) <= tol::kCompactLateralSpeed));
     accelAbs[s] = std::abs(v.acceleration);
     vclass[s] = v.vehicleClass;
     signals[s] = v.signals;
@@ -416,7 +452,7 @@ struct HighwayMonitor::Impl {
   struct CellReach {
     Vec2 behind, ahead;
   };
-  CellReach cellReach(const CellStats& a, const CellStats& b, double k, bool accel, double slop) const {
+  CellReach cellReach(const BinStats& a, const BinStats& b, double k, bool accel, double slop) const {
     const Vec2 up = (b.vmax - a.vmin).cwiseMax(0.0), down = (a.vmax - b.vmin).cwiseMax(0.0);
     const double dx = std::max(up.x(), down.x()), dy = std::max(up.y(), down.y());
     const double ac = accel ? a.amax + b.amax : 0.0;
@@ -458,8 +494,8 @@ struct HighwayMonitor::Impl {
         if (f != e) considerFoe<kAccel>(e, f, pe, ve, exe, k);
       return;
     }
-    const int own = cellOf[e];
-    for (const Neighbour& c : k <= cellStats[own].kLight ? neighboursLight[own] : neighbours[own]) {
+    const int own = binOf[e];
+    for (const Neighbour& c : k <= binStats[own].kLight ? neighboursLight[own] : neighbours[own]) {
       // per axis, with its sign: a member moving at v relative to the ego reaches it within
       // the look-ahead h only from where v carries it towards the ego, so a foe's centre lies
       // within the shapes' extents of the ego, further only behind by (fastest relative
@@ -470,7 +506,7 @@ struct HighwayMonitor::Impl {
       // a congested (subdivided) cell is searched through its space; a small one through its
       // members sorted along the cell's long axis (from the first inside the reach's range)
       if (c.subdivided) {
-        searchSubdivided<kAccel>(e, c.cell, cb);
+        searchSubdivided<kAccel>(e, c.bin / 2, cb);
         continue;
       }
       // the member arrays hold the foes' state in walk order (no slot indirection); the
@@ -518,7 +554,7 @@ struct HighwayMonitor::Impl {
   std::vector<PairThreat> pairFound;
   std::vector<Threat> pairFoundByEgo;
   std::vector<int> pairFoundStart;       // per slot, into pairFoundByEgo (a counting sort)
-  std::vector<std::vector<int>> pairCells;  // per cell A: the later cells B its pairs reach
+  std::vector<std::vector<int>> pairBins;  // per bin A: the later bins B its pairs reach
 
   void findPairsOnce() {
     pairFound.clear();
@@ -535,14 +571,14 @@ struct HighwayMonitor::Impl {
 
   template <bool kAccel>
   void findPairsOnceFor() {
-    for (int A = 0; A < static_cast<int>(cellStats.size()); ++A) {
-      const CellStats& ca = cellStats[A];
+    for (int A = 0; A < static_cast<int>(binStats.size()); ++A) {
+      const BinStats& ca = binStats[A];
       if (ca.count == 0 || ca.subdivided) continue;
       const int first = memberStart[A], last = memberStart[A + 1];
       if (ca.equipped > 0)
         for (int i = first; i < last; ++i) walkPairsOnce<kAccel, true>(i, A, i + 1);
-      for (int B : pairCells[A]) {
-        const CellStats& cb = cellStats[B];
+      for (int B : pairBins[A]) {
+        const BinStats& cb = binStats[B];
         // the cars of A whose reach box (walkPairsOnce's) may meet B's centres: a run along A's
         // sorted axis; the rest are skipped without computing their reach
         const auto [behind, ahead] = cellReach(ca, cb, std::max(ca.kAll, cb.kMax), kAccel, tol::kPruneSlop);
@@ -567,7 +603,7 @@ struct HighwayMonitor::Impl {
   // and starts before it along the sorted axis (no overlap test, no search)
   template <bool kAccel, bool kOwn>
   void walkPairsOnce(int ie, int B, int from) {
-    const CellStats& c = cellStats[B];
+    const BinStats& c = binStats[B];
     // the car's state from the member arrays (copies of its slot's, in walk order: the slot
     // arrays in this order would be a cache miss a car)
     const MemberView mv = memberView();
@@ -618,7 +654,7 @@ struct HighwayMonitor::Impl {
   // foes in subdivided neighbour cells, searched per ego. The order does not matter: merge
   // orders the threats totally.
   void vehicleThreatsOfPairs(int e) {
-    const int own = cellOf[e];
+    const int own = binOf[e];
     threats.insert(threats.end(), pairFoundByEgo.begin() + pairFoundStart[e], pairFoundByEgo.begin() + pairFoundStart[e + 1]);
     if (neighbours[own].empty()) return;  // no subdivided neighbour
     if (cfg.detector.motion == MotionModel::ConstantAcceleration) searchSubdividedNeighbours<true>(e);
@@ -627,11 +663,11 @@ struct HighwayMonitor::Impl {
   // (an undivided cell's neighbour entries are its subdivided neighbours')
   template <bool kAccel>
   void searchSubdividedNeighbours(int e) {
-    const int own = cellOf[e];
+    const int own = binOf[e];
     const double k = brakeRatio[e];
-    for (const Neighbour& c : k <= cellStats[own].kLight ? neighboursLight[own] : neighbours[own]) {
+    for (const Neighbour& c : k <= binStats[own].kLight ? neighboursLight[own] : neighbours[own]) {
       const Aabb<2> cb = reachBox<kAccel>(e, k, c.vmin, c.vmax, c.extMax, c.amax);
-      if (c.centres.overlaps(cb)) searchSubdivided<kAccel>(e, c.cell, cb);
+      if (c.centres.overlaps(cb)) searchSubdivided<kAccel>(e, c.bin / 2, cb);
     }
   }
 
@@ -655,31 +691,31 @@ struct HighwayMonitor::Impl {
       checkPair(e, f, p, v, accel);
   }
 
-  // For every cell with equipped cars, the cells whose members any of them could reach within
-  // its largest safe time: bounds over the two cells' velocities, sizes, accelerations, masses.
+  // For every bin with equipped cars, the bins whose members any of them could reach within
+  // its largest safe time: bounds over the two bins' velocities, sizes, accelerations, masses.
   void buildNeighbourLists() {
     const bool accel = cfg.detector.motion == MotionModel::ConstantAcceleration;
     const double tr = cfg.safeTime.vehicleReactionTime;
-    neighbours.resize(cellStats.size());
-    neighboursLight.resize(cellStats.size());
-    nearCells.resize(cellStats.size());
-    roadNear.resize(cellStats.size());
-    featureVisits.resize(cellStats.size());
-    cellsVisits.resize(cellStats.size());
+    neighbours.resize(binStats.size());
+    neighboursLight.resize(binStats.size());
+    nearBins.resize(binStats.size());
+    roadNear.resize(binStats.size());
+    featureVisits.resize(binStats.size());
+    cellsVisits.resize(binStats.size());
     // the signed velocity bounds over all cells with cars, for the box below
     Vec2 vHi = Vec2::Constant(-std::numeric_limits<double>::infinity());
     Vec2 vLo = Vec2::Constant(std::numeric_limits<double>::infinity());
-    for (const CellStats& c : cellStats)
+    for (const BinStats& c : binStats)
       if (c.count > 0) {
         vHi = vHi.cwiseMax(c.vmax);
         vLo = vLo.cwiseMin(c.vmin);
       }
-    for (int A = 0; A < static_cast<int>(cellStats.size()); ++A) {
+    for (int A = 0; A < static_cast<int>(binStats.size()); ++A) {
       neighbours[A].clear();
       neighboursLight[A].clear();
-      nearCells[A].clear();
+      nearBins[A].clear();
       roadNear[A].clear();
-      const CellStats& ca = cellStats[A];
+      const BinStats& ca = binStats[A];
       if (ca.equipped == 0) continue;
       const Vec2 va = ca.vmin.cwiseAbs().cwiseMax(ca.vmax.cwiseAbs());
       // A box holding every cell's reach below, computed as it is but with every operand at its
@@ -695,27 +731,28 @@ struct HighwayMonitor::Impl {
       const double hg = tr + ca.kMax * std::sqrt(gx * gx + gy * gy);
       const Vec2 rg = ca.extMax + globalExtMax + Vec2::Constant(0.5 * ag * hg * hg + 3 * tol::kPruneSlop);
       const Aabb<2> box{ca.centres.min - (upG * hg + rg), ca.centres.max + (downG * hg + rg)};
-      for (int B : cachedVisit(cells->networkIndex(), box, cellsVisits[A])) {
-        const CellStats& cb = cellStats[B];
-        if (cb.count == 0 || !box.overlaps(cb.centres)) continue;
-        // signed per axis, as the per-ego reach: B's members lie behind A's by at most their
-        // fastest relative velocity forwards times h, ahead by the fastest backwards. The reach
-        // grows with the brake ratio k: with kMax for every car of A, with kLight for the cars at
-        // or below it (the list they walk is then a subsequence of the full one)
-        auto reaches = [&](double k) {
-          const CellReach r = cellReach(ca, cb, k, accel, 2 * tol::kPruneSlop);
-          return Aabb<2>{ca.centres.min - r.behind, ca.centres.max + r.ahead}.overlaps(cb.centres);
-        };
-        if (!reaches(ca.kMax)) continue;
-        if (!ca.subdivided && !cb.subdivided) {
-          nearCells[A].push_back(B);  // its pairs are walked once
-          continue;
+      for (int cellB : cachedVisit(cells->networkIndex(), box, cellsVisits[A]))
+        for (int B = 2 * cellB; B < 2 * cellB + 2; ++B) {
+          const BinStats& cb = binStats[B];
+          if (cb.count == 0 || !box.overlaps(cb.centres)) continue;
+          // signed per axis, as the per-ego reach: B's members lie behind A's by at most their
+          // fastest relative velocity forwards times h, ahead by the fastest backwards. The reach
+          // grows with the brake ratio k: with kMax for every car of A, with kLight for the cars at
+          // or below it (the list they walk is then a subsequence of the full one)
+          auto reaches = [&](double k) {
+            const CellReach r = cellReach(ca, cb, k, accel, 2 * tol::kPruneSlop);
+            return Aabb<2>{ca.centres.min - r.behind, ca.centres.max + r.ahead}.overlaps(cb.centres);
+          };
+          if (!reaches(ca.kMax)) continue;
+          if (!ca.subdivided && !cb.subdivided) {
+            nearBins[A].push_back(B);  // its pairs are walked once
+            continue;
+          }
+          const Neighbour nb{cb.vmin, cb.vmax, cb.extMax, cb.centres, cb.amax, memberStart[B], memberStart[B + 1], B,
+                             cb.axis, cb.subdivided};
+          neighbours[A].push_back(nb);
+          if (ca.kLight > 0.0 && reaches(ca.kLight)) neighboursLight[A].push_back(nb);
         }
-        const Neighbour nb{cb.vmin, cb.vmax, cb.extMax, cb.centres, cb.amax, memberStart[B], memberStart[B + 1], B,
-                           cb.axis, cb.subdivided};
-        neighbours[A].push_back(nb);
-        if (ca.kLight > 0.0 && reaches(ca.kLight)) neighboursLight[A].push_back(nb);
-      }
       // road features any member could reach within its largest road safe time
       if (featureIndex && cfg.checkRoad) {
         const double speed = va.norm();
@@ -745,14 +782,14 @@ struct HighwayMonitor::Impl {
   }
   // The cell pairs walked once (both undivided, each pair under its lower cell): those where
   // either cell's cars may reach the other's (the reach is symmetric but for the brake ratio).
-  void buildPairCells() {
-    const int nc = static_cast<int>(cellStats.size());
-    pairCells.resize(nc);
-    for (int A = 0; A < nc; ++A) pairCells[A].clear();
+  void buildPairBins() {
+    const int nc = static_cast<int>(binStats.size());
+    pairBins.resize(nc);
+    for (int A = 0; A < nc; ++A) pairBins[A].clear();
     for (int A = 0; A < nc; ++A)
-      for (int B : nearCells[A]) {
+      for (int B : nearBins[A]) {
         if (B == A) continue;
-        std::vector<int>& list = pairCells[std::min(A, B)];
+        std::vector<int>& list = pairBins[std::min(A, B)];
         if (std::find(list.begin(), list.end(), std::max(A, B)) == list.end()) list.push_back(std::max(A, B));
       }
   }
@@ -760,20 +797,20 @@ struct HighwayMonitor::Impl {
   // Per cell, this tick: the cells its cars may meet and the road features they may reach. A
   // neighbour entry holds what the per-ego reach needs, copied so an ego's search reads one array.
   // Only the searches per ego read them: a subdivided cell's list names every cell its cars may
-  // meet, an undivided cell's only its subdivided ones (the undivided ones are in nearCells, their
+  // meet, an undivided cell's only its subdivided ones (the undivided ones are in nearBins, their
   // pairs walked once).
   struct Neighbour {
     Vec2 vmin, vmax, extMax;
     Aabb<2> centres;
     double amax;
     int begin, end;  // its members in the member arrays
-    int cell;
+    int bin;
     int axis;
     bool subdivided;
   };
   std::vector<std::vector<Neighbour>> neighbours;
   std::vector<std::vector<Neighbour>> neighboursLight;  // for the cars with k <= the cell's kLight
-  std::vector<std::vector<int>> nearCells;  // per undivided cell: the undivided cells its cars may meet
+  std::vector<std::vector<int>> nearBins;  // per undivided bin: the undivided bins its cars may meet
   std::vector<std::vector<int>> roadNear;
   // What an index's forEachInBox found for a box, kept under the box's block of index cells and
   // the index's revision: the visit depends on nothing else, and per cell both change rarely (the
@@ -824,7 +861,7 @@ struct HighwayMonitor::Impl {
     // only prunes, and a larger one prunes less
     const double hMax =
         (cfg.safeTime.roadReactionTime + brakeRatio[e] * vel[e].norm()) * (1.0 + tol::kBoundRelativeSlop);
-    const std::vector<int>& list = cfg.broadphase == Broadphase::AllPairs ? allFeatures : roadNear[cellOf[e]];
+    const std::vector<int>& list = cfg.broadphase == Broadphase::AllPairs ? allFeatures : roadNear[binOf[e]];
     counters.featureChecks += list.size();
     // first every line against a bound on the shape's support towards it (no wider than the
     // envelope, and most lines are further off than that), without branches and without a call
@@ -1025,18 +1062,19 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
   ++m.counters.ticks;
   // cells: every car measures its sites, hand-offs happen, then the cells' extents are known
   if (m.cfg.broadphase == Broadphase::Cells) {
-    // each car placed, and its cell's statistics taken, in one pass; the spaces change cell by
+    // each car placed, and its bin's statistics taken, in one pass; the spaces change cell by
     // cell at the commit (in refreshExtents): in input order consecutive cars are in different
     // cells, and each space's tree would be a cache miss
     const int nc = m.cells->cellCount();
-    m.cellStats.assign(nc, Impl::CellStats{});
-    m.memberStart.assign(nc + 1, 0);
+    const int nb = 2 * nc;
+    m.binStats.assign(nb, Impl::BinStats{});
+    m.memberStart.assign(nb + 1, 0);
     m.globalAmax = 0.0;
     m.globalExtMax = Vec2::Zero();
     for (int s : m.activeSlots) {
-      const int cell = m.cells->placeDeferred(s, m.body[s].position, boxOf(m.body[s]));
-      m.cellOf[s] = cell;
-      Impl::CellStats& c = m.cellStats[cell];
+      const int bin = 2 * m.cells->placeDeferred(s, m.body[s].position, boxOf(m.body[s])) + m.wideOf[s];
+      m.binOf[s] = bin;
+      Impl::BinStats& c = m.binStats[bin];
       const Vec2& v = m.body[s].velocity;
       if (c.count++ == 0) {
         c.vmin = c.vmax = v;
@@ -1047,7 +1085,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
         c.centres.min = c.centres.min.cwiseMin(m.centre[s]);
         c.centres.max = c.centres.max.cwiseMax(m.centre[s]);
       }
-      ++m.memberStart[cell + 1];
+      ++m.memberStart[bin + 1];
       c.amax = std::max(c.amax, m.accelAbs[s]);
       c.envMax = std::max(c.envMax, m.env[s]);
       c.extMax = c.extMax.cwiseMax(m.ext[s]);
@@ -1068,8 +1106,18 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     m.counters.handoffs = cc.handoffs;
     m.counters.subdivisions = cc.subdivisions;
     m.counters.reunions = cc.reunions;
-    // members contiguous by cell (a counting sort), then each cell's sorted along its long axis
-    for (int c = 0; c < nc; ++c) m.memberStart[c + 1] += m.memberStart[c];
+    // a subdivided cell's cars all in its first bin (searched through its space)
+    for (int c = 0; c < nc; ++c) {
+      const SpaceCounters& sc = m.cells->cellSpace(c).counters();
+      if (sc.subdivisions <= sc.reunions) continue;
+      m.binStats[2 * c].absorb(m.binStats[2 * c + 1]);
+      m.binStats[2 * c + 1] = Impl::BinStats{};
+      m.binStats[2 * c].subdivided = m.binStats[2 * c + 1].subdivided = true;
+      m.memberStart[2 * c + 1] += m.memberStart[2 * c + 2];
+      m.memberStart[2 * c + 2] = 0;
+    }
+    // members contiguous by bin (a counting sort), then each bin's sorted along its long axis
+    for (int b = 0; b < nb; ++b) m.memberStart[b + 1] += m.memberStart[b];
     const std::size_t na = m.activeSlots.size();
     m.memberOrder.resize(na);
     m.memberKey.resize(na);
@@ -1081,30 +1129,28 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     m.memberSlot.resize(na);
     m.memberBrake.resize(na);
     m.memberEquipped.resize(na);
-    for (int c = 0; c < nc; ++c) {
-      Impl::CellStats& cs = m.cellStats[c];
-      const SpaceCounters& sc = m.cells->cellSpace(c).counters();
-      cs.subdivided = sc.subdivisions > sc.reunions;
+    for (Impl::BinStats& cs : m.binStats) {
       if (cs.count == 0) continue;
       const Vec2 ext = cs.centres.extent();
       cs.axis = ext.y() > ext.x() ? 1 : 0;
     }
     // gathered in last tick's member order, then the cars new to it: cars keep their order
-    // along the road from tick to tick, so each cell's sort (an insertion sort for a few dozen)
+    // along the road from tick to tick, so each bin's sort (an insertion sort for a few dozen)
     // finds its run nearly in order; the sort's total order decides the result either way
     m.memberNext.assign(m.memberStart.begin(), m.memberStart.end() - 1);
     ++m.gatherStamp;
     auto gather = [&](int s) {
       if (m.gathered[s] == m.gatherStamp) return;
       m.gathered[s] = m.gatherStamp;
-      const int cell = m.cellOf[s];
-      m.memberOrder[m.memberNext[cell]++] = {m.centre[s][m.cellStats[cell].axis], s};
+      int bin = m.binOf[s];
+      if (m.binStats[bin].subdivided) m.binOf[s] = bin &= ~1;
+      m.memberOrder[m.memberNext[bin]++] = {m.centre[s][m.binStats[bin].axis], s};
     };
     m.gathered.resize(m.slots.size());
     for (int s : m.memberSlotBefore)
       if (m.inputOf[s] >= 0) gather(s);
     for (int s : m.activeSlots) gather(s);
-    for (int c = 0; c < nc; ++c) {
+    for (int c = 0; c < nb; ++c) {
       // an insertion sort: the run is nearly in order (std::sort partitions a run past 16 first)
       std::pair<double, int>* run = m.memberOrder.data() + m.memberStart[c];
       const int count = m.memberStart[c + 1] - m.memberStart[c];
@@ -1127,7 +1173,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       m.memberEquipped[i] = m.equipped[slot];
     }
     m.buildNeighbourLists();
-    m.buildPairCells();
+    m.buildPairBins();
     m.findPairsOnce();
   }
   // detection, ego by ego in input order
@@ -1139,7 +1185,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       continue;
     }
     m.threats.clear();
-    if (m.cfg.broadphase == Broadphase::Cells && !m.cellStats[m.cellOf[s]].subdivided) m.vehicleThreatsOfPairs(s);
+    if (m.cfg.broadphase == Broadphase::Cells && !m.binStats[m.binOf[s]].subdivided) m.vehicleThreatsOfPairs(s);
     else m.candidatesVehicles(s);
     if (m.cfg.checkRoad) m.candidatesFeatures(s);
     m.merge(s, t);
