@@ -92,10 +92,12 @@ int runTrace(const Args& a) {
   info.broadphase = hw::toString(cfg.broadphase);
   double first = 0.0, last = 0.0;
   bool any = false;
+  std::vector<hw::Warning> ended;  // one buffer for every frame
   // on any error: close what is open, write everything so far, then report the error
   auto flushAll = [&](const std::string& error) {
     monitor.finish(any ? last : 0.0);
-    csv.write(monitor.takeFinished());
+    monitor.takeFinished(ended);
+    csv.write(ended);
     csv.flush();
     info.simulatedSeconds = any ? last - first : 0.0;
     info.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
@@ -113,7 +115,8 @@ int runTrace(const Args& a) {
       if (!any) first = frame.time;
       any = true;
       last = frame.time;
-      csv.write(monitor.takeFinished());
+      monitor.takeFinished(ended);
+      csv.write(ended);
     }
   } catch (const std::exception& e) {
     flushAll(e.what());

@@ -1207,6 +1207,10 @@ std::vector<Warning> HighwayMonitor::takeFinished() {
   out.swap(impl_->finished);
   return out;
 }
+void HighwayMonitor::takeFinished(std::vector<Warning>& out) {
+  out.clear();
+  out.swap(impl_->finished);
+}
 
 std::vector<Warning> HighwayMonitor::openWarnings() const {
   std::vector<Warning> out;

@@ -437,6 +437,37 @@ TEST(Monitor, InputOrderDoesNotChangeWarnings) {
   EXPECT_GT(total, 500u);
 }
 
+// takeFinished into a caller's buffer: the same episodes, tick by tick, as the vector it returns;
+// the buffer's old contents are replaced, not appended to.
+TEST(Monitor, TakeFinishedIntoABufferReplacesItsContents) {
+  std::mt19937_64 rng(77);
+  const RoadGeometry road = testRoad();
+  std::size_t total = 0;
+  for (int scene = 0; scene < 40; ++scene) {
+    MonitorConfig cfg;
+    cfg.detector.kind = static_cast<DetectorKind>(scene % 3);
+    const auto ticks = randomScene(rng, cfg.cells.cellLength);
+    HighwayMonitor byValue(road, cfg), intoBuffer(road, cfg);
+    std::vector<Warning> buffer(3);  // stale contents that must not survive
+    auto compare = [&](const std::vector<Warning>& want) {
+      ASSERT_EQ(buffer.size(), want.size()) << "scene " << scene;
+      for (std::size_t k = 0; k < want.size(); ++k) ASSERT_TRUE(sameWarning(buffer[k], want[k])) << "scene " << scene;
+      total += want.size();
+    };
+    for (std::size_t i = 0; i < ticks.size(); ++i) {
+      byValue.step(0.2 * static_cast<double>(i), ticks[i]);
+      intoBuffer.step(0.2 * static_cast<double>(i), ticks[i]);
+      intoBuffer.takeFinished(buffer);
+      compare(byValue.takeFinished());
+    }
+    byValue.finish(0.2 * static_cast<double>(ticks.size() - 1));
+    intoBuffer.finish(0.2 * static_cast<double>(ticks.size() - 1));
+    intoBuffer.takeFinished(buffer);
+    compare(byValue.takeFinished());
+  }
+  EXPECT_GT(total, 20u);
+}
+
 TEST(Monitor, RejectsBadInput) {
   HighwayMonitor m(straightRoad(), MonitorConfig{});
   std::vector<VehicleState> dup{vehicle("x", {1, 0}, 0, 1), vehicle("x", {50, 0}, 0, 1)};

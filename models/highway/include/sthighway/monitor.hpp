@@ -102,6 +102,9 @@ class HighwayMonitor {
 
   // Episodes that ended since the last call, in order of ending.
   std::vector<Warning> takeFinished();
+  // The same into `out` (replacing its contents): the monitor keeps out's old buffer, so a caller
+  // that passes the same vector every tick allocates nothing once both have grown.
+  void takeFinished(std::vector<Warning>& out);
   // Episodes still open now (end == time of the last tick).
   std::vector<Warning> openWarnings() const;
   // Worst threat of each equipped car with an active warning at the last tick.
