@@ -780,17 +780,22 @@ struct HighwayMonitor::Impl {
       }
     }
   }
-  // The cell pairs walked once (both undivided, each pair under its lower cell): those where
-  // either cell's cars may reach the other's (the reach is symmetric but for the brake ratio).
+  // The bin pairs walked once (both undivided): those where either bin's cars may reach the
+  // other's (the reach is symmetric but for the brake ratio). The bin with fewer cars walks the
+  // other (the lower on a tie): a walk's fixed cost (its reach, its search) is paid per walking
+  // car, so a cell's few wide cars walk its many compact ones rather than the other way round.
   void buildPairBins() {
-    const int nc = static_cast<int>(binStats.size());
-    pairBins.resize(nc);
-    for (int A = 0; A < nc; ++A) pairBins[A].clear();
-    for (int A = 0; A < nc; ++A)
+    const int nb = static_cast<int>(binStats.size());
+    pairBins.resize(nb);
+    for (int A = 0; A < nb; ++A) pairBins[A].clear();
+    for (int A = 0; A < nb; ++A)
       for (int B : nearBins[A]) {
         if (B == A) continue;
-        std::vector<int>& list = pairBins[std::min(A, B)];
-        if (std::find(list.begin(), list.end(), std::max(A, B)) == list.end()) list.push_back(std::max(A, B));
+        const int na = binStats[A].count, nbB = binStats[B].count;
+        const bool aWalks = na < nbB || (na == nbB && A < B);
+        std::vector<int>& list = pairBins[aWalks ? A : B];
+        const int other = aWalks ? B : A;
+        if (std::find(list.begin(), list.end(), other) == list.end()) list.push_back(other);
       }
   }
 
