@@ -379,7 +379,9 @@ int runHighwayCommand(const st::cli::Args& a) {
       std::cout << " " << d.detector << " recall " << fmt(d.recall(), 3) << " precision " << fmt(d.precision(), 3) << ";";
     std::cout << "\n";
   }
-  std::cout << "  wrote " << (out / "warnings.csv").string() << ", " << (out / "summary.json").string()
+  std::cout << "  wrote " << (out / "warnings.csv").string() << ", " << (out / "collisions.csv").string()
+            << (attach ? std::string() : ", " + (out / "collision_warnings.csv").string()) << ", "
+            << (out / "summary.json").string()
             << (validation ? ", " + (out / "validation.json").string() : std::string()) << "\n";
   if (stopReason == "interrupted") {
     std::cerr << "stsim highway: interrupted at t = " << fmt(simEnd, 1) << " s; results so far written\n";
