@@ -539,14 +539,14 @@ struct HighwayMonitor::Impl {
     }
   }
 
-  // Each pair of cars in small (undivided) cells is walked once, by the car earlier in the
-  // member arrays (its own cell's later members, then the later cells that either cell's cars
-  // may reach), and tested in each direction whose ego is equipped: half the walks of a search
-  // per ego. The reach and the bound use the larger brake ratio of the two (the cell's largest
-  // for its members), so they hold for both directions; that widens them (a truck in most
-  // cells), yet it measured faster than leaving each pair to its heavier car (reach at the
-  // walker's own ratio, but the trucks walk the earlier cells too). The threats are grouped by
-  // ego (pairFound, a counting sort) for its turn (vehicleThreatsOfPairs).
+  // Each pair of cars in small (undivided) bins is walked once: within a bin by the car earlier
+  // in the member arrays, between two bins by the cars of the bin with fewer of them (pairBins);
+  // each pair is tested in each direction whose ego is equipped: half the walks of a search per
+  // ego. The reach and the bound use the larger brake ratio of the two (the bin's largest for its
+  // members), so they hold for both directions; that widens them, yet it measured faster than
+  // leaving each pair to its heavier car (reach at the walker's own ratio, but the trucks walk
+  // the other bins too), and the bins keep most trucks out of the compact cars' reach. The
+  // threats are grouped by ego (pairFound, a counting sort) for its turn (vehicleThreatsOfPairs).
   struct PairThreat {
     int ego;
     Threat threat;
@@ -554,7 +554,7 @@ struct HighwayMonitor::Impl {
   std::vector<PairThreat> pairFound;
   std::vector<Threat> pairFoundByEgo;
   std::vector<int> pairFoundStart;       // per slot, into pairFoundByEgo (a counting sort)
-  std::vector<std::vector<int>> pairBins;  // per bin A: the later bins B its pairs reach
+  std::vector<std::vector<int>> pairBins;  // per bin A: the bins its cars walk (buildPairBins)
 
   void findPairsOnce() {
     pairFound.clear();
