@@ -174,6 +174,13 @@ struct HighwayMonitor::Impl {
     bool subdivided = false;
     int axis = 0;               // the long axis of its members' centres
 
+    // an equipped car's brake ratio into kMax and kLight, without a branch (the trucks come in no
+    // order): kLight stays the largest ratio below kMax
+    void takeRatio(double k) {
+      const double lo = std::min(k, kMax), hi = std::max(k, kMax);
+      kLight = lo < hi ? std::max(kLight, lo) : kLight;
+      kMax = hi;
+    }
     // takes in another bin's cars (the bounds as if they had been taken one by one)
     void absorb(const BinStats& o) {
       if (o.count == 0) return;
@@ -189,13 +196,9 @@ struct HighwayMonitor::Impl {
       envMax = std::max(envMax, o.envMax);
       extMax = extMax.cwiseMax(o.extMax);
       kAll = std::max(kAll, o.kAll);
-      // the two largest distinct ratios of the union are among each side's two
-      const double hi = std::max(kMax, o.kMax);
-      double light = 0.0;
-      for (double k : {kMax, kLight, o.kMax, o.kLight})
-        if (k < hi) light = std::max(light, k);
-      kMax = hi;
-      kLight = light;
+      // the two largest distinct ratios of the union are among each side's two (0: none)
+      takeRatio(o.kMax);
+      takeRatio(o.kLight);
       count += o.count;
       equipped += o.equipped;
     }
@@ -791,19 +794,19 @@ struct HighwayMonitor::Impl {
     for (int A = 0; A < nb; ++A)
       for (int B : nearBins[A]) {
         if (B == A) continue;
-        const int na = binStats[A].count, nbB = binStats[B].count;
-        const bool aWalks = na < nbB || (na == nbB && A < B);
+        const int countA = binStats[A].count, countB = binStats[B].count;
+        const bool aWalks = countA < countB || (countA == countB && A < B);
         std::vector<int>& list = pairBins[aWalks ? A : B];
         const int other = aWalks ? B : A;
         if (std::find(list.begin(), list.end(), other) == list.end()) list.push_back(other);
       }
   }
 
-  // Per cell, this tick: the cells its cars may meet and the road features they may reach. A
+  // Per bin, this tick: the bins its cars may meet and the road features they may reach. A
   // neighbour entry holds what the per-ego reach needs, copied so an ego's search reads one array.
-  // Only the searches per ego read them: a subdivided cell's list names every cell its cars may
-  // meet, an undivided cell's only its subdivided ones (the undivided ones are in nearBins, their
-  // pairs walked once).
+  // Only the searches per ego read them: a subdivided cell's bin lists every bin its cars may
+  // meet, an undivided cell's bin only the subdivided ones (the undivided ones are in nearBins,
+  // their pairs walked once).
   struct Neighbour {
     Vec2 vmin, vmax, extMax;
     Aabb<2> centres;
@@ -814,7 +817,7 @@ struct HighwayMonitor::Impl {
     bool subdivided;
   };
   std::vector<std::vector<Neighbour>> neighbours;
-  std::vector<std::vector<Neighbour>> neighboursLight;  // for the cars with k <= the cell's kLight
+  std::vector<std::vector<Neighbour>> neighboursLight;  // for the cars with k <= the bin's kLight
   std::vector<std::vector<int>> nearBins;  // per undivided bin: the undivided bins its cars may meet
   std::vector<std::vector<int>> roadNear;
   // What an index's forEachInBox found for a box, kept under the box's block of index cells and
@@ -836,9 +839,9 @@ struct HighwayMonitor::Impl {
     }
     return visit.ids;
   }
-  std::vector<IndexVisit> cellsVisits;    // per cell: the network index's cells near it
-  std::vector<IndexVisit> featureVisits;  // per cell: the feature index's features near it
-  // the cars of every cell, contiguous by cell (memberStart[c] .. memberStart[c + 1]), each cell's
+  std::vector<IndexVisit> cellsVisits;    // per bin: the network index's cells near it
+  std::vector<IndexVisit> featureVisits;  // per bin: the feature index's features near it
+  // the cars of every bin, contiguous by bin (memberStart[b] .. memberStart[b + 1]), each bin's
   // sorted by (coordinate along its long axis, slot): key, centre, velocity, envelope extent,
   // |acceleration|, slot
   std::vector<int> memberStart;
@@ -1097,10 +1100,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       c.kAll = std::max(c.kAll, m.brakeRatio[s]);
       if (m.equipped[s]) {
         ++c.equipped;
-        // kLight, the largest ratio below kMax, without a branch (the trucks come in no order)
-        const double k = m.brakeRatio[s], lo = std::min(k, c.kMax), hi = std::max(k, c.kMax);
-        c.kLight = lo < hi ? std::max(c.kLight, lo) : c.kLight;
-        c.kMax = hi;
+        c.takeRatio(m.brakeRatio[s]);
       }
       m.globalAmax = std::max(m.globalAmax, m.accelAbs[s]);
       m.globalExtMax = m.globalExtMax.cwiseMax(m.ext[s]);
@@ -1209,7 +1209,7 @@ void HighwayMonitor::finish(double t) {
 
 std::vector<Warning> HighwayMonitor::takeFinished() {
   std::vector<Warning> out;
-  out.swap(impl_->finished);
+  takeFinished(out);
   return out;
 }
 void HighwayMonitor::takeFinished(std::vector<Warning>& out) {

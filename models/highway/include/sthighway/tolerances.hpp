@@ -1,5 +1,6 @@
 #pragma once
-// Every tolerance of the highway model, in one place (SI units). stcore's own are in
+// Every tolerance of the highway model, in one place (SI units), and the tuning constants that
+// change only its work (the five-circle skips, the broad phase's bins). stcore's own are in
 // stcore/tolerances.hpp; these are about vehicles and roads.
 
 namespace st::highway::tol {
