@@ -266,12 +266,19 @@ struct CellNetwork::Impl {
     moves.clear();
   }
 
+  // the box grown by the margin and stretched to where the velocity takes it within the lookahead
+  Aabb<2> fatOf(const Aabb<2>& box, const Vec2& velocity) const {
+    const Vec2 ahead = velocity * cfg.fatLookahead;
+    return {box.min + ahead.cwiseMin(0.0) - Vec2::Constant(cfg.fatMargin),
+            box.max + ahead.cwiseMax(0.0) + Vec2::Constant(cfg.fatMargin)};
+  }
+
   // the local slot is -1 from a deferred join to its commit
-  void join(int v, int cell, const Aabb<2>& box, bool defer) {
+  void join(int v, int cell, const Aabb<2>& box, const Vec2& velocity, bool defer) {
     Served& s = vehicles[v];
     s.cell = cell;
     s.local = -1;
-    s.fat = grown(box, cfg.fatMargin);
+    s.fat = fatOf(box, velocity);
     submit({cell, Move::Join, v, -1, s.fat}, defer);
   }
 
@@ -282,7 +289,7 @@ struct CellNetwork::Impl {
     s.local = -1;
   }
 
-  int place(int v, const Vec2& centre, const Aabb<2>& box, bool defer) {
+  int place(int v, const Vec2& centre, const Aabb<2>& box, const Vec2& velocity, bool defer) {
     if (v >= static_cast<int>(vehicles.size())) vehicles.resize(v + 1);
     Served& s = vehicles[v];
     if (s.cell >= 0 && s.local < 0) commit();  // placed twice: its join first
@@ -291,12 +298,12 @@ struct CellNetwork::Impl {
       const int best = strongest(centre);
       const int from = s.cell;
       if (from < 0) {
-        join(v, best, box, defer);
+        join(v, best, box, velocity, defer);
         ++counters.attaches;
       } else if (best != from && distSq(from, centre) > ratioSq * distSq(best, centre)) {
         // the car tells its old cell, which hands it to the stronger one
         leave(v, defer);
-        join(v, best, box, defer);
+        join(v, best, box, velocity, defer);
         ++counters.handoffs;
         handoffs.push_back({v, from, best});
       }
@@ -305,7 +312,7 @@ struct CellNetwork::Impl {
       if (s.cell != from) return best;  // joined a cell: its fat box is new
     }
     if (!inside(box, s.fat)) {
-      s.fat = grown(box, cfg.fatMargin);
+      s.fat = fatOf(box, velocity);
       submit({s.cell, Move::Update, v, s.local, s.fat}, defer);
     }
     return s.cell;
@@ -314,9 +321,11 @@ struct CellNetwork::Impl {
 
 CellNetwork::CellNetwork(const RoadGeometry& road, const RoadFeatures& features, const CellConfig& config) {
   if (!(config.cellLength > 0.0) || !(config.radioRange > 0.0) || !(config.pathLossExponent > 0.0) ||
-      !(config.referenceDistance > 0.0) || !(config.hysteresisDb >= 0.0) || config.decompositionFactor < 1)
+      !(config.referenceDistance > 0.0) || !(config.hysteresisDb >= 0.0) || config.decompositionFactor < 1 ||
+      !(config.fatMargin >= 0.0) || !std::isfinite(config.fatMargin) || !(config.fatLookahead >= 0.0) ||
+      !std::isfinite(config.fatLookahead))
     throw std::invalid_argument("cells: cellLength, radioRange, pathLossExponent, referenceDistance must be positive, "
-                                "hysteresisDb non-negative, decompositionFactor >= 1");
+                                "hysteresisDb, fatMargin and fatLookahead finite and non-negative, decompositionFactor >= 1");
   impl_ = std::make_unique<Impl>(config, features.bounds);
   Impl& m = *impl_;
   m.sections = features.sections;
@@ -392,13 +401,13 @@ double CellNetwork::signalDbm(int cell, const Vec2& p) const {
   return c.txPowerDbm - 5.0 * c.pathLossExponent * std::log10(impl_->distSq(cell, p) / (c.referenceDistance * c.referenceDistance));
 }
 
-int CellNetwork::place(int v, const Vec2& centre, const Aabb<2>& box) {
+int CellNetwork::place(int v, const Vec2& centre, const Aabb<2>& box, const Vec2& velocity) {
   impl_->commit();  // a space sees its changes in the order placed
-  return impl_->place(v, centre, box, false);
+  return impl_->place(v, centre, box, velocity, false);
 }
 
-int CellNetwork::placeDeferred(int v, const Vec2& centre, const Aabb<2>& box) {
-  return impl_->place(v, centre, box, true);
+int CellNetwork::placeDeferred(int v, const Vec2& centre, const Aabb<2>& box, const Vec2& velocity) {
+  return impl_->place(v, centre, box, velocity, true);
 }
 
 void CellNetwork::commitPlacements() { impl_->commit(); }

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <span>
+#include <stdexcept>
 
 #include <sthighway/cells.hpp>
 
@@ -173,6 +175,46 @@ TEST(Cells, CongestedCellSubdividesAndReunites) {
 
 // Deferred placement makes each cell's changes in the order placed, so every space ends as
 // place() leaves it: the same trees (leaves, their lists in order), slots, counters, handoffs.
+// Sum over the cells of the changes their spaces saw (inserts, removals, box updates).
+std::uint64_t spaceChanges(const CellNetwork& net) {
+  std::uint64_t n = 0;
+  for (int c = 0; c < net.cellCount(); ++c) n += net.cellSpace(c).revision();
+  return n;
+}
+
+TEST(Cells, FatBoxesStretchAlongTheVelocity) {
+  // a car cruising at 30 m/s in 0.1 s ticks, then braking to a stop and reversing: with the
+  // lookahead its fat box is renewed every dozen ticks or so instead of every third, and its
+  // cell's space finds it where it is at every tick
+  const RoadGeometry road = straightRoad();
+  std::uint64_t changes[2] = {0, 0};
+  for (int lookahead = 0; lookahead < 2; ++lookahead) {
+    CellConfig cfg = config200();
+    cfg.fatLookahead = lookahead ? 1.0 : 0.0;
+    CellNetwork net(road, deriveFeatures(road), cfg);
+    Vec2 p(50.0, 3.2);
+    double speed = 30.0;
+    for (int step = 0; step < 700; ++step) {
+      if (step >= 500) speed = std::max(-10.0, speed - 1.0);  // 10 m/s^2 braking, then reversing
+      const Vec2 velocity(speed, 0.0);
+      p += 0.1 * velocity;
+      net.place(0, p, carBox(p), velocity);
+      net.refreshExtents();
+      int found = 0;
+      net.forEachInCellBox(net.servingCell(0), carBox(p), [&](int v) { found += v == 0; });
+      ASSERT_EQ(found, 1) << "step " << step;
+    }
+    changes[lookahead] = spaceChanges(net);
+  }
+  EXPECT_LT(3 * changes[1], changes[0]) << changes[1] << " vs " << changes[0];
+  EXPECT_GT(changes[1], 0u);
+  CellConfig bad = config200();
+  bad.fatLookahead = -1.0;
+  EXPECT_THROW(CellNetwork(road, deriveFeatures(road), bad), std::invalid_argument);
+  bad.fatLookahead = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(CellNetwork(road, deriveFeatures(road), bad), std::invalid_argument);
+}
+
 TEST(Cells, DeferredPlacementMatchesPlace) {
   const RoadGeometry road = straightRoad();
   CellConfig cfg = config200();
@@ -195,9 +237,12 @@ TEST(Cells, DeferredPlacementMatchesPlace) {
         }
       }
       if (!in[v]) continue;
-      p[v] += Vec2((v % 3 ? 1.0 : -1.0) * 12.0 * U(rng), 0.6 * (U(rng) - 0.5));
+      const Vec2 move((v % 3 ? 1.0 : -1.0) * 12.0 * U(rng), 0.6 * (U(rng) - 0.5));
+      p[v] += move;
       if (p[v].x() < 0.0 || p[v].x() > 2000.0) p[v] = Vec2(200.0 + 300.0 * U(rng), 6.4 * U(rng));
-      ASSERT_EQ(later.placeDeferred(v, p[v], carBox(p[v])), now.place(v, p[v], carBox(p[v]))) << v << " " << step;
+      const Vec2 velocity = move / 0.5;  // the fat boxes stretch along it
+      ASSERT_EQ(later.placeDeferred(v, p[v], carBox(p[v]), velocity), now.place(v, p[v], carBox(p[v]), velocity))
+          << v << " " << step;
       if (v % 17 == 0) {  // placed twice before the commit
         p[v] += Vec2(20.0, 0.0);
         ASSERT_EQ(later.placeDeferred(v, p[v], carBox(p[v])), now.place(v, p[v], carBox(p[v])));

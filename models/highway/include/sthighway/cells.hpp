@@ -31,6 +31,9 @@ struct CellConfig {
                                     // ends lie up to 3/4 cellLength from its nearest site)
   double fatMargin = 8.0;           // m; a car's box in its cell's space is grown by this, so
                                     // small moves do not touch the space
+  double fatLookahead = 1.0;        // s; and stretched to where its velocity takes it in this
+                                    // time (Box2D's predictive box): a car cruising at 30 m/s
+                                    // touches its space every dozen ticks of 0.1 s, not every third
   int decompositionFactor = 128;    // a cell's space subdivides past this many cars (a jam:
                                     // free flow on 3 lanes is ~60 per 800 m, a queue ~340)
   int maxDepth = 8;
@@ -72,15 +75,16 @@ class CellNetwork {
   // Received power of a cell's site at p (dBm).
   double signalDbm(int cell, const Vec2& p) const;
 
-  // Places or moves vehicle `v` (dense index) with the given body box: measures the sites in
-  // range and hands off if another is stronger by the hysteresis margin. Returns the serving cell.
-  int place(int v, const Vec2& centre, const Aabb<2>& box);
+  // Places or moves vehicle `v` (dense index) with the given body box and velocity (m/s, for its
+  // fat box only): measures the sites in range and hands off if another is stronger by the
+  // hysteresis margin. Returns the serving cell.
+  int place(int v, const Vec2& centre, const Aabb<2>& box, const Vec2& velocity = Vec2::Zero());
   // As place(), but the changes to the cells' spaces wait for commitPlacements(), which makes
   // them cell by cell, each cell's in the order placed: every space sees what place() would
   // show it, so spaces, counters and handoffs are the same, while a cell's tree stays in cache
   // for all its cars (cars in input order hop between cells, a cache miss each). The serving
   // cell and handoffs are known at once; the spaces (and forEachIn*) are stale until the commit.
-  int placeDeferred(int v, const Vec2& centre, const Aabb<2>& box);
+  int placeDeferred(int v, const Vec2& centre, const Aabb<2>& box, const Vec2& velocity = Vec2::Zero());
   void commitPlacements();
   void remove(int v);
   int servingCell(int v) const;  // -1 if not in the network
