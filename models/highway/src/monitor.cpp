@@ -120,7 +120,58 @@ struct HighwayMonitor::Impl {
     int line = 0;
   };
   std::vector<FeatureLine> featureLine;
-  std::vector<int> allFeatures;             // 0 .. n-1 (all-pairs)
+  // Road features an ego may reach, as its prune reads them: the lines grouped by their normal
+  // (up to its sign), so the ego's support, centre and velocity along a normal are computed once
+  // per group (a straight road's lines share one), and a line costs a subtraction and a
+  // comparison; the features without a line (hazards, zero-length segments) are always checked.
+  struct RoadList {
+    struct Group {
+      Vec2 n;          // unit normal, its sign chosen so the first nonzero component is positive
+      int begin, end;  // its lines
+    };
+    struct Line {
+      double c;  // n . (a point of the line)
+      int feature;
+    };
+    std::vector<Group> groups;
+    std::vector<Line> lines;
+    std::vector<int> always;
+    std::size_t size() const { return lines.size() + always.size(); }
+    void clear() {
+      groups.clear();
+      lines.clear();
+      always.clear();
+    }
+    // from features in any order (scratch: reused storage)
+    void build(std::span<const int> features, const std::vector<FeatureLine>& featureLine,
+               std::vector<std::pair<Vec2, Line>>& scratch) {
+      clear();
+      scratch.clear();
+      for (int fi : features) {
+        const FeatureLine& l = featureLine[fi];
+        if (!l.line) {
+          always.push_back(fi);
+          continue;
+        }
+        const bool flip = l.n.x() < 0.0 || (l.n.x() == 0.0 && l.n.y() < 0.0);
+        const Vec2 n = flip ? Vec2(-l.n) : l.n;
+        scratch.push_back({n, {n.dot(l.a), fi}});
+      }
+      std::sort(scratch.begin(), scratch.end(), [](const auto& a, const auto& b) {
+        if (a.first.x() != b.first.x()) return a.first.x() < b.first.x();
+        if (a.first.y() != b.first.y()) return a.first.y() < b.first.y();
+        return a.second.feature < b.second.feature;
+      });
+      for (const auto& [n, line] : scratch) {
+        if (groups.empty() || groups.back().n != n) groups.push_back({n, static_cast<int>(lines.size()), 0});
+        lines.push_back(line);
+        groups.back().end = static_cast<int>(lines.size());
+      }
+    }
+  };
+  RoadList allRoad;                         // every feature (all-pairs)
+  std::vector<int> roadFound;               // scratch: a bin's features before grouping
+  std::vector<std::pair<Vec2, RoadList::Line>> roadScratch;
   std::vector<int> featureNear;             // scratch: the features an ego may reach
   std::optional<Space<2>> featureIndex;
   std::optional<CellNetwork> cells;
@@ -144,6 +195,18 @@ struct HighwayMonitor::Impl {
   std::vector<std::uint8_t> signals;
   std::vector<char> equipped;
   std::vector<std::uint64_t> serialOf;       // slots[].serial, the key of vehicle episodes
+  // what the exact pair test reads of a car, together (copies of the arrays above: the test
+  // meets its two cars in no order, and the arrays would be a cache miss each); kept by slot and,
+  // for the walks, in member order (memberPairState)
+  struct PairState {
+    Vec2 ext = Vec2::Zero();        // envelopeExtent
+    double env = 0.0;               // envelopeRadius
+    double mass = 0.0;
+    double twiceBrakeForce = 1.0;   // 2 F_brake of its class
+    double outer = 0.0;             // concentric: the outer radius
+    std::uint64_t serial = 0;
+  };
+  std::vector<PairState> pairState;
   // The cells broad phase groups each cell's cars in two bins: 2 c + 0 for its compact cars (light,
   // small, keeping their lane), 2 c + 1 for the rest (heavy or large ones, lane changers). The reach
   // of a walk into a bin grows with the bin's largest brake ratio, envelope and lateral speed, so
@@ -238,6 +301,7 @@ struct HighwayMonitor::Impl {
     signals.resize(n);
     equipped.resize(n);
     serialOf.resize(n);
+    pairState.resize(n);
     binOf.resize(n);
     wideOf.resize(n);
     inputOf.resize(n, -1);
@@ -271,6 +335,8 @@ struct HighwayMonitor::Impl {
                                    std::abs(v.lateralSpeed) <= tol::kCompactLateralSpeed));
     accelAbs[s] = std::abs(v.acceleration);
     vclass[s] = v.vehicleClass;
+    pairState[s] = {ext[s], env[s], v.mass, 2.0 * cfg.safeTime.brakeForce[static_cast<int>(v.vehicleClass)], shape[s].outer,
+                    sl.serial};
     signals[s] = v.signals;
     equipped[s] = v.equipped ? 1 : 0;
     if (sl.present) counters.vehicleMeters += (v.position - sl.prev).norm();
@@ -315,7 +381,7 @@ struct HighwayMonitor::Impl {
   // The exact test of ego e against foe f; its threat, if it warns, joins the ego's.
   void checkPair(int e, int f, const Vec2& p, const Vec2& v, double accel) {
     Threat th, unused;
-    if (pairThreats(e, f, p, v, accel, true, false, th, unused) & 1) threats.push_back(th);
+    if (pairThreats(e, f, pairState[e], pairState[f], p, v, accel, true, false, th, unused) & 1) threats.push_back(th);
   }
 
   // The exact pair test in the directions asked: ego e against foe f (p, v: f's centre and
@@ -324,8 +390,8 @@ struct HighwayMonitor::Impl {
   // product), the envelopes' impact, and for a symmetric detector (vehicleTtcSymmetric) the TTC
   // at the larger safe time. Each direction has its own safe time and prunes. Returns bit 0 if
   // e warns (outE), bit 1 if f does (outF): the threats each would give alone, bit for bit.
-  int pairThreats(int e, int f, const Vec2& p, const Vec2& v, double accel, bool askE, bool askF, Threat& outE,
-                  Threat& outF) {
+  int pairThreats(int e, int f, const PairState& stateE, const PairState& stateF, const Vec2& p, const Vec2& v,
+                  double accel, bool askE, bool askF, Threat& outE, Threat& outF) {
     const double dist = p.norm();
     const double closing = dist > 0.0 ? -p.dot(v) / dist : v.norm();
     const int ego[2] = {e, f};
@@ -333,38 +399,52 @@ struct HighwayMonitor::Impl {
     double safe[2] = {0.0, 0.0};
     bool near[2] = {false, false};
     // exact prune: the envelopes cannot meet within the safe time
-    const double envSum = env[e] + env[f] + tol::kPruneSlop;
+    const PairState* state[2] = {&stateE, &stateF};
+    const double envSum = state[0]->env + state[1]->env + tol::kPruneSlop;
     for (int d = 0; d < 2; ++d) {
       if (!ask[d]) continue;
-      const int a = ego[d], b = ego[1 - d];
-      safe[d] = cfg.safeTime.vehicleSafeTime(mass[a], closing, vclass[a]);
+      const PairState &a = *state[d], &b = *state[1 - d];
+      safe[d] = SafeTimeConfig::safeTimeOf(cfg.safeTime.vehicleReactionTime, a.mass, closing, a.twiceBrakeForce);
       const double grow = 0.5 * accel * safe[d] * safe[d] + tol::kPruneSlop;
       // per axis, then as discs
-      near[d] = std::abs(p.x()) <= ext[a].x() + ext[b].x() + std::abs(v.x()) * safe[d] + grow &&
-                std::abs(p.y()) <= ext[a].y() + ext[b].y() + std::abs(v.y()) * safe[d] + grow &&
+      near[d] = std::abs(p.x()) <= a.ext.x() + b.ext.x() + std::abs(v.x()) * safe[d] + grow &&
+                std::abs(p.y()) <= a.ext.y() + b.ext.y() + std::abs(v.y()) * safe[d] + grow &&
                 !(dist > envSum + v.norm() * safe[d] + grow);
     }
     if (!near[0] && !near[1]) return 0;
+    Threat* out[2] = {&outE, &outF};
+    int warns = 0;
+    if (vehicleTtcSymmetric(cfg.detector)) {
+      // concentric at constant velocity: the envelopes are the outer circles, so the envelope
+      // test would be the detector's own: the TTC once, as vehicleTtc computes it (discEntry:
+      // already touching is 0), against each direction's safe time
+      const double r = state[0]->outer + state[1]->outer;
+      double t = 0.0;
+      if (!(p.squaredNorm() <= r * r)) {
+        const Impact hit = toiBalls<2>(p, v, r);
+        t = hit.acts() ? hit.actTime() : kInf;
+      }
+      for (int d = 0; d < 2; ++d) {
+        if (!near[d]) continue;
+        ++counters.toiChecks;
+        if (!(t <= safe[d])) continue;
+        const int b = ego[1 - d];
+        *out[d] = {state[1 - d]->serial, WarningKind::Vehicle, Zone::Outer, t, safe[d], b};
+        warns |= 1 << d;
+      }
+      return warns;
+    }
     if (accel == 0.0 && dist > envSum) {
       // the envelopes (circles holding every shape a detector uses) do not meet in time
       const Impact hit = toiBalls<2>(p, v, envSum);
       for (int d = 0; d < 2; ++d) near[d] = near[d] && hit.acts() && !(hit.actTime() > safe[d]);
     }
-    Threat* out[2] = {&outE, &outF};
-    int warns = 0;
     auto record = [&](int d, const Ttc& ttc) {
       if (!ttc.found() || ttc.t > safe[d]) return;
       const int b = ego[1 - d];
-      *out[d] = {serialOf[b], WarningKind::Vehicle, ttc.zone, ttc.t, safe[d], b};
+      *out[d] = {state[1 - d]->serial, WarningKind::Vehicle, ttc.zone, ttc.t, safe[d], b};
       warns |= 1 << d;
     };
-    if (near[0] && near[1] && vehicleTtcSymmetric(cfg.detector)) {
-      counters.toiChecks += 2;
-      const Ttc ttc = vehicleTtc(cfg.detector, body[e], shape[e], body[f], shape[f], std::max(safe[0], safe[1]));
-      record(0, ttc);
-      record(1, ttc);
-      return warns;
-    }
     for (int d = 0; d < 2; ++d) {
       if (!near[d]) continue;
       ++counters.toiChecks;
@@ -415,13 +495,16 @@ struct HighwayMonitor::Impl {
   }
 
   // First index in [begin, end) with key[i] >= value (end if none) of sorted keys, as
-  // std::lower_bound: a count of the smaller keys, which vectorizes (a cell holds a few dozen
-  // cars at most; a congested one is searched through its space).
+  // std::lower_bound, without a branch in its loop (the outcomes are unpredictable)
   static int lowerBound(const double* key, int begin, int end, double value) {
-    if (begin == end || key[begin] >= value) return begin;  // the reach starts before the cell: common
-    int below = 0;
-    for (int i = begin; i < end; ++i) below += static_cast<int>(key[i] < value);
-    return begin + below;
+    if (begin == end || key[begin] >= value) return begin;  // the reach starts before the bin: common
+    const double* base = key + begin;
+    for (int n = end - begin; n > 1;) {
+      const int half = n / 2;
+      base = base[half] < value ? base + half : base;
+      n -= half;
+    }
+    return static_cast<int>(base - key) + static_cast<int>(*base < value);
   }
 
   void candidatesVehicles(int e) {
@@ -647,7 +730,7 @@ struct HighwayMonitor::Impl {
       if (!askE && !askF) continue;
       const int f = mv.slot[m];
       Threat te, tf;
-      const int warns = pairThreats(e, f, p, v, accel, askE, askF, te, tf);
+      const int warns = pairThreats(e, f, memberPairState[ie], memberPairState[m], p, v, accel, askE, askF, te, tf);
       if (warns & 1) pairFound.push_back({e, te});
       if (warns & 2) pairFound.push_back({f, tf});
     }
@@ -718,6 +801,7 @@ struct HighwayMonitor::Impl {
       neighboursLight[A].clear();
       nearBins[A].clear();
       roadNear[A].clear();
+      roadFound.clear();
       const BinStats& ca = binStats[A];
       if (ca.equipped == 0) continue;
       const Vec2 va = ca.vmin.cwiseAbs().cwiseMax(ca.vmax.cwiseAbs());
@@ -778,8 +862,9 @@ struct HighwayMonitor::Impl {
                                               std::abs(l.n.dot(Vec2(ca.vmax.x(), ca.vmin.y())))});
             if (nearest > ca.envMax + approach * h + ah) continue;
           }
-          roadNear[A].push_back(fi);
+          roadFound.push_back(fi);
         }
+        roadNear[A].build(roadFound, featureLine, roadScratch);
       }
     }
   }
@@ -819,7 +904,7 @@ struct HighwayMonitor::Impl {
   std::vector<std::vector<Neighbour>> neighbours;
   std::vector<std::vector<Neighbour>> neighboursLight;  // for the cars with k <= the bin's kLight
   std::vector<std::vector<int>> nearBins;  // per undivided bin: the undivided bins its cars may meet
-  std::vector<std::vector<int>> roadNear;
+  std::vector<RoadList> roadNear;
   // What an index's forEachInBox found for a box, kept under the box's block of index cells and
   // the index's revision: the visit depends on nothing else, and per cell both change rarely (the
   // block as the cell's box drifts across the index's cells, the network index when a cell's
@@ -857,6 +942,7 @@ struct HighwayMonitor::Impl {
   std::vector<std::uint64_t> gathered;      // per slot: the gathering it was placed in
   std::uint64_t gatherStamp = 0;
   std::vector<double> memberBrake;   // m / (2 F_brake)
+  std::vector<PairState> memberPairState;
   std::vector<int> memberEquipped;   // 1 or 0
   std::vector<int> passed;  // scratch: member indices whose pair passed the bound
   double globalAmax = 0.0;
@@ -869,24 +955,31 @@ struct HighwayMonitor::Impl {
     // only prunes, and a larger one prunes less
     const double hMax =
         (cfg.safeTime.roadReactionTime + brakeRatio[e] * vel[e].norm()) * (1.0 + tol::kBoundRelativeSlop);
-    const std::vector<int>& list = cfg.broadphase == Broadphase::AllPairs ? allFeatures : roadNear[binOf[e]];
+    const RoadList& list = cfg.broadphase == Broadphase::AllPairs ? allRoad : roadNear[binOf[e]];
     counters.featureChecks += list.size();
     // first every line against a bound on the shape's support towards it (no wider than the
-    // envelope, and most lines are further off than that), without branches and without a call
-    // (the near ones keep their order); checkFeature then prunes with the support itself
+    // envelope, and most lines are further off than that), without branches and without a call:
+    // lineReachable with the line's offset from the ego as n . centre - n . a (rounded otherwise,
+    // by far less than the prune's slop); checkFeature then prunes with the support itself
     const Body& a = body[e];
     const double accel = cfg.detector.motion == MotionModel::ConstantAcceleration ? accelAbs[e] : 0.0;
     const SupportBound& sb = shape[e].road;
     const Vec2 normal(-a.axis.y(), a.axis.x());
     if (featureNear.size() < list.size()) featureNear.resize(list.size());
+    const double grow = 0.5 * accel * hMax * hMax + tol::kPruneSlop;
     int near = 0;
-    for (int fi : list) {
-      const FeatureLine& l = featureLine[fi];
-      const double support = (sb.base + sb.along * std::abs(a.axis.dot(l.n)) + sb.across * std::abs(normal.dot(l.n))) *
+    for (const RoadList::Group& g : list.groups) {
+      const double support = (sb.base + sb.along * std::abs(a.axis.dot(g.n)) + sb.across * std::abs(normal.dot(g.n))) *
                              (1.0 + tol::kBoundRelativeSlop);
-      featureNear[near] = fi;
-      near += static_cast<int>(!l.line) | lineReachable(l, a, support, hMax, accel);
+      const double along = g.n.dot(a.position), speed = g.n.dot(a.velocity);
+      for (int k = g.begin; k < g.end; ++k) {
+        const double offset = along - list.lines[k].c;
+        const double approach = std::max(0.0, offset > 0.0 ? -speed : speed);
+        featureNear[near] = list.lines[k].feature;
+        near += static_cast<int>(std::abs(offset) <= support + approach * hMax + grow);
+      }
     }
+    for (int fi : list.always) featureNear[near++] = fi;
     for (int k = 0; k < near; ++k) checkFeature(e, featureNear[k], hMax);
   }
 
@@ -922,14 +1015,15 @@ struct HighwayMonitor::Impl {
       }
       const Threat& th = threats[j++];
       if (i < nOpen && open[i].key == th.key) {
-        Episode& ep = open[i++];
+        // copied whole, then updated in the copy (updating the old one first stalls the copy's
+        // loads on the stores just made)
+        Episode& ep = poolNext.emplace_back(open[i++]);
         ep.end = t;
         if (th.ttc < ep.minTtc) {
           ep.minTtc = th.ttc;
           ep.minTtcTime = t;
           ep.safeTimeAtMin = th.safe;
         }
-        poolNext.push_back(ep);
         continue;
       }
       poolNext.push_back({th.key, th.foe, th.kind, th.zone, t, t, th.ttc, t, th.safe});
@@ -981,8 +1075,10 @@ HighwayMonitor::HighwayMonitor(const RoadGeometry& road, const MonitorConfig& co
     const double len = dir.norm();
     const bool line = f.kind != FeatureKind::Hazard && len > 0.0;
     m.featureLine.push_back({f.segment.a, line ? Vec2(-dir.y() / len, dir.x() / len) : Vec2(0.0, 0.0), line ? 1 : 0});
-    m.allFeatures.push_back(static_cast<int>(m.allFeatures.size()));
   }
+  std::vector<int> every(m.featureLine.size());
+  for (int i = 0; i < static_cast<int>(every.size()); ++i) every[i] = i;
+  m.allRoad.build(every, m.featureLine, m.roadScratch);
   if (!m.features.features.empty()) {
     const Aabb<2> b{m.features.bounds.min.array() - 10.0, m.features.bounds.max.array() + 10.0};
     const double cell = std::max(25.0, b.extent().maxCoeff() / 2048.0);
@@ -1080,7 +1176,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     m.globalAmax = 0.0;
     m.globalExtMax = Vec2::Zero();
     for (int s : m.activeSlots) {
-      const int bin = 2 * m.cells->placeDeferred(s, m.body[s].position, boxOf(m.body[s])) + m.wideOf[s];
+      const int bin = 2 * m.cells->placeDeferred(s, m.body[s].position, boxOf(m.body[s]), m.vel[s]) + m.wideOf[s];
       m.binOf[s] = bin;
       Impl::BinStats& c = m.binStats[bin];
       const Vec2& v = m.body[s].velocity;
@@ -1134,6 +1230,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     m.memberSlot.resize(na);
     m.memberBrake.resize(na);
     m.memberEquipped.resize(na);
+    m.memberPairState.resize(na);
     for (Impl::BinStats& cs : m.binStats) {
       if (cs.count == 0) continue;
       const Vec2 ext = cs.centres.extent();
@@ -1176,6 +1273,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       m.memberSlot[i] = slot;
       m.memberBrake[i] = m.brakeRatio[slot];
       m.memberEquipped[i] = m.equipped[slot];
+      m.memberPairState[i] = m.pairState[slot];
     }
     m.buildNeighbourLists();
     m.buildPairBins();

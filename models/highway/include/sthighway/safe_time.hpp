@@ -19,8 +19,11 @@ struct SafeTimeConfig {
   std::array<double, kVehicleClassCount> brakeForce{12000.0, 75000.0, 72000.0, 2250.0, 31500.0, 12000.0};
 
   double safeTime(double reactionTime, double mass, double closingSpeed, VehicleClass c) const {
-    return reactionTime + mass * std::max(0.0, closingSpeed) /
-                              (2.0 * brakeForce[static_cast<int>(c)]);
+    return safeTimeOf(reactionTime, mass, closingSpeed, 2.0 * brakeForce[static_cast<int>(c)]);
+  }
+  // the same rule with 2 F_brake given (for a caller that keeps it per vehicle)
+  static double safeTimeOf(double reactionTime, double mass, double closingSpeed, double twiceBrakeForce) {
+    return reactionTime + mass * std::max(0.0, closingSpeed) / twiceBrakeForce;
   }
   double vehicleSafeTime(double mass, double closingSpeed, VehicleClass c) const {
     return safeTime(vehicleReactionTime, mass, closingSpeed, c);
