@@ -397,9 +397,32 @@ struct HighwayMonitor::Impl {
     const int ego[2] = {e, f};
     const bool ask[2] = {askE, askF};
     double safe[2] = {0.0, 0.0};
+    const PairState* state[2] = {&stateE, &stateF};
+    Threat* out[2] = {&outE, &outF};
+    int warns = 0;
+    if (vehicleTtcSymmetric(cfg.detector)) {
+      // concentric at constant velocity: the envelopes are the outer circles, so the prunes below
+      // would be bounds on the detector's own test: the TTC once, as vehicleTtc computes it
+      // (discEntry: already touching is 0), against each direction's safe time
+      const double r = state[0]->outer + state[1]->outer;
+      double t = 0.0;
+      if (!(p.squaredNorm() <= r * r)) {
+        const Impact hit = toiBalls<2>(p, v, r);
+        t = hit.acts() ? hit.actTime() : kInf;
+      }
+      for (int d = 0; d < 2; ++d) {
+        if (!ask[d]) continue;
+        ++counters.toiChecks;
+        safe[d] = SafeTimeConfig::safeTimeOf(cfg.safeTime.vehicleReactionTime, state[d]->mass, closing,
+                                             state[d]->twiceBrakeForce);
+        if (!(t <= safe[d])) continue;
+        *out[d] = {state[1 - d]->serial, WarningKind::Vehicle, Zone::Outer, t, safe[d], ego[1 - d]};
+        warns |= 1 << d;
+      }
+      return warns;
+    }
     bool near[2] = {false, false};
     // exact prune: the envelopes cannot meet within the safe time
-    const PairState* state[2] = {&stateE, &stateF};
     const double envSum = state[0]->env + state[1]->env + tol::kPruneSlop;
     for (int d = 0; d < 2; ++d) {
       if (!ask[d]) continue;
@@ -412,28 +435,6 @@ struct HighwayMonitor::Impl {
                 !(dist > envSum + v.norm() * safe[d] + grow);
     }
     if (!near[0] && !near[1]) return 0;
-    Threat* out[2] = {&outE, &outF};
-    int warns = 0;
-    if (vehicleTtcSymmetric(cfg.detector)) {
-      // concentric at constant velocity: the envelopes are the outer circles, so the envelope
-      // test would be the detector's own: the TTC once, as vehicleTtc computes it (discEntry:
-      // already touching is 0), against each direction's safe time
-      const double r = state[0]->outer + state[1]->outer;
-      double t = 0.0;
-      if (!(p.squaredNorm() <= r * r)) {
-        const Impact hit = toiBalls<2>(p, v, r);
-        t = hit.acts() ? hit.actTime() : kInf;
-      }
-      for (int d = 0; d < 2; ++d) {
-        if (!near[d]) continue;
-        ++counters.toiChecks;
-        if (!(t <= safe[d])) continue;
-        const int b = ego[1 - d];
-        *out[d] = {state[1 - d]->serial, WarningKind::Vehicle, Zone::Outer, t, safe[d], b};
-        warns |= 1 << d;
-      }
-      return warns;
-    }
     if (accel == 0.0 && dist > envSum) {
       // the envelopes (circles holding every shape a detector uses) do not meet in time
       const Impact hit = toiBalls<2>(p, v, envSum);
@@ -995,7 +996,7 @@ struct HighwayMonitor::Impl {
     // the worst threat per key, keys ascending: the smallest TTC, on a tie the longer safe time
     // (the larger deficit), then the zone. A total order, so the episodes and the alert do not
     // depend on the order the broad phase found the threats in.
-    std::sort(threats.begin(), threats.end(), [](const Threat& a, const Threat& b) {
+    if (threats.size() > 1) std::sort(threats.begin(), threats.end(), [](const Threat& a, const Threat& b) {
       if (a.key != b.key) return a.key < b.key;
       if (a.ttc != b.ttc) return a.ttc < b.ttc;
       if (a.safe != b.safe) return a.safe > b.safe;
@@ -1004,10 +1005,10 @@ struct HighwayMonitor::Impl {
     threats.erase(std::unique(threats.begin(), threats.end(), [](const Threat& a, const Threat& b) { return a.key == b.key; }),
                   threats.end());
     // episodes without a threat end, those with one go on, new keys begin
-    int i = 0;
-    std::size_t j = 0;
-    while (i < nOpen || j < threats.size()) {
-      if (j == threats.size() || (i < nOpen && open[i].key < threats[j].key)) {
+    const int nThreats = static_cast<int>(threats.size());
+    int i = 0, j = 0;
+    while (i < nOpen || j < nThreats) {
+      if (j == nThreats || (i < nOpen && open[i].key < threats[j].key)) {
         Episode& ep = open[i++];
         ep.end = t;
         finished.push_back(warningOf(e, ep, false));
