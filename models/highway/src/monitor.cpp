@@ -142,9 +142,12 @@ struct HighwayMonitor::Impl {
       lines.clear();
       always.clear();
     }
-    // from features in any order (scratch: reused storage)
+    std::vector<int> source;  // the features it was built from, in the order given
+    // from features in any order (scratch: reused storage); kept if they are the last ones
     void build(std::span<const int> features, const std::vector<FeatureLine>& featureLine,
                std::vector<std::pair<Vec2, Line>>& scratch) {
+      if (std::equal(features.begin(), features.end(), source.begin(), source.end())) return;
+      source.assign(features.begin(), features.end());
       clear();
       scratch.clear();
       for (int fi : features) {
@@ -689,7 +692,7 @@ struct HighwayMonitor::Impl {
   // kOwn: B is the car's own cell, `from` the next member: its reach holds the car's centre
   // and starts before it along the sorted axis (no overlap test, no search)
   template <bool kAccel, bool kOwn>
-  void walkPairsOnce(int ie, int B, int from) {
+  [[gnu::always_inline]] inline void walkPairsOnce(int ie, int B, int from) {
     const BinStats& c = binStats[B];
     // the car's state from the member arrays (copies of its slot's, in walk order: the slot
     // arrays in this order would be a cache miss a car)
@@ -801,7 +804,6 @@ struct HighwayMonitor::Impl {
       neighbours[A].clear();
       neighboursLight[A].clear();
       nearBins[A].clear();
-      roadNear[A].clear();
       roadFound.clear();
       const BinStats& ca = binStats[A];
       if (ca.equipped == 0) continue;
@@ -906,22 +908,24 @@ struct HighwayMonitor::Impl {
   std::vector<std::vector<Neighbour>> neighboursLight;  // for the cars with k <= the bin's kLight
   std::vector<std::vector<int>> nearBins;  // per undivided bin: the undivided bins its cars may meet
   std::vector<RoadList> roadNear;
-  // What an index's forEachInBox found for a box, kept under the box's block of index cells and
-  // the index's revision: the visit depends on nothing else, and per cell both change rarely (the
-  // block as the cell's box drifts across the index's cells, the network index when a cell's
-  // extent outgrows its indexed box; the feature index never).
+  // What an index's forEachInBox found for a box grown by a tenth of its size, kept while the
+  // index is unchanged (its revision) and later boxes lie inside the grown one: a superset of
+  // each later box's visit, which every caller filters by its own box (the cells by their
+  // centres, the features by the line prune; a hazard is checked exactly per ego). A bin's box
+  // drifts metres a tick: it is recomputed every few hundred metres, or when the network index
+  // changes (a cell's extent outgrowing its indexed box; the feature index never changes).
   struct IndexVisit {
-    std::array<int, 2> block{-1, -1};
+    Aabb<2> covered{Vec2::Constant(kInf), Vec2::Constant(-kInf)};  // empty: nothing kept
     std::uint64_t revision = ~std::uint64_t{0};
     std::vector<int> ids;
   };
   static const std::vector<int>& cachedVisit(const Space<2>& index, const Aabb<2>& box, IndexVisit& visit) {
-    const std::array<int, 2> block = index.cellBlock(box);
-    if (block != visit.block || index.revision() != visit.revision) {
-      visit.block = block;
+    if (index.revision() != visit.revision || !visit.covered.contains(box.min) || !visit.covered.contains(box.max)) {
+      const double margin = 0.1 * box.extent().maxCoeff();
+      visit.covered = {box.min.array() - margin, box.max.array() + margin};
       visit.revision = index.revision();
       visit.ids.clear();
-      index.forEachInBox(box, [&](int id) { visit.ids.push_back(id); });
+      index.forEachInBox(visit.covered, [&](int id) { visit.ids.push_back(id); });
     }
     return visit.ids;
   }
@@ -1109,7 +1113,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
   // who is here: map ids to slots
   for (int s : m.activeSlots) m.inputOf[s] = -1;
   std::vector<int>& now = m.nextActive;
-  now.clear();
+  now.resize(vehicles.size());  // now[i]: the slot of vehicles[i]
   for (int i = 0; i < static_cast<int>(vehicles.size()); ++i) {
     const VehicleState& v = vehicles[i];
     checkFinite(v);
@@ -1119,7 +1123,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       const int s = m.activeSlots[i];
       if (m.inputOf[s] < 0 && m.slots[s].id == v.id) {
         m.inputOf[s] = i;
-        now.push_back(s);
+        now[i] = s;
         m.takeState(s, v);
         continue;
       }
@@ -1149,7 +1153,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     const int s = it->second;
     if (m.inputOf[s] >= 0) throw std::invalid_argument("vehicle '" + v.id + "' appears twice at t=" + std::to_string(t));
     m.inputOf[s] = i;
-    now.push_back(s);
+    now[i] = s;
     m.takeState(s, v);
   }
   // vehicles that left: their episodes end at their last tick
