@@ -116,6 +116,7 @@ struct HighwayMonitor::Impl {
   // hazards and zero-length segments (no line to prune with)
   struct FeatureLine {
     Vec2 a = Vec2::Zero();
+    Vec2 b = Vec2::Zero();  // the other end
     Vec2 n = Vec2::Zero();
     int line = 0;
   };
@@ -130,7 +131,8 @@ struct HighwayMonitor::Impl {
       int begin, end;  // its lines
     };
     struct Line {
-      double c;  // n . (a point of the line)
+      double c;       // n . (a point of the line)
+      double lo, hi;  // the segment along the group's tangent (n.y, -n.x)
       int feature;
     };
     std::vector<Group> groups;
@@ -158,7 +160,9 @@ struct HighwayMonitor::Impl {
         }
         const bool flip = l.n.x() < 0.0 || (l.n.x() == 0.0 && l.n.y() < 0.0);
         const Vec2 n = flip ? Vec2(-l.n) : l.n;
-        scratch.push_back({n, {n.dot(l.a), fi}});
+        const Vec2 u(n.y(), -n.x());
+        const double ua = u.dot(l.a), ub = u.dot(l.b);
+        scratch.push_back({n, {n.dot(l.a), std::min(ua, ub), std::max(ua, ub), fi}});
       }
       std::sort(scratch.begin(), scratch.end(), [](const auto& a, const auto& b) {
         if (a.first.x() != b.first.x()) return a.first.x() < b.first.x();
@@ -393,7 +397,7 @@ struct HighwayMonitor::Impl {
   // product), the envelopes' impact, and for a symmetric detector (vehicleTtcSymmetric) the TTC
   // at the larger safe time. Each direction has its own safe time and prunes. Returns bit 0 if
   // e warns (outE), bit 1 if f does (outF): the threats each would give alone, bit for bit.
-  int pairThreats(int e, int f, const PairState& stateE, const PairState& stateF, const Vec2& p, const Vec2& v,
+  [[gnu::flatten]] int pairThreats(int e, int f, const PairState& stateE, const PairState& stateF, const Vec2& p, const Vec2& v,
                   double accel, bool askE, bool askF, Threat& outE, Threat& outF) {
     const double dist = p.norm();
     const double closing = dist > 0.0 ? -p.dot(v) / dist : v.norm();
@@ -965,23 +969,35 @@ struct HighwayMonitor::Impl {
     // first every line against a bound on the shape's support towards it (no wider than the
     // envelope, and most lines are further off than that), without branches and without a call:
     // lineReachable with the line's offset from the ego as n . centre - n . a (rounded otherwise,
-    // by far less than the prune's slop); checkFeature then prunes with the support itself
+    // by far less than the prune's slop); checkFeature then prunes with the support itself. The
+    // few lines within that reach are pruned again with a tighter horizon: while the ego's
+    // centre projects inside the segment, the closest point is the foot of the normal, so the
+    // road safe time's closing speed is exactly the approach speed towards the line (tr + k
+    // approach, a fraction of hMax for a car keeping its lane); near or beyond an end it may be
+    // the full speed (hMax)
     const Body& a = body[e];
     const double accel = cfg.detector.motion == MotionModel::ConstantAcceleration ? accelAbs[e] : 0.0;
     const SupportBound& sb = shape[e].road;
     const Vec2 normal(-a.axis.y(), a.axis.x());
     if (featureNear.size() < list.size()) featureNear.resize(list.size());
+    const double tr = cfg.safeTime.roadReactionTime, brake = brakeRatio[e];
     const double grow = 0.5 * accel * hMax * hMax + tol::kPruneSlop;
     int near = 0;
     for (const RoadList::Group& g : list.groups) {
       const double support = (sb.base + sb.along * std::abs(a.axis.dot(g.n)) + sb.across * std::abs(normal.dot(g.n))) *
                              (1.0 + tol::kBoundRelativeSlop);
       const double along = g.n.dot(a.position), speed = g.n.dot(a.velocity);
-      for (int k = g.begin; k < g.end; ++k) {
-        const double offset = along - list.lines[k].c;
+      for (int j = g.begin; j < g.end; ++j) {
+        const RoadList::Line& l = list.lines[j];
+        const double offset = along - l.c;
         const double approach = std::max(0.0, offset > 0.0 ? -speed : speed);
-        featureNear[near] = list.lines[k].feature;
-        near += static_cast<int>(std::abs(offset) <= support + approach * hMax + grow);
+        if (!(std::abs(offset) <= support + approach * hMax + grow)) continue;  // most lines
+        const double tangent = g.n.y() * a.position.x() - g.n.x() * a.position.y();  // (n.y, -n.x) . centre
+        if (tangent > l.lo + tol::kPruneSlop && tangent < l.hi - tol::kPruneSlop) {
+          const double h = (tr + brake * approach) * (1.0 + tol::kBoundRelativeSlop);
+          if (!(std::abs(offset) <= support + approach * h + 0.5 * accel * h * h + tol::kPruneSlop)) continue;
+        }
+        featureNear[near++] = l.feature;
       }
     }
     for (int fi : list.always) featureNear[near++] = fi;
@@ -1079,7 +1095,8 @@ HighwayMonitor::HighwayMonitor(const RoadGeometry& road, const MonitorConfig& co
     const Vec2 dir = f.segment.b - f.segment.a;
     const double len = dir.norm();
     const bool line = f.kind != FeatureKind::Hazard && len > 0.0;
-    m.featureLine.push_back({f.segment.a, line ? Vec2(-dir.y() / len, dir.x() / len) : Vec2(0.0, 0.0), line ? 1 : 0});
+    m.featureLine.push_back(
+        {f.segment.a, f.segment.b, line ? Vec2(-dir.y() / len, dir.x() / len) : Vec2(0.0, 0.0), line ? 1 : 0});
   }
   std::vector<int> every(m.featureLine.size());
   for (int i = 0; i < static_cast<int>(every.size()); ++i) every[i] = i;

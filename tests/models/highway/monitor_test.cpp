@@ -263,6 +263,68 @@ TEST(Monitor, PruningNeverChangesTheAnswer) {
   EXPECT_GT(threats, 1000u);
 }
 
+TEST(Monitor, RoadPruneNeverChangesTheAnswerNearSegmentEnds) {
+  // the road prune tightens its horizon to the approach speed while an ego's centre projects
+  // inside a segment; near and beyond its ends the closest point is the end, and the closing
+  // speed may be the full speed. A wiggling road of short segments (many ends and normals), a
+  // lane that ends, hazards; cars near the vertices at any heading and speed, against the
+  // unpruned brute force
+  std::mt19937_64 rng(2024);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::size_t roadThreats = 0;
+  for (int scene = 0; scene < 200; ++scene) {
+    RoadGeometry road;
+    std::vector<std::vector<Vec2>> lanes(2);
+    double heading = 0.0;
+    for (int k = 0; k <= 30; ++k) {
+      const Vec2 at = k == 0 ? Vec2(0.0, 0.0) : lanes[0].back() + 6.0 * Vec2(std::cos(heading), std::sin(heading));
+      for (int lane = 0; lane < 2; ++lane) lanes[lane].push_back(at + 3.2 * lane * Vec2(-std::sin(heading), std::cos(heading)));
+      heading += 0.3 * (U(rng) - 0.5);
+    }
+    lanes[1].resize(12);  // the left lane ends: its marker and curb have ends mid-road
+    for (int lane = 0; lane < 2; ++lane) road.lanes.push_back(laneOf("w", lane, lanes[lane]));
+    road.hazards.push_back(Hazard{"pothole", lanes[0][15], 0.3});
+    MonitorConfig cfg;
+    cfg.detector.kind = static_cast<DetectorKind>(scene % 3);
+    cfg.detector.motion = (scene / 3) % 2 ? MotionModel::ConstantAcceleration : MotionModel::ConstantVelocity;
+    std::vector<VehicleState> vs;
+    for (int i = 0; i < 25; ++i) {
+      VehicleState v;
+      v.id = "c" + std::to_string(i);
+      const Vec2 corner = lanes[static_cast<std::size_t>(U(rng) * 2)][static_cast<std::size_t>(U(rng) * 12)];
+      v.position = corner + Vec2(6.0 * (U(rng) - 0.5), 6.0 * (U(rng) - 0.5));
+      v.heading = U(rng) < 0.5 ? 0.4 * (U(rng) - 0.5) : 2.0 * kPi * U(rng);
+      v.speed = U(rng) < 0.1 ? 0.0 : 35.0 * U(rng);
+      v.lateralSpeed = U(rng) < 0.3 ? 0.0 : 2.0 * (U(rng) - 0.5);
+      v.acceleration = 6.0 * (U(rng) - 0.5);
+      if (U(rng) < 0.2) {
+        v.vehicleClass = VehicleClass::Truck;
+        v.length = 12;
+        v.width = 2.55;
+        v.mass = 15000;
+      }
+      vs.push_back(v);
+    }
+    const std::vector<Threat> want = bruteForce(road, cfg, vs);
+    for (Broadphase bp : {Broadphase::Cells, Broadphase::AllPairs}) {
+      cfg.broadphase = bp;
+      HighwayMonitor m(road, cfg);
+      m.step(0.0, vs);
+      std::vector<Threat> got;
+      for (const Warning& w : m.openWarnings()) got.push_back({w.ego, w.foe, w.kind, w.minTtc, w.safeTimeAtMin});
+      std::sort(got.begin(), got.end());
+      ASSERT_EQ(got.size(), want.size()) << "scene " << scene << " " << toString(bp);
+      for (std::size_t i = 0; i < got.size(); ++i) {
+        ASSERT_EQ(got[i].ego + "/" + got[i].foe, want[i].ego + "/" + want[i].foe) << "scene " << scene;
+        ASSERT_EQ(got[i].ttc, want[i].ttc) << "scene " << scene << " " << got[i].ego << "/" << got[i].foe;
+        ASSERT_EQ(got[i].safe, want[i].safe);
+        roadThreats += got[i].kind != WarningKind::Vehicle;
+      }
+    }
+  }
+  EXPECT_GT(roadThreats, 500u);
+}
+
 TEST(Monitor, CarClosingOnStoppedCarEpisode) {
   // ego at 20 m/s, stopped car with a 60 m bumper gap, box detector, ticks of 0.1 s:
   // TTC(t) = 3 - t, safe time 1 + 1500 * 20 / (2 * 12000) = 2.25 s, so the warning begins at the
