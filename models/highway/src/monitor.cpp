@@ -502,6 +502,20 @@ struct HighwayMonitor::Impl {
     threats.push_back({kFeatureBit | static_cast<std::uint64_t>(g), kindOf(f.kind), ttc.zone, ttc.t, safe, g});
   }
 
+  // The first index in [begin, end) where pred turns false (pred true on a prefix), as
+  // std::partition_point, without a branch in its loop
+  template <class Pred>
+  static int partitionPoint(int begin, int end, Pred pred) {
+    if (begin == end || !pred(begin)) return begin;
+    int base = begin;  // pred(base) holds
+    for (int n = end - begin; n > 1;) {
+      const int half = n / 2;
+      base = pred(base + half) ? base + half : base;
+      n -= half;
+    }
+    return base + 1;
+  }
+
   // First index in [begin, end) with key[i] >= value (end if none) of sorted keys, as
   // std::lower_bound, without a branch in its loop (the outcomes are unpredictable)
   static int lowerBound(const double* key, int begin, int end, double value) {
@@ -677,11 +691,10 @@ struct HighwayMonitor::Impl {
         // sorted axis; the rest are skipped without computing their reach
         const auto [behind, ahead] = cellReach(ca, cb, std::max(ca.kAll, cb.kMax), kAccel, tol::kPruneSlop);
         const int a = ca.axis, o = 1 - a;
-        int lo = first, hi = first;
-        for (int i = first; i < last; ++i) {
-          lo += static_cast<int>(!(memberKey[i] + ahead[a] >= cb.centres.min[a]));
-          hi += static_cast<int>(memberKey[i] - behind[a] <= cb.centres.max[a]);
-        }
+        // (each test is monotone along the sorted keys: a binary search for where it turns)
+        const double* key = memberKey.data();
+        const int lo = partitionPoint(first, last, [&](int i) { return !(key[i] + ahead[a] >= cb.centres.min[a]); });
+        const int hi = partitionPoint(first, last, [&](int i) { return key[i] - behind[a] <= cb.centres.max[a]; });
         const bool anyEgo = cb.equipped > 0;
         for (int i = lo; i < hi; ++i) {
           const double q = memberPos[i][o];
