@@ -269,8 +269,7 @@ struct CellNetwork::Impl {
   // the box grown by the margin and stretched to where the velocity takes it within the lookahead
   Aabb<2> fatOf(const Aabb<2>& box, const Vec2& velocity) const {
     const Vec2 ahead = velocity * cfg.fatLookahead;
-    return {box.min + ahead.cwiseMin(0.0) - Vec2::Constant(cfg.fatMargin),
-            box.max + ahead.cwiseMax(0.0) + Vec2::Constant(cfg.fatMargin)};
+    return grown({box.min + ahead.cwiseMin(0.0), box.max + ahead.cwiseMax(0.0)}, cfg.fatMargin);
   }
 
   // the local slot is -1 from a deferred join to its commit

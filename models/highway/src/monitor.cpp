@@ -201,7 +201,6 @@ struct HighwayMonitor::Impl {
   std::vector<VehicleClass> vclass;
   std::vector<std::uint8_t> signals;
   std::vector<char> equipped;
-  std::vector<std::uint64_t> serialOf;       // slots[].serial, the key of vehicle episodes
   // what the exact pair test reads of a car, together (copies of the arrays above: the test
   // meets its two cars in no order, and the arrays would be a cache miss each); kept by slot and,
   // for the walks, in member order (memberPairState)
@@ -307,7 +306,6 @@ struct HighwayMonitor::Impl {
     vclass.resize(n);
     signals.resize(n);
     equipped.resize(n);
-    serialOf.resize(n);
     pairState.resize(n);
     binOf.resize(n);
     wideOf.resize(n);
@@ -395,8 +393,9 @@ struct HighwayMonitor::Impl {
   // velocity relative to e's) and f against e. What the two share is computed once: distance
   // and closing speed (the same expressions either way round: negating p and v changes no
   // product), the envelopes' impact, and for a symmetric detector (vehicleTtcSymmetric) the TTC
-  // at the larger safe time. Each direction has its own safe time and prunes. Returns bit 0 if
-  // e warns (outE), bit 1 if f does (outF): the threats each would give alone, bit for bit.
+  // itself, once. Each direction has its own safe time (and, but for the symmetric detector,
+  // its own prunes). Returns bit 0 if e warns (outE), bit 1 if f does (outF): the threats each
+  // would give alone, bit for bit.
   [[gnu::flatten]] int pairThreats(int e, int f, const PairState& stateE, const PairState& stateF, const Vec2& p, const Vec2& v,
                   double accel, bool askE, bool askF, Threat& outE, Threat& outF) {
     const double dist = p.norm();
@@ -409,14 +408,11 @@ struct HighwayMonitor::Impl {
     int warns = 0;
     if (vehicleTtcSymmetric(cfg.detector)) {
       // concentric at constant velocity: the envelopes are the outer circles, so the prunes below
-      // would be bounds on the detector's own test: the TTC once, as vehicleTtc computes it
-      // (discEntry: already touching is 0), against each direction's safe time
-      const double r = state[0]->outer + state[1]->outer;
-      double t = 0.0;
-      if (!(p.squaredNorm() <= r * r)) {
-        const Impact hit = toiBalls<2>(p, v, r);
-        t = hit.acts() ? hit.actTime() : kInf;
-      }
+      // would be bounds on the detector's own test: its kernel once (vehicleTtc's concentric
+      // case: the outer circles' disc entry, already touching is 0), unbounded, against each
+      // direction's safe time
+      const double t = detail::discEntry(detail::Piece{p, v, Vec2::Zero(), 0.0, kInf}, Vec2::Zero(),
+                                         state[0]->outer + state[1]->outer);
       for (int d = 0; d < 2; ++d) {
         if (!ask[d]) continue;
         ++counters.toiChecks;
@@ -517,16 +513,9 @@ struct HighwayMonitor::Impl {
   }
 
   // First index in [begin, end) with key[i] >= value (end if none) of sorted keys, as
-  // std::lower_bound, without a branch in its loop (the outcomes are unpredictable)
+  // std::lower_bound
   static int lowerBound(const double* key, int begin, int end, double value) {
-    if (begin == end || key[begin] >= value) return begin;  // the reach starts before the bin: common
-    const double* base = key + begin;
-    for (int n = end - begin; n > 1;) {
-      const int half = n / 2;
-      base = base[half] < value ? base + half : base;
-      n -= half;
-    }
-    return static_cast<int>(base - key) + static_cast<int>(*base < value);
+    return partitionPoint(begin, end, [&](int i) { return key[i] < value; });
   }
 
   void candidatesVehicles(int e) {
@@ -1174,7 +1163,6 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
       sl.id = v.id;
       sl.serial = m.nextSerial++;
       m.ensureSlotArrays(m.slots.size());
-      m.serialOf[s] = sl.serial;
       m.openCount[s] = 0;
       m.exposure[s] = Impl::Exposure{};
       sl.prev = v.position;

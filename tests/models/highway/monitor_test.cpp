@@ -48,6 +48,14 @@ VehicleState vehicle(const std::string& id, Vec2 p, double heading, double speed
   return v;
 }
 
+// A 15 t, 12 x 2.55 m truck.
+void makeTruck(VehicleState& v) {
+  v.vehicleClass = VehicleClass::Truck;
+  v.length = 12.0;
+  v.width = 2.55;
+  v.mass = 15000.0;
+}
+
 bool sameWarning(const Warning& a, const Warning& b) {
   return a.ego == b.ego && a.foe == b.foe && a.kind == b.kind && a.zone == b.zone && a.begin == b.begin &&
          a.end == b.end && a.minTtc == b.minTtc && a.minTtcTime == b.minTtcTime && a.safeTimeAtMin == b.safeTimeAtMin &&
@@ -97,12 +105,7 @@ std::vector<std::vector<VehicleState>> randomScene(std::mt19937_64& rng, double 
     v.speed = U(rng) < 0.2 ? 0.0 : 40 * U(rng);
     v.lateralSpeed = U(rng) < 0.5 ? 0.0 : 3 * (U(rng) - 0.5);
     v.acceleration = 8 * (U(rng) - 0.6);
-    if (U(rng) < 0.15) {
-      v.vehicleClass = VehicleClass::Truck;
-      v.length = 12;
-      v.width = 2.55;
-      v.mass = 15000;
-    }
+    if (U(rng) < 0.15) makeTruck(v);
     const double s = U(rng);
     v.signals = s < 0.1 ? kSignalLeft : s < 0.2 ? kSignalRight : kSignalNone;
     v.equipped = U(rng) < 0.9;
@@ -218,6 +221,26 @@ std::vector<Threat> bruteForce(const RoadGeometry& road, const MonitorConfig& cf
   return out;
 }
 
+// One tick of the monitor with the given broad phase against the unpruned brute force, threat by
+// threat (ego, foe, TTC and safe time exactly); adds the monitor's threats to `found`.
+void expectBruteForceThreats(const RoadGeometry& road, MonitorConfig cfg, Broadphase bp, const std::vector<VehicleState>& vs,
+                             int scene, std::vector<Threat>& found) {
+  cfg.broadphase = bp;
+  HighwayMonitor m(road, cfg);
+  m.step(0.0, vs);
+  std::vector<Threat> got;
+  for (const Warning& w : m.openWarnings()) got.push_back({w.ego, w.foe, w.kind, w.minTtc, w.safeTimeAtMin});
+  std::sort(got.begin(), got.end());
+  const std::vector<Threat> want = bruteForce(road, cfg, vs);
+  ASSERT_EQ(got.size(), want.size()) << "scene " << scene << " " << toString(bp);
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    ASSERT_EQ(got[i].ego + "/" + got[i].foe, want[i].ego + "/" + want[i].foe) << "scene " << scene;
+    ASSERT_EQ(got[i].ttc, want[i].ttc) << "scene " << scene << " " << got[i].ego << "/" << got[i].foe;
+    ASSERT_EQ(got[i].safe, want[i].safe);
+  }
+  found.insert(found.end(), got.begin(), got.end());
+}
+
 TEST(Monitor, PruningNeverChangesTheAnswer) {
   // single ticks against the unpruned brute force, including cars riding exactly on a lane
   // marker or a curb with a vanishing sideways speed (contact within the kernels' slop)
@@ -243,22 +266,10 @@ TEST(Monitor, PruningNeverChangesTheAnswer) {
       const double r = U(rng);
       v.lateralSpeed = below * (r < 0.4 ? 1e-12 : r < 0.7 ? 1e-6 : -1e-6);
     }
-    for (Broadphase bp : {Broadphase::Cells, Broadphase::AllPairs}) {
-      cfg.broadphase = bp;
-      HighwayMonitor m(road, cfg);
-      m.step(0.0, vs);
-      std::vector<Threat> got;
-      for (const Warning& w : m.openWarnings()) got.push_back({w.ego, w.foe, w.kind, w.minTtc, w.safeTimeAtMin});
-      std::sort(got.begin(), got.end());
-      const std::vector<Threat> want = bruteForce(road, cfg, vs);
-      ASSERT_EQ(got.size(), want.size()) << "scene " << scene << " " << toString(bp);
-      for (std::size_t i = 0; i < got.size(); ++i) {
-        ASSERT_EQ(got[i].ego + "/" + got[i].foe, want[i].ego + "/" + want[i].foe) << "scene " << scene;
-        ASSERT_EQ(got[i].ttc, want[i].ttc) << "scene " << scene << " " << got[i].ego << "/" << got[i].foe;
-        ASSERT_EQ(got[i].safe, want[i].safe);
-      }
-      threats += got.size();
-    }
+    std::vector<Threat> found;
+    for (Broadphase bp : {Broadphase::Cells, Broadphase::AllPairs})
+      ASSERT_NO_FATAL_FAILURE(expectBruteForceThreats(road, cfg, bp, vs, scene, found));
+    threats += found.size();
   }
   EXPECT_GT(threats, 1000u);
 }
@@ -297,30 +308,13 @@ TEST(Monitor, RoadPruneNeverChangesTheAnswerNearSegmentEnds) {
       v.speed = U(rng) < 0.1 ? 0.0 : 35.0 * U(rng);
       v.lateralSpeed = U(rng) < 0.3 ? 0.0 : 2.0 * (U(rng) - 0.5);
       v.acceleration = 6.0 * (U(rng) - 0.5);
-      if (U(rng) < 0.2) {
-        v.vehicleClass = VehicleClass::Truck;
-        v.length = 12;
-        v.width = 2.55;
-        v.mass = 15000;
-      }
+      if (U(rng) < 0.2) makeTruck(v);
       vs.push_back(v);
     }
-    const std::vector<Threat> want = bruteForce(road, cfg, vs);
-    for (Broadphase bp : {Broadphase::Cells, Broadphase::AllPairs}) {
-      cfg.broadphase = bp;
-      HighwayMonitor m(road, cfg);
-      m.step(0.0, vs);
-      std::vector<Threat> got;
-      for (const Warning& w : m.openWarnings()) got.push_back({w.ego, w.foe, w.kind, w.minTtc, w.safeTimeAtMin});
-      std::sort(got.begin(), got.end());
-      ASSERT_EQ(got.size(), want.size()) << "scene " << scene << " " << toString(bp);
-      for (std::size_t i = 0; i < got.size(); ++i) {
-        ASSERT_EQ(got[i].ego + "/" + got[i].foe, want[i].ego + "/" + want[i].foe) << "scene " << scene;
-        ASSERT_EQ(got[i].ttc, want[i].ttc) << "scene " << scene << " " << got[i].ego << "/" << got[i].foe;
-        ASSERT_EQ(got[i].safe, want[i].safe);
-        roadThreats += got[i].kind != WarningKind::Vehicle;
-      }
-    }
+    std::vector<Threat> found;
+    for (Broadphase bp : {Broadphase::Cells, Broadphase::AllPairs})
+      ASSERT_NO_FATAL_FAILURE(expectBruteForceThreats(road, cfg, bp, vs, scene, found));
+    for (const Threat& t : found) roadThreats += t.kind != WarningKind::Vehicle;
   }
   EXPECT_GT(roadThreats, 500u);
 }
@@ -379,12 +373,7 @@ TEST(Monitor, TruckHasLongerSafeTimeThanCarAtSameSpeed) {
   for (bool truck : {false, true}) {
     HighwayMonitor m(straightRoad(), cfg);
     VehicleState ego = vehicle("ego", {100, 3.2}, 0, 20);
-    if (truck) {
-      ego.vehicleClass = VehicleClass::Truck;
-      ego.length = 12;
-      ego.width = 2.55;
-      ego.mass = 15000;
-    }
+    if (truck) makeTruck(ego);
     VehicleState lead = vehicle("lead", {100 + ego.length / 2 + 52 + 2.5, 3.2}, 0, 0);
     lead.equipped = false;
     const std::vector<VehicleState> vs{ego, lead};
@@ -556,12 +545,7 @@ TEST(Monitor, CompactTrafficMakesNoCandidatePairsAcrossTheMedian) {
         VehicleState v = vehicle(std::string(west ? "w" : "e") + std::to_string(lane) + "_" + std::to_string(k),
                                  Vec2(west ? 2000.0 - x : x, y), west ? std::numbers::pi : 0.0, 24.0 + 3.0 * lane);
         const bool truck = k % 5 == 0 && (lane == 0 || (truckInside && lane == 2));
-        if (truck) {
-          v.vehicleClass = VehicleClass::Truck;
-          v.length = 12.0;
-          v.width = 2.55;
-          v.mass = 15000.0;
-        }
+        if (truck) makeTruck(v);
         cars.push_back(v);
       }
     return cars;
