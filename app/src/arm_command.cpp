@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include <starm/scenario.hpp>
+#include <starm/study.hpp>
 #include <stsim/cli.hpp>
 #include <stsim/commands.hpp>
 
@@ -37,13 +38,28 @@ std::string quoted(const std::string& s) {
   return o + "\"";
 }
 
+// What the run saw of the real geometry: the closest tested pair over the run, first contact.
+struct Watch {
+  double minDistance = INFINITY;
+  double firstContact = NAN;
+  void see(const arm::Monitor& m) {
+    const arm::Warning& n = m.nearest();
+    if (n.arm < 0) return;
+    minDistance = std::min(minDistance, n.distance);
+    if (std::isnan(firstContact) && n.distance <= 0.0) firstContact = n.t;
+  }
+};
+
 void writeSummary(const fs::path& file, const std::string& scenario, const arm::Monitor& m, const arm::RunStats& st,
-                  const std::string& broadphase, const std::string& error) {
+                  const std::string& broadphase, const std::string& error, bool closedLoop, const Watch& watch) {
   const arm::MonitorCounters& c = m.counters();
   std::ostringstream j;
   j << "{\n  \"scenario\": " << quoted(scenario) << ",\n";
   j << "  \"status\": " << quoted(error.empty() ? "ok" : "error") << ",\n";
   if (!error.empty()) j << "  \"error\": " << quoted(error) << ",\n";
+  j << "  \"loop\": " << quoted(closedLoop ? "closed" : "open") << ",\n";
+  j << "  \"min_distance_m\": " << num(watch.minDistance) << ",\n  \"first_contact_s\": " << num(watch.firstContact)
+    << ",\n";
   j << "  \"arms\": " << m.armCount() << ",\n  \"obstacles\": " << m.obstacles().size() << ",\n";
   j << "  \"capsules\": " << m.capsuleCount() << ",\n";
   j << "  \"safe_time_s\": " << num(m.safety().safeTime()) << ",\n  \"horizon_s\": " << num(m.safety().lookAhead())
@@ -74,24 +90,106 @@ void writeSummary(const fs::path& file, const std::string& scenario, const arm::
   if (!out) throw std::runtime_error(file.string() + ": cannot write");
 }
 
+int runStudy(const Args& args) {
+  if (args.get("study") != "stopping") throw UsageError("--study: expected stopping");
+  arm::StudyConfig cfg;
+  cfg.randomCourses = static_cast<int>(args.getInt("courses"));
+  if (cfg.randomCourses < 0 || cfg.randomCourses > 100000) throw UsageError("--courses: expected 0..100000");
+  cfg.seed = static_cast<std::uint64_t>(args.getInt("seed"));
+  cfg.stoppingTime = args.getDouble("stopping-time");
+  if (!(cfg.stoppingTime >= 0.0)) throw UsageError("--stopping-time: expected a time >= 0 (s)");
+  if (!args.has("no-shipped")) {
+    const fs::path dir = args.get("shipped");
+    for (const char* n : {"two_pandas", "iiwa_truss", "panda_clutter"}) {
+      const fs::path f = dir / (std::string(n) + ".yaml");
+      if (!fs::exists(f)) throw UsageError("--shipped: " + f.string() + " not found (give --shipped DIR or --no-shipped)");
+      cfg.shipped.push_back(f.string());
+    }
+  }
+  const arm::StudyResult r = arm::stoppingStudy(cfg);
+  const fs::path out = args.get("out");
+  fs::create_directories(out);
+  std::ofstream csv(out / "stopping_study.csv");
+  csv << "assumed_stopping_s,safe_time_s,needed_s,courses,contacts_open,contacts_closed,contacts_closed_moving,"
+         "min_distance_closed_m,median_min_distance_closed_m\n";
+  std::printf("stopping study: %zu shipped + %d random courses (seed %llu), arms brake in %.3f s after a %.3f s delay\n\n",
+              cfg.shipped.size(), cfg.randomCourses, static_cast<unsigned long long>(cfg.seed), cfg.stoppingTime,
+              r.rows.empty() ? 0.0 : r.rows.front().needed - cfg.stoppingTime - 0.001);
+  std::printf("shipped scenarios at their own safety terms:\n");
+  std::printf("  %-16s %8s  %-22s  %-22s\n", "scenario", "safe s", "open: contact / min m", "closed: contact / min m");
+  for (const arm::ShippedRow& s : r.shipped) {
+    auto cell = [](const arm::CourseOutcome& o) {
+      char b[64];
+      if (o.contact) std::snprintf(b, sizeof b, "at %.3f s / %.4f", o.firstContact, o.minDistance);
+      else std::snprintf(b, sizeof b, "none / %.4f", o.minDistance);
+      return std::string(b);
+    };
+    std::printf("  %-16s %8.3f  %-22s  %-22s\n", fs::path(s.name).stem().c_str(), s.safeTime, cell(s.open).c_str(),
+                cell(s.closed).c_str());
+  }
+  std::printf("\nall %zu courses, closed loop, the monitor's stopping term varied (safe time = cycle + reaction + it);\n"
+              "needed = the arms' stopping time + delay + one cycle; open loop touches on %d courses:\n\n",
+              cfg.shipped.size() + static_cast<std::size_t>(cfg.randomCourses),
+              r.rows.empty() ? 0 : r.rows.front().contactsOpen);
+  std::printf("  %9s %9s %11s %9s %9s %13s %13s  %s\n", "assumed s", "safe s", "safe-needed", "contacts", "(moving)",
+              "min dist m", "median min m", "failing courses");
+  for (const arm::StudyRow& row : r.rows) {
+    std::string fails;
+    for (const std::string& f : row.failures) {
+      if (!fails.empty()) fails += ' ';
+      fails += f.rfind("random:", 0) == 0 ? f : fs::path(f).stem().string();
+    }
+    if (row.contactsClosed > static_cast<int>(row.failures.size())) fails += " ...";
+    std::printf("  %9.3f %9.3f %+11.3f %4d/%-4d %9d %13.4f %13.4f  %s\n", row.assumedStopping, row.safeTime,
+                row.safeTime - row.needed, row.contactsClosed, row.courses, row.contactsClosedMoving, row.minDistanceClosed,
+                row.medianMinDistanceClosed, fails.c_str());
+    csv << num(row.assumedStopping) << ',' << num(row.safeTime) << ',' << num(row.needed) << ',' << row.courses << ','
+        << row.contactsOpen << ',' << row.contactsClosed << ',' << row.contactsClosedMoving << ','
+        << num(row.minDistanceClosed) << ',' << num(row.medianMinDistanceClosed) << '\n';
+  }
+  csv.flush();
+  if (!csv) throw std::runtime_error((out / "stopping_study.csv").string() + ": cannot write");
+  std::printf("\n-> %s\n", (out / "stopping_study.csv").c_str());
+  return 0;
+}
+
 int runArm(int argc, const char* const* argv) {
   Args args("arm",
             "Robot-arm collision monitor: forward kinematics, capsules in a dynamic octree, time to collision by "
             "conservative advancement, warnings and STOP per arm. Writes warnings.csv and summary.json.");
-  args.positional("SCENARIO", "scenario YAML (arms, obstacles, octree rule, safety terms, sensor trace or waypoints)");
+  args.positional("SCENARIO", "scenario YAML (arms, obstacles, octree rule, safety terms, sensor trace or waypoints)",
+                  false);
   args.option("out", "DIR", "output folder", "arm-out");
   args.option("broadphase", "KIND", "octree (default, from the scenario) or none (all pairs, the reference)", "");
+  args.flag("open-loop", "STOP is flagged but the arms keep moving (default: closed loop, a STOP brakes the arm)");
+  args.option("study", "NAME", "stopping: contacts open vs closed loop against safe time and stopping time", "");
+  args.option("courses", "N", "--study: random two-Panda courses", "200");
+  args.option("seed", "N", "--study: seed of the random courses", "1");
+  args.option("stopping-time", "S", "--study: the arms' real stopping time (s)", "0.2");
+  args.option("shipped", "DIR", "--study: folder of the shipped scenarios", "models/arm/scenarios");
+  args.flag("no-shipped", "--study: random courses only");
   if (!args.parse(argc, argv)) {
     std::cout << args.help();
     return 0;
   }
+  if (args.has("study")) {
+    if (args.positionalValue(0)) throw UsageError("--study takes no SCENARIO");
+    return runStudy(args);
+  }
+  if (!args.positionalValue(0)) throw UsageError("missing argument SCENARIO (see stsim arm --help)");
   const std::string path = *args.positionalValue(0);
+  const bool closedLoop = !args.has("open-loop");
   arm::Scenario sc = arm::loadScenario(path);
   const std::string bp = args.get("broadphase");
   if (bp == "none") sc.broad.kind = SpaceKind::None;
   else if (!bp.empty() && bp != "octree" && bp != "tree") throw UsageError("--broadphase: expected octree or none");
   arm::Monitor monitor = arm::makeMonitor(sc);
-  auto sensor = arm::makeSensor(sc);
+  std::unique_ptr<arm::ClosedLoopSensor> drive;
+  std::unique_ptr<arm::SensorSource> openSensor;
+  if (closedLoop) drive = arm::makeClosedLoopSensor(sc);
+  else openSensor = arm::makeSensor(sc);
+  arm::SensorSource& sensor = closedLoop ? static_cast<arm::SensorSource&>(*drive) : *openSensor;
+  Watch watch;
 
   const fs::path out = args.get("out");
   fs::create_directories(out);
@@ -101,7 +199,9 @@ int runArm(int argc, const char* const* argv) {
   arm::RunStats stats;
   const std::string bpName = sc.broad.kind == SpaceKind::None ? "none" : toString(sc.broad.kind);
   try {
-    arm::run(monitor, *sensor, stats, [&](const arm::Monitor& m) {
+    arm::run(monitor, sensor, stats, [&](const arm::Monitor& m) {
+      if (drive) drive->observe(m, m.time());
+      watch.see(m);
       for (const arm::Warning& w : m.warnings()) {
         csv << num(w.t) << ',' << m.arm(w.arm).name << ',' << arm::bodyName(m.arm(w.arm).model, w.body) << ','
             << w.capsule << ',' << arm::otherName(m, w) << ',' << num(w.distance) << ',' << num(w.ttc) << ','
@@ -112,13 +212,16 @@ int runArm(int argc, const char* const* argv) {
   } catch (const std::exception& e) {
     // results so far stay on disk
     csv.flush();
-    writeSummary(out / "summary.json", path, monitor, stats, bpName, e.what());
+    writeSummary(out / "summary.json", path, monitor, stats, bpName, e.what(), closedLoop, watch);
     throw;
   }
   csv.flush();
-  writeSummary(out / "summary.json", path, monitor, stats, bpName, "");
+  writeSummary(out / "summary.json", path, monitor, stats, bpName, "", closedLoop, watch);
   const auto& c = monitor.counters();
-  std::cout << "arm: " << stats.cycles << " cycles, " << c.warnings << " warnings, " << c.stops << " STOPs, latency p50 "
+  std::cout << "arm (" << (closedLoop ? "closed" : "open") << " loop): " << stats.cycles << " cycles, " << c.warnings
+            << " warnings, " << c.stops << " STOPs, "
+            << (std::isnan(watch.firstContact) ? std::string("no contact") : "first contact at " + num(watch.firstContact) + " s")
+            << ", min distance " << num(watch.minDistance) << " m, latency p50 "
             << num(arm::percentile(stats.latencyUs, 50)) << " us p99 " << num(arm::percentile(stats.latencyUs, 99))
             << " us -> " << (out / "summary.json").string() << "\n";
   return 0;

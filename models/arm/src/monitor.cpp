@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <optional>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace st::arm {
@@ -203,6 +204,12 @@ void Monitor::cycle(double t) {
   started_ = true;
 
   warnings_.clear();
+  nearest_ = Warning{};
+  nearest_.t = t;
+  nearest_.distance = std::numeric_limits<double>::infinity();
+  nearest_.ttc = std::numeric_limits<double>::infinity();
+  nearest_.outcome = Approach::Clear;
+  minTtc_ = std::numeric_limits<double>::infinity();
   for (ArmState& a : arms_) a.warned = false;
   const int no = static_cast<int>(obstacles_.size());
   if (space_) {
@@ -243,6 +250,22 @@ void Monitor::cycle(double t) {
   ++counters_.cycles;
 }
 
+void Monitor::noteNearest(int i, int j, int obstacle, const TimeToCollision& r) {
+  minTtc_ = std::min(minTtc_, r.t);
+  if (!(r.distance < nearest_.distance)) return;
+  nearest_.t = now_;
+  nearest_.arm = capArm_[i];
+  nearest_.body = capBody_[i];
+  nearest_.capsule = capLocal_[i];
+  nearest_.otherArm = j >= 0 ? capArm_[j] : -1;
+  nearest_.otherBody = j >= 0 ? capBody_[j] : -1;
+  nearest_.otherCapsule = j >= 0 ? capLocal_[j] : -1;
+  nearest_.obstacle = obstacle;
+  nearest_.distance = r.distance;
+  nearest_.ttc = r.t;
+  nearest_.outcome = r.outcome;
+}
+
 void Monitor::addWarning(const Warning& w) {
   warnings_.push_back(w);
   arms_[w.arm].warned = true;
@@ -272,6 +295,7 @@ void Monitor::testPair(int i, int j, double t) {
   if (!swept_[i].overlaps(swept_[j])) return;  // cannot come within the separation in the look-ahead
   ++counters_.exactPairs;
   const TimeToCollision r = timeToCollision(movingCapsule(i), movingCapsule(j), safety_.minSeparation, safety_.lookAhead());
+  noteNearest(i, j, -1, r);
   std::optional<Warning> found = warningFor(i, r, t);
   if (!found) return;
   Warning& w = *found;
@@ -304,6 +328,7 @@ void Monitor::testObstacle(int i, int o, double t) {
       break;
     case ShapeKind::Box: r = timeToCollision(c, MovingBox{ob.box, ob.velocity}, sep, h); break;
   }
+  noteNearest(i, -1, o, r);
   std::optional<Warning> w = warningFor(i, r, t);
   if (!w) return;
   w->obstacle = o;

@@ -221,7 +221,7 @@ namespace {
 Scenario parseScenario(const std::string& path, const YAML::Node& root) {
   const Yaml y{path};
   y.knownKeys(root, "", {"safety", "octree", "models", "arms", "trace", "duration", "obstacles", "random_obstacles", "name",
-                         "description"});
+                         "description", "braking"});
   Scenario s;
   s.file = path;
   if (const YAML::Node n = root["safety"]) {
@@ -236,6 +236,34 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
     if (s.safety.minSeparation < 0) y.fail(n["min_separation"], "safety.min_separation", "must not be negative");
     if (s.safety.horizon != 0.0 && s.safety.horizon < s.safety.safeTime())
       y.fail(n["horizon"], "safety.horizon", "must be at least the safe time (cycle + reaction + stopping)");
+  }
+  // closed loop braking; defaults follow the safety terms
+  s.braking.stoppingTime = s.safety.stoppingTime;
+  s.braking.delay = s.safety.reactionTime;
+  if (const YAML::Node n = root["braking"]) {
+    y.knownKeys(n, "braking", {"stopping_time", "deceleration", "delay", "resume"});
+    if (n["stopping_time"] && n["deceleration"])
+      y.fail(n["deceleration"], "braking.deceleration", "give either stopping_time or deceleration, not both");
+    s.braking.stoppingTime = y.number(n, "stopping_time", "braking", s.braking.stoppingTime);
+    if (s.braking.stoppingTime < 0) y.fail(n["stopping_time"], "braking.stopping_time", "must not be negative");
+    if (n["deceleration"]) s.braking.deceleration = y.positive(n, "deceleration", "braking", 0.0);
+    s.braking.delay = y.number(n, "delay", "braking", s.braking.delay);
+    if (s.braking.delay < 0) y.fail(n["delay"], "braking.delay", "must not be negative");
+    if (const YAML::Node r = n["resume"]) {
+      if (r.IsScalar() && r.Scalar() == "never") {
+        s.braking.resumeAfter = std::numeric_limits<double>::infinity();
+      } else {
+        if (!r.IsScalar()) y.fail(r, "braking.resume", "expected never or a time (s)");
+        double v = 0.0;
+        try {
+          v = r.as<double>();
+        } catch (const YAML::Exception&) {
+          y.fail(r, "braking.resume", "expected never or a time (s), got '" + r.Scalar() + "'");
+        }
+        if (!std::isfinite(v) || v < 0) y.fail(r, "braking.resume", "expected never or a time >= 0 (s)");
+        s.braking.resumeAfter = v;
+      }
+    }
   }
   if (const YAML::Node n = root["octree"]) {
     y.knownKeys(n, "octree", {"kind", "decomposition_factor", "max_depth", "margin", "bounds", "cell_size"});

@@ -94,6 +94,14 @@ class Monitor {
 
   const std::vector<Warning>& warnings() const { return warnings_; }
   bool stopped(int arm) const { return arms_[arm].stopped; }
+  bool warned(int arm) const { return arms_[arm].warned; }
+  double time() const { return now_; }  // of the last cycle
+  // The closest pair of this cycle among those tested exactly (swept boxes overlapping; any
+  // other pair is farther apart than the minimum separation): arm, body, other party, distance
+  // now and its time to collision (infinity: clear). arm < 0: no pair was close enough to test.
+  const Warning& nearest() const { return nearest_; }
+  // Smallest time to collision of this cycle over the exactly tested pairs (s; infinity: none).
+  double minTtc() const { return minTtc_; }
   const MonitorCounters& counters() const { return counters_; }
   const Space<3>* space() const { return space_ ? &*space_ : nullptr; }
   Aabb3 spaceBounds() const { return bounds_; }
@@ -125,6 +133,7 @@ class Monitor {
   void testPair(int i, int j, double t);
   void testObstacle(int i, int o, double t);
   void addWarning(const Warning& w);
+  void noteNearest(int i, int j, int obstacle, const TimeToCollision& r);
   // Counts the advancement; a Warning for capsule i (ego side filled) if r warns at time t.
   std::optional<Warning> warningFor(int i, const TimeToCollision& r, double t);
 
@@ -154,6 +163,8 @@ class Monitor {
   std::uint64_t fileClock_ = 0;
 
   std::vector<Warning> warnings_;
+  Warning nearest_;
+  double minTtc_ = 0.0;
   MonitorCounters counters_;
 };
 

@@ -13,12 +13,14 @@
 //   obstacles: [{name, sphere: {center, radius} | capsule: {a, b, radius} |
 //                box: {center, half_extents, rpy}, velocity: [..]}]
 //   random_obstacles: {count, seed, min: [..], max: [..], radius: [lo, hi], keep_out: [{center, radius}]}
+//   braking: {stopping_time: 0.2 | deceleration: 8.0, delay: 0.01, resume: never | 0.5}   (closed loop)
 #include <chrono>
 #include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include <starm/drive.hpp>
 #include <starm/monitor.hpp>
 #include <starm/sensor.hpp>
 
@@ -33,12 +35,17 @@ struct Scenario {
   std::string tracePath;        // CSV sensor trace, or
   std::vector<Script> scripts;  // scripted motion
   double duration = 0.0;
+  // closed loop: how a STOPped arm brakes and resumes (defaults: safety.stopping_time,
+  // safety.reaction_time, never resume)
+  BrakeConfig braking;
 };
 
 // Throws InputError naming the file, line and key.
 Scenario loadScenario(const std::string& path);
 std::unique_ptr<SensorSource> makeSensor(const Scenario& s);
 Monitor makeMonitor(const Scenario& s);
+// The scenario's sensor in closed loop (drive.cpp): STOP brakes the arm per s.braking.
+std::unique_ptr<ClosedLoopSensor> makeClosedLoopSensor(const Scenario& s);
 
 struct RunStats {
   std::uint64_t cycles = 0;

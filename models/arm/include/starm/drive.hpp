@@ -1,0 +1,100 @@
+#pragma once
+// Closed loop: a STOP halts the arm that received it. Each arm follows its nominal motion (the
+// scripted or recorded readings) in its own program time tau; a STOP makes the program clock
+// slow down linearly (ds/dt = -1 / stopping time, s = dtau/dt) until it stands, so the arm stays on
+// its path and every joint decelerates at |qdot_nominal| / stopping time (a path-maintaining stop,
+// ISO 10218 stop category 2). A joint moving at w comes to rest w * delay + w * T / 2 after the
+// STOP's braking command. The arm stays stopped until the resume rule lets it go: never, or once
+// the threat has been clear for a settable time; it then ramps back up at the same rate.
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include <starm/sensor.hpp>
+
+namespace st::arm {
+
+class Monitor;
+
+struct BrakeConfig {
+  double stoppingTime = 0.2;   // s, full speed to rest (used when deceleration is 0)
+  double deceleration = 0.0;   // rad/s^2, > 0: the fastest joint brakes at this; stopping time from it
+  double delay = 0.010;        // s, STOP cycle to the start of braking (at least the next reading)
+  // resume once no warning for this long (s); infinity: never
+  double resumeAfter = std::numeric_limits<double>::infinity();
+  bool resumes() const { return resumeAfter < std::numeric_limits<double>::infinity(); }
+};
+
+// Program-clock speed s(t) = clamp(s0 + rate (t - t0), 0, 1) for t >= t0 (s0 before): a ramp.
+struct Ramp {
+  double t0 = 0.0;
+  double s0 = 1.0;
+  double rate = 0.0;  // 1/s; negative brakes, positive resumes
+  double at(double t) const;
+  // integral of s over [a, b], exact
+  double integral(double a, double b) const;
+};
+
+enum class DriveMode { Following, Braking, Stopped, Resuming };
+
+// One arm's drive state (pure: no monitor, no sensor), so the profile can be tested on its own.
+class ArmDrive {
+ public:
+  explicit ArmDrive(BrakeConfig cfg = {}) : cfg_(cfg) {}
+
+  // Program time at cycle time t (t not decreasing); first call starts the clock with tau = t.
+  double advance(double t);
+  double speed() const { return s_; }  // s at the last advance
+  double tau() const { return tau_; }
+  DriveMode mode() const { return mode_; }
+  // The monitor's verdict of the cycle at t: warned (a threat), stop (STOP held). `rate` is the
+  // largest nominal joint rate now (rad/s), used when braking by deceleration.
+  void observe(double t, bool warned, bool stop, double rate);
+  // stopped and no rule will resume it
+  bool heldForGood() const { return mode_ == DriveMode::Stopped && !cfg_.resumes(); }
+  int stops() const { return stops_; }
+  int resumes() const { return resumes_; }
+
+ private:
+  BrakeConfig cfg_;
+  DriveMode mode_ = DriveMode::Following;
+  Ramp ramp_;
+  bool started_ = false;
+  double last_ = 0.0;  // time of the last advance
+  double tau_ = 0.0;
+  double lag_ = 0.0;   // t - tau while following
+  double s_ = 1.0;
+  double lastThreat_ = -std::numeric_limits<double>::infinity();
+  int stops_ = 0, resumes_ = 0;
+};
+
+// A sensor source in closed loop: the underlying readings are the nominal motion; each arm's
+// reading at cycle time t is its nominal motion at its program time, rates scaled by s. Call
+// observe(monitor, t) after every cycle (the run's onCycle does it). Nominal readings are
+// checked as they arrive (validateReading), so bad input is named where it is in the trace.
+class ClosedLoopSensor final : public SensorSource {
+ public:
+  ClosedLoopSensor(std::unique_ptr<SensorSource> nominal, std::vector<ArmModel> models, BrakeConfig cfg);
+  bool next(Reading& r) override;
+  void observe(const Monitor& m, double t);
+  const ArmDrive& drive(int arm) const { return arms_[arm].drive; }
+
+ private:
+  struct Sample {
+    double t;
+    std::vector<double> q, qdot;
+  };
+  struct ArmFeed {
+    ArmDrive drive;
+    std::vector<Sample> buffer;  // nominal samples from the one at or before tau on
+    std::size_t head = 0;        // first live sample in buffer
+    bool seen = false;
+  };
+  void sampleAt(ArmFeed& f, double tau, Reading& r) const;
+
+  std::unique_ptr<SensorSource> nominal_;
+  std::vector<ArmModel> models_;
+  std::vector<ArmFeed> arms_;
+};
+
+}  // namespace st::arm
