@@ -6,13 +6,15 @@
 
 #include <stsim/cli.hpp>
 #include <stsim/commands.hpp>
+#include <stsim/version.hpp>
 
 namespace {
 
 void printHelp(const std::vector<st::cli::Command>& cmds) {
   std::cout << "stsim: space-time simulation toolkit\n\n"
                "usage: stsim <command> [arguments] [options]\n"
-               "       stsim <command> --help\n\ncommands:\n";
+               "       stsim <command> --help\n"
+               "       stsim --version\n\ncommands:\n";
   for (const auto& c : cmds) std::cout << "  " << c.name << std::string(c.name.size() < 10 ? 10 - c.name.size() : 1, ' ') << c.summary << "\n";
 }
 
@@ -24,6 +26,10 @@ int main(int argc, char** argv) {
       std::strcmp(argv[1], "help") == 0) {
     printHelp(cmds);
     return argc < 2 ? 2 : 0;
+  }
+  if (std::strcmp(argv[1], "--version") == 0) {
+    std::cout << "stsim " << STSIM_VERSION_STRING << "\n";
+    return 0;
   }
   for (const auto& c : cmds) {
     if (c.name != argv[1]) continue;

@@ -1,0 +1,79 @@
+# Install rules and the CMake / pkg-config packages, in one place: `cmake --install build --prefix P`
+# installs the stsim tool, the public headers, the libraries (static), the shipped networks, the
+# CMake package (find_package(stsim) -> stsim::<name>) and stsim.pc. Included last from the top
+# CMakeLists.txt, so every library target exists. A new library is one stsim_install_library() line.
+include(GNUInstallDirs)
+include(CMakePackageConfigHelpers)
+
+set(STSIM_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/stsim CACHE STRING
+    "Where the CMake package files go, relative to the prefix")
+
+# The version header: <stsim/version.hpp>, from project(stsim VERSION ...).
+set(stsim_generated_include ${PROJECT_BINARY_DIR}/generated/include)
+configure_file(${PROJECT_SOURCE_DIR}/cmake/version.hpp.in ${stsim_generated_include}/stsim/version.hpp @ONLY)
+target_include_directories(stcore PUBLIC $<BUILD_INTERFACE:${stsim_generated_include}>)
+install(FILES ${stsim_generated_include}/stsim/version.hpp DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/stsim)
+
+# Linked PRIVATE into the static libraries, so their exported link interface names it
+# ($<LINK_ONLY:...>: it carries only warning flags, which consumers never see).
+install(TARGETS stsim_warnings EXPORT stsimTargets)
+set_target_properties(stsim_warnings PROPERTIES EXPORT_NAME warnings)
+
+set(stsim_installed_libs "")
+# stsim_install_library(<target> <export name> <include dir>): the library as stsim::<export name>
+# (and the same alias in the tree, beside the st:: one), its headers from <include dir>.
+function(stsim_install_library target name include_dir)
+  if(NOT TARGET ${target})
+    return()
+  endif()
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${name})
+  if(NOT TARGET stsim::${name})
+    add_library(stsim::${name} ALIAS ${target})
+  endif()
+  install(TARGETS ${target} EXPORT stsimTargets
+          ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+          LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+          INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/${include_dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+          FILES_MATCHING PATTERN "*.hpp" PATTERN "*.h")
+  set(stsim_installed_libs ${stsim_installed_libs} ${target} PARENT_SCOPE)
+endfunction()
+
+# The experiment runner (cosim/batch, st::batch) is the tool's, not a library for plugins: not
+# installed, so a consumer needs no MPI. Dependants before their dependencies (the order pkg-config's Libs needs for static libraries).
+stsim_install_library(stsim_cosim cosim cosim/lib/include)
+stsim_install_library(starm arm models/arm/include)
+stsim_install_library(stpool pool models/pool/include)
+stsim_install_library(sthighway highway models/highway/include)
+stsim_install_library(stcore core stcore/include)
+
+install(TARGETS stsim RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/networks/ DESTINATION ${CMAKE_INSTALL_DATADIR}/stsim/networks)
+
+# CMake package
+install(EXPORT stsimTargets NAMESPACE stsim:: DESTINATION ${STSIM_INSTALL_CMAKEDIR})
+configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/stsimConfig.cmake.in
+  ${PROJECT_BINARY_DIR}/stsimConfig.cmake
+  INSTALL_DESTINATION ${STSIM_INSTALL_CMAKEDIR}
+  PATH_VARS CMAKE_INSTALL_INCLUDEDIR)
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/stsimConfigVersion.cmake COMPATIBILITY SameMinorVersion)
+install(FILES ${PROJECT_BINARY_DIR}/stsimConfig.cmake ${PROJECT_BINARY_DIR}/stsimConfigVersion.cmake
+        DESTINATION ${STSIM_INSTALL_CMAKEDIR})
+if(STSIM_WITH_SUMO)
+  install(FILES ${PROJECT_SOURCE_DIR}/cmake/FindSUMO.cmake DESTINATION ${STSIM_INSTALL_CMAKEDIR})
+endif()
+
+# pkg-config: stsim.pc, relocatable (the prefix is found from the .pc file's own place)
+set(stsim_pc_libs "")
+foreach(lib IN LISTS stsim_installed_libs)
+  string(APPEND stsim_pc_libs " -l$<TARGET_FILE_BASE_NAME:${lib}>")
+endforeach()
+if(STSIM_WITH_SUMO)
+  string(APPEND stsim_pc_libs " -lsumocpp -ltracicpp")
+endif()
+string(STRIP "${stsim_pc_libs}" stsim_pc_libs)
+file(RELATIVE_PATH stsim_pc_up /${CMAKE_INSTALL_LIBDIR}/pkgconfig /)
+string(REGEX REPLACE "/$" "" stsim_pc_up "${stsim_pc_up}")
+configure_file(${PROJECT_SOURCE_DIR}/cmake/stsim.pc.in ${PROJECT_BINARY_DIR}/stsim.pc.in @ONLY)
+file(GENERATE OUTPUT ${PROJECT_BINARY_DIR}/stsim.pc INPUT ${PROJECT_BINARY_DIR}/stsim.pc.in)
+install(FILES ${PROJECT_BINARY_DIR}/stsim.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
