@@ -77,3 +77,6 @@ string(REGEX REPLACE "/$" "" stsim_pc_up "${stsim_pc_up}")
 configure_file(${PROJECT_SOURCE_DIR}/cmake/stsim.pc.in ${PROJECT_BINARY_DIR}/stsim.pc.in @ONLY)
 file(GENERATE OUTPUT ${PROJECT_BINARY_DIR}/stsim.pc INPUT ${PROJECT_BINARY_DIR}/stsim.pc.in)
 install(FILES ${PROJECT_BINARY_DIR}/stsim.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+
+# the .deb (cpack -G DEB)
+include(StsimPackaging)

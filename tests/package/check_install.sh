@@ -1,48 +1,80 @@
 #!/usr/bin/env bash
-# Installs a build into a scratch prefix and uses it from outside the tree, as a user would:
-# `stsim --version`, a replay with the installed tool, a tiny program built with pkg-config,
-# examples/own_loop built with find_package(stsim) and run on a shipped network (it must warn),
-# and `import stsim` from the installed Python module when it was built.
-# usage: tests/package/check_install.sh [BUILD_DIR]   (run from anywhere; ~1 min)
+# Uses a build from outside the tree, as a user would, twice: installed with
+# `cmake --install --prefix`, and from the .deb (`cpack -G DEB`, its Depends and contents checked,
+# unpacked with dpkg-deb). In each: `stsim --version`, a replay with the installed tool, a tiny
+# program built with pkg-config, examples/own_loop built with find_package(stsim) and run on the
+# installed copy of a shipped network (it must warn), and `import stsim` when the module was built.
+# usage: tests/package/check_install.sh [BUILD_DIR]   (run from anywhere; about a minute)
 set -euo pipefail
 src=$(cd "$(dirname "$0")/../.." && pwd)
 build=$(cd "${1:-$src/build}" && pwd)
 work=$(mktemp -d /tmp/stsim-install.XXXXXX)
 trap 'rm -rf "$work"' EXIT
-prefix=$work/prefix
 fail() { echo "check_install: FAIL: $*" >&2; exit 1; }
-
 version=$(sed -n 's/^project(stsim VERSION \([0-9.]*\).*/\1/p' "$src/CMakeLists.txt")
-cmake --install "$build" --prefix "$prefix" >/dev/null
+python=/usr/bin/python3
 
-# the tool
-got=$("$prefix/bin/stsim" --version)
-[ "$got" = "stsim $version" ] || fail "stsim --version printed '$got', expected 'stsim $version'"
-"$prefix/bin/stsim" highway --fcd "$src/tests/data/highway/lanedrop.fcd.xml" \
-  --net "$src/tests/data/highway/lanedrop.net.xml" --out "$work/replay" >/dev/null
-[ "$(wc -l < "$work/replay/warnings.csv")" -gt 1 ] || fail "the installed stsim replay wrote no warnings"
+check_prefix() {  # PREFIX NAME
+  local prefix=$1 out=$work/$2
+  mkdir -p "$out"
+  local got
+  got=$("$prefix/bin/stsim" --version)
+  [ "$got" = "stsim $version" ] || fail "$2: stsim --version printed '$got', expected 'stsim $version'"
+  "$prefix/bin/stsim" highway --fcd "$src/tests/data/highway/lanedrop.fcd.xml" \
+    --net "$src/tests/data/highway/lanedrop.net.xml" --out "$out/replay" >/dev/null
+  [ "$(wc -l < "$out/replay/warnings.csv")" -gt 1 ] || fail "$2: the installed stsim replay wrote no warnings"
 
-# headers and libraries through pkg-config
-libdir=$(dirname "$(find "$prefix" -name stsim.pc -print -quit)")
-g++ -O1 -o "$work/tiny" "$src/tests/package/tiny.cpp" \
-  $(PKG_CONFIG_PATH=$libdir pkg-config --cflags --libs stsim) || fail "tiny.cpp does not build with pkg-config"
-"$work/tiny" >/dev/null || fail "tiny program: no warning"
+  # headers and libraries through pkg-config
+  local pcdir
+  pcdir=$(dirname "$(find "$prefix" -name stsim.pc -print -quit)")
+  g++ -O1 -o "$out/tiny" "$src/tests/package/tiny.cpp" $(PKG_CONFIG_PATH=$pcdir pkg-config --cflags --libs stsim) \
+    || fail "$2: tiny.cpp does not build with pkg-config"
+  "$out/tiny" >/dev/null || fail "$2: tiny program: no warning"
 
-# the example with find_package(stsim), on the installed copy of a shipped network
-cmake -S "$src/examples/own_loop" -B "$work/own_loop" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
-cmake --build "$work/own_loop" >/dev/null || fail "examples/own_loop does not build against the installed tree"
-(cd "$work" && timeout 300 "$work/own_loop/own_loop" "$prefix/share/stsim/networks/motorway/motorway.sumocfg" 60) \
-  > "$work/own_loop.txt" || fail "own_loop failed: $(tail -1 "$work/own_loop.txt")"
-line=$(grep '^own_loop (stsim' "$work/own_loop.txt") || fail "own_loop printed no summary"
-n=$(echo "$line" | sed -n 's/.* \([0-9][0-9]*\) warnings in .*/\1/p')
-[ -n "$n" ] && [ "$n" -gt 0 ] || fail "own_loop gave no warnings: $line"
-[ "$(grep -c ' min TTC ' "$work/own_loop.txt")" -eq "$n" ] || fail "own_loop: warning lines and count differ"
+  # the example with find_package(stsim), on the installed copy of a shipped network
+  cmake -S "$src/examples/own_loop" -B "$out/own_loop" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
+  cmake --build "$out/own_loop" >/dev/null || fail "$2: examples/own_loop does not build against the installed tree"
+  (cd "$out" && timeout 300 "$out/own_loop/own_loop" "$prefix/share/stsim/networks/motorway/motorway.sumocfg" 60) \
+    > "$out/own_loop.txt" || fail "$2: own_loop failed: $(tail -1 "$out/own_loop.txt")"
+  local line n
+  line=$(grep '^own_loop (stsim' "$out/own_loop.txt") || fail "$2: own_loop printed no summary"
+  n=$(echo "$line" | sed -n 's/.* \([0-9][0-9]*\) warnings in .*/\1/p')
+  [ -n "$n" ] && [ "$n" -gt 0 ] || fail "$2: own_loop gave no warnings: $line"
+  [ "$(grep -c ' min TTC ' "$out/own_loop.txt")" -eq "$n" ] || fail "$2: own_loop: warning lines and count differ"
 
-# the Python module, if this build has it
-pydir=$(find "$prefix" -type d -path '*-packages/stsim' -print -quit)
-if [ -n "$pydir" ]; then
-  pyver=$(cd "$work" && PYTHONPATH=$(dirname "$pydir") python3 -c "import stsim; print(stsim.__version__)") \
-    || fail "import stsim from $(dirname "$pydir") failed"
-  [ "$pyver" = "$version" ] || fail "stsim.__version__ is '$pyver', expected '$version'"
+  # the Python module, if this build has it
+  local pydir pyver
+  pydir=$(find "$prefix" -type d -path '*-packages/stsim' -print -quit)
+  if [ -n "$pydir" ]; then
+    pyver=$(cd "$out" && PYTHONPATH=$(dirname "$pydir") $python -c "import stsim; print(stsim.__version__)") \
+      || fail "$2: import stsim from $(dirname "$pydir") failed"
+    [ "$pyver" = "$version" ] || fail "$2: stsim.__version__ is '$pyver', expected '$version'"
+  fi
+  echo "check_install: $2 ok ($line)"
+}
+
+# 1. cmake --install into a scratch prefix
+cmake --install "$build" --prefix "$work/prefix" >/dev/null
+check_prefix "$work/prefix" install
+
+# 2. the .deb: built, its metadata, then its contents unpacked (the paths are relative to the
+#    package, so the unpacked /usr works from anywhere)
+(cd "$build" && rm -f stsim_*.deb && cpack -G DEB > "$work/cpack.log" 2>&1) || fail "cpack -G DEB: $(tail -3 "$work/cpack.log")"
+deb=$(ls "$build"/stsim_"$version"_*.deb)
+depends=$(dpkg-deb -f "$deb" Depends)
+for dep in "sumo (>= 1.15)" libeigen3-dev libyaml-cpp-dev libboost1.74-dev libyaml-cpp0.7 libstdc++6 libc6; do
+  [[ ", $depends," == *", $dep"[\ ,]* ]] || fail "$(basename "$deb"): Depends lacks $dep: $depends"
+done
+contents=$(dpkg-deb -c "$deb")
+for f in ./usr/bin/stsim ./usr/lib/cmake/stsim/stsimConfig.cmake ./usr/include/sthighway/monitor.hpp \
+         ./usr/include/stsim/version.hpp ./usr/share/stsim/networks/motorway/motorway.sumocfg; do
+  grep -q " $f\$" <<< "$contents" || fail "$(basename "$deb") lacks $f"
+done
+grep -q 'pkgconfig/stsim.pc$' <<< "$contents" || fail "$(basename "$deb") lacks stsim.pc"
+if [ -d "$build/python/stsim" ]; then
+  grep -q 'dist-packages/stsim/_stsim\..*\.so$' <<< "$contents" || fail "$(basename "$deb") lacks the Python module"
+  [[ "$depends" == *python3-numpy* ]] || fail "$(basename "$deb"): Depends lacks python3-numpy"
 fi
-echo "check_install: ok (stsim $version; own_loop: $line)"
+dpkg-deb -x "$deb" "$work/deb"
+check_prefix "$work/deb/usr" deb
+echo "check_install: ok, stsim $version, $(basename "$deb") ($(du -k "$deb" | cut -f1) kB)"
