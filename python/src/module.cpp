@@ -1,0 +1,549 @@
+// stsim._stsim: the highway model (models/highway) for Python, a thin layer. Vehicle states come
+// in as a list of dicts (one per vehicle) or a dict of columns (NumPy arrays or sequences), in our
+// conventions (centre, heading in rad from +x) or SUMO's (front bumper, navigational degrees:
+// converted as st::cosim::toVehicleState does, with the same sthighway/vehicle.hpp functions).
+// Every bad input is a Python exception naming the vehicle and key; nothing is clamped or guessed.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <sthighway/monitor.hpp>
+#include <sthighway/sumo_files.hpp>
+#include <stsim/version.hpp>
+
+namespace py = pybind11;
+namespace hw = st::highway;
+
+namespace {
+
+// ---- checked conversions of Python values -------------------------------------------------
+
+std::string typeName(py::handle h) { return py::str(py::type::handle_of(h).attr("__name__")); }
+
+// A real number: int or float (NumPy scalars too), not bool, not str.
+double toDouble(py::handle h, const std::string& what) {
+  if (PyBool_Check(h.ptr()) || PyUnicode_Check(h.ptr()) || PyBytes_Check(h.ptr()) || !PyNumber_Check(h.ptr()) ||
+      PyComplex_Check(h.ptr()))
+    throw py::type_error(what + " must be a number, got " + typeName(h));
+  const double x = PyFloat_AsDouble(h.ptr());
+  if (x == -1.0 && PyErr_Occurred()) throw py::error_already_set();
+  return x;
+}
+
+double toFinite(py::handle h, const std::string& what) {
+  const double x = toDouble(h, what);
+  if (!std::isfinite(x)) throw py::value_error(what + " must be finite, got " + std::to_string(x));
+  return x;
+}
+
+long toInt(py::handle h, const std::string& what) {
+  if (PyBool_Check(h.ptr()) || !PyIndex_Check(h.ptr())) throw py::type_error(what + " must be an integer, got " + typeName(h));
+  return py::cast<long>(py::reinterpret_borrow<py::object>(h));
+}
+
+bool toBool(py::handle h, const std::string& what) {
+  if (PyBool_Check(h.ptr())) return h.ptr() == Py_True;
+  if (py::isinstance(h, py::module_::import("numpy").attr("bool_"))) return py::cast<bool>(h);
+  if (PyIndex_Check(h.ptr()) && !PyFloat_Check(h.ptr())) {
+    const long v = toInt(h, what);
+    if (v == 0 || v == 1) return v == 1;
+  }
+  throw py::type_error(what + " must be a bool, got " + typeName(h));
+}
+
+std::string toStr(py::handle h, const std::string& what) {
+  if (!PyUnicode_Check(h.ptr()) && !py::isinstance(h, py::module_::import("numpy").attr("str_")))
+    throw py::type_error(what + " must be a str, got " + typeName(h));
+  return py::cast<std::string>(h);
+}
+
+// ---- vehicle states -----------------------------------------------------------------------
+
+// The keys a vehicle may have; which ones depend on the convention.
+enum Key { kId, kX, kY, kHeading, kAngle, kSpeed, kLateralSpeed, kAcceleration, kLength, kWidth, kMass, kClass,
+           kSignals, kEquipped, kKeyCount };
+const char* const kKeyNames[kKeyCount] = {"id", "x", "y", "heading", "angle", "speed", "lateral_speed", "acceleration",
+                                          "length", "width", "mass", "vehicle_class", "signals", "equipped"};
+
+enum class Convention { Ours, Sumo };
+
+std::string knownKeys(Convention c) {
+  std::string s;
+  for (int k = 0; k < kKeyCount; ++k) {
+    if ((c == Convention::Ours && k == kAngle) || (c == Convention::Sumo && k == kHeading)) continue;
+    s += (s.empty() ? "" : ", ") + std::string(kKeyNames[k]);
+  }
+  return s;
+}
+
+int keyOf(const std::string& name, Convention c, const std::string& where) {
+  for (int k = 0; k < kKeyCount; ++k)
+    if (name == kKeyNames[k]) {
+      if (c == Convention::Ours && k == kAngle)
+        throw py::value_error(where + ": unknown key 'angle' (SUMO's navigational angle: use step_sumo(), or 'heading' in rad)");
+      if (c == Convention::Sumo && k == kHeading)
+        throw py::value_error(where + ": unknown key 'heading' for step_sumo() (SUMO gives 'angle' in degrees)");
+      return k;
+    }
+  throw py::value_error(where + ": unknown key '" + name + "' (known: " + knownKeys(c) + ")");
+}
+
+hw::VehicleClass classOf(const std::string& name, Convention c, const std::string& what) {
+  if (c == Convention::Sumo) return hw::vehicleClassFromName(name);  // as the SUMO coupling does
+  for (int k = 0; k < hw::kVehicleClassCount; ++k)
+    if (name == hw::toString(static_cast<hw::VehicleClass>(k))) return static_cast<hw::VehicleClass>(k);
+  throw py::value_error(what + " must be passenger, truck, bus, motorcycle, emergency or other, got '" + name + "'");
+}
+
+// One vehicle's values as given, before the convention is applied.
+struct Raw {
+  std::string id;
+  double v[kKeyCount] = {};
+  bool has[kKeyCount] = {};
+  hw::VehicleClass vehicleClass = hw::VehicleClass::Passenger;
+  long signals = 0;
+  bool equipped = true;
+};
+
+void setValue(Raw& r, int key, py::handle value, Convention c, const std::string& where) {
+  const std::string what = where + ": '" + kKeyNames[key] + "'";
+  r.has[key] = true;
+  switch (key) {
+    case kId: r.id = toStr(value, what); break;
+    case kClass: r.vehicleClass = classOf(toStr(value, what), c, what); break;
+    case kSignals:
+      r.signals = toInt(value, what);
+      if (r.signals < 0) throw py::value_error(what + " must be >= 0");
+      break;
+    case kEquipped: r.equipped = toBool(value, what); break;
+    default: r.v[key] = toFinite(value, what);
+  }
+}
+
+std::string vehicleWhere(std::size_t i, const Raw& r) {
+  return "vehicle " + std::to_string(i) + (r.has[kId] ? " ('" + r.id + "')" : "");
+}
+
+// The state in our conventions. SUMO's: as st::cosim::toVehicleState (cosim/lib/src/conversions.cpp).
+void toState(const Raw& r, Convention c, std::size_t i, hw::VehicleState& s) {
+  const std::string where = vehicleWhere(i, r);
+  const int needed[] = {kId, kX, kY, c == Convention::Ours ? kHeading : kAngle, kSpeed};
+  for (int k : needed)
+    if (!r.has[k]) throw py::value_error(where + ": missing '" + kKeyNames[k] + "'");
+  const hw::ClassDefaults d = hw::classDefaults(r.vehicleClass);
+  s.id = r.id;
+  s.vehicleClass = r.vehicleClass;
+  s.length = r.has[kLength] ? r.v[kLength] : d.length;
+  s.width = r.has[kWidth] ? r.v[kWidth] : d.width;
+  s.mass = r.has[kMass] ? r.v[kMass] : d.mass;
+  s.acceleration = r.has[kAcceleration] ? r.v[kAcceleration] : 0.0;
+  s.equipped = r.equipped;
+  const double lateral = r.has[kLateralSpeed] ? r.v[kLateralSpeed] : 0.0;
+  if (c == Convention::Ours) {
+    s.position = st::Vec2(r.v[kX], r.v[kY]);
+    s.heading = r.v[kHeading];
+    s.speed = r.v[kSpeed];
+    s.lateralSpeed = lateral;
+    if (r.signals > (hw::kSignalLeft | hw::kSignalRight))
+      throw py::value_error(where + ": 'signals' must be 0..3 (1 left, 2 right), got " + std::to_string(r.signals));
+    s.signals = static_cast<std::uint8_t>(r.signals);
+  } else {
+    s.heading = hw::headingFromNavigationDegrees(r.v[kAngle]);
+    s.position = hw::centreFromFrontBumper(st::Vec2(r.v[kX], r.v[kY]), s.heading, s.length);
+    const double speed = r.v[kSpeed];
+    s.speed = lateral == 0.0 ? speed : std::copysign(std::hypot(speed, lateral), speed);
+    s.lateralSpeed = 0.0;
+    s.signals = 0;  // SUMO's bit 1 is the left blinker, bit 0 the right
+    if (r.signals & 2) s.signals |= hw::kSignalLeft;
+    if (r.signals & 1) s.signals |= hw::kSignalRight;
+  }
+}
+
+// A list of dicts, or a dict of equally long columns.
+void readStates(py::handle vehicles, Convention c, std::vector<hw::VehicleState>& out) {
+  std::vector<Raw> raws;
+  if (py::isinstance<py::dict>(vehicles)) {
+    const auto columns = py::reinterpret_borrow<py::dict>(vehicles);
+    std::optional<std::size_t> n;
+    std::vector<std::pair<int, py::object>> cols;
+    for (auto [name, col] : columns) {
+      const std::string key = py::isinstance<py::str>(name) ? py::cast<std::string>(name) : std::string(py::repr(name));
+      const int k = keyOf(key, c, "column");
+      if (PyUnicode_Check(col.ptr()) || !py::hasattr(col, "__len__"))
+        throw py::type_error("column '" + key + "' must be a sequence or array, got " + typeName(col));
+      const std::size_t len = py::len(col);
+      if (n && *n != len)
+        throw py::value_error("column '" + key + "' has " + std::to_string(len) + " values, the others " + std::to_string(*n));
+      n = len;
+      cols.emplace_back(k, py::reinterpret_borrow<py::object>(col));
+    }
+    raws.resize(n.value_or(0));
+    // numbers through one NumPy conversion per column where it can (ids and names element-wise)
+    for (auto& [k, col] : cols) {
+      const bool numeric = k != kId && k != kClass && k != kSignals && k != kEquipped;
+      if (numeric && py::isinstance<py::array>(col) && py::cast<py::array>(col).dtype().kind() == 'f') {
+        auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(col);
+        if (!a || a.ndim() != 1)
+          throw py::value_error(std::string("column '") + kKeyNames[k] + "' must be one-dimensional");
+        const double* p = a.data();
+        for (std::size_t i = 0; i < raws.size(); ++i) {
+          if (!std::isfinite(p[i]))
+            throw py::value_error("vehicle " + std::to_string(i) + ": '" + kKeyNames[k] + "' must be finite, got " +
+                                  std::to_string(p[i]));
+          raws[i].v[k] = p[i];
+          raws[i].has[k] = true;
+        }
+        continue;
+      }
+      std::size_t i = 0;
+      for (py::handle value : col) {
+        if (i >= raws.size()) break;
+        setValue(raws[i], k, value, c, "vehicle " + std::to_string(i));
+        ++i;
+      }
+    }
+  } else if (py::isinstance<py::sequence>(vehicles) && !PyUnicode_Check(vehicles.ptr())) {
+    const auto rows = py::reinterpret_borrow<py::sequence>(vehicles);
+    raws.resize(py::len(rows));
+    for (std::size_t i = 0; i < raws.size(); ++i) {
+      py::object row = rows[i];
+      if (!py::isinstance<py::dict>(row))
+        throw py::type_error("vehicle " + std::to_string(i) + " must be a dict, got " + typeName(row));
+      const auto d = py::reinterpret_borrow<py::dict>(row);
+      if (d.contains("id")) setValue(raws[i], kId, d["id"], c, "vehicle " + std::to_string(i));
+      for (auto [name, value] : d) {
+        const std::string where = vehicleWhere(i, raws[i]);
+        if (!py::isinstance<py::str>(name)) throw py::type_error(where + ": keys must be str, got " + typeName(name));
+        const int k = keyOf(py::cast<std::string>(name), c, where);
+        if (k != kId) setValue(raws[i], k, value, c, where);
+      }
+    }
+  } else {
+    throw py::type_error("vehicles must be a list of dicts or a dict of columns, got " + typeName(vehicles));
+  }
+  out.resize(raws.size());
+  for (std::size_t i = 0; i < raws.size(); ++i) toState(raws[i], c, i, out[i]);
+}
+
+py::dict stateDict(const hw::VehicleState& s) {
+  py::dict d;
+  d["id"] = s.id;
+  d["x"] = s.position.x();
+  d["y"] = s.position.y();
+  d["heading"] = s.heading;
+  d["speed"] = s.speed;
+  d["lateral_speed"] = s.lateralSpeed;
+  d["acceleration"] = s.acceleration;
+  d["length"] = s.length;
+  d["width"] = s.width;
+  d["mass"] = s.mass;
+  d["vehicle_class"] = hw::toString(s.vehicleClass);
+  d["signals"] = static_cast<int>(s.signals);
+  d["equipped"] = s.equipped;
+  return d;
+}
+
+// ---- settings -----------------------------------------------------------------------------
+
+const char* const kSettings[] = {
+    "detector", "layout", "motion", "broadphase", "check_road", "vehicle_reaction_time", "road_reaction_time",
+    "brake_force", "concentric_inner_margin", "concentric_outer_margin", "body_circles", "cell_length",
+    "tx_power_dbm", "path_loss_exponent", "reference_distance", "hysteresis_db", "radio_range", "fat_margin",
+    "fat_lookahead", "decomposition_factor", "max_depth"};
+
+hw::MonitorConfig configOf(const py::kwargs& kw) {
+  hw::MonitorConfig cfg;
+  for (auto [nameH, value] : kw) {
+    const std::string name = py::cast<std::string>(nameH);
+    const std::string what = "setting '" + name + "'";
+    auto text = [&] { return toStr(value, what); };
+    auto number = [&] { return toFinite(value, what); };
+    auto positive = [&] {
+      const double x = number();
+      if (!(x > 0.0)) throw py::value_error(what + " must be > 0, got " + std::to_string(x));
+      return x;
+    };
+    if (name == "detector") {
+      if (!hw::parseDetectorKind(text(), cfg.detector.kind)) throw py::value_error(what + " must be concentric, five or box, got '" + text() + "'");
+    } else if (name == "layout") {
+      if (!hw::parseFiveCircleLayout(text(), cfg.detector.five)) throw py::value_error(what + " must be a or b, got '" + text() + "'");
+    } else if (name == "motion") {
+      if (!hw::parseMotionModel(text(), cfg.detector.motion)) throw py::value_error(what + " must be velocity or acceleration, got '" + text() + "'");
+    } else if (name == "broadphase") {
+      if (!hw::parseBroadphase(text(), cfg.broadphase)) throw py::value_error(what + " must be cells or all-pairs, got '" + text() + "'");
+    } else if (name == "check_road") {
+      cfg.checkRoad = toBool(value, what);
+    } else if (name == "vehicle_reaction_time") {
+      cfg.safeTime.vehicleReactionTime = number();
+    } else if (name == "road_reaction_time") {
+      cfg.safeTime.roadReactionTime = number();
+    } else if (name == "brake_force") {
+      if (!py::isinstance<py::dict>(value)) throw py::type_error(what + " must be a dict {vehicle class: N}, got " + typeName(value));
+      for (auto [cls, force] : py::reinterpret_borrow<py::dict>(value)) {
+        const std::string w = what + "[" + std::string(py::repr(cls)) + "]";
+        const hw::VehicleClass vc = classOf(toStr(cls, w), Convention::Ours, w);
+        const double f = toFinite(force, w);
+        if (!(f > 0.0)) throw py::value_error(w + " must be > 0");
+        cfg.safeTime.brakeForce[static_cast<int>(vc)] = f;
+      }
+    } else if (name == "concentric_inner_margin") {
+      cfg.detector.concentric.innerMargin = number();
+    } else if (name == "concentric_outer_margin") {
+      cfg.detector.concentric.outerMargin = number();
+    } else if (name == "body_circles") {
+      const long n = toInt(value, what);
+      if (n < 0 || n > 1000) throw py::value_error(what + " must be 0 (automatic) .. 1000");
+      cfg.detector.bodyCircles = static_cast<int>(n);
+    } else if (name == "cell_length") {
+      cfg.cells.cellLength = positive();
+    } else if (name == "tx_power_dbm") {
+      cfg.cells.txPowerDbm = number();
+    } else if (name == "path_loss_exponent") {
+      cfg.cells.pathLossExponent = positive();
+    } else if (name == "reference_distance") {
+      cfg.cells.referenceDistance = positive();
+    } else if (name == "hysteresis_db") {
+      cfg.cells.hysteresisDb = number();
+    } else if (name == "radio_range") {
+      cfg.cells.radioRange = positive();
+    } else if (name == "fat_margin") {
+      cfg.cells.fatMargin = number();
+    } else if (name == "fat_lookahead") {
+      cfg.cells.fatLookahead = number();
+    } else if (name == "decomposition_factor" || name == "max_depth") {
+      const long n = toInt(value, what);
+      if (n < 1 || n > 1000000) throw py::value_error(what + " must be 1 .. 1000000");
+      (name == "max_depth" ? cfg.cells.maxDepth : cfg.cells.decompositionFactor) = static_cast<int>(n);
+    } else {
+      std::string known;
+      for (const char* k : kSettings) known += (known.empty() ? "" : ", ") + std::string(k);
+      throw py::type_error("Monitor() got an unknown setting '" + name + "' (known: " + known + ")");
+    }
+  }
+  return cfg;
+}
+
+// ---- the monitor --------------------------------------------------------------------------
+
+struct PyAlert {
+  int vehicle = -1;
+  std::string ego;
+  hw::WarningKind kind = hw::WarningKind::Vehicle;
+  hw::Zone zone = hw::Zone::Body;
+  double ttc = 0.0, safeTime = 0.0;
+  int foe = -1;
+  std::string foeId;
+};
+
+class Monitor {
+ public:
+  Monitor(const hw::RoadGeometry& road, const hw::MonitorConfig& cfg) : monitor_(road, cfg) {}
+
+  void step(double t, py::handle vehicles, Convention c) {
+    if (!std::isfinite(t)) throw py::value_error("step time must be finite, got " + std::to_string(t));
+    readStates(vehicles, c, states_);
+    {
+      py::gil_scoped_release free;
+      monitor_.step(t, states_);
+    }
+  }
+  void finish(double t) { monitor_.finish(t); }
+  std::vector<hw::Warning> takeFinished() { return monitor_.takeFinished(); }
+  std::vector<hw::Warning> openWarnings() const { return monitor_.openWarnings(); }
+  std::vector<PyAlert> alerts() const {
+    std::vector<PyAlert> out;
+    for (const hw::Alert& a : monitor_.alerts()) {
+      PyAlert p{a.vehicle, states_.at(static_cast<std::size_t>(a.vehicle)).id, a.kind, a.zone, a.ttc, a.safeTime, a.foe, {}};
+      if (a.foe >= 0) p.foeId = states_.at(static_cast<std::size_t>(a.foe)).id;
+      out.push_back(std::move(p));
+    }
+    return out;
+  }
+  py::dict counters() const {
+    const hw::MonitorCounters& c = monitor_.counters();
+    py::dict d;
+    d["ticks"] = c.ticks;
+    d["vehicle_updates"] = c.vehicleUpdates;
+    d["vehicles_seen"] = c.vehiclesSeen;
+    d["vehicle_meters"] = c.vehicleMeters;
+    d["handoffs"] = c.handoffs;
+    d["subdivisions"] = c.subdivisions;
+    d["reunions"] = c.reunions;
+    d["candidate_pairs"] = c.candidatePairs;
+    d["toi_checks"] = c.toiChecks;
+    d["feature_checks"] = c.featureChecks;
+    d["warnings_begun"] = c.warningsBegun;
+    py::dict byKind, tet, tit, byZone;
+    for (int k = 0; k < hw::kWarningKindCount; ++k) {
+      const char* name = hw::toString(static_cast<hw::WarningKind>(k));
+      byKind[name] = c.warningsByKind[static_cast<std::size_t>(k)];
+      tet[name] = c.tet[static_cast<std::size_t>(k)];
+      tit[name] = c.tit[static_cast<std::size_t>(k)];
+    }
+    for (int z = 0; z < hw::kZoneCount; ++z) byZone[hw::toString(static_cast<hw::Zone>(z))] = c.warningsByZone[static_cast<std::size_t>(z)];
+    d["warnings_by_kind"] = byKind;
+    d["warnings_by_zone"] = byZone;
+    d["tet_s"] = tet;
+    d["tit_s2"] = tit;
+    return d;
+  }
+  double lastTime() const { return monitor_.lastTime(); }
+  std::size_t featureCount() const { return monitor_.features().features.size(); }
+  int cellCount() const { return monitor_.cells().cellCount(); }
+
+ private:
+  hw::HighwayMonitor monitor_;
+  std::vector<hw::VehicleState> states_;  // the last step's, for the alerts' ids
+};
+
+hw::RoadGeometry roadOf(py::handle net) {
+  if (net.is_none()) return {};
+  if (!PyUnicode_Check(net.ptr()) && !py::isinstance(net, py::module_::import("os").attr("PathLike")))
+    throw py::type_error("net must be a path to a .net.xml or None, got " + typeName(net));
+  const std::string path = py::str(py::module_::import("os").attr("fspath")(net));
+  return hw::readSumoNet(path);
+}
+
+// Lanes given by the caller (e.g. read through TraCI): dicts with id, edge, index, shape, width.
+hw::RoadGeometry roadOfLanes(py::handle lanes) {
+  hw::RoadGeometry road;
+  if (!py::isinstance<py::sequence>(lanes)) throw py::type_error("lanes must be a list of dicts, got " + typeName(lanes));
+  std::size_t i = 0;
+  for (py::handle item : lanes) {
+    const std::string where = "lane " + std::to_string(i++);
+    if (!py::isinstance<py::dict>(item)) throw py::type_error(where + " must be a dict, got " + typeName(item));
+    const auto d = py::reinterpret_borrow<py::dict>(item);
+    hw::Lane l;
+    for (auto [k, v] : d) {
+      const std::string key = py::isinstance<py::str>(k) ? py::cast<std::string>(k) : std::string(py::repr(k));
+      const std::string what = where + ": '" + key + "'";
+      if (key == "id") l.id = toStr(v, what);
+      else if (key == "edge") l.edge = toStr(v, what);
+      else if (key == "index") l.index = static_cast<int>(toInt(v, what));
+      else if (key == "width") l.width = toFinite(v, what);
+      else if (key == "internal") l.internal = toBool(v, what);
+      else if (key == "shape") {
+        for (py::handle p : v) {
+          const auto xy = py::reinterpret_borrow<py::sequence>(p);
+          if (py::len(xy) != 2) throw py::value_error(what + ": points must be (x, y)");
+          l.shape.emplace_back(toFinite(xy[0], what), toFinite(xy[1], what));
+        }
+      } else throw py::value_error(what + ": unknown key (known: id, edge, index, shape, width, internal)");
+    }
+    road.lanes.push_back(std::move(l));
+  }
+  return road;
+}
+
+class Fcd {
+ public:
+  Fcd(const std::string& path, py::handle vtypes) : reader_(path, typesOf(vtypes)) {}
+  py::object next() {
+    hw::FcdFrame frame;
+    bool more = false;
+    {
+      py::gil_scoped_release free;
+      more = reader_.next(frame);
+    }
+    if (!more) throw py::stop_iteration();
+    py::list vs;
+    for (const auto& v : frame.vehicles) vs.append(stateDict(v));
+    return py::make_tuple(frame.time, vs);
+  }
+
+ private:
+  static hw::VehicleTypes typesOf(py::handle vtypes) {
+    if (vtypes.is_none()) return {};
+    return hw::readSumoVehicleTypes(toStr(py::str(py::module_::import("os").attr("fspath")(vtypes)), "vtypes"));
+  }
+  hw::FcdReader reader_;
+};
+
+}  // namespace
+
+PYBIND11_MODULE(_stsim, m) {
+  m.doc() = "stsim's smart-car collision warnings (the SUMO-free highway model)";
+  m.attr("__version__") = STSIM_VERSION_STRING;
+  py::register_exception<hw::InputError>(m, "InputError", PyExc_ValueError);
+
+  py::class_<hw::Warning>(m, "WarningEpisode", "One warning episode: (ego, foe, kind) from its first tick to its end.")
+      .def_readonly("ego", &hw::Warning::ego)
+      .def_readonly("foe", &hw::Warning::foe)
+      .def_property_readonly("kind", [](const hw::Warning& w) { return hw::toString(w.kind); })
+      .def_property_readonly("zone", [](const hw::Warning& w) { return hw::toString(w.zone); })
+      .def_readonly("begin", &hw::Warning::begin)
+      .def_readonly("end", &hw::Warning::end)
+      .def_readonly("min_ttc", &hw::Warning::minTtc)
+      .def_readonly("min_ttc_time", &hw::Warning::minTtcTime)
+      .def_readonly("safe_time", &hw::Warning::safeTimeAtMin)
+      .def_readonly("open", &hw::Warning::open)
+      .def("__repr__", [](const hw::Warning& w) {
+        return "<WarningEpisode " + w.ego + " -> " + w.foe + " " + hw::toString(w.kind) + " " + hw::toString(w.zone) + " [" +
+               std::to_string(w.begin) + ", " + std::to_string(w.end) + "] min_ttc " + std::to_string(w.minTtc) + ">";
+      });
+
+  py::class_<PyAlert>(m, "Alert", "An equipped car's worst current threat at the last step.")
+      .def_readonly("vehicle", &PyAlert::vehicle, "index into the last step's vehicles")
+      .def_readonly("ego", &PyAlert::ego)
+      .def_property_readonly("kind", [](const PyAlert& a) { return hw::toString(a.kind); })
+      .def_property_readonly("zone", [](const PyAlert& a) { return hw::toString(a.zone); })
+      .def_readonly("ttc", &PyAlert::ttc)
+      .def_readonly("safe_time", &PyAlert::safeTime)
+      .def_readonly("foe", &PyAlert::foe, "the other vehicle's index (vehicle warnings), else -1")
+      .def_readonly("foe_id", &PyAlert::foeId)
+      .def("__repr__", [](const PyAlert& a) {
+        return "<Alert " + a.ego + " " + hw::toString(a.kind) + (a.foeId.empty() ? "" : " " + a.foeId) + " ttc " +
+               std::to_string(a.ttc) + " safe " + std::to_string(a.safeTime) + ">";
+      });
+
+  py::class_<Monitor>(m, "Monitor",
+                      "Monitor(net=None, *, lanes=None, **settings): smart-car warnings, one step() per tick.\n"
+                      "net: a SUMO .net.xml (lane shapes and widths) or None (no road: car-car only);\n"
+                      "lanes: the same as a list of dicts {id, edge, index, shape, width, internal}.\n"
+                      "settings: detector (concentric|five|box), layout (a|b), motion (velocity|acceleration),\n"
+                      "broadphase (cells|all-pairs), check_road, vehicle_reaction_time, road_reaction_time,\n"
+                      "brake_force {class: N}, concentric_inner_margin, concentric_outer_margin, body_circles,\n"
+                      "cell_length, tx_power_dbm, path_loss_exponent, reference_distance, hysteresis_db,\n"
+                      "radio_range, fat_margin, fat_lookahead, decomposition_factor, max_depth.")
+      .def(py::init([](py::object net, py::object lanes, py::kwargs kw) {
+             if (!net.is_none() && !lanes.is_none()) throw py::value_error("give net or lanes, not both");
+             const hw::RoadGeometry road = lanes.is_none() ? roadOf(net) : roadOfLanes(lanes);
+             return std::make_unique<Monitor>(road, configOf(kw));
+           }),
+           py::arg("net") = py::none(), py::kw_only(), py::arg("lanes") = py::none())
+      .def("step", [](Monitor& self, double t, py::handle v) { self.step(t, v, Convention::Ours); }, py::arg("t"),
+           py::arg("vehicles"),
+           "Every vehicle's state at time t (s, increasing): a list of dicts or a dict of columns with keys\n"
+           "id, x, y (centre, m), heading (rad from +x), speed (m/s); optional lateral_speed, acceleration,\n"
+           "length, width, mass (default: the class's), vehicle_class, signals (1 left, 2 right), equipped.\n"
+           "Vehicles absent have left.")
+      .def("step_sumo", [](Monitor& self, double t, py::handle v) { self.step(t, v, Convention::Sumo); }, py::arg("t"),
+           py::arg("vehicles"),
+           "As step(), in SUMO's conventions: x, y of the front bumper, angle in navigational degrees,\n"
+           "signals as SUMO's bits (1 right, 2 left), vehicle_class a SUMO vClass.")
+      .def("finish", &Monitor::finish, py::arg("t"), "Closes every open episode at time t.")
+      .def("take_finished", &Monitor::takeFinished, "Episodes that ended since the last call, in order of ending.")
+      .def("open_warnings", &Monitor::openWarnings)
+      .def("alerts", &Monitor::alerts)
+      .def_property_readonly("counters", &Monitor::counters)
+      .def_property_readonly("last_time", &Monitor::lastTime)
+      .def_property_readonly("feature_count", &Monitor::featureCount, "curbs, lane markers and hazards")
+      .def_property_readonly("cell_count", &Monitor::cellCount);
+
+  py::class_<Fcd>(m, "FcdReader",
+                  "FcdReader(path, vtypes=None): iterates a SUMO FCD trace as (time, [vehicle dict]) in our\n"
+                  "conventions (what Monitor.step takes), read as `stsim highway --fcd` reads it.")
+      .def(py::init([](py::object path, py::object vtypes) {
+             return std::make_unique<Fcd>(toStr(py::str(py::module_::import("os").attr("fspath")(path)), "path"), vtypes);
+           }),
+           py::arg("path"), py::arg("vtypes") = py::none())
+      .def("__iter__", [](py::object self) { return self; })
+      .def("__next__", &Fcd::next);
+}

@@ -1,0 +1,41 @@
+"""stsim: smart-car collision warnings (stsim's highway model) for Python.
+
+    import stsim
+    monitor = stsim.Monitor("networks/motorway/motorway.net.xml", detector="five")
+    monitor.step(0.1, [{"id": "a", "x": 10.0, "y": -4.8, "heading": 0.0, "speed": 30.0}, ...])
+    for w in monitor.take_finished(): print(w.ego, w.foe, w.kind, w.min_ttc)
+
+With SUMO (a TraCI script, or libsumo), three lines:
+
+    monitor = stsim.TraciMonitor(traci)          # after traci.start([...])
+    traci.simulationStep(); monitor.step()       # each step
+    monitor.finish(); stsim.warnings_table(monitor.take_finished())
+
+The results are the C++ monitor's (the same code), bit for bit.
+"""
+import os
+
+# SUMO validates its input against the XML schemas under SUMO_HOME and fails without them; set it
+# for Debian's sumo as stsim's C++ SUMO coupling does (before the caller's traci.start)
+if "SUMO_HOME" not in os.environ and os.path.isdir("/usr/share/sumo/data/xsd"):
+    os.environ["SUMO_HOME"] = "/usr/share/sumo"
+
+from ._stsim import Alert, FcdReader, InputError, Monitor, WarningEpisode, __version__
+from .sumo import TraciMonitor, read_traci_lanes, read_traci_vehicles
+
+__all__ = ["Alert", "FcdReader", "InputError", "Monitor", "WarningEpisode", "TraciMonitor", "read_traci_lanes",
+           "read_traci_vehicles", "warnings_table", "WARNING_COLUMNS", "__version__"]
+
+# the columns of stsim's warnings.csv, in its order
+WARNING_COLUMNS = ("ego", "foe", "kind", "zone", "begin", "end", "min_ttc", "min_ttc_time", "safe_time", "open")
+
+
+def warnings_table(warnings):
+    """Warning episodes as a table with warnings.csv's columns: a pandas DataFrame when pandas is
+    installed, else a dict of lists (which pandas.DataFrame() also takes)."""
+    columns = {c: [getattr(w, c) for w in warnings] for c in WARNING_COLUMNS}
+    try:
+        import pandas
+    except ImportError:
+        return columns
+    return pandas.DataFrame(columns)

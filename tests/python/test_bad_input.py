@@ -1,0 +1,101 @@
+"""Bad input is a Python exception with a message naming the vehicle and key; never a crash, and
+the monitor stays usable after it."""
+import math
+
+import numpy as np
+import pytest
+
+import stsim
+
+
+def car(**kw):
+    v = {"id": "a", "x": 0.0, "y": 0.0, "heading": 0.0, "speed": 20.0}
+    v.update(kw)
+    return v
+
+
+@pytest.mark.parametrize("key,value,error,message", [
+    ("x", "ten", TypeError, r"vehicle 0 \('a'\): 'x' must be a number, got str"),
+    ("x", None, TypeError, r"'x' must be a number, got NoneType"),
+    ("speed", True, TypeError, r"'speed' must be a number, got bool"),
+    ("speed", math.nan, ValueError, r"'speed' must be finite"),
+    ("heading", math.inf, ValueError, r"'heading' must be finite"),
+    ("id", 7, TypeError, r"'id' must be a str, got int"),
+    ("vehicle_class", "tank", ValueError, r"'vehicle_class' must be passenger, truck, .* got 'tank'"),
+    ("signals", 4, ValueError, r"'signals' must be 0..3"),
+    ("signals", 1.5, TypeError, r"'signals' must be an integer"),
+    ("equipped", "yes", TypeError, r"'equipped' must be a bool"),
+    ("spede", 1.0, ValueError, r"unknown key 'spede' \(known: id, x, y, heading, speed"),
+    ("angle", 90.0, ValueError, r"unknown key 'angle' \(SUMO's navigational angle: use step_sumo"),
+    ("length", -1.0, ValueError, r"vehicle 'a': length must be finite"),
+])
+def test_bad_vehicle_values(key, value, error, message):
+    m = stsim.Monitor()
+    with pytest.raises(error, match=message):
+        m.step(0.0, [car(**{key: value})])
+    m.step(0.1, [car()])  # still usable
+    assert m.counters["ticks"] == 1
+
+
+@pytest.mark.parametrize("vehicles,error,message", [
+    ([car(), car()], ValueError, r"duplicate|'a'"),
+    ([{"x": 0.0, "y": 0.0, "heading": 0.0, "speed": 1.0}], ValueError, r"vehicle 0: missing 'id'"),
+    ([{"id": "b", "y": 0.0, "heading": 0.0, "speed": 1.0}], ValueError,
+     r"vehicle 0 \('b'\): missing 'x'"),
+    ([car(), "car"], TypeError, r"vehicle 1 must be a dict, got str"),
+    ("cars", TypeError, r"vehicles must be a list of dicts or a dict of columns, got str"),
+    (42, TypeError, r"vehicles must be a list of dicts or a dict of columns, got int"),
+    ({"id": ["a", "b"], "x": np.array([0.0, 1.0]), "y": [0.0], "heading": [0, 0], "speed": [1, 1]}, ValueError,
+     r"column 'y' has 1 values, the others 2"),
+    ({"id": ["a"], "x": np.array([np.nan]), "y": [0.0], "heading": [0.0], "speed": [1.0]}, ValueError,
+     r"vehicle 0: 'x' must be finite"),
+    ({"id": ["a"], "x": 3.0, "y": [0.0], "heading": [0.0], "speed": [1.0]}, TypeError,
+     r"column 'x' must be a sequence or array, got float"),
+    ({"id": ["a"], "x": ["0"], "y": [0.0], "heading": [0.0], "speed": [1.0]}, TypeError,
+     r"vehicle 0: 'x' must be a number, got str"),
+    ({"id": ["a"], "wobble": [0.0]}, ValueError, r"column: unknown key 'wobble'"),
+])
+def test_bad_vehicle_lists(vehicles, error, message):
+    m = stsim.Monitor()
+    with pytest.raises(error, match=message):
+        m.step(0.0, vehicles)
+
+
+def test_time_must_increase_and_be_finite():
+    m = stsim.Monitor()
+    m.step(1.0, [car()])
+    with pytest.raises(ValueError, match="step time must be finite"):
+        m.step(math.nan, [car()])
+    with pytest.raises(ValueError, match="step times must increase strictly"):
+        m.step(0.5, [car()])
+    with pytest.raises(TypeError):
+        m.step("later", [car()])
+
+
+@pytest.mark.parametrize("settings,error,message", [
+    ({"detectr": "box"}, TypeError, r"unknown setting 'detectr' \(known: detector, "),
+    ({"detector": "sonar"}, ValueError, r"setting 'detector' must be concentric, five or box, got 'sonar'"),
+    ({"detector": 3}, TypeError, r"setting 'detector' must be a str, got int"),
+    ({"motion": "warp"}, ValueError, r"setting 'motion' must be velocity or acceleration"),
+    ({"cell_length": 0.0}, ValueError, r"setting 'cell_length' must be > 0"),
+    ({"cell_length": "long"}, TypeError, r"setting 'cell_length' must be a number"),
+    ({"vehicle_reaction_time": math.nan}, ValueError, r"'vehicle_reaction_time' must be finite"),
+    ({"brake_force": {"tank": 1e5}}, ValueError, r"brake_force'\['tank'\] must be passenger, truck"),
+    ({"brake_force": [1.0]}, TypeError, r"'brake_force' must be a dict"),
+    ({"check_road": "no"}, TypeError, r"'check_road' must be a bool"),
+    ({"max_depth": 0}, ValueError, r"'max_depth' must be 1 .. 1000000"),
+])
+def test_bad_settings(settings, error, message):
+    with pytest.raises(error, match=message):
+        stsim.Monitor(**settings)
+
+
+def test_bad_network():
+    with pytest.raises(ValueError, match="nope.net.xml"):
+        stsim.Monitor("/nonexistent/nope.net.xml")
+    with pytest.raises(TypeError, match="net must be a path to a .net.xml or None, got int"):
+        stsim.Monitor(3)
+    with pytest.raises(ValueError, match="lane 0: 'shape': points must be"):
+        stsim.Monitor(lanes=[{"id": "e_0", "edge": "e", "shape": [(0.0, 0.0, 1.0)]}])
+    with pytest.raises(ValueError, match="give net or lanes, not both"):
+        stsim.Monitor("x.net.xml", lanes=[])

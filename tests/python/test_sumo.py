@@ -1,0 +1,91 @@
+"""SUMO's conventions (step_sumo, TraciMonitor): checked against the conversion done by hand, and
+TraciMonitor over Python's libsumo against stsim's own C++ SUMO coupling on the shipped motorway."""
+import csv
+import math
+import sys
+
+import pytest
+
+import stsim
+from conftest import SOURCE, run_stsim
+
+
+def test_step_sumo_is_the_documented_conversion():
+    # centre = front - L/2 (cos h, sin h), h = (90 - angle) * pi / 180; SUMO's signal bit 0 is the
+    # right blinker, bit 1 the left; a SUMO vClass name maps to ours
+    rows_sumo, rows_ours = [], []
+    cars = [("a", 0.0, 0.0, 90.0, 30.0, 0, "passenger", 4.5), ("b", 60.0, 0.4, 90.0, 10.0, 1, "trailer", 16.0),
+            ("c", 20.0, 3.0, 100.0, 28.0, 2, "passenger", 4.5), ("d", 200.0, -0.5, 270.0, 25.0, 3, "coach", 12.0)]
+    for vid, x, y, angle, speed, signals, vclass, length in cars:
+        rows_sumo.append({"id": vid, "x": x, "y": y, "angle": angle, "speed": speed, "signals": signals,
+                          "vehicle_class": vclass, "length": length, "width": 2.0})
+        h = (90.0 - angle) * math.pi / 180.0
+        ours = {1: 2, 2: 1, 3: 3, 0: 0}[signals]
+        rows_ours.append({"id": vid, "x": x - 0.5 * length * math.cos(h), "y": y - 0.5 * length * math.sin(h),
+                          "heading": h, "speed": speed, "signals": ours, "length": length, "width": 2.0,
+                          "vehicle_class": {"passenger": "passenger", "trailer": "truck", "coach": "bus"}[vclass]})
+    results = []
+    for rows, step in ((rows_sumo, "step_sumo"), (rows_ours, "step")):
+        m = stsim.Monitor(detector="box")
+        for k in range(30):
+            t = 0.1 * k
+            moved = []
+            for r in rows:
+                r = dict(r)
+                if step == "step":
+                    r["x"] += r["speed"] * t * math.cos(r["heading"])
+                    r["y"] += r["speed"] * t * math.sin(r["heading"])
+                else:
+                    h = (90.0 - r["angle"]) * math.pi / 180.0
+                    r["x"] += r["speed"] * t * math.cos(h)
+                    r["y"] += r["speed"] * t * math.sin(h)
+                moved.append(r)
+            getattr(m, step)(t, moved)
+        m.finish(3.0)
+        results.append([(w.ego, w.foe, w.kind, w.zone, w.begin, w.end, w.min_ttc, w.safe_time)
+                        for w in m.take_finished()])
+    assert len(results[0]) >= 2  # a closes on b
+    for got, want in zip(*results):
+        assert got[:4] == want[:4] and got[4:6] == want[4:6]
+        assert got[6:] == pytest.approx(want[6:], rel=1e-12, abs=1e-12)  # the moved positions round apart
+
+
+def libsumo_module():
+    sys.path.append("/usr/share/sumo/tools")
+    try:
+        import libsumo
+    except ImportError:
+        pytest.skip("Python libsumo not installed (sumo-tools)")
+    return libsumo
+
+
+# the motorway (trucks with a mass param, cars without) and the sublane network (lateral speeds)
+@pytest.mark.parametrize("network", ["motorway", "sublane"])
+def test_traci_monitor_equals_the_cxx_coupling(stsim_binary, tmp_path, network):
+    cfg = SOURCE / f"networks/{network}/{network}.sumocfg"
+    end = 60.0
+    r = run_stsim(stsim_binary, "highway", cfg, "--end", end, "--action", "none", "--out", tmp_path / "cxx")
+    assert r.returncode == 0, r.stderr
+    with open(tmp_path / "cxx" / "warnings.csv", newline="") as f:
+        want = sorted((r["ego"], r["foe"], r["kind"], r["zone"], float(r["begin"]), float(r["end"]),
+                       float(r["min_ttc"]), float(r["min_ttc_time"]), float(r["safe_time"])) for r in csv.DictReader(f))
+    assert len(want) > 10
+
+    libsumo = libsumo_module()
+    libsumo.start(["sumo", "-c", str(cfg), "--seed", "42", "--collision.action", "warn", "--no-step-log", "true",
+                   "--duration-log.disable", "true", "--duration-log.statistics", "false", "--no-warnings", "true",
+                   "--end", str(end)])
+    try:
+        monitor = stsim.TraciMonitor(libsumo)  # the road from SUMO's lanes, as the coupling reads it
+        dt = libsumo.simulation.getDeltaT()
+        while libsumo.simulation.getMinExpectedNumber() > 0 and libsumo.simulation.getTime() < end - 0.5 * dt:
+            libsumo.simulationStep()
+            monitor.step()
+        monitor.finish()
+        got = sorted((w.ego, w.foe, w.kind, w.zone, w.begin, w.end, w.min_ttc, w.min_ttc_time, w.safe_time)
+                     for w in monitor.take_finished())
+    finally:
+        libsumo.close()
+    assert got == want  # bit for bit
+    table = stsim.warnings_table([])
+    assert list(table.keys() if isinstance(table, dict) else table.columns) == list(stsim.WARNING_COLUMNS)
