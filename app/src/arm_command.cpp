@@ -1,5 +1,6 @@
 // stsim arm: the robot-arm collision monitor over a scenario's sensor stream.
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -7,7 +8,10 @@
 #include <sstream>
 
 #include <starm/scenario.hpp>
+#include <starm/service.hpp>
+#include <starm/stream.hpp>
 #include <starm/study.hpp>
+#include <stnet/frame.hpp>
 #include <stsim/cli.hpp>
 #include <stsim/commands.hpp>
 
@@ -153,10 +157,109 @@ int runStudy(const Args& args) {
   return 0;
 }
 
+net::HostPort hostPort(const std::string& option, const std::string& text) {
+  const auto hp = net::parseHostPort(text);
+  if (!hp) throw UsageError("--" + option + ": expected HOST:PORT, got '" + text + "'");
+  return *hp;
+}
+
+int runServe(int argc, const char* const* argv) {
+  Args args("arm serve",
+            "The arm service: sensor clients send joint readings and obstacle poses over TCP (protocol in "
+            "models/arm/README.md); each cycle every subscriber gets OK / WARN / STOP, the nearest pair and its "
+            "time to collision. Writes verdicts.csv and connections.csv to --out as it goes.");
+  args.positional("SCENARIO", "scenario YAML (arms, obstacles, safety terms; its motion is not used)");
+  args.option("listen", "HOST:PORT", "address to listen on (port 0: pick one and print it)", "127.0.0.1:0");
+  args.option("token", "TEXT", "shared token every client must present (required off loopback)", "");
+  args.option("out", "DIR", "folder of the logs", "arm-serve");
+  args.option("max-connections", "N", "connections served at once (more are told and closed)", "128");
+  args.option("frame-timeout", "MS", "time a client has to finish a frame it has begun", "2000");
+  if (!args.parse(argc, argv)) {
+    std::cout << args.help();
+    return 0;
+  }
+  const net::HostPort hp = hostPort("listen", args.get("listen"));
+  arm::ServiceConfig cfg;
+  cfg.net.address = hp.host == "localhost" ? "127.0.0.1" : hp.host;
+  cfg.net.port = hp.port;
+  cfg.net.maxConnections = static_cast<std::size_t>(std::max(1L, args.getInt("max-connections")));
+  cfg.net.frameTimeout = std::chrono::milliseconds(std::max(1L, args.getInt("frame-timeout")));
+  cfg.token = args.get("token");
+  cfg.logDir = args.get("out");
+  const arm::Scenario sc = arm::loadScenario(*args.positionalValue(0));
+  boost::asio::io_context io;
+  arm::ArmService service(io, sc, cfg);
+  std::cout << "arm serve: listening on " << cfg.net.address << ":" << service.port() << std::endl;
+  const int sig = service.run();
+  const arm::ServiceCounters& c = service.counters();
+  std::cout << "arm serve: " << (sig ? (sig == SIGINT ? "SIGINT" : "SIGTERM") : "stopped") << ", " << c.connections
+            << " connections, " << c.readings << " readings, " << c.cycles << " cycles, " << c.verdictsSent
+            << " verdicts, " << c.rejected << " refused -> " << (fs::path(cfg.logDir) / "verdicts.csv").string()
+            << std::endl;
+  return sig == SIGINT ? 130 : sig == SIGTERM ? 143 : 0;
+}
+
+int runStreamCommand(int argc, const char* const* argv) {
+  Args args("arm stream",
+            "Replays a recorded sensor trace (t, arm, q..., qdot...) to an arm service, applies its STOPs to the "
+            "replay (closed loop through the network) and records verdicts and round-trip times.");
+  args.positional("SENSORS", "CSV sensor trace (stsim arm SCENARIO --record-trace FILE writes one)");
+  args.option("connect", "HOST:PORT", "the service", "");
+  args.option("rate", "X", "replay speed (1: real time; 0: as fast as the verdicts come back)", "1");
+  args.option("token", "TEXT", "shared token of the service", "");
+  args.option("stopping-time", "S", "how this replay brakes on STOP (s)", "0.2");
+  args.option("delay", "S", "from a STOP verdict to braking (s)", "0.01");
+  args.flag("open-loop", "record verdicts but do not brake");
+  args.option("out", "DIR", "folder of stream_verdicts.csv", "arm-stream");
+  if (!args.parse(argc, argv)) {
+    std::cout << args.help();
+    return 0;
+  }
+  if (args.get("connect").empty()) throw UsageError("--connect HOST:PORT is required");
+  const net::HostPort hp = hostPort("connect", args.get("connect"));
+  arm::StreamConfig cfg;
+  cfg.host = hp.host;
+  cfg.port = hp.port;
+  cfg.token = args.get("token");
+  cfg.trace = *args.positionalValue(0);
+  cfg.rate = args.getDouble("rate");
+  if (!(cfg.rate >= 0.0)) throw UsageError("--rate: expected a number >= 0");
+  cfg.closedLoop = !args.has("open-loop");
+  cfg.braking.stoppingTime = args.getDouble("stopping-time");
+  cfg.braking.delay = args.getDouble("delay");
+  cfg.outDir = args.get("out");
+  arm::StreamResult r;
+  auto report = [&] {
+    double mx = 0;
+    for (double v : r.rttUs) mx = std::max(mx, v);
+    std::cout << "arm stream (" << (cfg.closedLoop ? "closed" : "open") << " loop): " << r.cycles << " cycles, "
+              << r.verdicts << " verdicts, " << r.timeouts << " unanswered, " << r.stopCycles
+              << " STOP cycles, round trip p50 " << num(arm::percentile(r.rttUs, 50)) << " us p99 "
+              << num(arm::percentile(r.rttUs, 99)) << " us max " << num(mx) << " us";
+    for (std::size_t a = 0; a < r.armNames.size(); ++a)
+      std::cout << ", " << r.armNames[a] << ": first STOP " << num(r.firstStop[a]) << " s, "
+                << (r.finalSpeed[a] == 0.0 ? "stopped" : "moving");
+    std::cout << ", min distance " << num(r.minDistance) << " m -> "
+              << (fs::path(cfg.outDir) / "stream_verdicts.csv").string() << std::endl;
+  };
+  try {
+    arm::runStream(cfg, r);
+  } catch (...) {
+    report();
+    throw;
+  }
+  report();
+  return 0;
+}
+
 int runArm(int argc, const char* const* argv) {
+  if (argc > 0 && std::string(argv[0]) == "serve") return runServe(argc - 1, argv + 1);
+  if (argc > 0 && std::string(argv[0]) == "stream") return runStreamCommand(argc - 1, argv + 1);
   Args args("arm",
             "Robot-arm collision monitor: forward kinematics, capsules in a dynamic octree, time to collision by "
-            "conservative advancement, warnings and STOP per arm. Writes warnings.csv and summary.json.");
+            "conservative advancement, warnings and STOP per arm (closed loop: STOP brakes the arm). Writes "
+            "warnings.csv and summary.json.\n  stsim arm serve SCENARIO --listen 127.0.0.1:PORT   the service "
+            "(stsim arm serve --help)\n  stsim arm stream --connect HOST:PORT SENSORS.csv     its sensor client");
   args.positional("SCENARIO", "scenario YAML (arms, obstacles, octree rule, safety terms, sensor trace or waypoints)",
                   false);
   args.option("out", "DIR", "output folder", "arm-out");
@@ -168,6 +271,7 @@ int runArm(int argc, const char* const* argv) {
   args.option("stopping-time", "S", "--study: the arms' real stopping time (s)", "0.2");
   args.option("shipped", "DIR", "--study: folder of the shipped scenarios", "models/arm/scenarios");
   args.flag("no-shipped", "--study: random courses only");
+  args.option("record-trace", "FILE", "write the readings applied as a CSV sensor trace (for stsim arm stream)", "");
   if (!args.parse(argc, argv)) {
     std::cout << args.help();
     return 0;
@@ -188,7 +292,15 @@ int runArm(int argc, const char* const* argv) {
   std::unique_ptr<arm::SensorSource> openSensor;
   if (closedLoop) drive = arm::makeClosedLoopSensor(sc);
   else openSensor = arm::makeSensor(sc);
-  arm::SensorSource& sensor = closedLoop ? static_cast<arm::SensorSource&>(*drive) : *openSensor;
+  arm::SensorSource* chosen = closedLoop ? static_cast<arm::SensorSource*>(drive.get()) : openSensor.get();
+  std::unique_ptr<arm::RecordingSensor> recorder;
+  if (!args.get("record-trace").empty()) {
+    std::vector<std::string> names;
+    for (const arm::ArmInstance& a : sc.arms) names.push_back(a.name);
+    recorder = std::make_unique<arm::RecordingSensor>(*chosen, args.get("record-trace"), names);
+    chosen = recorder.get();
+  }
+  arm::SensorSource& sensor = *chosen;
   Watch watch;
 
   const fs::path out = args.get("out");

@@ -122,7 +122,7 @@ bool ClosedLoopSensor::next(Reading& r) {
   Reading n;
   if (!nominal_->next(n)) return false;
   if (n.arm < 0 || n.arm >= static_cast<int>(arms_.size())) throw InputError(n.where + ": unknown arm");
-  validateReading(models_[n.arm], n);
+  if (!models_[n.arm].joints.empty()) validateReading(models_[n.arm], n);
   ArmFeed& f = arms_[n.arm];
   if (!f.buffer.empty() && n.t < f.buffer.back().t)
     throw InputError(n.where + ": time " + std::to_string(n.t) + " s goes backwards");
@@ -141,14 +141,17 @@ bool ClosedLoopSensor::next(Reading& r) {
 
 void ClosedLoopSensor::observe(const Monitor& m, double t) {
   for (int a = 0; a < static_cast<int>(arms_.size()); ++a) {
-    ArmFeed& f = arms_[a];
-    if (!f.seen) continue;
-    // the largest nominal joint rate at the arm's program time (braking by deceleration)
-    double rate = 0.0;
-    if (f.head < f.buffer.size())
-      for (double v : f.buffer[f.head].qdot) rate = std::max(rate, std::abs(v));
-    f.drive.observe(t, m.warned(a), m.stopped(a), rate);
+    observeArm(a, t, m.warned(a), m.stopped(a));
   }
+}
+
+void ClosedLoopSensor::observeArm(int a, double t, bool warned, bool stop) {
+  ArmFeed& f = arms_[a];
+  if (!f.seen) return;
+  double rate = 0.0;
+  if (f.head < f.buffer.size())
+    for (double v : f.buffer[f.head].qdot) rate = std::max(rate, std::abs(v));
+  f.drive.observe(t, warned, stop, rate);
 }
 
 std::unique_ptr<ClosedLoopSensor> makeClosedLoopSensor(const Scenario& s) {

@@ -166,6 +166,25 @@ void Monitor::setJointState(int arm, double t, const double* q, const double* qd
   a.fresh = true;
 }
 
+void Monitor::setObstaclePose(int o, double t, const Vec3& position, const Vec3& velocity) {
+  Obstacle& ob = obstacles_[o];
+  Vec3 ref = Vec3::Zero();
+  switch (ob.kind) {
+    case ShapeKind::Sphere: ref = ob.sphere.center; break;
+    case ShapeKind::Capsule: ref = 0.5 * (ob.capsule.a + ob.capsule.b); break;
+    case ShapeKind::Box: ref = ob.box.center; break;
+  }
+  // stored at the time the obstacles are given at (t0_), so that cycle() advances it to t
+  const Vec3 shift = position - (t - t0_) * velocity - ref;
+  ob.sphere.center += shift;
+  ob.capsule.a += shift;
+  ob.capsule.b += shift;
+  ob.box.center += shift;
+  ob.velocity = velocity;
+  // from now on it is swept every cycle (refiled when it leaves its fat box)
+  if (std::find(moving_.begin(), moving_.end(), o) == moving_.end()) moving_.push_back(o);
+}
+
 MovingCapsule Monitor::movingCapsule(int i) const {
   // extrapolated from the arm's last reading to the cycle time
   const double dt = now_ - arms_[capArm_[i]].t;
@@ -210,6 +229,7 @@ void Monitor::cycle(double t) {
   nearest_.ttc = std::numeric_limits<double>::infinity();
   nearest_.outcome = Approach::Clear;
   minTtc_ = std::numeric_limits<double>::infinity();
+  armMinTtc_.assign(arms_.size(), std::numeric_limits<double>::infinity());
   for (ArmState& a : arms_) a.warned = false;
   const int no = static_cast<int>(obstacles_.size());
   if (space_) {
@@ -252,6 +272,8 @@ void Monitor::cycle(double t) {
 
 void Monitor::noteNearest(int i, int j, int obstacle, const TimeToCollision& r) {
   minTtc_ = std::min(minTtc_, r.t);
+  armMinTtc_[capArm_[i]] = std::min(armMinTtc_[capArm_[i]], r.t);
+  if (j >= 0) armMinTtc_[capArm_[j]] = std::min(armMinTtc_[capArm_[j]], r.t);
   if (!(r.distance < nearest_.distance)) return;
   nearest_.t = now_;
   nearest_.arm = capArm_[i];

@@ -71,12 +71,15 @@ class ArmDrive {
 // A sensor source in closed loop: the underlying readings are the nominal motion; each arm's
 // reading at cycle time t is its nominal motion at its program time, rates scaled by s. Call
 // observe(monitor, t) after every cycle (the run's onCycle does it). Nominal readings are
-// checked as they arrive (validateReading), so bad input is named where it is in the trace.
+// checked as they arrive (validateReading), so bad input is named where it is in the trace;
+// a model without joints (a remote client knows only the joint count) skips the check.
 class ClosedLoopSensor final : public SensorSource {
  public:
   ClosedLoopSensor(std::unique_ptr<SensorSource> nominal, std::vector<ArmModel> models, BrakeConfig cfg);
   bool next(Reading& r) override;
   void observe(const Monitor& m, double t);
+  // The same from a verdict that came another way (the network): warned, STOP held.
+  void observeArm(int arm, double t, bool warned, bool stop);
   const ArmDrive& drive(int arm) const { return arms_[arm].drive; }
 
  private:

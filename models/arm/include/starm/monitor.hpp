@@ -100,8 +100,13 @@ class Monitor {
   // other pair is farther apart than the minimum separation): arm, body, other party, distance
   // now and its time to collision (infinity: clear). arm < 0: no pair was close enough to test.
   const Warning& nearest() const { return nearest_; }
-  // Smallest time to collision of this cycle over the exactly tested pairs (s; infinity: none).
+  // Smallest time to collision of this cycle over the exactly tested pairs (s; infinity: none),
+  // overall and per arm (either side of a pair).
   double minTtc() const { return minTtc_; }
+  double minTtc(int arm) const { return armMinTtc_[arm]; }
+  // A pose report for obstacle o (a sensor, the network): its reference point (sphere centre,
+  // capsule midpoint, box centre) at `position` at time t, moving at `velocity` from then on.
+  void setObstaclePose(int o, double t, const Vec3& position, const Vec3& velocity);
   const MonitorCounters& counters() const { return counters_; }
   const Space<3>* space() const { return space_ ? &*space_ : nullptr; }
   Aabb3 spaceBounds() const { return bounds_; }
@@ -165,6 +170,7 @@ class Monitor {
   std::vector<Warning> warnings_;
   Warning nearest_;
   double minTtc_ = 0.0;
+  std::vector<double> armMinTtc_;
   MonitorCounters counters_;
 };
 

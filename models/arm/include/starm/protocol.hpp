@@ -1,0 +1,125 @@
+#pragma once
+// The arm service's wire protocol, version 1: pure encode / decode of frame payloads (the
+// length prefix is st::net's). No sockets here, so every message can be tested and fuzzed.
+//
+// Every payload starts with two bytes: the protocol version (1) and the message type. Numbers
+// are little-endian: u8/u16/u32/u64, f64 IEEE 754; a string is u16 length + bytes.
+//
+//   client -> service
+//   0x01 HELLO      u16 version, string token (empty unless the service requires one)
+//   0x02 READINGS   u32 seq, f64 t, u16 n, n x {u16 arm, u8 dof, dof x f64 q, dof x f64 qdot}
+//   0x03 OBSTACLES  u32 seq, f64 t, u16 n, n x {u16 obstacle, 3 x f64 position, 3 x f64 velocity}
+//   0x04 SUBSCRIBE  u8 flags (bit 0: only the cycles holding this client's own readings)
+//   service -> client
+//   0x81 WELCOME    u16 version, f64 cycle time, f64 safe time, u16 arms, arms x {string name, u8 dof},
+//                   u16 obstacles, obstacles x {string name}
+//   0x82 VERDICT    u32 ack (last seq of this client's in the cycle, 0: none), u64 cycle, f64 t,
+//                   u16 arms, arms x {u8 level, f64 min ttc}, nearest {i16 arm, i16 body,
+//                   i16 other arm, i16 other body, i16 obstacle, f64 distance, f64 ttc}
+//   0xFF ERROR      string message (one line); the service closes the connection after it
+//
+// Positions are the obstacle's reference point (sphere centre, capsule midpoint, box centre).
+// Levels: OK, WARN (a pair within the look-ahead but beyond the safe time), STOP (the monitor's
+// STOP for the arm: a pair within the safe time or the minimum separation).
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include <stcore/vec.hpp>
+
+namespace st::arm::proto {
+
+inline constexpr std::uint8_t kVersion = 1;
+inline constexpr std::size_t kMaxArms = 64;        // per message
+inline constexpr std::size_t kMaxDof = 32;
+inline constexpr std::size_t kMaxObstacles = 4096;
+
+enum class Type : std::uint8_t {
+  Hello = 0x01,
+  Readings = 0x02,
+  Obstacles = 0x03,
+  Subscribe = 0x04,
+  Welcome = 0x81,
+  Verdict = 0x82,
+  Error = 0xFF,
+};
+
+enum class Level : std::uint8_t { Ok = 0, Warn = 1, Stop = 2 };
+const char* toString(Level l);
+
+struct Hello {
+  std::uint16_t version = kVersion;
+  std::string token;
+};
+struct ArmReading {
+  std::uint16_t arm = 0;
+  std::vector<double> q, qdot;
+};
+struct Readings {
+  std::uint32_t seq = 0;
+  double t = 0.0;
+  std::vector<ArmReading> arms;
+};
+struct ObstaclePose {
+  std::uint16_t obstacle = 0;
+  Vec3 position = Vec3::Zero();
+  Vec3 velocity = Vec3::Zero();
+};
+struct Obstacles {
+  std::uint32_t seq = 0;
+  double t = 0.0;
+  std::vector<ObstaclePose> obstacles;
+};
+struct Subscribe {
+  std::uint8_t flags = 0;
+  static constexpr std::uint8_t kOwnOnly = 1;
+};
+struct Welcome {
+  std::uint16_t version = kVersion;
+  double cycleTime = 0.0, safeTime = 0.0;
+  std::vector<std::string> armNames;
+  std::vector<std::uint8_t> armDofs;
+  std::vector<std::string> obstacleNames;
+};
+struct ArmVerdict {
+  Level level = Level::Ok;
+  double minTtc = std::numeric_limits<double>::infinity();
+};
+struct Nearest {
+  std::int16_t arm = -1, body = -1, otherArm = -1, otherBody = -1, obstacle = -1;
+  double distance = std::numeric_limits<double>::infinity();
+  double ttc = std::numeric_limits<double>::infinity();
+};
+struct Verdict {
+  std::uint32_t ack = 0;
+  std::uint64_t cycle = 0;
+  double t = 0.0;
+  std::vector<ArmVerdict> arms;
+  Nearest nearest;
+};
+struct Error {
+  std::string message;
+};
+
+using Message = std::variant<Hello, Readings, Obstacles, Subscribe, Welcome, Verdict, Error>;
+
+std::string encode(const Message& m);
+// Appends to out (no allocation once out has grown; the service's hot path).
+void encodeInto(std::string& out, const Verdict& v);
+
+// A decoded message or why not (one line, e.g. "READINGS: truncated at byte 23 (arm 1 q)").
+struct Decoded {
+  bool ok = false;
+  Message message;
+  std::string error;
+};
+Decoded decode(std::string_view payload);
+// Decodes READINGS into `out`, reusing its storage (the service's hot path). Error text or "".
+std::string decodeReadings(std::string_view payload, Readings& out);
+// The type byte of a payload with the right version, or an error.
+bool peekType(std::string_view payload, Type& type, std::string& error);
+
+}  // namespace st::arm::proto

@@ -1,0 +1,385 @@
+#include <starm/protocol.hpp>
+
+#include <cstring>
+
+namespace st::arm::proto {
+
+namespace {
+
+// Little-endian writer.
+struct Writer {
+  std::string& out;
+  void u8(std::uint8_t v) { out.push_back(static_cast<char>(v)); }
+  void u16(std::uint16_t v) {
+    u8(static_cast<std::uint8_t>(v));
+    u8(static_cast<std::uint8_t>(v >> 8));
+  }
+  void u32(std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) u8(static_cast<std::uint8_t>(v >> (8 * i)));
+  }
+  void u64(std::uint64_t v) {
+    for (int i = 0; i < 8; ++i) u8(static_cast<std::uint8_t>(v >> (8 * i)));
+  }
+  void i16(std::int16_t v) { u16(static_cast<std::uint16_t>(v)); }
+  void f64(double v) {
+    std::uint64_t b;
+    std::memcpy(&b, &v, 8);
+    u64(b);
+  }
+  void str(const std::string& s) {
+    const std::size_t n = std::min<std::size_t>(s.size(), 65535);
+    u16(static_cast<std::uint16_t>(n));
+    out.append(s.data(), n);
+  }
+  void head(Type t) {
+    u8(kVersion);
+    u8(static_cast<std::uint8_t>(t));
+  }
+};
+
+// Little-endian reader over a payload; the first failure names what was being read.
+struct Reader {
+  std::string_view in;
+  std::size_t pos = 0;
+  std::string error;
+  const char* what = "";
+
+  bool need(std::size_t n) {
+    if (!error.empty()) return false;
+    if (in.size() - pos < n) {
+      error = std::string("truncated at byte ") + std::to_string(in.size()) + " (" + what + ")";
+      return false;
+    }
+    return true;
+  }
+  std::uint8_t u8() {
+    if (!need(1)) return 0;
+    return static_cast<std::uint8_t>(in[pos++]);
+  }
+  std::uint16_t u16() {
+    if (!need(2)) return 0;
+    const auto v = static_cast<std::uint16_t>(static_cast<unsigned char>(in[pos]) | (static_cast<unsigned char>(in[pos + 1]) << 8));
+    pos += 2;
+    return v;
+  }
+  std::uint32_t u32() {
+    if (!need(4)) return 0;
+    std::uint32_t v = 0;
+    for (int i = 0; i < 4; ++i) v |= static_cast<std::uint32_t>(static_cast<unsigned char>(in[pos + i])) << (8 * i);
+    pos += 4;
+    return v;
+  }
+  std::uint64_t u64() {
+    if (!need(8)) return 0;
+    std::uint64_t v = 0;
+    for (int i = 0; i < 8; ++i) v |= static_cast<std::uint64_t>(static_cast<unsigned char>(in[pos + i])) << (8 * i);
+    pos += 8;
+    return v;
+  }
+  std::int16_t i16() { return static_cast<std::int16_t>(u16()); }
+  double f64() {
+    const std::uint64_t b = u64();
+    double v;
+    std::memcpy(&v, &b, 8);
+    return v;
+  }
+  std::string str() {
+    const std::uint16_t n = u16();
+    if (!need(n)) return {};
+    std::string s(in.substr(pos, n));
+    pos += n;
+    return s;
+  }
+  bool fail(const std::string& e) {
+    if (error.empty()) error = e;
+    return false;
+  }
+  bool done() {
+    if (!error.empty()) return false;
+    if (pos != in.size()) return fail(std::to_string(in.size() - pos) + " bytes after the message");
+    return true;
+  }
+};
+
+const char* typeName(Type t) {
+  switch (t) {
+    case Type::Hello: return "HELLO";
+    case Type::Readings: return "READINGS";
+    case Type::Obstacles: return "OBSTACLES";
+    case Type::Subscribe: return "SUBSCRIBE";
+    case Type::Welcome: return "WELCOME";
+    case Type::Verdict: return "VERDICT";
+    case Type::Error: return "ERROR";
+  }
+  return "?";
+}
+
+bool knownType(std::uint8_t b) {
+  switch (static_cast<Type>(b)) {
+    case Type::Hello:
+    case Type::Readings:
+    case Type::Obstacles:
+    case Type::Subscribe:
+    case Type::Welcome:
+    case Type::Verdict:
+    case Type::Error: return true;
+  }
+  return false;
+}
+
+bool readReadings(Reader& r, Readings& out) {
+  r.what = "seq";
+  out.seq = r.u32();
+  r.what = "t";
+  out.t = r.f64();
+  r.what = "count";
+  const std::uint16_t n = r.u16();
+  if (!r.error.empty()) return false;
+  if (n > kMaxArms) return r.fail(std::to_string(n) + " readings in one message (at most " + std::to_string(kMaxArms) + ")");
+  out.arms.resize(n);
+  for (std::uint16_t k = 0; k < n; ++k) {
+    ArmReading& a = out.arms[k];
+    r.what = "arm";
+    a.arm = r.u16();
+    r.what = "dof";
+    const std::uint8_t dof = r.u8();
+    if (!r.error.empty()) return false;
+    if (dof > kMaxDof) return r.fail("reading " + std::to_string(k) + ": " + std::to_string(dof) + " joints (at most " +
+                                     std::to_string(kMaxDof) + ")");
+    r.what = "q";
+    if (!r.need(16u * dof)) return false;
+    a.q.resize(dof);
+    a.qdot.resize(dof);
+    for (auto& v : a.q) v = r.f64();
+    for (auto& v : a.qdot) v = r.f64();
+  }
+  return r.done();
+}
+
+}  // namespace
+
+const char* toString(Level l) {
+  switch (l) {
+    case Level::Ok: return "OK";
+    case Level::Warn: return "WARN";
+    case Level::Stop: return "STOP";
+  }
+  return "?";
+}
+
+void encodeInto(std::string& out, const Verdict& v) {
+  Writer w{out};
+  w.head(Type::Verdict);
+  w.u32(v.ack);
+  w.u64(v.cycle);
+  w.f64(v.t);
+  w.u16(static_cast<std::uint16_t>(v.arms.size()));
+  for (const ArmVerdict& a : v.arms) {
+    w.u8(static_cast<std::uint8_t>(a.level));
+    w.f64(a.minTtc);
+  }
+  const Nearest& n = v.nearest;
+  w.i16(n.arm);
+  w.i16(n.body);
+  w.i16(n.otherArm);
+  w.i16(n.otherBody);
+  w.i16(n.obstacle);
+  w.f64(n.distance);
+  w.f64(n.ttc);
+}
+
+std::string encode(const Message& m) {
+  std::string out;
+  Writer w{out};
+  std::visit(
+      [&](const auto& x) {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, Hello>) {
+          w.head(Type::Hello);
+          w.u16(x.version);
+          w.str(x.token);
+        } else if constexpr (std::is_same_v<T, Readings>) {
+          w.head(Type::Readings);
+          w.u32(x.seq);
+          w.f64(x.t);
+          w.u16(static_cast<std::uint16_t>(x.arms.size()));
+          for (const ArmReading& a : x.arms) {
+            w.u16(a.arm);
+            w.u8(static_cast<std::uint8_t>(a.q.size()));
+            for (double v : a.q) w.f64(v);
+            for (std::size_t k = 0; k < a.q.size(); ++k) w.f64(k < a.qdot.size() ? a.qdot[k] : 0.0);
+          }
+        } else if constexpr (std::is_same_v<T, Obstacles>) {
+          w.head(Type::Obstacles);
+          w.u32(x.seq);
+          w.f64(x.t);
+          w.u16(static_cast<std::uint16_t>(x.obstacles.size()));
+          for (const ObstaclePose& o : x.obstacles) {
+            w.u16(o.obstacle);
+            for (int i = 0; i < 3; ++i) w.f64(o.position[i]);
+            for (int i = 0; i < 3; ++i) w.f64(o.velocity[i]);
+          }
+        } else if constexpr (std::is_same_v<T, Subscribe>) {
+          w.head(Type::Subscribe);
+          w.u8(x.flags);
+        } else if constexpr (std::is_same_v<T, Welcome>) {
+          w.head(Type::Welcome);
+          w.u16(x.version);
+          w.f64(x.cycleTime);
+          w.f64(x.safeTime);
+          w.u16(static_cast<std::uint16_t>(x.armNames.size()));
+          for (std::size_t k = 0; k < x.armNames.size(); ++k) {
+            w.str(x.armNames[k]);
+            w.u8(k < x.armDofs.size() ? x.armDofs[k] : 0);
+          }
+          w.u16(static_cast<std::uint16_t>(x.obstacleNames.size()));
+          for (const std::string& n : x.obstacleNames) w.str(n);
+        } else if constexpr (std::is_same_v<T, Verdict>) {
+          encodeInto(out, x);
+        } else if constexpr (std::is_same_v<T, Error>) {
+          w.head(Type::Error);
+          w.str(x.message);
+        }
+      },
+      m);
+  return out;
+}
+
+bool peekType(std::string_view payload, Type& type, std::string& error) {
+  if (payload.size() < 2) {
+    error = "message of " + std::to_string(payload.size()) + " bytes (at least 2: version, type)";
+    return false;
+  }
+  const auto version = static_cast<std::uint8_t>(payload[0]);
+  if (version != kVersion) {
+    error = "protocol version " + std::to_string(version) + " not supported (this service speaks " +
+            std::to_string(kVersion) + ")";
+    return false;
+  }
+  const auto t = static_cast<std::uint8_t>(payload[1]);
+  if (!knownType(t)) {
+    error = "unknown message type 0x" + std::string(1, "0123456789abcdef"[t >> 4]) + "0123456789abcdef"[t & 15];
+    return false;
+  }
+  type = static_cast<Type>(t);
+  return true;
+}
+
+std::string decodeReadings(std::string_view payload, Readings& out) {
+  Type t;
+  std::string err;
+  if (!peekType(payload, t, err)) return err;
+  if (t != Type::Readings) return std::string("expected READINGS, got ") + typeName(t);
+  Reader r{payload, 2, {}, ""};
+  if (!readReadings(r, out)) return std::string("READINGS: ") + r.error;
+  return "";
+}
+
+Decoded decode(std::string_view payload) {
+  Decoded d;
+  Type t;
+  if (!peekType(payload, t, d.error)) return d;
+  Reader r{payload, 2, {}, ""};
+  switch (t) {
+    case Type::Hello: {
+      Hello h;
+      r.what = "version";
+      h.version = r.u16();
+      r.what = "token";
+      h.token = r.str();
+      if (r.done()) d.message = h;
+      break;
+    }
+    case Type::Readings: {
+      Readings x;
+      if (readReadings(r, x)) d.message = std::move(x);
+      break;
+    }
+    case Type::Obstacles: {
+      Obstacles x;
+      r.what = "seq";
+      x.seq = r.u32();
+      r.what = "t";
+      x.t = r.f64();
+      r.what = "count";
+      const std::uint16_t n = r.u16();
+      if (r.error.empty() && n > kMaxObstacles) r.fail(std::to_string(n) + " obstacles in one message");
+      r.what = "pose";
+      if (r.error.empty() && r.need(static_cast<std::size_t>(n) * 50)) {
+        x.obstacles.resize(n);
+        for (ObstaclePose& o : x.obstacles) {
+          o.obstacle = r.u16();
+          for (int i = 0; i < 3; ++i) o.position[i] = r.f64();
+          for (int i = 0; i < 3; ++i) o.velocity[i] = r.f64();
+        }
+      }
+      if (r.done()) d.message = std::move(x);
+      break;
+    }
+    case Type::Subscribe: {
+      Subscribe s;
+      r.what = "flags";
+      s.flags = r.u8();
+      if (r.done()) d.message = s;
+      break;
+    }
+    case Type::Welcome: {
+      Welcome x;
+      r.what = "welcome";
+      x.version = r.u16();
+      x.cycleTime = r.f64();
+      x.safeTime = r.f64();
+      const std::uint16_t n = r.u16();
+      for (std::uint16_t k = 0; k < n && r.error.empty(); ++k) {
+        x.armNames.push_back(r.str());
+        x.armDofs.push_back(r.u8());
+      }
+      const std::uint16_t no = r.u16();
+      for (std::uint16_t k = 0; k < no && r.error.empty(); ++k) x.obstacleNames.push_back(r.str());
+      if (r.done()) d.message = std::move(x);
+      break;
+    }
+    case Type::Verdict: {
+      Verdict v;
+      r.what = "verdict";
+      v.ack = r.u32();
+      v.cycle = r.u64();
+      v.t = r.f64();
+      const std::uint16_t n = r.u16();
+      if (r.error.empty() && r.need(static_cast<std::size_t>(n) * 9)) {
+        v.arms.resize(n);
+        for (ArmVerdict& a : v.arms) {
+          const std::uint8_t l = r.u8();
+          if (l > 2) r.fail("verdict level " + std::to_string(l));
+          a.level = static_cast<Level>(l);
+          a.minTtc = r.f64();
+        }
+      }
+      r.what = "nearest";
+      v.nearest.arm = r.i16();
+      v.nearest.body = r.i16();
+      v.nearest.otherArm = r.i16();
+      v.nearest.otherBody = r.i16();
+      v.nearest.obstacle = r.i16();
+      v.nearest.distance = r.f64();
+      v.nearest.ttc = r.f64();
+      if (r.done()) d.message = std::move(v);
+      break;
+    }
+    case Type::Error: {
+      Error e;
+      r.what = "message";
+      e.message = r.str();
+      if (r.done()) d.message = std::move(e);
+      break;
+    }
+  }
+  if (!r.error.empty()) {
+    d.error = std::string(typeName(t)) + ": " + r.error;
+    return d;
+  }
+  d.ok = true;
+  return d;
+}
+
+}  // namespace st::arm::proto

@@ -1,0 +1,274 @@
+#include <starm/service.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+#include <boost/asio/ip/address.hpp>
+
+namespace st::arm {
+
+namespace {
+
+std::string num(double x) {
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  if (std::isnan(x)) return "nan";
+  char b[40];
+  std::snprintf(b, sizeof b, "%.9g", x);
+  return b;
+}
+
+double wallSeconds() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+bool isLoopback(const std::string& address) {
+  boost::system::error_code ec;
+  const auto a = boost::asio::ip::make_address(address, ec);
+  return !ec && a.is_loopback();
+}
+
+// Constant-time comparison: the token check does not leak how much of a guess was right.
+bool sameToken(const std::string& a, const std::string& b) {
+  unsigned char diff = a.size() == b.size() ? 0 : 1;
+  for (std::size_t i = 0; i < a.size(); ++i) diff |= static_cast<unsigned char>(a[i] ^ (i < b.size() ? b[i] : 0));
+  return diff == 0;
+}
+
+net::ServerConfig checked(const ServiceConfig& c) {
+  if (!isLoopback(c.net.address) && c.token.empty())
+    throw std::runtime_error(c.net.address + ": listening on a non-loopback address needs a shared token (--token)");
+  return c.net;
+}
+
+}  // namespace
+
+ArmService::ArmService(boost::asio::io_context& io, const Scenario& scenario, ServiceConfig cfg)
+    : cfg_(std::move(cfg)), monitor_(makeMonitor(scenario)), server_(io, checked(cfg_), *this) {
+  lastReading_.assign(monitor_.armCount(), -std::numeric_limits<double>::infinity());
+  if (!cfg_.logDir.empty()) {
+    namespace fs = std::filesystem;
+    fs::create_directories(cfg_.logDir);
+    verdictLog_.open(fs::path(cfg_.logDir) / "verdicts.csv");
+    connLog_.open(fs::path(cfg_.logDir) / "connections.csv");
+    if (!verdictLog_ || !connLog_) throw std::runtime_error(cfg_.logDir + ": cannot write the logs");
+    verdictLog_ << "cycle,t_s,readings_from";
+    for (int a = 0; a < monitor_.armCount(); ++a) verdictLog_ << ',' << monitor_.arm(a).name << "_level," << monitor_.arm(a).name << "_min_ttc_s";
+    verdictLog_ << ",nearest,nearest_other,distance_m,ttc_s\n";
+    connLog_ << "wall_s,connection,event,detail\n";
+    verdictLog_.flush();
+    connLog_.flush();
+  }
+  verdict_.arms.resize(monitor_.armCount());
+}
+
+ArmService::~ArmService() {
+  verdictLog_.flush();
+  connLog_.flush();
+}
+
+int ArmService::run() {
+  const int sig = server_.run();
+  // a cycle whose readings arrived just before the stop still runs and is logged
+  if (pending_) runCycle();
+  verdictLog_.flush();
+  connLog_.flush();
+  return sig;
+}
+
+void ArmService::stop() { server_.stop(); }
+
+void ArmService::logConnection(net::ConnectionId id, const std::string& event, const std::string& detail) {
+  if (!connLog_.is_open()) return;
+  std::string d = detail;
+  for (char& c : d)
+    if (c == ',' || c == '\n' || c == '\r') c = ';';
+  connLog_ << num(wallSeconds()) << ',' << id << ',' << event << ',' << d << '\n';
+  connLog_.flush();
+}
+
+void ArmService::onOpen(net::Server&, net::ConnectionId id) {
+  peers_[id] = Peer{};
+  ++counters_.connections;
+  logConnection(id, "open", "");
+}
+
+void ArmService::onClose(net::Server&, net::ConnectionId id, net::CloseReason why, const std::string& detail) {
+  peers_.erase(id);
+  logConnection(id, net::toString(why), detail);
+}
+
+std::string ArmService::errorPayload(const std::string& message) { return proto::encode(proto::Error{message}); }
+
+void ArmService::onFrame(net::Server& s, net::ConnectionId id, std::string_view payload) {
+  const auto it = peers_.find(id);
+  if (it == peers_.end()) return;
+  Peer& p = it->second;
+  proto::Type type;
+  std::string err;
+  if (proto::peekType(payload, type, err)) {
+    if (!p.hello && type != proto::Type::Hello) {
+      err = "expected HELLO first";
+    } else {
+      switch (type) {
+        case proto::Type::Hello: err = onHello(id, p, payload); break;
+        case proto::Type::Readings: err = onReadings(id, p, payload); break;
+        case proto::Type::Obstacles: err = onObstacles(id, p, payload); break;
+        case proto::Type::Subscribe: {
+          const proto::Decoded d = proto::decode(payload);
+          if (!d.ok) {
+            err = d.error;
+            break;
+          }
+          p.subscribed = true;
+          p.ownOnly = (std::get<proto::Subscribe>(d.message).flags & proto::Subscribe::kOwnOnly) != 0;
+          break;
+        }
+        default: err = "a client does not send this message type"; break;
+      }
+    }
+  }
+  if (!err.empty()) {
+    ++counters_.rejected;
+    s.fail(id, err);
+  }
+}
+
+std::string ArmService::onHello(net::ConnectionId id, Peer& p, std::string_view payload) {
+  if (p.hello) return "HELLO twice";
+  const proto::Decoded d = proto::decode(payload);
+  if (!d.ok) return d.error;
+  const auto& h = std::get<proto::Hello>(d.message);
+  if (h.version != proto::kVersion)
+    return "protocol version " + std::to_string(h.version) + " not supported (this service speaks " +
+           std::to_string(proto::kVersion) + ")";
+  if (!cfg_.token.empty() && !sameToken(h.token, cfg_.token)) return "bad token";
+  p.hello = true;
+  proto::Welcome w;
+  w.cycleTime = monitor_.safety().cycleTime;
+  w.safeTime = monitor_.safety().safeTime();
+  for (int a = 0; a < monitor_.armCount(); ++a) {
+    w.armNames.push_back(monitor_.arm(a).name);
+    w.armDofs.push_back(static_cast<std::uint8_t>(monitor_.arm(a).model.dof()));
+  }
+  for (const Obstacle& o : monitor_.obstacles()) w.obstacleNames.push_back(o.name);
+  server_.send(id, proto::encode(w));
+  return "";
+}
+
+std::string ArmService::onReadings(net::ConnectionId id, Peer& p, std::string_view payload) {
+  if (std::string e = proto::decodeReadings(payload, readings_); !e.empty()) return e;
+  const proto::Readings& r = readings_;
+  const std::string seq = "READINGS seq " + std::to_string(r.seq);
+  if (!std::isfinite(r.t)) return seq + ": time is not a finite number";
+  // every reading checked before any is applied: a refused message leaves the monitor as it was
+  for (const proto::ArmReading& a : r.arms) {
+    if (a.arm >= monitor_.armCount())
+      return seq + ": unknown arm id " + std::to_string(a.arm) + " (the scenario has " +
+             std::to_string(monitor_.armCount()) + " arms, ids 0.." + std::to_string(monitor_.armCount() - 1) + ")";
+    if (r.t < lastReading_[a.arm])
+      return seq + ": arm " + std::to_string(a.arm) + " time " + num(r.t) + " s goes backwards (last " +
+             num(lastReading_[a.arm]) + " s)";
+    check_.t = r.t;
+    check_.arm = a.arm;
+    check_.q = a.q;
+    check_.qdot = a.qdot;
+    check_.where = seq + " arm " + std::to_string(a.arm);
+    try {
+      validateReading(monitor_.arm(a.arm).model, check_);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+  }
+  for (const proto::ArmReading& a : r.arms) {
+    monitor_.setJointState(a.arm, r.t, a.q.data(), a.qdot.data());
+    lastReading_[a.arm] = r.t;
+  }
+  counters_.readings += r.arms.size();
+  if (!p.inCycle) {
+    p.inCycle = true;
+    inCycle_.push_back(id);
+  }
+  p.ack = r.seq;
+  cycleT_ = pending_ ? std::max(cycleT_, r.t) : r.t;
+  pending_ = true;
+  return "";
+}
+
+std::string ArmService::onObstacles(net::ConnectionId id, Peer& p, std::string_view payload) {
+  const proto::Decoded d = proto::decode(payload);
+  if (!d.ok) return d.error;
+  const auto& m = std::get<proto::Obstacles>(d.message);
+  const std::string seq = "OBSTACLES seq " + std::to_string(m.seq);
+  if (!std::isfinite(m.t)) return seq + ": time is not a finite number";
+  for (const proto::ObstaclePose& o : m.obstacles) {
+    if (o.obstacle >= monitor_.obstacles().size())
+      return seq + ": unknown obstacle id " + std::to_string(o.obstacle) + " (the scenario has " +
+             std::to_string(monitor_.obstacles().size()) + ")";
+    if (!o.position.allFinite() || !o.velocity.allFinite())
+      return seq + ": obstacle " + std::to_string(o.obstacle) + " pose is not finite";
+    if (o.velocity.norm() > 100.0) return seq + ": obstacle " + std::to_string(o.obstacle) + " faster than 100 m/s";
+  }
+  for (const proto::ObstaclePose& o : m.obstacles) monitor_.setObstaclePose(o.obstacle, m.t, o.position, o.velocity);
+  counters_.obstaclePoses += m.obstacles.size();
+  if (!p.inCycle) {
+    p.inCycle = true;
+    inCycle_.push_back(id);
+  }
+  p.ack = m.seq;
+  cycleT_ = pending_ ? std::max(cycleT_, m.t) : m.t;
+  pending_ = true;
+  return "";
+}
+
+void ArmService::onIdle(net::Server&) {
+  if (pending_) runCycle();
+}
+
+void ArmService::runCycle() {
+  pending_ = false;
+  const double t = std::max(cycleT_, lastCycleT_);
+  lastCycleT_ = t;
+  monitor_.cycle(t);
+  ++counters_.cycles;
+  // the verdict: per arm OK / WARN / STOP, the nearest pair and its time to collision
+  verdict_.cycle = counters_.cycles;
+  verdict_.t = t;
+  for (int a = 0; a < monitor_.armCount(); ++a) {
+    proto::ArmVerdict& v = verdict_.arms[a];
+    v.minTtc = monitor_.minTtc(a);
+    v.level = monitor_.stopped(a) ? proto::Level::Stop : std::isfinite(v.minTtc) ? proto::Level::Warn : proto::Level::Ok;
+  }
+  const Warning& n = monitor_.nearest();
+  verdict_.nearest = {static_cast<std::int16_t>(n.arm), static_cast<std::int16_t>(n.body),
+                      static_cast<std::int16_t>(n.otherArm), static_cast<std::int16_t>(n.otherBody),
+                      static_cast<std::int16_t>(n.obstacle), n.distance, n.ttc};
+  for (auto& [id, p] : peers_) {
+    if (!p.subscribed || (p.ownOnly && !p.inCycle)) continue;
+    verdict_.ack = p.inCycle ? p.ack : 0;
+    out_.clear();
+    proto::encodeInto(out_, verdict_);
+    if (server_.send(id, out_)) ++counters_.verdictsSent;
+  }
+  // the log row after the verdicts are on their way (the write is off the latency path)
+  if (verdictLog_.is_open()) {
+    verdictLog_ << counters_.cycles << ',' << num(t) << ',';
+    for (std::size_t k = 0; k < inCycle_.size(); ++k) verdictLog_ << (k ? " " : "") << inCycle_[k];
+    for (int a = 0; a < monitor_.armCount(); ++a)
+      verdictLog_ << ',' << proto::toString(verdict_.arms[a].level) << ',' << num(verdict_.arms[a].minTtc);
+    if (n.arm >= 0)
+      verdictLog_ << ',' << monitor_.arm(n.arm).name << '/' << bodyName(monitor_.arm(n.arm).model, n.body) << ','
+                  << otherName(monitor_, n) << ',' << num(n.distance) << ',' << num(n.ttc) << '\n';
+    else verdictLog_ << ",,,inf,inf\n";
+    verdictLog_.flush();
+  }
+  for (net::ConnectionId id : inCycle_) {
+    const auto it = peers_.find(id);
+    if (it != peers_.end()) it->second.inCycle = false;
+  }
+  inCycle_.clear();
+}
+
+}  // namespace st::arm

@@ -1,0 +1,154 @@
+#include <starm/stream.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <stdexcept>
+#include <thread>
+
+#include <starm/scenario.hpp>
+#include <stnet/client.hpp>
+
+namespace st::arm {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::string num(double x) {
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  char b[40];
+  std::snprintf(b, sizeof b, "%.9g", x);
+  return b;
+}
+
+// The next message that is not an ERROR; an ERROR becomes an exception with its text.
+proto::Message expect(net::Client& c, std::chrono::milliseconds timeout, const char* what) {
+  const auto frame = c.receive(timeout);
+  if (!frame) throw std::runtime_error(std::string(c.closed() ? "the service closed the connection" : "no answer") +
+                                       " waiting for " + what);
+  proto::Decoded d = proto::decode(*frame);
+  if (!d.ok) throw std::runtime_error("bad message from the service: " + d.error);
+  if (const auto* e = std::get_if<proto::Error>(&d.message)) throw std::runtime_error("service: " + e->message);
+  return std::move(d.message);
+}
+
+}  // namespace
+
+void runStream(const StreamConfig& cfg, StreamResult& res) {
+  net::Client client;
+  client.connect(cfg.host, cfg.port);
+  client.send(proto::encode(proto::Hello{proto::kVersion, cfg.token}));
+  const proto::Message m = expect(client, cfg.verdictTimeout, "WELCOME");
+  const auto* w = std::get_if<proto::Welcome>(&m);
+  if (!w) throw std::runtime_error("the service did not answer HELLO with WELCOME");
+  client.send(proto::encode(proto::Subscribe{proto::Subscribe::kOwnOnly}));
+
+  const int arms = static_cast<int>(w->armNames.size());
+  res.armNames = w->armNames;
+  res.firstStop.assign(arms, std::numeric_limits<double>::quiet_NaN());
+  res.finalSpeed.assign(arms, 1.0);
+  res.minDistance = std::numeric_limits<double>::infinity();
+  std::vector<int> dofs(w->armDofs.begin(), w->armDofs.end());
+  auto csv = std::make_unique<CsvSensor>(cfg.trace, w->armNames, dofs);
+  std::unique_ptr<ClosedLoopSensor> loop;
+  SensorSource* src = csv.get();
+  if (cfg.closedLoop) {
+    // the client knows the joint counts only; the service checks the readings against the models
+    loop = std::make_unique<ClosedLoopSensor>(std::move(csv), std::vector<ArmModel>(arms), cfg.braking);
+    src = loop.get();
+  }
+  std::ofstream log;
+  if (!cfg.outDir.empty()) {
+    std::filesystem::create_directories(cfg.outDir);
+    log.open(std::filesystem::path(cfg.outDir) / "stream_verdicts.csv");
+    if (!log) throw std::runtime_error(cfg.outDir + ": cannot write stream_verdicts.csv");
+    log << "t_s,seq,rtt_us";
+    for (const std::string& n : w->armNames) log << ',' << n << "_level," << n << "_speed";
+    log << ",distance_m,ttc_s\n";
+  }
+
+  proto::Readings msg;
+  Reading r;
+  bool have = src->next(r);
+  const auto wallStart = Clock::now();
+  const double t0 = have ? r.t : 0.0;
+  std::string out;
+  while (have) {
+    // one cycle: every reading of the trace at this time, in one message
+    const double t = r.t;
+    msg.t = t;
+    msg.arms.clear();
+    while (have && r.t == t) {
+      msg.arms.push_back({static_cast<std::uint16_t>(r.arm), r.q, r.qdot});
+      have = src->next(r);
+    }
+    ++msg.seq;
+    if (cfg.rate > 0.0)
+      std::this_thread::sleep_until(wallStart + std::chrono::duration_cast<Clock::duration>(
+                                                    std::chrono::duration<double>((t - t0) / cfg.rate)));
+    const auto sent = Clock::now();
+    client.send(proto::encode(msg));
+    ++res.cycles;
+    // the verdict of this cycle (ack = seq); older ones that arrive late are skipped
+    const proto::Verdict* v = nullptr;
+    proto::Message got;
+    while (true) {
+      const auto left = cfg.verdictTimeout - std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - sent);
+      if (left.count() <= 0) break;
+      got = expect(client, left, "a VERDICT");
+      v = std::get_if<proto::Verdict>(&got);
+      if (v && v->ack >= msg.seq) break;
+      v = nullptr;
+    }
+    if (!v) {
+      ++res.timeouts;
+      continue;
+    }
+    const double rtt = std::chrono::duration<double, std::micro>(Clock::now() - sent).count();
+    res.rttUs.push_back(rtt);
+    ++res.verdicts;
+    bool anyStop = false;
+    for (int a = 0; a < arms && a < static_cast<int>(v->arms.size()); ++a) {
+      const bool stop = v->arms[a].level == proto::Level::Stop;
+      anyStop = anyStop || stop;
+      if (stop && std::isnan(res.firstStop[a])) res.firstStop[a] = t;
+      if (loop) loop->observeArm(a, t, stop, stop);
+    }
+    res.stopCycles += anyStop ? 1 : 0;
+    res.minDistance = std::min(res.minDistance, v->nearest.distance);
+    if (log.is_open()) {
+      log << num(t) << ',' << msg.seq << ',' << num(rtt);
+      for (int a = 0; a < arms; ++a)
+        log << ',' << proto::toString(a < static_cast<int>(v->arms.size()) ? v->arms[a].level : proto::Level::Ok) << ','
+            << num(loop ? loop->drive(a).speed() : 1.0);
+      log << ',' << num(v->nearest.distance) << ',' << num(v->nearest.ttc) << '\n';
+    }
+  }
+  if (loop)
+    for (int a = 0; a < arms; ++a) res.finalSpeed[a] = loop->drive(a).speed();
+  log.flush();
+  client.close();
+}
+
+RecordingSensor::RecordingSensor(SensorSource& inner, const std::string& path, std::vector<std::string> armNames)
+    : inner_(inner), out_(path), path_(path), names_(std::move(armNames)) {
+  if (!out_) throw std::runtime_error(path + ": cannot write the trace");
+  out_.precision(17);
+  out_ << "t,arm,q...,qdot...\n";
+}
+
+bool RecordingSensor::next(Reading& r) {
+  if (!inner_.next(r)) {
+    out_.flush();
+    return false;
+  }
+  out_ << r.t << ',' << names_[r.arm];
+  for (double v : r.q) out_ << ',' << v;
+  for (double v : r.qdot) out_ << ',' << v;
+  out_ << '\n';
+  return true;
+}
+
+}  // namespace st::arm

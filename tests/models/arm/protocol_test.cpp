@@ -1,0 +1,157 @@
+// The arm service protocol: every message round-trips, every truncation and trailing byte is
+// named, and random bytes or mutated messages never crash the decoder (fuzzed, ASan in CI).
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include <starm/protocol.hpp>
+
+namespace st::arm::proto {
+namespace {
+
+std::vector<Message> samples() {
+  Readings r;
+  r.seq = 77;
+  r.t = 1.25;
+  r.arms = {{0, {0.1, -0.2, 0.3, -1.4, 0.5, 1.6, 0.7}, {1, 2, 3, 4, 5, 6, 7}}, {1, {0.5, 0.25}, {-1, -2}}};
+  Obstacles o;
+  o.seq = 3;
+  o.t = 0.5;
+  o.obstacles = {{2, Vec3(1, 2, 3), Vec3(-0.5, 0, 0.25)}};
+  Welcome w;
+  w.cycleTime = 0.001;
+  w.safeTime = 0.211;
+  w.armNames = {"left", "right"};
+  w.armDofs = {7, 7};
+  w.obstacleNames = {"column", "bin"};
+  Verdict v;
+  v.ack = 9;
+  v.cycle = 123456789012ull;
+  v.t = 1.071;
+  v.arms = {{Level::Stop, 0.2}, {Level::Warn, 0.29}};
+  v.nearest = {0, 8, 1, 8, -1, 0.031, 0.2};
+  return {Hello{kVersion, "s3cret"}, r, o, Subscribe{Subscribe::kOwnOnly}, w, v, Error{"bad token"}};
+}
+
+bool same(const Message& a, const Message& b) { return encode(a) == encode(b); }
+
+TEST(Protocol, EveryMessageRoundTrips) {
+  for (const Message& m : samples()) {
+    const Decoded d = decode(encode(m));
+    ASSERT_TRUE(d.ok) << d.error;
+    EXPECT_EQ(d.message.index(), m.index());
+    EXPECT_TRUE(same(d.message, m));
+  }
+  // field by field for the two hot messages
+  const Decoded r = decode(encode(samples()[1]));
+  const auto& rd = std::get<Readings>(r.message);
+  EXPECT_EQ(rd.seq, 77u);
+  EXPECT_EQ(rd.t, 1.25);
+  ASSERT_EQ(rd.arms.size(), 2u);
+  EXPECT_EQ(rd.arms[0].q[3], -1.4);
+  EXPECT_EQ(rd.arms[1].qdot[1], -2.0);
+  const Decoded vdd = decode(encode(samples()[5]));
+  const auto& vd = std::get<Verdict>(vdd.message);
+  EXPECT_EQ(vd.cycle, 123456789012ull);
+  EXPECT_EQ(vd.arms[0].level, Level::Stop);
+  EXPECT_EQ(vd.nearest.obstacle, -1);
+  EXPECT_EQ(vd.nearest.distance, 0.031);
+  // the hot-path decoder agrees
+  Readings into;
+  EXPECT_EQ(decodeReadings(encode(samples()[1]), into), "");
+  EXPECT_TRUE(same(into, samples()[1]));
+}
+
+TEST(Protocol, InfinityAndNanSurviveTheWire) {
+  Verdict v;
+  v.arms = {{Level::Ok, std::numeric_limits<double>::infinity()}};
+  v.nearest.distance = std::numeric_limits<double>::infinity();
+  const Decoded dd = decode(encode(v));
+  const auto& d = std::get<Verdict>(dd.message);
+  EXPECT_TRUE(std::isinf(d.arms[0].minTtc));
+  Readings r;
+  r.arms = {{0, {std::nan("")}, {0.0}}};
+  const Decoded rd = decode(encode(r));
+  EXPECT_TRUE(std::isnan(std::get<Readings>(rd.message).arms[0].q[0]));
+}
+
+TEST(Protocol, EveryTruncationAndTrailingByteIsNamed) {
+  for (const Message& m : samples()) {
+    const std::string full = encode(m);
+    for (std::size_t n = 0; n < full.size(); ++n) {
+      const Decoded d = decode(full.substr(0, n));
+      ASSERT_FALSE(d.ok) << "prefix " << n << " of " << full.size() << " decoded";
+      EXPECT_FALSE(d.error.empty());
+      EXPECT_EQ(d.error.find('\n'), std::string::npos);
+      if (n >= 2) {
+        EXPECT_NE(d.error.find("truncated"), std::string::npos) << d.error;
+      }
+    }
+    const Decoded extra = decode(full + "x");
+    EXPECT_FALSE(extra.ok);
+    EXPECT_NE(extra.error.find("1 bytes after the message"), std::string::npos) << extra.error;
+  }
+}
+
+TEST(Protocol, VersionAndTypeAreChecked) {
+  std::string m = encode(Subscribe{});
+  m[0] = 2;
+  EXPECT_NE(decode(m).error.find("protocol version 2 not supported"), std::string::npos);
+  m[0] = static_cast<char>(kVersion);
+  m[1] = 0x42;
+  EXPECT_NE(decode(m).error.find("unknown message type 0x42"), std::string::npos) << decode(m).error;
+  EXPECT_NE(decode("").error.find("at least 2"), std::string::npos);
+}
+
+TEST(Protocol, LimitsAreEnforcedBeforeAllocating) {
+  // a READINGS announcing 65535 arms or 255 joints is refused by its count, not by reading on
+  std::string m = encode(Readings{});
+  m[2 + 4 + 8] = static_cast<char>(0xff);
+  m[2 + 4 + 8 + 1] = static_cast<char>(0xff);
+  EXPECT_NE(decode(m).error.find("65535 readings in one message"), std::string::npos) << decode(m).error;
+  Readings one;
+  one.arms = {{0, {1.0}, {0.0}}};
+  std::string j = encode(one);
+  j[2 + 4 + 8 + 2 + 2] = static_cast<char>(200);
+  EXPECT_NE(decode(j).error.find("200 joints"), std::string::npos) << decode(j).error;
+}
+
+TEST(Protocol, FuzzedInputNeverCrashes) {
+  std::mt19937_64 g(11);
+  int ok = 0, errors = 0;
+  const std::vector<Message> base = samples();
+  for (int k = 0; k < 30000; ++k) {
+    std::string p;
+    if (k % 3 == 0) {
+      p.resize(g() % 200);
+      for (char& c : p) c = static_cast<char>(g());
+      if (p.size() >= 2 && k % 2) p[0] = static_cast<char>(kVersion);
+    } else {
+      // a valid message with a few bytes flipped, inserted or cut
+      p = encode(base[g() % base.size()]);
+      for (int e = 0; e < 1 + static_cast<int>(g() % 3); ++e) {
+        const std::size_t at = p.empty() ? 0 : g() % p.size();
+        switch (g() % 3) {
+          case 0: if (!p.empty()) p[at] = static_cast<char>(g()); break;
+          case 1: p.insert(at, 1, static_cast<char>(g())); break;
+          default: p.erase(at, 1 + g() % 4);
+        }
+      }
+    }
+    const Decoded d = decode(p);
+    if (d.ok) {
+      ++ok;
+      // what decodes re-encodes to the same bytes
+      EXPECT_EQ(encode(d.message), p);
+    } else {
+      ++errors;
+      ASSERT_FALSE(d.error.empty());
+      ASSERT_EQ(d.error.find('\n'), std::string::npos);
+    }
+  }
+  EXPECT_GT(errors, 10000);
+  EXPECT_GT(ok, 100);
+}
+
+}  // namespace
+}  // namespace st::arm::proto

@@ -1,0 +1,504 @@
+// The arm service over loopback: closed loop through the network equals closed loop in
+// process; every kind of bad client gets one ERROR and is closed while the service and the
+// other clients go on and the log keeps every cycle; SIGINT / SIGTERM end `stsim arm serve`
+// cleanly. Only 127.0.0.1, ports picked by the system, every wait bounded.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/post.hpp>
+#include <starm/service.hpp>
+#include <starm/stream.hpp>
+#include <starm/study.hpp>
+#include <stnet/client.hpp>
+#include <stnet/frame.hpp>
+
+namespace st::arm {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+std::string scenarioPath(const std::string& name) {
+  return std::string(STSIM_SOURCE_DIR) + "/models/arm/scenarios/" + name + ".yaml";
+}
+
+fs::path tempDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("stsim_arm_svc_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+int lineCount(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+// The scenario's nominal (open-loop) sensor stream as a CSV trace.
+fs::path recordTrace(const Scenario& s, const fs::path& file) {
+  auto src = makeSensor(s);
+  std::vector<std::string> names;
+  for (const ArmInstance& a : s.arms) names.push_back(a.name);
+  RecordingSensor rec(*src, file.string(), names);
+  Reading r;
+  while (rec.next(r)) {
+  }
+  return file;
+}
+
+struct Service {
+  boost::asio::io_context io;
+  ArmService service;
+  std::thread thread;
+  Service(const Scenario& s, ServiceConfig cfg) : service(io, s, withoutSignals(cfg)), thread([this] { service.run(); }) {}
+  static ServiceConfig withoutSignals(ServiceConfig c) {
+    c.net.handleSignals = false;
+    return c;
+  }
+  ~Service() { stop(); }
+  void stop() {
+    if (!thread.joinable()) return;
+    boost::asio::post(io, [this] { service.stop(); });
+    thread.join();
+  }
+};
+
+// A protocol client: HELLO, WELCOME, optional SUBSCRIBE.
+struct Peer {
+  net::Client c;
+  explicit Peer(std::uint16_t port, bool subscribe = true, const std::string& token = "") {
+    c.connect("127.0.0.1", port, 2s);
+    c.send(proto::encode(proto::Hello{proto::kVersion, token}));
+    const auto w = c.receive(2s);
+    if (!w) throw std::runtime_error("no WELCOME");
+    const proto::Decoded d = proto::decode(*w);
+    if (!d.ok || !std::holds_alternative<proto::Welcome>(d.message)) throw std::runtime_error("not a WELCOME");
+    if (subscribe) c.send(proto::encode(proto::Subscribe{proto::Subscribe::kOwnOnly}));
+  }
+  std::optional<proto::Message> next(std::chrono::milliseconds t = 2s) {
+    const auto f = c.receive(t);
+    if (!f) return std::nullopt;
+    const proto::Decoded d = proto::decode(*f);
+    if (!d.ok) return std::nullopt;
+    return d.message;
+  }
+};
+
+proto::Readings pandaReading(std::uint32_t seq, double t, std::uint16_t arm = 0) {
+  proto::Readings r;
+  r.seq = seq;
+  r.t = t;
+  r.arms = {{arm, {0, -0.785, 0, -2.356, 0, 1.571, 0.785}, std::vector<double>(7, 0.0)}};
+  return r;
+}
+
+// The connection is told (ERROR naming the cause, one line) and closed.
+void expectError(net::Client& c, const std::string& mention) {
+  std::optional<std::string> f;
+  // a verdict or two may be ahead of the error
+  for (int k = 0; k < 5; ++k) {
+    f = c.receive(3s);
+    if (!f) break;
+    const proto::Decoded d = proto::decode(*f);
+    if (d.ok && std::holds_alternative<proto::Error>(d.message)) break;
+  }
+  ASSERT_TRUE(f.has_value()) << "no ERROR before close (expected: " << mention << ")";
+  const proto::Decoded d = proto::decode(*f);
+  ASSERT_TRUE(d.ok && std::holds_alternative<proto::Error>(d.message)) << "not an ERROR";
+  const std::string& msg = std::get<proto::Error>(d.message).message;
+  EXPECT_NE(msg.find(mention), std::string::npos) << msg;
+  EXPECT_EQ(msg.find('\n'), std::string::npos);
+  EXPECT_FALSE(c.receive(3s).has_value());
+  EXPECT_TRUE(c.closed());
+}
+
+TEST(ArmService, ClosedLoopThroughTheNetworkEqualsInProcess) {
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  const fs::path d = tempDir("loop");
+  ServiceConfig cfg;
+  cfg.logDir = (d / "log").string();
+  Service svc(s, cfg);
+  StreamConfig sc;
+  sc.port = svc.service.port();
+  sc.trace = recordTrace(s, d / "sensors.csv").string();
+  sc.rate = 0.0;
+  sc.braking = s.braking;
+  StreamResult r;
+  runStream(sc, r);
+  svc.stop();
+  const CourseOutcome inProcess = runCourse(s, true);
+  EXPECT_EQ(r.cycles, 3001u);
+  EXPECT_EQ(r.verdicts, 3001u);
+  EXPECT_EQ(r.timeouts, 0u);
+  for (int a = 0; a < 2; ++a) {
+    EXPECT_NEAR(r.firstStop[a], 1.071, 1e-9);
+    EXPECT_EQ(r.finalSpeed[a], 0.0) << "arm " << a << " was not stopped through the network";
+  }
+  EXPECT_EQ(r.minDistance, inProcess.minDistance);
+  EXPECT_FALSE(inProcess.contact);
+  // the log holds every cycle
+  EXPECT_EQ(lineCount(slurp(d / "log" / "verdicts.csv")), 1 + 3001);
+  fs::remove_all(d);
+}
+
+TEST(ArmService, OpenLoopStreamSeesTheContact) {
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  const fs::path d = tempDir("open");
+  Service svc(s, {});
+  StreamConfig sc;
+  sc.port = svc.service.port();
+  sc.trace = recordTrace(s, d / "sensors.csv").string();
+  sc.rate = 0.0;
+  sc.closedLoop = false;
+  StreamResult r;
+  runStream(sc, r);
+  EXPECT_EQ(r.minDistance, 0.0);
+  EXPECT_EQ(r.finalSpeed[0], 1.0);
+  fs::remove_all(d);
+}
+
+TEST(ArmService, RealTimeReplayKeepsTheTraceClock) {
+  // 0.3 s of trace at rate 2 takes about 0.15 s of wall time, not "as fast as possible"
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  const fs::path d = tempDir("rate");
+  std::ofstream csv(d / "short.csv");
+  {
+    std::ifstream full(recordTrace(s, d / "sensors.csv"));
+    std::string line;
+    int n = 0;
+    while (std::getline(full, line) && n++ < 1 + 2 * 301) csv << line << '\n';
+  }
+  csv.close();
+  Service svc(s, {});
+  StreamConfig sc;
+  sc.port = svc.service.port();
+  sc.trace = (d / "short.csv").string();
+  sc.rate = 2.0;
+  StreamResult r;
+  const auto t0 = std::chrono::steady_clock::now();
+  runStream(sc, r);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(r.cycles, 301u);
+  EXPECT_GE(wall, 0.149);
+  EXPECT_LT(wall, 5.0);
+  fs::remove_all(d);
+}
+
+TEST(ArmService, BadClientsAreToldAndClosedOthersGoOn) {
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  const fs::path d = tempDir("bad");
+  ServiceConfig cfg;
+  cfg.logDir = (d / "log").string();
+  cfg.net.frameTimeout = 300ms;
+  cfg.net.maxFrame = 4096;
+  cfg.net.maxConnections = 24;
+  Service svc(s, cfg);
+  const std::uint16_t port = svc.service.port();
+  Peer good(port);
+  std::uint32_t seq = 0;
+  double t = 0.0;
+  int answered = 0;
+  // the good client: one reading, one verdict acknowledging it
+  auto goodCycle = [&] {
+    good.c.send(proto::encode(pandaReading(++seq, t += 0.001, 1)));
+    for (int k = 0; k < 10; ++k) {
+      const auto m = good.next();
+      ASSERT_TRUE(m.has_value()) << "the good client lost its service";
+      if (const auto* v = std::get_if<proto::Verdict>(&*m); v && v->ack == seq) {
+        ++answered;
+        return;
+      }
+    }
+    FAIL() << "no verdict for seq " << seq;
+  };
+  goodCycle();
+
+  auto raw = [&] {
+    auto c = std::make_unique<net::Client>();
+    c->connect("127.0.0.1", port, 2s);
+    return c;
+  };
+  int bad = 0;
+  {  // garbage bytes: an HTTP request is a frame "length" of 1.2 GB
+    auto c = raw();
+    c->sendRaw("GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n");
+    expectError(*c, "exceeds the limit of 4096 bytes");
+    ++bad;
+  }
+  goodCycle();
+  {  // oversized frame
+    auto c = raw();
+    c->sendRaw(net::frame(std::string(10000, 'z')));
+    expectError(*c, "exceeds the limit");
+    ++bad;
+  }
+  {  // a whole frame holding a truncated READINGS
+    Peer p(port);
+    const std::string m = proto::encode(pandaReading(1, 0.5));
+    p.c.send(m.substr(0, m.size() - 5));
+    expectError(p.c, "READINGS: truncated");
+    ++bad;
+  }
+  goodCycle();
+  {  // one byte at a time, slower than the frame timeout allows
+    Peer p(port);
+    const std::string f = net::frame(proto::encode(pandaReading(1, 0.5)));
+    bool told = false;
+    for (std::size_t k = 0; k < f.size() && !told; ++k) {
+      try {
+        p.c.sendRaw(f.substr(k, 1));
+      } catch (const std::exception&) {
+        break;
+      }
+      if (auto e = p.c.receive(150ms)) {
+        const proto::Decoded dd = proto::decode(*e);
+        ASSERT_TRUE(dd.ok && std::holds_alternative<proto::Error>(dd.message));
+        EXPECT_NE(std::get<proto::Error>(dd.message).message.find("frame not completed within 300 ms"), std::string::npos);
+        told = true;
+      }
+    }
+    EXPECT_TRUE(told);
+    ++bad;
+  }
+  goodCycle();
+  {  // unknown arm id
+    Peer p(port);
+    p.c.send(proto::encode(pandaReading(1, 0.5, 5)));
+    expectError(p.c, "unknown arm id 5 (the scenario has 2 arms");
+    ++bad;
+  }
+  {  // NaN joint
+    Peer p(port);
+    proto::Readings r = pandaReading(1, 0.5);
+    r.arms[0].q[1] = std::nan("");
+    p.c.send(proto::encode(r));
+    expectError(p.c, "joint 2 angle is not a finite number");
+    ++bad;
+  }
+  {  // out-of-limit joint (Panda joint 4 is in [-3.07, -0.07])
+    Peer p(port);
+    proto::Readings r = pandaReading(1, 0.5);
+    r.arms[0].q[3] = 0.5;
+    p.c.send(proto::encode(r));
+    expectError(p.c, "joint 4 angle 0.5 rad is beyond its limits");
+    ++bad;
+  }
+  {  // wrong joint count
+    Peer p(port);
+    proto::Readings r = pandaReading(1, 0.5);
+    r.arms[0].q.resize(6);
+    r.arms[0].qdot.resize(6);
+    p.c.send(proto::encode(r));
+    expectError(p.c, "expected 7 joint angles and rates");
+    ++bad;
+  }
+  {  // readings before HELLO
+    auto c = raw();
+    c->send(proto::encode(pandaReading(1, 0.5)));
+    expectError(*c, "expected HELLO first");
+    ++bad;
+  }
+  {  // a protocol version from the future
+    auto c = raw();
+    std::string h = proto::encode(proto::Hello{});
+    h[0] = 9;
+    c->send(h);
+    expectError(*c, "protocol version 9 not supported");
+    ++bad;
+  }
+  goodCycle();
+  {  // disconnect mid-frame
+    Peer p(port);
+    const std::string f = net::frame(proto::encode(pandaReading(1, 0.5)));
+    p.c.sendRaw(f.substr(0, f.size() / 2));
+    p.c.close();
+    ++bad;
+    std::this_thread::sleep_for(200ms);  // the service sees the close before the count below
+  }
+  goodCycle();
+  {  // many connections at once: beyond the limit they are told, the held ones work
+    std::vector<std::unique_ptr<Peer>> held;
+    for (int k = 0; k < 20; ++k) held.push_back(std::make_unique<Peer>(port, false));
+    std::vector<std::unique_ptr<net::Client>> extra;
+    for (int k = 0; k < 10; ++k) extra.push_back(raw());
+    int full = 0;
+    for (auto& c : extra) {
+      const auto f = c->receive(500ms);
+      if (f && proto::decode(*f).ok &&
+          std::get<proto::Error>(proto::decode(*f).message).message.find("server full (24 connections)") != std::string::npos)
+        ++full;
+    }
+    // 20 held + the good one = 21 of 24: three extra fit, seven are told
+    EXPECT_EQ(full, 7);
+    for (auto& p : held) {
+      p->c.send(proto::encode(proto::Subscribe{}));
+    }
+    goodCycle();
+    // every held subscriber (all cycles) sees the good client's cycle
+    for (auto& p : held) {
+      const auto m = p->next();
+      ASSERT_TRUE(m.has_value());
+      EXPECT_TRUE(std::holds_alternative<proto::Verdict>(*m));
+    }
+  }
+  std::this_thread::sleep_for(100ms);
+  goodCycle();
+  svc.stop();
+  // the log: one row per cycle the good client asked for, none from a refused message
+  EXPECT_EQ(svc.service.counters().cycles, static_cast<std::uint64_t>(answered));
+  EXPECT_EQ(lineCount(slurp(d / "log" / "verdicts.csv")), 1 + answered);
+  const std::string conns = slurp(d / "log" / "connections.csv");
+  EXPECT_EQ(svc.service.counters().rejected, 7u);  // the protocol refusals; frame-level ones are the server's
+  for (const char* why : {"frame too long", "frame timeout", "refused", "peer closed mid-frame", "server full"})
+    EXPECT_NE(conns.find(why), std::string::npos) << why << "\n" << conns;
+  EXPECT_EQ(svc.service.monitor().arm(0).name, "left");
+  fs::remove_all(d);
+}
+
+TEST(ArmService, TokenIsRequiredOffLoopbackAndChecked) {
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  boost::asio::io_context io;
+  ServiceConfig open;
+  open.net.address = "0.0.0.0";
+  open.net.handleSignals = false;
+  try {
+    ArmService svc(io, s, open);
+    FAIL() << "a non-loopback address without a token was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("needs a shared token (--token)"), std::string::npos) << e.what();
+  }
+  ServiceConfig tok;
+  tok.token = "s3cret";
+  Service svc(s, tok);
+  EXPECT_NO_THROW(Peer(svc.service.port(), true, "s3cret"));
+  net::Client c;
+  c.connect("127.0.0.1", svc.service.port(), 2s);
+  c.send(proto::encode(proto::Hello{proto::kVersion, "guess"}));
+  expectError(c, "bad token");
+}
+
+TEST(ArmService, ObstaclePosesMoveTheObstacle) {
+  // put the column right at the resting left arm's hand: STOP for the left arm at once
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  Service svc(s, {});
+  Peer p(svc.service.port());
+  // both arms at home (before its first reading an arm rests at zero clamped into the limits,
+  // a pose where the Panda's wrist touches its hand)
+  proto::Readings both = pandaReading(1, 0.0, 0);
+  both.arms.push_back(pandaReading(1, 0.0, 1).arms[0]);
+  p.c.send(proto::encode(both));
+  auto first = p.next();
+  ASSERT_TRUE(first && std::holds_alternative<proto::Verdict>(*first));
+  EXPECT_EQ(std::get<proto::Verdict>(*first).arms[0].level, proto::Level::Ok);
+  const auto f = forwardKinematics(pandaModel(), Eigen::Isometry3d::Identity(), {0, -0.785, 0, -2.356, 0, 1.571, 0.785});
+  proto::Obstacles o;
+  o.seq = 2;
+  o.t = 0.001;
+  o.obstacles = {{0, f.back().translation(), Vec3::Zero()}};
+  p.c.send(proto::encode(o));
+  auto second = p.next();
+  ASSERT_TRUE(second && std::holds_alternative<proto::Verdict>(*second));
+  const auto& v = std::get<proto::Verdict>(*second);
+  EXPECT_EQ(v.ack, 2u);
+  EXPECT_EQ(v.arms[0].level, proto::Level::Stop);
+  EXPECT_EQ(v.nearest.obstacle, 0) << v.nearest.arm << " " << v.nearest.body << " " << v.nearest.otherArm << " " << v.nearest.otherBody;
+  EXPECT_EQ(v.nearest.distance, 0.0);
+  // an unknown obstacle id is refused
+  o.obstacles[0].obstacle = 9;
+  p.c.send(proto::encode(o));
+  expectError(p.c, "unknown obstacle id 9");
+}
+
+// `stsim arm serve` as a process: the port it prints, a stream against it, then a signal.
+struct Process {
+  pid_t pid = -1;
+  int out = -1;
+};
+
+Process spawnServe(const fs::path& logDir) {
+  int fds[2];
+  if (pipe(fds) != 0) throw std::runtime_error("pipe");
+  Process p;
+  p.pid = fork();
+  if (p.pid == 0) {
+    dup2(fds[1], 1);
+    close(fds[0]);
+    const std::string scen = scenarioPath("two_pandas"), out = logDir.string();
+    execl(STSIM_BINARY, STSIM_BINARY, "arm", "serve", scen.c_str(), "--listen", "127.0.0.1:0", "--out", out.c_str(),
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  close(fds[1]);
+  p.out = fds[0];
+  return p;
+}
+
+std::uint16_t readPort(int fd) {
+  std::string text;
+  char ch;
+  // bounded: the first line, at most 200 bytes
+  while (text.size() < 200 && read(fd, &ch, 1) == 1 && ch != '\n') text += ch;
+  const auto colon = text.rfind(':');
+  if (text.find("listening on 127.0.0.1:") == std::string::npos || colon == std::string::npos) return 0;
+  return static_cast<std::uint16_t>(std::stoi(text.substr(colon + 1)));
+}
+
+int waitExit(pid_t pid) {
+  for (int k = 0; k < 500; ++k) {
+    int status = 0;
+    if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::this_thread::sleep_for(10ms);
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, nullptr, 0);
+  return -2;
+}
+
+void signalTest(int sig, int expectCode) {
+  const fs::path d = tempDir("sig" + std::to_string(sig));
+  Process p = spawnServe(d / "log");
+  const std::uint16_t port = readPort(p.out);
+  ASSERT_GT(port, 0);
+  int cycles = 0;
+  {
+    Peer peer(port);
+    for (std::uint32_t k = 1; k <= 50; ++k) {
+      peer.c.send(proto::encode(pandaReading(k, 0.001 * k)));
+      const auto m = peer.next();
+      ASSERT_TRUE(m && std::holds_alternative<proto::Verdict>(*m));
+      ++cycles;
+    }
+    kill(p.pid, sig);
+    EXPECT_EQ(waitExit(p.pid), expectCode);
+    // the open connection was closed by the shutdown
+    EXPECT_FALSE(peer.c.receive(2s).has_value());
+  }
+  std::string rest;
+  char buf[256];
+  ssize_t n;
+  while ((n = read(p.out, buf, sizeof buf)) > 0) rest.append(buf, static_cast<std::size_t>(n));
+  close(p.out);
+  EXPECT_NE(rest.find(sig == SIGINT ? "SIGINT" : "SIGTERM"), std::string::npos) << rest;
+  EXPECT_EQ(lineCount(slurp(d / "log" / "verdicts.csv")), 1 + cycles) << "the log lost cycles";
+  fs::remove_all(d);
+}
+
+TEST(ArmServeCli, SigintShutsDownCleanlyWithTheLogFlushed) { signalTest(SIGINT, 130); }
+TEST(ArmServeCli, SigtermShutsDownCleanlyWithTheLogFlushed) { signalTest(SIGTERM, 143); }
+
+}  // namespace
+}  // namespace st::arm
