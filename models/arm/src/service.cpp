@@ -163,14 +163,13 @@ std::string ArmService::onReadings(net::ConnectionId id, Peer& p, std::string_vi
   const proto::Readings& r = readings_;
   const std::string seq = "READINGS seq " + std::to_string(r.seq);
   if (!std::isfinite(r.t)) return seq + ": time is not a finite number";
+  if (r.t < p.lastT)
+    return seq + ": time " + num(r.t) + " s goes backwards (this connection's last was " + num(p.lastT) + " s)";
   // every reading checked before any is applied: a refused message leaves the monitor as it was
   for (const proto::ArmReading& a : r.arms) {
     if (a.arm >= monitor_.armCount())
       return seq + ": unknown arm id " + std::to_string(a.arm) + " (the scenario has " +
              std::to_string(monitor_.armCount()) + " arms, ids 0.." + std::to_string(monitor_.armCount() - 1) + ")";
-    if (r.t < lastReading_[a.arm])
-      return seq + ": arm " + std::to_string(a.arm) + " time " + num(r.t) + " s goes backwards (last " +
-             num(lastReading_[a.arm]) + " s)";
     check_.t = r.t;
     check_.arm = a.arm;
     check_.q = a.q;
@@ -183,9 +182,15 @@ std::string ArmService::onReadings(net::ConnectionId id, Peer& p, std::string_vi
     }
   }
   for (const proto::ArmReading& a : r.arms) {
+    // another sensor of the same arm was newer: the model keeps the newest reading
+    if (r.t < lastReading_[a.arm]) {
+      ++counters_.stale;
+      continue;
+    }
     monitor_.setJointState(a.arm, r.t, a.q.data(), a.qdot.data());
     lastReading_[a.arm] = r.t;
   }
+  p.lastT = r.t;
   counters_.readings += r.arms.size();
   if (!p.inCycle) {
     p.inCycle = true;

@@ -369,6 +369,25 @@ TEST(ArmService, BadClientsAreToldAndClosedOthersGoOn) {
   fs::remove_all(d);
 }
 
+TEST(ArmService, NewestReadingWinsAndAConnectionMayNotGoBack) {
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  Service svc(s, {});
+  Peer a(svc.service.port()), b(svc.service.port());
+  a.c.send(proto::encode(pandaReading(1, 0.2)));
+  ASSERT_TRUE(a.next());
+  // b is behind a for arm 0: not applied, not an error
+  b.c.send(proto::encode(pandaReading(1, 0.1)));
+  const auto v = b.next();
+  ASSERT_TRUE(v && std::holds_alternative<proto::Verdict>(*v));
+  EXPECT_EQ(std::get<proto::Verdict>(*v).ack, 1u);
+  EXPECT_EQ(std::get<proto::Verdict>(*v).t, 0.2) << "the cycle runs at the newest time";
+  // but b going back on its own connection is
+  b.c.send(proto::encode(pandaReading(2, 0.05)));
+  expectError(b.c, "time 0.05 s goes backwards (this connection's last was 0.1 s)");
+  svc.stop();
+  EXPECT_EQ(svc.service.counters().stale, 1u);
+}
+
 TEST(ArmService, TokenIsRequiredOffLoopbackAndChecked) {
   const Scenario s = loadScenario(scenarioPath("two_pandas"));
   boost::asio::io_context io;

@@ -7,6 +7,7 @@
 // closed; the monitor state and the other clients are not touched by a rejected message.
 #include <cstdint>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -26,6 +27,7 @@ struct ServiceConfig {
 
 struct ServiceCounters {
   std::uint64_t cycles = 0, readings = 0, obstaclePoses = 0, verdictsSent = 0, rejected = 0, connections = 0;
+  std::uint64_t stale = 0;  // readings older than the arm's newest (from another client): not applied
 };
 
 class ArmService final : public net::Handler {
@@ -54,6 +56,7 @@ class ArmService final : public net::Handler {
     bool ownOnly = false;
     bool inCycle = false;
     std::uint32_t ack = 0;
+    double lastT = -std::numeric_limits<double>::infinity();  // of its last READINGS
   };
   // Each returns "" or the one-line reason to refuse the message.
   std::string onHello(net::ConnectionId id, Peer& p, std::string_view payload);
