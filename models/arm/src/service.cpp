@@ -48,6 +48,7 @@ net::ServerConfig checked(const ServiceConfig& c) {
 ArmService::ArmService(boost::asio::io_context& io, const Scenario& scenario, ServiceConfig cfg)
     : cfg_(std::move(cfg)), monitor_(makeMonitor(scenario)), server_(io, checked(cfg_), *this) {
   lastReading_.assign(monitor_.armCount(), -std::numeric_limits<double>::infinity());
+  pendingArm_.resize(monitor_.armCount());
   if (!cfg_.logDir.empty()) {
     namespace fs = std::filesystem;
     fs::create_directories(cfg_.logDir);
@@ -187,7 +188,12 @@ std::string ArmService::onReadings(net::ConnectionId id, Peer& p, std::string_vi
       ++counters_.stale;
       continue;
     }
-    monitor_.setJointState(a.arm, r.t, a.q.data(), a.qdot.data());
+    // kept until the cycle: of several readings of one arm in a cycle only the newest is worked on
+    Pending& pa = pendingArm_[a.arm];
+    pa.q = a.q;
+    pa.qdot = a.qdot;
+    pa.t = r.t;
+    pa.fresh = true;
     lastReading_[a.arm] = r.t;
   }
   p.lastT = r.t;
@@ -236,6 +242,12 @@ void ArmService::runCycle() {
   pending_ = false;
   const double t = std::max(cycleT_, lastCycleT_);
   lastCycleT_ = t;
+  for (int a = 0; a < monitor_.armCount(); ++a) {
+    Pending& pa = pendingArm_[a];
+    if (!pa.fresh) continue;
+    monitor_.setJointState(a, pa.t, pa.q.data(), pa.qdot.data());
+    pa.fresh = false;
+  }
   monitor_.cycle(t);
   ++counters_.cycles;
   // the verdict: per arm OK / WARN / STOP, the nearest pair and its time to collision

@@ -71,6 +71,12 @@ class ArmService final : public net::Handler {
   std::unordered_map<net::ConnectionId, Peer> peers_;
   std::vector<net::ConnectionId> inCycle_;
   std::vector<double> lastReading_;  // per arm, time of its last reading
+  struct Pending {
+    std::vector<double> q, qdot;
+    double t = 0.0;
+    bool fresh = false;
+  };
+  std::vector<Pending> pendingArm_;  // per arm, the newest reading not yet applied
   bool pending_ = false;
   double cycleT_ = 0.0;
   double lastCycleT_ = -1e300;

@@ -1,0 +1,320 @@
+// bench/arm_service: end-to-end latency of the arm service over loopback, reading sent ->
+// verdict received, at 1 kHz with 1, 8 and 64 sensor clients, side by side in one run with the
+// same cycles in process (readings applied + detection, no network) and Shaffer & Herb's
+// 30 ms per cycle (the report's [Shaf90]) as the historic anchor.
+//
+// The service runs on its own thread (as `stsim arm serve` does); the clients share one thread
+// driving every socket with Asio, each sending the two Pandas' readings of one trace cycle per
+// millisecond (bench: models/arm/scenarios/two_pandas.yaml, 3001 cycles) and subscribing to
+// the verdicts of its own readings. Both threads' CPU time is reported beside the figures: the
+// two cores are shared by the service, the clients and whatever else runs on the machine.
+// A last row replays the trace at real time with `stsim arm stream`'s client (runStream).
+//
+// usage: arm_service_bench [CYCLES]   (default 3001: the whole trace, ~3 s per row)
+#include <time.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <deque>
+#include <functional>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <boost/asio/connect.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/post.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/read.hpp>
+#include <boost/asio/write.hpp>
+#include <starm/service.hpp>
+#include <starm/stream.hpp>
+#include <stnet/frame.hpp>
+
+namespace {
+
+using namespace st;
+using namespace st::arm;
+namespace asio = boost::asio;
+using tcp = asio::ip::tcp;
+using Clock = std::chrono::steady_clock;
+
+double threadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+double loadAverage() {
+  std::ifstream in("/proc/loadavg");
+  double l = 0;
+  in >> l;
+  return l;
+}
+
+struct Stats {
+  double p50 = 0, p99 = 0, max = 0;
+  std::size_t n = 0;
+};
+Stats stats(std::vector<double> us) {
+  Stats s;
+  s.n = us.size();
+  if (us.empty()) return s;
+  s.p50 = percentile(us, 50);
+  s.p99 = percentile(us, 99);
+  s.max = *std::max_element(us.begin(), us.end());
+  return s;
+}
+
+std::vector<std::vector<Reading>> recordCycles(const Scenario& s, std::size_t limit) {
+  std::vector<std::vector<Reading>> cycles;
+  auto src = makeSensor(s);
+  Reading r;
+  while (src->next(r)) {
+    if (cycles.empty() || cycles.back().front().t != r.t) {
+      if (cycles.size() == limit) break;
+      cycles.emplace_back();
+    }
+    cycles.back().push_back(r);
+  }
+  return cycles;
+}
+
+Stats inProcess(const Scenario& s, const std::vector<std::vector<Reading>>& cycles) {
+  std::vector<double> us;
+  for (int rep = 0; rep < 3; ++rep) {
+    Monitor m = makeMonitor(s);
+    for (const auto& c : cycles) {
+      const auto t0 = Clock::now();
+      for (const Reading& r : c) m.setJointState(r.arm, r.t, r.q.data(), r.qdot.data());
+      m.cycle(c.front().t);
+      const auto t1 = Clock::now();
+      if (rep > 0) us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+    }
+  }
+  return stats(us);
+}
+
+// One sensor client on the shared client thread: a socket, its reads parsed into frames, the
+// send time of every seq.
+struct SensorClient {
+  tcp::socket socket;
+  std::vector<char> in = std::vector<char>(1 << 16);
+  std::size_t have = 0;
+  std::deque<std::string> out;
+  bool writing = false;
+  std::vector<Clock::time_point> sentAt;
+  std::vector<double>* rtt = nullptr;
+  std::size_t answered = 0;
+  std::uint32_t acked = 0;  // readings answered so far
+  explicit SensorClient(asio::io_context& io) : socket(io) {}
+
+  void write() {
+    if (writing || out.empty()) return;
+    writing = true;
+    asio::async_write(socket, asio::buffer(out.front()), [this](const boost::system::error_code& ec, std::size_t) {
+      writing = false;
+      if (ec) return;
+      out.pop_front();
+      write();
+    });
+  }
+  void send(std::string payload) {
+    out.push_back(net::frame(payload));
+    write();
+  }
+  void read() {
+    socket.async_read_some(asio::buffer(in.data() + have, in.size() - have),
+                           [this](const boost::system::error_code& ec, std::size_t n) {
+                             if (ec) return;
+                             const auto now = Clock::now();
+                             have += n;
+                             std::size_t used = 0;
+                             while (true) {
+                               const net::FrameSplit f = net::splitFrame({in.data() + used, have - used}, in.size());
+                               if (f.state != net::FrameSplit::State::Frame) break;
+                               used += f.consumed;
+                               const proto::Decoded d = proto::decode(f.payload);
+                               if (const auto* v = d.ok ? std::get_if<proto::Verdict>(&d.message) : nullptr) {
+                                 // a verdict answers every reading up to its ack (readings that
+                                 // arrived together share a cycle): each timed from its own send
+                                 for (; acked < v->ack && acked < sentAt.size(); ++acked, ++answered)
+                                   rtt->push_back(std::chrono::duration<double, std::micro>(now - sentAt[acked]).count());
+                               }
+                             }
+                             std::copy(in.begin() + static_cast<long>(used), in.begin() + static_cast<long>(have), in.begin());
+                             have -= used;
+                             read();
+                           });
+  }
+};
+
+struct NetRow {
+  Stats rtt;
+  std::size_t sent = 0, answered = 0;
+  double serviceCpu = 0, clientCpu = 0, wall = 0;
+  std::uint64_t cycles = 0;
+  double load = 0;
+};
+
+NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& cycles, int clients) {
+  asio::io_context serviceIo;
+  ServiceConfig cfg;
+  cfg.net.handleSignals = false;
+  cfg.net.maxConnections = 256;
+  cfg.logDir = std::getenv("ARM_BENCH_LOG") ? std::getenv("ARM_BENCH_LOG") : "";  // the log's flush is off the latency path; measured without disk noise
+  ArmService service(serviceIo, s, cfg);
+  double serviceCpu0 = 0, serviceCpu1 = 0;
+  std::thread serviceThread([&] {
+    serviceCpu0 = threadCpuSeconds();
+    service.run();
+    serviceCpu1 = threadCpuSeconds();
+  });
+
+  NetRow row;
+  row.load = loadAverage();
+  asio::io_context io;
+  std::vector<double> rtt;
+  rtt.reserve(cycles.size() * clients);
+  std::vector<std::unique_ptr<SensorClient>> cs;
+  const tcp::endpoint ep(asio::ip::make_address("127.0.0.1"), service.port());
+  for (int i = 0; i < clients; ++i) {
+    auto c = std::make_unique<SensorClient>(io);
+    c->socket.connect(ep);
+    c->socket.set_option(tcp::no_delay(true));
+    // HELLO, WELCOME (read synchronously once), SUBSCRIBE own-only
+    asio::write(c->socket, asio::buffer(net::frame(proto::encode(proto::Hello{}))));
+    char hdr[4];
+    asio::read(c->socket, asio::buffer(hdr));
+    const std::uint32_t n = (static_cast<std::uint32_t>(static_cast<unsigned char>(hdr[0])) << 24) |
+                            (static_cast<std::uint32_t>(static_cast<unsigned char>(hdr[1])) << 16) |
+                            (static_cast<std::uint32_t>(static_cast<unsigned char>(hdr[2])) << 8) |
+                            static_cast<std::uint32_t>(static_cast<unsigned char>(hdr[3]));
+    std::string welcome(n, '\0');
+    asio::read(c->socket, asio::buffer(welcome));
+    asio::write(c->socket, asio::buffer(net::frame(proto::encode(proto::Subscribe{proto::Subscribe::kOwnOnly}))));
+    c->rtt = &rtt;
+    c->sentAt.reserve(cycles.size());
+    c->read();
+    cs.push_back(std::move(c));
+  }
+  // the messages, encoded before the clock starts
+  std::vector<std::string> msgs;
+  for (std::size_t k = 0; k < cycles.size(); ++k) {
+    proto::Readings m;
+    m.seq = static_cast<std::uint32_t>(k + 1);
+    m.t = cycles[k].front().t;
+    for (const Reading& r : cycles[k]) m.arms.push_back({static_cast<std::uint16_t>(r.arm), r.q, r.qdot});
+    msgs.push_back(proto::encode(m));
+  }
+  const std::uint64_t cycles0 = service.counters().cycles;
+  asio::steady_timer tick(io);
+  std::size_t k = 0;
+  const auto start = Clock::now() + std::chrono::milliseconds(20);
+  const double clientCpu0 = threadCpuSeconds();
+  std::function<void()> next = [&] {
+    tick.expires_at(start + std::chrono::microseconds(1000 * k));
+    tick.async_wait([&](const boost::system::error_code& ec) {
+      if (ec) return;
+      for (auto& c : cs) {
+        c->sentAt.push_back(Clock::now());
+        c->send(msgs[k]);
+      }
+      ++row.sent;
+      if (++k < msgs.size()) next();
+      else {
+        // the last verdicts: up to 200 ms more, then stop
+        tick.expires_after(std::chrono::milliseconds(200));
+        tick.async_wait([&](const boost::system::error_code&) { io.stop(); });
+      }
+    });
+  };
+  next();
+  io.run();
+  row.clientCpu = threadCpuSeconds() - clientCpu0;
+  row.wall = std::chrono::duration<double>(Clock::now() - start).count();
+  row.sent *= static_cast<std::size_t>(clients);
+  for (auto& c : cs) row.answered += c->answered;
+  asio::post(serviceIo, [&] { service.stop(); });
+  serviceThread.join();
+  row.serviceCpu = serviceCpu1 - serviceCpu0;
+  row.cycles = service.counters().cycles - cycles0;
+  row.rtt = stats(rtt);
+  return row;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::size_t limit = argc > 1 ? static_cast<std::size_t>(std::stoul(argv[1])) : 3001;
+  const Scenario s = loadScenario(std::string(STSIM_SOURCE_DIR) + "/models/arm/scenarios/two_pandas.yaml");
+  const auto cycles = recordCycles(s, limit);
+  std::printf("arm service: two_pandas, %zu cycles at 1 kHz per row, load average %.2f at start, 2 cores shared\n\n",
+              cycles.size(), loadAverage());
+  const Stats local = inProcess(s, cycles);
+  std::vector<std::pair<int, NetRow>> rows;
+  for (int n : {1, 8, 64}) rows.emplace_back(n, overLoopback(s, cycles, n));
+
+  // the stream client at real time (one client, blocking, as `stsim arm stream --rate 1` runs)
+  StreamResult sr;
+  {
+    asio::io_context serviceIo;
+    ServiceConfig cfg;
+    cfg.net.handleSignals = false;
+    ArmService service(serviceIo, s, cfg);
+    std::thread t([&] { service.run(); });
+    const std::string trace = "/tmp/arm_service_bench_" + std::to_string(::getpid()) + ".csv";
+    {
+      Scenario copy = s;
+      auto src = makeSensor(copy);
+      std::vector<std::string> names{s.arms[0].name, s.arms[1].name};
+      RecordingSensor rec(*src, trace, names);
+      Reading r;
+      std::size_t n = 0;
+      double last = -1;
+      while (rec.next(r)) {
+        if (r.t != last && ++n > cycles.size()) break;
+        last = r.t;
+      }
+    }
+    StreamConfig sc;
+    sc.port = service.port();
+    sc.trace = trace;
+    sc.rate = 1.0;
+    runStream(sc, sr);
+    asio::post(serviceIo, [&] { service.stop(); });
+    t.join();
+    std::remove(trace.c_str());
+  }
+  const Stats stream = stats(sr.rttUs);
+
+  std::printf("%-44s %8s %8s %8s %8s %9s %12s %12s\n", "case", "msgs", "p50 us", "p99 us", "max us", "answered",
+              "service CPU", "client CPU");
+  std::printf("%-44s %8zu %8.2f %8.2f %8.1f %9s %12s %12s\n", "in process: readings applied + cycle", local.n, local.p50,
+              local.p99, local.max, "-", "-", "-");
+  for (const auto& [n, r] : rows) {
+    char name[64];
+    std::snprintf(name, sizeof name, "loopback, %d client%s at 1 kHz (%.2f cycles/ms)", n, n == 1 ? "" : "s",
+                  static_cast<double>(r.cycles) / (r.wall * 1000.0));
+    std::printf("%-44s %8zu %8.2f %8.2f %8.1f %8.2f%% %11.1f%% %11.1f%%\n", name, r.sent, r.rtt.p50, r.rtt.p99, r.rtt.max,
+                100.0 * static_cast<double>(r.answered) / static_cast<double>(std::max<std::size_t>(1, r.sent)),
+                100.0 * r.serviceCpu / r.wall, 100.0 * r.clientCpu / r.wall);
+  }
+  std::printf("%-44s %8zu %8.2f %8.2f %8.1f %8.2f%% %12s %12s\n", "loopback, stsim arm stream --rate 1 (1 client)",
+              sr.cycles, stream.p50, stream.p99, stream.max,
+              100.0 * static_cast<double>(sr.verdicts) / static_cast<double>(std::max<std::uint64_t>(1, sr.cycles)), "-", "-");
+  std::printf("%-44s %8s %8.0f %8s %8s\n", "Shaffer & Herb 1990 (report [Shaf90])", "-", 30000.0, "-", "-");
+  const NetRow& eight = rows[1].second;
+  std::printf("\nratios: 30 ms / loopback p50 with 8 clients = %.0fx; loopback p50 / in-process p50 = %.1fx (1 client), "
+              "%.1fx (8), %.1fx (64)\n",
+              30000.0 / eight.rtt.p50, rows[0].second.rtt.p50 / local.p50, eight.rtt.p50 / local.p50,
+              rows[2].second.rtt.p50 / local.p50);
+  std::printf("target at 1 kHz with 8 clients: p50 <= 50 us (%.2f: %s), p99 <= 250 us (%.2f: %s)\n", eight.rtt.p50,
+              eight.rtt.p50 <= 50 ? "met" : "NOT met", eight.rtt.p99, eight.rtt.p99 <= 250 ? "met" : "NOT met");
+  std::printf("CPU: per cent of one core over the row's wall time (service thread; all client sockets on one thread)\n");
+  return 0;
+}
