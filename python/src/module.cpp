@@ -138,6 +138,7 @@ void toState(const Raw& r, Convention c, std::size_t i, hw::VehicleState& s) {
   for (int k : needed)
     if (!r.has[k]) throw py::value_error(where + ": missing '" + kKeyNames[k] + "'");
   const hw::ClassDefaults d = hw::classDefaults(r.vehicleClass);
+  s = hw::VehicleState{};  // every field this layer does not set keeps the model's default
   s.id = r.id;
   s.vehicleClass = r.vehicleClass;
   s.length = r.has[kLength] ? r.v[kLength] : d.length;
