@@ -516,6 +516,39 @@ void signalTest(int sig, int expectCode) {
   fs::remove_all(d);
 }
 
+TEST(ArmServeCli, StreamCommandClosesTheLoopThroughServe) {
+  const fs::path d = tempDir("cli");
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  const fs::path trace = recordTrace(s, d / "sensors.csv");
+  Process p = spawnServe(d / "log");
+  const std::uint16_t port = readPort(p.out);
+  ASSERT_GT(port, 0);
+  auto stream = [&](const std::string& extra) {
+    const std::string cmd = std::string("timeout 60 ") + STSIM_BINARY + " arm stream --connect 127.0.0.1:" +
+                            std::to_string(port) + " " + trace.string() + " --rate 0 --out " + (d / "out").string() + " " +
+                            extra + " > " + (d / "stdout").string() + " 2> " + (d / "stderr").string();
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  ASSERT_EQ(stream(""), 0) << slurp(d / "stderr");
+  const std::string out = slurp(d / "stdout");
+  EXPECT_NE(out.find("3001 cycles, 3001 verdicts, 0 unanswered"), std::string::npos) << out;
+  EXPECT_NE(out.find("left: first STOP 1.071 s, stopped"), std::string::npos) << out;
+  EXPECT_NE(out.find("right: first STOP 1.071 s, stopped"), std::string::npos) << out;
+  EXPECT_EQ(lineCount(slurp(d / "out" / "stream_verdicts.csv")), 1 + 3001);
+  // a token offered to a service that asks for none is no error
+  EXPECT_EQ(stream("--token nope"), 0) << slurp(d / "stderr");
+  kill(p.pid, SIGTERM);
+  EXPECT_EQ(waitExit(p.pid), 143);
+  close(p.out);
+  // nothing listens any more: connection refused, one line, exit 1
+  EXPECT_EQ(stream(""), 1);
+  const std::string err = slurp(d / "stderr");
+  EXPECT_EQ(lineCount(err), 1) << err;
+  EXPECT_NE(err.find("stsim arm: error: 127.0.0.1:" + std::to_string(port) + ": cannot connect"), std::string::npos) << err;
+  fs::remove_all(d);
+}
+
 TEST(ArmServeCli, SigintShutsDownCleanlyWithTheLogFlushed) { signalTest(SIGINT, 130); }
 TEST(ArmServeCli, SigtermShutsDownCleanlyWithTheLogFlushed) { signalTest(SIGTERM, 143); }
 
