@@ -15,6 +15,7 @@ VehicleTypeInfo toVehicleTypeInfo(const SumoVehicleType& type) {
 
 void toVehicleState(const SumoVehicle& v, const VehicleTypeInfo& type, highway::VehicleState& s) {
   s.id = v.id;
+  s.handle = static_cast<int>(v.serial);  // dense, kept while the vehicle is on the road
   s.vehicleClass = type.vehicleClass;
   s.length = type.length;
   s.width = type.width;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <stdexcept>
 
 #include <sthighway/tolerances.hpp>
@@ -63,8 +64,10 @@ struct CellNetwork::Impl {
     Aabb<2> region;            // its share of road (static)
     Aabb<2> extent;            // region united with its members' fat boxes (per tick)
     Aabb<2> indexed;           // the box the network index holds (extent, grown)
-    Aabb<2> centres;           // of its members' centres (per tick; empty when no members)
-    Space<2> space;
+    Aabb<2> treeBounds;        // of its tree, when it has one
+    // its members' fat boxes in a tree while it holds more than the decomposition factor (a
+    // jam); none otherwise: the pair search sweeps an undivided cell's members itself
+    std::optional<Space<2>> tree;
     std::vector<int> slots;    // local slot -> vehicle
     std::vector<int> freeSlots;
     int members = 0;
@@ -73,7 +76,6 @@ struct CellNetwork::Impl {
     int cell = -1;
     int local = -1;
     Aabb<2> fat;
-    Vec2 centre = Vec2::Zero();
     // where the car last measured every site, the few other sites nearest it there (-1: none),
     // and a lower bound on its distance from there to every other site but those (m, <= 0:
     // none): while none of the few is stronger by the hysteresis margin (tested exactly, as a
@@ -99,6 +101,8 @@ struct CellNetwork::Impl {
   std::vector<std::vector<int>> grid;
   double ratioSq = 1.0;  // (d_old / d_new)^2 above which the hysteresis margin is passed
   CellCounters counters;
+  SpaceCounters retired;  // of the trees of cells that have since reunited
+  SpaceRule treeRule;
   std::vector<Handoff> handoffs;
 
   Impl(const CellConfig& c, const Aabb<2>& bounds)
@@ -225,7 +229,7 @@ struct CellNetwork::Impl {
     Cell& c = cells[mv.cell];
     switch (mv.kind) {
       case Move::Leave:
-        c.space.remove(mv.local);
+        if (c.tree) c.tree->remove(mv.local);
         c.slots[mv.local] = -1;
         c.freeSlots.push_back(mv.local);
         --c.members;
@@ -241,12 +245,15 @@ struct CellNetwork::Impl {
           c.slots.push_back(mv.v);
         }
         vehicles[mv.v].local = local;
-        c.space.insert(local, mv.fat);
+        if (c.tree) c.tree->insert(local, mv.fat);
         ++c.members;
         break;
       }
-      case Move::Update: c.space.update(mv.local, mv.fat); break;
+      case Move::Update:
+        if (c.tree) c.tree->update(mv.local, mv.fat);
+        break;
     }
+    ++counters.boxChanges;
   }
 
   void submit(const Move& mv, bool defer) {
@@ -288,11 +295,25 @@ struct CellNetwork::Impl {
     s.local = -1;
   }
 
+  // A cell's tree exists while it holds more cars than the decomposition factor: built from its
+  // members in slot order when it passes it, dropped (its counters kept) when it falls back.
+  void settleTree(Cell& c) {
+    const int df = treeRule.decompositionFactor;
+    if (!c.tree && c.members > df) {
+      c.tree.emplace(SpaceKind::Tree, c.treeBounds, treeRule);
+      for (int local = 0; local < static_cast<int>(c.slots.size()); ++local)
+        if (c.slots[local] >= 0) c.tree->insert(local, vehicles[c.slots[local]].fat);
+    } else if (c.tree && c.members <= df) {
+      retired.subdivisions += c.tree->counters().subdivisions;
+      retired.reunions += c.tree->counters().reunions;
+      c.tree.reset();
+    }
+  }
+
   int place(int v, const Vec2& centre, const Aabb<2>& box, const Vec2& velocity, bool defer) {
     if (v >= static_cast<int>(vehicles.size())) vehicles.resize(v + 1);
     Served& s = vehicles[v];
     if (s.cell >= 0 && s.local < 0) commit();  // placed twice: its join first
-    s.centre = centre;
     if (s.cell < 0 || !keepsServingCell(s, centre)) {
       const int best = strongest(centre);
       const int from = s.cell;
@@ -337,7 +358,7 @@ CellNetwork::CellNetwork(const RoadGeometry& road, const RoadFeatures& features,
     if (!l.internal) lanesOf[l.edge].push_back(&l);
   // a cell's tree halves along its longest axis (along the road), not into quadrants of mostly
   // empty verge
-  const SpaceRule cellRule{config.decompositionFactor, true, 2, config.maxDepth, 0.0};
+  m.treeRule = SpaceRule{config.decompositionFactor, true, 2, config.maxDepth, 0.0};
   const double pad = 2.0 * config.fatMargin + 10.0;
   for (int sec = 0; sec < static_cast<int>(m.sections.size()); ++sec) {
     auto& lanes = lanesOf[m.sections[sec]];
@@ -357,8 +378,7 @@ CellNetwork::CellNetwork(const RoadGeometry& road, const RoadFeatures& features,
         growByPortion(region, first, l->shape, ll * k / n, ll * (k + 1) / n, 0.5 * l->width);
       }
       m.sites.push_back(site);
-      m.cells.push_back(Impl::Cell{region, region, region, region, Space<2>(SpaceKind::Tree, grown(region, pad), cellRule),
-                                   {}, {}, 0});
+      m.cells.push_back(Impl::Cell{region, region, region, grown(region, pad), std::nullopt, {}, {}, 0});
     }
   }
   if (m.sites.empty()) {
@@ -366,8 +386,8 @@ CellNetwork::CellNetwork(const RoadGeometry& road, const RoadFeatures& features,
     CellSite site;
     site.position = features.bounds.center();
     m.sites.push_back(site);
-    m.cells.push_back(Impl::Cell{features.bounds, features.bounds, features.bounds, features.bounds,
-                                 Space<2>(SpaceKind::Tree, grown(features.bounds, config.cellLength), cellRule), {}, {}, 0});
+    m.cells.push_back(Impl::Cell{features.bounds, features.bounds, features.bounds, grown(features.bounds, config.cellLength),
+                                 std::nullopt, {}, {}, 0});
   }
   // the site grid
   m.gridSize = std::min(config.cellLength, config.radioRange);
@@ -426,18 +446,9 @@ int CellNetwork::servingCell(int v) const {
 void CellNetwork::refreshExtents() {
   Impl& m = *impl_;
   m.commit();
-  const Aabb<2> none{Vec2::Constant(std::numeric_limits<double>::infinity()),
-                     Vec2::Constant(-std::numeric_limits<double>::infinity())};
-  for (auto& c : m.cells) {
-    c.extent = c.region;
-    c.centres = none;
-  }
+  for (auto& c : m.cells) c.extent = c.region;
   for (const auto& s : m.vehicles)
-    if (s.cell >= 0) {
-      Impl::Cell& c = m.cells[s.cell];
-      c.extent = unite(c.extent, s.fat);
-      c.centres = unite(c.centres, {s.centre, s.centre});
-    }
+    if (s.cell >= 0) m.cells[s.cell].extent = unite(m.cells[s.cell].extent, s.fat);
   std::uint64_t subdivisions = 0, reunions = 0;
   for (int i = 0; i < static_cast<int>(m.cells.size()); ++i) {
     auto& c = m.cells[i];
@@ -445,9 +456,14 @@ void CellNetwork::refreshExtents() {
       c.indexed = grown(c.extent, m.cfg.cellLength * 0.25);
       m.index.update(i, c.indexed);
     }
-    subdivisions += c.space.counters().subdivisions;
-    reunions += c.space.counters().reunions;
+    m.settleTree(c);
+    if (c.tree) {
+      subdivisions += c.tree->counters().subdivisions;
+      reunions += c.tree->counters().reunions;
+    }
   }
+  subdivisions += m.retired.subdivisions;
+  reunions += m.retired.reunions;
   m.counters.subdivisions = subdivisions;
   m.counters.reunions = reunions;
 }
@@ -461,7 +477,6 @@ std::vector<int> CellNetwork::membersOf(int cell) const {
 }
 
 Aabb<2> CellNetwork::cellExtent(int cell) const { return impl_->cells[cell].extent; }
-Aabb<2> CellNetwork::memberCentres(int cell) const { return impl_->cells[cell].centres; }
 const CellCounters& CellNetwork::counters() const { return impl_->counters; }
 
 std::vector<Handoff> CellNetwork::takeHandoffs() {
@@ -471,7 +486,10 @@ std::vector<Handoff> CellNetwork::takeHandoffs() {
 }
 
 const Space<2>& CellNetwork::networkIndex() const { return impl_->index; }
-const Space<2>& CellNetwork::cellSpace(int cell) const { return impl_->cells[cell].space; }
+const Space<2>* CellNetwork::cellTree(int cell) const {
+  const auto& tree = impl_->cells[cell].tree;
+  return tree ? &*tree : nullptr;
+}
 std::span<const int> CellNetwork::cellSlots(int cell) const { return impl_->cells[cell].slots; }
 
 }  // namespace st::highway

@@ -7,6 +7,7 @@
 
 #include <sthighway/tolerances.hpp>
 
+#include "car_shape.hpp"
 #include "kernels.hpp"
 
 namespace st::highway {

@@ -302,6 +302,7 @@ struct FcdReader::Impl {
   struct Last {
     double time;
     Vec2 centre;
+    int handle;  // dense, in order of first appearance: the monitor's handle for the vehicle
   };
   std::unordered_map<std::string, Last> last;
   double lastTime = -std::numeric_limits<double>::infinity();
@@ -373,7 +374,8 @@ bool FcdReader::next(FcdFrame& frame) {
       const Vec2 d = v.direction();
       v.lateralSpeed = vel.dot(Vec2(-d.y(), d.x()));
     }
-    m.last[v.id] = {frame.time, v.position};
+    v.handle = it != m.last.end() ? it->second.handle : static_cast<int>(m.last.size());
+    m.last[v.id] = {frame.time, v.position, v.handle};
     frame.vehicles.push_back(std::move(v));
   }
   if (inStep) x.fail(stepLine, "unterminated <timestep>");

@@ -149,6 +149,8 @@ class Space {
   bool hasWidened() const { return !widened_.empty(); }
 
   const SpaceCounters& counters() const { return counters_; }
+  // True while a tree is subdivided (its root has children); Single and Cells never are.
+  bool divided() const { return kind_ == SpaceKind::Tree && !nodes_.empty() && nodes_[0].firstChild >= 0; }
 
  private:
   struct Node {

@@ -6,6 +6,7 @@
 
 #include <sthighway/detector.hpp>
 
+#include "car_shape.hpp"
 #include "reference.hpp"
 
 namespace st::highway {

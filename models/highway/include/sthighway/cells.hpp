@@ -3,10 +3,11 @@
 // every `cellLength` metres along each road section (edge). Each car measures the signal of the
 // sites within radio range (log-distance path loss) and stays with its serving cell until another
 // site is stronger by the hysteresis margin; then it tells its old cell, which hands it to the
-// new one (no search of siblings). Hierarchy: network > road sections (edges) > cells; each cell
-// holds its cars in a stcore Space (a tree that subdivides past the decomposition factor when the
-// cell is congested and reunites as it empties). A car is checked against the cars of every cell
-// its look-ahead box reaches, found through a network-level index over the cells' extents.
+// new one (no search of siblings). Hierarchy: network > road sections (edges) > cells. A cell
+// holds its cars in a stcore tree only while it holds more than the decomposition factor (a jam:
+// the tree subdivides; it is dropped when the cell reunites); the pair search sweeps the members
+// of the other cells itself. The cells a car's look-ahead reaches are found through a
+// network-level index over the cells' extents.
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -49,8 +50,9 @@ struct CellCounters {
   std::uint64_t handoffs = 0;
   std::uint64_t attaches = 0;      // cars that entered the network
   std::uint64_t detaches = 0;      // cars that left it
-  std::uint64_t subdivisions = 0;  // summed over the cells' spaces
+  std::uint64_t subdivisions = 0;  // summed over the cells' trees
   std::uint64_t reunions = 0;
+  std::uint64_t boxChanges = 0;    // a car joined or left a cell, or its fat box was renewed
 };
 
 // One handoff, for tests and logs.
@@ -79,21 +81,19 @@ class CellNetwork {
   // fat box only): measures the sites in range and hands off if another is stronger by the
   // hysteresis margin. Returns the serving cell.
   int place(int v, const Vec2& centre, const Aabb<2>& box, const Vec2& velocity = Vec2::Zero());
-  // As place(), but the changes to the cells' spaces wait for commitPlacements(), which makes
-  // them cell by cell, each cell's in the order placed: every space sees what place() would
-  // show it, so spaces, counters and handoffs are the same, while a cell's tree stays in cache
-  // for all its cars (cars in input order hop between cells, a cache miss each). The serving
-  // cell and handoffs are known at once; the spaces (and forEachIn*) are stale until the commit.
+  // As place(), but the changes to the cells wait for commitPlacements(), which makes them cell
+  // by cell, each cell's in the order placed: every cell sees what place() would show it, so
+  // trees, counters and handoffs are the same, while a cell's tree stays in cache for all its
+  // cars (cars in input order hop between cells, a cache miss each). The serving cell and
+  // handoffs are known at once; the cells (and forEachInCellBox) are stale until the commit.
   int placeDeferred(int v, const Vec2& centre, const Aabb<2>& box, const Vec2& velocity = Vec2::Zero());
   void commitPlacements();
   void remove(int v);
   int servingCell(int v) const;  // -1 if not in the network
 
-  // Calls f(other) once for every vehicle listed in a cell whose extent meets the box
-  // (including v itself; the caller skips it). Valid after refreshExtents().
-  template <class F>
-  void forEachInBox(const Aabb<2>& box, F&& f) const;
-  // The two levels of that search, for callers that size the box per cell.
+  // The two levels of a search: f(cell) for the cells whose extent may meet the box, and
+  // f(vehicle) for the cars of a cell that may lie in it (those listed in the leaves of its tree
+  // the box touches; every member of an undivided cell). Valid after refreshExtents().
   template <class F>
   void forEachCellInBox(const Aabb<2>& box, F&& f) const {
     networkIndex().forEachInBox(box, f);
@@ -103,21 +103,25 @@ class CellNetwork {
 
   // The network level: a space over the cells' extents (ids are cells).
   const Space<2>& networkIndex() const;
-  // A cell's own space (ids are the cell's local slots) and its slot -> vehicle table (-1: free).
-  const Space<2>& cellSpace(int cell) const;
+  // True while a cell is divided: it holds more cars than the decomposition factor and its tree
+  // has subdivided.
+  bool divided(int cell) const {
+    const Space<2>* tree = cellTree(cell);
+    return tree && tree->divided();
+  }
+  // A cell's tree while it has one (ids are the cell's local slots), else nullptr; and its slot
+  // -> vehicle table (-1: free).
+  const Space<2>* cellTree(int cell) const;
   std::span<const int> cellSlots(int cell) const;
 
-  // Recomputes the cells' extents from their members (committing deferred placements first);
-  // call once per tick after placing all cars.
+  // Recomputes the cells' extents from their members (committing deferred placements first)
+  // and builds or drops the cells' trees; call once per tick after placing all cars.
   void refreshExtents();
 
   // Cars currently served by a cell (dense vehicle indices).
   std::vector<int> membersOf(int cell) const;
   // Extent of the region a cell is responsible for (its share of road) and of its members now.
   Aabb<2> cellExtent(int cell) const;
-  // Bounding box of the centres of the cell's members at the last refreshExtents() (inverted,
-  // min > max, when it has none).
-  Aabb<2> memberCentres(int cell) const;
 
   const CellCounters& counters() const;
   // Handoffs since the last call (in order).
@@ -132,12 +136,12 @@ class CellNetwork {
 template <class F>
 void CellNetwork::forEachInCellBox(int cell, const Aabb<2>& box, F&& f) const {
   const std::span<const int> slots = cellSlots(cell);
-  cellSpace(cell).forEachInBox(box, [&](int local) { f(slots[local]); });
-}
-
-template <class F>
-void CellNetwork::forEachInBox(const Aabb<2>& box, F&& f) const {
-  forEachCellInBox(box, [&](int cell) { forEachInCellBox(cell, box, f); });
+  if (const Space<2>* tree = cellTree(cell)) {
+    tree->forEachInBox(box, [&](int local) { f(slots[local]); });
+    return;
+  }
+  for (int v : slots)
+    if (v >= 0) f(v);
 }
 
 }  // namespace st::highway

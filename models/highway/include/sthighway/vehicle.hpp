@@ -25,7 +25,10 @@ VehicleClass vehicleClassFromName(std::string_view name);
 enum TurnSignal : std::uint8_t { kSignalNone = 0, kSignalLeft = 1, kSignalRight = 2 };
 
 struct VehicleState {
-  std::string id;
+  std::string id;                // for output; the monitor finds a vehicle by its handle
+  // The caller's dense index for this vehicle (0, 1, 2, ...; the same at every tick while it is
+  // on the road, never given to another vehicle at the same tick), or -1: found by its id.
+  int handle = -1;
   Vec2 position = Vec2::Zero();  // centre of the body (m)
   double heading = 0.0;          // rad, counter-clockwise from +x
   double speed = 0.0;            // along the heading (m/s)

@@ -1,0 +1,36 @@
+// The reference broad phase: every ego against every other car present.
+#include "pair_search.hpp"
+
+namespace st::highway::detail {
+
+namespace {
+
+class AllPairsSearch final : public PairSearch {
+ public:
+  explicit AllPairsSearch(const PairTest& test) : test_(test) {}
+
+  void prepare() override {}
+
+  void threatsOf(int e, std::vector<Threat>& out) override {
+    if (test_.cfg->detector.motion == MotionModel::ConstantAcceleration) threatsOfFor<true>(e, out);
+    else threatsOfFor<false>(e, out);
+  }
+
+ private:
+  template <bool kAccel>
+  void threatsOfFor(int e, std::vector<Threat>& out) const {
+    const VehicleTable& cars = *test_.cars;
+    const Vec2 pe = cars.centre[e], ve = cars.vel[e], exe = cars.ext[e];
+    const double k = cars.brakeRatio[e];
+    for (int f : cars.active)
+      if (f != e) test_.considerFoe<kAccel>(e, f, pe, ve, exe, k, out);
+  }
+
+  PairTest test_;
+};
+
+}  // namespace
+
+std::unique_ptr<PairSearch> makeAllPairsSearch(const PairTest& test) { return std::make_unique<AllPairsSearch>(test); }
+
+}  // namespace st::highway::detail

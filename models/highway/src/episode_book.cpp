@@ -1,0 +1,118 @@
+#include "episode_book.hpp"
+
+#include <algorithm>
+
+namespace st::highway::detail {
+
+void EpisodeBook::ensure(std::size_t n) {
+  if (openBegin_.size() >= n) return;
+  openBegin_.resize(n);
+  openCount_.resize(n);
+  exposure_.resize(n);
+}
+
+void EpisodeBook::accumulateExposure(double dt) {
+  for (int s : cars_->active)
+    for (int k = 0; k < kWarningKindCount; ++k)
+      if (exposure_[s].exposed[k]) {
+        counters_->tet[k] += dt;
+        counters_->tit[k] += dt * exposure_[s].deficit[k];
+      }
+}
+
+void EpisodeBook::beginTick() {
+  ensure(cars_->slots.size());
+  for (int s : cars_->arrived) {
+    openCount_[s] = 0;
+    exposure_[s] = Exposure{};
+  }
+  alerts_.clear();
+  poolNext_.clear();
+}
+
+Warning EpisodeBook::warningOf(int e, const Episode& ep, bool open) const {
+  const auto& slots = cars_->slots;
+  return {slots[e].id, ep.kind == WarningKind::Vehicle ? slots[ep.foe].id : road_->groupName(ep.foe), ep.kind, ep.zone,
+          ep.begin, ep.end, ep.minTtc, ep.minTtcTime, ep.safeTimeAtMin, open};
+}
+
+void EpisodeBook::close(int s, double endTime) {
+  Episode* open = pool_.data() + openBegin_[s];
+  for (int k = 0; k < openCount_[s]; ++k) {
+    open[k].end = endTime;
+    finished_.push_back(warningOf(s, open[k], false));
+  }
+  openCount_[s] = 0;
+  exposure_[s].exposed.fill(false);
+}
+
+void EpisodeBook::merge(int e, double t, std::vector<Threat>& threats) {
+  Episode* open = pool_.data() + openBegin_[e];
+  const int nOpen = openCount_[e];
+  openBegin_[e] = static_cast<int>(poolNext_.size());
+  Exposure& x = exposure_[e];
+  x.exposed.fill(false);
+  x.deficit.fill(0.0);
+  if (threats.empty() && nOpen == 0) return;  // the common case: nothing now, nothing before
+  // the worst threat per key, keys ascending: the smallest TTC, on a tie the longer safe time
+  // (the larger deficit), then the zone. A total order, so the episodes and the alert do not
+  // depend on the order the searches found the threats in.
+  if (threats.size() > 1) std::sort(threats.begin(), threats.end(), [](const Threat& a, const Threat& b) {
+    if (a.key != b.key) return a.key < b.key;
+    if (a.ttc != b.ttc) return a.ttc < b.ttc;
+    if (a.safe != b.safe) return a.safe > b.safe;
+    return a.zone < b.zone;
+  });
+  threats.erase(std::unique(threats.begin(), threats.end(), [](const Threat& a, const Threat& b) { return a.key == b.key; }),
+                threats.end());
+  // episodes without a threat end, those with one go on, new keys begin
+  const int nThreats = static_cast<int>(threats.size());
+  int i = 0, j = 0;
+  while (i < nOpen || j < nThreats) {
+    if (j == nThreats || (i < nOpen && open[i].key < threats[j].key)) {
+      Episode& ep = open[i++];
+      ep.end = t;
+      finished_.push_back(warningOf(e, ep, false));
+      continue;
+    }
+    const Threat& th = threats[j++];
+    if (i < nOpen && open[i].key == th.key) {
+      // copied whole, then updated in the copy (updating the old one first stalls the copy's
+      // loads on the stores just made)
+      Episode& ep = poolNext_.emplace_back(open[i++]);
+      ep.end = t;
+      if (th.ttc < ep.minTtc) {
+        ep.minTtc = th.ttc;
+        ep.minTtcTime = t;
+        ep.safeTimeAtMin = th.safe;
+      }
+      continue;
+    }
+    poolNext_.push_back({th.key, th.foe, th.kind, th.zone, t, t, th.ttc, t, th.safe});
+    ++counters_->warningsBegun;
+    ++counters_->warningsByKind[static_cast<int>(th.kind)];
+    ++counters_->warningsByZone[static_cast<int>(th.zone)];
+  }
+  openCount_[e] = static_cast<int>(poolNext_.size()) - openBegin_[e];
+  // exposure and the alert
+  const Threat* worst = nullptr;
+  for (const Threat& th : threats) {
+    const int k = static_cast<int>(th.kind);
+    x.exposed[k] = true;
+    x.deficit[k] = std::max(x.deficit[k], th.safe - th.ttc);
+    if (!worst || th.ttc * worst->safe < worst->ttc * th.safe) worst = &th;
+  }
+  const std::vector<int>& inputOf = cars_->inputOf;
+  if (worst)
+    alerts_.push_back({inputOf[e], worst->kind, worst->zone, worst->ttc, worst->safe,
+                       worst->kind == WarningKind::Vehicle ? inputOf[worst->foe] : -1});
+}
+
+std::vector<Warning> EpisodeBook::openWarnings() const {
+  std::vector<Warning> out;
+  for (int s : cars_->active)
+    for (int k = 0; k < openCount_[s]; ++k) out.push_back(warningOf(s, pool_[openBegin_[s] + k], true));
+  return out;
+}
+
+}  // namespace st::highway::detail

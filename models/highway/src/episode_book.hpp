@@ -1,0 +1,71 @@
+#pragma once
+// The episode book: each equipped car's threats of a tick merged into its warning episodes (one
+// per ego and foe or road feature group, from the first tick it holds to the first it no longer
+// does), the exposure counters (TET, TIT), the tick's alerts and the finished warnings.
+#include <array>
+#include <vector>
+
+#include <sthighway/monitor.hpp>
+
+#include "pair_test.hpp"
+#include "road_search.hpp"
+#include "vehicle_table.hpp"
+
+namespace st::highway::detail {
+
+class EpisodeBook {
+ public:
+  EpisodeBook(const VehicleTable& cars, const RoadSearch& road, MonitorCounters& counters)
+      : cars_(&cars), road_(&road), counters_(&counters) {}
+
+  // Time exposed and integrated deficit over the interval dt that just ended, from the threats of
+  // its first tick.
+  void accumulateExposure(double dt);
+  // A new tick: per-slot state for the table's new slots, an empty alert list.
+  void beginTick();
+  // Ends every open episode of slot s at endTime.
+  void close(int s, double endTime);
+  // Merges ego e's threats of this tick (at time t) into its episodes. Sorts `threats`.
+  void merge(int e, double t, std::vector<Threat>& threats);
+  // After every ego's merge.
+  void endTick() { std::swap(pool_, poolNext_); }
+
+  std::vector<Warning>& finished() { return finished_; }
+  std::vector<Warning> openWarnings() const;
+  std::span<const Alert> alerts() const { return alerts_; }
+  void clearAlerts() { alerts_.clear(); }
+
+ private:
+  // An open warning, compact (no strings: the pool is rewritten every tick): the names are looked
+  // up when it ends, while the foe's slot still holds it (a slot is reused no earlier than the
+  // tick after its car left, and every episode against that car ends on that tick).
+  struct Episode {
+    std::uint64_t key = 0;
+    int foe = -1;  // slot, or feature group
+    WarningKind kind = WarningKind::Vehicle;
+    Zone zone = Zone::Body;
+    double begin = 0.0, end = 0.0, minTtc = 0.0, minTtcTime = 0.0, safeTimeAtMin = 0.0;
+  };
+  // what the exposure counters need of a car's threats at its last tick
+  struct Exposure {
+    std::array<double, kWarningKindCount> deficit{};
+    std::array<bool, kWarningKindCount> exposed{};
+  };
+
+  Warning warningOf(int e, const Episode& ep, bool open) const;
+  void ensure(std::size_t n);
+
+  const VehicleTable* cars_;
+  const RoadSearch* road_;
+  MonitorCounters* counters_;
+  // Open episodes of every car, contiguous in the order the cars were processed at the last tick
+  // (keys ascending per car): a tick reads them in that order and writes the next pool in the
+  // same order, so the bookkeeping streams through memory instead of chasing per-car lists.
+  std::vector<Episode> pool_, poolNext_;
+  std::vector<int> openBegin_, openCount_;  // per slot, into pool_
+  std::vector<Exposure> exposure_;          // per slot
+  std::vector<Warning> finished_;
+  std::vector<Alert> alerts_;
+};
+
+}  // namespace st::highway::detail
