@@ -128,6 +128,27 @@ double firstFallingRoot(double h0, double hv, double ha, double tMax) {
 }  // namespace
 
 template <int D>
+double polishBallsRoot(const Vec<D>& p_rel, const Vec<D>& v_rel, const Vec<D>& a_rel, double radiusSum, double t,
+                       double tMax) {
+  // the quartic's constant term cancels against the rest near a root; the distance's slope is
+  // the closing speed
+  for (int it = 0; it < 2; ++it) {
+    const Vec<D> x = p_rel + t * v_rel + (0.5 * t * t) * a_rel;
+    const double len = x.norm();
+    const double slope = x.dot(v_rel + t * a_rel) / len;
+    if (!(slope < 0.0)) break;
+    const double step = (len - radiusSum) / slope;
+    const double next = t - step;
+    if (!(std::abs(step) <= 1e-6 * std::max(1.0, t)) || next < 0.0 || next > tMax) break;
+    t = next;
+  }
+  return t;
+}
+
+template double polishBallsRoot<2>(const Vec2&, const Vec2&, const Vec2&, double, double, double);
+template double polishBallsRoot<3>(const Vec3&, const Vec3&, const Vec3&, double, double, double);
+
+template <int D>
 Impact toiBallsAccelerated(const Vec<D>& p_rel, const Vec<D>& v_rel, const Vec<D>& a_rel, double radiusSum,
                            double tMax) {
   const double dist = p_rel.norm();
@@ -146,23 +167,7 @@ Impact toiBallsAccelerated(const Vec<D>& p_rel, const Vec<D>& v_rel, const Vec<D
     double t = r.root[k];
     const Vec<D> d = p_rel + t * v_rel + (0.5 * t * t) * a_rel;
     // closing at the root; a double root (grazing, no momentum exchanged) is not a hit
-    if (d.dot(v_rel + t * a_rel) < 0.0) {
-      // The quartic's roots lose digits when the radii are small against the distance (its
-      // constant term cancels against the rest near the root); Newton on the distance itself,
-      // whose slope is the closing speed, gives them back. Small steps only: near a grazing
-      // double root the slope vanishes and either root is right.
-      for (int it = 0; it < 2; ++it) {
-        const Vec<D> x = p_rel + t * v_rel + (0.5 * t * t) * a_rel;
-        const double len = x.norm();
-        const double slope = x.dot(v_rel + t * a_rel) / len;
-        if (!(slope < 0.0)) break;
-        const double step = (len - radiusSum) / slope;
-        const double next = t - step;
-        if (!(std::abs(step) <= 1e-6 * std::max(1.0, t)) || next < 0.0 || next > tMax) break;
-        t = next;
-      }
-      return hitAt(t);
-    }
+    if (d.dot(v_rel + t * a_rel) < 0.0) return hitAt(polishBallsRoot<D>(p_rel, v_rel, a_rel, radiusSum, t, tMax));
   }
   return miss();
 }

@@ -12,6 +12,45 @@
 
 namespace st::highway {
 
+namespace detail {
+namespace {
+
+// A point given in a body's frame, as a world offset from its centre.
+Vec2 toWorld(const Body& b, double x, double y) { return x * b.axis + y * normalOf(b.axis); }
+
+// A car's own motion as a kernel track: constant velocity, or its longitudinal acceleration until
+// it stops (it does not reverse).
+Track trackOf(const Body& b, MotionModel motion) {
+  Track t;
+  t.p = b.position;
+  t.v = b.velocity;
+  if (motion != MotionModel::ConstantAcceleration || std::abs(b.acceleration) <= tol::kAccelerationEpsilon)
+    return t;
+  // longitudinal speed u changes at rate acc until it reaches zero; cars do not reverse
+  const double u = b.velocity.dot(b.axis);
+  const double acc = b.acceleration;
+  if (u * acc < 0.0) {
+    t.a = acc * b.axis;
+    t.stop = -u / acc;
+    t.vAfter = b.velocity - u * b.axis;
+  } else if (u >= 0.0 && acc > 0.0) {
+    t.a = acc * b.axis;  // speeding up forwards; a negative acceleration at rest does not reverse
+  }
+  return t;
+}
+
+// relativePieces of two bodies' tracks; at constant velocity directly (the one piece it gives).
+int bodyPieces(const Body& ego, const Body& foe, MotionModel motion, double horizon, std::array<Piece, 3>& out) {
+  if (motion == MotionModel::ConstantVelocity) {
+    out[0] = Piece{foe.position - ego.position, foe.velocity - ego.velocity, Vec2::Zero(), 0.0, horizon};
+    return 1;
+  }
+  return relativePieces(trackOf(ego, motion), trackOf(foe, motion), horizon, out);
+}
+
+}  // namespace
+}  // namespace detail
+
 using detail::kInf;
 
 const char* toString(DetectorKind k) {

@@ -9,25 +9,6 @@
 
 namespace st::highway::detail {
 
-Track trackOf(const Body& b, MotionModel motion) {
-  Track t;
-  t.p = b.position;
-  t.v = b.velocity;
-  if (motion != MotionModel::ConstantAcceleration || std::abs(b.acceleration) <= tol::kAccelerationEpsilon)
-    return t;
-  // longitudinal speed u changes at rate acc until it reaches zero; cars do not reverse
-  const double u = b.velocity.dot(b.axis);
-  const double acc = b.acceleration;
-  if (u * acc < 0.0) {
-    t.a = acc * b.axis;
-    t.stop = -u / acc;
-    t.vAfter = b.velocity - u * b.axis;
-  } else if (u >= 0.0 && acc > 0.0) {
-    t.a = acc * b.axis;  // speeding up forwards; a negative acceleration at rest does not reverse
-  }
-  return t;
-}
-
 namespace {
 
 struct State {
@@ -74,12 +55,31 @@ int relativePieces(const Track& ego, const Track& foe, double horizon, std::arra
   return count;
 }
 
+namespace {
+
+// The roots in [lo, hi] of |p + v s + a s^2 / 2|^2 = R^2, a quartic in s, in stcore's form
+// (toiBallsAccelerated): the constant term as (|p| - R)(|p| + R), free of the cancellation that
+// p.p - R^2 suffers at small radii.
+PolynomialRoots discRoots(const Vec2& p, const Vec2& v, const Vec2& a, double radius, double lo, double hi) {
+  const double dist = p.norm();
+  return solveQuarticInInterval(0.25 * a.squaredNorm(), v.dot(a), v.squaredNorm() + p.dot(a), 2.0 * p.dot(v),
+                                (dist - radius) * (dist + radius), lo, hi);
+}
+
+}  // namespace
+
 double discEntryAccelerating(const Piece& pc, const Vec2& p, double radius) {
-  // |p + v s + h s^2|^2 = R^2 with h = a / 2: a quartic in s
-  const Vec2 h = 0.5 * pc.a;
-  const PolynomialRoots roots = solveQuarticInInterval(h.dot(h), 2.0 * pc.v.dot(h), pc.v.dot(pc.v) + 2.0 * p.dot(h),
-                                                       2.0 * p.dot(pc.v), p.dot(p) - radius * radius, 0.0, pc.len);
-  return roots.count > 0 ? roots.root[0] : kInf;
+  const PolynomialRoots first = discRoots(p, pc.v, pc.a, radius, 0.0, pc.len);
+  if (first.count == 0) return kInf;
+  // A small disc passed almost through its centre makes two roots R / |v| apart, a near double
+  // root the quartic in s resolves only to about the square root of its roundoff. The same quartic
+  // about that root, where the relative position is about R long, resolves them; then the root is
+  // polished on the distance itself (stcore's polishBallsRoot).
+  const double t0 = first.root[0];
+  const Vec2 p0 = p + pc.v * t0 + (0.5 * t0 * t0) * pc.a, v0 = pc.v + pc.a * t0;
+  const PolynomialRoots near = discRoots(p0, v0, pc.a, radius, -t0, pc.len - t0);
+  const double t = near.count > 0 ? std::clamp(t0 + near.root[0], 0.0, pc.len) : t0;
+  return polishBallsRoot<2>(p, pc.v, pc.a, radius, t, pc.len);
 }
 
 double satEntry(const Piece& pc, const Axis* axes, int count) {

@@ -1,12 +1,11 @@
 #pragma once
 // Time-of-entry kernels on plain numbers for bodies whose relative motion is piecewise
-// quadratic (constant velocity, or constant acceleration until a car stops). The detectors are
-// wrappers over these; tests reach them directly.
+// quadratic (constant velocity, or constant acceleration until a car stops). The detectors
+// (detector.cpp) are wrappers over these; tests reach them directly. Nothing here knows a car.
 #include <array>
 #include <limits>
 
 #include <stcore/toi.hpp>
-#include <sthighway/detector.hpp>
 #include <sthighway/tolerances.hpp>
 
 namespace st::highway::detail {
@@ -21,7 +20,6 @@ struct Track {
   double stop = kInf;
   Vec2 vAfter = Vec2::Zero();
 };
-Track trackOf(const Body& b, MotionModel motion);
 inline Track staticTrack(const Vec2& p) {
   Track t;
   t.p = p;
@@ -40,15 +38,6 @@ struct Piece {
 };
 // Splits [0, horizon] at the stop times; returns the number of pieces (1..3).
 int relativePieces(const Track& ego, const Track& foe, double horizon, std::array<Piece, 3>& out);
-// relativePieces of two bodies' tracks; at constant velocity directly (the one piece it gives).
-inline int bodyPieces(const Body& ego, const Body& foe, MotionModel motion, double horizon, std::array<Piece, 3>& out) {
-  if (motion == MotionModel::ConstantVelocity) {
-    out[0] = Piece{foe.position - ego.position, foe.velocity - ego.velocity, Vec2::Zero(), 0.0, horizon};
-    return 1;
-  }
-  return relativePieces(trackOf(ego, motion), trackOf(foe, motion), horizon, out);
-}
-
 // discEntry of an accelerating piece: the quartic, out of line.
 double discEntryAccelerating(const Piece& pc, const Vec2& p, double radius);
 // First s in [0, len] with |r(s) + offset| <= radius (0 if already so); kInf if none.
@@ -72,8 +61,7 @@ struct Axis {
 // none. Exact for convex polygons when the axes are all their edge normals.
 double satEntry(const Piece& pc, const Axis* axes, int count);
 
-// Geometry helpers in the body frame.
+// The unit normal (left) of a unit axis.
 inline Vec2 normalOf(const Vec2& axis) { return {-axis.y(), axis.x()}; }
-inline Vec2 toWorld(const Body& b, double x, double y) { return x * b.axis + y * normalOf(b.axis); }
 
 }  // namespace st::highway::detail

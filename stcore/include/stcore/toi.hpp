@@ -126,6 +126,13 @@ Vec2 closestPointOnSegment(const Segment& s, const Vec2& p);
 // t in [0, tMax] (until a ball comes to rest). Contacts now are decided as in the kernels above;
 // later ones are the first approaching root of a quartic (ball-ball, ball-point) or quadratic
 // (plane, segment face) in [0, tMax]. Miss if none.
+// A root t in [0, tMax] of |p + v t + a t^2/2| = radiusSum found from the quartic, given back
+// the digits the quartic loses when the radii are small against the distance: Newton on the
+// distance itself while it is closing (its slope), in small steps only (near a grazing double
+// root the slope vanishes and either root is right). Unchanged where the pair is not closing.
+template <int D>
+double polishBallsRoot(const Vec<D>& p_rel, const Vec<D>& v_rel, const Vec<D>& a_rel, double radiusSum, double t,
+                       double tMax);
 template <int D>
 Impact toiBallsAccelerated(const Vec<D>& p_rel, const Vec<D>& v_rel, const Vec<D>& a_rel, double radiusSum,
                            double tMax);
