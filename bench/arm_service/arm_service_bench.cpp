@@ -9,6 +9,9 @@
 // the verdicts of its own readings. Both threads' CPU time is reported beside the figures: the
 // two cores are shared by the service, the clients and whatever else runs on the machine.
 // A last row replays the trace at real time with `stsim arm stream`'s client (runStream).
+// Two more pairs of rows say where the time goes: the service with a cycle per message instead
+// of per batch of messages read together, and a floor: the same protocol and st::net server
+// answering each reading at once without a monitor.
 //
 // usage: arm_service_bench [CYCLES]   (default 3001: the whole trace, ~3 s per row)
 #include <time.h>
@@ -22,6 +25,7 @@
 #include <fstream>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 #include <boost/asio/connect.hpp>
@@ -161,13 +165,56 @@ struct NetRow {
   double load = 0;
 };
 
-NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& cycles, int clients) {
+// The floor: the same protocol over the same st::net server, answering every READINGS at once
+// with a VERDICT (no monitor): what the network and the scheduling cost on their own.
+class EchoService final : public net::Handler {
+ public:
+  EchoService(asio::io_context& io, net::ServerConfig cfg, int arms) : server_(io, cfg, *this) { v_.arms.resize(arms); }
+  std::uint16_t port() const { return server_.port(); }
+  void run() { server_.run(); }
+  void stop() { server_.stop(); }
+  struct Counters {
+    std::uint64_t cycles = 0;
+  };
+  const Counters& counters() const { return c_; }
+  void onFrame(net::Server& s, net::ConnectionId id, std::string_view p) override {
+    proto::Type t;
+    std::string err;
+    if (!proto::peekType(p, t, err)) return s.fail(id, err);
+    if (t == proto::Type::Hello) {
+      s.send(id, proto::encode(proto::Welcome{}));
+    } else if (t == proto::Type::Readings) {
+      if (!proto::decodeReadings(p, r_).empty()) return s.fail(id, "bad READINGS");
+      v_.ack = r_.seq;
+      v_.t = r_.t;
+      ++c_.cycles;
+      out_.clear();
+      proto::encodeInto(out_, v_);
+      s.send(id, out_);
+    }
+  }
+
+ private:
+  net::Server server_;
+  proto::Readings r_;
+  proto::Verdict v_;
+  std::string out_;
+  Counters c_;
+};
+
+template <class Backend>
+NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& cycles, int clients, bool batch = true) {
   asio::io_context serviceIo;
   ServiceConfig cfg;
+  cfg.batchCycles = batch;
   cfg.net.handleSignals = false;
   cfg.net.maxConnections = 256;
-  cfg.logDir = std::getenv("ARM_BENCH_LOG") ? std::getenv("ARM_BENCH_LOG") : "";  // the log's flush is off the latency path; measured without disk noise
-  ArmService service(serviceIo, s, cfg);
+  // no log: its flush is off the latency path anyway; measured without disk noise
+  cfg.logDir = std::getenv("ARM_BENCH_LOG") ? std::getenv("ARM_BENCH_LOG") : "";
+  std::unique_ptr<Backend> backend;
+  if constexpr (std::is_same_v<Backend, ArmService>) backend = std::make_unique<ArmService>(serviceIo, s, cfg);
+  else backend = std::make_unique<EchoService>(serviceIo, cfg.net, static_cast<int>(s.arms.size()));
+  Backend& service = *backend;
   double serviceCpu0 = 0, serviceCpu1 = 0;
   std::thread serviceThread([&] {
     serviceCpu0 = threadCpuSeconds();
@@ -257,7 +304,11 @@ int main(int argc, char** argv) {
               cycles.size(), loadAverage());
   const Stats local = inProcess(s, cycles);
   std::vector<std::pair<int, NetRow>> rows;
-  for (int n : {1, 8, 64}) rows.emplace_back(n, overLoopback(s, cycles, n));
+  for (int n : {1, 8, 64}) rows.emplace_back(n, overLoopback<ArmService>(s, cycles, n));
+  std::vector<std::pair<int, NetRow>> perMessage;
+  for (int n : {8, 64}) perMessage.emplace_back(n, overLoopback<ArmService>(s, cycles, n, false));
+  std::vector<std::pair<int, NetRow>> floor;
+  for (int n : {1, 8}) floor.emplace_back(n, overLoopback<EchoService>(s, cycles, n));
 
   // the stream client at real time (one client, blocking, as `stsim arm stream --rate 1` runs)
   StreamResult sr;
@@ -300,6 +351,21 @@ int main(int argc, char** argv) {
     char name[64];
     std::snprintf(name, sizeof name, "loopback, %d client%s at 1 kHz (%.2f cycles/ms)", n, n == 1 ? "" : "s",
                   static_cast<double>(r.cycles) / (r.wall * 1000.0));
+    std::printf("%-44s %8zu %8.2f %8.2f %8.1f %8.2f%% %11.1f%% %11.1f%%\n", name, r.sent, r.rtt.p50, r.rtt.p99, r.rtt.max,
+                100.0 * static_cast<double>(r.answered) / static_cast<double>(std::max<std::size_t>(1, r.sent)),
+                100.0 * r.serviceCpu / r.wall, 100.0 * r.clientCpu / r.wall);
+  }
+  for (const auto& [n, r] : perMessage) {
+    char name[64];
+    std::snprintf(name, sizeof name, "  %d clients, a cycle per message (%.2f cycles/ms)", n,
+                  static_cast<double>(r.cycles) / (r.wall * 1000.0));
+    std::printf("%-44s %8zu %8.2f %8.2f %8.1f %8.2f%% %11.1f%% %11.1f%%\n", name, r.sent, r.rtt.p50, r.rtt.p99, r.rtt.max,
+                100.0 * static_cast<double>(r.answered) / static_cast<double>(std::max<std::size_t>(1, r.sent)),
+                100.0 * r.serviceCpu / r.wall, 100.0 * r.clientCpu / r.wall);
+  }
+  for (const auto& [n, r] : floor) {
+    char name[64];
+    std::snprintf(name, sizeof name, "floor: st::net echo, no monitor, %d client%s", n, n == 1 ? "" : "s");
     std::printf("%-44s %8zu %8.2f %8.2f %8.1f %8.2f%% %11.1f%% %11.1f%%\n", name, r.sent, r.rtt.p50, r.rtt.p99, r.rtt.max,
                 100.0 * static_cast<double>(r.answered) / static_cast<double>(std::max<std::size_t>(1, r.sent)),
                 100.0 * r.serviceCpu / r.wall, 100.0 * r.clientCpu / r.wall);

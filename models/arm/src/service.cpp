@@ -134,7 +134,10 @@ void ArmService::onFrame(net::Server& s, net::ConnectionId id, std::string_view 
   if (!err.empty()) {
     ++counters_.rejected;
     s.fail(id, err);
+    return;
   }
+  // a cycle per message unless batching: the first client's verdict does not wait for the reads of the rest
+  if (pending_ && !cfg_.batchCycles) runCycle();
 }
 
 std::string ArmService::onHello(net::ConnectionId id, Peer& p, std::string_view payload) {

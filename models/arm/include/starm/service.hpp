@@ -23,6 +23,10 @@ struct ServiceConfig {
   net::ServerConfig net;
   std::string token;   // required from every client when set; required to set for a non-loopback address
   std::string logDir;  // verdicts.csv, connections.csv ("" : no logs)
+  // true: the messages read in one pass of the event loop share one cycle; false: a cycle per
+  // message (the first client's verdict does not wait for the others' reads, but with many
+  // clients the cycles pile up: bench/arm_service measures both)
+  bool batchCycles = true;
 };
 
 struct ServiceCounters {
