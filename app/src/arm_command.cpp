@@ -12,6 +12,7 @@
 #include <starm/stream.hpp>
 #include <starm/study.hpp>
 #include <stnet/frame.hpp>
+#include <stio/format.hpp>
 #include <stsim/cli.hpp>
 #include <stsim/commands.hpp>
 
@@ -21,26 +22,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string num(double x) {
-  if (std::isnan(x)) return "null";
-  if (std::isinf(x)) return x > 0 ? "\"inf\"" : "\"-inf\"";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.9g", x);
-  return buf;
-}
-
-std::string quoted(const std::string& s) {
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    if (c == '\n') {
-      o += "\\n";
-      continue;
-    }
-    o += c;
-  }
-  return o + "\"";
-}
+// JSON has no NaN (null) or infinity (an infinite time to collision is the string "inf").
+std::string num(double x) { return std::isinf(x) ? io::jsonString(io::number(x)) : io::jsonNumber(x, 9); }
 
 // What the run saw of the real geometry: the closest tested pair over the run, first contact.
 struct Watch {
@@ -58,10 +41,10 @@ void writeSummary(const fs::path& file, const std::string& scenario, const arm::
                   const std::string& broadphase, const std::string& error, bool closedLoop, const Watch& watch) {
   const arm::MonitorCounters& c = m.counters();
   std::ostringstream j;
-  j << "{\n  \"scenario\": " << quoted(scenario) << ",\n";
-  j << "  \"status\": " << quoted(error.empty() ? "ok" : "error") << ",\n";
-  if (!error.empty()) j << "  \"error\": " << quoted(error) << ",\n";
-  j << "  \"loop\": " << quoted(closedLoop ? "closed" : "open") << ",\n";
+  j << "{\n  \"scenario\": " << io::jsonString(scenario) << ",\n";
+  j << "  \"status\": " << io::jsonString(error.empty() ? "ok" : "error") << ",\n";
+  if (!error.empty()) j << "  \"error\": " << io::jsonString(error) << ",\n";
+  j << "  \"loop\": " << io::jsonString(closedLoop ? "closed" : "open") << ",\n";
   j << "  \"min_distance_m\": " << num(watch.minDistance) << ",\n  \"first_contact_s\": " << num(watch.firstContact)
     << ",\n";
   j << "  \"arms\": " << m.armCount() << ",\n  \"obstacles\": " << m.obstacles().size() << ",\n";
@@ -71,14 +54,14 @@ void writeSummary(const fs::path& file, const std::string& scenario, const arm::
   j << "  \"cycles\": " << st.cycles << ",\n  \"warnings\": " << c.warnings << ",\n  \"stops\": " << c.stops << ",\n";
   j << "  \"first_stop_s\": {";
   for (int a = 0; a < m.armCount(); ++a)
-    j << (a ? ", " : "") << quoted(m.arm(a).name) << ": " << num(a < static_cast<int>(st.firstStop.size()) ? st.firstStop[a] : NAN);
+    j << (a ? ", " : "") << io::jsonString(m.arm(a).name) << ": " << num(a < static_cast<int>(st.firstStop.size()) ? st.firstStop[a] : NAN);
   j << "},\n";
   double maxUs = 0.0, sum = 0.0;
   for (double v : st.latencyUs) maxUs = std::max(maxUs, v), sum += v;
   j << "  \"latency_us\": {\"p50\": " << num(arm::percentile(st.latencyUs, 50)) << ", \"p99\": "
     << num(arm::percentile(st.latencyUs, 99)) << ", \"max\": " << num(maxUs) << ", \"mean\": "
     << num(st.latencyUs.empty() ? 0.0 : sum / static_cast<double>(st.latencyUs.size())) << "},\n";
-  j << "  \"broadphase\": " << quoted(broadphase) << ",\n";
+  j << "  \"broadphase\": " << io::jsonString(broadphase) << ",\n";
   if (const Space<3>* sp = m.space()) {
     j << "  \"octree\": {\"decomposition_factor\": " << sp->rule().decompositionFactor
       << ", \"max_depth\": " << sp->rule().maxDepth << ", \"subdivisions\": " << sp->counters().subdivisions
@@ -315,8 +298,8 @@ int runArm(int argc, const char* const* argv) {
       if (drive) drive->observe(m, m.time());
       watch.see(m);
       for (const arm::Warning& w : m.warnings()) {
-        csv << num(w.t) << ',' << m.arm(w.arm).name << ',' << arm::bodyName(m.arm(w.arm).model, w.body) << ','
-            << w.capsule << ',' << arm::otherName(m, w) << ',' << num(w.distance) << ',' << num(w.ttc) << ','
+        csv << num(w.t) << ',' << io::csvField(m.arm(w.arm).name) << ',' << io::csvField(arm::bodyName(m.arm(w.arm).model, w.body))
+            << ',' << w.capsule << ',' << io::csvField(arm::otherName(m, w)) << ',' << num(w.distance) << ',' << num(w.ttc) << ','
             << (w.outcome == arm::Approach::Touching ? "separation" : "ttc") << ',' << (w.stop ? "STOP" : "") << '\n';
       }
       if (!m.warnings().empty()) csv.flush();

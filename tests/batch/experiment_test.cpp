@@ -70,6 +70,11 @@ TEST(BatchExperiment, ShardsPartitionTheRuns) {
   EXPECT_EQ(std::set<int>(seen.begin(), seen.end()).size(), runs.size());
 }
 
+TEST(BatchExperiment, RepeatedKeysAreErrors) {
+  EXPECT_NE(errorOf("base: base.yaml\nseeds: 2\nseeds: 3\n").find(":3: seeds: repeated key (first given at line 2)"),
+            std::string::npos) << errorOf("base: base.yaml\nseeds: 2\nseeds: 3\n");
+}
+
 TEST(BatchExperiment, MalformedExperimentsNameTheKey) {
   EXPECT_NE(errorOf("base: base.yaml\nsweep:\n  detectr: [five]\n").find("detectr: unknown key"), std::string::npos);
   EXPECT_NE(errorOf("base: base.yaml\nsweep:\n  detector: []\n").find("sweep.detector: empty sweep"), std::string::npos);

@@ -79,6 +79,20 @@ TEST(Scenario, UnknownKeyAndBadValuesAreNamed) {
   EXPECT_NE(e.find("sumocfg: missing"), std::string::npos) << e;
 }
 
+TEST(Scenario, RepeatedKeysAndDirectoriesAreErrors) {
+  const auto dir = freshDir("repeated_keys");
+  // yaml-cpp keeps the first of two equal keys: seed 43 would run with 42 without a word
+  std::ofstream(dir / "a.yaml") << "sumocfg: x.sumocfg\nseed: 42\nseed: 43\n";
+  std::string e = errorOf([&] { loadScenario(dir / "a.yaml"); });
+  EXPECT_NE(e.find("a.yaml:3: seed: repeated key (first given at line 2)"), std::string::npos) << e;
+  std::ofstream(dir / "b.yaml") << "sumocfg: x.sumocfg\ncells: {length: 100, length: 200}\n";
+  e = errorOf([&] { loadScenario(dir / "b.yaml"); });
+  EXPECT_NE(e.find("b.yaml:2: cells.length: repeated key"), std::string::npos) << e;
+  std::filesystem::create_directories(dir / "d.yaml");
+  e = errorOf([&] { loadScenario(dir / "d.yaml"); });
+  EXPECT_NE(e.find("d.yaml: is a directory"), std::string::npos) << e;
+}
+
 TEST(Scenario, BrakeSettingsAndTheRetiredDurationKey) {
   const auto dir = freshDir("brake_keys");
   std::filesystem::copy(motorway().parent_path(), dir / "net", std::filesystem::copy_options::recursive);

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include <stcore/hash.hpp>
+#include <stio/yaml.hpp>
 
 namespace st::batch {
 
@@ -16,11 +17,7 @@ namespace fs = std::filesystem;
 namespace {
 
 [[noreturn]] void fail(const Experiment& e, const std::string& key, const YAML::Node& at, const std::string& what) {
-  std::ostringstream os;
-  os << e.file.string();
-  if (at.IsDefined() && at.Mark().line >= 0) os << ":" << at.Mark().line + 1;
-  os << ": " << key << ": " << what;
-  throw ExperimentError(os.str());
+  io::Yaml<ExperimentError>(e.file.string()).fail(at, key, what);
 }
 
 std::vector<std::string> splitKey(const std::string& key) {
@@ -86,19 +83,12 @@ Experiment loadExperiment(const fs::path& file,
                           const std::function<std::vector<std::string>(const std::string&)>& optionalKeysFor) {
   Experiment e;
   e.file = file;
-  if (!fs::exists(file)) throw ExperimentError(file.string() + ": no such file");
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file.string());
-  } catch (const YAML::Exception& ex) {
-    throw ExperimentError(file.string() + ":" + std::to_string(ex.mark.line + 1) + ": malformed YAML: " + ex.msg);
-  }
+  const io::Yaml<ExperimentError> y(file.string());
+  const YAML::Node root = y.load(file);
   if (!root.IsMap()) throw ExperimentError(file.string() + ": an experiment is a YAML map (base, sweep, seeds, ...)");
   static const std::set<std::string> known = {"name", "command", "base", "sweep", "fixed", "seeds", "seed_key"};
-  for (auto it = root.begin(); it != root.end(); ++it) {
-    const std::string k = it->first.as<std::string>();
-    if (!known.count(k)) fail(e, k, it->first, "unknown key (expected one of name, command, base, sweep, fixed, seeds, seed_key)");
-  }
+  y.onlyKeys(root, "", [](const std::string& k) { return known.count(k) > 0; },
+             "expected one of name, command, base, sweep, fixed, seeds, seed_key");
   e.name = root["name"] ? root["name"].as<std::string>() : file.stem().string();
   if (root["command"]) {
     if (!root["command"].IsScalar()) fail(e, "command", root["command"], "must be a command name");
@@ -107,17 +97,12 @@ Experiment loadExperiment(const fs::path& file,
       fail(e, "command", root["command"], "must be highway, pool or arm");
   }
   if (root["seed_key"]) e.seedKey = root["seed_key"].as<std::string>();
-  if (!root["base"] || !root["base"].IsScalar()) fail(e, "base", root, "missing: the base scenario file");
+  if (!root["base"] || !root["base"].IsScalar()) y.missingKey(root, "base", "the base scenario file");
   e.base = fs::path(root["base"].as<std::string>());
   if (e.base.is_relative()) e.base = file.parent_path() / e.base;
   if (!fs::exists(e.base)) fail(e, "base", root["base"], "no such file: " + e.base.string());
   e.base = fs::weakly_canonical(e.base);
-  YAML::Node base;
-  try {
-    base = YAML::LoadFile(e.base.string());
-  } catch (const YAML::Exception& ex) {
-    throw ExperimentError(e.base.string() + ":" + std::to_string(ex.mark.line + 1) + ": malformed YAML: " + ex.msg);
-  }
+  const YAML::Node base = y.load(e.base);
   const std::vector<std::string> optionalKeys = optionalKeysFor(e.command);
   auto checkKey = [&](const std::string& k, const YAML::Node& at) {
     if (hasKey(base, k)) return;

@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include <stbatch/stats.hpp>
+#include <stio/format.hpp>
 
 extern char** environ;
 
@@ -64,19 +65,10 @@ std::string lastLine(const std::string& text) {
   return last;
 }
 
-std::string csvField(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) out += (c == '"') ? std::string("\"\"") : std::string(1, c == '\n' || c == '\r' ? ' ' : c);
-  return out + "\"";
-}
+// Cells of the tables: line breaks become spaces, so every row is one line of the file.
+std::string csvField(const std::string& s) { return io::csvField(io::oneLine(s)); }
 
-std::string number(double v) {
-  if (std::isnan(v)) return "nan";
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.12g", v);
-  return buf;
-}
+std::string number(double v) { return io::number(v, 12); }
 
 // Numeric leaves of a JSON document as (dotted.key, value). An array element that is an object
 // naming itself ("detector" or "name", as validation.json's per-detector entries do) is reached

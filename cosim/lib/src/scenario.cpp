@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <sthighway/sumo_files.hpp>
+#include <stio/yaml.hpp>
 
 #include <boost/property_tree/ptree.hpp>
 #include <boost/property_tree/xml_parser.hpp>
@@ -40,26 +41,22 @@ std::set<std::string> keysUnder(const std::string& section) {
   return out;
 }
 
-// A YAML reader that names the file, line and key in every error.
+// A YAML reader that names the file, line and key in every error (st::io words them).
 class Reader {
  public:
-  Reader(fs::path file) : file_(std::move(file)) {}
+  Reader(const fs::path& file) : y_(file.string()) {}
 
   [[noreturn]] void fail(const YAML::Node& n, const std::string& key, const std::string& msg) const {
-    std::ostringstream os;
-    os << file_.string();
-    if (n.IsDefined() && n.Mark().line >= 0) os << ":" << n.Mark().line + 1;
-    os << ": " << key << ": " << msg;
-    throw ScenarioError(os.str());
+    y_.fail(n, key, msg);
+  }
+  [[noreturn]] void missing(const YAML::Node& n, const std::string& key, const std::string& hint) const {
+    y_.missingKey(n, key, hint);
   }
   void checkKeys(const YAML::Node& map, const std::string& where, const std::set<std::string>& allowed) const {
     if (!map.IsMap())
       fail(map, where.empty() ? std::string("scenario") : where,
            where.empty() ? "must be a mapping of keys (at least sumocfg: FILE.sumocfg)" : "must be a mapping");
-    for (const auto& kv : map) {
-      const std::string k = kv.first.as<std::string>();
-      if (!allowed.count(k)) fail(kv.first, where.empty() ? k : where + "." + k, "unknown key");
-    }
+    y_.onlyKeys(map, where, [&](const std::string& k) { return allowed.count(k) > 0; });
   }
   double number(const YAML::Node& n, const std::string& key, double lo, double hi) const {
     double v = 0.0;
@@ -101,9 +98,10 @@ class Reader {
     for (const auto& e : n) out.push_back(text(e, key));
     return out;
   }
+  YAML::Node load(const fs::path& path) const { return y_.load(path); }
 
  private:
-  fs::path file_;
+  io::Yaml<ScenarioError> y_;
 };
 
 constexpr double kBig = 1e12;
@@ -138,17 +136,10 @@ void checkSmartTypes(const Reader& r, const YAML::Node& node, const Scenario& s)
 }
 
 void readYaml(const fs::path& path, Scenario& s) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path.string());
-  } catch (const YAML::BadFile&) {
-    throw ScenarioError(path.string() + ": cannot read the file");
-  } catch (const YAML::ParserException& e) {
-    throw ScenarioError(path.string() + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
-  }
   const Reader r(path);
+  const YAML::Node root = r.load(path);
   r.checkKeys(root, "", keysUnder(""));
-  if (!root["sumocfg"]) r.fail(root, "sumocfg", "missing (the SUMO configuration to run)");
+  if (!root["sumocfg"]) r.missing(root, "sumocfg", "the SUMO configuration to run");
   s.sumocfg = path.parent_path() / r.text(root["sumocfg"], "sumocfg");
   hw::MonitorConfig& m = s.plugin.monitor;
   if (auto n = root["seed"]) s.seed = static_cast<std::uint64_t>(r.integer(n, "seed", 0, 2147483647));
@@ -226,7 +217,7 @@ void readYaml(const fs::path& path, Scenario& s) {
       const std::string where = "incidents[" + std::to_string(i++) + "]";
       r.checkKeys(e, where, {"time", "near", "speed", "deceleration", "hold"});
       Incident inc;
-      if (!e["time"]) r.fail(e, where + ".time", "missing (when the vehicle starts braking, s)");
+      if (!e["time"]) r.missing(e, where + ".time", "when the vehicle starts braking, s");
       inc.time = r.number(e["time"], where + ".time", 0, kBig);
       const YAML::Node near = e["near"];
       if (!near || !near.IsSequence() || near.size() != 2)

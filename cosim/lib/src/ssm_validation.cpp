@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include <sthighway/report.hpp>
+#include <stio/format.hpp>
 #include <stcosim/scenario.hpp>
 
 namespace st::cosim {
@@ -255,30 +256,30 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
 }
 
 std::string toJson(const ValidationReport& r) {
+  auto num = [](double x) { return io::jsonNumber(x, 10); };
   std::ostringstream os;
-  os.precision(10);
-  os << "{\n  \"delta_t_s\": " << r.deltaT << ",\n  \"ssm_conflicts\": " << r.ssmConflicts
+  os << "{\n  \"delta_t_s\": " << num(r.deltaT) << ",\n  \"ssm_conflicts\": " << r.ssmConflicts
      << ",\n  \"following\": {\n    \"ssm_samples\": " << r.followingSamples << ",\n    \"matched_samples\": "
-     << r.matchedSamples << ",\n    \"tolerance_s\": " << r.tolerance << ",\n    \"within_tolerance\": " << r.within
-     << ",\n    \"within_fraction\": " << r.withinFraction() << ",\n    \"max_abs_error_s\": " << r.maxAbsError
-     << ",\n    \"mean_abs_error_s\": " << r.meanAbsError
+     << r.matchedSamples << ",\n    \"tolerance_s\": " << num(r.tolerance) << ",\n    \"within_tolerance\": " << r.within
+     << ",\n    \"within_fraction\": " << num(r.withinFraction()) << ",\n    \"max_abs_error_s\": " << num(r.maxAbsError)
+     << ",\n    \"mean_abs_error_s\": " << num(r.meanAbsError)
      << ",\n    \"without_time_shift\": {\"matched_samples\": " << r.matchedUnshifted
      << ", \"within_tolerance\": " << r.withinUnshifted << "}\n  },\n  \"detectors\": [";
   for (std::size_t i = 0; i < r.detectors.size(); ++i) {
     const auto& d = r.detectors[i];
-    os << (i ? "," : "") << "\n    {\"detector\": " << highway::jsonString(d.detector)
+    os << (i ? "," : "") << "\n    {\"detector\": " << io::jsonString(d.detector)
        << ", \"ssm_conflicts_below_safe_time\": " << d.conflicts << ", \"recalled\": " << d.recalled
-       << ", \"recall\": " << d.recall() << ", \"warnings\": " << d.warnings << ", \"confirmed_by_ssm\": " << d.confirmed
-       << ", \"precision\": " << d.precision() << ",\n     \"not_seen_by_ssm_by_zone\": {";
+       << ", \"recall\": " << num(d.recall()) << ", \"warnings\": " << d.warnings << ", \"confirmed_by_ssm\": " << d.confirmed
+       << ", \"precision\": " << num(d.precision()) << ",\n     \"not_seen_by_ssm_by_zone\": {";
     bool first = true;
     for (int z = 0; z < highway::kZoneCount; ++z) {
       if (d.unseenByZone[static_cast<std::size_t>(z)] == 0) continue;
-      os << (first ? "" : ", ") << highway::jsonString(highway::toString(static_cast<highway::Zone>(z))) << ": "
+      os << (first ? "" : ", ") << io::jsonString(highway::toString(static_cast<highway::Zone>(z))) << ": "
          << d.unseenByZone[static_cast<std::size_t>(z)];
       first = false;
     }
     os << "},\n     \"missed\": [";
-    for (std::size_t k = 0; k < d.missed.size(); ++k) os << (k ? ", " : "") << highway::jsonString(d.missed[k]);
+    for (std::size_t k = 0; k < d.missed.size(); ++k) os << (k ? ", " : "") << io::jsonString(d.missed[k]);
     os << "]}";
   }
   os << "\n  ]\n}\n";

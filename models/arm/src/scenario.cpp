@@ -9,6 +9,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <stio/yaml.hpp>
+
 namespace st::arm {
 
 namespace {
@@ -18,8 +20,7 @@ struct Yaml {
   std::string file;
 
   [[noreturn]] void fail(const YAML::Node& n, const std::string& key, const std::string& what) const {
-    const int line = n.IsDefined() ? n.Mark().line + 1 : 0;
-    throw InputError(file + (line > 0 ? ":" + std::to_string(line) : "") + ": " + key + ": " + what);
+    io::Yaml<InputError>(file).fail(n, key, what);
   }
   double number(const YAML::Node& n, const std::string& key) const {
     if (!n.IsDefined() || !n.IsScalar()) fail(n, key, "expected a number");
@@ -85,12 +86,9 @@ struct Yaml {
   }
   void knownKeys(const YAML::Node& n, const std::string& key, std::initializer_list<const char*> keys) const {
     if (!n.IsMap()) fail(n, key, "expected a mapping");
-    for (auto it = n.begin(); it != n.end(); ++it) {
-      if (!it->first.IsScalar()) fail(it->first, key.empty() ? "(key)" : key, "keys must be names");
-      const std::string k = it->first.Scalar();
-      if (std::find_if(keys.begin(), keys.end(), [&](const char* s) { return k == s; }) == keys.end())
-        fail(it->first, key.empty() ? k : key + "." + k, "unknown key");
-    }
+    io::Yaml<InputError>(file).onlyKeys(n, key, [&](const std::string& k) {
+      return std::find_if(keys.begin(), keys.end(), [&](const char* s) { return k == s; }) != keys.end();
+    });
   }
 };
 
@@ -374,19 +372,12 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
 }  // namespace
 
 Scenario loadScenario(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw InputError(path + ": cannot open the scenario");
-  } catch (const YAML::ParserException& e) {
-    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
+  const YAML::Node root = io::Yaml<InputError>(path).load(path);
   try {
     return parseScenario(path, root);
   } catch (const YAML::Exception& e) {
     // a shape the checks above did not foresee: still one line naming the file and line
-    throw InputError(path + (e.mark.is_null() ? std::string() : ":" + std::to_string(e.mark.line + 1)) + ": " + e.msg);
+    throw InputError(io::place(path, e.mark) + ": " + e.msg);
   }
 }
 

@@ -1,7 +1,7 @@
 #include <sthighway/report.hpp>
 
-#include <cmath>
-#include <cstdio>
+#include <stio/format.hpp>
+
 #include <sstream>
 #include <stdexcept>
 
@@ -9,53 +9,12 @@ namespace st::highway {
 
 namespace {
 
-// Shortest round-trip text of a double ("inf" and "nan" are not JSON: written as null).
-std::string num(double x) {
-  if (!std::isfinite(x)) return "null";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  // prefer a short form when it round-trips
-  for (int prec = 6; prec < 17; ++prec) {
-    char s[32];
-    std::snprintf(s, sizeof s, "%.*g", prec, x);
-    if (std::strtod(s, nullptr) == x) return s;
-  }
-  return buf;
-}
-
-std::string csvField(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + "\"";
-}
+// JSON has no NaN or infinity: null stands for them (in warnings.csv too, which has always said so).
+std::string num(double x) { return io::jsonNumber(x); }
+using io::csvField;
+using io::jsonString;
 
 }  // namespace
-
-std::string jsonString(const std::string& s) {
-  std::string out = "\"";
-  for (unsigned char c : s) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\r': out += "\\r"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (c < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          out += buf;
-        } else {
-          out += static_cast<char>(c);
-        }
-    }
-  }
-  return out + "\"";
-}
 
 std::string warningsCsvHeader() { return "ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open"; }
 

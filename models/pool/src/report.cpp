@@ -1,5 +1,7 @@
 #include <stpool/report.hpp>
 
+#include <stio/format.hpp>
+
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -8,26 +10,7 @@ namespace st::pool {
 
 namespace {
 
-std::string jsonString(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          out += buf;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
-}
+using io::jsonString;
 
 std::string xmlEscape(const std::string& s) {
   std::string out;
@@ -42,12 +25,7 @@ std::string xmlEscape(const std::string& s) {
 }
 
 // JSON has no infinities or NaNs: null stands for them.
-std::string num(double x) {
-  if (!std::isfinite(x)) return "null";
-  std::ostringstream os;
-  os << std::setprecision(17) << x;
-  return os.str();
-}
+std::string num(double x) { return io::jsonNumber(x, 17); }
 
 std::string vec(const Vec2& v) {
   std::ostringstream os;

@@ -1,6 +1,8 @@
 #include <stpool/scenario.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <numbers>
@@ -10,6 +12,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <stcore/tolerances.hpp>
+#include <stio/yaml.hpp>
 
 #include <stpool/rack.hpp>
 
@@ -22,13 +25,7 @@ struct Where {
   std::string source;
   std::string key;
   YAML::Mark mark;
-  std::string str() const {
-    std::ostringstream os;
-    os << source;
-    if (mark.line >= 0) os << ":" << mark.line + 1 << ":" << mark.column + 1;
-    os << ": " << key;
-    return os.str();
-  }
+  std::string str() const { return io::place(source, mark, true) + ": " + key; }
 };
 
 [[noreturn]] void fail(const Where& w, const std::string& problem) { throw ScenarioError(w.str() + ": " + problem); }
@@ -42,17 +39,10 @@ class Reader {
   // Checks that map node n (named key) has only the allowed keys.
   void onlyKeys(const YAML::Node& n, const std::string& key, std::initializer_list<const char*> allowed) const {
     if (!n.IsMap()) fail(at(n, key), "must be a map");
-    for (const auto& kv : n) {
-      if (!kv.first.IsScalar()) fail(at(kv.first, key.empty() ? "(key)" : key), "keys must be names");
-      const std::string k = kv.first.Scalar();
-      bool ok = false;
-      for (const char* a : allowed) ok = ok || k == a;
-      if (!ok) fail(at(kv.first, join(key, k)), "unknown key");
-    }
-  }
-
-  static std::string join(const std::string& parent, const std::string& k) {
-    return parent.empty() ? k : parent + "." + k;
+    const io::KeyProblem p = io::checkKeys(n, key, [&](const std::string& k) {
+      return std::any_of(allowed.begin(), allowed.end(), [&](const char* a) { return k == a; });
+    });
+    if (!p.key.empty()) fail(at(p.at, p.key), p.what);
   }
 
   double number(const YAML::Node& n, const std::string& key) const {
@@ -205,11 +195,11 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
 
   // table
   const YAML::Node table = root["table"];
-  if (!table) fail(Where{source, "table", root.Mark()}, "missing key");
+  if (!table) fail(Where{source, "table", root.Mark()}, io::missingKeyText());
   mark("table", table);
   rd.onlyKeys(table, "table", {"width", "height", "pockets", "corner_mouth", "side_mouth"});
-  if (!table["width"]) fail(rd.at(table, "table.width"), "missing key");
-  if (!table["height"]) fail(rd.at(table, "table.height"), "missing key");
+  if (!table["width"]) fail(rd.at(table, "table.width"), io::missingKeyText());
+  if (!table["height"]) fail(rd.at(table, "table.height"), io::missingKeyText());
   s.table.width = rd.positive(table["width"], "table.width");
   s.table.height = rd.positive(table["height"], "table.height");
   if (table["pockets"]) s.table.pockets = rd.boolean(table["pockets"], "table.pockets");
@@ -224,7 +214,7 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
 
   // balls: exactly one of balls / rack / random
   const int sources = (root["balls"] ? 1 : 0) + (root["rack"] ? 1 : 0) + (root["random"] ? 1 : 0);
-  if (sources == 0) fail(Where{source, "balls", root.Mark()}, "missing key (give balls, rack or random)");
+  if (sources == 0) fail(Where{source, "balls", root.Mark()}, io::missingKeyText("give balls, rack or random"));
   if (sources > 1) fail(Where{source, "balls", root.Mark()}, "give only one of balls, rack and random");
   Rng rng(s.seed);
   if (const YAML::Node rack = root["rack"]) {
@@ -248,7 +238,7 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
     ballMarks.assign(s.balls.size(), rack.Mark());
   } else if (const YAML::Node rnd = root["random"]) {
     rd.onlyKeys(rnd, "random", {"count", "speed", "radius", "mass", "clearance"});
-    if (!rnd["count"]) fail(rd.at(rnd, "random.count"), "missing key");
+    if (!rnd["count"]) fail(rd.at(rnd, "random.count"), io::missingKeyText());
     const long count = rd.integer(rnd["count"], "random.count");
     if (count < 1 || count > 1000000) fail(rd.at(rnd["count"], "random.count"), "must be between 1 and 1000000");
     const double speed = rnd["speed"] ? rd.number(rnd["speed"], "random.speed") : 1.0;
@@ -271,8 +261,8 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
       const YAML::Node b = balls[i];
       const std::string key = indexed("balls", i);
       rd.onlyKeys(b, key, {"number", "position", "velocity", "radius", "mass", "colour", "color", "pattern"});
-      if (!b["number"]) fail(rd.at(b, key + ".number"), "missing key");
-      if (!b["position"]) fail(rd.at(b, key + ".position"), "missing key");
+      if (!b["number"]) fail(rd.at(b, key + ".number"), io::missingKeyText());
+      if (!b["position"]) fail(rd.at(b, key + ".position"), io::missingKeyText());
       const long number = rd.integer(b["number"], key + ".number");
       if (number < 0 || number > 1000000) fail(rd.at(b["number"], key + ".number"), "must be between 0 and 1000000");
       BallSpec spec = makeBall(static_cast<int>(number), rd.vec2(b["position"], key + ".position"));
@@ -313,16 +303,16 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
       if (cue) {
         const YAML::Node c = n["cue"];
         rd.onlyKeys(c, key + ".cue", {"from", "to", "scale"});
-        if (!c["from"]) fail(rd.at(c, key + ".cue.from"), "missing key");
-        if (!c["to"]) fail(rd.at(c, key + ".cue.to"), "missing key");
+        if (!c["from"]) fail(rd.at(c, key + ".cue.from"), io::missingKeyText());
+        if (!c["to"]) fail(rd.at(c, key + ".cue.to"), io::missingKeyText());
         const Vec2 from = rd.vec2(c["from"], key + ".cue.from");
         const Vec2 to = rd.vec2(c["to"], key + ".cue.to");
         // the report: velocity proportional to the cue vector, in its direction (§2.3)
         const double scale = c["scale"] ? rd.positive(c["scale"], key + ".cue.scale") : 1.0;
         shot.velocity = scale * (to - from);
       } else {
-        if (!n["speed"]) fail(rd.at(n, key + ".speed"), "missing key");
-        if (!n["angle"]) fail(rd.at(n, key + ".angle"), "missing key");
+        if (!n["speed"]) fail(rd.at(n, key + ".speed"), io::missingKeyText());
+        if (!n["angle"]) fail(rd.at(n, key + ".angle"), io::missingKeyText());
         const double speed = rd.number(n["speed"], key + ".speed");
         if (speed < 0.0) fail(rd.at(n["speed"], key + ".speed"), "must be zero or positive");
         const double deg = rd.number(n["angle"], key + ".angle");
@@ -393,6 +383,8 @@ Scenario parseScenario(const std::string& yamlText, const std::string& source) {
 }
 
 Scenario loadScenario(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw ScenarioError(path + ": is a directory, not a YAML file");
   std::ifstream in(path);
   if (!in) throw ScenarioError(path + ": cannot open the scenario file");
   std::stringstream ss;

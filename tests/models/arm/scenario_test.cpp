@@ -78,6 +78,8 @@ void expectError(const std::string& name, const std::string& yaml, const std::st
 
 TEST(Scenario, ErrorsNameFileLineAndKey) {
   const std::string arm = "arms:\n  - {name: a, model: panda, waypoints: [{t: 0, q: [0, 0, 0, -1, 0, 1, 0]}]}\n";
+  expectError("repeated_key.yaml", arm + "safety: {cycle_time: 0.001, cycle_time: 0.01}\n",
+              ":3: safety.cycle_time: repeated key (first given at line 3)");
   expectError("unknown_key.yaml", arm + "safety: {cycle_tme: 0.001}\n", ":3: safety.cycle_tme: unknown key");
   expectError("bad_number.yaml", arm + "safety: {stopping_time: fast}\n", ":3: safety.stopping_time: 'fast' is not a number");
   expectError("short_horizon.yaml", arm + "safety: {horizon: 0.01}\n", "safety.horizon: must be at least the safe time");

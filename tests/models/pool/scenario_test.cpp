@@ -51,6 +51,14 @@ shots: [{cue: {from: [0.6, 0.6], to: [0.9, 0.2], scale: 3}}]
   EXPECT_NEAR(s.shots[0].velocity.y(), -1.2, 1e-15);
 }
 
+TEST(Scenario, RepeatedKeyNamedWithBothLines) {
+  // yaml-cpp answers with the first of two equal keys; the second must not be dropped silently
+  EXPECT_EQ(errorOf(std::string(kGood) + "friction: 0.1\nfriction: 0.2\n"),
+            "s.yaml:8:1: friction: repeated key (first given at line 7)");
+  EXPECT_EQ(errorOf("table: {width: 2.54, height: 1.27, width: 3}\nrack: standard\n"),
+            "s.yaml:1:36: table.width: repeated key (first given at line 1)");
+}
+
 TEST(Scenario, MissingKeyNamedWithLine) {
   EXPECT_EQ(errorOf("table: {width: 2.54}\nrack: standard\n"), "s.yaml:1:8: table.height: missing key");
   EXPECT_EQ(errorOf("rack: standard\n"), "s.yaml:1:1: table: missing key");

@@ -50,7 +50,4 @@ std::string summaryJson(const MonitorCounters& counters, const RunInfo& info);
 void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& counters,
                       const RunInfo& info);
 
-// A JSON string literal (quotes and escapes).
-std::string jsonString(const std::string& s);
-
 }  // namespace st::highway

@@ -1,0 +1,125 @@
+// The shared output formatting, checked against independent readers: strtod for numbers, Boost's
+// JSON parser for string literals, an RFC 4180 field reader for CSV.
+#include <stio/format.hpp>
+
+#include <gtest/gtest.h>
+
+#include <boost/property_tree/json_parser.hpp>
+#include <boost/property_tree/ptree.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <random>
+#include <sstream>
+
+namespace {
+
+using namespace st::io;
+
+double readBack(const std::string& s) { return std::strtod(s.c_str(), nullptr); }
+
+TEST(IoNumber, ShortestFormReadsBackExactly) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> mant(-1.0, 1.0);
+  std::uniform_int_distribution<int> exp(-300, 300);
+  for (int i = 0; i < 20000; ++i) {
+    const double x = std::ldexp(mant(rng), exp(rng));
+    const std::string s = number(x);
+    ASSERT_EQ(readBack(s), x) << s;
+    // shortest: with one significant digit fewer it no longer reads back (above the 6-digit floor)
+    char shorter[40];
+    int digits = 0;
+    for (int p = 6; p <= 17; ++p) {
+      std::snprintf(shorter, sizeof shorter, "%.*g", p, x);
+      if (std::string(shorter) == s) {
+        digits = p;
+        break;
+      }
+    }
+    ASSERT_GT(digits, 0) << s;
+    if (digits > 6) {
+      std::snprintf(shorter, sizeof shorter, "%.*g", digits - 1, x);
+      EXPECT_NE(readBack(shorter), x) << s;
+    }
+  }
+  EXPECT_EQ(number(0.1), "0.1");
+  EXPECT_EQ(number(1.0 / 3.0), "0.3333333333333333");  // 16 digits suffice
+  EXPECT_EQ(number(1e-5), "1e-05");
+  EXPECT_EQ(number(420), "420");
+}
+
+TEST(IoNumber, FixedDigitsAndNonFinite) {
+  EXPECT_EQ(number(1.0 / 3.0, 9), "0.333333333");
+  EXPECT_EQ(number(123456789012345.0, 12), "1.23456789012e+14");
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(number(nan), "nan");
+  EXPECT_EQ(number(-nan, 12), "nan");
+  EXPECT_EQ(number(inf), "inf");
+  EXPECT_EQ(number(-inf, 9), "-inf");
+  EXPECT_EQ(jsonNumber(nan), "null");
+  EXPECT_EQ(jsonNumber(inf, 17), "null");
+  EXPECT_EQ(jsonNumber(0.1, 17), "0.10000000000000001");
+  EXPECT_EQ(fixed(2.345, 1), "2.3");
+  EXPECT_EQ(fixed(-0.5, 0), "-0");
+  EXPECT_EQ(fixed(1e300, 2).size(), 304u);  // 301 digits, the point, two decimals
+}
+
+std::string parseJsonString(const std::string& literal) {
+  std::istringstream in("{\"k\": " + literal + "}");
+  boost::property_tree::ptree t;
+  boost::property_tree::read_json(in, t);
+  return t.get<std::string>("k");
+}
+
+TEST(IoJson, EveryByteSurvivesAJsonParser) {
+  std::string all;
+  for (int c = 1; c < 256; ++c) all += static_cast<char>(c);
+  const std::string lit = jsonString(all);
+  // a JSON string holds no raw control character
+  for (std::size_t i = 1; i + 1 < lit.size(); ++i) EXPECT_GE(static_cast<unsigned char>(lit[i]), 0x20u) << i;
+  std::string ascii;
+  for (int c = 1; c < 128; ++c) ascii += static_cast<char>(c);
+  EXPECT_EQ(parseJsonString(jsonString(ascii)), ascii);
+  EXPECT_EQ(parseJsonString(jsonString("caf\xc3\xa9 \xe2\x82\xac")), "caf\xc3\xa9 \xe2\x82\xac");
+  EXPECT_EQ(jsonString("a\r\nb\t\"\\\x01"), "\"a\\r\\nb\\t\\\"\\\\\\u0001\"");
+}
+
+// RFC 4180, one field: quoted fields may hold commas, CR, LF and doubled quotes.
+std::string readCsvField(const std::string& f, std::size_t& used) {
+  std::string out;
+  std::size_t i = 0;
+  if (!f.empty() && f[0] == '"') {
+    for (i = 1; i < f.size(); ++i) {
+      if (f[i] == '"') {
+        if (i + 1 < f.size() && f[i + 1] == '"') {
+          out += '"';
+          ++i;
+        } else {
+          ++i;
+          break;
+        }
+      } else {
+        out += f[i];
+      }
+    }
+  } else {
+    while (i < f.size() && f[i] != ',' && f[i] != '\n') out += f[i++];
+  }
+  used = i;
+  return out;
+}
+
+TEST(IoCsv, FieldsReadBackAndOnlyNeededOnesAreQuoted) {
+  for (const std::string s : {"plain", "", "a,b", "say \"hi\"", "two\nlines", "cr\rhere", "\"", ",", "x y"}) {
+    const std::string f = csvField(s);
+    std::size_t used = 0;
+    EXPECT_EQ(readCsvField(f + ",next", used), s) << f;
+    EXPECT_EQ(used, f.size()) << f;
+    const bool needs = s.find_first_of(",\"\r\n") != std::string::npos;
+    EXPECT_EQ(f != s, needs) << f;
+  }
+  EXPECT_EQ(oneLine("a\r\nb\nc"), "a  b c");
+}
+
+}  // namespace
