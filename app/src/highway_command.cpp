@@ -12,6 +12,8 @@
 #include <stsim/cli.hpp>
 #include <stsim/commands.hpp>
 
+#include "highway_options.hpp"
+
 #ifdef STSIM_HAVE_COSIM
 #include "highway_run.hpp"
 #define STSIM_HIGHWAY_COSIM 1
@@ -48,27 +50,14 @@ Args makeArgs() {
   return a;
 }
 
-hw::MonitorConfig monitorConfig(const Args& a) {
-  hw::MonitorConfig cfg;
-  if (!hw::parseDetectorKind(a.get("detector"), cfg.detector.kind))
-    throw UsageError("--detector must be concentric, five or box, got '" + a.get("detector") + "'");
-  if (!hw::parseBroadphase(a.get("broadphase"), cfg.broadphase))
-    throw UsageError("--broadphase must be cells or all-pairs, got '" + a.get("broadphase") + "'");
-  if (!hw::parseFiveCircleLayout(a.get("layout"), cfg.detector.five))
-    throw UsageError("--layout must be a or b, got '" + a.get("layout") + "'");
-  if (!hw::parseMotionModel(a.get("motion"), cfg.detector.motion))
-    throw UsageError("--motion must be velocity or acceleration, got '" + a.get("motion") + "'");
-  return cfg;
-}
-
 int runTrace(const Args& a) {
   for (const char* opt : {"traci", "gui", "validate-ssm", "scale"})
     if (a.has(opt)) throw UsageError(std::string("--") + opt + " applies to SUMO runs (SCENARIO), not to --fcd");
   if (a.has("action")) throw UsageError("--action applies to SUMO runs (SCENARIO), not to --fcd");
   if (!a.has("net")) throw UsageError("--fcd needs --net NET.net.xml for the lane geometry");
-  const hw::MonitorConfig cfg = monitorConfig(a);
-  const double penetration = a.getDouble("penetration");
-  if (penetration < 0.0 || penetration > 1.0) throw UsageError("--penetration must be in [0, 1]");
+  hw::MonitorConfig cfg;
+  applyMonitorOptions(a, cfg, false);
+  const double penetration = penetrationOption(a);
   const long seed = a.getInt("seed");
   const bool hasEnd = a.has("end");
   const double end = hasEnd ? a.getDouble("end") : 0.0;
@@ -156,6 +145,24 @@ int run(int argc, const char* const* argv) {
 }
 
 }  // namespace
+
+void applyMonitorOptions(const Args& a, hw::MonitorConfig& cfg, bool givenOnly) {
+  auto wanted = [&](const char* opt) { return !givenOnly || a.has(opt); };
+  if (wanted("detector") && !hw::parseDetectorKind(a.get("detector"), cfg.detector.kind))
+    throw UsageError("--detector must be concentric, five or box, got '" + a.get("detector") + "'");
+  if (wanted("broadphase") && !hw::parseBroadphase(a.get("broadphase"), cfg.broadphase))
+    throw UsageError("--broadphase must be cells or all-pairs, got '" + a.get("broadphase") + "'");
+  if (wanted("layout") && !hw::parseFiveCircleLayout(a.get("layout"), cfg.detector.five))
+    throw UsageError("--layout must be a or b, got '" + a.get("layout") + "'");
+  if (wanted("motion") && !hw::parseMotionModel(a.get("motion"), cfg.detector.motion))
+    throw UsageError("--motion must be velocity or acceleration, got '" + a.get("motion") + "'");
+}
+
+double penetrationOption(const Args& a) {
+  const double p = a.getDouble("penetration");
+  if (p < 0.0 || p > 1.0) throw UsageError("--penetration must be in [0, 1]");
+  return p;
+}
 
 Command highwayCommand() {
   return {"highway", "smart-car warnings on a SUMO trace or live SUMO run (report section 4)", run};
