@@ -22,8 +22,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-volatile std::sig_atomic_t gStop = 0;
-void onInterrupt(int) { gStop = 1; }
+volatile std::sig_atomic_t gStop = 0;  // the signal that stopped the batch, 0 if none
+void onInterrupt(int sig) { gStop = sig; }
 
 // Scenario keys a command accepts even when the base scenario leaves them out.
 std::vector<std::string> optionalKeysFor(const std::string& command) {
@@ -32,6 +32,7 @@ std::vector<std::string> optionalKeysFor(const std::string& command) {
 #ifdef STSIM_HAVE_COSIM
   if (command == "highway") return st::cosim::scenarioKeys();
 #endif
+  if (command == "arm") return {};  // arm scenarios have no seed: an experiment names its seed_key
   return {"seed"};
 }
 
@@ -61,7 +62,7 @@ void summarizeResults(const std::vector<batch::RunResult>& results, const fs::pa
 int runMerge(int argc, const char* const* argv) {
   Args args("batch merge", "Combines the output folders of shards (--shard I/N) of one experiment into one runs.csv and summary.csv.");
   args.option("out", "DIR", "where the merged tables go", "").flag("no-plots", "skip the PNG plots and report.md");
-  args.positional("DIR...", "batch output folders to merge");
+  args.positional("DIR...", "batch output folders to merge", false);
   // the parser takes one positional; collect the rest here
   std::vector<std::string> dirs;
   std::vector<const char*> rest;
@@ -70,12 +71,12 @@ int runMerge(int argc, const char* const* argv) {
     if (a.rfind("--", 0) == 0 || (!rest.empty() && std::string(rest.back()) == "--out")) rest.push_back(argv[i]);
     else dirs.push_back(a);
   }
-  if (dirs.empty()) rest.push_back("--missing-dirs");
-  else rest.push_back(dirs.front().c_str());
+  if (!dirs.empty()) rest.push_back(dirs.front().c_str());
   if (!args.parse(static_cast<int>(rest.size()), rest.data())) {
     std::cout << args.help();
     return 0;
   }
+  if (dirs.empty()) throw UsageError("merge needs the batch output folders to merge: stsim batch merge DIR... --out DIR");
   if (!args.has("out")) throw UsageError("merge needs --out DIR");
   std::vector<fs::path> paths(dirs.begin(), dirs.end());
   const fs::path out = args.get("out");
@@ -147,10 +148,15 @@ int runBatch(int argc, const char* const* argv) {
   } else {
     o.log = [](const std::string& line) { std::cerr << "batch: " << line << "\n"; };
   }
-  std::signal(SIGINT, onInterrupt);
-  std::signal(SIGTERM, onInterrupt);
+  // without SA_RESTART (std::signal sets it), so the signal wakes the runner's waitpid and the
+  // runs are told to stop at once
+  struct sigaction sa {};
+  sa.sa_handler = onInterrupt;
+  sigemptyset(&sa.sa_mask);
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
   o.stopRequested = [] { return gStop != 0; };
 
+  batch::checkResumable(e, out);  // before any run: a folder of another experiment is left alone
   std::vector<batch::RunResult> results;
   bool root = true;
   if (args.has("mpi")) {
@@ -166,7 +172,7 @@ int runBatch(int argc, const char* const* argv) {
   summarizeResults(results, out);
   if (gStop) {
     std::cerr << "stsim batch: interrupted; finished runs are kept, re-run the same command to resume\n";
-    return 130;
+    return 128 + static_cast<int>(gStop);  // 130 on Ctrl-C, 143 on SIGTERM
   }
   std::string why;
   if (!args.has("no-plots") && !batch::writePlots(out, why)) std::cerr << "stsim batch: plots skipped: " << why << "\n";

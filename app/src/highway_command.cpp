@@ -63,16 +63,25 @@ int runTrace(const Args& a) {
   const double end = hasEnd ? a.getDouble("end") : 0.0;
 
   const auto wallStart = std::chrono::steady_clock::now();
-  const hw::RoadGeometry road = hw::readSumoNet(a.get("net"));
+  std::vector<std::string> leftOut;
+  const hw::RoadGeometry road = hw::readSumoNet(a.get("net"), &leftOut);
+  // the trace is checked against the network (bounds, lanes) and, with --vtypes, its types
+  hw::FcdChecks checks = hw::fcdChecksFor(road, leftOut, a.get("net"));
   hw::VehicleTypes types;
-  if (a.has("vtypes")) types = hw::readSumoVehicleTypes(a.get("vtypes"));
+  if (a.has("vtypes")) {
+    types = hw::readSumoVehicleTypes(a.get("vtypes"));
+    if (types.empty()) throw hw::InputError(a.get("vtypes") + ": defines no <vType> (--vtypes wants a route or additional file)");
+    checks.typesComplete = true;
+    checks.typesFile = a.get("vtypes");
+  }
   hw::HighwayMonitor monitor(road, cfg);
-  hw::FcdReader reader(a.get("fcd"), types);
+  hw::FcdReader reader(a.get("fcd"), types, checks);
 
   const std::filesystem::path out = a.get("out");
   std::error_code ec;
   std::filesystem::create_directories(out, ec);
   if (ec) throw std::runtime_error("cannot create output directory " + out.string() + ": " + ec.message());
+  hw::removeRunOutputs(out);  // an earlier SUMO run's collisions.csv etc. are not this replay's
   hw::WarningsCsvWriter csv(out / "warnings.csv");
 
   hw::RunInfo info;

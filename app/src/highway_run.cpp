@@ -22,8 +22,8 @@ namespace {
 namespace fs = std::filesystem;
 namespace hw = st::highway;
 
-volatile sig_atomic_t gInterrupted = 0;
-extern "C" void onInterrupt(int) { gInterrupted = 1; }
+volatile sig_atomic_t gInterrupted = 0;  // the signal that stopped the run, 0 if none
+extern "C" void onInterrupt(int sig) { gInterrupted = sig; }
 
 // Installs a SIGINT/SIGTERM handler for the run and restores the previous ones afterwards.
 class InterruptGuard {
@@ -35,6 +35,7 @@ class InterruptGuard {
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, &oldInt_);
     sigaction(SIGTERM, &sa, &oldTerm_);
+    sigaction(SIGHUP, &sa, &oldHup_);  // a closed terminal: stop as cleanly as on Ctrl-C
     // a peer closing the TraCI socket must give an error, not kill us
     struct sigaction ign {};
     ign.sa_handler = SIG_IGN;
@@ -43,11 +44,12 @@ class InterruptGuard {
   ~InterruptGuard() {
     sigaction(SIGINT, &oldInt_, nullptr);
     sigaction(SIGTERM, &oldTerm_, nullptr);
+    sigaction(SIGHUP, &oldHup_, nullptr);
     sigaction(SIGPIPE, &oldPipe_, nullptr);
   }
 
  private:
-  struct sigaction oldInt_ {}, oldTerm_ {}, oldPipe_ {};
+  struct sigaction oldInt_ {}, oldTerm_ {}, oldHup_ {}, oldPipe_ {};
 };
 
 TraciEndpoint parseTraci(const std::string& text) {
@@ -62,8 +64,8 @@ TraciEndpoint parseTraci(const std::string& text) {
       if (used == s.size() && v > 0 && v < 65536) return static_cast<int>(v);
     } catch (...) {
     }
-    throw st::cli::UsageError(std::string("--traci: ") + what + " must be a positive integer, got '" + s + "' in '" +
-                              text + "' (HOST:PORT[:ORDER])");
+    throw st::cli::UsageError(std::string("--traci: ") + what + " must be a whole number from 1 to 65535, got '" + s +
+                              "' in '" + text + "' (HOST:PORT[:ORDER])");
   };
   if (parts.size() < 2 || parts.size() > 3 || parts[0].empty())
     throw st::cli::UsageError("--traci needs HOST:PORT[:ORDER], got '" + text + "'");
@@ -161,7 +163,7 @@ int runHighwayCommand(const st::cli::Args& a) {
   std::cout << "\n";
   if (r.stopReason == "interrupted") {
     std::cerr << "stsim highway: interrupted at t = " << fmt(r.simulatedSeconds, 1) << " s; results so far written\n";
-    return 130;
+    return 128 + (gInterrupted ? static_cast<int>(gInterrupted) : SIGINT);  // 130 on Ctrl-C, 143 on SIGTERM
   }
   return 0;
 }

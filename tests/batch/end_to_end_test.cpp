@@ -75,6 +75,7 @@ class Process {
     }
   }
   void killGroup() { ::kill(-pid_, SIGKILL); }
+  void signal(int sig) { ::kill(pid_, sig); }  // the process alone, not its group
   int wait() {
     int status = 0;
     ::waitpid(pid_, &status, 0);
@@ -222,6 +223,68 @@ TEST(BatchEndToEnd, KilledBatchResumesWithoutRedoingRuns) {
 
 // validate_ssm: the runs' agreement with SUMO's SSM device reaches runs.csv as ssm.* columns, the
 // same numbers as each run's validation.json.
+TEST(BatchEndToEnd, ResumingIntoAnotherExperimentsFolderIsRefused) {
+  const auto dir = freshDir("resume_other");
+  const fs::path out = dir / "out";
+  std::string err;
+  const fs::path small = dir / "small.yaml";
+  std::ofstream(small) << "name: a\nbase: " << STSIM_SOURCE_DIR
+                       << "/networks/motorway/scenario.yaml\nsweep:\n  detector: [five]\nfixed:\n  end: 5\nseeds: 1\n";
+  ASSERT_EQ(runStsim({"batch", small.string(), "--out", out.string(), "--no-plots"}, dir, &err), 0) << err;
+  const std::string runs = slurp(out / "runs.csv"), record = slurp(out / "experiment.yaml");
+  // the same sweep and seeds with another fixed end: the run ids match, the runs do not
+  const fs::path longer = dir / "longer.yaml";
+  std::ofstream(longer) << "name: a\nbase: " << STSIM_SOURCE_DIR
+                        << "/networks/motorway/scenario.yaml\nsweep:\n  detector: [five]\nfixed:\n  end: 10\nseeds: 1\n";
+  EXPECT_EQ(runStsim({"batch", longer.string(), "--out", out.string(), "--no-plots"}, dir, &err), 1);
+  EXPECT_NE(err.find("holds the runs of another experiment"), std::string::npos) << err;
+  EXPECT_EQ(slurp(out / "runs.csv"), runs);
+  EXPECT_EQ(slurp(out / "experiment.yaml"), record);
+  // a run's error names its files where they are after the run, not the vanished .tmp folder
+  const fs::path broken = dir / "broken.yaml";
+  std::ofstream(broken) << "name: b\nbase: " << STSIM_SOURCE_DIR
+                        << "/networks/motorway/scenario.yaml\nsweep:\n  detector: [five]\nfixed:\n  end: 5\n"
+                           "  sumocfg: nowhere.sumocfg\nseeds: 1\n";
+  EXPECT_EQ(runStsim({"batch", broken.string(), "--out", (dir / "b").string(), "--no-plots"}, dir, &err), 1);
+  const std::string table = slurp(dir / "b/runs.csv");
+  EXPECT_EQ(table.find(".tmp"), std::string::npos) << table;
+  EXPECT_NE(table.find((dir / "b/runs").string()), std::string::npos) << table;
+}
+
+TEST(BatchEndToEnd, SigtermToTheBatchAloneStopsItsRuns) {
+  const auto dir = freshDir("sigterm");
+  const fs::path file = dir / "long.yaml";
+  // one run of the ring for 10 simulated hours: minutes of work, far longer than the test waits
+  std::ofstream(file) << "name: long\nbase: " << STSIM_SOURCE_DIR
+                      << "/networks/ring/scenario.yaml\nsweep:\n  detector: [five]\nfixed:\n  end: 36000\nseeds: 1\n";
+  const fs::path out = dir / "out";
+  Process batch({STSIM_BINARY, "batch", file.string(), "--out", out.string(), "--jobs", "1", "--no-plots"}, dir);
+  // wait until the run has started writing (its .tmp folder has a warnings.csv)
+  const auto giveUp = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+  bool started = false;
+  while (!started && std::chrono::steady_clock::now() < giveUp) {
+    if (fs::exists(out / "runs"))
+      for (const auto& d : fs::directory_iterator(out / "runs"))
+        started = started || fs::exists(d.path() / "warnings.csv");
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_TRUE(started) << batch.err();
+  const auto t0 = std::chrono::steady_clock::now();
+  batch.signal(SIGTERM);
+  EXPECT_EQ(batch.wait(), 143) << batch.err();
+  // the run was told to stop, not waited for (it would take minutes)
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 30.0);
+  EXPECT_TRUE(fs::exists(out / "runs.csv"));
+}
+
+TEST(BatchEndToEnd, MergeWithoutFoldersSaysWhatItNeeds) {
+  const auto dir = freshDir("merge_none");
+  std::string err;
+  EXPECT_EQ(runStsim({"batch", "merge", "--out", (dir / "m").string()}, dir, &err), 2);
+  EXPECT_NE(err.find("merge needs the batch output folders to merge"), std::string::npos) << err;
+  EXPECT_EQ(err.find("--missing-dirs"), std::string::npos) << err;
+}
+
 TEST(BatchEndToEnd, SsmAgreementReachesRunsCsv) {
   const auto dir = freshDir("ssm");
   const fs::path file = dir / "experiment.yaml";

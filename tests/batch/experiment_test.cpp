@@ -75,6 +75,24 @@ TEST(BatchExperiment, RepeatedKeysAreErrors) {
             std::string::npos) << errorOf("base: base.yaml\nseeds: 2\nseeds: 3\n");
 }
 
+TEST(BatchExperiment, RepeatsEmptySweepsBadNamesAndSeedKeysAreErrors) {
+  // two equal seeds or sweep values would be one run id twice
+  EXPECT_NE(errorOf("base: base.yaml\nseeds: [1, 1]\n").find(":2: seeds: seed 1 is given twice"), std::string::npos)
+      << errorOf("base: base.yaml\nseeds: [1, 1]\n");
+  EXPECT_NE(errorOf("base: base.yaml\nsweep:\n  detector: [five, box, five]\n").find("sweep.detector: value five is given twice"),
+            std::string::npos);
+  EXPECT_NE(errorOf("base: base.yaml\nsweep:\n  detector: [five]\n  detector: [box]\n").find("sweep.detector: repeated key"),
+            std::string::npos);
+  EXPECT_NE(errorOf("base: base.yaml\nsweep: {}\n").find("sweep: empty"), std::string::npos);
+  // the name is the default folder out/<name>
+  EXPECT_NE(errorOf("name: ../../escape\nbase: base.yaml\n").find(":1: name: must be a plain folder name"), std::string::npos);
+  EXPECT_NE(errorOf("name: ..\nbase: base.yaml\n").find("name: must be a plain folder name"), std::string::npos);
+  // a seed key the scenarios lack would fail every run: named once, up front
+  EXPECT_NE(errorOf("base: base.yaml\nseed_key: random.seed\n").find(":2: seed_key: 'random.seed' is not a key of the base"),
+            std::string::npos);
+  EXPECT_EQ(errorOf("name: ok-1.2_x\nbase: base.yaml\nseeds: [1, 2]\nsweep:\n  detector: [five, box]\n"), "");
+}
+
 TEST(BatchExperiment, MalformedExperimentsNameTheKey) {
   EXPECT_NE(errorOf("base: base.yaml\nsweep:\n  detectr: [five]\n").find("detectr: unknown key"), std::string::npos);
   EXPECT_NE(errorOf("base: base.yaml\nsweep:\n  detector: []\n").find("sweep.detector: empty sweep"), std::string::npos);

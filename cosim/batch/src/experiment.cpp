@@ -90,6 +90,10 @@ Experiment loadExperiment(const fs::path& file,
   y.onlyKeys(root, "", [](const std::string& k) { return known.count(k) > 0; },
              "expected one of name, command, base, sweep, fixed, seeds, seed_key");
   e.name = root["name"] ? root["name"].as<std::string>() : file.stem().string();
+  // the name is the default output folder out/<name>: one plain folder name, never a path
+  if (e.name.empty() || e.name == "." || e.name == ".." || e.name.find_first_of("/\\") != std::string::npos)
+    fail(e, "name", root["name"] ? root["name"] : root,
+         "must be a plain folder name (no '/', not '.' or '..'), got '" + e.name + "'");
   if (root["command"]) {
     if (!root["command"].IsScalar()) fail(e, "command", root["command"], "must be a command name");
     e.command = root["command"].as<std::string>();
@@ -110,6 +114,13 @@ Experiment loadExperiment(const fs::path& file,
       if (o == k || o == "*") return;
     fail(e, k, at, "unknown key: not in the base scenario " + e.base.filename().string());
   };
+
+  // every run sets the seed key: a key the scenarios do not have fails every run, so say it once here
+  if (!hasKey(base, e.seedKey) &&
+      std::none_of(optionalKeys.begin(), optionalKeys.end(), [&](const std::string& o) { return o == e.seedKey || o == "*"; }))
+    fail(e, "seed_key", root["seed_key"] ? root["seed_key"] : root,
+         "'" + e.seedKey + "' is not a key of the base scenario " + e.base.filename().string() +
+             " (seed_key names the key each run's seed goes to)");
 
   // seeds: a count (1..n) or an explicit list of integers
   const YAML::Node seeds = root["seeds"];
@@ -132,6 +143,9 @@ Experiment loadExperiment(const fs::path& file,
       } catch (const YAML::Exception&) {
         fail(e, "seeds", s, "must be integers");
       }
+      // two equal seeds would be one run id twice: the same run, written twice at once
+      if (std::count(e.seeds.begin(), e.seeds.end(), e.seeds.back()) > 1)
+        fail(e, "seeds", s, "seed " + std::to_string(e.seeds.back()) + " is given twice");
     }
   } else {
     fail(e, "seeds", seeds, "must be a count or a list of integers");
@@ -139,6 +153,8 @@ Experiment loadExperiment(const fs::path& file,
 
   if (const YAML::Node sweep = root["sweep"]) {
     if (!sweep.IsMap()) fail(e, "sweep", sweep, "must map scenario keys to lists of values");
+    if (sweep.size() == 0) fail(e, "sweep", sweep, "empty: give at least one key, or leave sweep out");
+    y.onlyKeys(sweep, "sweep", [](const std::string&) { return true; });
     for (auto it = sweep.begin(); it != sweep.end(); ++it) {
       const std::string k = it->first.as<std::string>();
       checkKey(k, it->first);
@@ -151,6 +167,8 @@ Experiment loadExperiment(const fs::path& file,
         for (const auto& v : it->second) {
           if (!v.IsScalar()) fail(e, "sweep." + k, v, "values must be scalars");
           axis.values.push_back(scalarText(v));
+          if (std::count(axis.values.begin(), axis.values.end(), axis.values.back()) > 1)
+            fail(e, "sweep." + k, v, "value " + axis.values.back() + " is given twice");
         }
       } else {
         fail(e, "sweep." + k, it->second, "must be a value or a list of values");
@@ -160,6 +178,7 @@ Experiment loadExperiment(const fs::path& file,
   }
   if (const YAML::Node fixed = root["fixed"]) {
     if (!fixed.IsMap()) fail(e, "fixed", fixed, "must map scenario keys to values");
+    y.onlyKeys(fixed, "fixed", [](const std::string&) { return true; });
     for (auto it = fixed.begin(); it != fixed.end(); ++it) {
       const std::string k = it->first.as<std::string>();
       checkKey(k, it->first);

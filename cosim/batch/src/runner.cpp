@@ -3,6 +3,7 @@
 #include <boost/property_tree/json_parser.hpp>
 #include <boost/property_tree/ptree.hpp>
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -193,7 +194,13 @@ std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpe
       r.status = RunStatus::Failed;
       if (WIFSIGNALED(status)) r.error = "crashed with signal " + std::to_string(WTERMSIG(status));
       else r.error = "exit " + std::to_string(WEXITSTATUS(status));
-      if (const std::string l = lastLine(log); !l.empty()) r.error += ": " + l;
+      if (std::string l = lastLine(log); !l.empty()) {
+        // the run's folder is renamed below: name its files where they will be
+        const std::string from = run.tmp.string(), to = runDir(o.outDir, r.spec).string();
+        for (std::size_t at = l.find(from); at != std::string::npos; at = l.find(from, at + to.size()))
+          l.replace(at, from.size(), to);
+        r.error += ": " + l;
+      }
     }
     YAML::Emitter em;
     em << YAML::BeginMap << YAML::Key << "status" << YAML::Value << toString(r.status) << YAML::Key << "error"
@@ -217,8 +224,15 @@ std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpe
     if (o.progress) o.progress(finished, total, elapsed());
   };
 
+  bool forwarded = false;
   while (next < todo.size() || !running.empty()) {
     const bool stopping = o.stopRequested && o.stopRequested();
+    if (stopping && !forwarded) {
+      // a SIGTERM sent to the batch alone reaches its runs too (Ctrl-C already reached the group):
+      // each writes what it has and stops, instead of the batch waiting for them to finish
+      for (const auto& [pid, run] : running) ::kill(pid, SIGTERM);
+      forwarded = true;
+    }
     while (!stopping && next < todo.size() && static_cast<int>(running.size()) < jobs) launch(todo[next++]);
     if (running.empty()) break;
     int status = 0;
@@ -359,8 +373,9 @@ void writeTables(const Experiment& e, std::vector<RunResult> results, const fs::
   writeFileAtomically(outDir / "paired.csv", pairedTable(e, results, metricCols));
 }
 
-void writeExperimentRecord(const Experiment& e, const fs::path& outDir) {
-  fs::create_directories(outDir);
+namespace {
+
+std::string experimentRecord(const Experiment& e) {
   YAML::Emitter em;
   em << YAML::BeginMap;
   em << YAML::Key << "name" << YAML::Value << e.name;
@@ -383,7 +398,23 @@ void writeExperimentRecord(const Experiment& e, const fs::path& outDir) {
     em << YAML::EndMap;
   }
   em << YAML::EndMap;
-  writeFileAtomically(outDir / "experiment.yaml", std::string(em.c_str()) + "\n");
+  return std::string(em.c_str()) + "\n";
+}
+
+}  // namespace
+
+void checkResumable(const Experiment& e, const fs::path& outDir) {
+  const fs::path p = outDir / "experiment.yaml";
+  if (!fs::exists(p)) return;
+  if (readFile(p) != experimentRecord(e))
+    throw ExperimentError(p.string() + ": this folder holds the runs of another experiment (its base, sweep, fixed or "
+                          "seeds differ from " + e.file.string() + "); give another --out or remove the folder");
+}
+
+void writeExperimentRecord(const Experiment& e, const fs::path& outDir) {
+  checkResumable(e, outDir);
+  fs::create_directories(outDir);
+  writeFileAtomically(outDir / "experiment.yaml", experimentRecord(e));
 }
 
 Experiment readExperimentRecord(const fs::path& outDir) {

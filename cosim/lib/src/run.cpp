@@ -26,6 +26,8 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec) throw std::runtime_error("cannot create output directory " + out.string() + ": " + ec.message());
+  // every file in out belongs to this run: what an earlier run wrote and this one may not goes first
+  hw::removeRunOutputs(out);
 
   // outputs first, so whatever happens later leaves valid files
   hw::WarningsCsvWriter csv(out / "warnings.csv");
@@ -56,13 +58,25 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
   }
 
   std::unique_ptr<Backend> backend;
-  if (attach) {
-    backend = attachTraci(*setup.attach);
-  } else if (gui) {
-    SumoLaunch l{args, true, (out / "sumo.log").string(), ""};
-    backend = launchTraci(l);
-  } else {
-    backend = startLibsumo(SumoLaunch{args, false, "", ""});
+  try {
+    if (attach) {
+      backend = attachTraci(*setup.attach);
+    } else if (gui) {
+      SumoLaunch l{args, true, (out / "sumo.log").string(), ""};
+      backend = launchTraci(l);
+    } else {
+      backend = startLibsumo(SumoLaunch{args, false, "", ""});
+    }
+  } catch (const std::exception& e) {
+    // SUMO never ran: the summary says so (not an earlier run's)
+    hw::RunInfo info;
+    info.source = s.source.string();
+    info.detector = hw::toString(s.plugin.monitor.detector.kind);
+    info.broadphase = hw::toString(s.plugin.monitor.broadphase);
+    info.wallSeconds = std::chrono::duration<double>(Clock::now() - setup.wallStart).count();
+    info.strings = {{"sumocfg", s.sumocfg.string()}, {"stop_reason", "error"}, {"error", e.what()}};
+    hw::writeSummaryJson(out / "summary.json", hw::MonitorCounters{}, info);
+    throw;
   }
 
   HighwayPlugin plugin(*backend, s.plugin);
@@ -132,8 +146,13 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
       }
     }
   } catch (const std::exception& e) {
-    error = e.what();
-    stopReason = "error";
+    if (observer.stopRequested && observer.stopRequested()) {
+      // Ctrl-C reaches an attached SUMO in the same terminal too: its lost connection is the stop
+      stopReason = "interrupted";
+    } else {
+      error = e.what();
+      stopReason = "error";
+    }
   }
 
   // close the episodes, write everything, then close SUMO (which writes the SSM file)

@@ -233,6 +233,13 @@ void readYaml(const fs::path& path, Scenario& s) {
   if (auto n = root["sumo_args"]) s.sumoArgs = r.list(n, "sumo_args");
   if (auto n = root["out"]) s.out = fs::path(r.text(n, "out"));
   s.plugin.smart.seed = s.seed;
+  // last, so a scenario's other mistakes are named first: the file it runs must be there
+  {
+    std::error_code ec;
+    const auto st = fs::status(s.sumocfg, ec);
+    if (!fs::exists(st)) r.fail(root["sumocfg"], "sumocfg", "no such file: " + s.sumocfg.string());
+    if (fs::is_directory(st)) r.fail(root["sumocfg"], "sumocfg", "is a directory, not a .sumocfg: " + s.sumocfg.string());
+  }
   if (auto n = root["smart_types"]) checkSmartTypes(r, n, s);
 }
 
@@ -283,6 +290,7 @@ Scenario loadScenario(const fs::path& path) {
 
 SumoConfigFiles checkSumoConfig(const fs::path& sumocfg) {
   if (!fs::exists(sumocfg)) throw ScenarioError(sumocfg.string() + ": no such SUMO configuration file");
+  if (fs::is_directory(sumocfg)) throw ScenarioError(sumocfg.string() + ": is a directory, not a SUMO configuration file");
   boost::property_tree::ptree pt;
   try {
     boost::property_tree::read_xml(sumocfg.string(), pt);

@@ -96,4 +96,13 @@ void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& 
   if (!out) throw std::runtime_error("write failed: " + path.string());
 }
 
+void removeRunOutputs(const std::filesystem::path& out) {
+  for (const char* f : {"warnings.csv", "summary.json", "collisions.csv", "collision_warnings.csv", "validation.json",
+                        "ssm.xml", "sumo_collisions.xml", "sumo.log"}) {
+    std::error_code ec;
+    std::filesystem::remove(out / f, ec);
+    if (ec) throw std::runtime_error("cannot remove the earlier " + (out / f).string() + ": " + ec.message());
+  }
+}
+
 }  // namespace st::highway

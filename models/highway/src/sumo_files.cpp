@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <unordered_map>
@@ -30,7 +32,11 @@ class XmlScanner {
     }
   };
 
-  explicit XmlScanner(const std::filesystem::path& path) : path_(path.string()), in_(path, std::ios::binary) {
+  explicit XmlScanner(const std::filesystem::path& path) : path_(path.string()) {
+    std::error_code ec;
+    // an ifstream opens a directory and reads it as an empty file
+    if (std::filesystem::is_directory(path, ec)) throw InputError(path_ + ": is a directory, not a file");
+    in_.open(path, std::ios::binary);
     if (!in_) throw InputError(path_ + ": cannot open file");
   }
 
@@ -148,6 +154,12 @@ class XmlScanner {
   long line_ = 1;
 };
 
+std::string fmtNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
 double number(const XmlScanner& x, const XmlScanner::Tag& t, const char* key, const std::string& text) {
   const char* b = text.c_str();
   char* e = nullptr;
@@ -196,7 +208,7 @@ bool contains(const std::string& hay, const char* needle) {
 
 }  // namespace
 
-RoadGeometry readSumoNet(const std::filesystem::path& path) {
+RoadGeometry readSumoNet(const std::filesystem::path& path, std::vector<std::string>* leftOut) {
   XmlScanner x(path);
   RoadGeometry road;
   XmlScanner::Tag t;
@@ -232,7 +244,10 @@ RoadGeometry readSumoNet(const std::filesystem::path& path) {
       l.internal = internal;
       // pedestrian-only lanes (sidewalks) are not part of the carriageway
       const std::string* allow = t.attr("allow");
-      if (allow && (*allow == "pedestrian" || *allow == "bicycle")) continue;
+      if (allow && (*allow == "pedestrian" || *allow == "bicycle")) {
+        if (leftOut) leftOut->push_back(l.id);
+        continue;
+      }
       road.lanes.push_back(std::move(l));
     }
   }
@@ -296,6 +311,23 @@ VehicleTypes readSumoVehicleTypes(const std::filesystem::path& path) {
   return out;
 }
 
+FcdChecks fcdChecksFor(const RoadGeometry& road, const std::vector<std::string>& leftOut, std::string netFile) {
+  FcdChecks c;
+  c.netFile = std::move(netFile);
+  for (const Lane& l : road.lanes) {
+    c.lanes.push_back(l.id);
+    for (const Vec2& p : l.shape) {
+      if (!c.bounded) c.lo = c.hi = p;
+      c.lo = c.lo.cwiseMin(p);
+      c.hi = c.hi.cwiseMax(p);
+      c.bounded = true;
+    }
+  }
+  c.lanes.insert(c.lanes.end(), leftOut.begin(), leftOut.end());
+  std::sort(c.lanes.begin(), c.lanes.end());
+  return c;
+}
+
 struct FcdReader::Impl {
   XmlScanner x;
   VehicleTypes types;
@@ -306,11 +338,13 @@ struct FcdReader::Impl {
   };
   std::unordered_map<std::string, Last> last;
   double lastTime = -std::numeric_limits<double>::infinity();
-  Impl(const std::filesystem::path& p, VehicleTypes t) : x(p), types(std::move(t)) {}
+  FcdChecks checks;
+  bool anyStep = false;
+  Impl(const std::filesystem::path& p, VehicleTypes t, FcdChecks c) : x(p), types(std::move(t)), checks(std::move(c)) {}
 };
 
-FcdReader::FcdReader(const std::filesystem::path& path, VehicleTypes types)
-    : impl_(std::make_unique<Impl>(path, std::move(types))) {}
+FcdReader::FcdReader(const std::filesystem::path& path, VehicleTypes types, FcdChecks checks)
+    : impl_(std::make_unique<Impl>(path, std::move(types), std::move(checks))) {}
 FcdReader::~FcdReader() = default;
 
 bool FcdReader::next(FcdFrame& frame) {
@@ -326,6 +360,7 @@ bool FcdReader::next(FcdFrame& frame) {
         return true;
       }
       if (inStep) x.fail(t.line, "<timestep> inside <timestep>");
+      m.anyStep = true;
       frame.time = required(x, t, "time");
       if (!(frame.time > m.lastTime)) x.fail(t.line, "timestep times must increase");
       m.lastTime = frame.time;
@@ -345,19 +380,39 @@ bool FcdReader::next(FcdFrame& frame) {
     VehicleTypeInfo info;
     if (type) {
       auto it = m.types.find(*type);
+      if (it == m.types.end() && m.checks.typesComplete)
+        x.fail(t.line, "<vehicle id=\"" + v.id + "\"> type '" + *type + "' is not defined in " + m.checks.typesFile);
       info = it != m.types.end() ? it->second : guessVehicleType(*type);
     }
+    if (const std::string* lane = t.attr("lane"); lane && !m.checks.lanes.empty() &&
+        !std::binary_search(m.checks.lanes.begin(), m.checks.lanes.end(), *lane))
+      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> lane '" + *lane + "' is not in " + m.checks.netFile);
     v.vehicleClass = info.vehicleClass;
     v.length = optionalNumber(x, t, "length", info.length);
     v.width = optionalNumber(x, t, "width", info.width);
     v.mass = info.mass;
     if (!(v.length > 0) || !(v.width > 0)) x.fail(t.line, "<vehicle id=\"" + v.id + "\"> length and width must be positive");
+    if (v.length > kFcdMaxSize || v.width > kFcdMaxSize)
+      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> length and width must be at most " + fmtNumber(kFcdMaxSize) + " m");
     // SUMO: front-bumper centre and navigational degrees; ours: body centre and math radians
     const Vec2 front(required(x, t, "x"), required(x, t, "y"));
+    if (const FcdChecks& c = m.checks; c.bounded) {
+      const double g = FcdChecks::kOutsideMargin;
+      if (!(front.x() >= c.lo.x() - g && front.x() <= c.hi.x() + g && front.y() >= c.lo.y() - g && front.y() <= c.hi.y() + g))
+        x.fail(t.line, "<vehicle id=\"" + v.id + "\"> position (" + fmtNumber(front.x()) + ", " + fmtNumber(front.y()) +
+                           ") is more than " + fmtNumber(g) + " m outside " + c.netFile + " (x " + fmtNumber(c.lo.x()) +
+                           ".." + fmtNumber(c.hi.x()) + ", y " + fmtNumber(c.lo.y()) + ".." + fmtNumber(c.hi.y()) + ")");
+    }
     v.heading = headingFromNavigationDegrees(required(x, t, "angle"));
     v.position = centreFromFrontBumper(front, v.heading, v.length);
     v.speed = required(x, t, "speed");
+    if (!(std::abs(v.speed) <= kFcdMaxSpeed))
+      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> speed " + fmtNumber(v.speed) + " m/s is beyond any vehicle's (at most " +
+                         fmtNumber(kFcdMaxSpeed) + ")");
     v.acceleration = optionalNumber(x, t, "acceleration", 0.0);
+    if (!(std::abs(v.acceleration) <= kFcdMaxAcceleration))
+      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> acceleration " + fmtNumber(v.acceleration) +
+                         " m/s^2 is beyond any vehicle's (at most " + fmtNumber(kFcdMaxAcceleration) + ")");
     if (const std::string* sig = t.attr("signals")) {
       const long bits = static_cast<long>(number(x, t, "signals", *sig));
       // SUMO: bit 0 right blinker, bit 1 left blinker, bit 2 hazard lights (both)
@@ -379,6 +434,7 @@ bool FcdReader::next(FcdFrame& frame) {
     frame.vehicles.push_back(std::move(v));
   }
   if (inStep) x.fail(stepLine, "unterminated <timestep>");
+  if (!m.anyStep) throw InputError(x.path() + ": holds no <timestep> (not a SUMO FCD trace, sumo --fcd-output?)");
   return false;
 }
 

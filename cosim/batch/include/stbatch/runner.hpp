@@ -49,6 +49,9 @@ void writeTables(const Experiment& e, std::vector<RunResult> results, const std:
 // The experiment as resolved for this batch (absolute base), stored in the output folder so
 // shards can be merged and checked to be of the same experiment.
 void writeExperimentRecord(const Experiment& e, const std::filesystem::path& outDir);
+// Throws ExperimentError if outDir already records a different experiment (resuming it would mix
+// the two experiments' runs in one table). Called by writeExperimentRecord.
+void checkResumable(const Experiment& e, const std::filesystem::path& outDir);
 Experiment readExperimentRecord(const std::filesystem::path& outDir);
 
 // Merges shard output folders into `outDir`: run folders are copied, tables rebuilt.

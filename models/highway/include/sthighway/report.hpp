@@ -50,4 +50,9 @@ std::string summaryJson(const MonitorCounters& counters, const RunInfo& info);
 void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& counters,
                       const RunInfo& info);
 
+// Removes from out every file a highway run may write (warnings.csv, summary.json and, from SUMO
+// runs, collisions.csv, collision_warnings.csv, validation.json, ssm.xml, sumo_collisions.xml,
+// sumo.log), so that what is there after a run belongs to it. Throws std::runtime_error.
+void removeRunOutputs(const std::filesystem::path& out);
+
 }  // namespace st::highway

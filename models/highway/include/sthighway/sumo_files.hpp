@@ -23,7 +23,9 @@ struct InputError : std::runtime_error {
 
 // Lanes of a .net.xml (normal and internal edges), with their shapes and widths (SUMO's default
 // 3.2 m when absent). The network's netOffset is already applied by SUMO to shapes and FCD alike.
-RoadGeometry readSumoNet(const std::filesystem::path& path);
+// `leftOut`, if given, receives the ids of the lanes the geometry leaves out (sidewalks, bicycle
+// lanes): a trace may still name them.
+RoadGeometry readSumoNet(const std::filesystem::path& path, std::vector<std::string>* leftOut = nullptr);
 
 // Size and mass for vehicle types; FCD does not carry them. Unknown types use classDefaults of
 // the class guessed from the type name (e.g. "truck" in the name -> Truck).
@@ -43,12 +45,33 @@ struct FcdFrame {
   std::vector<VehicleState> vehicles;
 };
 
+// What a trace must agree with, checked vehicle by vehicle (an InputError names file:line):
+// positions inside the network's bounds grown by kOutsideMargin, lanes the network has, types
+// the vType file defines. Whatever is not set is not checked; speeds and sizes no vehicle has are
+// always errors.
+struct FcdChecks {
+  static constexpr double kOutsideMargin = 1000.0;  // m around the lanes' bounding box
+  bool bounded = false;
+  Vec2 lo = Vec2::Zero(), hi = Vec2::Zero();  // the lanes' bounding box
+  std::vector<std::string> lanes;             // sorted lane ids; empty: not checked
+  bool typesComplete = false;                 // a type outside the given VehicleTypes is an error
+  std::string typesFile;                      // named in that error
+  std::string netFile;                        // named in the bounds and lane errors
+};
+// The checks against a network read by readSumoNet (its lanes and the ones it left out).
+FcdChecks fcdChecksFor(const RoadGeometry& road, const std::vector<std::string>& leftOut, std::string netFile);
+// Speeds (m/s), accelerations (m/s^2) and vehicle sizes (m) beyond these are input errors.
+inline constexpr double kFcdMaxSpeed = 200.0;
+inline constexpr double kFcdMaxAcceleration = 1000.0;
+inline constexpr double kFcdMaxSize = 1000.0;
+
 // Streams <timestep time=".."><vehicle id x y angle speed [type acceleration signals length
 // width] .../></timestep> frames. Lateral speed is not in FCD: it is estimated from the change of
-// the centre across frames (0 on a vehicle's first frame).
+// the centre across frames (0 on a vehicle's first frame). A file without a single <timestep> is
+// an error (not an FCD trace), and so is a directory.
 class FcdReader {
  public:
-  FcdReader(const std::filesystem::path& path, VehicleTypes types = {});
+  FcdReader(const std::filesystem::path& path, VehicleTypes types = {}, FcdChecks checks = {});
   ~FcdReader();
   // Fills the next frame; false at the end of the file. Throws InputError with file:line.
   bool next(FcdFrame& frame);

@@ -1,0 +1,97 @@
+// stsim highway --fcd with hostile traces: every bad input is one line naming the file and line,
+// a non-zero exit, and what was read before it is written out.
+#include <gtest/gtest.h>
+
+#include "cosim/test_util.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using st::cosim::test::freshDir;
+using st::cosim::test::lines;
+using st::cosim::test::runStsim;
+using st::cosim::test::slurp;
+
+const std::string kNet = std::string(STSIM_SOURCE_DIR) + "/networks/motorway/motorway.net.xml";
+const std::string kRoutes = std::string(STSIM_SOURCE_DIR) + "/networks/motorway/motorway.rou.xml";
+
+// Two good timesteps, then a third whose vehicle carries `bad` in place of its usual attributes.
+std::string trace(const std::string& bad) {
+  const std::string good = "x=\"2853.97\" y=\"-9.38\" angle=\"90.00\" type=\"car\" speed=\"23.50\" lane=\"downstream_0\"";
+  return "<fcd-export>\n"
+         "<timestep time=\"0\">\n<vehicle id=\"a\" " + good + "/>\n</timestep>\n"
+         "<timestep time=\"1\">\n<vehicle id=\"a\" " + good + "/>\n</timestep>\n"
+         "<timestep time=\"2\">\n<vehicle id=\"a\" " + bad + "/>\n</timestep>\n"
+         "</fcd-export>\n";
+}
+
+struct Outcome {
+  int code;
+  std::string err;
+  fs::path out;
+};
+
+Outcome replay(const std::string& name, const std::string& text, std::vector<std::string> extra = {}) {
+  const fs::path dir = freshDir("fcd_" + name);
+  std::ofstream(dir / "t.fcd.xml") << text;
+  std::vector<std::string> args{"highway", "--fcd", (dir / "t.fcd.xml").string(), "--net", kNet, "--out", (dir / "out").string()};
+  args.insert(args.end(), extra.begin(), extra.end());
+  const auto r = runStsim(args, dir);
+  return {r.code, r.err, dir / "out"};
+}
+
+void expectInputError(const Outcome& o, const std::string& mention) {
+  EXPECT_EQ(o.code, 1) << o.err;  // an error, not a crash (a signal) or a silent success
+  EXPECT_NE(o.err.find("t.fcd.xml:9: "), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find(mention), std::string::npos) << o.err;
+  EXPECT_EQ(lines(o.err).size(), 1u) << o.err;
+  // the two good timesteps were replayed and summarised
+  const std::string summary = slurp(o.out / "summary.json");
+  EXPECT_NE(summary.find("\"ticks\": 2,"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"error\": "), std::string::npos) << summary;
+}
+
+TEST(HighwayFcd, FarOutsideTheNetworkOrTooFastIsAnInputError) {
+  const std::string rest = " angle=\"90.00\" type=\"car\" lane=\"downstream_0\"";
+  // 1e300 crashed the cell placement; 1e9 was accepted as 2e6 vehicle-km
+  for (const std::string pos : {"x=\"1e300\" y=\"-9.38\"", "x=\"1e15\" y=\"-9.38\"", "x=\"1e9\" y=\"-9.38\"",
+                                "x=\"2853.97\" y=\"-1e300\""})
+    expectInputError(replay("far", trace(pos + rest + " speed=\"23.5\"")), "outside");
+  expectInputError(replay("fast", trace("x=\"2853.97\" y=\"-9.38\"" + rest + " speed=\"1e300\"")), "speed 1e+300 m/s");
+  expectInputError(replay("accel", trace("x=\"2853.97\" y=\"-9.38\"" + rest + " speed=\"20\" acceleration=\"1e300\"")),
+                   "acceleration");
+  expectInputError(replay("long", trace("x=\"2853.97\" y=\"-9.38\"" + rest + " speed=\"20\" length=\"1e300\"")),
+                   "length and width must be at most");
+}
+
+TEST(HighwayFcd, UnknownLanesAndTypesAreInputErrors) {
+  const std::string pos = "x=\"2853.97\" y=\"-9.38\" angle=\"90.00\" speed=\"23.5\"";
+  expectInputError(replay("lane", trace(pos + " type=\"car\" lane=\"nosuch_0\"")), "lane 'nosuch_0' is not in");
+  // with --vtypes the file is the list of types; without it a type's class is guessed from its name
+  expectInputError(replay("type", trace(pos + " type=\"hovercraft\" lane=\"downstream_0\""), {"--vtypes", kRoutes}),
+                   "type 'hovercraft' is not defined in");
+  EXPECT_EQ(replay("guess", trace(pos + " type=\"hovercraft\" lane=\"downstream_0\"")).code, 0);
+}
+
+TEST(HighwayFcd, EmptyFilesAndDirectoriesAreNamed) {
+  const Outcome empty = replay("empty", "<fcd-export>\n</fcd-export>\n");
+  EXPECT_EQ(empty.code, 1);
+  EXPECT_NE(empty.err.find("t.fcd.xml: holds no <timestep>"), std::string::npos) << empty.err;
+  const Outcome zero = replay("zero", "");
+  EXPECT_EQ(zero.code, 1);
+  EXPECT_NE(zero.err.find("holds no <timestep>"), std::string::npos) << zero.err;
+
+  const fs::path dir = freshDir("fcd_dir");
+  auto r = runStsim({"highway", "--fcd", dir.string(), "--net", kNet, "--out", (dir / "out").string()}, dir);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find(dir.string() + ": is a directory"), std::string::npos) << r.err;
+  std::ofstream(dir / "none.xml") << "<routes>\n</routes>\n";
+  std::ofstream(dir / "t.fcd.xml") << trace("x=\"2853.97\" y=\"-9.38\" angle=\"90\" speed=\"1\"");
+  r = runStsim({"highway", "--fcd", (dir / "t.fcd.xml").string(), "--net", kNet, "--vtypes", (dir / "none.xml").string(),
+                "--out", (dir / "out").string()},
+               dir);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("none.xml: defines no <vType>"), std::string::npos) << r.err;
+}
+
+}  // namespace

@@ -1,0 +1,81 @@
+// What a hostile user tried (issue 21): signals other than Ctrl-C, an output folder of an earlier
+// run, a SUMO that cannot start, a missing or directory sumocfg, an impossible --traci port.
+#include <gtest/gtest.h>
+
+#include "test_util.hpp"
+
+namespace st::cosim {
+namespace {
+
+using namespace st::cosim::test;
+namespace fs = std::filesystem;
+
+int stopRingWith(int sig, const fs::path& dir) {
+  const auto ring = sourceDir() / "networks/ring/scenario.yaml";
+  StsimProcess p({"highway", ring.string(), "--end", "36000", "--out", (dir / "out").string()}, dir);
+  EXPECT_TRUE(waitForWarningRows(dir / "out/warnings.csv", p)) << p.err();
+  p.signal(sig);
+  const int code = p.wait();
+  EXPECT_NE(p.err().find("interrupted at t = "), std::string::npos) << p.err();
+  EXPECT_TRUE(validWarningsCsv(dir / "out/warnings.csv"));
+  EXPECT_EQ(jsonString(slurp(dir / "out/summary.json"), "stop_reason"), "interrupted");
+  return code;
+}
+
+TEST(HighwayReliability, SigtermAndSighupStopLikeCtrlC) {
+  // 143 is 128 + SIGTERM (was 130, Ctrl-C's); a closed terminal (SIGHUP) cut a row in half
+  EXPECT_EQ(stopRingWith(SIGTERM, freshDir("rel_term")), 143);
+  EXPECT_EQ(stopRingWith(SIGHUP, freshDir("rel_hup")), 129);
+}
+
+TEST(HighwayReliability, EveryFileInOutBelongsToThisRun) {
+  const auto dir = freshDir("rel_stale");
+  const fs::path out = dir / "out";
+  fs::create_directories(out);
+  // an earlier run's files, as a SUMO run leaves them
+  std::ofstream(out / "summary.json") << "{\"stop_reason\": \"end\", \"warnings\": {\"total\": 59}}\n";
+  std::ofstream(out / "collisions.csv") << "time,collider\n1,x\n";
+  std::ofstream(out / "validation.json") << "{}\n";
+  // a SUMO that cannot start (an option it does not know)
+  std::ofstream(dir / "s.yaml") << "sumocfg: " << (sourceDir() / "networks/motorway/motorway.sumocfg").string()
+                                << "\nsumo_args: [\"--no-such-option\", \"1\"]\n";
+  auto r = runStsim({"highway", (dir / "s.yaml").string(), "--out", out.string()}, dir);
+  EXPECT_EQ(r.code, 1) << r.err;
+  const std::string summary = slurp(out / "summary.json");
+  EXPECT_EQ(jsonString(summary, "stop_reason"), "error") << summary;
+  EXPECT_NE(summary.find("\"error\": "), std::string::npos) << summary;
+  EXPECT_FALSE(fs::exists(out / "validation.json"));
+  EXPECT_EQ(lines(slurp(out / "collisions.csv")).size(), 1u);  // this run's header only
+  // an FCD replay into the folder of a SUMO run leaves none of the SUMO run's files
+  std::ofstream(out / "collision_warnings.csv") << "time\n";
+  std::ofstream(out / "validation.json") << "{}\n";
+  r = runStsim({"highway", "--fcd", (sourceDir() / "tests/data/highway/motorway_merge.fcd.xml").string(), "--net",
+                (sourceDir() / "networks/motorway/motorway.net.xml").string(), "--out", out.string()},
+               dir);
+  EXPECT_EQ(r.code, 0) << r.err;
+  std::set<std::string> files;
+  for (const auto& f : fs::directory_iterator(out)) files.insert(f.path().filename().string());
+  EXPECT_EQ(files, (std::set<std::string>{"summary.json", "warnings.csv"}));
+}
+
+TEST(HighwayReliability, SumocfgAndTraciMistakesAreNamed) {
+  const auto dir = freshDir("rel_sumocfg");
+  std::ofstream(dir / "s.yaml") << "seed: 1\nsumocfg: gone.sumocfg\n";
+  auto r = runStsim({"highway", (dir / "s.yaml").string(), "--out", (dir / "out").string()}, dir);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("s.yaml:2: sumocfg: no such file"), std::string::npos) << r.err;
+  fs::create_directories(dir / "d.sumocfg");
+  std::ofstream(dir / "t.yaml") << "sumocfg: d.sumocfg\n";
+  r = runStsim({"highway", (dir / "t.yaml").string(), "--out", (dir / "out").string()}, dir);
+  EXPECT_NE(r.err.find("t.yaml:1: sumocfg: is a directory"), std::string::npos) << r.err;
+  r = runStsim({"highway", (dir / "d.sumocfg").string(), "--out", (dir / "out").string()}, dir);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("d.sumocfg: is a directory"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("basic_filebuf"), std::string::npos) << r.err;
+  r = runStsim({"highway", motorway().string(), "--traci", "localhost:99999", "--out", (dir / "out").string()}, dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("PORT must be a whole number from 1 to 65535, got '99999'"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace st::cosim
