@@ -7,18 +7,13 @@
 #include <stdexcept>
 
 #include <boost/asio/ip/address.hpp>
+#include <stio/format.hpp>
 
 namespace st::arm {
 
 namespace {
 
-std::string num(double x) {
-  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
-  if (std::isnan(x)) return "nan";
-  char b[40];
-  std::snprintf(b, sizeof b, "%.9g", x);
-  return b;
-}
+std::string num(double x) { return io::number(x, 9); }
 
 double wallSeconds() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
@@ -56,7 +51,9 @@ ArmService::ArmService(boost::asio::io_context& io, const Scenario& scenario, Se
     connLog_.open(fs::path(cfg_.logDir) / "connections.csv");
     if (!verdictLog_ || !connLog_) throw std::runtime_error(cfg_.logDir + ": cannot write the logs");
     verdictLog_ << "cycle,t_s,readings_from";
-    for (int a = 0; a < monitor_.armCount(); ++a) verdictLog_ << ',' << monitor_.arm(a).name << "_level," << monitor_.arm(a).name << "_min_ttc_s";
+    for (int a = 0; a < monitor_.armCount(); ++a)
+      verdictLog_ << ',' << io::csvField(monitor_.arm(a).name + "_level") << ','
+                  << io::csvField(monitor_.arm(a).name + "_min_ttc_s");
     verdictLog_ << ",nearest,nearest_other,distance_m,ttc_s\n";
     connLog_ << "wall_s,connection,event,detail\n";
     verdictLog_.flush();
@@ -83,10 +80,8 @@ void ArmService::stop() { server_.stop(); }
 
 void ArmService::logConnection(net::ConnectionId id, const std::string& event, const std::string& detail) {
   if (!connLog_.is_open()) return;
-  std::string d = detail;
-  for (char& c : d)
-    if (c == ',' || c == '\n' || c == '\r') c = ';';
-  connLog_ << num(wallSeconds()) << ',' << id << ',' << event << ',' << d << '\n';
+  connLog_ << io::fixed(wallSeconds(), 6) << ',' << id << ',' << io::csvField(event) << ','
+           << io::csvField(io::oneLine(detail)) << '\n';
   connLog_.flush();
 }
 
@@ -279,8 +274,8 @@ void ArmService::runCycle() {
     for (int a = 0; a < monitor_.armCount(); ++a)
       verdictLog_ << ',' << proto::toString(verdict_.arms[a].level) << ',' << num(verdict_.arms[a].minTtc);
     if (n.arm >= 0)
-      verdictLog_ << ',' << monitor_.arm(n.arm).name << '/' << bodyName(monitor_.arm(n.arm).model, n.body) << ','
-                  << otherName(monitor_, n) << ',' << num(n.distance) << ',' << num(n.ttc) << '\n';
+      verdictLog_ << ',' << io::csvField(monitor_.arm(n.arm).name + "/" + bodyName(monitor_.arm(n.arm).model, n.body))
+                  << ',' << io::csvField(otherName(monitor_, n)) << ',' << num(n.distance) << ',' << num(n.ttc) << '\n';
     else verdictLog_ << ",,,inf,inf\n";
     verdictLog_.flush();
   }

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include <starm/scenario.hpp>
+#include <stio/format.hpp>
 #include <stnet/client.hpp>
 
 namespace st::arm {
@@ -16,12 +17,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::string num(double x) {
-  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
-  char b[40];
-  std::snprintf(b, sizeof b, "%.9g", x);
-  return b;
-}
+std::string num(double x) { return io::number(x, 9); }
 
 // The next message that is not an ERROR; an ERROR becomes an exception with its text.
 proto::Message expect(net::Client& c, std::chrono::milliseconds timeout, const char* what) {
@@ -65,7 +61,7 @@ void runStream(const StreamConfig& cfg, StreamResult& res) {
     log.open(std::filesystem::path(cfg.outDir) / "stream_verdicts.csv");
     if (!log) throw std::runtime_error(cfg.outDir + ": cannot write stream_verdicts.csv");
     log << "t_s,seq,rtt_us";
-    for (const std::string& n : w->armNames) log << ',' << n << "_level," << n << "_speed";
+    for (const std::string& n : w->armNames) log << ',' << io::csvField(n + "_level") << ',' << io::csvField(n + "_speed");
     log << ",distance_m,ttc_s\n";
   }
 
@@ -144,7 +140,7 @@ bool RecordingSensor::next(Reading& r) {
     out_.flush();
     return false;
   }
-  out_ << r.t << ',' << names_[r.arm];
+  out_ << r.t << ',' << names_[r.arm];  // the CsvSensor format: names as they are (it splits on commas)
   for (double v : r.q) out_ << ',' << v;
   for (double v : r.qdot) out_ << ',' << v;
   out_ << '\n';
