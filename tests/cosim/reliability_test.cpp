@@ -2,7 +2,15 @@
 // run, a SUMO that cannot start, a missing or directory sumocfg, an impossible --traci port.
 #include <gtest/gtest.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+
+#include <atomic>
+
 #include "test_util.hpp"
+#include "traci_relay.hpp"
 
 namespace st::cosim {
 namespace {
@@ -75,6 +83,69 @@ TEST(HighwayReliability, SumocfgAndTraciMistakesAreNamed) {
   r = runStsim({"highway", motorway().string(), "--traci", "localhost:99999", "--out", (dir / "out").string()}, dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("PORT must be a whole number from 1 to 65535, got '99999'"), std::string::npos) << r.err;
+}
+
+// A loopback peer that accepts one connection, reads whatever comes and never answers (an HTTP
+// server waiting for its request line, a SUMO stopped with SIGSTOP). Gives up after 60 s.
+class SilentPeer {
+ public:
+  SilentPeer() {
+    listen_ = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t len = sizeof a;
+    EXPECT_EQ(::bind(listen_, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+    EXPECT_EQ(::listen(listen_, 1), 0);
+    ::getsockname(listen_, reinterpret_cast<sockaddr*>(&a), &len);
+    port_ = ntohs(a.sin_port);
+    thread_ = std::thread([this] {
+      const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+      int client = -1;
+      char buf[4096];
+      while (!stop_ && std::chrono::steady_clock::now() < until) {
+        pollfd p{client >= 0 ? client : listen_, POLLIN, 0};
+        if (::poll(&p, 1, 50) <= 0) continue;
+        if (client < 0) client = ::accept(listen_, nullptr, nullptr);
+        else if (::recv(client, buf, sizeof buf, 0) <= 0) break;
+      }
+      if (client >= 0) ::close(client);
+    });
+  }
+  ~SilentPeer() {
+    stop_ = true;
+    thread_.join();
+    ::close(listen_);
+  }
+  int port() const { return port_; }
+
+ private:
+  int listen_ = -1, port_ = 0;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+// The relay between libtraci and an attached peer: a request nobody answers ends the connection
+// (it waited forever: 70 s of silence in the probe, with an HTTP server on the port).
+TEST(TraciRelay, APeerThatNeverAnswersIsCutOff) {
+  SilentPeer peer;
+  detail::TraciRelay relay("127.0.0.1", peer.port(), 1, 0.5, 0.5);
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  a.sin_port = htons(static_cast<std::uint16_t>(relay.localPort()));
+  ASSERT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+  // libtraci's handshake: getVersion (command 0x00) in a 6-byte frame
+  const unsigned char getVersion[] = {0, 0, 0, 6, 2, 0};
+  ASSERT_EQ(::send(fd, getVersion, sizeof getVersion, MSG_NOSIGNAL), static_cast<ssize_t>(sizeof getVersion));
+  // the relay closes our side once the time is up; bounded wait (the test must not hang either)
+  pollfd p{fd, POLLIN, 0};
+  ASSERT_EQ(::poll(&p, 1, 10000), 1) << "the relay kept waiting";
+  char c;
+  EXPECT_LE(::recv(fd, &c, 1, 0), 0);
+  ::close(fd);
+  EXPECT_NE(relay.failure().find("no TraCI answer within"), std::string::npos) << relay.failure();
 }
 
 }  // namespace

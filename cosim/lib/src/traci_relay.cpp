@@ -82,7 +82,8 @@ int connectTo(const std::string& host, int port, std::string& error) {
 
 }  // namespace
 
-TraciRelay::TraciRelay(const std::string& host, int port, int attempts) {
+TraciRelay::TraciRelay(const std::string& host, int port, int attempts, double firstReplySeconds, double silenceSeconds)
+    : firstReplySeconds_(firstReplySeconds), silenceSeconds_(silenceSeconds) {
   std::string error;
   for (int i = 0; i < std::max(1, attempts) && serverFd_ < 0; ++i) {
     if (i > 0) std::this_thread::sleep_for(std::chrono::seconds(1));
@@ -192,6 +193,7 @@ bool TraciRelay::checkReplies() {
       return false;
     }
     pending_.pop_front();
+    answered_ = true;
     if (!sendAll(clientFd_, reply_.data(), length)) return false;
     reply_.erase(reply_.begin(), reply_.begin() + length);
     replyBegan_ = Clock::now();  // the next reply's first bytes, if any, arrived now
@@ -240,6 +242,18 @@ void TraciRelay::run() {
       fail("a TraCI reply stopped after " + std::to_string(reply_.size()) + " bytes for " +
            std::to_string(static_cast<int>(kStallSeconds)) + " s");
       break;
+    }
+    if (reply_.empty() && !pending_.empty()) {
+      const double limit = answered_ ? silenceSeconds_ : firstReplySeconds_;
+      if (now - pending_.front().sent > std::chrono::duration<double>(limit)) {
+        char msg[200];
+        std::snprintf(msg, sizeof msg,
+                      answered_ ? "no reply for %.0f s (is SUMO stopped? with --num-clients, is every client stepping?)"
+                                : "no TraCI answer within %.0f s (not a SUMO started with --remote-port?)",
+                      limit);
+        fail(msg);
+        break;
+      }
     }
     const double deadline = closeDeadline_.load();
     if (deadline >= 0.0 && !pending_.empty() &&

@@ -11,8 +11,11 @@
 // for kStallSeconds, ends both connections; libtraci then sees its socket close (an exception, not
 // an abort) and failure() says what was wrong, for the error message.
 //
-// No timeout applies while no reply has begun: a SUMO serving several clients legitimately answers
-// a step only when every client has stepped. closeWithin() bounds the wait for the final replies.
+// A peer that never answers is bounded too: the first request (libtraci's version handshake) must
+// be answered within firstReplySeconds (an HTTP server, say, waits for a request line and says
+// nothing), and any later request within silenceSeconds (a SUMO stopped with SIGSTOP). The second
+// bound is long because a SUMO serving several clients answers a step only when every client has
+// stepped. closeWithin() bounds the wait for the final replies.
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -37,7 +40,10 @@ class TraciRelay {
 
   // Connects to host:port (tries `attempts` times, a second apart) and starts relaying. Throws
   // SumoError if the server cannot be reached.
-  TraciRelay(const std::string& host, int port, int attempts);
+  static constexpr double kFirstReplySeconds = 30.0;
+  static constexpr double kSilenceSeconds = 120.0;
+  TraciRelay(const std::string& host, int port, int attempts, double firstReplySeconds = kFirstReplySeconds,
+             double silenceSeconds = kSilenceSeconds);
   ~TraciRelay();
   TraciRelay(const TraciRelay&) = delete;
   TraciRelay& operator=(const TraciRelay&) = delete;
@@ -75,6 +81,8 @@ class TraciRelay {
     Clock::time_point sent;
   };
   std::deque<Pending> pending_;          // requests sent, oldest first
+  double firstReplySeconds_, silenceSeconds_;
+  bool answered_ = false;                // a whole reply has passed
   Clock::time_point replyBegan_{};
 };
 

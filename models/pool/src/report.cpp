@@ -57,12 +57,19 @@ std::string describe(const SpaceSpec& space) {
   return os.str();
 }
 
-RunRecord playScenario(Game& game, const Scenario& scenario, double untilOverride) {
+RunRecord playScenario(Game& game, const Scenario& scenario, double untilOverride,
+                       const std::function<bool()>& stopRequested) {
   RunRecord run;
   run.scenario = scenario.name;
   run.spaceDescription = describe(scenario.space);
   run.initial = game.specs();
-  auto record = [&](const PoolEvent& e) { run.events.push_back(e); };
+  auto record = [&](const PoolEvent& e) {
+    if (stopRequested && stopRequested()) throw std::runtime_error("interrupted at t = " + io::number(e.t, 6) + " s");
+    if (run.events.size() >= kMaxEvents)
+      throw std::runtime_error("until: stopped after " + std::to_string(kMaxEvents) + " events at t = " +
+                               io::number(e.t, 6) + " s; the time limit asks for more (lower until or --until)");
+    run.events.push_back(e);
+  };
   run.wallSeconds = wallSeconds([&] {
     try {
       if (scenario.shots.empty()) {

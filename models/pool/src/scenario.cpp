@@ -164,6 +164,11 @@ void validate(const Scenario& s, const Locate& where, const std::string& ballsKe
   if (sp.divisions != 2 && sp.divisions != 4) fail(where("space.divisions", -1), "must be 2 or 4");
   if (sp.maxDepth < -1 || sp.maxDepth > 30) fail(where("space.max_depth", -1), "must be between 0 and 30 (or -1: automatic)");
   if (sp.kind == SpaceKind::Cells && !(sp.cellSize > 0.0)) fail(where("space.cell_size", -1), "must be positive");
+  // stcore's cells space holds at most 5e7 cells: say which key asks for more
+  if (sp.kind == SpaceKind::Cells && std::isfinite(sp.cellSize) &&
+      std::floor(s.table.width / sp.cellSize) * std::floor(s.table.height / sp.cellSize) > 5e7)
+    fail(where("space.cell_size", -1), "too small for the table: more than 5e7 cells (the table is " +
+                                           std::to_string(s.table.width) + " x " + std::to_string(s.table.height) + " m)");
   if (!(sp.marginFactor() > 0.0) || !std::isfinite(sp.marginFactor())) fail(where("space.margin", -1), "must be positive");
 }
 

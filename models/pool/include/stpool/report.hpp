@@ -1,4 +1,5 @@
 #pragma once
+#include <functional>
 // What a run leaves behind: the event log, a JSON summary, the final table as SVG (with the space's
 // regions drawn, like the report's Fig. 7) and a self-contained HTML animation. Writers take
 // streams; the caller opens files.
@@ -24,7 +25,12 @@ struct RunRecord {
 // Plays every shot of the scenario in order (or lets the balls coast if it has none), recording
 // events. A run-time failure (a shot at a pocketed ball) ends the run: it is kept in `error` and
 // what was computed before it stays in the record. `untilOverride` > 0 replaces every time limit.
-RunRecord playScenario(Game& game, const Scenario& scenario, double untilOverride = -1.0);
+// The work a run may do is bounded: past kMaxEvents recorded events (hundreds of MB of record and
+// events.csv) the run stops with an error naming `until`. stopRequested, if given, is polled at
+// every event; true stops the run with error "interrupted at t = ... s" (results so far kept).
+inline constexpr std::size_t kMaxEvents = 2'000'000;
+RunRecord playScenario(Game& game, const Scenario& scenario, double untilOverride = -1.0,
+                       const std::function<bool()>& stopRequested = {});
 
 // "tree df=5 divisions=4", "single", ...
 std::string describe(const SpaceSpec& space);
