@@ -15,6 +15,10 @@ namespace st::arm {
 
 namespace {
 
+// Bounds on the work one scenario may ask for (s; cycles).
+constexpr double kMaxLookAhead = 60.0;
+constexpr double kMaxCycles = 1e7;
+
 // Error helpers: every message is "file:line: key: what".
 struct Yaml {
   std::string file;
@@ -140,6 +144,8 @@ Obstacle parseObstacle(const Yaml& y, const YAML::Node& n, const std::string& ke
   y.knownKeys(n, key, {"name", "sphere", "capsule", "box", "velocity"});
   Obstacle o;
   o.name = n["name"] ? y.text(n["name"], key + ".name") : "o" + std::to_string(index);
+  if ((n["sphere"] ? 1 : 0) + (n["capsule"] ? 1 : 0) + (n["box"] ? 1 : 0) > 1)
+    y.fail(n, key, "give one of sphere, capsule, box (an obstacle has one shape)");
   if (n["sphere"]) {
     o.kind = ShapeKind::Sphere;
     y.knownKeys(n["sphere"], key + ".sphere", {"center", "radius"});
@@ -234,6 +240,11 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
     if (s.safety.minSeparation < 0) y.fail(n["min_separation"], "safety.min_separation", "must not be negative");
     if (s.safety.horizon != 0.0 && s.safety.horizon < s.safety.safeTime())
       y.fail(n["horizon"], "safety.horizon", "must be at least the safe time (cycle + reaction + stopping)");
+    // the work of a cycle grows with the look-ahead: 1e300 ran for minutes and wrote nothing
+    if (s.safety.lookAhead() > kMaxLookAhead)
+      y.fail(n["horizon"] ? n["horizon"] : n, n["horizon"] ? "safety.horizon" : "safety",
+             "the look-ahead (horizon, or cycle + reaction + stopping) must be at most " +
+                 std::to_string(static_cast<int>(kMaxLookAhead)) + " s");
   }
   // closed loop braking; defaults follow the safety terms
   s.braking.stoppingTime = s.safety.stoppingTime;
@@ -287,7 +298,9 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
     }
   }
   const YAML::Node arms = root["arms"];
-  if (!arms.IsSequence() || arms.size() == 0) y.fail(arms.IsDefined() ? arms : root, "arms", "expected a list of arms");
+  // an absent key of a const node is invalid: IsSequence() would throw yaml-cpp's "invalid node"
+  if (!arms.IsDefined()) y.fail(root, "arms", "missing key (the list of arms)");
+  if (!arms.IsSequence() || arms.size() == 0) y.fail(arms, "arms", "expected a list of arms");
   bool anyWaypoints = false;
   for (std::size_t i = 0; i < arms.size(); ++i) {
     const std::string key = "arms[" + std::to_string(i) + "]";
@@ -355,12 +368,18 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
     if (anyWaypoints) y.fail(root["trace"], "trace", "give either a trace or waypoints, not both");
     std::filesystem::path p = y.text(root["trace"], "trace");
     if (p.is_relative()) p = std::filesystem::path(path).parent_path() / p;
+    std::error_code ec;
+    if (std::filesystem::is_directory(p, ec)) y.fail(root["trace"], "trace", "is a directory, not a sensor trace: " + p.string());
     s.tracePath = p.string();
   } else if (!anyWaypoints) {
     y.fail(root, "trace", "expected a sensor trace or waypoints for at least one arm");
   }
   s.duration = y.number(root, "duration", "", s.duration);
   if (s.duration < 0.0) y.fail(root["duration"], "duration", "must not be negative");
+  // waypoints are sampled every cycle: cycle_time 1e-12 asked for 1e12 cycles
+  if (s.tracePath.empty() && s.duration / s.safety.cycleTime > kMaxCycles)
+    y.fail(root["safety"] && root["safety"]["cycle_time"] ? root["safety"]["cycle_time"] : root, "safety.cycle_time",
+           "the waypoints' " + std::to_string(s.duration) + " s would take more than 1e7 cycles at this cycle time");
   if (const YAML::Node obs = y.list(root["obstacles"], "obstacles")) {
     for (std::size_t i = 0; i < obs.size(); ++i)
       s.obstacles.push_back(parseObstacle(y, obs[i], "obstacles[" + std::to_string(i) + "]", static_cast<int>(i)));

@@ -80,6 +80,16 @@ TEST(Scenario, ErrorsNameFileLineAndKey) {
   const std::string arm = "arms:\n  - {name: a, model: panda, waypoints: [{t: 0, q: [0, 0, 0, -1, 0, 1, 0]}]}\n";
   expectError("repeated_key.yaml", arm + "safety: {cycle_time: 0.001, cycle_time: 0.01}\n",
               ":3: safety.cycle_time: repeated key (first given at line 3)");
+  // issue 21: yaml-cpp's "invalid node" named nothing; 1e300 and 1e-12 ran for minutes
+  expectError("only_name.yaml", "name: x\n", ":1: arms: missing key");
+  expectError("huge_horizon.yaml", arm + "safety: {horizon: 1e300}\n", ":3: safety.horizon: the look-ahead");
+  expectError("tiny_cycle.yaml", arm + "safety: {cycle_time: 1e-12}\nduration: 10\n",
+              ":3: safety.cycle_time: the waypoints' 10.000000 s would take more than 1e7 cycles");
+  expectError("two_shapes.yaml",
+              arm + "obstacles:\n  - {sphere: {center: [1, 1, 1], radius: 0.1}, box: {center: [0, 0, 0], half_extents: [1, 1, 1]}}\n",
+              ":4: obstacles[0]: give one of sphere, capsule, box");
+  expectError("trace_dir.yaml", "arms:\n  - {name: a, model: panda}\ntrace: " + fs::temp_directory_path().string() + "\n",
+              ":3: trace: is a directory");
   expectError("unknown_key.yaml", arm + "safety: {cycle_tme: 0.001}\n", ":3: safety.cycle_tme: unknown key");
   expectError("bad_number.yaml", arm + "safety: {stopping_time: fast}\n", ":3: safety.stopping_time: 'fast' is not a number");
   expectError("short_horizon.yaml", arm + "safety: {horizon: 0.01}\n", "safety.horizon: must be at least the safe time");
