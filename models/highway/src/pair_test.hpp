@@ -22,8 +22,10 @@ struct Threat {
   Zone zone = Zone::Body;
   double ttc = 0.0;
   double safe = 0.0;
-  int foe = -1;  // slot, or feature group
+  int foe = -1;      // slot, or feature group
+  int feature = -1;  // road: the feature that fired (in the padding: the struct stays 40 bytes)
 };
+static_assert(sizeof(Threat) == 40, "the threat lists are sorted every tick: keep them small");
 inline constexpr std::uint64_t kFeatureBit = std::uint64_t{1} << 63;
 
 // How far behind and ahead of an ego a foe's centre can lie and still meet it within the safe

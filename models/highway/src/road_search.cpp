@@ -207,7 +207,7 @@ void RoadSearch::checkFeature(int e, int fi, double hMax, std::vector<Threat>& o
     if (t.signals[e] & need) return;
   }
   const int g = groupOf_[fi];
-  out.push_back({kFeatureBit | static_cast<std::uint64_t>(g), kindOf(f.kind), ttc.zone, ttc.t, safe, g});
+  out.push_back({kFeatureBit | static_cast<std::uint64_t>(g), kindOf(f.kind), ttc.zone, ttc.t, safe, g, fi});
 }
 
 }  // namespace st::highway::detail

@@ -340,11 +340,15 @@ struct FcdReader::Impl {
   double lastTime = -std::numeric_limits<double>::infinity();
   FcdChecks checks;
   bool anyStep = false;
+  std::unordered_map<std::string, int> laneIndex;  // lane id -> index into the network's lanes
   Impl(const std::filesystem::path& p, VehicleTypes t, FcdChecks c) : x(p), types(std::move(t)), checks(std::move(c)) {}
 };
 
-FcdReader::FcdReader(const std::filesystem::path& path, VehicleTypes types, FcdChecks checks)
-    : impl_(std::make_unique<Impl>(path, std::move(types), std::move(checks))) {}
+FcdReader::FcdReader(const std::filesystem::path& path, VehicleTypes types, FcdChecks checks, const RoadGeometry* road)
+    : impl_(std::make_unique<Impl>(path, std::move(types), std::move(checks))) {
+  if (road)
+    for (std::size_t i = 0; i < road->lanes.size(); ++i) impl_->laneIndex.emplace(road->lanes[i].id, static_cast<int>(i));
+}
 FcdReader::~FcdReader() = default;
 
 bool FcdReader::next(FcdFrame& frame) {
@@ -413,6 +417,10 @@ bool FcdReader::next(FcdFrame& frame) {
     if (!(std::abs(v.acceleration) <= kFcdMaxAcceleration))
       x.fail(t.line, "<vehicle id=\"" + v.id + "\"> acceleration " + fmtNumber(v.acceleration) +
                          " m/s^2 is beyond any vehicle's (at most " + fmtNumber(kFcdMaxAcceleration) + ")");
+    if (const std::string* lane = t.attr("lane"); lane && !m.laneIndex.empty()) {
+      auto li = m.laneIndex.find(*lane);
+      if (li != m.laneIndex.end()) v.lane = li->second;
+    }
     if (const std::string* sig = t.attr("signals")) {
       const long bits = static_cast<long>(number(x, t, "signals", *sig));
       // SUMO: bit 0 right blinker, bit 1 left blinker, bit 2 hazard lights (both)

@@ -44,6 +44,7 @@ void VehicleTable::ensure(std::size_t n) {
   pairState.resize(n);
   wide.resize(n);
   inputOf.resize(n, -1);
+  lane.resize(n, -1);
 }
 
 int VehicleTable::newSlot(const VehicleState& v) {
@@ -148,6 +149,7 @@ void VehicleTable::take(int s, const VehicleState& v) {
   pairState[s] = {ext[s], env[s], v.mass, twiceBrake, shape[s].outer, sl.serial};
   signals[s] = v.signals;
   equipped[s] = v.equipped ? 1 : 0;
+  lane[s] = v.lane;
   if (sl.present) counters->vehicleMeters += (v.position - sl.prev).norm();
   sl.prev = v.position;
   sl.present = true;

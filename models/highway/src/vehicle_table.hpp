@@ -78,6 +78,7 @@ struct VehicleTable {
   // such cars in a bin of their own (cell_pair_search.cpp)
   std::vector<int> wide;
   std::vector<int> inputOf;                  // index in the current span, -1 if absent
+  std::vector<int> lane;                     // VehicleState::lane (only reported)
 
  private:
   std::vector<int> next_;  // scratch: the next tick's active list

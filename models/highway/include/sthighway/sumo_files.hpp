@@ -66,12 +66,14 @@ inline constexpr double kFcdMaxAcceleration = 1000.0;
 inline constexpr double kFcdMaxSize = 1000.0;
 
 // Streams <timestep time=".."><vehicle id x y angle speed [type acceleration signals length
-// width] .../></timestep> frames. Lateral speed is not in FCD: it is estimated from the change of
+// width lane] .../></timestep> frames. Lateral speed is not in FCD: it is estimated from the change of
 // the centre across frames (0 on a vehicle's first frame). A file without a single <timestep> is
-// an error (not an FCD trace), and so is a directory.
+// an error (not an FCD trace), and so is a directory. Given the network (road), a vehicle's lane
+// attribute becomes its index into road->lanes (VehicleState::lane; -1 for a lane road lacks).
 class FcdReader {
  public:
-  FcdReader(const std::filesystem::path& path, VehicleTypes types = {}, FcdChecks checks = {});
+  FcdReader(const std::filesystem::path& path, VehicleTypes types = {}, FcdChecks checks = {},
+            const RoadGeometry* road = nullptr);
   ~FcdReader();
   // Fills the next frame; false at the end of the file. Throws InputError with file:line.
   bool next(FcdFrame& frame);

@@ -40,6 +40,9 @@ struct VehicleState {
   VehicleClass vehicleClass = VehicleClass::Passenger;
   std::uint8_t signals = kSignalNone;  // TurnSignal bits
   bool equipped = true;          // a smart car raises warnings; every vehicle is a potential foe
+  // The lane it drives on: an index into the monitor's RoadGeometry::lanes, or -1 (unknown; a
+  // source without a network). Only reported (warnings.csv), never used to decide a warning.
+  int lane = -1;
 
   Vec2 direction() const { return {std::cos(heading), std::sin(heading)}; }
   Vec2 velocity() const {
