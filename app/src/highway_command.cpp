@@ -88,6 +88,7 @@ int runTrace(const Args& a) {
   info.source = a.get("fcd");
   info.detector = hw::toString(cfg.detector.kind);
   info.broadphase = hw::toString(cfg.broadphase);
+  info.hindsight = cfg.hindsight;
   double first = 0.0, last = 0.0;
   bool any = false;
   std::vector<hw::Warning> ended;  // one buffer for every frame

@@ -18,6 +18,8 @@
 #include <thread>
 #include <vector>
 
+#include <sthighway/report.hpp>
+
 extern char** environ;
 
 namespace st::cosim::test {
@@ -167,7 +169,7 @@ inline std::string onPath(const std::string& name) {
 // warnings.csv must be a header plus rows of exactly 10 fields.
 inline bool validWarningsCsv(const std::filesystem::path& p, std::size_t* rows = nullptr) {
   const auto ls = lines(slurp(p));
-  if (ls.empty() || ls[0] != "ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open") return false;
+  if (ls.empty() || ls[0] != st::highway::warningsCsvHeader()) return false;
   for (std::size_t i = 1; i < ls.size(); ++i)
     if (std::count(ls[i].begin(), ls[i].end(), ',') != 9) return false;
   if (rows) *rows = ls.size() - 1;

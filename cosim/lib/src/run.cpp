@@ -207,6 +207,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
   info.source = s.source.string();
   info.detector = hw::toString(s.plugin.monitor.detector.kind);
   info.broadphase = hw::toString(s.plugin.monitor.broadphase);
+  info.hindsight = s.plugin.monitor.hindsight;
   info.simulatedSeconds = simEnd;
   info.wallSeconds = std::chrono::duration<double>(Clock::now() - setup.wallStart).count();
   info.numbers = {{"sumo_seconds", sumoSeconds},

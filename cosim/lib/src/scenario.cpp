@@ -203,6 +203,14 @@ void readYaml(const fs::path& path, Scenario& s) {
       cc.decompositionFactor = static_cast<int>(r.integer(n, "cells.decomposition_factor", 1, 1e6));
     if (auto n = c["max_depth"]) cc.maxDepth = static_cast<int>(r.integer(n, "cells.max_depth", 0, 32));
   }
+  if (auto h = root["hindsight"]) {
+    r.checkKeys(h, "hindsight", keysUnder("hindsight"));
+    hw::HindsightConfig& hc = m.hindsight;
+    if (auto n = h["enabled"]) hc.enabled = r.boolean(n, "hindsight.enabled");
+    if (auto n = h["clearance"]) hc.clearance = r.number(n, "hindsight.clearance", 0, 100);
+    if (auto n = h["evasive_deceleration"]) hc.evasiveDeceleration = r.number(n, "hindsight.evasive_deceleration", 0.1, 100);
+    if (auto n = h["lead"]) hc.lead = r.number(n, "hindsight.lead", 0, 60);
+  }
   if (auto n = root["collision_action"]) {
     s.collisionAction = r.text(n, "collision_action");
     if (s.collisionAction != "warn" && s.collisionAction != "none" && s.collisionAction != "teleport" &&
@@ -255,7 +263,8 @@ const std::vector<std::string>& scenarioKeys() {
       k.push_back(std::string("safe_time.brake_force.") + hw::toString(static_cast<hw::VehicleClass>(c)));
     for (const char* more : {"concentric.inner_margin", "concentric.outer_margin", "cells.length", "cells.hysteresis_db",
                              "cells.tx_power_dbm", "cells.path_loss_exponent", "cells.reference_distance",
-                             "cells.radio_range", "cells.decomposition_factor", "cells.max_depth", "collision_action",
+                             "cells.radio_range", "cells.decomposition_factor", "cells.max_depth", "hindsight.enabled",
+                             "hindsight.clearance", "hindsight.evasive_deceleration", "hindsight.lead", "collision_action",
                              "collision_mingap_factor", "incidents", "sumo_args", "out"})
       k.push_back(more);
     return k;

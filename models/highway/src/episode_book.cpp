@@ -36,11 +36,16 @@ Warning EpisodeBook::warningOf(int e, const Episode& ep, bool open) const {
           ep.begin, ep.end, ep.minTtc, ep.minTtcTime, ep.safeTimeAtMin, open};
 }
 
+void EpisodeBook::emit(int e, const Episode& ep) {
+  if (ep.window >= 0) hindsight_->finished(warningOf(e, ep, false), ep.window);
+  else finished_.push_back(warningOf(e, ep, false));
+}
+
 void EpisodeBook::close(int s, double endTime) {
   Episode* open = pool_.data() + openBegin_[s];
   for (int k = 0; k < openCount_[s]; ++k) {
     open[k].end = endTime;
-    finished_.push_back(warningOf(s, open[k], false));
+    emit(s, open[k]);
   }
   openCount_[s] = 0;
   exposure_[s].exposed.fill(false);
@@ -72,7 +77,7 @@ void EpisodeBook::merge(int e, double t, std::vector<Threat>& threats) {
     if (j == nThreats || (i < nOpen && open[i].key < threats[j].key)) {
       Episode& ep = open[i++];
       ep.end = t;
-      finished_.push_back(warningOf(e, ep, false));
+      emit(e, ep);
       continue;
     }
     const Threat& th = threats[j++];
@@ -88,7 +93,8 @@ void EpisodeBook::merge(int e, double t, std::vector<Threat>& threats) {
       }
       continue;
     }
-    poolNext_.push_back({th.key, th.foe, th.kind, th.zone, t, t, th.ttc, t, th.safe});
+    const int window = hindsight_->enabled() ? hindsight_->open(e, th.foe, th.kind, t, th.safe) : -1;
+    poolNext_.push_back({th.key, th.foe, th.kind, th.zone, t, t, th.ttc, t, th.safe, window});
     ++counters_->warningsBegun;
     ++counters_->warningsByKind[static_cast<int>(th.kind)];
     ++counters_->warningsByZone[static_cast<int>(th.zone)];

@@ -7,6 +7,7 @@
 
 #include <sthighway/monitor.hpp>
 
+#include "hindsight.hpp"
 #include "pair_test.hpp"
 #include "road_search.hpp"
 #include "vehicle_table.hpp"
@@ -15,8 +16,8 @@ namespace st::highway::detail {
 
 class EpisodeBook {
  public:
-  EpisodeBook(const VehicleTable& cars, const RoadSearch& road, MonitorCounters& counters)
-      : cars_(&cars), road_(&road), counters_(&counters) {}
+  EpisodeBook(const VehicleTable& cars, const RoadSearch& road, Hindsight& hindsight, MonitorCounters& counters)
+      : cars_(&cars), road_(&road), hindsight_(&hindsight), counters_(&counters) {}
 
   // Time exposed and integrated deficit over the interval dt that just ended, from the threats of
   // its first tick.
@@ -45,6 +46,7 @@ class EpisodeBook {
     WarningKind kind = WarningKind::Vehicle;
     Zone zone = Zone::Body;
     double begin = 0.0, end = 0.0, minTtc = 0.0, minTtcTime = 0.0, safeTimeAtMin = 0.0;
+    int window = -1;  // its hindsight window (-1: hindsight off)
   };
   // what the exposure counters need of a car's threats at its last tick
   struct Exposure {
@@ -53,10 +55,13 @@ class EpisodeBook {
   };
 
   Warning warningOf(int e, const Episode& ep, bool open) const;
+  // an ended episode to hindsight, or straight to the finished warnings
+  void emit(int e, const Episode& ep);
   void ensure(std::size_t n);
 
   const VehicleTable* cars_;
   const RoadSearch* road_;
+  Hindsight* hindsight_;
   MonitorCounters* counters_;
   // Open episodes of every car, contiguous in the order the cars were processed at the last tick
   // (keys ascending per car): a tick reads them in that order and writes the next pool in the

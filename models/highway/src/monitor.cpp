@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "episode_book.hpp"
+#include "hindsight.hpp"
 #include "pair_search.hpp"
 #include "road_search.hpp"
 #include "vehicle_table.hpp"
@@ -31,9 +32,22 @@ const char* toString(WarningKind k) {
   return "vehicle";
 }
 
+const char* toString(Verdict v) {
+  switch (v) {
+    case Verdict::Unjudged: return "";
+    case Verdict::Confirmed: return "confirmed";
+    case Verdict::Nuisance: return "nuisance";
+  }
+  return "";
+}
+
 namespace {
 
 void checkConfig(const MonitorConfig& config) {
+  const HindsightConfig& h = config.hindsight;
+  if (!(h.clearance >= 0.0) || !std::isfinite(h.clearance) || !(h.evasiveDeceleration > 0.0) ||
+      !std::isfinite(h.evasiveDeceleration) || !(h.lead >= 0.0) || !std::isfinite(h.lead))
+    throw std::invalid_argument("hindsight: clearance and lead must be finite and non-negative, evasive_deceleration positive");
   const SafeTimeConfig& st = config.safeTime;
   if (!(st.vehicleReactionTime >= 0.0) || !(st.roadReactionTime >= 0.0))
     throw std::invalid_argument("safe time: reaction times must be non-negative");
@@ -60,6 +74,7 @@ RoadFeatures cellBounds(RoadFeatures f) {
 //   pairs   who is near whom, and the car-car threats              (cell_pair_search.cpp, all_pairs_search.cpp)
 //   road    which road features an ego may reach, and their threats (road_search.cpp)
 //   book    threats into episodes, exposure, alerts, warnings      (episode_book.cpp)
+//   judge   what happened next: each warning's verdict, near misses (hindsight.cpp)
 struct HighwayMonitor::Impl {
   MonitorConfig cfg;
   MonitorCounters counters;
@@ -67,6 +82,7 @@ struct HighwayMonitor::Impl {
   detail::RoadSearch road;
   CellNetwork cells;
   std::unique_ptr<detail::PairSearch> pairs;
+  detail::Hindsight hindsight;
   detail::EpisodeBook book;
   std::vector<detail::Threat> threats;  // scratch: one ego's
   double lastT = -std::numeric_limits<double>::infinity();
@@ -77,7 +93,8 @@ struct HighwayMonitor::Impl {
         cars(cfg, counters),
         road(geometry, cfg, cars, counters),
         cells(geometry, cellBounds(road.features()), cfg.cells),
-        book(cars, road, counters) {
+        hindsight(cfg, cars, road, counters),
+        book(cars, road, hindsight, counters) {
     const detail::PairTest test{&cfg, &cars, &counters};
     pairs = cfg.broadphase == Broadphase::Cells ? detail::makeCellPairSearch(test, cells) : detail::makeAllPairsSearch(test);
   }
@@ -116,6 +133,10 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
     m.book.merge(s, t, m.threats);
   }
   m.book.endTick();
+  if (m.hindsight.enabled()) {
+    m.hindsight.observe(t);
+    m.hindsight.release(m.book.finished());
+  }
   m.lastT = t;
   m.started = true;
 }
@@ -124,6 +145,7 @@ void HighwayMonitor::finish(double t) {
   Impl& m = *impl_;
   if (m.started && t > m.lastT) m.book.accumulateExposure(t - m.lastT);
   for (int s : m.cars.active) m.book.close(s, std::max(t, m.lastT));
+  m.hindsight.finishAll(m.book.finished());
   m.book.clearAlerts();
 }
 

@@ -1,5 +1,8 @@
 #include <sthighway/report.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 #include <stio/format.hpp>
 
 #include <sstream>
@@ -14,15 +17,51 @@ std::string num(double x) { return io::jsonNumber(x); }
 using io::csvField;
 using io::jsonString;
 
+// a share, or null when there is nothing to count
+std::string share(std::uint64_t part, std::uint64_t whole) {
+  return whole ? num(static_cast<double>(part) / static_cast<double>(whole)) : "null";
+}
+
+// lead times: min, median, 90th percentile (null when none)
+std::string leadJson(std::vector<double> v) {
+  if (v.empty()) return "null";
+  std::sort(v.begin(), v.end());
+  auto q = [&](double f) { return v[static_cast<std::size_t>(f * static_cast<double>(v.size() - 1) + 0.5)]; };
+  return "{\"min\": " + num(v.front()) + ", \"median\": " + num(q(0.5)) + ", \"p90\": " + num(q(0.9)) + "}";
+}
+
 }  // namespace
 
-std::string warningsCsvHeader() { return "ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open"; }
+std::string hindsightJson(const MonitorCounters& c, const HindsightConfig& h) {
+  if (!h.enabled) return "null";
+  std::ostringstream os;
+  os << "{\"clearance_m\": " << num(h.clearance) << ", \"evasive_deceleration\": " << num(h.evasiveDeceleration)
+     << ", \"lead_s\": " << num(h.lead) << ",\n    \"by_kind\": {";
+  for (int k = 0; k < kWarningKindCount; ++k)
+    os << (k ? ", " : "") << jsonString(toString(static_cast<WarningKind>(k))) << ": {\"judged\": " << c.judged[k]
+       << ", \"confirmed\": " << c.confirmed[k] << ", \"precision\": " << share(c.confirmed[k], c.judged[k]) << "}";
+  os << "},\n    \"near_misses\": {\"events\": " << c.nearMisses << ", \"warned\": " << c.nearMissesWarned
+     << ", \"recall\": " << share(c.nearMissesWarned, c.nearMisses) << ", \"lead_s\": " << leadJson(c.nearMissLeads) << "}}";
+  return os.str();
+}
+
+std::string warningsCsvHeader() {
+  return "ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open,"
+         "verdict,clearance,clearance_time,deceleration,crossed,signalled";
+}
 
 std::string warningCsvRow(const Warning& w) {
   std::ostringstream os;
   os << csvField(w.ego) << ',' << csvField(w.foe) << ',' << toString(w.kind) << ',' << toString(w.zone) << ','
      << num(w.begin) << ',' << num(w.end) << ',' << num(w.minTtc) << ',' << num(w.minTtcTime) << ','
      << num(w.safeTimeAtMin) << ',' << (w.open ? 1 : 0);
+  // hindsight: empty where it does not apply (unjudged; a road warning's clearance, a vehicle
+  // warning's crossing)
+  auto field = [](double x) { return std::isfinite(x) ? num(x) : std::string(); };
+  const bool judged = w.verdict != Verdict::Unjudged, vehicle = w.kind == WarningKind::Vehicle;
+  os << ',' << toString(w.verdict) << ',' << (judged && vehicle ? field(w.clearance) : "") << ','
+     << (judged ? field(w.clearanceTime) : "") << ',' << (judged && vehicle ? num(w.deceleration) : "") << ','
+     << (judged && !vehicle ? (w.crossed ? "1" : "0") : "") << ',' << (judged && !vehicle ? (w.signalled ? "1" : "0") : "");
   return os.str();
 }
 
@@ -76,6 +115,7 @@ std::string summaryJson(const MonitorCounters& c, const RunInfo& info) {
   for (int k = 0; k < kWarningKindCount; ++k)
     os << (k ? ", " : "") << jsonString(toString(static_cast<WarningKind>(k))) << ": " << num(c.tit[k]);
   os << "},\n";
+  os << "  \"hindsight\": " << hindsightJson(c, info.hindsight) << ",\n";
   os << "  \"handoffs\": " << c.handoffs << ",\n";
   os << "  \"subdivisions\": " << c.subdivisions << ",\n";
   os << "  \"reunions\": " << c.reunions << ",\n";

@@ -70,7 +70,11 @@ RoadSearch::RoadSearch(const RoadGeometry& road, const MonitorConfig& config, co
   std::map<std::string, int> groups;
   for (const RoadFeature& f : features_.features) {
     auto [it, inserted] = groups.emplace(std::string(toString(f.kind)) + "/" + f.name, static_cast<int>(groupName_.size()));
-    if (inserted) groupName_.push_back(f.name);
+    if (inserted) {
+      groupName_.push_back(f.name);
+      groupFeatures_.emplace_back();
+    }
+    groupFeatures_[it->second].push_back(static_cast<int>(groupOf_.size()));
     groupOf_.push_back(it->second);
   }
   for (const RoadFeature& f : features_.features) {

@@ -26,6 +26,8 @@ class RoadSearch {
   const RoadFeatures& features() const { return features_; }
   // the name of a feature group (one polyline or hazard): a road threat's foe
   const std::string& groupName(int group) const { return groupName_[group]; }
+  // the features of a group (its polyline's segments, or the hazard)
+  std::span<const int> groupFeatures(int group) const { return groupFeatures_[group]; }
 
   // This tick's per-group lists (groups from the pair search; empty: every ego reads all).
   void prepare(std::span<const CarGroup> groups);
@@ -73,6 +75,7 @@ class RoadSearch {
   RoadFeatures features_;
   std::vector<int> groupOf_;  // feature -> group (one polyline or hazard)
   std::vector<std::string> groupName_;
+  std::vector<std::vector<int>> groupFeatures_;
   std::vector<FeatureLine> featureLine_;
   std::optional<Space<2>> featureIndex_;
   RoadList allRoad_;                         // every feature (all-pairs)

@@ -10,6 +10,7 @@
 // Crossing a lane marker with the turn signal of that side on is not a warning.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -32,6 +33,11 @@ inline constexpr int kWarningKindCount = 4;
 inline constexpr int kZoneCount = 8;
 const char* toString(WarningKind k);  // "vehicle", "curb", "lane_marker", "hazard"
 
+// What hindsight (hindsight.cpp) made of a warning: the following ticks confirmed the conflict,
+// or it did not happen (a nuisance); unjudged while it is open or with hindsight off.
+enum class Verdict : std::uint8_t { Unjudged, Confirmed, Nuisance };
+const char* toString(Verdict v);  // "", "confirmed", "nuisance"
+
 struct Warning {
   std::string ego;
   std::string foe;         // vehicle id; curb/marker/hazard name (RoadFeature::name)
@@ -43,6 +49,13 @@ struct Warning {
   double minTtcTime = 0.0; // s, when it occurred
   double safeTimeAtMin = 0.0;  // s, the safe time at that tick
   bool open = false;       // still going on
+  // what happened next (hindsight)
+  Verdict verdict = Verdict::Unjudged;
+  double clearance = std::numeric_limits<double>::quiet_NaN();      // m, vehicle: smallest body-to-body distance in the window
+  double clearanceTime = std::numeric_limits<double>::quiet_NaN();  // s, when (road: when the body touched the line)
+  double deceleration = 0.0;  // m/s^2, vehicle: the strongest braking of either vehicle in the window
+  bool crossed = false;       // road: the body touched the line (or hazard) within the safe time
+  bool signalled = false;     // road: with the turn signal of that side on
 };
 
 // An equipped car's worst current threat this tick (for actions: colour, brake).
@@ -55,12 +68,21 @@ struct Alert {
   int foe = -1;            // the other vehicle's index (vehicle warnings), else -1
 };
 
+// Hindsight's thresholds (scenario keys `hindsight: {clearance, evasive_deceleration, lead}`).
+struct HindsightConfig {
+  bool enabled = true;
+  double clearance = 0.5;            // m: a realized clearance below it confirms a vehicle warning
+  double evasiveDeceleration = 4.0;  // m/s^2: braking harder than this in the window confirms it too
+  double lead = 0.5;                 // s: a near miss is warned if an episode was open this long before
+};
+
 struct MonitorConfig {
   DetectorConfig detector;
   SafeTimeConfig safeTime;
   CellConfig cells;
   Broadphase broadphase = Broadphase::Cells;
   bool checkRoad = true;   // curbs, lane markers, hazards
+  HindsightConfig hindsight;
 };
 
 struct MonitorCounters {
@@ -82,6 +104,14 @@ struct MonitorCounters {
   // Finished and open episodes by kind and by zone.
   std::array<std::uint64_t, kWarningKindCount> warningsByKind{};
   std::array<std::uint64_t, kZoneCount> warningsByZone{};
+  // Hindsight: per kind, the warnings judged and those confirmed; the run's near misses (pairs
+  // with an equipped car closer than the clearance while closing, one per approach), those warned
+  // `lead` s before, and the warned ones' lead times (s).
+  std::array<std::uint64_t, kWarningKindCount> judged{};
+  std::array<std::uint64_t, kWarningKindCount> confirmed{};
+  std::uint64_t nearMisses = 0;
+  std::uint64_t nearMissesWarned = 0;
+  std::vector<double> nearMissLeads;
 };
 
 class HighwayMonitor {
@@ -100,7 +130,8 @@ class HighwayMonitor {
   // Closes every open episode at time t.
   void finish(double t);
 
-  // Episodes that ended since the last call, in order of ending.
+  // Episodes that ended since the last call, in order of ending, each judged by hindsight (held
+  // until its window, a few seconds at most, has passed).
   std::vector<Warning> takeFinished();
   // The same into `out` (replacing its contents): the monitor keeps out's old buffer, so a caller
   // that passes the same vector every tick allocates nothing once both have grown.

@@ -12,7 +12,8 @@
 
 namespace st::highway {
 
-// Columns: ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open
+// Columns: ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open, then hindsight's:
+// verdict,clearance,clearance_time,deceleration,crossed,signalled
 class WarningsCsvWriter {
  public:
   // Creates (truncates) the file and writes the header; throws std::runtime_error naming the path.
@@ -42,7 +43,12 @@ struct RunInfo {
   std::vector<std::pair<std::string, double>> numbers;
   std::vector<std::pair<std::string, std::string>> strings;
   std::vector<std::pair<std::string, std::string>> rawJson;
+  HindsightConfig hindsight;     // the thresholds the run judged with
 };
+
+// summary.json's "hindsight": thresholds, per kind judged / confirmed / precision, near misses
+// with recall and lead times (null figures where there is nothing to count).
+std::string hindsightJson(const MonitorCounters& counters, const HindsightConfig& config);
 
 // summary.json: vehicles, vehicle_km, warnings (total, by kind, by zone, per vehicle-km),
 // tet_s / tit_s2 by kind, handoffs, subdivisions, candidate_pairs, toi_checks, wall time.

@@ -1,0 +1,280 @@
+#include "hindsight.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include <stcore/toi.hpp>
+
+namespace st::highway::detail {
+
+namespace {
+
+std::array<Vec2, 4> cornersOf(const Body& b) {
+  const Vec2 hx = 0.5 * b.length * b.axis, hy = 0.5 * b.width * Vec2(-b.axis.y(), b.axis.x());
+  return {b.position + hx + hy, b.position - hx + hy, b.position - hx - hy, b.position + hx - hy};
+}
+
+// The largest gap between the two rectangles' projections on an axis of either (the separating
+// axis test): positive when they are apart, and then never more than their distance.
+double separation(const Body& a, const Body& b) {
+  const Vec2 d = b.position - a.position;
+  const Vec2 an(-a.axis.y(), a.axis.x()), bn(-b.axis.y(), b.axis.x());
+  const double ca = std::abs(a.axis.dot(b.axis)), cb = std::abs(a.axis.dot(bn)), cc = std::abs(an.dot(b.axis)),
+               cd = std::abs(an.dot(bn));
+  const double la = 0.5 * a.length, wa = 0.5 * a.width, lb = 0.5 * b.length, wb = 0.5 * b.width;
+  return std::max({std::abs(d.dot(a.axis)) - la - lb * ca - wb * cb, std::abs(d.dot(an)) - wa - lb * cc - wb * cd,
+                   std::abs(d.dot(b.axis)) - lb - la * ca - wa * cc, std::abs(d.dot(bn)) - wb - la * cb - wa * cd});
+}
+
+double pointRectangleDistanceSq(const Vec2& p, const Body& b) {
+  const Vec2 d = p - b.position;
+  const double u = std::max(0.0, std::abs(d.dot(b.axis)) - 0.5 * b.length);
+  const double w = std::max(0.0, std::abs(d.dot(Vec2(-b.axis.y(), b.axis.x()))) - 0.5 * b.width);
+  return u * u + w * w;
+}
+double pointRectangleDistance(const Vec2& p, const Body& b) { return std::sqrt(pointRectangleDistanceSq(p, b)); }
+
+}  // namespace
+
+double rectangleDistance(const Body& a, const Body& b) {
+  if (separation(a, b) <= 0.0) return 0.0;
+  // apart: the distance is reached at a corner of one against the other
+  double best = kInf;
+  for (const Vec2& c : cornersOf(a)) best = std::min(best, pointRectangleDistanceSq(c, b));
+  for (const Vec2& c : cornersOf(b)) best = std::min(best, pointRectangleDistanceSq(c, a));
+  return std::sqrt(best);
+}
+
+bool segmentTouches(const Segment& s, const Body& b) {
+  // separating axes: the rectangle's two and the segment's normal
+  const Vec2 n0 = b.axis, n1(-b.axis.y(), b.axis.x());
+  const double h[2] = {0.5 * b.length, 0.5 * b.width};
+  const Vec2 axes[2] = {n0, n1};
+  for (int k = 0; k < 2; ++k) {
+    const double pa = axes[k].dot(s.a - b.position), pb = axes[k].dot(s.b - b.position);
+    if (std::min(pa, pb) > h[k] || std::max(pa, pb) < -h[k]) return false;
+  }
+  const Vec2 dir = s.b - s.a;
+  if (dir.squaredNorm() == 0.0) return pointRectangleDistance(s.a, b) == 0.0;
+  const Vec2 n = Vec2(-dir.y(), dir.x()).normalized();
+  const double off = n.dot(b.position - s.a);
+  const double reach = h[0] * std::abs(n.dot(n0)) + h[1] * std::abs(n.dot(n1));
+  return std::abs(off) <= reach;
+}
+
+int Hindsight::open(int e, int foe, WarningKind kind, double t, double safe) {
+  int id;
+  if (!freeWindows_.empty()) {
+    id = freeWindows_.back();
+    freeWindows_.pop_back();
+  } else {
+    id = static_cast<int>(windows_.size());
+    windows_.emplace_back();
+  }
+  Window& w = windows_[id];
+  w = Window{};
+  w.ego = e;
+  w.foe = foe;
+  w.kind = kind;
+  w.egoSerial = cars_->slots[e].serial;
+  w.begin = t;
+  // a vehicle warning's conflict may come a little after its safe time (the margin of the report's
+  // prediction): one more second is watched
+  w.end = t + safe + (kind == WarningKind::Vehicle ? 1.0 : 0.0);
+  if (kind == WarningKind::Vehicle) {
+    w.foeSerial = cars_->slots[foe].serial;
+    pairEpisodes_[pairKey(w.egoSerial, w.foeSerial)].push_back({w.egoSerial, t, kInf});
+  }
+  live_.push_back(id);
+  return id;
+}
+
+void Hindsight::finished(Warning&& w, int window) {
+  const Window& win = windows_[window];
+  if (win.kind == WarningKind::Vehicle) {
+    auto it = pairEpisodes_.find(pairKey(win.egoSerial, win.foeSerial));
+    if (it != pairEpisodes_.end())
+      for (PairEpisode& pe : it->second)
+        if (pe.ego == win.egoSerial && pe.end == kInf) pe.end = w.end;
+  }
+  pending_.push_back({std::move(w), window, tick_});
+}
+
+bool Hindsight::alive(const Window& w) const {
+  const auto& slots = cars_->slots;
+  auto here = [&](int s, std::uint64_t serial) { return slots[s].present && slots[s].serial == serial; };
+  return here(w.ego, w.egoSerial) && (w.kind != WarningKind::Vehicle || here(w.foe, w.foeSerial));
+}
+
+void Hindsight::measure(Window& w, double t) {
+  const Body& a = cars_->body[w.ego];
+  if (w.kind == WarningKind::Vehicle) {
+    const Body& b = cars_->body[w.foe];
+    // the gap along a separating axis bounds the distance from below: most ticks it cannot
+    // beat the smallest clearance so far (a car alongside in the next lane)
+    if (!w.measured || separation(a, b) < w.clearance) {
+      const double d = rectangleDistance(a, b);
+      if (!w.measured || d < w.clearance) {
+        w.clearance = d;
+        w.clearanceTime = t;
+      }
+    }
+    w.deceleration = std::max({w.deceleration, -a.acceleration, -b.acceleration});
+    w.measured = true;
+    return;
+  }
+  w.measured = true;
+  if (w.crossed) return;
+  const RoadFeatures& rf = road_->features();
+  for (int fi : road_->groupFeatures(w.foe)) {
+    const RoadFeature& f = rf.features[fi];
+    const bool touches =
+        f.kind == FeatureKind::Hazard ? pointRectangleDistance(f.segment.a, a) <= f.radius : segmentTouches(f.segment, a);
+    if (!touches) continue;
+    w.crossed = true;
+    w.clearanceTime = t;
+    // the signal of the side the line is on (as the monitor's exemption reads it)
+    double side = cross(a.axis, closestPointOnSegment(f.segment, a.position) - a.position);
+    if (std::abs(side) < 1e-9) side = cross(a.axis, a.velocity);
+    w.signalled = (cars_->signals[w.ego] & (side > 0.0 ? kSignalLeft : kSignalRight)) != 0;
+    return;
+  }
+}
+
+void Hindsight::judge(Warning& w, const Window& win) {
+  const HindsightConfig& h = cfg_->hindsight;
+  bool confirmed = false;
+  if (win.kind == WarningKind::Vehicle) {
+    w.clearance = win.measured ? win.clearance : std::numeric_limits<double>::quiet_NaN();
+    w.clearanceTime = win.measured ? win.clearanceTime : std::numeric_limits<double>::quiet_NaN();
+    w.deceleration = win.deceleration;
+    confirmed = (win.measured && win.clearance < h.clearance) || win.deceleration > h.evasiveDeceleration;
+  } else {
+    w.crossed = win.crossed;
+    w.signalled = win.signalled;
+    w.clearanceTime = win.crossed ? win.clearanceTime : std::numeric_limits<double>::quiet_NaN();
+    confirmed = win.crossed && (win.kind != WarningKind::LaneMarker || !win.signalled);
+  }
+  w.verdict = confirmed ? Verdict::Confirmed : Verdict::Nuisance;
+  const int k = static_cast<int>(win.kind);
+  ++counters_->judged[k];
+  counters_->confirmed[k] += confirmed ? 1 : 0;
+}
+
+void Hindsight::observe(double t) {
+  ++tick_;
+  for (std::size_t i = 0; i < live_.size();) {
+    Window& w = windows_[live_[i]];
+    if (t > w.end || !alive(w)) {
+      w.closed = true;
+      live_[i] = live_.back();
+      live_.pop_back();
+      continue;
+    }
+    measure(w, t);
+    ++i;
+  }
+  findNearMisses(t);
+  if (t - lastPrune_ > 10.0) {
+    // episodes long over no longer decide a near miss's recall
+    for (auto it = pairEpisodes_.begin(); it != pairEpisodes_.end();) {
+      auto& v = it->second;
+      v.erase(std::remove_if(v.begin(), v.end(), [&](const PairEpisode& pe) { return pe.end < t - 10.0; }), v.end());
+      it = v.empty() ? pairEpisodes_.erase(it) : std::next(it);
+    }
+    lastPrune_ = t;
+  }
+}
+
+// The pairs closer than the clearance while closing, by a sweep along the axis the cars spread
+// along most (kept nearly sorted from tick to tick: an insertion sort).
+void Hindsight::findNearMisses(double t) {
+  const VehicleTable& c = *cars_;
+  const HindsightConfig& h = cfg_->hindsight;
+  if (c.active.size() < 2) return;
+  Vec2 lo = Vec2::Constant(kInf), hi = Vec2::Constant(-kInf);
+  double rmax = 0.0;  // the envelopes hold the bodies
+  for (int s : c.active) {
+    lo = lo.cwiseMin(c.centre[s]);
+    hi = hi.cwiseMax(c.centre[s]);
+    rmax = std::max(rmax, c.env[s]);
+  }
+  const int axis = hi.y() - lo.y() > hi.x() - lo.x() ? 1 : 0;
+  // last tick's order, the cars still here first, then the new ones; cars keep their order along
+  // the road, so an insertion sort finds it nearly sorted
+  ++stamp_;
+  if (seen_.size() < c.slots.size()) seen_.resize(c.slots.size(), 0);
+  std::size_t n = 0;
+  for (const auto& [key, s] : order_)
+    if (c.inputOf[s] >= 0 && seen_[s] != stamp_) seen_[s] = stamp_, order_[n++] = {c.centre[s][axis], s};
+  order_.resize(n);
+  for (int s : c.active)
+    if (seen_[s] != stamp_) seen_[s] = stamp_, order_.push_back({c.centre[s][axis], s});
+  if (n < order_.size() / 2) {
+    std::sort(order_.begin(), order_.end());  // mostly new cars (the first tick)
+  } else {
+    for (std::size_t i = 1; i < order_.size(); ++i) {
+      const std::pair<double, int> x = order_[i];
+      std::size_t j = i;
+      for (; j > 0 && x < order_[j - 1]; --j) order_[j] = order_[j - 1];
+      order_[j] = x;
+    }
+  }
+  const double reach = 2.0 * rmax + h.clearance;
+  nearNow_.clear();
+  n = order_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const int a = order_[i].second;
+    for (std::size_t j = i + 1; j < n && order_[j].first - order_[i].first <= reach; ++j) {
+      const int b = order_[j].second;
+      if (!c.equipped[a] && !c.equipped[b]) continue;
+      const Vec2 p = c.centre[b] - c.centre[a];
+      if (std::abs(p[1 - axis]) > reach) continue;
+      if (p.dot(c.vel[b] - c.vel[a]) >= 0.0) continue;  // not closing
+      const double far = c.env[a] + c.env[b] + h.clearance;
+      if (p.squaredNorm() >= far * far) continue;  // the envelopes hold the bodies
+      if (rectangleDistance(c.body[a], c.body[b]) >= h.clearance) continue;
+      const std::uint64_t key = pairKey(c.slots[a].serial, c.slots[b].serial);
+      nearNow_.insert(key);
+      if (nearBefore_.count(key)) continue;
+      // a new approach: was an episode between the two open `lead` seconds before?
+      ++counters_->nearMisses;
+      double lead = -1.0;
+      if (auto it = pairEpisodes_.find(key); it != pairEpisodes_.end())
+        for (const PairEpisode& pe : it->second)
+          if (pe.begin <= t - h.lead && pe.end >= t - h.lead) lead = std::max(lead, t - pe.begin);
+      if (lead >= 0.0) {
+        ++counters_->nearMissesWarned;
+        counters_->nearMissLeads.push_back(lead);
+      }
+    }
+  }
+  std::swap(nearBefore_, nearNow_);
+}
+
+void Hindsight::release(std::vector<Warning>& out) {
+  while (!pending_.empty()) {
+    // the oldest tick's warnings, once every one of them is judged
+    const std::uint64_t tick = pending_.front().tick;
+    std::size_t n = 0;
+    for (; n < pending_.size() && pending_[n].tick == tick; ++n)
+      if (!windows_[pending_[n].window].closed) return;
+    for (std::size_t i = 0; i < n; ++i) {
+      Pending& p = pending_.front();
+      judge(p.warning, windows_[p.window]);
+      out.push_back(std::move(p.warning));
+      freeWindows_.push_back(p.window);
+      pending_.pop_front();
+    }
+  }
+}
+
+void Hindsight::finishAll(std::vector<Warning>& out) {
+  for (int id : live_) windows_[id].closed = true;
+  live_.clear();
+  release(out);
+}
+
+}  // namespace st::highway::detail

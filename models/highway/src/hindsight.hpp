@@ -1,0 +1,101 @@
+#pragma once
+// Hindsight: did the warned conflict happen? A warning is a prediction; the following ticks show
+// what happened (online, from the states the monitor sees anyway; no second pass):
+//   vehicle warnings: the smallest body-to-body clearance between ego and foe from the warning's
+//     begin to begin + safe time + 1 s, when it occurred, and the strongest deceleration either
+//     vehicle applied in that window;
+//   curb, lane-marker and hazard warnings: whether the body touched that line (or hazard) within
+//     the safe time, and whether the turn signal of that side was on when it first did.
+// A warning is confirmed when the clearance fell below HindsightConfig::clearance (a collision
+// included), a vehicle braked harder than the evasive deceleration, a curb or hazard was touched,
+// or a lane marker was crossed unsignalled; a nuisance otherwise. Finished warnings are held until
+// their window closes (or a vehicle leaves) and handed on in the order they finished, a tick's
+// together once all of them are judged (so what is handed on does not depend on the input order).
+//
+// Recall: the run's near misses (two bodies, one of them equipped, closer than the clearance while
+// closing; one event per approach), found by a sweep of its own along the traffic's long axis, and
+// whether an episode between the two was open `lead` seconds before (its lead time: how long
+// before the event it began).
+#include <cstdint>
+#include <deque>
+#include <unordered_map>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+#include <sthighway/monitor.hpp>
+
+#include "road_search.hpp"
+#include "vehicle_table.hpp"
+
+namespace st::highway::detail {
+
+// Body-to-body distance of two oriented rectangles (0 when they touch or overlap).
+double rectangleDistance(const Body& a, const Body& b);
+// True when the segment touches the body's rectangle.
+bool segmentTouches(const Segment& s, const Body& b);
+
+class Hindsight {
+ public:
+  Hindsight(const MonitorConfig& config, const VehicleTable& cars, const RoadSearch& road, MonitorCounters& counters)
+      : cfg_(&config), cars_(&cars), road_(&road), counters_(&counters) {}
+
+  bool enabled() const { return cfg_->hindsight.enabled; }
+  // A new episode of ego slot e against foe (slot or feature group) at time t: its window opens.
+  // Returns the window's id (for finished()).
+  int open(int e, int foe, WarningKind kind, double t, double safe);
+  // An episode ended: its warning waits for its window's verdict.
+  void finished(Warning&& w, int window);
+  // After a tick's detection: the windows measure this tick's states, near misses are found.
+  void observe(double t);
+  // Warnings whose windows have closed, in the order they finished, appended to out.
+  void release(std::vector<Warning>& out);
+  // Closes every window with what it saw (the run ends) and releases everything.
+  void finishAll(std::vector<Warning>& out);
+
+ private:
+  struct Window {
+    std::uint64_t egoSerial = 0, foeSerial = 0;  // foeSerial 0: a road feature group
+    int ego = -1, foe = -1;
+    WarningKind kind = WarningKind::Vehicle;
+    double begin = 0.0, end = 0.0;  // s, measured while t <= end
+    double clearance = 0.0, clearanceTime = 0.0, deceleration = 0.0;
+    bool measured = false, crossed = false, signalled = false, closed = false;
+  };
+  struct Pending {
+    Warning warning;
+    int window;
+    std::uint64_t tick;  // the tick it ended in: a tick's warnings are released together
+  };
+  // an episode between two vehicles, for recall (direction-blind)
+  struct PairEpisode {
+    std::uint64_t ego;
+    double begin, end;  // end: +inf while open
+  };
+
+  bool alive(const Window& w) const;
+  void measure(Window& w, double t);
+  void judge(Warning& w, const Window& win);
+  void findNearMisses(double t);
+  static std::uint64_t pairKey(std::uint64_t a, std::uint64_t b) {
+    return a < b ? (a << 32) | b : (b << 32) | a;
+  }
+
+  const MonitorConfig* cfg_;
+  const VehicleTable* cars_;
+  const RoadSearch* road_;
+  MonitorCounters* counters_;
+  std::vector<Window> windows_;
+  std::vector<int> freeWindows_;
+  std::vector<int> live_;  // windows still measuring
+  std::deque<Pending> pending_;
+  std::unordered_map<std::uint64_t, std::vector<PairEpisode>> pairEpisodes_;
+  std::unordered_set<std::uint64_t> nearBefore_, nearNow_;
+  std::vector<std::pair<double, int>> order_;  // the sweep's order (coordinate, slot), kept
+  std::vector<std::uint64_t> seen_;            // per slot: the sweep that ordered it
+  std::uint64_t stamp_ = 0;
+  double lastPrune_ = 0.0;
+  std::uint64_t tick_ = 0;
+};
+
+}  // namespace st::highway::detail

@@ -1,0 +1,184 @@
+// Hindsight against scripted futures: what actually happened after a warning decides its verdict,
+// with the realized clearance, its time and the braking read back exactly as scripted.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include <sthighway/monitor.hpp>
+
+#include "roads.hpp"
+
+namespace st::highway {
+namespace {
+
+RoadGeometry threeLanes() {
+  RoadGeometry r;
+  for (int i = 0; i < 3; ++i) r.lanes.push_back(laneOf("a", i, {Vec2(0, 3.2 * i), Vec2(3000.0, 3.2 * i)}));
+  return r;
+}
+
+VehicleState car(const std::string& id, int handle, double x, double y, double speed, double accel = 0.0) {
+  VehicleState v;
+  v.id = id;
+  v.handle = handle;
+  v.position = Vec2(x, y);
+  v.speed = speed;
+  v.acceleration = accel;
+  return v;
+}
+
+struct Outcome {
+  std::vector<Warning> warnings;
+  MonitorCounters counters;
+};
+
+// Steps the monitor through `ticks` (dt apart) and finishes it.
+template <class Tick>
+Outcome simulate(const MonitorConfig& cfg, int count, double dt, Tick tick) {
+  HighwayMonitor m(threeLanes(), cfg);
+  Outcome r;
+  for (int k = 0; k < count; ++k) {
+    m.step(dt * k, tick(k, dt * k));
+    for (Warning& w : m.takeFinished()) r.warnings.push_back(std::move(w));
+  }
+  m.finish(dt * (count - 1));
+  for (Warning& w : m.takeFinished()) r.warnings.push_back(std::move(w));
+  r.counters = m.counters();
+  return r;
+}
+
+MonitorConfig boxConfig() {
+  MonitorConfig cfg;
+  cfg.detector.kind = DetectorKind::Box;
+  cfg.checkRoad = false;
+  return cfg;
+}
+
+const Warning* vehicleWarning(const Outcome& r, const std::string& ego, const std::string& foe) {
+  for (const Warning& w : r.warnings)
+    if (w.kind == WarningKind::Vehicle && w.ego == ego && w.foe == foe) return &w;
+  return nullptr;
+}
+
+// A follower closes on a stopped car at 10 m/s and brakes from t0 = 2 s until it stops: the gap
+// between the two 5 m bodies, scripted. Stopping 0.3 m short is a near miss and confirms the
+// warning; stopping 2 m short at 3 m/s^2 does not (a nuisance), and its braking reads back.
+struct Stop {
+  double brake, stopGap;
+  static constexpr double kSpeed = 10.0, kT0 = 2.0;
+  double g0() const { return stopGap + kSpeed * kSpeed / (2 * brake) + kSpeed * kT0; }
+  double travelled(double t) const {
+    if (t < kT0) return kSpeed * t;
+    const double u = std::min(t - kT0, kSpeed / brake);
+    return kSpeed * kT0 + kSpeed * u - 0.5 * brake * u * u;
+  }
+  double speed(double t) const { return t < kT0 ? kSpeed : std::max(0.0, kSpeed - brake * (t - kT0)); }
+  double gap(double t) const { return g0() - travelled(t); }
+};
+
+Outcome followerStops(const Stop& st) {
+  return simulate(boxConfig(), 80, 0.1, [=](int, double t) {
+    const double v = st.speed(t), a = t >= Stop::kT0 && v > 0 ? -st.brake : 0.0;
+    return std::vector<VehicleState>{car("lead", 0, 10.0 + st.g0(), 0.0, 0.0), car("follow", 1, 5.0 + st.travelled(t), 0.0, v, a)};
+  });
+}
+
+TEST(Hindsight, NearMissConfirmsAndSafeStopIsANuisance) {
+  const Stop hard{5.0, 0.3};
+  const Outcome nearly = followerStops(hard);
+  const Warning* w = vehicleWarning(nearly, "follow", "lead");
+  ASSERT_NE(w, nullptr);
+  EXPECT_EQ(w->verdict, Verdict::Confirmed);
+  // the realized clearance is the scripted gap at the tick it names, and no larger than 0.5 m
+  EXPECT_NEAR(w->clearance, hard.gap(w->clearanceTime), 1e-9);
+  EXPECT_LT(w->clearance, 0.5);
+  EXPECT_GE(w->clearance, 0.3 - 1e-9);
+  EXPECT_DOUBLE_EQ(w->deceleration, 5.0);  // the evasive braking also confirms it
+  EXPECT_EQ(nearly.counters.judged[0], nearly.counters.warningsByKind[0]);
+
+  const Stop gentle{3.0, 2.0};
+  const Outcome safe = followerStops(gentle);
+  const Warning* s = vehicleWarning(safe, "follow", "lead");
+  ASSERT_NE(s, nullptr);
+  EXPECT_EQ(s->verdict, Verdict::Nuisance);
+  EXPECT_DOUBLE_EQ(s->deceleration, 3.0);
+  EXPECT_NEAR(s->clearance, gentle.gap(s->clearanceTime), 1e-9);
+  EXPECT_GT(s->clearance, 0.5);
+  EXPECT_EQ(safe.counters.confirmed[0], 0u);
+  EXPECT_EQ(safe.counters.nearMisses, 0u);
+}
+
+// Recall: the 0.3 m approach is a near miss (closing, under the clearance) that was warned long
+// before it; a car that appears already 0.3 m behind another and closing was never warned.
+TEST(Hindsight, NearMissRecallAndLeadTime) {
+  const Outcome nearly = followerStops(Stop{5.0, 0.3});
+  ASSERT_EQ(nearly.counters.nearMisses, 1u);
+  EXPECT_EQ(nearly.counters.nearMissesWarned, 1u);
+  ASSERT_EQ(nearly.counters.nearMissLeads.size(), 1u);
+  const Warning* w = vehicleWarning(nearly, "follow", "lead");
+  ASSERT_NE(w, nullptr);
+  // the event is the first tick the gap is below 0.5 m while closing: gap(t) = 0.3 + 2.5 (4 - t)^2
+  // (braking phase) < 0.5 for 4 - t < sqrt(0.08): t > 3.717 s, the tick at 3.8 s
+  EXPECT_NEAR(nearly.counters.nearMissLeads[0], 3.8 - w->begin, 1e-9);
+  EXPECT_GE(nearly.counters.nearMissLeads[0], 0.5);
+
+  const Outcome sudden = simulate(boxConfig(), 3, 0.1, [](int k, double t) {
+    return std::vector<VehicleState>{car("lead", 0, 100.0 + 10.0 * t, 0.0, 10.0),
+                                     car("cutter", 1, 100.0 - 5.3 + 12.0 * t - 0.1 * k, 0.0, 12.0)};
+  });
+  EXPECT_EQ(sudden.counters.nearMisses, 1u);
+  EXPECT_EQ(sudden.counters.nearMissesWarned, 0u);
+}
+
+// A lane marker: a car drifting left at 1 m/s across it unsignalled is confirmed (the body touched
+// the line); one that drifts towards it and turns back before touching is a nuisance; a signalled
+// crossing is no warning at all.
+TEST(Hindsight, MarkerCrossingConfirmsOnlyWhenTheBodyTouchesUnsignalled) {
+  MonitorConfig cfg;
+  cfg.detector.kind = DetectorKind::Box;
+  auto drift = [](double turnBack) {
+    return [turnBack](int, double t) {
+      // lane 0's centre at y = 0, the marker to lane 1 at y = 1.6; half width 0.9: touches at y = 0.7
+      double y, vy;
+      if (t < turnBack) y = -0.5 + t, vy = 1.0;
+      else y = -0.5 + turnBack - (t - turnBack), vy = -1.0;
+      VehicleState v = car("drifter", 0, 100.0 + 20.0 * t, y, 20.0);
+      v.lateralSpeed = vy;
+      return std::vector<VehicleState>{v};
+    };
+  };
+  auto markerWarning = [](const Outcome& r) -> const Warning* {
+    for (const Warning& w : r.warnings)
+      if (w.kind == WarningKind::LaneMarker) return &w;
+    return nullptr;
+  };
+  const Outcome crosses = simulate(cfg, 30, 0.1, drift(100.0));
+  const Warning* c = markerWarning(crosses);
+  ASSERT_NE(c, nullptr);
+  EXPECT_EQ(c->verdict, Verdict::Confirmed);
+  EXPECT_TRUE(c->crossed);
+  EXPECT_FALSE(c->signalled);
+  EXPECT_NEAR(c->clearanceTime, 1.2, 1e-9);  // y = -0.5 + t reaches 0.7 at t = 1.2 s
+
+  const Outcome turns = simulate(cfg, 30, 0.1, drift(0.95));  // at most y = 0.45: 0.25 m short of touching
+  const Warning* n = markerWarning(turns);
+  ASSERT_NE(n, nullptr);
+  EXPECT_EQ(n->verdict, Verdict::Nuisance);
+  EXPECT_FALSE(n->crossed);
+}
+
+// Hindsight off: warnings pass through unjudged, as before.
+TEST(Hindsight, OffLeavesWarningsUnjudged) {
+  MonitorConfig cfg = boxConfig();
+  cfg.hindsight.enabled = false;
+  const Outcome r = simulate(cfg, 40, 0.1, [](int, double t) {
+    return std::vector<VehicleState>{car("lead", 0, 60.0, 0.0, 0.0), car("follow", 1, 10.0 * t, 0.0, 10.0)};
+  });
+  ASSERT_FALSE(r.warnings.empty());
+  for (const Warning& w : r.warnings) EXPECT_EQ(w.verdict, Verdict::Unjudged);
+  EXPECT_EQ(r.counters.judged[0], 0u);
+}
+
+}  // namespace
+}  // namespace st::highway
