@@ -166,12 +166,13 @@ inline std::string onPath(const std::string& name) {
   return {};
 }
 
-// warnings.csv must be a header plus rows of exactly 10 fields.
+// warnings.csv must be the header plus rows of as many fields.
 inline bool validWarningsCsv(const std::filesystem::path& p, std::size_t* rows = nullptr) {
   const auto ls = lines(slurp(p));
   if (ls.empty() || ls[0] != st::highway::warningsCsvHeader()) return false;
+  const auto fields = std::count(ls[0].begin(), ls[0].end(), ',');
   for (std::size_t i = 1; i < ls.size(); ++i)
-    if (std::count(ls[i].begin(), ls[i].end(), ',') != 9) return false;
+    if (std::count(ls[i].begin(), ls[i].end(), ',') != fields) return false;
   if (rows) *rows = ls.size() - 1;
   return true;
 }

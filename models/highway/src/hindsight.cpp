@@ -121,7 +121,7 @@ void Hindsight::measure(Window& w, double t) {
         w.clearanceTime = t;
       }
     }
-    w.deceleration = std::max({w.deceleration, -a.acceleration, -b.acceleration});
+    w.deceleration = std::max({w.deceleration, cars_->braking[w.ego], cars_->braking[w.foe]});
     w.measured = true;
     return;
   }

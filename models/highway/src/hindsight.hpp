@@ -3,7 +3,7 @@
 // what happened (online, from the states the monitor sees anyway; no second pass):
 //   vehicle warnings: the smallest body-to-body clearance between ego and foe from the warning's
 //     begin to begin + safe time + 1 s, when it occurred, and the strongest deceleration either
-//     vehicle applied in that window;
+//     vehicle applied in that window (from its speeds tick to tick, whatever the source reports);
 //   curb, lane-marker and hazard warnings: whether the body touched that line (or hazard) within
 //     the safe time, and whether the turn signal of that side was on when it first did.
 // A warning is confirmed when the clearance fell below HindsightConfig::clearance (a collision

@@ -1,5 +1,6 @@
 #include "vehicle_table.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -45,6 +46,7 @@ void VehicleTable::ensure(std::size_t n) {
   wide.resize(n);
   inputOf.resize(n, -1);
   lane.resize(n, -1);
+  braking.resize(n);
 }
 
 int VehicleTable::newSlot(const VehicleState& v) {
@@ -101,7 +103,7 @@ void VehicleTable::update(double t, std::span<const VehicleState> vehicles) {
     if (inputOf[s] >= 0) throw std::invalid_argument("vehicle '" + v.id + "' appears twice at t=" + std::to_string(t));
     inputOf[s] = i;
     next_[i] = s;
-    take(s, v);
+    take(s, v, t);
   }
   departed.clear();
   for (int s : active)
@@ -123,7 +125,7 @@ void VehicleTable::release() {
 
 // Slot s's hot state from its vehicle this tick. Sizes rarely change, headings only on curves
 // and lane changes: the axis (cos, sin) and the envelopes are kept until they do.
-void VehicleTable::take(int s, const VehicleState& v) {
+void VehicleTable::take(int s, const VehicleState& v, double t) {
   Slot& sl = slots[s];
   const DetectorConfig& dc = cfg->detector;
   const bool reshaped = v.length != sl.length || v.width != sl.width || v.heading != sl.heading;
@@ -151,7 +153,10 @@ void VehicleTable::take(int s, const VehicleState& v) {
   equipped[s] = v.equipped ? 1 : 0;
   lane[s] = v.lane;
   if (sl.present) counters->vehicleMeters += (v.position - sl.prev).norm();
+  braking[s] = sl.present && t > sl.prevTime ? std::max(0.0, (sl.prevSpeed - v.speed) / (t - sl.prevTime)) : 0.0;
   sl.prev = v.position;
+  sl.prevSpeed = v.speed;
+  sl.prevTime = t;
   sl.present = true;
 }
 

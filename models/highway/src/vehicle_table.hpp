@@ -34,6 +34,7 @@ struct VehicleTable {
     std::uint64_t serial = 0;  // order of first appearance: the key of episodes against it
     bool present = false;
     Vec2 prev = Vec2::Zero();
+    double prevSpeed = 0.0, prevTime = 0.0;  // at its last tick
     double length = -1.0, width = -1.0, heading = 0.0;  // of the cached axis and envelopes
     Vec2 axis = Vec2(1.0, 0.0);                          // (cos, sin) of heading
   };
@@ -79,13 +80,16 @@ struct VehicleTable {
   std::vector<int> wide;
   std::vector<int> inputOf;                  // index in the current span, -1 if absent
   std::vector<int> lane;                     // VehicleState::lane (only reported)
+  // how hard the car braked since its last tick (m/s^2, >= 0), from its speeds: what it actually
+  // did, whether or not the source reports accelerations
+  std::vector<double> braking;
 
  private:
   std::vector<int> next_;  // scratch: the next tick's active list
   int slotFor(const VehicleState& v, int i, double t);
   int newSlot(const VehicleState& v);
   void ensure(std::size_t n);
-  void take(int s, const VehicleState& v);
+  void take(int s, const VehicleState& v, double t);
 };
 
 }  // namespace st::highway::detail

@@ -94,7 +94,7 @@ TEST(Hindsight, NearMissConfirmsAndSafeStopIsANuisance) {
   EXPECT_NEAR(w->clearance, hard.gap(w->clearanceTime), 1e-9);
   EXPECT_LT(w->clearance, 0.5);
   EXPECT_GE(w->clearance, 0.3 - 1e-9);
-  EXPECT_DOUBLE_EQ(w->deceleration, 5.0);  // the evasive braking also confirms it
+  EXPECT_NEAR(w->deceleration, 5.0, 1e-9);  // the evasive braking also confirms it
   EXPECT_EQ(nearly.counters.judged[0], nearly.counters.warningsByKind[0]);
 
   const Stop gentle{3.0, 2.0};
@@ -102,7 +102,7 @@ TEST(Hindsight, NearMissConfirmsAndSafeStopIsANuisance) {
   const Warning* s = vehicleWarning(safe, "follow", "lead");
   ASSERT_NE(s, nullptr);
   EXPECT_EQ(s->verdict, Verdict::Nuisance);
-  EXPECT_DOUBLE_EQ(s->deceleration, 3.0);
+  EXPECT_NEAR(s->deceleration, 3.0, 1e-9);
   EXPECT_NEAR(s->clearance, gentle.gap(s->clearanceTime), 1e-9);
   EXPECT_GT(s->clearance, 0.5);
   EXPECT_EQ(safe.counters.confirmed[0], 0u);
