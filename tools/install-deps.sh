@@ -9,6 +9,7 @@ packages=(
   libfcl-dev
   python3-matplotlib openmpi-bin libopenmpi-dev
   xvfb xauth  # a virtual X display for the sumo-gui test (xvfb-run needs xauth, only recommended)
+  clang libclang-rt-14-dev  # libFuzzer for fuzz/ (clang's fuzzer runtime is in the compiler-rt dev package)
   python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest  # the Python module stsim
   file  # cpack -G DEB finds the ELF files for dpkg-shlibdeps with it
 )

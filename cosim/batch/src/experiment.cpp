@@ -3,7 +3,6 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
-#include <ranges>
 #include <set>
 #include <sstream>
 
@@ -21,8 +20,12 @@ namespace {
 }
 
 std::vector<std::string> splitKey(const std::string& key) {
-  std::vector<std::string> parts;
-  for (const auto part : std::views::split(key, '.')) parts.emplace_back(part.begin(), part.end());
+  // by hand: clang 14 (the fuzz build) cannot compile libstdc++ 12's views::split
+  std::vector<std::string> parts(1);
+  for (char c : key) {
+    if (c == '.') parts.emplace_back();
+    else parts.back() += c;
+  }
   return parts;
 }
 
