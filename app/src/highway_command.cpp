@@ -6,6 +6,7 @@
 #include <iostream>
 #include <string>
 
+#include <sthighway/conflict_map.hpp>
 #include <sthighway/monitor.hpp>
 #include <sthighway/report.hpp>
 #include <sthighway/sumo_files.hpp>
@@ -46,7 +47,10 @@ Args makeArgs() {
       .option("end", "SECONDS", "stop at this simulated time")
       .option("scale", "FACTOR", "multiply the routes' demand (SUMO --scale; SUMO runs)")
       .option("seed", "N", "seed for the equipped-vehicle draw (and SUMO)", "42")
-      .flag("validate-ssm", "compare with SUMO's SSM device, writes validation.json (SUMO runs)");
+      .flag("validate-ssm", "compare with SUMO's SSM device, writes validation.json (SUMO runs)")
+      .option("rear-end-below", "DEG", "conflict type: rear-end below this heading angle (scenario conflict.rear_end_below)")
+      .option("crossing-above", "DEG", "conflict type: crossing above this angle, lane change between (conflict.crossing_above)")
+      .flag("no-map", "do not draw the conflict map (conflict_map.png / .svg)");
   return a;
 }
 
@@ -75,7 +79,7 @@ int runTrace(const Args& a) {
     checks.typesFile = a.get("vtypes");
   }
   hw::HighwayMonitor monitor(road, cfg);
-  hw::FcdReader reader(a.get("fcd"), types, checks);
+  hw::FcdReader reader(a.get("fcd"), types, checks, &road);
 
   const std::filesystem::path out = a.get("out");
   std::error_code ec;
@@ -102,6 +106,7 @@ int runTrace(const Args& a) {
     info.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
     if (!error.empty()) info.strings.emplace_back("error", error);
     info.numbers.emplace_back("penetration", penetration);
+    info.strings.emplace_back("net", std::filesystem::absolute(a.get("net")).string());
     hw::writeSummaryJson(out / "summary.json", monitor.counters(), info);
   };
   try {
@@ -127,9 +132,16 @@ int runTrace(const Args& a) {
   for (auto n : c.warningsByKind) total += n;
   std::cout << "highway: " << c.vehiclesSeen << " vehicles, " << c.vehicleMeters / 1000.0 << " vehicle-km, " << total
             << " warnings (vehicle " << c.warningsByKind[0] << ", curb " << c.warningsByKind[1] << ", lane_marker "
-            << c.warningsByKind[2] << ", hazard " << c.warningsByKind[3] << "), " << c.handoffs << " handoffs, "
-            << info.wallSeconds << " s wall; wrote " << (out / "warnings.csv").string() << " and "
-            << (out / "summary.json").string() << "\n";
+            << c.warningsByKind[2] << ", hazard " << c.warningsByKind[3] << "; " << hw::conflictTypeBreakdown(c) << "), "
+            << c.handoffs << " handoffs, " << info.wallSeconds << " s wall; wrote " << (out / "warnings.csv").string()
+            << " and " << (out / "summary.json").string() << "\n";
+  if (!a.has("no-map")) {
+    std::string why;
+    if (hw::writeConflictMap({out / "conflict_map", a.get("net"), {out / "warnings.csv"}, "stsim highway"}, why))
+      std::cout << "  conflict map: " << (out / "conflict_map.png").string() << " (and .svg)\n";
+    else
+      std::cerr << "stsim highway: no conflict map: " << why << "\n";
+  }
   return 0;
 }
 
@@ -166,6 +178,12 @@ void applyMonitorOptions(const Args& a, hw::MonitorConfig& cfg, bool givenOnly) 
     throw UsageError("--layout must be a or b, got '" + a.get("layout") + "'");
   if (wanted("motion") && !hw::parseMotionModel(a.get("motion"), cfg.detector.motion))
     throw UsageError("--motion must be velocity or acceleration, got '" + a.get("motion") + "'");
+  // the conflict type's angles (SSAM's 30 and 85 degrees unless given)
+  if (a.has("rear-end-below")) cfg.conflict.rearEndBelowDeg = a.getDouble("rear-end-below");
+  if (a.has("crossing-above")) cfg.conflict.crossingAboveDeg = a.getDouble("crossing-above");
+  const hw::ConflictConfig& cc = cfg.conflict;
+  if (!(cc.rearEndBelowDeg >= 0.0 && cc.rearEndBelowDeg <= cc.crossingAboveDeg && cc.crossingAboveDeg <= 180.0))
+    throw UsageError("--rear-end-below and --crossing-above need 0 <= rear-end-below <= crossing-above <= 180");
 }
 
 double penetrationOption(const Args& a) {

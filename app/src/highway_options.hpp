@@ -5,7 +5,7 @@
 
 namespace st::cli {
 
-// --detector, --broadphase, --layout, --motion into cfg. With givenOnly, options not on the command
+// --detector, --broadphase, --layout, --motion, --rear-end-below, --crossing-above into cfg. With givenOnly, options not on the command
 // line leave cfg as it is (a scenario's settings); otherwise their defaults apply. Throws UsageError.
 void applyMonitorOptions(const Args& a, highway::MonitorConfig& cfg, bool givenOnly);
 

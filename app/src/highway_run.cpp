@@ -11,6 +11,7 @@
 #include <iostream>
 #include <ranges>
 
+#include <sthighway/report.hpp>
 #include <stcosim/run.hpp>
 #include <stio/format.hpp>
 
@@ -111,6 +112,7 @@ int runHighwayCommand(const st::cli::Args& a) {
   applyOptions(a, s);
   setup.out = a.has("out") || !s.out ? fs::path(a.get("out")) : *s.out;
   setup.gui = a.has("gui");
+  setup.map = !a.has("no-map");
   if (a.has("traci")) setup.attach = parseTraci(a.get("traci"));
 
   InterruptGuard interruptGuard;
@@ -148,7 +150,7 @@ int runHighwayCommand(const st::cli::Args& a) {
             << c.warningsByKind[0] << ", curb " << c.warningsByKind[1] << ", lane_marker " << c.warningsByKind[2]
             << ", hazard " << c.warningsByKind[3] << " ("
             << fmt(c.vehicleMeters > 0 ? static_cast<double>(total) / (c.vehicleMeters / 1000.0) : 0.0, 2)
-            << " per vehicle-km); SUMO collisions " << (r.attached ? std::string("unknown") : std::to_string(pc.collisions))
+            << " per vehicle-km); by type: " << hw::conflictTypeBreakdown(c) << "; SUMO collisions " << (r.attached ? std::string("unknown") : std::to_string(pc.collisions))
             << "; handoffs " << c.handoffs << "\n  time: SUMO " << fmt(r.sumoSeconds) << " s, stsim "
             << fmt(r.stsimSeconds) << " s, wall " << fmt(r.wallSeconds) << " s\n";
   if (const auto& v = r.validation) {
@@ -161,6 +163,7 @@ int runHighwayCommand(const st::cli::Args& a) {
   std::cout << "  wrote ";
   for (std::size_t i = 0; i < r.written.size(); ++i) std::cout << (i ? ", " : "") << r.written[i].string();
   std::cout << "\n";
+  if (!r.mapProblem.empty()) std::cerr << "stsim highway: no conflict map: " << r.mapProblem << "\n";
   if (r.stopReason == "interrupted") {
     std::cerr << "stsim highway: interrupted at t = " << fmt(r.simulatedSeconds, 1) << " s; results so far written\n";
     return 128 + (gInterrupted ? static_cast<int>(gInterrupted) : SIGINT);  // 130 on Ctrl-C, 143 on SIGTERM

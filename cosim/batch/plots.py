@@ -5,6 +5,8 @@ Uses Debian's python3-matplotlib. Called by `stsim batch`; can be re-run by hand
     /usr/bin/python3 cosim/batch/plots.py OUT_DIR
 """
 import csv
+import importlib.util
+import json
 import math
 import os
 import re
@@ -41,6 +43,48 @@ def find_col(cols, *patterns):
             if re.search(p, c):
                 return c
     return None
+
+
+def conflict_maps(out, runs, sweep):
+    """One conflict map per parameter combination, all seeds together (highway runs whose
+    warnings.csv has positions); the network from the runs' summary.json."""
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "models", "highway", "conflict_map.py")
+    if not os.path.exists(script):
+        return []
+    groups = {}
+    for r in runs:
+        if r["status"] != "done":
+            continue
+        d = os.path.join(out, "runs", r["run_id"])
+        path = os.path.join(d, "warnings.csv")
+        if not os.path.exists(path):
+            continue
+        with open(path, newline="") as f:
+            header = next(csv.reader(f), [])
+        if "x" not in header or "type" not in header:
+            continue
+        groups.setdefault(tuple(r[p] for p in sweep), []).append(d)
+    if not groups:
+        return []
+    spec = importlib.util.spec_from_file_location("conflict_map", script)
+    cm = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(cm)
+    maps = []
+    for key, dirs in sorted(groups.items()):
+        label = ", ".join("%s=%s" % (p, v) for p, v in zip(sweep, key)) or "all runs"
+        name = "conflict_map_" + (re.sub(r"[^A-Za-z0-9.]+", "_", "_".join(key)) if key else "all")
+        net = None
+        try:
+            with open(os.path.join(dirs[0], "summary.json")) as f:
+                net = json.load(f).get("net")
+        except (OSError, ValueError):
+            pass
+        args = ["--out", os.path.join(out, name), "--title", "%s (%d runs)" % (label, len(dirs))]
+        if net and os.path.exists(net):
+            args += ["--net", net]
+        cm.main(args + [os.path.join(d, "warnings.csv") for d in dirs])
+        maps.append((name, label))
+    return maps
 
 
 def main(out):
@@ -159,6 +203,8 @@ def main(out):
         plt.close(fig)
         plots.append(("collisions_by_action.png", "%s with and without the brake action" % coll))
 
+    maps = conflict_maps(out, runs, sweep)
+
     done = sum(1 for r in runs if r["status"] == "done")
     with open(os.path.join(out, "report.md"), "w") as f:
         f.write("# Batch report\n\n")
@@ -170,6 +216,12 @@ def main(out):
                 "(differences on the same seeds).\n\n")
         for name, title in plots:
             f.write("## %s\n\n![%s](%s)\n\n" % (title, title, name))
+        if maps:
+            f.write("## Conflict maps (one per parameter combination, all seeds)\n\n"
+                    "Every warning at the ego's position at its minimum TTC, coloured by conflict type, "
+                    "sized by severity.\n\n")
+            for name, label in maps:
+                f.write("### %s\n\n![conflict map, %s](%s.png) ([SVG](%s.svg))\n\n" % (label, label, name, name))
         if headline:
             f.write("## %s by parameters\n\n" % headline)
             f.write("| " + " | ".join(sweep + ["mean", "95% CI"]) + " |\n")

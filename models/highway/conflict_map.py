@@ -86,7 +86,14 @@ def main(argv):
 
     warnings = read_warnings(a.csv)
     lanes = read_lanes(a.net) if a.net else []
-    fig, ax = plt.subplots(figsize=(7, 5.5))
+    xs = [p[0] for pts, _ in lanes for p in pts] + [w[0] for w in warnings]
+    ys = [p[1] for pts, _ in lanes for p in pts] + [w[1] for w in warnings]
+    # the figure takes the network's shape (a motorway is a wide strip), the legend to its right
+    span_x = max(xs) - min(xs) if xs else 1.0
+    span_y = max(ys) - min(ys) if ys else 1.0
+    aspect = max(span_y, 1.0) / max(span_x, 1.0)
+    width = 7.0
+    fig, ax = plt.subplots(figsize=(width + 2.2, max(2.6, min(7.0, width * aspect + 1.0))))
     if lanes:
         normal = [pts for pts, internal in lanes if not internal]
         inner = [pts for pts, internal in lanes if internal]
@@ -100,8 +107,11 @@ def main(argv):
             continue
         # the most severe drawn last (on top)
         pts.sort(key=lambda w: w[3])
+        # road warnings (often the most) underneath and fainter, so the vehicle conflicts show
+        road = key == "road"
         sc = ax.scatter([w[0] for w in pts], [w[1] for w in pts], s=[size_of(w[3]) for w in pts],
-                        c=colour, alpha=0.6, linewidths=0.3, edgecolors="black", zorder=2)
+                        c=colour, alpha=0.3 if road else 0.65, linewidths=0.3, edgecolors="black",
+                        zorder=2 if road else 3)
         sc.set_gid("warnings_" + key)
     # the legend: types (with counts) and three sizes, from proxy handles (not counted as warnings)
     handles = [Line2D([], [], linestyle="none", marker="o", markersize=7, markerfacecolor=colour,
@@ -112,12 +122,10 @@ def main(argv):
                               markerfacecolor="white", markeredgecolor="black", markeredgewidth=0.5,
                               label="%g m/s" % sev))
     if handles:
-        leg = ax.legend(handles=handles, loc="best", fontsize=7, framealpha=0.85,
-                        title="type / severity (ΔV, road: lateral speed)", title_fontsize=7)
+        leg = ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, framealpha=0.85,
+                        title="type; size: ΔV\n(road: lateral speed)", title_fontsize=7)
         leg.set_gid("legend")
-    if lanes or warnings:
-        xs = [p[0] for pts, _ in lanes for p in pts] + [w[0] for w in warnings]
-        ys = [p[1] for pts, _ in lanes for p in pts] + [w[1] for w in warnings]
+    if xs:
         pad = 0.03 * max(max(xs) - min(xs), max(ys) - min(ys), 1.0)
         ax.set_xlim(min(xs) - pad, max(xs) + pad)
         ax.set_ylim(min(ys) - pad, max(ys) + pad)

@@ -9,7 +9,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -18,6 +20,8 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "svg_markers.hpp"
 
 extern char** environ;
 
@@ -219,6 +223,46 @@ TEST(BatchEndToEnd, KilledBatchResumesWithoutRedoingRuns) {
   ASSERT_EQ(runStsim({"batch", exp, "--out", (dir / "whole").string(), "--jobs", "2", "--no-plots"}, dir, &err), 0)
       << err;
   EXPECT_EQ(table, tableWithoutTimings(dir / "whole/runs.csv"));
+}
+
+// The report's conflict maps: one per parameter combination, all its seeds' warnings in it (one
+// SVG marker per warnings.csv row of those runs); the runs themselves draw none.
+TEST(BatchEndToEnd, OneConflictMapPerCombination) {
+  if (std::system("/usr/bin/python3 -c 'import matplotlib' > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "python3-matplotlib not installed";
+  const auto dir = freshDir("maps");
+  const fs::path file = dir / "experiment.yaml";
+  std::ofstream(file) << "name: maps\ncommand: highway\nbase: " << STSIM_SOURCE_DIR
+                      << "/networks/motorway/scenario.yaml\nsweep:\n  detector: [five, box]\n"
+                         "fixed:\n  end: 60\n  action: none\nseeds: 2\n";
+  std::string err;
+  ASSERT_EQ(runStsim({"batch", file.string(), "--out", (dir / "out").string(), "--jobs", "2"}, dir, &err), 0) << err;
+  const auto table = tableWithoutTimings(dir / "out/runs.csv");
+  ASSERT_EQ(table.size(), 5u);
+  std::size_t detectorCol = 0;
+  for (std::size_t i = 0; i < table[0].size(); ++i)
+    if (table[0][i] == "detector") detectorCol = i;
+  ASSERT_GT(detectorCol, 0u);
+  std::map<std::string, long> rows;
+  for (std::size_t r = 1; r < table.size(); ++r) {
+    const fs::path run = dir / "out/runs" / table[r][1];
+    EXPECT_FALSE(fs::exists(run / "conflict_map.png")) << run;
+    const std::string csv = slurp(run / "warnings.csv");
+    rows[table[r][detectorCol]] += static_cast<long>(std::count(csv.begin(), csv.end(), '\n')) - 1;
+  }
+  ASSERT_EQ(rows.size(), 2u);
+  long total = 0;
+  for (const auto& [detector, n] : rows) {
+    const fs::path map = dir / "out" / ("conflict_map_" + detector);
+    ASSERT_TRUE(fs::exists(map.string() + ".png")) << map;
+    EXPECT_EQ(slurp(map.string() + ".png").substr(0, 4), "\x89PNG");
+    EXPECT_EQ(st::test::svgMarkers(slurp(map.string() + ".svg")), n) << detector;
+    total += n;
+  }
+  EXPECT_GT(total, 0);
+  const std::string report = slurp(dir / "out/report.md");
+  EXPECT_NE(report.find("conflict_map_five.png"), std::string::npos);
+  EXPECT_NE(report.find("conflict_map_box.svg"), std::string::npos);
 }
 
 // validate_ssm: the runs' agreement with SUMO's SSM device reaches runs.csv as ssm.* columns, the

@@ -58,7 +58,7 @@ TEST(HighwayReliability, EveryFileInOutBelongsToThisRun) {
   std::ofstream(out / "collision_warnings.csv") << "time\n";
   std::ofstream(out / "validation.json") << "{}\n";
   r = runStsim({"highway", "--fcd", (sourceDir() / "tests/data/highway/motorway_merge.fcd.xml").string(), "--net",
-                (sourceDir() / "networks/motorway/motorway.net.xml").string(), "--out", out.string()},
+                (sourceDir() / "networks/motorway/motorway.net.xml").string(), "--out", out.string(), "--no-map"},
                dir);
   EXPECT_EQ(r.code, 0) << r.err;
   std::set<std::string> files;

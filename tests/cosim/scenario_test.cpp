@@ -111,6 +111,23 @@ TEST(Scenario, BrakeSettingsAndTheRetiredDurationKey) {
   EXPECT_NE(e.find("brake.max_deceleration: must be at least brake.deceleration"), std::string::npos) << e;
 }
 
+TEST(Scenario, ConflictTypeThresholds) {
+  const auto dir = freshDir("conflict_keys");
+  std::filesystem::copy(motorway().parent_path(), dir / "net", std::filesystem::copy_options::recursive);
+  EXPECT_DOUBLE_EQ(loadScenario(motorway()).plugin.monitor.conflict.rearEndBelowDeg, 30.0);  // SSAM's
+  EXPECT_DOUBLE_EQ(loadScenario(motorway()).plugin.monitor.conflict.crossingAboveDeg, 85.0);
+  std::ofstream(dir / "a.yaml") << "sumocfg: net/motorway.sumocfg\nconflict: {rear_end_below: 20, crossing_above: 70}\n";
+  const Scenario s = loadScenario(dir / "a.yaml");
+  EXPECT_DOUBLE_EQ(s.plugin.monitor.conflict.rearEndBelowDeg, 20.0);
+  EXPECT_DOUBLE_EQ(s.plugin.monitor.conflict.crossingAboveDeg, 70.0);
+  std::ofstream(dir / "b.yaml") << "sumocfg: net/motorway.sumocfg\nconflict: {rear_end_below: 50, crossing_above: 40}\n";
+  std::string e = errorOf([&] { loadScenario(dir / "b.yaml"); });
+  EXPECT_NE(e.find("conflict.crossing_above: must be at least conflict.rear_end_below"), std::string::npos) << e;
+  std::ofstream(dir / "c.yaml") << "sumocfg: net/motorway.sumocfg\nconflict: {crossing_above: 200}\n";
+  e = errorOf([&] { loadScenario(dir / "c.yaml"); });
+  EXPECT_NE(e.find("conflict.crossing_above"), std::string::npos) << e;
+}
+
 TEST(Scenario, IncidentsAreReadAndTheirMistakesNamed) {
   const Scenario s = loadScenario(sourceDir() / "networks/motorway/incident.yaml");
   ASSERT_EQ(s.plugin.incidents.size(), 4u);

@@ -20,7 +20,7 @@ NUMERIC = ("begin", "end", "min_ttc", "min_ttc_time", "safe_time")
 def cli_rows(binary, tmp_path, fcd, net, vtypes, detector, motion):
     out = tmp_path / f"cli_{detector}_{motion}"
     r = run_stsim(binary, "highway", "--fcd", fcd, "--net", net, "--vtypes", vtypes, "--detector", detector,
-                  "--motion", motion, "--out", out)
+                  "--motion", motion, "--out", out, "--no-map")
     assert r.returncode == 0, r.stderr
     with open(out / "warnings.csv", newline="") as f:
         rows = list(csv.DictReader(f))

@@ -164,6 +164,8 @@ std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpe
     writeFileAtomically(tmp / "scenario.yaml", runScenarioYaml(e, spec));
     const std::string exe = o.stsim.string(), scen = (tmp / "scenario.yaml").string(), out = tmp.string();
     std::vector<std::string> args = {exe, e.command, scen, "--out", out};
+    // the report draws one conflict map per parameter combination, all seeds together (plots.py)
+    if (e.command == "highway") args.emplace_back("--no-map");
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <fstream>
 
+#include <sthighway/conflict_map.hpp>
 #include <sthighway/report.hpp>
 #include <stcosim/collisions.hpp>
 #include <stcosim/conversions.hpp>
@@ -242,6 +243,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
     }
   }
   info.strings = {{"sumocfg", s.sumocfg.string()},
+                  {"net", fs::absolute(files.net).string()},
                   {"backend", backendName},
                   {"action", toString(s.plugin.actions.action)},
                   {"stop_reason", stopReason}};
@@ -250,6 +252,10 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
                                                  "for --collision-output (libtraci 1.15 has no getCollisions)");
   if (!error.empty()) info.strings.emplace_back("error", error);
   hw::writeSummaryJson(out / "summary.json", plugin.monitor().counters(), info);
+  // the map of whatever was written, an error or not
+  const bool mapped = setup.map && hw::writeConflictMap({out / "conflict_map", files.net, {out / "warnings.csv"},
+                                                         (s.source.parent_path().filename() / s.source.filename()).string()},
+                                                        result.mapProblem);
 
   if (!error.empty()) throw std::runtime_error(error + " (results so far in " + out.string() + ")");
 
@@ -265,6 +271,10 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
   if (!attach) result.written.push_back(out / "collision_warnings.csv");
   result.written.push_back(out / "summary.json");
   if (result.validation) result.written.push_back(out / "validation.json");
+  if (mapped) {
+    result.written.push_back(out / "conflict_map.png");
+    result.written.push_back(out / "conflict_map.svg");
+  }
   return result;
 }
 

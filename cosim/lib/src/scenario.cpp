@@ -185,6 +185,14 @@ void readYaml(const fs::path& path, Scenario& s) {
       }
     }
   }
+  if (auto c = root["conflict"]) {
+    r.checkKeys(c, "conflict", keysUnder("conflict"));
+    hw::ConflictConfig& cc = m.conflict;
+    if (auto n = c["rear_end_below"]) cc.rearEndBelowDeg = r.number(n, "conflict.rear_end_below", 0, 180);
+    if (auto n = c["crossing_above"]) cc.crossingAboveDeg = r.number(n, "conflict.crossing_above", 0, 180);
+    if (cc.crossingAboveDeg < cc.rearEndBelowDeg)
+      r.fail(c, "conflict.crossing_above", "must be at least conflict.rear_end_below");
+  }
   if (auto c = root["concentric"]) {
     r.checkKeys(c, "concentric", keysUnder("concentric"));
     if (auto n = c["inner_margin"]) m.detector.concentric.innerMargin = r.number(n, "concentric.inner_margin", 0, 100);
@@ -261,7 +269,7 @@ const std::vector<std::string>& scenarioKeys() {
                                   "brake.standstill_gap", "safe_time.vehicle_reaction", "safe_time.road_reaction"};
     for (int c = 0; c < hw::kVehicleClassCount; ++c)
       k.push_back(std::string("safe_time.brake_force.") + hw::toString(static_cast<hw::VehicleClass>(c)));
-    for (const char* more : {"concentric.inner_margin", "concentric.outer_margin", "cells.length", "cells.hysteresis_db",
+    for (const char* more : {"conflict.rear_end_below", "conflict.crossing_above", "concentric.inner_margin", "concentric.outer_margin", "cells.length", "cells.hysteresis_db",
                              "cells.tx_power_dbm", "cells.path_loss_exponent", "cells.reference_distance",
                              "cells.radio_range", "cells.decomposition_factor", "cells.max_depth", "hindsight.enabled",
                              "hindsight.clearance", "hindsight.evasive_deceleration", "hindsight.lead", "collision_action",

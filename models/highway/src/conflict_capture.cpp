@@ -1,56 +1,58 @@
 #include "conflict_capture.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
-
-#include <algorithm>
 
 #include <stcore/toi.hpp>
 
 namespace st::highway::detail {
 
-ConflictCapture captureConflict(const VehicleTable& cars, const RoadSearch& road, const ConflictConfig& config, int e,
-                                const Threat& th) {
+namespace {
+// the angle between two unit vectors (deg, 0..180), accurate near 0 and 180 as acos is not
+double angleDeg(const Vec2& a, const Vec2& b) {
+  constexpr double kPi = 3.14159265358979323846;
+  return std::atan2(std::abs(cross(a, b)), a.dot(b)) * (180.0 / kPi);
+}
+}  // namespace
+
+void describeConflict(const ConflictCapture& c, WarningKind kind, double egoMass, double foeMass, double ttc,
+                      const RoadFeatures& road, const ConflictConfig& config, Warning& w) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  const Body& a = cars.body[e];
-  ConflictCapture c;
-  c.position = a.position;
-  c.egoSpeed = a.velocity.norm();
-  c.lane = cars.lane[e];
-  if (th.kind == WarningKind::Vehicle) {
-    const Body& b = cars.body[th.foe];
-    c.foeSpeed = b.velocity.norm();
-    c.headingAngle = relativeHeadingDeg(cars.slots[e].heading, cars.slots[th.foe].heading);
-    c.type = conflictType(c.headingAngle, config);
+  w.x = c.egoPos.x();
+  w.y = c.egoPos.y();
+  w.egoSpeed = c.egoVel.norm();
+  if (kind == WarningKind::Vehicle) {
+    w.foeSpeed = c.foeVel.norm();
+    w.headingAngle = angleDeg(c.egoAxis, c.foeAxis);
+    w.type = conflictType(w.headingAngle, config);
     // the rate the centre distance shrinks, as the safe time has it
-    const Vec2 p = b.position - a.position, v = b.velocity - a.velocity;
+    const Vec2 p = c.foePos - c.egoPos, v = c.foeVel - c.egoVel;
     const double dist = p.norm();
     const double closing = dist > 0.0 ? -p.dot(v) / dist : v.norm();
-    c.drac = decelerationToAvoid(closing, th.ttc);
-    c.maxDeltaV = maxDeltaV(cars.mass[e], a.velocity, cars.mass[th.foe], b.velocity);
-    c.lateralSpeed = kNaN;
-    return c;
+    w.drac = decelerationToAvoid(closing, ttc);
+    w.maxDeltaV = maxDeltaV(egoMass, c.egoVel, foeMass, c.foeVel);
+    w.lateralSpeed = kNaN;
+    return;
   }
   // a road feature: the speed towards its closest point, as the road search has it
-  const RoadFeature& f = road.features().features[th.feature];
-  const Vec2 closest = f.kind == FeatureKind::Hazard ? f.segment.a : closestPointOnSegment(f.segment, a.position);
-  const Vec2 d = closest - a.position;
+  const RoadFeature& f = road.features[c.feature];
+  const Vec2 closest = f.kind == FeatureKind::Hazard ? f.segment.a : closestPointOnSegment(f.segment, c.egoPos);
+  const Vec2 d = closest - c.egoPos;
   const double dist = d.norm();
-  c.lateralSpeed = dist > 0.0 ? a.velocity.dot(d) / dist : a.velocity.norm();
-  c.drac = decelerationToAvoid(c.lateralSpeed, th.ttc);
-  c.feature = th.feature;
-  c.foeSpeed = kNaN;
-  c.maxDeltaV = kNaN;
+  w.lateralSpeed = dist > 0.0 ? c.egoVel.dot(d) / dist : c.egoVel.norm();
+  w.drac = decelerationToAvoid(w.lateralSpeed, ttc);
+  w.foeSpeed = kNaN;
+  w.maxDeltaV = kNaN;
   const Vec2 along = f.segment.b - f.segment.a;
   if (f.kind == FeatureKind::Hazard || along.squaredNorm() == 0.0) {
-    c.headingAngle = kNaN;
+    w.headingAngle = kNaN;
   } else {
     // a line has no direction: the angle to it is at most 90 degrees
-    const double deg = relativeHeadingDeg(cars.slots[e].heading, std::atan2(along.y(), along.x()));
-    c.headingAngle = std::min(deg, 180.0 - deg);
+    const double deg = angleDeg(c.egoAxis, along.normalized());
+    w.headingAngle = std::min(deg, 180.0 - deg);
   }
-  c.type = ConflictType::Road;
-  return c;
+  w.type = ConflictType::Road;
 }
 
 }  // namespace st::highway::detail

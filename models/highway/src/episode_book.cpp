@@ -32,13 +32,37 @@ void EpisodeBook::beginTick() {
 
 Warning EpisodeBook::warningOf(int e, const Episode& ep, bool open) const {
   const auto& slots = cars_->slots;
-  return {slots[e].id, ep.kind == WarningKind::Vehicle ? slots[ep.foe].id : road_->groupName(ep.foe), ep.kind, ep.zone,
-          ep.begin, ep.end, ep.minTtc, ep.minTtcTime, ep.safeTimeAtMin, open};
+  Warning w{slots[e].id, ep.kind == WarningKind::Vehicle ? slots[ep.foe].id : road_->groupName(ep.foe), ep.kind, ep.zone,
+            ep.begin, ep.end, ep.minTtc, ep.minTtcTime, ep.safeTimeAtMin, open};
+  const ConflictCapture& c = captures_[ep.capture];
+  const bool vehicle = ep.kind == WarningKind::Vehicle;
+  describeConflict(c, ep.kind, cars_->mass[e], vehicle ? cars_->mass[ep.foe] : 0.0, ep.minTtc, road_->features(),
+                   cfg_->conflict, w);
+  if (c.lane >= 0 && c.lane < static_cast<int>(laneIds_.size())) w.lane = laneIds_[c.lane];
+  if (c.feature >= 0) w.line = road_->features().features[c.feature].name;
+  return w;
+}
+
+
+int EpisodeBook::newCapture(int e, const Threat& th) {
+  int c;
+  if (freeCaptures_.empty()) {
+    c = static_cast<int>(captures_.size());
+    captures_.emplace_back();
+  } else {
+    c = freeCaptures_.back();
+    freeCaptures_.pop_back();
+  }
+  capture(*cars_, e, th, captures_[c]);
+  return c;
 }
 
 void EpisodeBook::emit(int e, const Episode& ep) {
-  if (ep.window >= 0) hindsight_->finished(warningOf(e, ep, false), ep.window);
-  else finished_.push_back(warningOf(e, ep, false));
+  Warning w = warningOf(e, ep, false);
+  ++counters_->warningsByType[static_cast<int>(w.type)];
+  freeCaptures_.push_back(ep.capture);
+  if (ep.window >= 0) hindsight_->finished(std::move(w), ep.window);
+  else finished_.push_back(std::move(w));
 }
 
 void EpisodeBook::close(int s, double endTime) {
@@ -90,11 +114,12 @@ void EpisodeBook::merge(int e, double t, std::vector<Threat>& threats) {
         ep.minTtc = th.ttc;
         ep.minTtcTime = t;
         ep.safeTimeAtMin = th.safe;
+        capture(*cars_, e, th, captures_[ep.capture]);
       }
       continue;
     }
     const int window = hindsight_->enabled() ? hindsight_->open(e, th.foe, th.kind, t, th.safe) : -1;
-    poolNext_.push_back({th.key, th.foe, th.kind, th.zone, t, t, th.ttc, t, th.safe, window});
+    poolNext_.push_back({th.key, th.foe, th.kind, th.zone, newCapture(e, th), t, t, th.ttc, t, th.safe, window});
     ++counters_->warningsBegun;
     ++counters_->warningsByKind[static_cast<int>(th.kind)];
     ++counters_->warningsByZone[static_cast<int>(th.zone)];

@@ -7,6 +7,7 @@
 
 #include <sthighway/monitor.hpp>
 
+#include "conflict_capture.hpp"
 #include "hindsight.hpp"
 #include "pair_test.hpp"
 #include "road_search.hpp"
@@ -16,8 +17,10 @@ namespace st::highway::detail {
 
 class EpisodeBook {
  public:
-  EpisodeBook(const VehicleTable& cars, const RoadSearch& road, Hindsight& hindsight, MonitorCounters& counters)
-      : cars_(&cars), road_(&road), hindsight_(&hindsight), counters_(&counters) {}
+  EpisodeBook(const VehicleTable& cars, const RoadSearch& road, Hindsight& hindsight, const MonitorConfig& config,
+              std::vector<std::string> laneIds, MonitorCounters& counters)
+      : cars_(&cars), road_(&road), hindsight_(&hindsight), cfg_(&config), laneIds_(std::move(laneIds)),
+        counters_(&counters) {}
 
   // Time exposed and integrated deficit over the interval dt that just ended, from the threats of
   // its first tick.
@@ -45,6 +48,7 @@ class EpisodeBook {
     int foe = -1;  // slot, or feature group
     WarningKind kind = WarningKind::Vehicle;
     Zone zone = Zone::Body;
+    int capture = -1;  // into captures_: the state at the minimum TTC, kept out of the pool
     double begin = 0.0, end = 0.0, minTtc = 0.0, minTtcTime = 0.0, safeTimeAtMin = 0.0;
     int window = -1;  // its hindsight window (-1: hindsight off)
   };
@@ -55,13 +59,16 @@ class EpisodeBook {
   };
 
   Warning warningOf(int e, const Episode& ep, bool open) const;
-  // an ended episode to hindsight, or straight to the finished warnings
+  // an ended episode to hindsight, or straight to the finished warnings; its capture freed
   void emit(int e, const Episode& ep);
+  int newCapture(int e, const Threat& th);
   void ensure(std::size_t n);
 
   const VehicleTable* cars_;
   const RoadSearch* road_;
   Hindsight* hindsight_;
+  const MonitorConfig* cfg_;
+  std::vector<std::string> laneIds_;  // the road's lanes (VehicleState::lane indexes them)
   MonitorCounters* counters_;
   // Open episodes of every car, contiguous in the order the cars were processed at the last tick
   // (keys ascending per car): a tick reads them in that order and writes the next pool in the
@@ -69,6 +76,8 @@ class EpisodeBook {
   std::vector<Episode> pool_, poolNext_;
   std::vector<int> openBegin_, openCount_;  // per slot, into pool_
   std::vector<Exposure> exposure_;          // per slot
+  std::vector<ConflictCapture> captures_;  // by Episode::capture, slots reused (freeCaptures_)
+  std::vector<int> freeCaptures_;
   std::vector<Warning> finished_;
   std::vector<Alert> alerts_;
 };

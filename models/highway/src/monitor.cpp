@@ -51,6 +51,9 @@ void checkConfig(const MonitorConfig& config) {
   const SafeTimeConfig& st = config.safeTime;
   if (!(st.vehicleReactionTime >= 0.0) || !(st.roadReactionTime >= 0.0))
     throw std::invalid_argument("safe time: reaction times must be non-negative");
+  const ConflictConfig& cc = config.conflict;
+  if (!(cc.rearEndBelowDeg >= 0.0 && cc.rearEndBelowDeg <= cc.crossingAboveDeg && cc.crossingAboveDeg <= 180.0))
+    throw std::invalid_argument("conflict: need 0 <= rear_end_below <= crossing_above <= 180 degrees");
   for (double f : st.brakeForce)
     if (!(f > 0.0)) throw std::invalid_argument("safe time: every brake force must be positive");
   if (config.detector.kind == DetectorKind::FiveCircle) {
@@ -65,6 +68,13 @@ void checkConfig(const MonitorConfig& config) {
 RoadFeatures cellBounds(RoadFeatures f) {
   if (f.bounds.extent().minCoeff() <= 0.0) f.bounds = {f.bounds.min.array() - 100.0, f.bounds.max.array() + 100.0};
   return f;
+}
+
+std::vector<std::string> laneIdsOf(const RoadGeometry& road) {
+  std::vector<std::string> ids;
+  ids.reserve(road.lanes.size());
+  for (const Lane& l : road.lanes) ids.push_back(l.id);
+  return ids;
 }
 
 }  // namespace
@@ -94,7 +104,7 @@ struct HighwayMonitor::Impl {
         road(geometry, cfg, cars, counters),
         cells(geometry, cellBounds(road.features()), cfg.cells),
         hindsight(cfg, cars, road, counters),
-        book(cars, road, hindsight, counters) {
+        book(cars, road, hindsight, cfg, laneIdsOf(geometry), counters) {
     const detail::PairTest test{&cfg, &cars, &counters};
     pairs = cfg.broadphase == Broadphase::Cells ? detail::makeCellPairSearch(test, cells) : detail::makeAllPairsSearch(test);
   }

@@ -30,6 +30,13 @@ std::string leadJson(std::vector<double> v) {
   return "{\"min\": " + num(v.front()) + ", \"median\": " + num(q(0.5)) + ", \"p90\": " + num(q(0.9)) + "}";
 }
 
+// a conflict column: empty where it does not apply (NaN), "inf" for an infinite DRAC
+std::string conflictField(double x) {
+  if (std::isnan(x)) return "";
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  return num(x);
+}
+
 }  // namespace
 
 std::string hindsightJson(const MonitorCounters& c, const HindsightConfig& h) {
@@ -47,7 +54,8 @@ std::string hindsightJson(const MonitorCounters& c, const HindsightConfig& h) {
 
 std::string warningsCsvHeader() {
   return "ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open,"
-         "verdict,clearance,clearance_time,deceleration,crossed,signalled";
+         "verdict,clearance,clearance_time,deceleration,crossed,signalled,"
+         "x,y,lane,ego_speed,foe_speed,heading_angle,type,drac,max_delta_v,line,lateral_speed";
 }
 
 std::string warningCsvRow(const Warning& w) {
@@ -62,6 +70,9 @@ std::string warningCsvRow(const Warning& w) {
   os << ',' << toString(w.verdict) << ',' << (judged && vehicle ? field(w.clearance) : "") << ','
      << (judged ? field(w.clearanceTime) : "") << ',' << (judged && vehicle ? num(w.deceleration) : "") << ','
      << (judged && !vehicle ? (w.crossed ? "1" : "0") : "") << ',' << (judged && !vehicle ? (w.signalled ? "1" : "0") : "");
+  os << ',' << conflictField(w.x) << ',' << conflictField(w.y) << ',' << csvField(w.lane) << ',' << conflictField(w.egoSpeed) << ','
+     << conflictField(w.foeSpeed) << ',' << conflictField(w.headingAngle) << ',' << toString(w.type) << ',' << conflictField(w.drac) << ','
+     << conflictField(w.maxDeltaV) << ',' << csvField(w.line) << ',' << conflictField(w.lateralSpeed);
   return os.str();
 }
 
@@ -103,6 +114,13 @@ std::string summaryJson(const MonitorCounters& c, const RunInfo& info) {
   os << "},\n    \"by_zone\": {";
   for (int z = 0; z < kZoneCount; ++z)
     os << (z ? ", " : "") << jsonString(toString(static_cast<Zone>(z))) << ": " << c.warningsByZone[z];
+  os << "},\n    \"by_type\": {";
+  for (int k = 0; k < kConflictTypeCount; ++k)
+    os << (k ? ", " : "") << jsonString(toString(static_cast<ConflictType>(k))) << ": " << c.warningsByType[k];
+  os << "},\n    \"per_vehicle_km_by_type\": {";
+  for (int k = 0; k < kConflictTypeCount; ++k)
+    os << (k ? ", " : "") << jsonString(toString(static_cast<ConflictType>(k))) << ": "
+       << num(km > 0 ? static_cast<double>(c.warningsByType[k]) / km : 0.0);
   os << "},\n    \"per_vehicle_km_by_kind\": {";
   for (int k = 0; k < kWarningKindCount; ++k)
     os << (k ? ", " : "") << jsonString(toString(static_cast<WarningKind>(k))) << ": "
@@ -129,6 +147,13 @@ std::string summaryJson(const MonitorCounters& c, const RunInfo& info) {
   return os.str();
 }
 
+std::string conflictTypeBreakdown(const MonitorCounters& c) {
+  std::string s;
+  for (int k = 0; k < kConflictTypeCount; ++k)
+    s += std::string(k ? ", " : "") + toString(static_cast<ConflictType>(k)) + " " + std::to_string(c.warningsByType[k]);
+  return s;
+}
+
 void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& counters, const RunInfo& info) {
   std::ofstream out(path);
   if (!out) throw std::runtime_error("cannot write " + path.string());
@@ -138,7 +163,8 @@ void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& 
 
 void removeRunOutputs(const std::filesystem::path& out) {
   for (const char* f : {"warnings.csv", "summary.json", "collisions.csv", "collision_warnings.csv", "validation.json",
-                        "ssm.xml", "sumo_collisions.xml", "sumo.log"}) {
+                        "ssm.xml", "sumo_collisions.xml", "sumo.log", "conflict_map.png", "conflict_map.svg",
+                        "conflict_map.log"}) {
     std::error_code ec;
     std::filesystem::remove(out / f, ec);
     if (ec) throw std::runtime_error("cannot remove the earlier " + (out / f).string() + ": " + ec.message());

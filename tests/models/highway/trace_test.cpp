@@ -269,5 +269,46 @@ TEST(Cli, TraceModeWritesWarningsAndSummary) {
   fs::remove_all(out);
 }
 
+// The conflict columns and map from the front end: summary.json's by_type adds up to the total,
+// the map is drawn (or skipped with --no-map), and the trace's lanes reach warnings.csv.
+TEST(Cli, TraceModeCountsTypesAndDrawsTheMap) {
+  const fs::path out = fs::temp_directory_path() / ("sthighway_cli_map_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const std::string base = "highway --fcd " + (kData / "motorway_merge.fcd.xml").string() + " --net " +
+                           (fs::path(STSIM_SOURCE_DIR) / "networks/motorway/motorway.net.xml").string() + " --vtypes " +
+                           (fs::path(STSIM_SOURCE_DIR) / "networks/motorway/motorway.rou.xml").string();
+  ASSERT_EQ(runStsim(base + " --no-map --out " + out.string()), 0);
+  EXPECT_FALSE(fs::exists(out / "conflict_map.png"));
+  const std::string json = slurp(out / "summary.json");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(json, m, std::regex("\"total\": ([0-9]+)")));
+  const long total = std::stol(m[1]);
+  ASSERT_TRUE(std::regex_search(json, m, std::regex("\"by_type\": \\{\"rear_end\": ([0-9]+), \"lane_change\": ([0-9]+), "
+                                                    "\"crossing\": ([0-9]+), \"road\": ([0-9]+)\\}")))
+      << json;
+  EXPECT_EQ(std::stol(m[1]) + std::stol(m[2]) + std::stol(m[3]) + std::stol(m[4]), total);
+  EXPECT_GT(std::stol(m[1]), 0);
+  EXPECT_GT(std::stol(m[4]), 0);
+  // every row names the ego's lane (the trace has lane attributes, the net those lanes)
+  std::istringstream csv(slurp(out / "warnings.csv"));
+  std::string line;
+  std::getline(csv, line);
+  long rows = 0, laned = 0;
+  while (std::getline(csv, line)) {
+    ++rows;
+    laned += std::regex_search(line, std::regex(",[a-zA-Z:][A-Za-z_0-9]*_[0-9]+,"));
+  }
+  EXPECT_EQ(rows, total);
+  EXPECT_GT(laned, rows / 2);
+  if (std::system("/usr/bin/python3 -c 'import matplotlib' > /dev/null 2>&1") == 0) {
+    ASSERT_EQ(runStsim(base + " --out " + out.string()), 0);
+    EXPECT_TRUE(fs::exists(out / "conflict_map.png"));
+    EXPECT_TRUE(fs::exists(out / "conflict_map.svg"));
+  }
+  std::string err;
+  EXPECT_EQ(runStsim(base + " --rear-end-below 50 --crossing-above 40 --out " + out.string(), &err), 2);
+  fs::remove_all(out);
+}
+
 }  // namespace
 }  // namespace st::highway

@@ -2,7 +2,8 @@
 // One co-simulation run of a scenario: SUMO (embedded libsumo, sumo-gui launched over TraCI, or a
 // running SUMO attached over TraCI) stepped with the smart-car plugin until the end time, a stop
 // request or an error. Writes into setup.out: warnings.csv, collisions.csv, collision_warnings.csv
-// (not when attached), summary.json, and validation.json with the scenario's validate_ssm. The
+// (not when attached), summary.json, validation.json with the scenario's validate_ssm, and the
+// conflict map (conflict_map.png/.svg, sthighway/conflict_map.hpp) unless setup.map is off. The
 // outputs are opened first, so whatever happens later leaves valid files. Prints nothing.
 #include <chrono>
 #include <cstdint>
@@ -25,6 +26,7 @@ struct RunSetup {
   std::filesystem::path out = ".";
   std::optional<TraciEndpoint> attach;  // attach to this running SUMO instead of starting one
   bool gui = false;                     // start sumo-gui and draw the cells
+  bool map = true;                      // draw the conflict map
   // summary.json's wall_s counts from here (the front end's start, so reading counts too)
   std::chrono::steady_clock::time_point wallStart = std::chrono::steady_clock::now();
 };
@@ -59,6 +61,7 @@ struct RunResult {
   PluginCounters plugin;
   std::optional<ValidationReport> validation;
   std::vector<std::filesystem::path> written;  // the files written, in the order a closing line names them
+  std::string mapProblem;  // why no conflict map was drawn (python3-matplotlib missing, ...), if so
 };
 
 // Runs the scenario. Throws ScenarioError for a bad SUMO configuration, RunSetupError for

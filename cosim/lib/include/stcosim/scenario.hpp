@@ -20,6 +20,7 @@
 //     vehicle_reaction: 1.0           # s
 //     road_reaction: 0.5              # s
 //     brake_force: {passenger: 12000, truck: 75000, bus: 72000, motorcycle: 2250, emergency: 31500, other: 12000}
+//   conflict: {rear_end_below: 30, crossing_above: 85}   # deg: SSAM's type thresholds (warnings.csv type)
 //   concentric: {inner_margin: 0.0, outer_margin: 0.0}
 //   cells: {length: 200, hysteresis_db: 3, tx_power_dbm: 40, path_loss_exponent: 3,
 //           reference_distance: 1, radio_range: 600, decomposition_factor: 8, max_depth: 8}

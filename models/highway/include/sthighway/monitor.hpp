@@ -17,6 +17,7 @@
 #include <vector>
 
 #include <sthighway/cells.hpp>
+#include <sthighway/conflict.hpp>
 #include <sthighway/detector.hpp>
 #include <sthighway/road.hpp>
 #include <sthighway/safe_time.hpp>
@@ -56,6 +57,17 @@ struct Warning {
   double deceleration = 0.0;  // m/s^2, vehicle: the strongest braking of either vehicle in the window
   bool crossed = false;       // road: the body touched the line (or hazard) within the safe time
   bool signalled = false;     // road: with the turn signal of that side on
+  // The conflict at the tick of the minimum TTC (conflict.hpp). NaN: does not apply to the kind.
+  double x = 0.0, y = 0.0;     // m, the ego's centre
+  std::string lane;            // the ego's lane id (VehicleState::lane), empty if unknown
+  double egoSpeed = 0.0;       // m/s, |velocity|
+  double foeSpeed = 0.0;       // m/s; NaN for road warnings
+  double headingAngle = 0.0;   // deg, between the headings (0..180); road: to the line (0..90), NaN for a hazard
+  ConflictType type = ConflictType::Road;
+  double drac = 0.0;           // m/s^2, deceleration rate to avoid the crash (infinite when touching)
+  double maxDeltaV = 0.0;      // m/s, SSAM's MaxDeltaV; NaN for road warnings
+  std::string line;            // road warnings: the curb, marker or hazard (RoadFeature::name)
+  double lateralSpeed = 0.0;   // m/s, road warnings: the ego's speed towards the line; NaN for vehicles
 };
 
 // An equipped car's worst current threat this tick (for actions: colour, brake).
@@ -83,6 +95,7 @@ struct MonitorConfig {
   Broadphase broadphase = Broadphase::Cells;
   bool checkRoad = true;   // curbs, lane markers, hazards
   HindsightConfig hindsight;
+  ConflictConfig conflict;  // the type thresholds (reported only)
 };
 
 struct MonitorCounters {
@@ -112,6 +125,9 @@ struct MonitorCounters {
   std::uint64_t nearMisses = 0;
   std::uint64_t nearMissesWarned = 0;
   std::vector<double> nearMissLeads;
+  // Finished episodes by conflict type at their minimum TTC (equal in total to the above once
+  // finish() has closed every episode).
+  std::array<std::uint64_t, kConflictTypeCount> warningsByType{};
 };
 
 class HighwayMonitor {

@@ -13,7 +13,8 @@
 namespace st::highway {
 
 // Columns: ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open, then hindsight's:
-// verdict,clearance,clearance_time,deceleration,crossed,signalled
+// verdict,clearance,clearance_time,deceleration,crossed,signalled, then the conflict at the minimum TTC: x,y,lane,ego_speed,foe_speed,heading_angle,type,drac,max_delta_v,line,
+// lateral_speed (models/highway/README.md; empty where a column does not apply).
 class WarningsCsvWriter {
  public:
   // Creates (truncates) the file and writes the header; throws std::runtime_error naming the path.
@@ -50,7 +51,7 @@ struct RunInfo {
 // with recall and lead times (null figures where there is nothing to count).
 std::string hindsightJson(const MonitorCounters& counters, const HindsightConfig& config);
 
-// summary.json: vehicles, vehicle_km, warnings (total, by kind, by zone, per vehicle-km),
+// summary.json: vehicles, vehicle_km, warnings (total, by kind, by zone, by conflict type, per vehicle-km),
 // tet_s / tit_s2 by kind, handoffs, subdivisions, candidate_pairs, toi_checks, wall time.
 std::string summaryJson(const MonitorCounters& counters, const RunInfo& info);
 void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& counters,
@@ -58,7 +59,10 @@ void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& 
 
 // Removes from out every file a highway run may write (warnings.csv, summary.json and, from SUMO
 // runs, collisions.csv, collision_warnings.csv, validation.json, ssm.xml, sumo_collisions.xml,
-// sumo.log), so that what is there after a run belongs to it. Throws std::runtime_error.
+// sumo.log; the conflict map), so that what is there after a run belongs to it. Throws std::runtime_error.
 void removeRunOutputs(const std::filesystem::path& out);
+
+// "rear_end N, lane_change N, crossing N, road N" (for a printed summary).
+std::string conflictTypeBreakdown(const MonitorCounters& counters);
 
 }  // namespace st::highway

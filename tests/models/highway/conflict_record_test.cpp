@@ -1,0 +1,279 @@
+// What a warning records of its tick of minimum TTC, on constructed encounters: the type by
+// SSAM's angles (a rear-end, a lane change, a 90-degree crossing at a junction netconvert builds
+// here), the position and lane, the speeds, DRAC and MaxDeltaV against hand-computed values, a
+// curb's lateral speed; and the conflict map drawn from a replay (one SVG marker per warning).
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include <sthighway/conflict_map.hpp>
+#include <sthighway/monitor.hpp>
+#include <sthighway/report.hpp>
+#include <sthighway/sumo_files.hpp>
+
+#include "svg_markers.hpp"
+
+namespace st::highway {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kPi = 3.14159265358979323846;
+
+VehicleState car(const std::string& id, Vec2 p, double headingDeg, double speed, double lateral = 0.0) {
+  VehicleState v;
+  v.id = id;
+  v.position = p;
+  v.heading = headingDeg * kPi / 180.0;
+  v.speed = speed;
+  v.lateralSpeed = lateral;
+  return v;
+}
+
+MonitorConfig boxConfig(bool road) {
+  MonitorConfig cfg;
+  cfg.detector.kind = DetectorKind::Box;  // exact rectangles: TTCs by hand
+  cfg.broadphase = Broadphase::AllPairs;
+  cfg.checkRoad = road;
+  return cfg;
+}
+
+RoadGeometry straightRoad() {
+  RoadGeometry r;
+  r.lanes.push_back({"e_0", "e", 0, {Vec2(-100.0, 0.0), Vec2(1000.0, 0.0)}, 3.2, false});
+  return r;
+}
+
+// One tick, then finish: the minimum is that tick's.
+std::vector<Warning> oneTick(const RoadGeometry& road, const MonitorConfig& cfg, std::vector<VehicleState> cars) {
+  HighwayMonitor m(road, cfg);
+  m.step(0.0, cars);
+  m.finish(0.1);
+  return m.takeFinished();
+}
+
+const Warning* find(const std::vector<Warning>& ws, const std::string& ego, WarningKind kind) {
+  for (const auto& w : ws)
+    if (w.ego == ego && w.kind == kind) return &w;
+  return nullptr;
+}
+
+TEST(ConflictRecord, RearEndWithDracAndDeltaVByHand) {
+  // follower 30 m/s at x = 0, a 15 t truck (12 m) at 20 m/s ahead, 15 m of gap bumper to bumper
+  VehicleState f = car("follower", Vec2(0.0, 0.0), 0.0, 30.0);
+  VehicleState l = car("truck", Vec2(2.5 + 15.0 + 6.0, 0.0), 0.0, 20.0);
+  l.length = 12.0;
+  l.width = 2.55;
+  l.mass = 15000.0;
+  l.vehicleClass = VehicleClass::Truck;
+  l.equipped = false;
+  const auto ws = oneTick(straightRoad(), boxConfig(false), {f, l});
+  const Warning* w = find(ws, "follower", WarningKind::Vehicle);
+  ASSERT_NE(w, nullptr);
+  EXPECT_NEAR(w->minTtc, 1.5, 1e-9);  // 15 m at 10 m/s
+  EXPECT_EQ(w->type, ConflictType::RearEnd);
+  EXPECT_NEAR(w->headingAngle, 0.0, 1e-12);
+  EXPECT_DOUBLE_EQ(w->x, 0.0);
+  EXPECT_DOUBLE_EQ(w->y, 0.0);
+  EXPECT_DOUBLE_EQ(w->egoSpeed, 30.0);
+  EXPECT_DOUBLE_EQ(w->foeSpeed, 20.0);
+  // DRAC = 10^2 / (2 * 15) = 3.333 m/s^2
+  EXPECT_NEAR(w->drac, 100.0 / 30.0, 1e-9);
+  // inelastic impact: the car takes 15000/16500 of the 10 m/s difference
+  EXPECT_NEAR(w->maxDeltaV, 10.0 * 15000.0 / 16500.0, 1e-9);
+  EXPECT_TRUE(w->lane.empty());  // no lane given
+  EXPECT_TRUE(w->line.empty());
+  EXPECT_TRUE(std::isnan(w->lateralSpeed));
+}
+
+TEST(ConflictRecord, LaneChangeBetweenTheThresholds) {
+  // the ego cuts in at 40 degrees towards a car in the next lane; relative motion straight at it
+  const VehicleState e = car("ego", Vec2(0.0, 0.0), 40.0, 20.0);
+  const Vec2 rel = e.velocity() - Vec2(10.0, 0.0);
+  VehicleState o = car("other", rel, 0.0, 10.0);
+  o.equipped = false;
+  const auto ws = oneTick(straightRoad(), boxConfig(false), {e, o});
+  const Warning* w = find(ws, "ego", WarningKind::Vehicle);
+  ASSERT_NE(w, nullptr);
+  EXPECT_NEAR(w->headingAngle, 40.0, 1e-9);
+  EXPECT_EQ(w->type, ConflictType::LaneChange);
+  // the same encounter with the lane-change band closed below 40 degrees is a crossing
+  MonitorConfig narrow = boxConfig(false);
+  narrow.conflict.crossingAboveDeg = 35.0;
+  const auto ws2 = oneTick(straightRoad(), narrow, {e, o});
+  ASSERT_NE(find(ws2, "ego", WarningKind::Vehicle), nullptr);
+  EXPECT_EQ(find(ws2, "ego", WarningKind::Vehicle)->type, ConflictType::Crossing);
+  // and with the rear-end band opened above it, a rear-end
+  MonitorConfig wide = boxConfig(false);
+  wide.conflict.rearEndBelowDeg = 45.0;
+  EXPECT_EQ(find(oneTick(straightRoad(), wide, {e, o}), "ego", WarningKind::Vehicle)->type, ConflictType::RearEnd);
+}
+
+TEST(ConflictRecord, CurbWarningCarriesTheLineAndTheLateralSpeed) {
+  // drifting right at 2 m/s, 0.7 m from the curb (lane 3.2 m, car 1.8 m): TTC 0.35 s
+  const auto ws = oneTick(straightRoad(), boxConfig(true), {car("drifter", Vec2(0.0, 0.0), 0.0, 25.0, -2.0)});
+  const Warning* w = find(ws, "drifter", WarningKind::Curb);
+  ASSERT_NE(w, nullptr);
+  EXPECT_NEAR(w->minTtc, 0.35, 1e-9);
+  EXPECT_EQ(w->type, ConflictType::Road);
+  EXPECT_EQ(w->line, "e:right");
+  EXPECT_NEAR(w->lateralSpeed, 2.0, 1e-12);
+  EXPECT_NEAR(w->drac, 4.0 / (2.0 * 0.7), 1e-9);  // v^2 / (2 gap)
+  EXPECT_NEAR(w->headingAngle, 0.0, 1e-12);        // parallel to the curb
+  EXPECT_TRUE(std::isnan(w->maxDeltaV));
+  EXPECT_TRUE(std::isnan(w->foeSpeed));
+}
+
+// a cross junction: four one-lane edges into and out of c
+fs::path buildJunction(const fs::path& dir) {
+  fs::create_directories(dir);
+  std::ofstream(dir / "x.nod.xml") << R"(<nodes>
+  <node id="c" x="0" y="0" type="priority"/>
+  <node id="w" x="-100" y="0"/> <node id="e" x="100" y="0"/>
+  <node id="s" x="0" y="-100"/> <node id="n" x="0" y="100"/>
+</nodes>)";
+  std::ofstream(dir / "x.edg.xml") << R"(<edges>
+  <edge id="w2c" from="w" to="c" numLanes="1" speed="13.9"/> <edge id="c2e" from="c" to="e" numLanes="1" speed="13.9"/>
+  <edge id="s2c" from="s" to="c" numLanes="1" speed="13.9"/> <edge id="c2n" from="c" to="n" numLanes="1" speed="13.9"/>
+</edges>)";
+  const fs::path net = dir / "x.net.xml";
+  const std::string cmd = "netconvert --node-files " + (dir / "x.nod.xml").string() + " --edge-files " +
+                          (dir / "x.edg.xml").string() + " --no-turnarounds -o " + net.string() + " > /dev/null 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  return net;
+}
+
+TEST(ConflictRecord, RightAngleCrossingAtANetconvertJunction) {
+  if (std::system("command -v netconvert > /dev/null 2>&1") != 0) GTEST_SKIP() << "netconvert not installed";
+  const fs::path dir = fs::temp_directory_path() / ("sthighway_junction_" + std::to_string(::getpid()));
+  const RoadGeometry road = readSumoNet(buildJunction(dir));
+  int west = -1, south = -1;
+  for (std::size_t i = 0; i < road.lanes.size(); ++i) {
+    if (road.lanes[i].id == "w2c_0") west = static_cast<int>(i);
+    if (road.lanes[i].id == "s2c_0") south = static_cast<int>(i);
+  }
+  ASSERT_GE(west, 0);
+  ASSERT_GE(south, 0);
+  // each lane's last segment, extended into the junction: the two centre lines meet at X
+  auto lastSegment = [&](int i, Vec2& end, Vec2& along) {
+    const auto& s = road.lanes[i].shape;
+    end = s.back();
+    along = (s.back() - s[s.size() - 2]).normalized();
+  };
+  Vec2 ew, dw, es, ds;
+  lastSegment(west, ew, dw);
+  lastSegment(south, es, ds);
+  ASSERT_NEAR(std::abs(dw.dot(ds)), 0.0, 1e-6);  // the net is at right angles
+  const double tw = cross(es - ew, ds) / cross(dw, ds);
+  const Vec2 X = ew + tw * dw;
+  // both 20 m before X at 10 m/s: they would meet at X at t = 2 s
+  HighwayMonitor m(road, [] {
+    MonitorConfig c = boxConfig(true);
+    return c;
+  }());
+  double tLast = 0.0;
+  for (int k = 0; k <= 8; ++k) {
+    const double t = 0.1 * k;
+    VehicleState a = car("east", X - (20.0 - 10.0 * t) * dw, std::atan2(dw.y(), dw.x()) * 180.0 / kPi, 10.0);
+    VehicleState b = car("north", X - (20.0 - 10.0 * t) * ds, std::atan2(ds.y(), ds.x()) * 180.0 / kPi, 10.0);
+    a.lane = west;
+    b.lane = south;
+    m.step(t, std::vector<VehicleState>{a, b});
+    tLast = t;
+  }
+  m.finish(tLast + 0.1);
+  const auto ws = m.takeFinished();
+  for (const char* ego : {"east", "north"}) {
+    const Warning* w = find(ws, ego, WarningKind::Vehicle);
+    ASSERT_NE(w, nullptr) << ego;
+    EXPECT_EQ(w->type, ConflictType::Crossing) << ego;
+    EXPECT_NEAR(w->headingAngle, 90.0, 1e-4) << ego;
+    EXPECT_EQ(w->lane, std::string(ego) == "east" ? "w2c_0" : "s2c_0");
+    // the position at the tick of the minimum TTC (the TTC falls every tick: the last one)
+    EXPECT_NEAR(w->minTtcTime, tLast, 1e-12);
+    const Vec2 at = X - (20.0 - 10.0 * w->minTtcTime) * (std::string(ego) == "east" ? dw : ds);
+    EXPECT_NEAR(w->x, at.x(), 1e-9);
+    EXPECT_NEAR(w->y, at.y(), 1e-9);
+    // equal masses at right angles, 10 m/s each: MaxDeltaV = |dv| / 2 = 5 sqrt 2
+    EXPECT_NEAR(w->maxDeltaV, 5.0 * std::sqrt(2.0), 1e-6);
+    // closing at 10 sqrt 2 along the line of centres (symmetric approach)
+    EXPECT_NEAR(w->drac, 10.0 * std::sqrt(2.0) / (2.0 * w->minTtc), 1e-6);
+  }
+  fs::remove_all(dir);
+}
+
+TEST(ConflictRecord, CsvColumnsAppendedInAFixedOrder) {
+  const std::string h = warningsCsvHeader();
+  // the old columns keep their names and places (the episode's, then hindsight's)
+  EXPECT_EQ(h.rfind("ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open,"
+                    "verdict,clearance,clearance_time,deceleration,crossed,signalled,", 0), 0u) << h;
+  const std::string tail = ",x,y,lane,ego_speed,foe_speed,heading_angle,type,drac,max_delta_v,line,lateral_speed";
+  ASSERT_GE(h.size(), tail.size());
+  EXPECT_EQ(h.substr(h.size() - tail.size()), tail) << h;
+  const auto ws = oneTick(straightRoad(), boxConfig(true), {car("drifter", Vec2(0.0, 0.0), 0.0, 25.0, -2.0)});
+  ASSERT_FALSE(ws.empty());
+  const std::string row = warningCsvRow(ws.front());
+  EXPECT_EQ(std::count(row.begin(), row.end(), ','), std::count(h.begin(), h.end(), ',')) << row;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+long csvRows(const fs::path& csv) {
+  const std::string s = slurp(csv);
+  return std::count(s.begin(), s.end(), '\n') - 1;
+}
+
+TEST(ConflictMap, OneMarkerPerWarningInAValidPngAndSvg) {
+  if (std::system("/usr/bin/python3 -c 'import matplotlib' > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "python3-matplotlib not installed";
+  const fs::path data = fs::path(STSIM_SOURCE_DIR) / "tests/data/highway";
+  const fs::path out = fs::temp_directory_path() / ("sthighway_map_" + std::to_string(::getpid()));
+  fs::create_directories(out);
+  const RoadGeometry road = readSumoNet(data / "lanedrop.net.xml");
+  HighwayMonitor m(road, MonitorConfig{});
+  FcdReader r(data / "lanedrop.fcd.xml", readSumoVehicleTypes(data / "lanedrop.rou.xml"), {}, &road);
+  WarningsCsvWriter csv(out / "warnings.csv");
+  FcdFrame f;
+  double last = 0.0;
+  bool laned = false;
+  for (int k = 0; k < 600 && r.next(f); ++k) {
+    m.step(f.time, f.vehicles);
+    last = f.time;
+    for (const auto& v : f.vehicles) laned = laned || v.lane >= 0;
+    csv.write(m.takeFinished());
+  }
+  m.finish(last);
+  csv.write(m.takeFinished());
+  csv.flush();
+  EXPECT_TRUE(laned);  // the trace's lane attributes became lane indices
+  const long rows = csvRows(out / "warnings.csv");
+  ASSERT_GT(rows, 5);
+  std::string why;
+  ASSERT_TRUE(writeConflictMap({out / "map", data / "lanedrop.net.xml", {out / "warnings.csv"}, "lanedrop"}, why)) << why;
+  const std::string png = slurp(out / "map.png");
+  ASSERT_GT(png.size(), 8u);
+  EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  const std::string svg = slurp(out / "map.svg");
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+  EXPECT_EQ(st::test::svgMarkers(svg), rows);
+  // the lanes are drawn: the network's lanes are in the picture's line collection
+  EXPECT_NE(svg.find("LineCollection"), std::string::npos);
+  // a lane id in the csv (the trace has lane attributes and the net)
+  EXPECT_NE(slurp(out / "warnings.csv").find(",main_"), std::string::npos);
+  fs::remove_all(out);
+}
+
+}  // namespace
+}  // namespace st::highway
