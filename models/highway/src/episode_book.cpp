@@ -32,8 +32,17 @@ void EpisodeBook::beginTick() {
 
 Warning EpisodeBook::warningOf(int e, const Episode& ep, bool open) const {
   const auto& slots = cars_->slots;
-  Warning w{slots[e].id, ep.kind == WarningKind::Vehicle ? slots[ep.foe].id : road_->groupName(ep.foe), ep.kind, ep.zone,
-            ep.begin, ep.end, ep.minTtc, ep.minTtcTime, ep.safeTimeAtMin, open};
+  Warning w;
+  w.ego = slots[e].id;
+  w.foe = ep.kind == WarningKind::Vehicle ? slots[ep.foe].id : road_->groupName(ep.foe);
+  w.kind = ep.kind;
+  w.zone = ep.zone;
+  w.begin = ep.begin;
+  w.end = ep.end;
+  w.minTtc = ep.minTtc;
+  w.minTtcTime = ep.minTtcTime;
+  w.safeTimeAtMin = ep.safeTimeAtMin;
+  w.open = open;
   const ConflictCapture& c = captures_[ep.capture];
   const bool vehicle = ep.kind == WarningKind::Vehicle;
   describeConflict(c, ep.kind, cars_->mass[e], vehicle ? cars_->mass[ep.foe] : 0.0, ep.minTtc, road_->features(),
