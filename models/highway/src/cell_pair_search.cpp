@@ -460,7 +460,9 @@ void CellPairSearch::findPairsOnceFor() {
       const BinStats& cb = binStats_[B];
       // the cars of A whose reach box (walkPairsOnce's) may meet B's centres: a run along A's
       // sorted axis; the rest are skipped without computing their reach
-      const auto [behind, ahead] = binReach(ca, cb, std::max(ca.kAll, cb.kMax), kAccel, tol::kPruneSlop);
+      // (named copies, not a structured binding: the lambdas below capture them, which clang 14 refuses)
+      const Reach reach = binReach(ca, cb, std::max(ca.kAll, cb.kMax), kAccel, tol::kPruneSlop);
+      const Vec2 behind = reach.behind, ahead = reach.ahead;
       const int a = ca.axis, o = 1 - a;
       // (each test is monotone along the sorted keys: a binary search for where it turns)
       const double* key = memberKey_.data();
