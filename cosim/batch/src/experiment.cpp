@@ -92,6 +92,7 @@ Experiment loadExperiment(const fs::path& file,
   static const std::set<std::string> known = {"name", "command", "base", "sweep", "fixed", "seeds", "seed_key"};
   y.onlyKeys(root, "", [](const std::string& k) { return known.count(k) > 0; },
              "expected one of name, command, base, sweep, fixed, seeds, seed_key");
+  if (root["name"] && !root["name"].IsScalar()) fail(e, "name", root["name"], "must be a plain folder name, got a list or map");
   e.name = root["name"] ? root["name"].as<std::string>() : file.stem().string();
   // the name is the default output folder out/<name>: one plain folder name, never a path
   if (e.name.empty() || e.name == "." || e.name == ".." || e.name.find_first_of("/\\") != std::string::npos)
@@ -103,7 +104,10 @@ Experiment loadExperiment(const fs::path& file,
     if (e.command != "highway" && e.command != "pool" && e.command != "arm")
       fail(e, "command", root["command"], "must be highway, pool or arm");
   }
-  if (root["seed_key"]) e.seedKey = root["seed_key"].as<std::string>();
+  if (root["seed_key"]) {
+    if (!root["seed_key"].IsScalar()) fail(e, "seed_key", root["seed_key"], "must be a key name");
+    e.seedKey = root["seed_key"].as<std::string>();
+  }
   if (!root["base"] || !root["base"].IsScalar()) y.missingKey(root, "base", "the base scenario file");
   e.base = fs::path(root["base"].as<std::string>());
   if (e.base.is_relative()) e.base = file.parent_path() / e.base;
