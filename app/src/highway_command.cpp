@@ -39,6 +39,7 @@ Args makeArgs() {
       .option("layout", "a|b", "five-circle zone layout: Fig. 11(a) small or 11(b) large overlaps", "a")
       .option("motion", "velocity|acceleration", "prediction: constant velocity, or constant acceleration", "velocity")
       .option("broadphase", "cells|all-pairs", "neighbour search", "cells")
+      .option("prediction", "road|straight", "motion along the lanes (lane-frame road checks), or straight lines", "road")
       .option("out", "DIR", "output directory for warnings.csv and summary.json", ".")
       .option("penetration", "P", "fraction of vehicles equipped with the smart-car system, 0..1", "1")
       .option("action", "color|brake|none", "action on a warning (SUMO runs)", "color")
@@ -92,6 +93,7 @@ int runTrace(const Args& a) {
   info.source = a.get("fcd");
   info.detector = hw::toString(cfg.detector.kind);
   info.broadphase = hw::toString(cfg.broadphase);
+  info.prediction = hw::toString(cfg.prediction);
   info.hindsight = cfg.hindsight;
   double first = 0.0, last = 0.0;
   bool any = false;
@@ -174,6 +176,8 @@ void applyMonitorOptions(const Args& a, hw::MonitorConfig& cfg, bool givenOnly) 
     throw UsageError("--detector must be concentric, five or box, got '" + a.get("detector") + "'");
   if (wanted("broadphase") && !hw::parseBroadphase(a.get("broadphase"), cfg.broadphase))
     throw UsageError("--broadphase must be cells or all-pairs, got '" + a.get("broadphase") + "'");
+  if (wanted("prediction") && !hw::parsePrediction(a.get("prediction"), cfg.prediction))
+    throw UsageError("--prediction must be road or straight, got '" + a.get("prediction") + "'");
   if (wanted("layout") && !hw::parseFiveCircleLayout(a.get("layout"), cfg.detector.five))
     throw UsageError("--layout must be a or b, got '" + a.get("layout") + "'");
   if (wanted("motion") && !hw::parseMotionModel(a.get("motion"), cfg.detector.motion))

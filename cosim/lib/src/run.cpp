@@ -74,6 +74,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
     info.source = s.source.string();
     info.detector = hw::toString(s.plugin.monitor.detector.kind);
     info.broadphase = hw::toString(s.plugin.monitor.broadphase);
+    info.prediction = hw::toString(s.plugin.monitor.prediction);
     info.wallSeconds = std::chrono::duration<double>(Clock::now() - setup.wallStart).count();
     info.strings = {{"sumocfg", s.sumocfg.string()}, {"stop_reason", "error"}, {"error", e.what()}};
     hw::writeSummaryJson(out / "summary.json", hw::MonitorCounters{}, info);
@@ -208,6 +209,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
   info.source = s.source.string();
   info.detector = hw::toString(s.plugin.monitor.detector.kind);
   info.broadphase = hw::toString(s.plugin.monitor.broadphase);
+  info.prediction = hw::toString(s.plugin.monitor.prediction);
   info.hindsight = s.plugin.monitor.hindsight;
   info.simulatedSeconds = simEnd;
   info.wallSeconds = std::chrono::duration<double>(Clock::now() - setup.wallStart).count();

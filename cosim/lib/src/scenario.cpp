@@ -154,6 +154,8 @@ void readYaml(const fs::path& path, Scenario& s) {
   if (auto n = root["motion"])
     if (!hw::parseMotionModel(r.text(n, "motion"), m.detector.motion))
       r.fail(n, "motion", "must be velocity or acceleration");
+  if (auto n = root["prediction"])
+    if (!hw::parsePrediction(r.text(n, "prediction"), m.prediction)) r.fail(n, "prediction", "must be road or straight");
   if (auto n = root["broadphase"])
     if (!hw::parseBroadphase(r.text(n, "broadphase"), m.broadphase)) r.fail(n, "broadphase", "must be cells or all-pairs");
   if (auto n = root["check_road"]) m.checkRoad = r.boolean(n, "check_road");
@@ -264,7 +266,7 @@ void readYaml(const fs::path& path, Scenario& s) {
 const std::vector<std::string>& scenarioKeys() {
   static const std::vector<std::string> keys = [] {
     std::vector<std::string> k = {"sumocfg", "description", "seed", "end", "demand_scale", "validate_ssm",
-                                  "detector", "layout", "motion", "broadphase", "check_road", "penetration",
+                                  "detector", "layout", "motion", "prediction", "broadphase", "check_road", "penetration",
                                   "smart_types", "action", "brake.deceleration", "brake.max_deceleration",
                                   "brake.standstill_gap", "safe_time.vehicle_reaction", "safe_time.road_reaction"};
     for (int c = 0; c < hw::kVehicleClassCount; ++c)

@@ -127,6 +127,19 @@ void Hindsight::measure(Window& w, double t) {
   }
   w.measured = true;
   if (w.crossed) return;
+  const LanePrediction* lp = road_->prediction();
+  if (lp && !lp->straight(w.ego) && w.kind != WarningKind::Hazard) {
+    // in the lane frame: the body reaches across the line on one side of the lane it is on (the
+    // one it left, or the one it entered, after a crossing)
+    const int lane = lp->frame(w.ego).lane;
+    for (int side = 0; side < 2; ++side) {
+      if (road_->lineOf(lane, side) != w.foe || road_->beyondLine(w.ego, side) < 0.0) continue;
+      w.crossed = true;
+      w.clearanceTime = t;
+      w.signalled = (cars_->signals[w.ego] & (side == 1 ? kSignalLeft : kSignalRight)) != 0;
+    }
+    return;
+  }
   const RoadFeatures& rf = road_->features();
   for (int fi : road_->groupFeatures(w.foe)) {
     const RoadFeature& f = rf.features[fi];

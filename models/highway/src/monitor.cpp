@@ -8,6 +8,7 @@
 
 #include "episode_book.hpp"
 #include "hindsight.hpp"
+#include "lane_prediction.hpp"
 #include "pair_search.hpp"
 #include "road_search.hpp"
 #include "vehicle_table.hpp"
@@ -18,6 +19,14 @@ const char* toString(Broadphase b) { return b == Broadphase::Cells ? "cells" : "
 bool parseBroadphase(const std::string& text, Broadphase& out) {
   if (text == "cells") out = Broadphase::Cells;
   else if (text == "all-pairs" || text == "allpairs") out = Broadphase::AllPairs;
+  else return false;
+  return true;
+}
+
+const char* toString(Prediction p) { return p == Prediction::Road ? "road" : "straight"; }
+bool parsePrediction(const std::string& text, Prediction& out) {
+  if (text == "road") out = Prediction::Road;
+  else if (text == "straight") out = Prediction::Straight;
   else return false;
   return true;
 }
@@ -81,6 +90,7 @@ std::vector<std::string> laneIdsOf(const RoadGeometry& road) {
 
 // The stages of a tick, each a part of its own (the step below calls them in order):
 //   cars    the vehicle table: who is here, their hot state       (vehicle_table.cpp)
+//   paths   each car's lane frame and predicted path (road prediction) (lane_prediction.cpp)
 //   pairs   who is near whom, and the car-car threats              (cell_pair_search.cpp, all_pairs_search.cpp)
 //   road    which road features an ego may reach, and their threats (road_search.cpp)
 //   book    threats into episodes, exposure, alerts, warnings      (episode_book.cpp)
@@ -89,6 +99,7 @@ struct HighwayMonitor::Impl {
   MonitorConfig cfg;
   MonitorCounters counters;
   detail::VehicleTable cars;
+  detail::LanePrediction prediction;
   detail::RoadSearch road;
   CellNetwork cells;
   std::unique_ptr<detail::PairSearch> pairs;
@@ -101,11 +112,14 @@ struct HighwayMonitor::Impl {
   Impl(const RoadGeometry& geometry, const MonitorConfig& config)
       : cfg((checkConfig(config), config)),
         cars(cfg, counters),
+        prediction(geometry, cfg, cars, counters),
         road(geometry, cfg, cars, counters),
         cells(geometry, cellBounds(road.features()), cfg.cells),
         hindsight(cfg, cars, road, counters),
         book(cars, road, hindsight, cfg, laneIdsOf(geometry), counters) {
-    const detail::PairTest test{&cfg, &cars, &counters};
+    const detail::LanePrediction* paths = prediction.enabled() ? &prediction : nullptr;
+    road.usePrediction(paths);
+    const detail::PairTest test{&cfg, &cars, &counters, paths};
     pairs = cfg.broadphase == Broadphase::Cells ? detail::makeCellPairSearch(test, cells) : detail::makeAllPairsSearch(test);
   }
 };
@@ -124,6 +138,7 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
   if (m.started) m.book.accumulateExposure(t - m.lastT);
   // who is here; the episodes of the cars that left end at their last tick
   m.cars.update(t, vehicles);
+  m.prediction.update(t);
   m.book.beginTick();
   for (int s : m.cars.departed) m.book.close(s, m.lastT);
   ++m.counters.ticks;

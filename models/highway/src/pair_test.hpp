@@ -10,6 +10,7 @@
 #include <sthighway/tolerances.hpp>
 
 #include "kernels.hpp"
+#include "lane_prediction.hpp"
 #include "vehicle_table.hpp"
 
 namespace st::highway::detail {
@@ -85,6 +86,12 @@ struct PairTest {
   const MonitorConfig* cfg;
   const VehicleTable* cars;
   MonitorCounters* counters;
+  const LanePrediction* paths = nullptr;  // road prediction: the TTC along the cars' paths
+
+  Ttc ttcOf(int a, int b, double horizon) const {
+    if (paths) return paths->vehicleTtc(a, b, horizon);
+    return vehicleTtc(cfg->detector, cars->body[a], cars->shape[a], cars->body[b], cars->shape[b], horizon);
+  }
 
   double reactionTime() const { return cfg->safeTime.vehicleReactionTime; }
 
@@ -111,11 +118,14 @@ struct PairTest {
       // would be bounds on the detector's own test: its kernel once (vehicleTtc's concentric
       // case: the outer circles' disc entry, already touching is 0), unbounded, against each
       // direction's safe time
-      const double t = discEntry(Piece{p, v, Vec2::Zero(), 0.0, kInf}, Vec2::Zero(), state[0]->outer + state[1]->outer);
+      // (along the paths: the same kernel piece by piece, symmetric too, to the larger safe time)
+      for (int d = 0; d < 2; ++d)
+        if (ask[d]) safe[d] = SafeTimeConfig::safeTimeOf(reactionTime(), state[d]->mass, closing, state[d]->twiceBrakeForce);
+      const double t = paths ? paths->vehicleTtc(e, f, std::max(ask[0] ? safe[0] : 0.0, ask[1] ? safe[1] : 0.0)).t
+                             : discEntry(Piece{p, v, Vec2::Zero(), 0.0, kInf}, Vec2::Zero(), state[0]->outer + state[1]->outer);
       for (int d = 0; d < 2; ++d) {
         if (!ask[d]) continue;
         ++counters->toiChecks;
-        safe[d] = SafeTimeConfig::safeTimeOf(reactionTime(), state[d]->mass, closing, state[d]->twiceBrakeForce);
         if (!(t <= safe[d])) continue;
         *out[d] = {state[1 - d]->serial, WarningKind::Vehicle, Zone::Outer, t, safe[d], ego[1 - d]};
         warns |= 1 << d;
@@ -151,7 +161,7 @@ struct PairTest {
       if (!near[d]) continue;
       ++counters->toiChecks;
       const int a = ego[d], b = ego[1 - d];
-      record(d, vehicleTtc(dc, cars->body[a], cars->shape[a], cars->body[b], cars->shape[b], safe[d]));
+      record(d, ttcOf(a, b, safe[d]));
     }
     return warns;
   }

@@ -102,6 +102,7 @@ std::string summaryJson(const MonitorCounters& c, const RunInfo& info) {
   os << "  \"source\": " << jsonString(info.source) << ",\n";
   os << "  \"detector\": " << jsonString(info.detector) << ",\n";
   os << "  \"broadphase\": " << jsonString(info.broadphase) << ",\n";
+  os << "  \"prediction\": " << jsonString(info.prediction) << ",\n";
   os << "  \"simulated_s\": " << num(info.simulatedSeconds) << ",\n";
   os << "  \"ticks\": " << c.ticks << ",\n";
   os << "  \"vehicles\": " << c.vehiclesSeen << ",\n";
@@ -140,6 +141,9 @@ std::string summaryJson(const MonitorCounters& c, const RunInfo& info) {
   os << "  \"candidate_pairs\": " << c.candidatePairs << ",\n";
   os << "  \"toi_checks\": " << c.toiChecks << ",\n";
   os << "  \"feature_checks\": " << c.featureChecks << ",\n";
+  // road prediction: updates predicted along a lane, and those in a straight line (no fitting lane, or stopped)
+  os << "  \"road_predicted_updates\": " << c.roadPredicted << ",\n";
+  os << "  \"straight_fallback_updates\": " << c.straightFallbacks << ",\n";
   for (const auto& [k, v] : info.numbers) os << "  " << jsonString(k) << ": " << num(v) << ",\n";
   for (const auto& [k, v] : info.strings) os << "  " << jsonString(k) << ": " << jsonString(v) << ",\n";
   for (const auto& [k, v] : info.rawJson) os << "  " << jsonString(k) << ": " << v << ",\n";

@@ -77,6 +77,27 @@ RoadSearch::RoadSearch(const RoadGeometry& road, const MonitorConfig& config, co
     groupFeatures_[it->second].push_back(static_cast<int>(groupOf_.size()));
     groupOf_.push_back(it->second);
   }
+  // each lane's lines: the curb or marker on either side, as deriveFeatures names them
+  std::map<std::string, std::vector<int>> lanesOfEdge;
+  for (int i = 0; i < static_cast<int>(road.lanes.size()); ++i)
+    if (!road.lanes[i].internal) lanesOfEdge[road.lanes[i].edge].push_back(i);
+  laneLines_.assign(road.lanes.size(), {-1, -1});
+  auto groupNamed = [&](FeatureKind k, const std::string& name) {
+    auto it = groups.find(std::string(toString(k)) + "/" + name);
+    return it == groups.end() ? -1 : it->second;
+  };
+  for (auto& [edge, ids] : lanesOfEdge) {
+    std::sort(ids.begin(), ids.end(), [&](int a, int b) { return road.lanes[a].index < road.lanes[b].index; });
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+      const Lane& l = road.lanes[ids[k]];
+      laneLines_[ids[k]][0] = k == 0 ? groupNamed(FeatureKind::Curb, edge + ":right")
+                                     : groupNamed(FeatureKind::LaneMarker, road.lanes[ids[k - 1]].id + "|" + l.id);
+      laneLines_[ids[k]][1] = k + 1 == ids.size() ? groupNamed(FeatureKind::Curb, edge + ":left")
+                                                  : groupNamed(FeatureKind::LaneMarker, l.id + "|" + road.lanes[ids[k + 1]].id);
+    }
+  }
+  for (int i = 0; i < static_cast<int>(features_.features.size()); ++i)
+    if (features_.features[i].kind == FeatureKind::Hazard) hazards_.push_back(i);
   for (const RoadFeature& f : features_.features) {
     const Vec2 dir = f.segment.b - f.segment.a;
     const double len = dir.norm();
@@ -139,6 +160,10 @@ void RoadSearch::prepare(std::span<const CarGroup> groups) {
 
 void RoadSearch::threatsOf(int e, int group, std::vector<Threat>& out) {
   if (!featureIndex_) return;
+  if (prediction_ && !prediction_->straight(e)) {
+    laneThreats(e, out);
+    return;
+  }
   const VehicleTable& t = *cars_;
   // a bound on the ego's road safe times (the one at its full speed, grown by the relative slop
   // over the rounding), from the cached brake ratio without roadSafeTime's division: it only
@@ -212,6 +237,101 @@ void RoadSearch::checkFeature(int e, int fi, double hMax, std::vector<Threat>& o
   }
   const int g = groupOf_[fi];
   out.push_back({kFeatureBit | static_cast<std::uint64_t>(g), kindOf(f.kind), ttc.zone, ttc.t, safe, g, fi});
+}
+
+double RoadSearch::beyondLine(int e, int side) const {
+  const LaneFrame& f = prediction_->frame(e);
+  const Vec2 n(-f.dir.y(), f.dir.x());
+  const double support = roadSupport(cfg_->detector, cars_->body[e], n);
+  return (side == 1 ? f.d : -f.d) + support - prediction_->halfWidth(f.lane);
+}
+
+// The feature of a group closest to p (for the conflict record's line direction).
+int RoadSearch::nearestFeature(int group, const Vec2& p) const {
+  int best = -1;
+  double bestD = std::numeric_limits<double>::infinity();
+  for (int fi : groupFeatures_[group]) {
+    const double d = (closestPointOnSegment(features_.features[fi].segment, p) - p).squaredNorm();
+    if (d < bestD) {
+      bestD = d;
+      best = fi;
+    }
+  }
+  return best;
+}
+
+// A car on a lane: time to line crossing in the lane frame (ISO 17361's lane departure warning):
+// the lateral distance from the shape that checks road features (inner circle, centre circle or
+// rectangle) to the lane's line on the side it moves towards, over its lateral speed; the road
+// safe time at that lateral speed. A curve the car follows is no departure. At a lane end with no
+// successor (a lane drop), the time until the shape's front reaches the end, against the curb of
+// that side. Hazards along the predicted path, piece by piece.
+void RoadSearch::laneThreats(int e, std::vector<Threat>& out) const {
+  const VehicleTable& t = *cars_;
+  const LaneFrame& f = prediction_->frame(e);
+  const DetectorConfig& dc = cfg_->detector;
+  const Zone zone = dc.kind == DetectorKind::Concentric ? Zone::Inner : dc.kind == DetectorKind::FiveCircle ? Zone::Center : Zone::Body;
+  const double tr = cfg_->safeTime.roadReactionTime;
+  const double twiceBrake = t.pairState[e].twiceBrakeForce;
+  auto add = [&](int g, double ttc, double closing) {
+    const double safe = SafeTimeConfig::safeTimeOf(tr, t.mass[e], closing, twiceBrake);
+    if (!(ttc <= safe)) return;
+    const int fi = nearestFeature(g, t.body[e].position);
+    out.push_back({kFeatureBit | static_cast<std::uint64_t>(g), kindOf(features_.features[fi].kind), zone, ttc, safe, g, fi});
+  };
+  for (int side = 0; side < 2; ++side) {
+    const int g = lineOf(f.lane, side);
+    if (g < 0) continue;
+    counters_->featureChecks += 1;
+    const double closing = side == 1 ? f.lateral : -f.lateral;
+    if (!(closing > 0.0)) continue;  // parallel or moving away: touching it is no threat
+    if (features_.features[groupFeatures_[g].front()].kind == FeatureKind::LaneMarker &&
+        (t.signals[e] & (side == 1 ? kSignalLeft : kSignalRight)))
+      continue;  // a signalled lane change
+    const double gap = -beyondLine(e, side);
+    add(g, gap <= 0.0 ? 0.0 : gap / closing, closing);
+  }
+  if (std::isfinite(f.endGap)) {
+    const int g = lineOf(f.endLane, 0) >= 0 && features_.features[groupFeatures_[lineOf(f.endLane, 0)].front()].kind == FeatureKind::Curb
+                      ? lineOf(f.endLane, 0) : lineOf(f.endLane, 1);
+    if (g >= 0 && f.speed > 0.0) {
+      counters_->featureChecks += 1;
+      const double gap = f.endGap - roadSupport(dc, t.body[e], f.dir);
+      const double a = dc.motion == MotionModel::ConstantAcceleration ? t.body[e].acceleration : 0.0;
+      double ttc = 0.0;
+      if (gap > 0.0) {
+        const double disc = f.speed * f.speed + 2.0 * a * gap;
+        ttc = std::abs(a) <= tol::kAccelerationEpsilon ? gap / f.speed
+              : disc < 0.0                             ? std::numeric_limits<double>::infinity()
+                                                       : 2.0 * gap / (f.speed + std::sqrt(disc));
+      }
+      add(g, ttc, f.speed);
+    }
+  }
+  if (hazards_.empty()) return;
+  const auto path = prediction_->path(e);
+  const bool accelerate = dc.motion == MotionModel::ConstantAcceleration;
+  const Body& now = t.body[e];
+  for (int fi : hazards_) {
+    const RoadFeature& h = features_.features[fi];
+    const Vec2 d = h.segment.a - now.position;
+    const double dist = d.norm();
+    const double closing = dist > 0.0 ? now.velocity.dot(d) / dist : now.velocity.norm();
+    const double safe = cfg_->safeTime.roadSafeTime(t.mass[e], closing, t.vclass[e]);
+    // the path stays within env - ownEnv (its deviation) of the straight line
+    if (dist > t.env[e] + h.radius + now.velocity.norm() * safe + 0.5 * t.accelAbs[e] * safe * safe + tol::kPruneSlop) continue;
+    counters_->featureChecks += 1;
+    for (std::size_t i = 0; i < path.size() && path[i].t0 <= safe; ++i) {
+      const double end = i + 1 < path.size() ? std::min(safe, path[i + 1].t0) : safe;
+      const Body b = LanePrediction::bodyAt(path.subspan(i), now, now.acceleration, accelerate, path[i].t0);
+      const Ttc r = featureTtc(dc, b, h, end - path[i].t0);
+      if (r.found()) {
+        const int g = groupOf_[fi];
+        out.push_back({kFeatureBit | static_cast<std::uint64_t>(g), WarningKind::Hazard, r.zone, path[i].t0 + r.t, safe, g, fi});
+        break;
+      }
+    }
+  }
 }
 
 }  // namespace st::highway::detail

@@ -4,6 +4,7 @@
 // of cars the pair search keeps (a bin) gets the list of features any of its cars could reach,
 // with the lines grouped by their normal so an ego's prune reads them cheaply; without groups
 // (all pairs) every ego reads the list of all features.
+#include <array>
 #include <optional>
 #include <span>
 #include <string>
@@ -14,6 +15,7 @@
 #include <sthighway/monitor.hpp>
 
 #include "index_visit.hpp"
+#include "lane_prediction.hpp"
 #include "pair_search.hpp"
 #include "vehicle_table.hpp"
 
@@ -28,6 +30,15 @@ class RoadSearch {
   const std::string& groupName(int group) const { return groupName_[group]; }
   // the features of a group (its polyline's segments, or the hazard)
   std::span<const int> groupFeatures(int group) const { return groupFeatures_[group]; }
+
+  // Road prediction: a car on a lane gets its curb and marker threats in the lane frame.
+  void usePrediction(const LanePrediction* prediction) { prediction_ = prediction; }
+  const LanePrediction* prediction() const { return prediction_; }
+  // The line (feature group) on a lane's right (side 0) or left (side 1); -1: none (internal lanes).
+  int lineOf(int lane, int side) const { return lane >= 0 && lane < static_cast<int>(laneLines_.size()) ? laneLines_[lane][side] : -1; }
+  // How far a car's body in the lane frame lies beyond its lane's line on a side (m, > 0: across
+  // it): |offset| plus the shape's support along the lane's normal, less the half width.
+  double beyondLine(int e, int side) const;
 
   // This tick's per-group lists (groups from the pair search; empty: every ego reads all).
   void prepare(std::span<const CarGroup> groups);
@@ -68,6 +79,8 @@ class RoadSearch {
 
  private:
   void checkFeature(int e, int fi, double hMax, std::vector<Threat>& out) const;
+  void laneThreats(int e, std::vector<Threat>& out) const;
+  int nearestFeature(int group, const Vec2& p) const;
 
   const MonitorConfig* cfg_;
   const VehicleTable* cars_;
@@ -84,6 +97,9 @@ class RoadSearch {
   std::vector<int> roadFound_;               // scratch: a group's features before grouping
   std::vector<std::pair<Vec2, RoadList::Line>> roadScratch_;
   std::vector<int> featureNear_;             // scratch: the features an ego may reach
+  const LanePrediction* prediction_ = nullptr;
+  std::vector<std::array<int, 2>> laneLines_;  // per lane: the groups of its right and left lines
+  std::vector<int> hazards_;                   // the hazard features
 };
 
 }  // namespace st::highway::detail

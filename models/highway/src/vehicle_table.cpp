@@ -36,6 +36,8 @@ void VehicleTable::ensure(std::size_t n) {
   mass.resize(n);
   env.resize(n);
   ext.resize(n);
+  ownEnv.resize(n);
+  ownExt.resize(n);
   shape.resize(n);
   brakeRatio.resize(n);
   accelAbs.resize(n);
@@ -135,16 +137,18 @@ void VehicleTable::take(int s, const VehicleState& v, double t) {
   vel[s] = body[s].velocity;
   mass[s] = v.mass;
   if (reshaped) {
-    env[s] = envelopeRadius(dc, v.length, v.width);
-    ext[s] = envelopeExtent(dc, body[s]);
+    ownEnv[s] = envelopeRadius(dc, v.length, v.width);
+    ownExt[s] = envelopeExtent(dc, body[s]);
     shape[s] = carShape(dc, body[s]);
     sl.length = v.length;
     sl.width = v.width;
     sl.heading = v.heading;
   }
+  env[s] = ownEnv[s];
+  ext[s] = ownExt[s];
   const double twiceBrake = 2.0 * cfg->safeTime.brakeForce[static_cast<int>(v.vehicleClass)];
   brakeRatio[s] = v.mass / twiceBrake;
-  wide[s] = static_cast<int>(!(brakeRatio[s] <= tol::kCompactBrakeRatio && ext[s].maxCoeff() <= tol::kCompactExtent &&
+  wide[s] = static_cast<int>(!(brakeRatio[s] <= tol::kCompactBrakeRatio && ownExt[s].maxCoeff() <= tol::kCompactExtent &&
                                std::abs(v.lateralSpeed) <= tol::kCompactLateralSpeed));
   accelAbs[s] = std::abs(v.acceleration);
   vclass[s] = v.vehicleClass;

@@ -69,6 +69,10 @@ struct VehicleTable {
   std::vector<Vec2> vel;                     // body[].velocity
   std::vector<double> mass, env, accelAbs;
   std::vector<Vec2> ext;                     // envelopeExtent
+  // The envelopes of the car's own shapes; env and ext are these grown by how far the road
+  // prediction departs from the straight line (lane_prediction.hpp), which every prune reads.
+  std::vector<double> ownEnv;
+  std::vector<Vec2> ownExt;
   std::vector<CarShape> shape;               // carShape
   std::vector<double> brakeRatio;            // m / (2 F_brake) (s per m/s)
   std::vector<VehicleClass> vclass;

@@ -87,7 +87,7 @@ TEST(ConflictRecord, RearEndWithDracAndDeltaVByHand) {
   EXPECT_NEAR(w->drac, 100.0 / 30.0, 1e-9);
   // inelastic impact: the car takes 15000/16500 of the 10 m/s difference
   EXPECT_NEAR(w->maxDeltaV, 10.0 * 15000.0 / 16500.0, 1e-9);
-  EXPECT_TRUE(w->lane.empty());  // no lane given
+  EXPECT_EQ(w->lane, "e_0");  // no lane given: the one the road prediction matched
   EXPECT_TRUE(w->line.empty());
   EXPECT_TRUE(std::isnan(w->lateralSpeed));
 }

@@ -57,6 +57,7 @@ TEST(Monitor, CellsEqualAllPairsOnRandomScenes) {
   std::array<std::uint64_t, kWarningKindCount> byKind{};
   for (int scene = 0; scene < 1000; ++scene) {
     MonitorConfig cfg;
+    cfg.prediction = Prediction::Straight;  // the brute force predicts in straight lines
     cfg.detector.kind = static_cast<DetectorKind>(scene % 3);
     cfg.detector.motion = (scene / 3) % 2 ? MotionModel::ConstantAcceleration : MotionModel::ConstantVelocity;
     cfg.cells.cellLength = 60.0 + 10.0 * (scene % 7);
@@ -175,6 +176,7 @@ TEST(Monitor, PruningNeverChangesTheAnswer) {
   std::size_t threats = 0;
   for (int scene = 0; scene < 300; ++scene) {
     MonitorConfig cfg;
+    cfg.prediction = Prediction::Straight;  // the brute force predicts in straight lines
     cfg.detector.kind = static_cast<DetectorKind>(scene % 3);
     cfg.detector.motion = (scene / 3) % 2 ? MotionModel::ConstantAcceleration : MotionModel::ConstantVelocity;
     auto vs = randomScene(rng, 80.0)[1];
@@ -221,6 +223,7 @@ TEST(Monitor, RoadPruneNeverChangesTheAnswerNearSegmentEnds) {
     for (int lane = 0; lane < 2; ++lane) road.lanes.push_back(laneOf("w", lane, lanes[lane]));
     road.hazards.push_back(Hazard{"pothole", lanes[0][15], 0.3});
     MonitorConfig cfg;
+    cfg.prediction = Prediction::Straight;  // the brute force predicts in straight lines
     cfg.detector.kind = static_cast<DetectorKind>(scene % 3);
     cfg.detector.motion = (scene / 3) % 2 ? MotionModel::ConstantAcceleration : MotionModel::ConstantVelocity;
     std::vector<VehicleState> vs;

@@ -29,6 +29,18 @@ enum class Broadphase : std::uint8_t { Cells, AllPairs };
 const char* toString(Broadphase b);
 bool parseBroadphase(const std::string& text, Broadphase& out);  // "cells", "all-pairs"
 
+// How a car's motion is predicted (its shape and speed model are the detector's, DetectorConfig):
+//   Road      along its road: the centre line of the lane it is on (matched by position and
+//             heading), continued into the straightest successor lane, keeping its offset and
+//             lateral speed relative to the lane; curbs and lane markers by time to line crossing
+//             in the lane frame (lateral distance over lateral speed, as lane-departure warning
+//             systems do, ISO 17361). A car on no lane falls back to Straight.
+//   Straight  the report's model: a straight line at its heading (headings held fixed), against
+//             the curb and marker polylines.
+enum class Prediction : std::uint8_t { Road, Straight };
+const char* toString(Prediction p);                         // "road", "straight"
+bool parsePrediction(const std::string& text, Prediction& out);
+
 enum class WarningKind : std::uint8_t { Vehicle, Curb, LaneMarker, Hazard };
 inline constexpr int kWarningKindCount = 4;
 inline constexpr int kZoneCount = 8;
@@ -93,6 +105,7 @@ struct MonitorConfig {
   SafeTimeConfig safeTime;
   CellConfig cells;
   Broadphase broadphase = Broadphase::Cells;
+  Prediction prediction = Prediction::Road;
   bool checkRoad = true;   // curbs, lane markers, hazards
   HindsightConfig hindsight;
   ConflictConfig conflict;  // the type thresholds (reported only)
@@ -110,6 +123,10 @@ struct MonitorCounters {
   std::uint64_t warningsBegun = 0;
   double vehicleMeters = 0.0;         // distance driven, summed over vehicles (m)
   std::uint64_t vehiclesSeen = 0;     // distinct ids
+  // Road prediction: vehicle updates predicted along a lane, and those on no fitting lane (or
+  // stopped), predicted in a straight line.
+  std::uint64_t roadPredicted = 0;
+  std::uint64_t straightFallbacks = 0;
   // Time exposed (TET, s) and time-integrated (TIT, s^2) TTC below the safe time, per kind:
   // sum over equipped cars and ticks of dt, and of dt * (t_safe - TTC) for the worst threat.
   std::array<double, kWarningKindCount> tet{};

@@ -37,6 +37,7 @@ struct RunInfo {
   std::string source;            // trace or scenario path
   std::string detector;
   std::string broadphase;
+  std::string prediction;        // "road" or "straight" (Prediction)
   double simulatedSeconds = 0.0;
   double wallSeconds = 0.0;
   // Extra top-level fields for other front ends (e.g. SUMO time split): numbers and strings,

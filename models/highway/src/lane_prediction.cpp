@@ -1,0 +1,428 @@
+#include "lane_prediction.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "car_shape.hpp"
+
+#include <sthighway/tolerances.hpp>
+
+namespace st::highway::detail {
+
+namespace {
+
+inline double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+inline Vec2 leftNormal(const Vec2& u) { return {-u.y(), u.x()}; }
+
+// Arc length driven after tau s from speed u at acceleration a (stopping, not reversing, when a < 0).
+inline double driven(double u, double a, double tau) {
+  if (a < 0.0 && u + a * tau < 0.0) return u > 0.0 ? -0.5 * u * u / a : 0.0;
+  return u * tau + 0.5 * a * tau * tau;
+}
+// The first tau >= 0 at which driven(u, a, tau) reaches s > 0 (infinity if never).
+inline double timeToDrive(double u, double a, double s) {
+  if (std::abs(a) <= tol::kAccelerationEpsilon) return u > 0.0 ? s / u : std::numeric_limits<double>::infinity();
+  const double disc = u * u + 2.0 * a * s;
+  if (disc < 0.0) return std::numeric_limits<double>::infinity();  // stops first
+  // the smaller positive root of a/2 tau^2 + u tau - s, in the cancellation-free form
+  return 2.0 * s / (u + std::sqrt(disc));
+}
+
+}  // namespace
+
+LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& config, VehicleTable& cars,
+                               MonitorCounters& counters)
+    : cfg_(&config), cars_(&cars), counters_(&counters), enabled_(config.prediction == Prediction::Road) {
+  if (!enabled_) return;
+  const int n = static_cast<int>(road.lanes.size());
+  lanes_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const Lane& l = road.lanes[i];
+    NetLane& nl = lanes_[i];
+    nl.first = static_cast<int>(pt_.size());
+    nl.width = l.width;
+    nl.internal = l.internal;
+    double arc = 0.0;
+    for (const Vec2& q : l.shape) {
+      if (nl.count > 0 && (q - pt_.back()).norm() <= tol::kMinSegmentLength) continue;
+      if (nl.count > 0) arc += (q - pt_.back()).norm();
+      pt_.push_back(q);
+      cum_.push_back(arc);
+      ++nl.count;
+    }
+    nl.length = arc;
+  }
+  // neighbours in an edge: the lanes of index +-1
+  std::unordered_map<std::string, std::vector<int>> byEdge;
+  for (int i = 0; i < n; ++i) byEdge[road.lanes[i].edge].push_back(i);
+  for (auto& [edge, ids] : byEdge)
+    for (int a : ids)
+      for (int b : ids) {
+        if (road.lanes[b].index == road.lanes[a].index + 1) lanes_[a].left = b;
+        if (road.lanes[b].index == road.lanes[a].index - 1) lanes_[a].right = b;
+      }
+  // successors: the lanes that start where a lane ends (SUMO's junction-internal lanes start at
+  // the end of the lane they leave and end at the start of the lane they reach); the straightest
+  auto key = [](const Vec2& p) {
+    return (static_cast<std::int64_t>(std::floor(p.x())) << 32) ^ static_cast<std::int64_t>(std::floor(p.y()) + (1 << 30));
+  };
+  std::unordered_map<std::int64_t, std::vector<int>> starts;
+  for (int i = 0; i < n; ++i)
+    if (lanes_[i].count >= 2) starts[key(pt_[lanes_[i].first])].push_back(i);
+  constexpr double kJoin = 0.1;  // m: a successor starts this close to the lane's end
+  for (int a = 0; a < n; ++a) {
+    const NetLane& la = lanes_[a];
+    if (la.count < 2) continue;
+    const Vec2 end = pt_[la.first + la.count - 1];
+    const Vec2 endDir = (end - pt_[la.first + la.count - 2]).normalized();
+    double best = -2.0;
+    for (double dx : {-kJoin, kJoin})
+      for (double dy : {-kJoin, kJoin}) {
+        auto it = starts.find(key(end + Vec2(dx, dy)));
+        if (it == starts.end()) continue;
+        for (int b : it->second) {
+          const NetLane& lb = lanes_[b];
+          if (b == a || (pt_[lb.first] - end).norm() > kJoin) continue;
+          const double c = endDir.dot((pt_[lb.first + 1] - pt_[lb.first]).normalized());
+          if (c > best || (c == best && b < lanes_[a].next)) {
+            best = c;
+            lanes_[a].next = b;
+          }
+        }
+      }
+  }
+  // the segment grid
+  if (pt_.empty()) return;
+  Vec2 lo = pt_[0], hi = pt_[0];
+  for (const Vec2& q : pt_) {
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  double maxWidth = 0.0;
+  for (const NetLane& l : lanes_) maxWidth = std::max(maxWidth, l.width);
+  const double grow = 0.5 * maxWidth + 1.0;
+  origin_ = lo - Vec2::Constant(grow);
+  const Vec2 ext = hi - lo + Vec2::Constant(2.0 * grow);
+  while ((ext.x() / cell_) * (ext.y() / cell_) > 4e6) cell_ *= 2.0;
+  nx_ = std::max(1, static_cast<int>(std::ceil(ext.x() / cell_)));
+  ny_ = std::max(1, static_cast<int>(std::ceil(ext.y() / cell_)));
+  std::vector<std::vector<int>> cells(static_cast<std::size_t>(nx_) * ny_);
+  for (int i = 0; i < n; ++i) {
+    const NetLane& l = lanes_[i];
+    for (int k = 0; k + 1 < l.count; ++k) {
+      const Vec2 a = pt_[l.first + k], b = pt_[l.first + k + 1];
+      const Vec2 mn = a.cwiseMin(b) - Vec2::Constant(grow) - origin_, mx = a.cwiseMax(b) + Vec2::Constant(grow) - origin_;
+      const int x0 = std::clamp(static_cast<int>(mn.x() / cell_), 0, nx_ - 1), x1 = std::clamp(static_cast<int>(mx.x() / cell_), 0, nx_ - 1);
+      const int y0 = std::clamp(static_cast<int>(mn.y() / cell_), 0, ny_ - 1), y1 = std::clamp(static_cast<int>(mx.y() / cell_), 0, ny_ - 1);
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) {
+          auto& c = cells[static_cast<std::size_t>(y) * nx_ + x];
+          if (c.empty() || c[c.size() - 2] != i) {
+            c.push_back(i);
+            c.push_back(k);
+          }
+        }
+    }
+  }
+  cellStart_.assign(cells.size() + 1, 0);
+  for (std::size_t c = 0; c < cells.size(); ++c) cellStart_[c + 1] = cellStart_[c] + static_cast<int>(cells[c].size());
+  cellLanes_.reserve(cellStart_.back());
+  for (const auto& c : cells) cellLanes_.insert(cellLanes_.end(), c.begin(), c.end());
+}
+
+// The projection of p on a lane's centre line, walking from segment seg: forward while p lies
+// beyond a segment's end, else back while before its start; beyond the line's ends the first and
+// last segments are extended.
+LanePrediction::Projection LanePrediction::project(int lane, const Vec2& p, int seg) const {
+  const NetLane& l = lanes_[lane];
+  const int nseg = l.count - 1;
+  seg = std::clamp(seg, 0, nseg - 1);
+  auto along = [&](int k) {
+    const Vec2 a = pt_[l.first + k];
+    const double len = cum_[l.first + k + 1] - cum_[l.first + k];
+    return std::pair{(p - a).dot((pt_[l.first + k + 1] - a) / len), len};
+  };
+  auto [t, len] = along(seg);
+  bool moved = false;
+  while (t > len && seg + 1 < nseg) {
+    ++seg;
+    std::tie(t, len) = along(seg);
+    moved = true;
+  }
+  if (!moved)
+    while (t < 0.0 && seg > 0) {
+      --seg;
+      std::tie(t, len) = along(seg);
+    }
+  const Vec2 a = pt_[l.first + seg];
+  const Vec2 u = (pt_[l.first + seg + 1] - a) / len;
+  Projection pr;
+  pr.seg = seg;
+  pr.dir = u;
+  pr.s = cum_[l.first + seg] + t;
+  pr.d = cross2(u, p - a);
+  return pr;
+}
+
+// The centre lies in the lane (within slack of its sides, and not beyond its ends by more than
+// kEndSlack) and the car heads along it (within 60 degrees).
+bool LanePrediction::fits(int lane, const Projection& pr, const Vec2& axis, double slack) const {
+  constexpr double kEndSlack = 0.5;  // m
+  const NetLane& l = lanes_[lane];
+  return std::abs(pr.d) <= 0.5 * l.width + slack && pr.s >= -kEndSlack && pr.s <= l.length + kEndSlack &&
+         axis.dot(pr.dir) >= 0.5;
+}
+
+// The lane the car's centre is on: its last lane while the centre stays in it (within a small
+// margin, so a car driving on a marker does not flap between two lanes), that lane's successor
+// once it has passed the end, the neighbour it moved into, else the best fitting lane near it.
+int LanePrediction::match(int slot, const Vec2& p, const Vec2& axis, Projection& out) const {
+  constexpr double kKeep = 0.25;  // m beyond the lane's side a car is still on its last lane
+  const LaneFrame& f = frame_[slot];
+  if (f.lane >= 0 && cars_->slots[slot].present) {
+    const NetLane& l = lanes_[f.lane];
+    const Projection pr = project(f.lane, p, f.seg);
+    if (pr.s > l.length && l.next >= 0) {
+      const Projection pn = project(l.next, p, 0);
+      if (fits(l.next, pn, axis, kKeep)) {
+        out = pn;
+        return l.next;
+      }
+    }
+    if (pr.s <= l.length && fits(f.lane, pr, axis, kKeep)) {
+      out = pr;
+      return f.lane;
+    }
+    const int side = pr.d > 0.0 ? l.left : l.right;
+    if (side >= 0) {
+      const Projection ps = project(side, p, pr.seg);
+      if (fits(side, ps, axis, 0.0)) {
+        out = ps;
+        return side;
+      }
+    }
+  }
+  if (cellLanes_.empty()) return -1;
+  const Vec2 g = (p - origin_) / cell_;
+  const int cx = static_cast<int>(std::floor(g.x())), cy = static_cast<int>(std::floor(g.y()));
+  if (cx < 0 || cy < 0 || cx >= nx_ || cy >= ny_) return -1;
+  const int c = cy * nx_ + cx;
+  int best = -1;
+  double bestScore = std::numeric_limits<double>::infinity();
+  for (int k = cellStart_[c]; k < cellStart_[c + 1]; k += 2) {
+    const int lane = cellLanes_[k];
+    if (lanes_[lane].count < 2) continue;
+    const Projection pr = project(lane, p, cellLanes_[k + 1]);
+    if (!fits(lane, pr, axis, 0.0)) continue;
+    // nearest centre line first, then the better aligned (overlapping junction lanes), then the lower index
+    const double score = std::abs(pr.d) - 1e-3 * axis.dot(pr.dir);
+    if (score < bestScore) {
+      bestScore = score;
+      best = lane;
+      out = pr;
+    }
+  }
+  return best;
+}
+
+Body LanePrediction::bodyAt(std::span<const PathPiece> path, const Body& now, double acceleration, bool accelerate, double t) {
+  std::size_t i = 0;
+  while (i + 1 < path.size() && path[i + 1].t0 <= t) ++i;
+  const PathPiece& pc = path[i];
+  const double tau = t - pc.t0;
+  const double a = accelerate ? acceleration : 0.0;
+  Body b = now;
+  const double speed = accelerate && a < 0.0 ? std::max(0.0, pc.speed + a * tau) : pc.speed + a * tau;
+  b.position = pc.p + driven(pc.speed, a, tau) * pc.dir + (pc.lateral * tau) * pc.normal;
+  b.velocity = speed * pc.dir + pc.lateral * pc.normal;
+  b.axis = pc.axis;
+  return b;
+}
+
+Ttc LanePrediction::vehicleTtc(int e, int f, double horizon) const {
+  const VehicleTable& c = *cars_;
+  const DetectorConfig& dc = cfg_->detector;
+  const auto pe = path(e), pf = path(f);
+  if (straight_[e] && straight_[f]) return st::highway::vehicleTtc(dc, c.body[e], c.shape[e], c.body[f], c.shape[f], horizon);
+  const bool accelerate = dc.motion == MotionModel::ConstantAcceleration;
+  std::size_t i = 0, j = 0;
+  double t = 0.0;
+  while (true) {
+    while (i + 1 < pe.size() && pe[i + 1].t0 <= t) ++i;
+    while (j + 1 < pf.size() && pf[j + 1].t0 <= t) ++j;
+    double end = horizon;
+    if (i + 1 < pe.size()) end = std::min(end, pe[i + 1].t0);
+    if (j + 1 < pf.size()) end = std::min(end, pf[j + 1].t0);
+    // a straight path at its start is the body itself
+    const Body a = straight_[e] && t == 0.0 ? c.body[e] : bodyAt(pe.subspan(i), c.body[e], c.body[e].acceleration, accelerate, t);
+    const Body b = straight_[f] && t == 0.0 ? c.body[f] : bodyAt(pf.subspan(j), c.body[f], c.body[f].acceleration, accelerate, t);
+    // the cached shapes while a body keeps its heading (they depend on it)
+    const CarShape sa = a.axis == c.body[e].axis ? c.shape[e] : carShape(dc, a);
+    const CarShape sb = b.axis == c.body[f].axis ? c.shape[f] : carShape(dc, b);
+    Ttc r = st::highway::vehicleTtc(dc, a, sa, b, sb, end - t);
+    if (r.found()) {
+      r.t += t;
+      return r;
+    }
+    if (!(end < horizon)) return {};
+    t = end;
+  }
+}
+
+void LanePrediction::update(double t) {
+  if (!enabled_) return;
+  VehicleTable& c = *cars_;
+  const std::size_t n = c.body.size();
+  if (frame_.size() < n) {
+    frame_.resize(n);
+    prevD_.resize(n);
+    prevT_.resize(n);
+    prevLane_.resize(n, -1);
+    horizon_.resize(n);
+    pieceBegin_.resize(n);
+    pieceEnd_.resize(n);
+    straight_.resize(n);
+  }
+  for (int s : c.arrived) frame_[s] = LaneFrame{};
+  // the longest safe time any pair can ask of a car: tr + k (|v_e| + |v_f|) at the largest k and
+  // speed this tick (a closing speed is at most the relative speed)
+  double kMax = 0.0, vMax = 0.0;
+  for (int s : c.active) {
+    kMax = std::max(kMax, c.brakeRatio[s]);
+    vMax = std::max(vMax, c.vel[s].norm());
+  }
+  const double tr = std::max(cfg_->safeTime.vehicleReactionTime, cfg_->safeTime.roadReactionTime);
+  pieces_.clear();
+  for (int s : c.active) {
+    horizon_[s] = (tr + kMax * (c.vel[s].norm() + vMax)) * (1.0 + 1e-9) + 1e-9;
+    predict(s, t);
+  }
+}
+
+void LanePrediction::predict(int slot, double t) {
+  VehicleTable& c = *cars_;
+  const Body& b = c.body[slot];
+  LaneFrame& f = frame_[slot];
+  const double h = horizon_[slot];
+  const bool wasHere = f.lane >= 0;
+  Projection pr;
+  const int lane = lanes_.empty() ? -1 : match(slot, b.position, b.axis, pr);
+  if (c.lane[slot] < 0) c.lane[slot] = lane;  // reported: the lane the source did not name
+  pieceBegin_[slot] = static_cast<int>(pieces_.size());
+  const bool accelerate = cfg_->detector.motion == MotionModel::ConstantAcceleration;
+  const double acc = accelerate ? b.acceleration : 0.0;
+  constexpr double kMinPathSpeed = 0.1;  // m/s: slower cars are predicted where they are (straight)
+  const double u = lane >= 0 ? b.velocity.dot(pr.dir) : 0.0;
+  if (lane < 0 || u < kMinPathSpeed) {
+    f = LaneFrame{};
+    if (lane >= 0) {
+      f.lane = lane;
+      f.seg = pr.seg;
+      f.s = pr.s;
+      f.d = pr.d;
+      f.dir = pr.dir;
+      f.speed = u;
+    }
+    const Vec2 n = leftNormal(b.axis);
+    pieces_.push_back({0.0, b.position, b.axis, n, b.axis, b.velocity.dot(b.axis), b.velocity.dot(n)});
+    pieceEnd_[slot] = static_cast<int>(pieces_.size());
+    straight_[slot] = 1;
+    prevLane_[slot] = f.lane;
+    prevD_[slot] = f.d;
+    prevT_[slot] = t;
+    ++(lane < 0 ? counters_->straightFallbacks : counters_->roadPredicted);
+    return;
+  }
+  ++counters_->roadPredicted;
+  straight_[slot] = 0;
+  const NetLane& l = lanes_[lane];
+  // the lateral speed, from the offset tick to tick: in the lane's own frame, or (a lane change
+  // whose centre crossed the marker) with the last offset moved into this lane's frame; the
+  // smaller, so a lane change SUMO makes in one step (a jump) is no lateral motion
+  double lateral = b.velocity.dot(leftNormal(pr.dir));
+  if (wasHere && c.slots[slot].present && t > prevT_[slot] && prevLane_[slot] >= 0) {
+    const double dt = t - prevT_[slot];
+    const int from = prevLane_[slot];
+    lateral = (pr.d - prevD_[slot]) / dt;
+    const double across = 0.5 * (lanes_[from].width + l.width);
+    double common = std::numeric_limits<double>::infinity();
+    if (lanes_[from].left == lane) common = (pr.d - (prevD_[slot] - across)) / dt;
+    if (lanes_[from].right == lane) common = (pr.d - (prevD_[slot] + across)) / dt;
+    if (std::abs(common) < std::abs(lateral)) lateral = common;
+  }
+  f.lane = lane;
+  f.seg = pr.seg;
+  f.s = pr.s;
+  f.d = pr.d;
+  f.dir = pr.dir;
+  f.speed = u;
+  f.lateral = lateral;
+  f.endGap = std::numeric_limits<double>::infinity();
+  f.endLane = -1;
+  prevLane_[slot] = lane;
+  prevD_[slot] = pr.d;
+  prevT_[slot] = t;
+
+  // the path: from the centre's foot on the centre line along the lanes, far enough for the horizon
+  const Vec2 n0 = leftNormal(pr.dir);
+  const Vec2 foot = pt_[l.first + pr.seg] + (pr.s - cum_[l.first + pr.seg]) * pr.dir;
+  const Vec2 off = b.position - foot - pr.d * n0;  // zero up to rounding: the path starts at the centre
+  const double yawCos = b.axis.dot(pr.dir), yawSin = cross2(pr.dir, b.axis);
+  const double need = driven(u, acc, h) + 1.0;
+  double dev = 0.0;
+  // at a piece's ends: from the straight line, less what the acceleration may add (the prunes
+  // allow |a| t^2 / 2 already): |p - p0 - v t| + |driven - u t| bounds the affine part there
+  auto deviation = [&](const Vec2& p, double tk) {
+    dev = std::max(dev, (p - b.position - b.velocity * tk).norm() + std::abs(driven(u, acc, tk) - u * tk));
+  };
+  int ln = lane, seg = pr.seg;
+  Vec2 q = foot;   // the path's point at arc S from the car
+  double S = 0.0;  // arc from the car
+  double tk = 0.0;
+  while (true) {
+    const NetLane& cl = lanes_[ln];
+    const Vec2 dir = seg == pr.seg && ln == lane ? pr.dir : Vec2((pt_[cl.first + seg + 1] - pt_[cl.first + seg]).normalized());
+    const Vec2 nk = leftNormal(dir);
+    const double uk = std::max(0.0, u + acc * tk);
+    const bool first = pieces_.size() == static_cast<std::size_t>(pieceBegin_[slot]);
+    const Vec2 pk = first ? b.position : Vec2(off + q + (f.d + lateral * tk) * nk);
+    const Vec2 axis = first ? b.axis : Vec2(yawCos * dir + yawSin * nk);
+    pieces_.push_back({tk, pk, dir, nk, axis, uk, lateral});
+    deviation(pk, tk);
+    // this piece ends at the segment's end, if the path goes on
+    const double segEnd = S + (pt_[cl.first + seg + 1] - q).norm();
+    int nln = ln, nseg = seg + 1;
+    if (nseg + 1 >= cl.count) {
+      nln = cl.next;
+      nseg = 0;
+      if (nln < 0 || lanes_[nln].count < 2) {
+        f.endGap = segEnd;
+        f.endLane = ln;
+        nln = -1;
+      }
+    }
+    const double tEnd = nln >= 0 && segEnd < need ? timeToDrive(u, acc, segEnd) : std::numeric_limits<double>::infinity();
+    if (!(tEnd < h)) {
+      // the last piece: its deviation at the horizon
+      const double tau = h - tk;
+      deviation(pk + (driven(u, acc, h) - S) * dir + (lateral * tau) * nk, h);
+      break;
+    }
+    deviation(pk + (driven(u, acc, tEnd) - S) * dir + (lateral * (tEnd - tk)) * nk, tEnd);
+    ln = nln;
+    seg = nseg;
+    q = pt_[lanes_[ln].first + seg];
+    S = segEnd;
+    tk = tEnd;
+  }
+  pieceEnd_[slot] = static_cast<int>(pieces_.size());
+  // the straight prunes hold with the envelopes grown by the deviation (and a rounding margin)
+  const double grow = dev * (1.0 + 1e-9) + tol::kPruneSlop;
+  c.ext[slot] = c.ownExt[slot] + Vec2::Constant(grow);
+  c.env[slot] = c.ownEnv[slot] + grow;
+  c.pairState[slot].ext = c.ext[slot];
+  c.pairState[slot].env = c.env[slot];
+}
+
+}  // namespace st::highway::detail

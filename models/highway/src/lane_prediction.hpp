@@ -1,0 +1,121 @@
+#pragma once
+// Road-aware prediction (MonitorConfig::prediction == Road): each tick every car is matched to
+// the lane its centre is on (by position and heading; the lane is kept while the centre stays in
+// it), described in that lane's frame (arc position s, offset d to the left, lateral speed, yaw
+// relative to the lane) and predicted along the lane's centre line, continued into the
+// straightest successor lane, at its speed along the lane (with its acceleration under the
+// constant-acceleration model), keeping its offset, lateral speed and yaw relative to the lane.
+//
+// The prediction is a list of path pieces: between two vertices of the path the car moves in a
+// straight line with a fixed heading, so the detectors' straight kernels apply piece by piece.
+// The pair searches prune with straight motion (p + v t); every car's deviation from it over the
+// longest horizon any pair can ask of it is added to its envelope (extent and radius), which
+// keeps every prune exact: a path is never longer than the straight reach (|p(t) - p(0)| is at
+// most the arc length driven, the distance the straight line covers at the same speed), and its
+// sideways departure from the straight line is exactly that deviation, bounded at the pieces' ends
+// (the distance between two affine motions is convex in time).
+#include <limits>
+#include <span>
+#include <vector>
+
+#include <sthighway/monitor.hpp>
+
+#include "vehicle_table.hpp"
+
+namespace st::highway::detail {
+
+// One piece of a predicted path: from t0 on, the centre moves from p along dir at the path speed
+// (speed at t0, changing at the car's acceleration until it stops, under that model) and along
+// normal at the lateral speed, the body turned to axis.
+struct PathPiece {
+  double t0 = 0.0;
+  Vec2 p = Vec2::Zero();
+  Vec2 dir = Vec2(1.0, 0.0);
+  Vec2 normal = Vec2(0.0, 1.0);
+  Vec2 axis = Vec2(1.0, 0.0);
+  double speed = 0.0;    // along dir at t0 (m/s)
+  double lateral = 0.0;  // along normal (m/s)
+};
+
+// A car in its lane's frame.
+struct LaneFrame {
+  int lane = -1;         // index into RoadGeometry::lanes; -1: predicted in a straight line
+  int seg = 0;           // the segment of the lane's centre line the centre projects on
+  double s = 0.0;        // arc position of the centre on the lane (m; < 0 or > length: just beyond an end)
+  double d = 0.0;        // offset to the left of the centre line (m)
+  double lateral = 0.0;  // lateral speed (m/s, to the left), from d tick to tick in a common frame
+  double speed = 0.0;    // along the lane (m/s)
+  Vec2 dir = Vec2(1.0, 0.0);  // the lane's direction at s
+  double endGap = std::numeric_limits<double>::infinity();  // arc from the centre to a lane end without successor
+  int endLane = -1;      // the lane that ends there
+};
+
+class LanePrediction {
+ public:
+  LanePrediction(const RoadGeometry& road, const MonitorConfig& config, VehicleTable& cars, MonitorCounters& counters);
+
+  bool enabled() const { return enabled_; }
+  // After the vehicle table's update: match lanes, predict paths, grow the envelopes.
+  void update(double t);
+
+  const LaneFrame& frame(int slot) const { return frame_[slot]; }
+  std::span<const PathPiece> path(int slot) const {
+    return {pieces_.data() + pieceBegin_[slot], static_cast<std::size_t>(pieceEnd_[slot] - pieceBegin_[slot])};
+  }
+  // Half width of a lane and its neighbours in its edge (-1: none).
+  double halfWidth(int lane) const { return 0.5 * lanes_[lane].width; }
+  int leftOf(int lane) const { return lanes_[lane].left; }
+  int rightOf(int lane) const { return lanes_[lane].right; }
+  bool internal(int lane) const { return lanes_[lane].internal; }
+  // The longest horizon a pair test may ask of a car this tick (s).
+  double horizon(int slot) const { return horizon_[slot]; }
+  bool straight(int slot) const { return straight_[slot] != 0; }
+
+  // vehicleTtc of ego e against foe f along their paths (slots), at most horizon s ahead: piece
+  // by piece where both move straight with fixed headings (one piece each, the straight
+  // detector itself, bit for bit).
+  Ttc vehicleTtc(int e, int f, double horizon) const;
+
+  // The body of a car at time t >= 0 on its path (pieces from path()).
+  static Body bodyAt(std::span<const PathPiece> path, const Body& now, double acceleration, bool accelerate, double t);
+
+ private:
+  struct NetLane {
+    int first = 0, count = 0;  // its points in pt_/cum_
+    double width = 3.2, length = 0.0;
+    int left = -1, right = -1;  // neighbours in its edge
+    int next = -1;              // the straightest successor (-1: the lane ends)
+    bool internal = false;
+  };
+  struct Projection {
+    int seg = 0;
+    double s = 0.0, d = 0.0;
+    Vec2 dir = Vec2(1.0, 0.0);
+  };
+  Projection project(int lane, const Vec2& p, int seg) const;
+  bool fits(int lane, const Projection& pr, const Vec2& axis, double slack) const;
+  int match(int slot, const Vec2& p, const Vec2& axis, Projection& out) const;
+  void predict(int slot, double horizon);
+
+  const MonitorConfig* cfg_;
+  VehicleTable* cars_;
+  MonitorCounters* counters_;
+  bool enabled_ = false;
+  std::vector<NetLane> lanes_;
+  std::vector<Vec2> pt_;
+  std::vector<double> cum_;  // arc length at each point of its lane
+  // a uniform grid of the lanes' segments, for matching a car not on its last lane
+  double cell_ = 25.0;
+  Vec2 origin_ = Vec2::Zero();
+  int nx_ = 1, ny_ = 1;
+  std::vector<int> cellStart_;
+  std::vector<int> cellLanes_;
+
+  std::vector<LaneFrame> frame_;
+  std::vector<double> prevD_, prevT_, horizon_;
+  std::vector<int> prevLane_, pieceBegin_, pieceEnd_;
+  std::vector<char> straight_;  // the path is the straight line (no lane, or slow)
+  std::vector<PathPiece> pieces_;
+};
+
+}  // namespace st::highway::detail
