@@ -92,6 +92,13 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
         }
       }
   }
+  // a lane without successor ends the road for its cars only where its edge goes on (a lane drop);
+  // where no lane of the edge goes on, the cars leave the network (or the net has no junction lanes)
+  for (auto& [edge, ids] : byEdge) {
+    bool on = false;
+    for (int a : ids) on = on || lanes_[a].next >= 0;
+    for (int a : ids) lanes_[a].drops = on && lanes_[a].next < 0;
+  }
   // the segment grid
   if (pt_.empty()) return;
   Vec2 lo = pt_[0], hi = pt_[0];
@@ -397,8 +404,10 @@ void LanePrediction::predict(int slot, double t) {
       nln = cl.next;
       nseg = 0;
       if (nln < 0 || lanes_[nln].count < 2) {
-        f.endGap = segEnd;
-        f.endLane = ln;
+        if (cl.drops && f.endLane < 0) {
+          f.endGap = segEnd;
+          f.endLane = ln;
+        }
         nln = -1;
       }
     }

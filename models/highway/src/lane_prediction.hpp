@@ -46,8 +46,8 @@ struct LaneFrame {
   double lateral = 0.0;  // lateral speed (m/s, to the left), from d tick to tick in a common frame
   double speed = 0.0;    // along the lane (m/s)
   Vec2 dir = Vec2(1.0, 0.0);  // the lane's direction at s
-  double endGap = std::numeric_limits<double>::infinity();  // arc from the centre to a lane end without successor
-  int endLane = -1;      // the lane that ends there
+  double endGap = std::numeric_limits<double>::infinity();  // arc from the centre to the end of a dropped lane ahead
+  int endLane = -1;      // that lane
 };
 
 class LanePrediction {
@@ -85,6 +85,7 @@ class LanePrediction {
     double width = 3.2, length = 0.0;
     int left = -1, right = -1;  // neighbours in its edge
     int next = -1;              // the straightest successor (-1: the lane ends)
+    bool drops = false;         // ends while another lane of its edge goes on (a lane drop)
     bool internal = false;
   };
   struct Projection {

@@ -292,8 +292,12 @@ void RoadSearch::laneThreats(int e, std::vector<Threat>& out) const {
     add(g, gap <= 0.0 ? 0.0 : gap / closing, closing);
   }
   if (std::isfinite(f.endGap)) {
-    const int g = lineOf(f.endLane, 0) >= 0 && features_.features[groupFeatures_[lineOf(f.endLane, 0)].front()].kind == FeatureKind::Curb
-                      ? lineOf(f.endLane, 0) : lineOf(f.endLane, 1);
+    // the curb on the side the lane drops from (a lane between others that ends has none)
+    auto curb = [&](int side) {
+      const int g = lineOf(f.endLane, side);
+      return g >= 0 && features_.features[groupFeatures_[g].front()].kind == FeatureKind::Curb ? g : -1;
+    };
+    const int g = curb(0) >= 0 ? curb(0) : curb(1);
     if (g >= 0 && f.speed > 0.0) {
       counters_->featureChecks += 1;
       const double gap = f.endGap - roadSupport(dc, t.body[e], f.dir);

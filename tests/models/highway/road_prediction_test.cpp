@@ -1,0 +1,346 @@
+// Road-aware prediction (Prediction::Road) against independent truth: circular lanes driven at
+// constant speed, cars side by side through a curve, a drift across a marker with its analytic
+// time to line crossing, a rear-end pair on a curve against the straight road of the same arc
+// length; and its prunes against an unpruned brute force along the same paths.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <sthighway/monitor.hpp>
+
+#include "lane_prediction.hpp"
+#include "pair_search.hpp"
+#include "roads.hpp"
+#include "scenes.hpp"
+#include "vehicle_table.hpp"
+
+namespace st::highway {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// An arc edge of `lanes` lanes (3.2 m), centre (0, 0), lane 0 (the rightmost) on radius r0,
+// counter-clockwise from angle 0 to `sweep`, a vertex every `step` rad.
+RoadGeometry arcRoad(double r0, int lanes, double sweep, double step) {
+  RoadGeometry road;
+  for (int i = 0; i < lanes; ++i) {
+    std::vector<Vec2> shape;
+    const double r = r0 - 3.2 * i;  // counter-clockwise: the left lanes are inside
+    for (double th = 0.0; th <= sweep + 1e-12; th += step) shape.emplace_back(r * std::cos(th), r * std::sin(th));
+    road.lanes.push_back(laneOf("arc", i, std::move(shape)));
+  }
+  return road;
+}
+
+// A car on the true circle of radius r at angle th, heading along it, at speed u.
+VehicleState onCircle(const std::string& id, int handle, double r, double th, double u) {
+  VehicleState v;
+  v.id = id;
+  v.handle = handle;
+  v.position = Vec2(r * std::cos(th), r * std::sin(th));
+  v.heading = th + 0.5 * kPi;
+  v.speed = u;
+  return v;
+}
+
+struct Drive {
+  std::vector<Warning> warnings;
+  MonitorCounters counters;
+};
+
+template <class Tick>
+Drive drive(const RoadGeometry& road, const MonitorConfig& cfg, int ticks, double dt, Tick tick) {
+  HighwayMonitor m(road, cfg);
+  Drive out;
+  for (int k = 0; k < ticks; ++k) {
+    m.step(k * dt, tick(k * dt));
+    for (auto& w : m.takeFinished()) out.warnings.push_back(std::move(w));
+  }
+  m.finish((ticks - 1) * dt);
+  for (auto& w : m.takeFinished()) out.warnings.push_back(std::move(w));
+  out.counters = m.counters();
+  return out;
+}
+
+std::size_t countKind(const Drive& r, WarningKind k) {
+  std::size_t n = 0;
+  for (const Warning& w : r.warnings) n += w.kind == k;
+  return n;
+}
+
+MonitorConfig config(DetectorKind kind, Prediction p) {
+  MonitorConfig cfg;
+  cfg.detector.kind = kind;
+  cfg.prediction = p;
+  return cfg;
+}
+
+TEST(RoadPrediction, CircularLaneAtConstantSpeedNeverWarnsAboutCurbsOrMarkers) {
+  // radius 150 m, a vertex every 2 degrees (SUMO-like polyline): the car drives the true circle
+  // (off the polyline by up to 2.3 cm between vertices) at 30 m/s, 0.1 s ticks, in the outer and
+  // the inner lane of two
+  const RoadGeometry road = arcRoad(150.0, 2, 1.8 * kPi, 2.0 * kPi / 180.0);
+  for (DetectorKind kind : {DetectorKind::Concentric, DetectorKind::FiveCircle, DetectorKind::Box}) {
+    std::size_t straightRoadWarnings = 0;
+    for (Prediction p : {Prediction::Road, Prediction::Straight}) {
+      const Drive r = drive(road, config(kind, p), 200, 0.1, [](double t) {
+        return std::vector<VehicleState>{onCircle("outer", 0, 150.0, 0.1 + 30.0 * t / 150.0, 30.0),
+                                         onCircle("inner", 1, 146.8, 0.6 + 30.0 * t / 146.8, 30.0)};
+      });
+      const std::size_t roadWarnings = countKind(r, WarningKind::Curb) + countKind(r, WarningKind::LaneMarker);
+      if (p == Prediction::Road) {
+        EXPECT_EQ(roadWarnings, 0u) << toString(kind);
+        EXPECT_EQ(r.counters.straightFallbacks, 0u);
+        EXPECT_EQ(r.counters.roadPredicted, 400u);
+      } else {
+        straightRoadWarnings = roadWarnings;
+      }
+    }
+    // the straight line leaves the circle tangentially: 30^2 / (2 150) = 3 m per s^2
+    EXPECT_GT(straightRoadWarnings, 0u) << toString(kind);
+  }
+}
+
+TEST(RoadPrediction, CarsSideBySideThroughACurveNeverWarnEachOther) {
+  // two cars in adjacent lanes of a 40 m curve at 14 m/s (an exit loop), the outer one 3 m of arc
+  // ahead, at the same angular speed: each keeps its lane and the pair its spacing; their bodies
+  // stay 1.4 m apart. In straight lines the one behind heads 0.075 rad further out than the one
+  // ahead and closes on it sideways at 1 m/s.
+  const double r = 40.0, u = 14.0;
+  const RoadGeometry road = arcRoad(r, 2, 1.5 * kPi, 1.5 * kPi / 180.0);
+  for (DetectorKind kind : {DetectorKind::FiveCircle, DetectorKind::Box}) {
+    std::size_t straight = 0;
+    for (Prediction p : {Prediction::Road, Prediction::Straight}) {
+      const Drive d = drive(road, config(kind, p), 100, 0.1, [&](double t) {
+        const double th = 0.2 + u * t / r;
+        return std::vector<VehicleState>{onCircle("a", 0, r, th + 3.0 / r, u), onCircle("b", 1, r - 3.2, th, u * (r - 3.2) / r)};
+      });
+      if (p == Prediction::Road) EXPECT_EQ(countKind(d, WarningKind::Vehicle), 0u) << toString(kind);
+      else straight = countKind(d, WarningKind::Vehicle);
+    }
+    // the five-circle zones reach far enough for that to warn (the box's 1.4 m gap at 1 m/s stays
+    // beyond its safe time)
+    if (kind == DetectorKind::FiveCircle) EXPECT_GT(straight, 0u);
+  }
+}
+
+TEST(RoadPrediction, DriftAcrossAMarkerWarnsWithTheAnalyticTimeToCrossing) {
+  // a straight two-lane road; the car leaves its lane's centre at 0.8 m/s sideways (positions
+  // only, as an FCD trace gives them: no lateral speed reported), 25 m/s along. Its side (the
+  // box's half width 0.9 m) reaches the marker at y = 1.6 when y = 0.7: at t = 0.875 s. The
+  // lateral speed is known from the second tick on; from then on TTC + t = 0.875 at every tick.
+  RoadGeometry road;
+  for (int i = 0; i < 2; ++i) road.lanes.push_back(laneOf("s", i, {Vec2(0.0, 3.2 * i), Vec2(2000.0, 3.2 * i)}));
+  for (bool signal : {false, true}) {
+    HighwayMonitor m(road, config(DetectorKind::Box, Prediction::Road));
+    std::vector<Warning> ws;
+    int alerted = 0;
+    for (int k = 0; k < 12; ++k) {
+      const double t = 0.1 * k;
+      VehicleState v;
+      v.id = "drifter";
+      v.handle = 0;
+      v.position = Vec2(100.0 + 25.0 * t, 0.8 * t);
+      v.speed = 25.0;
+      v.signals = signal ? kSignalLeft : kSignalNone;
+      m.step(t, std::vector<VehicleState>{v});
+      for (const Alert& a : m.alerts()) {
+        if (a.kind != WarningKind::LaneMarker) continue;
+        ++alerted;
+        // the time to crossing at every tick before it, within rounding
+        if (t < 0.875) EXPECT_NEAR(t + a.ttc, 0.875, 1e-9) << t;
+        else EXPECT_EQ(a.ttc, 0.0) << t;  // across and still moving towards it
+      }
+      for (auto& w : m.takeFinished()) ws.push_back(std::move(w));
+    }
+    m.finish(1.1);
+    for (auto& w : m.takeFinished()) ws.push_back(std::move(w));
+    const Warning* marker = nullptr;
+    for (const Warning& w : ws)
+      if (w.kind == WarningKind::LaneMarker) marker = &w;
+    if (signal) {
+      EXPECT_EQ(marker, nullptr);  // a signalled lane change
+      EXPECT_EQ(alerted, 0);
+      continue;
+    }
+    ASSERT_NE(marker, nullptr);
+    EXPECT_EQ(marker->foe, "s_0|s_1");
+    // safe time 0.5 + 1500 * 0.8 / 24000 = 0.55 s: TLC = 0.875 - t <= 0.55 from t = 0.325, the first tick 0.4
+    EXPECT_NEAR(marker->safeTimeAtMin, 0.55, 1e-9);
+    EXPECT_NEAR(marker->begin, 0.4, 1e-9);
+    EXPECT_EQ(alerted, 8);  // 0.4 .. 1.1
+    // hindsight saw the body reach across the line, unsignalled, at the first tick after 0.875
+    EXPECT_TRUE(marker->crossed);
+    EXPECT_FALSE(marker->signalled);
+    EXPECT_NEAR(marker->clearanceTime, 0.9, 1e-9);
+    EXPECT_EQ(marker->verdict, Verdict::Confirmed);
+    for (const Warning& w : ws) EXPECT_NE(w.kind, WarningKind::Curb);
+  }
+}
+
+TEST(RoadPrediction, RearEndOnACurveHasTheTtcOfAStraightRoadOfTheSameArcLength) {
+  // follower at 30 m/s, leader 20 m of arc ahead at 20 m/s on a 300 m curve (a vertex every
+  // degree): on a straight road the box TTC is (20 - 5) / 10 = 1.5 s. Along the curve the two
+  // bodies are turned against each other by 20/300 rad at most: their inner corners come closer
+  // by up to W/2 of that (6 cm), 6 ms at 10 m/s.
+  const double r = 300.0;
+  const RoadGeometry road = arcRoad(r, 1, 0.5 * kPi, kPi / 180.0);
+  for (DetectorKind kind : {DetectorKind::Box, DetectorKind::FiveCircle, DetectorKind::Concentric}) {
+    MonitorConfig cfg = config(kind, Prediction::Road);
+    cfg.checkRoad = false;
+    HighwayMonitor m(road, cfg);
+    std::vector<VehicleState> cars = {onCircle("follower", 0, r, 0.2, 30.0), onCircle("leader", 1, r, 0.2 + 20.0 / r, 20.0)};
+    cars[1].equipped = false;
+    // on the polyline, not the true circle: the arc length is the polyline's
+    for (VehicleState& v : cars) {
+      const double th = std::atan2(v.position.y(), v.position.x());
+      const double k = std::floor(th / (kPi / 180.0));
+      const Vec2 a(r * std::cos(k * kPi / 180.0), r * std::sin(k * kPi / 180.0));
+      const Vec2 b(r * std::cos((k + 1) * kPi / 180.0), r * std::sin((k + 1) * kPi / 180.0));
+      const Vec2 u = (b - a).normalized();
+      v.position = a + (v.position - a).dot(u) * u;
+      v.heading = std::atan2(u.y(), u.x());
+    }
+    m.step(0.0, cars);
+    const auto open = m.openWarnings();
+    ASSERT_EQ(open.size(), 1u) << toString(kind);
+    const Warning& w = open[0];
+    if (kind == DetectorKind::Box) {
+      EXPECT_NEAR(w.minTtc, 1.5, 0.01);
+      EXPECT_LE(w.minTtc, 1.5 + 1e-9);  // chords are never longer than arcs
+    }
+    // the circle models lead the box by their documented reach along the axis over 10 m/s
+    if (kind == DetectorKind::FiveCircle) EXPECT_NEAR(w.minTtc, 1.5 - 0.79 / 10.0, 0.015);
+    if (kind == DetectorKind::Concentric) EXPECT_NEAR(w.minTtc, 1.5 - (std::hypot(5.0, 1.8) - 5.0) / 10.0, 0.015);
+  }
+}
+
+}  // namespace
+
+namespace detail {
+namespace {
+
+// A straight three-lane stretch, then a tight two-lane curve (radius 60 m, 3 degree vertices)
+// and a lane that continues into it: cars anywhere on them, at any speed, some drifting.
+RoadGeometry tightRoad() {
+  RoadGeometry r;
+  for (int i = 0; i < 3; ++i) r.lanes.push_back(laneOf("a", i, {Vec2(0.0, 3.2 * i), Vec2(300.0, 3.2 * i)}));
+  for (int i = 0; i < 2; ++i) {
+    std::vector<Vec2> shape;
+    const double radius = 60.0 - 3.2 * i;
+    for (int k = 0; k <= 60; ++k) {
+      const double th = 3.0 * k * kPi / 180.0;
+      shape.emplace_back(300.0 + radius * std::sin(th), 60.0 - radius * std::cos(th));
+    }
+    shape.front() = Vec2(300.0, 3.2 * i);
+    r.lanes.push_back(laneOf("b", i, std::move(shape)));
+  }
+  return r;
+}
+
+std::vector<VehicleState> tightScene(std::mt19937_64& rng, const RoadGeometry& road, int ticks, int k,
+                                     std::vector<VehicleState>& base) {
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  if (k == 0) {
+    base.clear();
+    const int n = 20 + static_cast<int>(40 * U(rng));
+    for (int i = 0; i < n; ++i) {
+      const Lane& l = road.lanes[static_cast<std::size_t>(U(rng) * road.lanes.size())];
+      const std::size_t seg = static_cast<std::size_t>(U(rng) * (l.shape.size() - 1));
+      const Vec2 a = l.shape[seg], b = l.shape[seg + 1];
+      const Vec2 u = (b - a).normalized();
+      VehicleState v;
+      v.id = "c" + std::to_string(i);
+      v.handle = i;
+      v.position = a + U(rng) * (b - a) + (U(rng) - 0.5) * 2.0 * Vec2(-u.y(), u.x());
+      v.heading = std::atan2(u.y(), u.x()) + 0.1 * (U(rng) - 0.5);
+      v.speed = U(rng) < 0.1 ? 0.0 : 40.0 * U(rng);
+      v.lateralSpeed = U(rng) < 0.5 ? 0.0 : 2.0 * (U(rng) - 0.5);
+      v.acceleration = 8.0 * (U(rng) - 0.6);
+      if (U(rng) < 0.15) makeTruck(v);
+      v.equipped = U(rng) < 0.9;
+      base.push_back(v);
+    }
+  }
+  (void)ticks;
+  std::vector<VehicleState> out = base;
+  for (VehicleState& v : out) v.position += 0.1 * k * v.velocity();
+  return out;
+}
+
+TEST(RoadPrediction, PrunesKeepEveryThreatOfTheUnprunedPathsAndPathsStayWithinTheirDeviation) {
+  // the pair searches prune with straight motion and envelopes grown by each car's deviation from
+  // it; against every pair along the paths without any prune, threat by threat, cells and all
+  // pairs, every detector, both motion models, on a tight curve
+  std::mt19937_64 rng(4242);
+  const RoadGeometry road = tightRoad();
+  std::uint64_t threats = 0, curved = 0;
+  for (int scene = 0; scene < 240; ++scene) {
+    MonitorConfig cfg;
+    cfg.detector.kind = static_cast<DetectorKind>(scene % 3);
+    cfg.detector.motion = (scene / 3) % 2 ? MotionModel::ConstantAcceleration : MotionModel::ConstantVelocity;
+    cfg.cells.cellLength = 40.0 + 10.0 * (scene % 5);
+    MonitorCounters counters, countersAll;
+    VehicleTable cars(cfg, counters);
+    LanePrediction paths(road, cfg, cars, counters);
+    CellNetwork network(road, deriveFeatures(road), cfg.cells);
+    const auto cells = makeCellPairSearch(PairTest{&cfg, &cars, &counters, &paths}, network);
+    const auto all = makeAllPairsSearch(PairTest{&cfg, &cars, &countersAll, &paths});
+    std::vector<VehicleState> base;
+    const bool accel = cfg.detector.motion == MotionModel::ConstantAcceleration;
+    for (int k = 0; k < 3; ++k) {
+      const auto tick = tightScene(rng, road, 3, k, base);
+      cars.update(0.1 * k, tick);
+      paths.update(0.1 * k);
+      cells->prepare();
+      all->prepare();
+      cars.release();
+      for (int e : cars.active) {
+        // the path within its deviation of the straight line (less what acceleration may add)
+        const auto path = paths.path(e);
+        curved += path.size() > 1;
+        const Body& b = cars.body[e];
+        const double dev = cars.env[e] - cars.ownEnv[e];
+        for (double t = 0.0; t <= paths.horizon(e); t += 0.01) {
+          const Body at = LanePrediction::bodyAt(path, b, b.acceleration, accel, t);
+          const double allowed = dev + (accel ? 0.5 * std::abs(b.acceleration) * t * t : 0.0) + 1e-9;
+          ASSERT_LE((at.position - b.position - b.velocity * t).norm(), allowed) << "scene " << scene << " t " << t;
+        }
+        if (!cars.equipped[e]) continue;
+        std::vector<Threat> want;
+        for (int f : cars.active) {
+          if (f == e) continue;
+          const Vec2 p = cars.centre[f] - cars.centre[e], v = cars.vel[f] - cars.vel[e];
+          const double dist = p.norm();
+          const double closing = dist > 0.0 ? -p.dot(v) / dist : v.norm();
+          const double safe = SafeTimeConfig::safeTimeOf(cfg.safeTime.vehicleReactionTime, cars.mass[e], closing,
+                                                         cars.pairState[e].twiceBrakeForce);
+          const Ttc ttc = paths.vehicleTtc(e, f, safe);
+          if (ttc.found() && ttc.t <= safe) want.push_back({cars.pairState[f].serial, WarningKind::Vehicle, ttc.zone, ttc.t, safe, f});
+        }
+        for (const auto& search : {&cells, &all}) {
+          std::vector<Threat> got;
+          (*search)->threatsOf(e, got);
+          auto key = [](const Threat& t) { return std::make_tuple(t.key, t.ttc, t.safe); };
+          std::sort(got.begin(), got.end(), [&](const Threat& x, const Threat& y) { return key(x) < key(y); });
+          std::sort(want.begin(), want.end(), [&](const Threat& x, const Threat& y) { return key(x) < key(y); });
+          ASSERT_EQ(got.size(), want.size()) << "scene " << scene << " tick " << k << " ego " << cars.slots[e].id;
+          for (std::size_t i = 0; i < got.size(); ++i) {
+            EXPECT_EQ(got[i].key, want[i].key);
+            EXPECT_NEAR(got[i].ttc, want[i].ttc, 1e-12) << "scene " << scene;
+            EXPECT_EQ(got[i].safe, want[i].safe);
+          }
+        }
+        threats += want.size();
+      }
+    }
+  }
+  EXPECT_GT(threats, 1000u);
+  EXPECT_GT(curved, 1000u);
+}
+
+}  // namespace
+}  // namespace detail
+}  // namespace st::highway
