@@ -56,7 +56,10 @@ def test_replay_equals_the_cli(stsim_binary, tmp_path, trace, detector, motion):
     fcd, net, vtypes = TRACES[trace]
     want = cli_rows(stsim_binary, tmp_path, fcd, net, vtypes, detector, motion)
     assert len(want) > 10  # a run with warnings of every kind it can have
-    assert {"vehicle", "lane_marker"} <= {w[2] for w in want}
+    # along the lanes a lane change SUMO makes in one step is no lateral motion: the motorway's
+    # marker warnings go; the sublane trace's drifts across markers stay
+    kinds = {w[2] for w in want}
+    assert "vehicle" in kinds and ("lane_marker" in kinds or trace == "motorway_merge")
     for columns in (False, True):
         got = python_rows(fcd, net, vtypes, detector, motion, columns)
         assert got == want, f"columns={columns}"  # exact float equality, same order
