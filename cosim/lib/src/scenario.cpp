@@ -220,6 +220,7 @@ void readYaml(const fs::path& path, Scenario& s) {
     if (auto n = h["clearance"]) hc.clearance = r.number(n, "hindsight.clearance", 0, 100);
     if (auto n = h["evasive_deceleration"]) hc.evasiveDeceleration = r.number(n, "hindsight.evasive_deceleration", 0.1, 100);
     if (auto n = h["lead"]) hc.lead = r.number(n, "hindsight.lead", 0, 60);
+    if (auto n = h["near_miss_ttc"]) hc.nearMissTtc = r.number(n, "hindsight.near_miss_ttc", 0, 60);
   }
   if (auto n = root["collision_action"]) {
     s.collisionAction = r.text(n, "collision_action");
@@ -274,7 +275,7 @@ const std::vector<std::string>& scenarioKeys() {
     for (const char* more : {"conflict.rear_end_below", "conflict.crossing_above", "concentric.inner_margin", "concentric.outer_margin", "cells.length", "cells.hysteresis_db",
                              "cells.tx_power_dbm", "cells.path_loss_exponent", "cells.reference_distance",
                              "cells.radio_range", "cells.decomposition_factor", "cells.max_depth", "hindsight.enabled",
-                             "hindsight.clearance", "hindsight.evasive_deceleration", "hindsight.lead", "collision_action",
+                             "hindsight.clearance", "hindsight.evasive_deceleration", "hindsight.lead", "hindsight.near_miss_ttc", "collision_action",
                              "collision_mingap_factor", "incidents", "sumo_args", "out"})
       k.push_back(more);
     return k;

@@ -86,6 +86,8 @@ int Hindsight::open(int e, int foe, WarningKind kind, double t, double safe) {
   if (kind == WarningKind::Vehicle) {
     w.foeSerial = cars_->slots[foe].serial;
     pairEpisodes_[pairKey(w.egoSerial, w.foeSerial)].push_back({w.egoSerial, t, kInf});
+  } else if (kind != WarningKind::Hazard) {
+    lineEpisodes_[lineKey(w.egoSerial, foe)].push_back({w.egoSerial, t, kInf});
   }
   live_.push_back(id);
   return id;
@@ -98,6 +100,10 @@ void Hindsight::finished(Warning&& w, int window) {
     if (it != pairEpisodes_.end())
       for (PairEpisode& pe : it->second)
         if (pe.ego == win.egoSerial && pe.end == kInf) pe.end = w.end;
+  } else if (win.kind != WarningKind::Hazard) {
+    if (auto it = lineEpisodes_.find(lineKey(win.egoSerial, win.foe)); it != lineEpisodes_.end())
+      for (PairEpisode& pe : it->second)
+        if (pe.end == kInf) pe.end = w.end;
   }
   pending_.push_back({std::move(w), window, tick_});
 }
@@ -127,13 +133,14 @@ void Hindsight::measure(Window& w, double t) {
   }
   w.measured = true;
   if (w.crossed) return;
-  const LanePrediction* lp = road_->prediction();
-  if (lp && !lp->straight(w.ego) && w.kind != WarningKind::Hazard) {
+  const LanePrediction* lp = frames_;
+  if (lp && lp->frame(w.ego).lane >= 0 && w.kind != WarningKind::Hazard) {
+    if (!lp->alongside(w.ego)) return;
     // in the lane frame: the body reaches across the line on one side of the lane it is on (the
     // one it left, or the one it entered, after a crossing)
     const int lane = lp->frame(w.ego).lane;
     for (int side = 0; side < 2; ++side) {
-      if (road_->lineOf(lane, side) != w.foe || road_->beyondLine(w.ego, side) < 0.0) continue;
+      if (road_->lineOf(lane, side) != w.foe || lp->beyondLine(w.ego, side, false) < 0.0) continue;
       w.crossed = true;
       w.clearanceTime = t;
       w.signalled = (cars_->signals[w.ego] & (side == 1 ? kSignalLeft : kSignalRight)) != 0;
@@ -190,7 +197,13 @@ void Hindsight::observe(double t) {
     ++i;
   }
   findNearMisses(t);
+  findCrossings(t);
   if (t - lastPrune_ > 10.0) {
+    for (auto it = lineEpisodes_.begin(); it != lineEpisodes_.end();) {
+      auto& v = it->second;
+      v.erase(std::remove_if(v.begin(), v.end(), [&](const PairEpisode& pe) { return pe.end < t - 10.0; }), v.end());
+      it = v.empty() ? lineEpisodes_.erase(it) : std::next(it);
+    }
     // episodes long over no longer decide a near miss's recall
     for (auto it = pairEpisodes_.begin(); it != pairEpisodes_.end();) {
       auto& v = it->second;
@@ -212,7 +225,7 @@ void Hindsight::findNearMisses(double t) {
   for (int s : c.active) {
     lo = lo.cwiseMin(c.centre[s]);
     hi = hi.cwiseMax(c.centre[s]);
-    rmax = std::max(rmax, c.env[s]);
+    rmax = std::max(rmax, c.ownEnv[s]);
   }
   const int axis = hi.y() - lo.y() > hi.x() - lo.x() ? 1 : 0;
   // last tick's order, the cars still here first, then the new ones; cars keep their order along
@@ -246,18 +259,19 @@ void Hindsight::findNearMisses(double t) {
       const Vec2 p = c.centre[b] - c.centre[a];
       if (std::abs(p[1 - axis]) > reach) continue;
       if (p.dot(c.vel[b] - c.vel[a]) >= 0.0) continue;  // not closing
-      const double far = c.env[a] + c.env[b] + h.clearance;
+      const double far = c.ownEnv[a] + c.ownEnv[b] + h.clearance;
       if (p.squaredNorm() >= far * far) continue;  // the envelopes hold the bodies
-      if (rectangleDistance(c.body[a], c.body[b]) >= h.clearance) continue;
+      const double gap = rectangleDistance(c.body[a], c.body[b]);
+      if (gap >= h.clearance) continue;
+      // on a collision course (SSAM's conflict): touching, or the rectangles meet within
+      // near_miss_ttc at their velocities now; two cars passing side by side are not
+      if (gap > 0.0 && !(boxTtc(c.body[a], c.body[b], MotionModel::ConstantVelocity, h.nearMissTtc) <= h.nearMissTtc)) continue;
       const std::uint64_t key = pairKey(c.slots[a].serial, c.slots[b].serial);
       nearNow_.insert(key);
       if (nearBefore_.count(key)) continue;
       // a new approach: was an episode between the two open `lead` seconds before?
       ++counters_->nearMisses;
-      double lead = -1.0;
-      if (auto it = pairEpisodes_.find(key); it != pairEpisodes_.end())
-        for (const PairEpisode& pe : it->second)
-          if (pe.begin <= t - h.lead && pe.end >= t - h.lead) lead = std::max(lead, t - pe.begin);
+      const double lead = leadOf(pairEpisodes_, key, t);
       if (lead >= 0.0) {
         ++counters_->nearMissesWarned;
         counters_->nearMissLeads.push_back(lead);
@@ -288,6 +302,45 @@ void Hindsight::finishAll(std::vector<Warning>& out) {
   for (int id : live_) windows_[id].closed = true;
   live_.clear();
   release(out);
+}
+
+double Hindsight::leadOf(const std::unordered_map<std::uint64_t, std::vector<PairEpisode>>& episodes, std::uint64_t key,
+                         double t) const {
+  const double at = t - cfg_->hindsight.lead;
+  double lead = -1.0;
+  if (auto it = episodes.find(key); it != episodes.end())
+    for (const PairEpisode& pe : it->second)
+      if (pe.begin <= at && pe.end >= at) lead = std::max(lead, t - pe.begin);
+  return lead;
+}
+
+// Equipped cars whose body begins to reach across a line of their lane (in the lane frame): a
+// curb, or a marker without that side's signal. Was a warning about that line open `lead` before?
+void Hindsight::findCrossings(double t) {
+  if (!frames_) return;
+  const VehicleTable& c = *cars_;
+  if (touching_.size() < c.slots.size()) touching_.resize(c.slots.size(), {-1, -1});
+  for (int s : c.arrived) touching_[s] = {-1, -1};
+  for (int s : c.active) {
+    std::array<int, 2> now = {-1, -1};
+    const int lane = frames_->frame(s).lane;
+    if (lane >= 0 && frames_->alongside(s))
+      for (int side = 0; side < 2; ++side) {
+        const int g = road_->lineOf(lane, side);
+        if (g < 0 || frames_->beyondLine(s, side, false) < 0.0) continue;
+        now[side] = g;
+        if (!c.equipped[s] || g == touching_[s][0] || g == touching_[s][1]) continue;
+        const bool marker = road_->features().features[road_->groupFeatures(g).front()].kind == FeatureKind::LaneMarker;
+        if (marker && (c.signals[s] & (side == 1 ? kSignalLeft : kSignalRight))) continue;
+        ++counters_->crossings;
+        const double lead = leadOf(lineEpisodes_, lineKey(c.slots[s].serial, g), t);
+        if (lead >= 0.0) {
+          ++counters_->crossingsWarned;
+          counters_->crossingLeads.push_back(lead);
+        }
+      }
+    touching_[s] = now;
+  }
 }
 
 }  // namespace st::highway::detail

@@ -17,6 +17,7 @@
 // whether an episode between the two was open `lead` seconds before (its lead time: how long
 // before the event it began).
 #include <cstdint>
+#include <array>
 #include <deque>
 #include <unordered_map>
 #include <unordered_set>
@@ -25,6 +26,7 @@
 
 #include <sthighway/monitor.hpp>
 
+#include "lane_prediction.hpp"
 #include "road_search.hpp"
 #include "vehicle_table.hpp"
 
@@ -41,6 +43,8 @@ class Hindsight {
       : cfg_(&config), cars_(&cars), road_(&road), counters_(&counters) {}
 
   bool enabled() const { return cfg_->hindsight.enabled; }
+  // The lane frames road warnings are judged in (a car on no lane: against the line's polyline).
+  void useLaneFrames(const LanePrediction* frames) { frames_ = frames; }
   // A new episode of ego slot e against foe (slot or feature group) at time t: its window opens.
   // Returns the window's id (for finished()).
   int open(int e, int foe, WarningKind kind, double t, double safe);
@@ -77,6 +81,10 @@ class Hindsight {
   void measure(Window& w, double t);
   void judge(Warning& w, const Window& win);
   void findNearMisses(double t);
+  void findCrossings(double t);
+  static std::uint64_t lineKey(std::uint64_t serial, int group) { return (serial << 32) | static_cast<std::uint32_t>(group); }
+  // how long before t the earliest episode of key still open `lead` s before t began, or -1
+  double leadOf(const std::unordered_map<std::uint64_t, std::vector<PairEpisode>>& episodes, std::uint64_t key, double t) const;
   static std::uint64_t pairKey(std::uint64_t a, std::uint64_t b) {
     return a < b ? (a << 32) | b : (b << 32) | a;
   }
@@ -84,12 +92,15 @@ class Hindsight {
   const MonitorConfig* cfg_;
   const VehicleTable* cars_;
   const RoadSearch* road_;
+  const LanePrediction* frames_ = nullptr;
   MonitorCounters* counters_;
   std::vector<Window> windows_;
   std::vector<int> freeWindows_;
   std::vector<int> live_;  // windows still measuring
   std::deque<Pending> pending_;
   std::unordered_map<std::uint64_t, std::vector<PairEpisode>> pairEpisodes_;
+  std::unordered_map<std::uint64_t, std::vector<PairEpisode>> lineEpisodes_;  // (ego serial, line group)
+  std::vector<std::array<int, 2>> touching_;  // per slot: the lines (groups) its body touched last tick
   std::unordered_set<std::uint64_t> nearBefore_, nearNow_;
   std::vector<std::pair<double, int>> order_;  // the sweep's order (coordinate, slot), kept
   std::vector<std::uint64_t> seen_;            // per slot: the sweep that ordered it

@@ -33,8 +33,7 @@ inline double timeToDrive(double u, double a, double s) {
 
 LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& config, VehicleTable& cars,
                                MonitorCounters& counters)
-    : cfg_(&config), cars_(&cars), counters_(&counters), enabled_(config.prediction == Prediction::Road) {
-  if (!enabled_) return;
+    : cfg_(&config), cars_(&cars), counters_(&counters), alongLanes_(config.prediction == Prediction::Road) {
   const int n = static_cast<int>(road.lanes.size());
   lanes_.resize(n);
   for (int i = 0; i < n; ++i) {
@@ -181,55 +180,54 @@ bool LanePrediction::fits(int lane, const Projection& pr, const Vec2& axis, doub
          axis.dot(pr.dir) >= 0.5;
 }
 
-// The lane the car's centre is on: its last lane while the centre stays in it (within a small
-// margin, so a car driving on a marker does not flap between two lanes), that lane's successor
-// once it has passed the end, the neighbour it moved into, else the best fitting lane near it.
+// The lane the car's centre is on: its last lane while the centre stays near its centre line; else
+// the lane nearby that fits best (the centre in it, heading along it: a successor past the end, a
+// neighbour after a lane change, the other branch where two lanes diverge), unless the last lane
+// still holds the centre within kKeep of its side and no other lane is nearer by kSwitch (a car
+// driving on a marker does not flap between two lanes).
 int LanePrediction::match(int slot, const Vec2& p, const Vec2& axis, Projection& out) const {
-  constexpr double kKeep = 0.25;  // m beyond the lane's side a car is still on its last lane
+  constexpr double kCentred = 0.3;  // m: a car this near its last lane's centre line keeps it, unsearched
+  constexpr double kKeep = 0.25;    // m beyond the lane's side a car is still on its last lane
+  constexpr double kSwitch = 0.25;  // m nearer another lane's centre line must be to take the car
   const LaneFrame& f = frame_[slot];
+  int kept = -1;
+  Projection keep;
   if (f.lane >= 0 && cars_->slots[slot].present) {
-    const NetLane& l = lanes_[f.lane];
-    const Projection pr = project(f.lane, p, f.seg);
-    if (pr.s > l.length && l.next >= 0) {
-      const Projection pn = project(l.next, p, 0);
-      if (fits(l.next, pn, axis, kKeep)) {
-        out = pn;
-        return l.next;
-      }
-    }
-    if (pr.s <= l.length && fits(f.lane, pr, axis, kKeep)) {
-      out = pr;
-      return f.lane;
-    }
-    const int side = pr.d > 0.0 ? l.left : l.right;
-    if (side >= 0) {
-      const Projection ps = project(side, p, pr.seg);
-      if (fits(side, ps, axis, 0.0)) {
-        out = ps;
-        return side;
+    keep = project(f.lane, p, f.seg);
+    if (keep.s <= lanes_[f.lane].length && fits(f.lane, keep, axis, kKeep)) {
+      kept = f.lane;
+      if (std::abs(keep.d) <= kCentred) {
+        out = keep;
+        return kept;
       }
     }
   }
-  if (cellLanes_.empty()) return -1;
+  int best = -1;
+  Projection found;
   const Vec2 g = (p - origin_) / cell_;
   const int cx = static_cast<int>(std::floor(g.x())), cy = static_cast<int>(std::floor(g.y()));
-  if (cx < 0 || cy < 0 || cx >= nx_ || cy >= ny_) return -1;
-  const int c = cy * nx_ + cx;
-  int best = -1;
-  double bestScore = std::numeric_limits<double>::infinity();
-  for (int k = cellStart_[c]; k < cellStart_[c + 1]; k += 2) {
-    const int lane = cellLanes_[k];
-    if (lanes_[lane].count < 2) continue;
-    const Projection pr = project(lane, p, cellLanes_[k + 1]);
-    if (!fits(lane, pr, axis, 0.0)) continue;
-    // nearest centre line first, then the better aligned (overlapping junction lanes), then the lower index
-    const double score = std::abs(pr.d) - 1e-3 * axis.dot(pr.dir);
-    if (score < bestScore) {
-      bestScore = score;
-      best = lane;
-      out = pr;
+  if (!cellLanes_.empty() && cx >= 0 && cy >= 0 && cx < nx_ && cy < ny_) {
+    const int c = cy * nx_ + cx;
+    double bestScore = std::numeric_limits<double>::infinity();
+    for (int k = cellStart_[c]; k < cellStart_[c + 1]; k += 2) {
+      const int lane = cellLanes_[k];
+      if (lanes_[lane].count < 2) continue;
+      const Projection pr = project(lane, p, cellLanes_[k + 1]);
+      if (!fits(lane, pr, axis, 0.0)) continue;
+      // nearest centre line first, then the better aligned (overlapping junction lanes), then the lower index
+      const double score = std::abs(pr.d) - 1e-3 * axis.dot(pr.dir);
+      if (score < bestScore) {
+        bestScore = score;
+        best = lane;
+        found = pr;
+      }
     }
   }
+  if (kept >= 0 && (best < 0 || best == kept || !(std::abs(found.d) < std::abs(keep.d) - kSwitch))) {
+    out = keep;
+    return kept;
+  }
+  if (best >= 0) out = found;
   return best;
 }
 
@@ -277,8 +275,22 @@ Ttc LanePrediction::vehicleTtc(int e, int f, double horizon) const {
   }
 }
 
+double LanePrediction::beyondLine(int slot, int side, bool shape) const {
+  const LaneFrame& f = frame_[slot];
+  Body square = cars_->body[slot];
+  square.axis = f.dir;
+  const double half = shape ? roadSupport(cfg_->detector, square, leftNormal(f.dir)) : 0.5 * square.width;
+  return (side == 1 ? f.d : -f.d) + half - halfWidth(f.lane);
+}
+
+bool LanePrediction::alongside(int slot) const {
+  const LaneFrame& f = frame_[slot];
+  const double half = 0.5 * cars_->body[slot].length;
+  return f.lane >= 0 && f.s >= half && f.s <= lanes_[f.lane].length - half;
+}
+
 void LanePrediction::update(double t) {
-  if (!enabled_) return;
+  if (lanes_.empty()) return;
   VehicleTable& c = *cars_;
   const std::size_t n = c.body.size();
   if (frame_.size() < n) {
@@ -286,6 +298,7 @@ void LanePrediction::update(double t) {
     prevD_.resize(n);
     prevT_.resize(n);
     prevLane_.resize(n, -1);
+    prevPos_.resize(n, Vec2::Zero());
     horizon_.resize(n);
     pieceBegin_.resize(n);
     pieceEnd_.resize(n);
@@ -314,62 +327,54 @@ void LanePrediction::predict(int slot, double t) {
   const double h = horizon_[slot];
   const bool wasHere = f.lane >= 0;
   Projection pr;
-  const int lane = lanes_.empty() ? -1 : match(slot, b.position, b.axis, pr);
+  const int lane = match(slot, b.position, b.axis, pr);
   if (c.lane[slot] < 0) c.lane[slot] = lane;  // reported: the lane the source did not name
   pieceBegin_[slot] = static_cast<int>(pieces_.size());
   const bool accelerate = cfg_->detector.motion == MotionModel::ConstantAcceleration;
   const double acc = accelerate ? b.acceleration : 0.0;
   constexpr double kMinPathSpeed = 0.1;  // m/s: slower cars are predicted where they are (straight)
   const double u = lane >= 0 ? b.velocity.dot(pr.dir) : 0.0;
-  if (lane < 0 || u < kMinPathSpeed) {
-    f = LaneFrame{};
-    if (lane >= 0) {
-      f.lane = lane;
-      f.seg = pr.seg;
-      f.s = pr.s;
-      f.d = pr.d;
-      f.dir = pr.dir;
-      f.speed = u;
+  // the lateral speed, from the offset tick to tick: in the lane's own frame, or (a lane change
+  // whose centre crossed the marker) with the last offset moved into this lane's frame; the
+  // smaller, so a lane change SUMO makes in one step (a jump) is no lateral motion
+  double lateral = lane >= 0 ? b.velocity.dot(leftNormal(pr.dir)) : 0.0;
+  if (lane >= 0 && wasHere && c.slots[slot].present && t > prevT_[slot] && prevLane_[slot] >= 0) {
+    const double dt = t - prevT_[slot];
+    lateral = (pr.d - prevD_[slot]) / dt;
+    if (lane != prevLane_[slot]) {
+      // the last position in this lane's frame: the car's own lateral motion; of the two the
+      // smaller, so a lane change SUMO makes in one step (a jump) is no lateral motion, and a
+      // centre crossing into the next lane or onto an offset successor is what it moved
+      const double common = (pr.d - project(lane, prevPos_[slot], pr.seg).d) / dt;
+      if (std::abs(common) < std::abs(lateral)) lateral = common;
     }
+  }
+  f = LaneFrame{};
+  if (lane >= 0) {
+    f.lane = lane;
+    f.seg = pr.seg;
+    f.s = pr.s;
+    f.d = pr.d;
+    f.dir = pr.dir;
+    f.speed = u;
+    f.lateral = lateral;
+  }
+  prevLane_[slot] = f.lane;
+  prevD_[slot] = f.d;
+  prevT_[slot] = t;
+  prevPos_[slot] = b.position;
+  if (!alongLanes_ || lane < 0 || u < kMinPathSpeed) {
+    // the straight line: the body's own motion
     const Vec2 n = leftNormal(b.axis);
     pieces_.push_back({0.0, b.position, b.axis, n, b.axis, b.velocity.dot(b.axis), b.velocity.dot(n)});
     pieceEnd_[slot] = static_cast<int>(pieces_.size());
     straight_[slot] = 1;
-    prevLane_[slot] = f.lane;
-    prevD_[slot] = f.d;
-    prevT_[slot] = t;
-    ++(lane < 0 ? counters_->straightFallbacks : counters_->roadPredicted);
+    if (alongLanes_) ++(lane < 0 ? counters_->straightFallbacks : counters_->roadPredicted);
     return;
   }
   ++counters_->roadPredicted;
   straight_[slot] = 0;
   const NetLane& l = lanes_[lane];
-  // the lateral speed, from the offset tick to tick: in the lane's own frame, or (a lane change
-  // whose centre crossed the marker) with the last offset moved into this lane's frame; the
-  // smaller, so a lane change SUMO makes in one step (a jump) is no lateral motion
-  double lateral = b.velocity.dot(leftNormal(pr.dir));
-  if (wasHere && c.slots[slot].present && t > prevT_[slot] && prevLane_[slot] >= 0) {
-    const double dt = t - prevT_[slot];
-    const int from = prevLane_[slot];
-    lateral = (pr.d - prevD_[slot]) / dt;
-    const double across = 0.5 * (lanes_[from].width + l.width);
-    double common = std::numeric_limits<double>::infinity();
-    if (lanes_[from].left == lane) common = (pr.d - (prevD_[slot] - across)) / dt;
-    if (lanes_[from].right == lane) common = (pr.d - (prevD_[slot] + across)) / dt;
-    if (std::abs(common) < std::abs(lateral)) lateral = common;
-  }
-  f.lane = lane;
-  f.seg = pr.seg;
-  f.s = pr.s;
-  f.d = pr.d;
-  f.dir = pr.dir;
-  f.speed = u;
-  f.lateral = lateral;
-  f.endGap = std::numeric_limits<double>::infinity();
-  f.endLane = -1;
-  prevLane_[slot] = lane;
-  prevD_[slot] = pr.d;
-  prevT_[slot] = t;
 
   // the path: from the centre's foot on the centre line along the lanes, far enough for the horizon
   const Vec2 n0 = leftNormal(pr.dir);

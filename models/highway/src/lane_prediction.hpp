@@ -54,7 +54,9 @@ class LanePrediction {
  public:
   LanePrediction(const RoadGeometry& road, const MonitorConfig& config, VehicleTable& cars, MonitorCounters& counters);
 
-  bool enabled() const { return enabled_; }
+  // True when cars are predicted along their lanes (Prediction::Road); lane frames are kept in
+  // either model (hindsight judges road warnings in them).
+  bool alongLanes() const { return alongLanes_; }
   // After the vehicle table's update: match lanes, predict paths, grow the envelopes.
   void update(double t);
 
@@ -62,6 +64,17 @@ class LanePrediction {
   std::span<const PathPiece> path(int slot) const {
     return {pieces_.data() + pieceBegin_[slot], static_cast<std::size_t>(pieceEnd_[slot] - pieceBegin_[slot])};
   }
+  // How far a car lies beyond its lane's line on a side (0 right, 1 left; m, >= 0: touching or
+  // across it): its offset towards that side plus its half width across the lane, less the lane's
+  // half width. The half width is the body's (W/2: what a crossing is), or the detector's shape
+  // that checks road features (shape: W/2 grown by a layout's margin), with the car square to the
+  // lane: a rigid body's corners on a polyline's joints (a truck's 12 m on a curve) reach out by
+  // its yaw against the joint's segment, which is no lane departure. On a lane only.
+  double beyondLine(int slot, int side, bool shape) const;
+  // True when the car's body lies along its lane, its rear past the lane's start and its front
+  // short of its end: only then do the lane's lines apply (a body straddling a junction, half on
+  // the lane it leaves, cuts across where no line is drawn).
+  bool alongside(int slot) const;
   // Half width of a lane and its neighbours in its edge (-1: none).
   double halfWidth(int lane) const { return 0.5 * lanes_[lane].width; }
   int leftOf(int lane) const { return lanes_[lane].left; }
@@ -101,7 +114,7 @@ class LanePrediction {
   const MonitorConfig* cfg_;
   VehicleTable* cars_;
   MonitorCounters* counters_;
-  bool enabled_ = false;
+  bool alongLanes_ = false;
   std::vector<NetLane> lanes_;
   std::vector<Vec2> pt_;
   std::vector<double> cum_;  // arc length at each point of its lane
@@ -114,6 +127,7 @@ class LanePrediction {
 
   std::vector<LaneFrame> frame_;
   std::vector<double> prevD_, prevT_, horizon_;
+  std::vector<Vec2> prevPos_;
   std::vector<int> prevLane_, pieceBegin_, pieceEnd_;
   std::vector<char> straight_;  // the path is the straight line (no lane, or slow)
   std::vector<PathPiece> pieces_;

@@ -55,7 +55,8 @@ namespace {
 void checkConfig(const MonitorConfig& config) {
   const HindsightConfig& h = config.hindsight;
   if (!(h.clearance >= 0.0) || !std::isfinite(h.clearance) || !(h.evasiveDeceleration > 0.0) ||
-      !std::isfinite(h.evasiveDeceleration) || !(h.lead >= 0.0) || !std::isfinite(h.lead))
+      !std::isfinite(h.evasiveDeceleration) || !(h.lead >= 0.0) || !std::isfinite(h.lead) || !(h.nearMissTtc >= 0.0) ||
+      !std::isfinite(h.nearMissTtc))
     throw std::invalid_argument("hindsight: clearance and lead must be finite and non-negative, evasive_deceleration positive");
   const SafeTimeConfig& st = config.safeTime;
   if (!(st.vehicleReactionTime >= 0.0) || !(st.roadReactionTime >= 0.0))
@@ -117,8 +118,9 @@ struct HighwayMonitor::Impl {
         cells(geometry, cellBounds(road.features()), cfg.cells),
         hindsight(cfg, cars, road, counters),
         book(cars, road, hindsight, cfg, laneIdsOf(geometry), counters) {
-    const detail::LanePrediction* paths = prediction.enabled() ? &prediction : nullptr;
+    const detail::LanePrediction* paths = prediction.alongLanes() ? &prediction : nullptr;
     road.usePrediction(paths);
+    hindsight.useLaneFrames(&prediction);
     const detail::PairTest test{&cfg, &cars, &counters, paths};
     pairs = cfg.broadphase == Broadphase::Cells ? detail::makeCellPairSearch(test, cells) : detail::makeAllPairsSearch(test);
   }

@@ -43,12 +43,14 @@ std::string hindsightJson(const MonitorCounters& c, const HindsightConfig& h) {
   if (!h.enabled) return "null";
   std::ostringstream os;
   os << "{\"clearance_m\": " << num(h.clearance) << ", \"evasive_deceleration\": " << num(h.evasiveDeceleration)
-     << ", \"lead_s\": " << num(h.lead) << ",\n    \"by_kind\": {";
+     << ", \"lead_s\": " << num(h.lead) << ", \"near_miss_ttc_s\": " << num(h.nearMissTtc) << ",\n    \"by_kind\": {";
   for (int k = 0; k < kWarningKindCount; ++k)
     os << (k ? ", " : "") << jsonString(toString(static_cast<WarningKind>(k))) << ": {\"judged\": " << c.judged[k]
        << ", \"confirmed\": " << c.confirmed[k] << ", \"precision\": " << share(c.confirmed[k], c.judged[k]) << "}";
   os << "},\n    \"near_misses\": {\"events\": " << c.nearMisses << ", \"warned\": " << c.nearMissesWarned
-     << ", \"recall\": " << share(c.nearMissesWarned, c.nearMisses) << ", \"lead_s\": " << leadJson(c.nearMissLeads) << "}}";
+     << ", \"recall\": " << share(c.nearMissesWarned, c.nearMisses) << ", \"lead_s\": " << leadJson(c.nearMissLeads) << "},"
+     << "\n    \"crossings\": {\"events\": " << c.crossings << ", \"warned\": " << c.crossingsWarned
+     << ", \"recall\": " << share(c.crossingsWarned, c.crossings) << ", \"lead_s\": " << leadJson(c.crossingLeads) << "}}";
   return os.str();
 }
 

@@ -239,13 +239,6 @@ void RoadSearch::checkFeature(int e, int fi, double hMax, std::vector<Threat>& o
   out.push_back({kFeatureBit | static_cast<std::uint64_t>(g), kindOf(f.kind), ttc.zone, ttc.t, safe, g, fi});
 }
 
-double RoadSearch::beyondLine(int e, int side) const {
-  const LaneFrame& f = prediction_->frame(e);
-  const Vec2 n(-f.dir.y(), f.dir.x());
-  const double support = roadSupport(cfg_->detector, cars_->body[e], n);
-  return (side == 1 ? f.d : -f.d) + support - prediction_->halfWidth(f.lane);
-}
-
 // The feature of a group closest to p (for the conflict record's line direction).
 int RoadSearch::nearestFeature(int group, const Vec2& p) const {
   int best = -1;
@@ -279,7 +272,7 @@ void RoadSearch::laneThreats(int e, std::vector<Threat>& out) const {
     const int fi = nearestFeature(g, t.body[e].position);
     out.push_back({kFeatureBit | static_cast<std::uint64_t>(g), kindOf(features_.features[fi].kind), zone, ttc, safe, g, fi});
   };
-  for (int side = 0; side < 2; ++side) {
+  for (int side = 0; side < 2 && prediction_->alongside(e); ++side) {
     const int g = lineOf(f.lane, side);
     if (g < 0) continue;
     counters_->featureChecks += 1;
@@ -288,7 +281,7 @@ void RoadSearch::laneThreats(int e, std::vector<Threat>& out) const {
     if (features_.features[groupFeatures_[g].front()].kind == FeatureKind::LaneMarker &&
         (t.signals[e] & (side == 1 ? kSignalLeft : kSignalRight)))
       continue;  // a signalled lane change
-    const double gap = -beyondLine(e, side);
+    const double gap = -prediction_->beyondLine(e, side, true);
     add(g, gap <= 0.0 ? 0.0 : gap / closing, closing);
   }
   if (std::isfinite(f.endGap)) {

@@ -36,9 +36,6 @@ class RoadSearch {
   const LanePrediction* prediction() const { return prediction_; }
   // The line (feature group) on a lane's right (side 0) or left (side 1); -1: none (internal lanes).
   int lineOf(int lane, int side) const { return lane >= 0 && lane < static_cast<int>(laneLines_.size()) ? laneLines_[lane][side] : -1; }
-  // How far a car's body in the lane frame lies beyond its lane's line on a side (m, > 0: across
-  // it): |offset| plus the shape's support along the lane's normal, less the half width.
-  double beyondLine(int e, int side) const;
 
   // This tick's per-group lists (groups from the pair search; empty: every ego reads all).
   void prepare(std::span<const CarGroup> groups);

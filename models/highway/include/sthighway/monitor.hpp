@@ -98,6 +98,7 @@ struct HindsightConfig {
   double clearance = 0.5;            // m: a realized clearance below it confirms a vehicle warning
   double evasiveDeceleration = 4.0;  // m/s^2: braking harder than this in the window confirms it too
   double lead = 0.5;                 // s: a near miss is warned if an episode was open this long before
+  double nearMissTtc = 1.5;          // s: a near miss is on a collision course: its box TTC then at most this (SSAM's 1.5 s)
 };
 
 struct MonitorConfig {
@@ -142,6 +143,12 @@ struct MonitorCounters {
   std::uint64_t nearMisses = 0;
   std::uint64_t nearMissesWarned = 0;
   std::vector<double> nearMissLeads;
+  // The run's unsignalled line crossings (an equipped car's body begins to reach across a curb,
+  // or a marker without that side's signal, in its lane's frame), those warned `lead` s before,
+  // and the warned ones' lead times (s).
+  std::uint64_t crossings = 0;
+  std::uint64_t crossingsWarned = 0;
+  std::vector<double> crossingLeads;
   // Finished episodes by conflict type at their minimum TTC (equal in total to the above once
   // finish() has closed every episode).
   std::array<std::uint64_t, kConflictTypeCount> warningsByType{};
