@@ -48,8 +48,12 @@ def find_col(cols, *patterns):
 def conflict_maps(out, runs, sweep):
     """One conflict map per parameter combination, all seeds together (highway runs whose
     warnings.csv has positions); the network from the runs' summary.json."""
-    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "models", "highway", "conflict_map.py")
-    if not os.path.exists(script):
+    # installed, both scripts sit in share/stsim; in the source tree the map's is the model's
+    here = os.path.dirname(os.path.abspath(__file__))
+    script = next((p for p in (os.path.join(here, "conflict_map.py"),
+                               os.path.join(here, "..", "..", "models", "highway", "conflict_map.py"))
+                   if os.path.exists(p)), None)
+    if script is None:
         return []
     groups = {}
     for r in runs:

@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include <stbatch/stats.hpp>
+#include <stio/data_file.hpp>
 #include <stio/format.hpp>
 
 extern char** environ;
@@ -460,7 +461,8 @@ std::vector<RunResult> mergeShards(const std::vector<fs::path>& dirs, const fs::
 }
 
 bool writePlots(const fs::path& outDir, std::string& why) {
-  const fs::path script = fs::path(STSIM_BATCH_PLOT_SCRIPT);
+  // installed: share/stsim/plots.py beside bin/stsim; a build in the tree: the source's copy
+  const fs::path script = io::dataFile("plots.py", STSIM_BATCH_PLOT_SCRIPT);
   if (!fs::exists("/usr/bin/python3")) {
     why = "/usr/bin/python3 not found (apt-get install python3-matplotlib)";
     return false;
