@@ -91,6 +91,74 @@ def conflict_maps(out, runs, sweep):
     return maps
 
 
+def hindsight_rows(out):
+    path = os.path.join(out, "hindsight.csv")
+    if not os.path.exists(path):
+        return None, []
+    header, rows = read_csv(path)
+    kinds = [c[: -len(".confirmed_share")] for c in header if c.endswith(".confirmed_share")]
+    return kinds, rows
+
+
+def hindsight_plot(out, sweep):
+    """Per parameter combination (pooled over seeds, hindsight.csv): each kind's confirmed share
+    and the near misses' recall. A share of nothing is no bar, marked n/a: it is not 0."""
+    kinds, rows = hindsight_rows(out)
+    if not rows:
+        return None
+    labels = [", ".join(r[p] for p in sweep) or "all runs" for r in rows]
+    series = [(k.replace("_", " ") + " confirmed", k + ".confirmed_share") for k in kinds]
+    series.append(("near-miss recall", "near_miss_recall"))
+    # a share with nothing to count in any combination (a kind never judged) gets no bars at all
+    empty = [name for name, col in series if all(num(r.get(col)) is None for r in rows)]
+    series = [(name, col) for name, col in series if name not in empty] or series[-1:]
+    fig, ax = plt.subplots(figsize=(max(6, 0.9 * len(rows) * len(series) / 2 + 2), 4.5))
+    width = 0.8 / len(series)
+    for si, (name, col) in enumerate(series):
+        for ri, r in enumerate(rows):
+            x = ri + (si - (len(series) - 1) / 2) * width
+            v = num(r.get(col))
+            if v is None:
+                ax.text(x, 0.01, "n/a", rotation=90, ha="center", va="bottom", fontsize=6, color="#777777")
+            else:
+                ax.bar(x, v, width=width * 0.9, color="C%d" % si, label=name if ri == 0 else None)
+    ax.set_xticks(range(len(rows)))
+    ax.set_xticklabels(labels, rotation=30, ha="right", fontsize=7)
+    ax.set_ylim(0, 1.05)
+    ax.set_ylabel("share (pooled over seeds)")
+    ax.grid(alpha=0.3, axis="y")
+    ax.legend(fontsize=7, ncol=2, title="n/a, nothing to count: " + ", ".join(empty) if empty else None,
+              title_fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "hindsight.png"), dpi=110)
+    plt.close(fig)
+    return ("hindsight.png", "confirmed share by warning kind and near-miss recall"), kinds, rows
+
+
+def write_hindsight(f, sweep, kinds, rows):
+    """report.md's hindsight table: warnings per vehicle-km by kind, confirmed share (confirmed /
+    judged), near-miss recall (warned / events), median lead time; n/a where nothing was counted."""
+    def share(r, part, whole, col):
+        v = num(r.get(col))
+        return "n/a" if v is None else "%.3f (%s/%s)" % (v, fmt(r.get(part)), fmt(r.get(whole)))
+    f.write("## Hindsight (pooled over seeds; [hindsight.csv](hindsight.csv))\n\n"
+            "Warnings per vehicle-km by kind; the confirmed share of each kind's warnings (what "
+            "followed confirmed the conflict); the near misses' recall (warned at least the lead "
+            "time before) and the median lead time. n/a: nothing to count.\n\n")
+    cols = sweep + ["%s /veh-km" % k for k in kinds] + ["%s confirmed" % k for k in kinds] + \
+        ["near-miss recall", "median lead (s)"]
+    f.write("| " + " | ".join(cols) + " |\n")
+    f.write("|" + "---|" * len(cols) + "\n")
+    for r in rows:
+        cells = [r[p] for p in sweep]
+        cells += [fmt(r.get(k + ".per_vehicle_km")) or "n/a" for k in kinds]
+        cells += [share(r, k + ".confirmed", k + ".judged", k + ".confirmed_share") for k in kinds]
+        cells.append(share(r, "near_misses_warned", "near_misses", "near_miss_recall"))
+        cells.append(fmt(r.get("near_miss_lead_median_s")) or "n/a")
+        f.write("| " + " | ".join(cells) + " |\n")
+    f.write("\n")
+
+
 def main(out):
     runs_header, runs = read_csv(os.path.join(out, "runs.csv"))
     sum_header, summary = read_csv(os.path.join(out, "summary.csv"))
@@ -208,6 +276,9 @@ def main(out):
         plots.append(("collisions_by_action.png", "%s with and without the brake action" % coll))
 
     maps = conflict_maps(out, runs, sweep)
+    hindsight = hindsight_plot(out, sweep)
+    if hindsight:
+        plots.append(hindsight[0])
 
     done = sum(1 for r in runs if r["status"] == "done")
     with open(os.path.join(out, "report.md"), "w") as f:
@@ -216,10 +287,14 @@ def main(out):
             len(runs), done, len(runs) - done, ", ".join(sweep) or "nothing",
             len({r[seed_key] for r in runs})))
         f.write("Tables: [runs.csv](runs.csv) (one row per run), [summary.csv](summary.csv) "
-                "(mean, standard deviation and 95% confidence interval over seeds), [paired.csv](paired.csv) "
-                "(differences on the same seeds).\n\n")
+                "(mean, standard deviation and 95%% confidence interval over seeds), [paired.csv](paired.csv) "
+                "(differences on the same seeds)%s.\n\n" % (
+                    ", [hindsight.csv](hindsight.csv) (confirmed shares and recall, pooled over seeds)"
+                    if hindsight else ""))
         for name, title in plots:
             f.write("## %s\n\n![%s](%s)\n\n" % (title, title, name))
+        if hindsight:
+            write_hindsight(f, sweep, hindsight[1], hindsight[2])
         if maps:
             f.write("## Conflict maps (one per parameter combination, all seeds)\n\n"
                     "Every warning at the ego's position at its minimum TTC, coloured by conflict type, "
