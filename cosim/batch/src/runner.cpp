@@ -459,12 +459,21 @@ std::string experimentRecord(const Experiment& e) {
   em << YAML::BeginMap;
   em << YAML::Key << "name" << YAML::Value << e.name;
   em << YAML::Key << "command" << YAML::Value << e.command;
-  em << YAML::Key << "base" << YAML::Value << e.base.string();
+  if (e.bases.empty()) {
+    em << YAML::Key << "base" << YAML::Value << e.base.string();
+  } else {
+    em << YAML::Key << "base" << YAML::Value << YAML::BeginMap;
+    for (const auto& [name, path] : e.bases) em << YAML::Key << name << YAML::Value << path.string();
+    em << YAML::EndMap;
+  }
   em << YAML::Key << "seed_key" << YAML::Value << e.seedKey;
   em << YAML::Key << "seeds" << YAML::Value << YAML::Flow << e.seeds;
-  if (!e.sweep.empty()) {
+  // the bases' axis is base: itself
+  const bool onlyBases = e.sweep.size() == 1 && !e.bases.empty();
+  if (!e.sweep.empty() && !onlyBases) {
     em << YAML::Key << "sweep" << YAML::Value << YAML::BeginMap;
     for (const auto& a : e.sweep) {
+      if (!e.bases.empty() && a.key == kBaseAxis) continue;
       em << YAML::Key << a.key << YAML::Value << YAML::Flow << YAML::BeginSeq;
       for (const auto& v : a.values) em << YAML::Load(v);
       em << YAML::EndSeq;
