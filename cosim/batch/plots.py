@@ -112,23 +112,26 @@ def hindsight_plot(out, sweep):
     # a share with nothing to count in any combination (a kind never judged) gets no bars at all
     empty = [name for name, col in series if all(num(r.get(col)) is None for r in rows)]
     series = [(name, col) for name, col in series if name not in empty] or series[-1:]
-    fig, ax = plt.subplots(figsize=(max(6, 0.9 * len(rows) * len(series) / 2 + 2), 4.5))
-    width = 0.8 / len(series)
-    for si, (name, col) in enumerate(series):
-        for ri, r in enumerate(rows):
-            x = ri + (si - (len(series) - 1) / 2) * width
+    # one panel per share, the combinations down the side: readable for a few or for dozens
+    fig, axes = plt.subplots(1, len(series), sharey=True, squeeze=False,
+                             figsize=(2.4 * len(series) + 2.2, 0.26 * len(rows) + 1.6))
+    ys = list(range(len(rows)))
+    for si, (ax, (name, col)) in enumerate(zip(axes[0], series)):
+        for y, r in zip(ys, rows):
             v = num(r.get(col))
             if v is None:
-                ax.text(x, 0.01, "n/a", rotation=90, ha="center", va="bottom", fontsize=6, color="#777777")
+                ax.text(0.02, y, "n/a", va="center", fontsize=6, color="#777777")
             else:
-                ax.bar(x, v, width=width * 0.9, color="C%d" % si, label=name if ri == 0 else None)
-    ax.set_xticks(range(len(rows)))
-    ax.set_xticklabels(labels, rotation=30, ha="right", fontsize=7)
-    ax.set_ylim(0, 1.05)
-    ax.set_ylabel("share (pooled over seeds)")
-    ax.grid(alpha=0.3, axis="y")
-    ax.legend(fontsize=7, ncol=2, title="n/a, nothing to count: " + ", ".join(empty) if empty else None,
-              title_fontsize=7)
+                ax.barh(y, v, height=0.7, color="C%d" % si)
+        ax.set_xlim(0, 1.0)
+        ax.set_title(name, fontsize=8)
+        ax.grid(alpha=0.3, axis="x")
+        ax.tick_params(labelsize=7)
+    axes[0][0].set_yticks(ys)
+    axes[0][0].set_yticklabels(labels, fontsize=7)
+    axes[0][0].invert_yaxis()
+    fig.suptitle("share, pooled over seeds" + ("; n/a, nothing to count: " + ", ".join(empty) if empty else ""),
+                 fontsize=8)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "hindsight.png"), dpi=110)
     plt.close(fig)
@@ -140,7 +143,7 @@ def write_hindsight(f, sweep, kinds, rows):
     judged), near-miss recall (warned / events), median lead time; n/a where nothing was counted."""
     def share(r, part, whole, col):
         v = num(r.get(col))
-        return "n/a" if v is None else "%.3f (%s/%s)" % (v, fmt(r.get(part)), fmt(r.get(whole)))
+        return "n/a" if v is None else "%.3f (%d/%d)" % (v, num(r.get(part)), num(r.get(whole)))
     f.write("## Hindsight (pooled over seeds; [hindsight.csv](hindsight.csv))\n\n"
             "Warnings per vehicle-km by kind; the confirmed share of each kind's warnings (what "
             "followed confirmed the conflict); the near misses' recall (warned at least the lead "
