@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <map>
 #include <set>
 #include <stbatch/experiment.hpp>
 #include <stbatch/runner.hpp>
@@ -71,11 +72,13 @@ TEST(BatchExperiment, SeveralNamedBasesAreTheFirstAxis) {
   std::ofstream(dir / "other/two.yaml") << "detector: box\npenetration: 0.5\nseed: 3\nsafe_time: {reaction: 2.0}\n"
                                            "sumocfg: two.yaml\nend: 60\n";
   const auto e = loadExperiment(writeExperiment("bases.yaml",
-      "base:\n  one: base.yaml\n  two: other/two.yaml\nseeds: [4, 5]\nsweep:\n  detector: [five, box]\n"
+      "base:\n  one: base.yaml\n  two: {scenario: other/two.yaml, fixed: {end: 90}}\nseeds: [4, 5]\n"
+      "sweep:\n  detector: [five, box]\n"
       "fixed:\n  safe_time.reaction: 1.5\n"));
   ASSERT_EQ(e.bases.size(), 2u);
-  EXPECT_EQ(e.bases[1].first, "two");
-  EXPECT_EQ(e.bases[1].second, fs::weakly_canonical(dir / "other/two.yaml"));
+  EXPECT_EQ(e.bases[1].name, "two");
+  EXPECT_EQ(e.bases[1].file, fs::weakly_canonical(dir / "other/two.yaml"));
+  EXPECT_EQ(e.bases[1].fixed, (std::map<std::string, std::string>{{"end", "90"}}));
   ASSERT_EQ(e.sweep.size(), 2u);
   EXPECT_EQ(e.sweep[0].key, "base");
   EXPECT_EQ(e.sweep[0].values, (std::vector<std::string>{"one", "two"}));
@@ -87,14 +90,14 @@ TEST(BatchExperiment, SeveralNamedBasesAreTheFirstAxis) {
   // the last run: base two, detector box, seed 5, from two.yaml with the overrides applied
   const RunSpec& last = runs.back();
   EXPECT_EQ(last.params[0], (std::pair<std::string, std::string>{"base", "two"}));
-  EXPECT_EQ(baseOf(e, last), e.bases[1].second);
+  EXPECT_EQ(baseOf(e, last), e.bases[1].file);
   const YAML::Node n = YAML::Load(runScenarioYaml(e, last));
   EXPECT_FALSE(n["base"]) << "the base's name is not a scenario key";
   EXPECT_EQ(n["detector"].as<std::string>(), "box");
   EXPECT_DOUBLE_EQ(n["penetration"].as<double>(), 0.5);  // two.yaml's own
   EXPECT_DOUBLE_EQ(n["safe_time"]["reaction"].as<double>(), 1.5);
   EXPECT_EQ(n["seed"].as<int>(), 5);
-  EXPECT_EQ(n["end"].as<int>(), 60);
+  EXPECT_EQ(n["end"].as<int>(), 90);  // two's own override (two.yaml says 60)
   EXPECT_EQ(fs::path(n["sumocfg"].as<std::string>()), fs::weakly_canonical(dir / "other/two.yaml"));
   const YAML::Node first = YAML::Load(runScenarioYaml(e, runs.front()));
   EXPECT_DOUBLE_EQ(first["penetration"].as<double>(), 1.0);  // base.yaml's
@@ -127,6 +130,14 @@ TEST(BatchExperiment, SeveralNamedBasesAreTheFirstAxis) {
   EXPECT_NE(error("base: {one: base.yaml, two: nowhere.yaml}\n").find("base.two: no such file"), std::string::npos);
   EXPECT_NE(error("base: {}\n").find("base: empty map"), std::string::npos);
   EXPECT_NE(error("base: [base.yaml]\n").find("base: must be a scenario file, or a map"), std::string::npos);
+  // a base's own overrides: keys of that base, not swept
+  EXPECT_NE(error("base: {one: {scenario: base.yaml, fixed: {end: 5}}}\n").find("base.one.fixed.end: unknown key"),
+            std::string::npos);
+  EXPECT_NE(error("base: {one: {scenario: base.yaml, fixed: {detector: box}}}\nsweep: {detector: [five]}\n")
+                .find("base.one.fixed.detector: is swept"),
+            std::string::npos);
+  EXPECT_NE(error("base: {one: {fixed: {detector: box}}}\n").find("base.one.scenario: missing"), std::string::npos);
+  EXPECT_NE(error("base: {one: {scenario: base.yaml, fixd: {}}}\n").find("base.one.fixd: unknown key"), std::string::npos);
 }
 
 TEST(BatchExperiment, ShardsPartitionTheRuns) {

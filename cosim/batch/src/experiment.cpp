@@ -130,14 +130,32 @@ Experiment loadExperiment(const fs::path& file,
     for (auto it = baseNode.begin(); it != baseNode.end(); ++it) {
       const std::string name = it->first.as<std::string>();
       if (name.empty()) fail(e, "base", it->first, "a base's name must not be empty");
-      e.bases.emplace_back(name, baseFile(it->second, "base." + name));
+      NamedBase b{name, {}, {}};
+      const std::string where = "base." + name;
+      if (it->second.IsMap()) {  // {scenario: FILE, fixed: {key: value}}
+        y.onlyKeys(it->second, where, [](const std::string& k) { return k == "scenario" || k == "fixed"; },
+                   "expected scenario (the file) and fixed (this base's overrides)");
+        if (!it->second["scenario"]) y.missingKey(it->second, where + ".scenario", "the base scenario file");
+        b.file = baseFile(it->second["scenario"], where + ".scenario");
+        if (const YAML::Node fixed = it->second["fixed"]) {
+          if (!fixed.IsMap()) fail(e, where + ".fixed", fixed, "must map scenario keys to values");
+          y.onlyKeys(fixed, where + ".fixed", [](const std::string&) { return true; });
+          for (auto f = fixed.begin(); f != fixed.end(); ++f) {
+            if (!f->second.IsScalar()) fail(e, where + ".fixed." + f->first.Scalar(), f->second, "must be a scalar");
+            b.fixed[f->first.Scalar()] = scalarText(f->second);
+          }
+        }
+      } else {
+        b.file = baseFile(it->second, where);
+      }
+      e.bases.push_back(std::move(b));
       axis.values.push_back(name);
     }
-    e.base = e.bases.front().second;
+    e.base = e.bases.front().file;
     e.sweep.push_back(std::move(axis));
   }
   if (e.bases.empty()) bases.emplace_back(e.base, y.load(e.base));
-  for (const auto& [name, path] : e.bases) bases.emplace_back(path, y.load(path));
+  for (const auto& b : e.bases) bases.emplace_back(b.file, y.load(b.file));
   const std::vector<std::string> optionalKeys = optionalKeysFor(e.command);
   auto optional = [&](const std::string& k) {
     return std::any_of(optionalKeys.begin(), optionalKeys.end(), [&](const std::string& o) { return o == k || o == "*"; });
@@ -217,6 +235,17 @@ Experiment loadExperiment(const fs::path& file,
       e.sweep.push_back(std::move(axis));
     }
   }
+  // a base's own overrides: keys of that base, and not swept (the sweep would override them)
+  for (std::size_t i = 0; i < e.bases.size(); ++i)
+    for (const auto& [k, v] : e.bases[i].fixed) {
+      const YAML::Node at = baseNode[e.bases[i].name]["fixed"];
+      const std::string where = "base." + e.bases[i].name + ".fixed." + k;
+      if (!hasKey(bases[i].second, k) && !optional(k))
+        fail(e, where, at, "unknown key: not in the base scenario " + e.bases[i].file.filename().string());
+      for (const auto& axis : e.sweep)
+        if (axis.key == k) fail(e, where, at, "is swept: a base cannot fix it");
+      if (k == e.seedKey) fail(e, where, at, "the seeds are the top-level 'seeds' key");
+    }
   if (const YAML::Node fixed = root["fixed"]) {
     if (!fixed.IsMap()) fail(e, "fixed", fixed, "must map scenario keys to values");
     y.onlyKeys(fixed, "fixed", [](const std::string&) { return true; });
@@ -264,13 +293,22 @@ std::vector<RunSpec> expandRuns(const Experiment& e) {
   return runs;
 }
 
-fs::path baseOf(const Experiment& e, const RunSpec& run) {
-  if (e.bases.empty()) return e.base;
+namespace {
+
+const NamedBase* namedBaseOf(const Experiment& e, const RunSpec& run) {
+  if (e.bases.empty()) return nullptr;
   for (const auto& [k, v] : run.params)
     if (k == kBaseAxis)
-      for (const auto& [name, path] : e.bases)
-        if (name == v) return path;
+      for (const auto& b : e.bases)
+        if (b.name == v) return &b;
   throw std::invalid_argument("run " + run.id + " names no base of the experiment");
+}
+
+}  // namespace
+
+fs::path baseOf(const Experiment& e, const RunSpec& run) {
+  if (const NamedBase* b = namedBaseOf(e, run)) return b->file;
+  return e.base;
 }
 
 std::string runScenarioYaml(const Experiment& e, const RunSpec& run) {
@@ -278,6 +316,8 @@ std::string runScenarioYaml(const Experiment& e, const RunSpec& run) {
   YAML::Node root = YAML::LoadFile(base.string());
   absolutizePaths(root, base.parent_path());
   for (const auto& [k, v] : e.fixed) setKey(root, k, v);
+  if (const NamedBase* b = namedBaseOf(e, run))
+    for (const auto& [k, v] : b->fixed) setKey(root, k, v);
   for (const auto& [k, v] : run.params)
     if (e.bases.empty() || k != kBaseAxis) setKey(root, k, v);
   setKey(root, e.seedKey, std::to_string(run.seed));

@@ -463,7 +463,17 @@ std::string experimentRecord(const Experiment& e) {
     em << YAML::Key << "base" << YAML::Value << e.base.string();
   } else {
     em << YAML::Key << "base" << YAML::Value << YAML::BeginMap;
-    for (const auto& [name, path] : e.bases) em << YAML::Key << name << YAML::Value << path.string();
+    for (const auto& b : e.bases) {
+      em << YAML::Key << b.name << YAML::Value;
+      if (b.fixed.empty()) {
+        em << b.file.string();
+        continue;
+      }
+      em << YAML::BeginMap << YAML::Key << "scenario" << YAML::Value << b.file.string() << YAML::Key << "fixed"
+         << YAML::Value << YAML::BeginMap;
+      for (const auto& [k, v] : b.fixed) em << YAML::Key << k << YAML::Value << YAML::Load(v);
+      em << YAML::EndMap << YAML::EndMap;
+    }
     em << YAML::EndMap;
   }
   em << YAML::Key << "seed_key" << YAML::Value << e.seedKey;

@@ -24,13 +24,23 @@ struct SweepAxis {
 // The sweep axis that a map of base scenarios makes: its values are the bases' names.
 inline constexpr const char* kBaseAxis = "base";
 
+// One of several bases: a name (its value in the tables), the scenario file and overrides for
+// this base's runs only (`base: {name: {scenario: FILE, fixed: {key: value}}}`), applied after
+// the experiment's `fixed`.
+struct NamedBase {
+  std::string name;
+  std::filesystem::path file;  // absolute
+  std::map<std::string, std::string> fixed;
+  bool operator==(const NamedBase&) const = default;
+};
+
 struct Experiment {
   std::filesystem::path file;       // the experiment file
   std::filesystem::path base;       // base scenario (absolute); with several, the first
   // `base:` as a map of name -> scenario file (networks with settings of their own in one
   // experiment): the bases, in file order, and the first sweep axis is kBaseAxis over their names.
   // Empty for a single base.
-  std::vector<std::pair<std::string, std::filesystem::path>> bases;
+  std::vector<NamedBase> bases;
   std::string command = "highway";  // the stsim subcommand each run executes
   std::string name;
   std::vector<SweepAxis> sweep;     // in file order; the cross product varies the last fastest
