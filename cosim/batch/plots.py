@@ -162,6 +162,32 @@ def write_hindsight(f, sweep, kinds, rows):
     f.write("\n")
 
 
+def write_ssm(f, sweep, summary, metrics):
+    """report.md's SSM validation (runs with validate_ssm): the box TTC's agreement with SUMO's SSM
+    device and each detector's recall of SSM's conflicts below the safe time, n/a where the runs
+    had none to recall."""
+    detectors = [m[len("ssm."): -len(".recall")] for m in metrics
+                 if m.startswith("ssm.") and m.endswith(".recall")]
+    rows = [r for r in summary if any(num(r.get("ssm.%s.recall.mean" % d)) is not None or
+                                      num(r.get("ssm.%s.recalled.mean" % d)) is not None for d in detectors)]
+    if not detectors or not rows:
+        return
+    f.write("## SSM validation (runs with validate_ssm)\n\n"
+            "The box detector's TTC within 0.02 s of SUMO's SSM device on following samples, and each "
+            "detector's recall of the SSM conflicts below the safe time (recalled/conflicts, mean over "
+            "seeds); n/a: no SSM conflict to recall.\n\n")
+    cols = sweep + ["within 0.02 s"] + ["%s recall" % d.split(".")[-1] for d in detectors]
+    f.write("| " + " | ".join(cols) + " |\n|" + "---|" * len(cols) + "\n")
+    for r in rows:
+        cells = [r[p] for p in sweep] + [fmt(r.get("ssm.following.within_fraction.mean")) or "n/a"]
+        for d in detectors:
+            v = num(r.get("ssm.%s.recall.mean" % d))
+            cells.append("n/a" if v is None else "%.3f (%s/%s)" % (
+                v, fmt(r.get("ssm.%s.recalled.mean" % d)), fmt(r.get("ssm.%s.ssm_conflicts_below_safe_time.mean" % d))))
+        f.write("| " + " | ".join(cells) + " |\n")
+    f.write("\n")
+
+
 def main(out):
     runs_header, runs = read_csv(os.path.join(out, "runs.csv"))
     sum_header, summary = read_csv(os.path.join(out, "summary.csv"))
@@ -298,6 +324,7 @@ def main(out):
             f.write("## %s\n\n![%s](%s)\n\n" % (title, title, name))
         if hindsight:
             write_hindsight(f, sweep, hindsight[1], hindsight[2])
+        write_ssm(f, sweep, summary, metrics)
         if maps:
             f.write("## Conflict maps (one per parameter combination, all seeds)\n\n"
                     "Every warning at the ego's position at its minimum TTC, coloured by conflict type, "
