@@ -266,7 +266,7 @@ py::dict stateDict(const hw::VehicleState& s, const hw::RoadGeometry* road) {
 // ---- settings -----------------------------------------------------------------------------
 
 const char* const kSettings[] = {
-    "detector", "layout", "motion", "broadphase", "check_road", "vehicle_reaction_time", "road_reaction_time",
+    "detector", "layout", "motion", "prediction", "broadphase", "check_road", "vehicle_reaction_time", "road_reaction_time",
     "brake_force", "concentric_inner_margin", "concentric_outer_margin", "body_circles", "cell_length",
     "tx_power_dbm", "path_loss_exponent", "reference_distance", "hysteresis_db", "radio_range", "fat_margin",
     "fat_lookahead", "decomposition_factor", "max_depth", "hindsight", "clearance", "evasive_deceleration",
@@ -290,6 +290,8 @@ hw::MonitorConfig configOf(const py::kwargs& kw) {
       if (!hw::parseFiveCircleLayout(text(), cfg.detector.five)) throw py::value_error(what + " must be a or b, got '" + text() + "'");
     } else if (name == "motion") {
       if (!hw::parseMotionModel(text(), cfg.detector.motion)) throw py::value_error(what + " must be velocity or acceleration, got '" + text() + "'");
+    } else if (name == "prediction") {
+      if (!hw::parsePrediction(text(), cfg.prediction)) throw py::value_error(what + " must be road or straight, got '" + text() + "'");
     } else if (name == "broadphase") {
       if (!hw::parseBroadphase(text(), cfg.broadphase)) throw py::value_error(what + " must be cells or all-pairs, got '" + text() + "'");
     } else if (name == "check_road") {
@@ -411,6 +413,8 @@ class Monitor {
     d["toi_checks"] = c.toiChecks;
     d["feature_checks"] = c.featureChecks;
     d["warnings_begun"] = c.warningsBegun;
+    d["road_predicted_updates"] = c.roadPredicted;  // vehicle updates predicted along a lane
+    d["straight_fallback_updates"] = c.straightFallbacks;  // ... on no fitting lane: straight
     py::dict byKind, tet, tit, byZone;
     for (int k = 0; k < hw::kWarningKindCount; ++k) {
       const char* name = hw::toString(static_cast<hw::WarningKind>(k));
@@ -622,6 +626,7 @@ PYBIND11_MODULE(_stsim, m) {
                       "net: a SUMO .net.xml (lane shapes and widths) or None (no road: car-car only);\n"
                       "lanes: the same as a list of dicts {id, edge, index, shape, width, internal}.\n"
                       "settings: detector (concentric|five|box), layout (a|b), motion (velocity|acceleration),\n"
+                      "prediction (road|straight: along the lanes, the default, or the report's straight line),\n"
                       "broadphase (cells|all-pairs), check_road, vehicle_reaction_time, road_reaction_time,\n"
                       "brake_force {class: N}, concentric_inner_margin, concentric_outer_margin, body_circles,\n"
                       "cell_length, tx_power_dbm, path_loss_exponent, reference_distance, hysteresis_db,\n"

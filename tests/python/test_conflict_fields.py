@@ -30,10 +30,10 @@ def cell(column, text):
     return float(text)  # "inf" too (an infinite DRAC)
 
 
-def cli_run(binary, tmp_path, fcd, net, vtypes, detector, motion):
-    out = tmp_path / f"cli_{detector}_{motion}"
+def cli_run(binary, tmp_path, fcd, net, vtypes, detector, motion, prediction):
+    out = tmp_path / f"cli_{detector}_{motion}_{prediction}"
     r = run_stsim(binary, "highway", "--fcd", fcd, "--net", net, "--vtypes", vtypes, "--detector", detector,
-                  "--motion", motion, "--out", out, "--no-map")
+                  "--motion", motion, "--prediction", prediction, "--out", out, "--no-map")
     assert r.returncode == 0, r.stderr
     with open(out / "warnings.csv", newline="") as f:
         reader = csv.DictReader(f)
@@ -44,8 +44,8 @@ def cli_run(binary, tmp_path, fcd, net, vtypes, detector, motion):
     return rows, summary
 
 
-def python_run(fcd, net, vtypes, detector, motion, columns):
-    m = stsim.Monitor(str(net), detector=detector, motion=motion)
+def python_run(fcd, net, vtypes, detector, motion, prediction, columns):
+    m = stsim.Monitor(str(net), detector=detector, motion=motion, prediction=prediction)
     finished = []
     last = 0.0
     for t, vehicles in stsim.FcdReader(fcd, vtypes, net=net):
@@ -67,10 +67,12 @@ def lead_quantiles(leads):
 
 
 @pytest.mark.parametrize("trace", sorted(TRACES))
-@pytest.mark.parametrize("detector,motion", [("five", "velocity"), ("concentric", "velocity"), ("box", "acceleration")])
-def test_every_column_and_the_hindsight_counters_equal_the_cli(stsim_binary, tmp_path, trace, detector, motion):
+@pytest.mark.parametrize("detector,motion,prediction", [("five", "velocity", "road"), ("concentric", "velocity", "road"),
+                                                        ("box", "acceleration", "road"), ("five", "velocity", "straight")])
+def test_every_column_and_the_hindsight_counters_equal_the_cli(stsim_binary, tmp_path, trace, detector, motion,
+                                                               prediction):
     fcd, net, vtypes = TRACES[trace]
-    want, summary = cli_run(stsim_binary, tmp_path, fcd, net, vtypes, detector, motion)
+    want, summary = cli_run(stsim_binary, tmp_path, fcd, net, vtypes, detector, motion, prediction)
     # the run has what is compared: judged warnings of both verdicts, lanes, road lines, types
     col = {c: i for i, c in enumerate(stsim.WARNING_COLUMNS)}
     assert {"confirmed", "nuisance"} <= {w[col["verdict"]] for w in want}
@@ -78,7 +80,7 @@ def test_every_column_and_the_hindsight_counters_equal_the_cli(stsim_binary, tmp
     assert {"road", "rear_end"} <= {w[col["type"]] for w in want}
     assert any(w[col["clearance"]] is not None for w in want) and any(w[col["crossed"]] is not None for w in want)
     for columns in (False, True):
-        got, counters = python_run(fcd, net, vtypes, detector, motion, columns)
+        got, counters = python_run(fcd, net, vtypes, detector, motion, prediction, columns)
         assert got == want, f"columns={columns}"  # exact float equality, None where the cell is empty
 
         h, hw = counters["hindsight"], summary["hindsight"]
@@ -90,6 +92,9 @@ def test_every_column_and_the_hindsight_counters_equal_the_cli(stsim_binary, tmp
         assert len(nm["lead_times_s"]) == nw["warned"]
         assert lead_quantiles(nm["lead_times_s"]) == nw["lead_s"]
         assert counters["warnings_by_type"] == summary["warnings"]["by_type"]
+        assert (counters["road_predicted_updates"], counters["straight_fallback_updates"]) == \
+            (summary["road_predicted_updates"], summary["straight_fallback_updates"])
+        assert (counters["road_predicted_updates"] > 0) == (prediction == "road")
 
 
 def test_the_table_has_every_column():
@@ -139,3 +144,5 @@ def test_hindsight_and_conflict_settings():
         stsim.Monitor(rear_end_below=200.0)
     with pytest.raises(ValueError, match="clearance"):
         stsim.Monitor(clearance=0.0)
+    with pytest.raises(ValueError, match="prediction' must be road or straight"):
+        stsim.Monitor(prediction="curved")
