@@ -115,29 +115,23 @@ TEST(BatchExperiment, SeveralNamedBasesAreTheFirstAxis) {
   EXPECT_EQ(backIds, runIds);
   EXPECT_NO_THROW(checkResumable(e, out));
   // a key only one base has would fail the other's runs; the bases are not swept twice
-  auto error = [&](const std::string& text) {
-    try {
-      loadExperiment(writeExperiment("bad_bases.yaml", text));
-    } catch (const ExperimentError& x) {
-      return std::string(x.what());
-    }
-    return std::string();
-  };
-  EXPECT_NE(error("base: {one: base.yaml, two: other/two.yaml}\nfixed: {end: 30}\n").find("end: unknown key: not in the base scenario base.yaml"),
+  // (errorOf writes bad.yaml beside base.yaml and other/two.yaml)
+  EXPECT_NE(errorOf("base: {one: base.yaml, two: other/two.yaml}\nfixed: {end: 30}\n")
+                .find("end: unknown key: not in the base scenario base.yaml"),
             std::string::npos);
-  EXPECT_NE(error("base: {one: base.yaml}\nsweep: {base: [a]}\n").find("sweep.base: the bases are swept by base:"),
+  EXPECT_NE(errorOf("base: {one: base.yaml}\nsweep: {base: [a]}\n").find("sweep.base: the bases are swept by base:"),
             std::string::npos);
-  EXPECT_NE(error("base: {one: base.yaml, two: nowhere.yaml}\n").find("base.two: no such file"), std::string::npos);
-  EXPECT_NE(error("base: {}\n").find("base: empty map"), std::string::npos);
-  EXPECT_NE(error("base: [base.yaml]\n").find("base: must be a scenario file, or a map"), std::string::npos);
+  EXPECT_NE(errorOf("base: {one: base.yaml, two: nowhere.yaml}\n").find("base.two: no such file"), std::string::npos);
+  EXPECT_NE(errorOf("base: {}\n").find("base: empty map"), std::string::npos);
+  EXPECT_NE(errorOf("base: [base.yaml]\n").find("base: must be a scenario file, or a map"), std::string::npos);
   // a base's own overrides: keys of that base, not swept
-  EXPECT_NE(error("base: {one: {scenario: base.yaml, fixed: {end: 5}}}\n").find("base.one.fixed.end: unknown key"),
+  EXPECT_NE(errorOf("base: {one: {scenario: base.yaml, fixed: {end: 5}}}\n").find("base.one.fixed.end: unknown key"),
             std::string::npos);
-  EXPECT_NE(error("base: {one: {scenario: base.yaml, fixed: {detector: box}}}\nsweep: {detector: [five]}\n")
+  EXPECT_NE(errorOf("base: {one: {scenario: base.yaml, fixed: {detector: box}}}\nsweep: {detector: [five]}\n")
                 .find("base.one.fixed.detector: is swept"),
             std::string::npos);
-  EXPECT_NE(error("base: {one: {fixed: {detector: box}}}\n").find("base.one.scenario: missing"), std::string::npos);
-  EXPECT_NE(error("base: {one: {scenario: base.yaml, fixd: {}}}\n").find("base.one.fixd: unknown key"), std::string::npos);
+  EXPECT_NE(errorOf("base: {one: {fixed: {detector: box}}}\n").find("base.one.scenario: missing"), std::string::npos);
+  EXPECT_NE(errorOf("base: {one: {scenario: base.yaml, fixd: {}}}\n").find("base.one.fixd: unknown key"), std::string::npos);
 }
 
 TEST(BatchExperiment, ShardsPartitionTheRuns) {
