@@ -91,6 +91,10 @@ endwhile()
 
 install(TARGETS stsim RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/networks/ DESTINATION ${CMAKE_INSTALL_DATADIR}/stsim/networks)
+# the plot scripts the tool runs (stsim batch's report, the conflict map): found beside the
+# executable first (bin/../share/stsim, st::io::dataFile), then in the source tree
+install(FILES ${PROJECT_SOURCE_DIR}/cosim/batch/plots.py ${PROJECT_SOURCE_DIR}/models/highway/conflict_map.py
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/stsim)
 
 # CMake package
 install(EXPORT stsimTargets NAMESPACE stsim:: DESTINATION ${STSIM_INSTALL_CMAKEDIR})

@@ -154,11 +154,7 @@ int runHighwayCommand(const st::cli::Args& a) {
             << "; handoffs " << c.handoffs << "\n  time: SUMO " << fmt(r.sumoSeconds) << " s, stsim "
             << fmt(r.stsimSeconds) << " s, wall " << fmt(r.wallSeconds) << " s\n";
   if (const auto& v = r.validation) {
-    std::cout << "  SSM validation: " << v->matchedSamples << " following samples, "
-              << fmt(100.0 * v->withinFraction(), 2) << " % within " << v->tolerance << " s of SSM's TTC;";
-    for (const auto& d : v->detectors)
-      std::cout << " " << d.detector << " recall " << fmt(d.recall(), 3) << " precision " << fmt(d.precision(), 3) << ";";
-    std::cout << "\n";
+    std::cout << "  SSM validation: " << cosim::summaryLine(*v) << "\n";
   }
   std::cout << "  wrote ";
   for (std::size_t i = 0; i < r.written.size(); ++i) std::cout << (i ? ", " : "") << r.written[i].string();

@@ -48,8 +48,12 @@ def find_col(cols, *patterns):
 def conflict_maps(out, runs, sweep):
     """One conflict map per parameter combination, all seeds together (highway runs whose
     warnings.csv has positions); the network from the runs' summary.json."""
-    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "models", "highway", "conflict_map.py")
-    if not os.path.exists(script):
+    # installed, both scripts sit in share/stsim; in the source tree the map's is the model's
+    here = os.path.dirname(os.path.abspath(__file__))
+    script = next((p for p in (os.path.join(here, "conflict_map.py"),
+                               os.path.join(here, "..", "..", "models", "highway", "conflict_map.py"))
+                   if os.path.exists(p)), None)
+    if script is None:
         return []
     groups = {}
     for r in runs:
@@ -85,6 +89,103 @@ def conflict_maps(out, runs, sweep):
         cm.main(args + [os.path.join(d, "warnings.csv") for d in dirs])
         maps.append((name, label))
     return maps
+
+
+def hindsight_rows(out):
+    path = os.path.join(out, "hindsight.csv")
+    if not os.path.exists(path):
+        return None, []
+    header, rows = read_csv(path)
+    kinds = [c[: -len(".confirmed_share")] for c in header if c.endswith(".confirmed_share")]
+    return kinds, rows
+
+
+def hindsight_plot(out, sweep):
+    """Per parameter combination (pooled over seeds, hindsight.csv): each kind's confirmed share
+    and the near misses' recall. A share of nothing is no bar, marked n/a: it is not 0."""
+    kinds, rows = hindsight_rows(out)
+    if not rows:
+        return None
+    labels = [", ".join(r[p] for p in sweep) or "all runs" for r in rows]
+    series = [(k.replace("_", " ") + " confirmed", k + ".confirmed_share") for k in kinds]
+    series.append(("near-miss recall", "near_miss_recall"))
+    # a share with nothing to count in any combination (a kind never judged) gets no bars at all
+    empty = [name for name, col in series if all(num(r.get(col)) is None for r in rows)]
+    series = [(name, col) for name, col in series if name not in empty] or series[-1:]
+    # one panel per share, the combinations down the side: readable for a few or for dozens
+    fig, axes = plt.subplots(1, len(series), sharey=True, squeeze=False,
+                             figsize=(2.4 * len(series) + 2.2, 0.26 * len(rows) + 1.6))
+    ys = list(range(len(rows)))
+    for si, (ax, (name, col)) in enumerate(zip(axes[0], series)):
+        for y, r in zip(ys, rows):
+            v = num(r.get(col))
+            if v is None:
+                ax.text(0.02, y, "n/a", va="center", fontsize=6, color="#777777")
+            else:
+                ax.barh(y, v, height=0.7, color="C%d" % si)
+        ax.set_xlim(0, 1.0)
+        ax.set_title(name, fontsize=8)
+        ax.grid(alpha=0.3, axis="x")
+        ax.tick_params(labelsize=7)
+    axes[0][0].set_yticks(ys)
+    axes[0][0].set_yticklabels(labels, fontsize=7)
+    axes[0][0].invert_yaxis()
+    fig.suptitle("share, pooled over seeds" + ("; n/a, nothing to count: " + ", ".join(empty) if empty else ""),
+                 fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "hindsight.png"), dpi=110)
+    plt.close(fig)
+    return ("hindsight.png", "confirmed share by warning kind and near-miss recall"), kinds, rows
+
+
+def write_hindsight(f, sweep, kinds, rows):
+    """report.md's hindsight table: warnings per vehicle-km by kind, confirmed share (confirmed /
+    judged), near-miss recall (warned / events), median lead time; n/a where nothing was counted."""
+    def share(r, part, whole, col):
+        v = num(r.get(col))
+        return "n/a" if v is None else "%.3f (%d/%d)" % (v, num(r.get(part)), num(r.get(whole)))
+    f.write("## Hindsight (pooled over seeds; [hindsight.csv](hindsight.csv))\n\n"
+            "Warnings per vehicle-km by kind; the confirmed share of each kind's warnings (what "
+            "followed confirmed the conflict); the near misses' recall (warned at least the lead "
+            "time before) and the median lead time. n/a: nothing to count.\n\n")
+    cols = sweep + ["%s /veh-km" % k for k in kinds] + ["%s confirmed" % k for k in kinds] + \
+        ["near-miss recall", "median lead (s)"]
+    f.write("| " + " | ".join(cols) + " |\n")
+    f.write("|" + "---|" * len(cols) + "\n")
+    for r in rows:
+        cells = [r[p] for p in sweep]
+        cells += [fmt(r.get(k + ".per_vehicle_km")) or "n/a" for k in kinds]
+        cells += [share(r, k + ".confirmed", k + ".judged", k + ".confirmed_share") for k in kinds]
+        cells.append(share(r, "near_misses_warned", "near_misses", "near_miss_recall"))
+        cells.append(fmt(r.get("near_miss_lead_median_s")) or "n/a")
+        f.write("| " + " | ".join(cells) + " |\n")
+    f.write("\n")
+
+
+def write_ssm(f, sweep, summary, metrics):
+    """report.md's SSM validation (runs with validate_ssm): the box TTC's agreement with SUMO's SSM
+    device and each detector's recall of SSM's conflicts below the safe time, n/a where the runs
+    had none to recall."""
+    detectors = [m[len("ssm."): -len(".recall")] for m in metrics
+                 if m.startswith("ssm.") and m.endswith(".recall")]
+    rows = [r for r in summary if any(num(r.get("ssm.%s.recall.mean" % d)) is not None or
+                                      num(r.get("ssm.%s.recalled.mean" % d)) is not None for d in detectors)]
+    if not detectors or not rows:
+        return
+    f.write("## SSM validation (runs with validate_ssm)\n\n"
+            "The box detector's TTC within 0.02 s of SUMO's SSM device on following samples, and each "
+            "detector's recall of the SSM conflicts below the safe time (recalled/conflicts, mean over "
+            "seeds); n/a: no SSM conflict to recall.\n\n")
+    cols = sweep + ["within 0.02 s"] + ["%s recall" % d.split(".")[-1] for d in detectors]
+    f.write("| " + " | ".join(cols) + " |\n|" + "---|" * len(cols) + "\n")
+    for r in rows:
+        cells = [r[p] for p in sweep] + [fmt(r.get("ssm.following.within_fraction.mean")) or "n/a"]
+        for d in detectors:
+            v = num(r.get("ssm.%s.recall.mean" % d))
+            cells.append("n/a" if v is None else "%.3f (%s/%s)" % (
+                v, fmt(r.get("ssm.%s.recalled.mean" % d)), fmt(r.get("ssm.%s.ssm_conflicts_below_safe_time.mean" % d))))
+        f.write("| " + " | ".join(cells) + " |\n")
+    f.write("\n")
 
 
 def main(out):
@@ -204,6 +305,9 @@ def main(out):
         plots.append(("collisions_by_action.png", "%s with and without the brake action" % coll))
 
     maps = conflict_maps(out, runs, sweep)
+    hindsight = hindsight_plot(out, sweep)
+    if hindsight:
+        plots.append(hindsight[0])
 
     done = sum(1 for r in runs if r["status"] == "done")
     with open(os.path.join(out, "report.md"), "w") as f:
@@ -212,10 +316,15 @@ def main(out):
             len(runs), done, len(runs) - done, ", ".join(sweep) or "nothing",
             len({r[seed_key] for r in runs})))
         f.write("Tables: [runs.csv](runs.csv) (one row per run), [summary.csv](summary.csv) "
-                "(mean, standard deviation and 95% confidence interval over seeds), [paired.csv](paired.csv) "
-                "(differences on the same seeds).\n\n")
+                "(mean, standard deviation and 95%% confidence interval over seeds), [paired.csv](paired.csv) "
+                "(differences on the same seeds)%s.\n\n" % (
+                    ", [hindsight.csv](hindsight.csv) (confirmed shares and recall, pooled over seeds)"
+                    if hindsight else ""))
         for name, title in plots:
             f.write("## %s\n\n![%s](%s)\n\n" % (title, title, name))
+        if hindsight:
+            write_hindsight(f, sweep, hindsight[1], hindsight[2])
+        write_ssm(f, sweep, summary, metrics)
         if maps:
             f.write("## Conflict maps (one per parameter combination, all seeds)\n\n"
                     "Every warning at the ego's position at its minimum TTC, coloured by conflict type, "

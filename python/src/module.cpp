@@ -12,6 +12,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <sthighway/monitor.hpp>
@@ -68,9 +69,9 @@ std::string toStr(py::handle h, const std::string& what) {
 
 // The keys a vehicle may have; which ones depend on the convention.
 enum Key { kId, kX, kY, kHeading, kAngle, kSpeed, kLateralSpeed, kAcceleration, kLength, kWidth, kMass, kClass,
-           kSignals, kEquipped, kKeyCount };
+           kSignals, kEquipped, kLane, kKeyCount };
 const char* const kKeyNames[kKeyCount] = {"id", "x", "y", "heading", "angle", "speed", "lateral_speed", "acceleration",
-                                          "length", "width", "mass", "vehicle_class", "signals", "equipped"};
+                                          "length", "width", "mass", "vehicle_class", "signals", "equipped", "lane"};
 
 enum class Convention { Ours, Sumo };
 
@@ -110,6 +111,7 @@ struct Raw {
   hw::VehicleClass vehicleClass = hw::VehicleClass::Passenger;
   long signals = 0;
   bool equipped = true;
+  std::string lane;  // the lane id (reported in the warnings' lane column); empty: unknown
 };
 
 void setValue(Raw& r, int key, py::handle value, Convention c, const std::string& where) {
@@ -123,6 +125,7 @@ void setValue(Raw& r, int key, py::handle value, Convention c, const std::string
       if (r.signals < 0) throw py::value_error(what + " must be >= 0");
       break;
     case kEquipped: r.equipped = toBool(value, what); break;
+    case kLane: r.lane = value.is_none() ? std::string() : toStr(value, what); break;
     default: r.v[key] = toFinite(value, what);
   }
 }
@@ -131,8 +134,11 @@ std::string vehicleWhere(std::size_t i, const Raw& r) {
   return "vehicle " + std::to_string(i) + (r.has[kId] ? " ('" + r.id + "')" : "");
 }
 
+// A lane id's index into the monitor's RoadGeometry::lanes (VehicleState::lane).
+using LaneIndex = std::unordered_map<std::string, int>;
+
 // The state in our conventions. SUMO's: as st::cosim::toVehicleState (cosim/lib/src/conversions.cpp).
-void toState(const Raw& r, Convention c, std::size_t i, hw::VehicleState& s) {
+void toState(const Raw& r, Convention c, std::size_t i, const LaneIndex& lanes, hw::VehicleState& s) {
   const std::string where = vehicleWhere(i, r);
   const int needed[] = {kId, kX, kY, c == Convention::Ours ? kHeading : kAngle, kSpeed};
   for (int k : needed)
@@ -146,6 +152,11 @@ void toState(const Raw& r, Convention c, std::size_t i, hw::VehicleState& s) {
   s.mass = r.has[kMass] ? r.v[kMass] : d.mass;
   s.acceleration = r.has[kAcceleration] ? r.v[kAcceleration] : 0.0;
   s.equipped = r.equipped;
+  if (!r.lane.empty()) {
+    // as the FCD reader does: the lane's index in the road, -1 for a lane the road lacks
+    const auto at = lanes.find(r.lane);
+    s.lane = at == lanes.end() ? -1 : at->second;
+  }
   const double lateral = r.has[kLateralSpeed] ? r.v[kLateralSpeed] : 0.0;
   if (c == Convention::Ours) {
     s.position = st::Vec2(r.v[kX], r.v[kY]);
@@ -168,7 +179,7 @@ void toState(const Raw& r, Convention c, std::size_t i, hw::VehicleState& s) {
 }
 
 // A list of dicts, or a dict of equally long columns.
-void readStates(py::handle vehicles, Convention c, std::vector<hw::VehicleState>& out) {
+void readStates(py::handle vehicles, Convention c, const LaneIndex& lanes, std::vector<hw::VehicleState>& out) {
   std::vector<Raw> raws;
   if (py::isinstance<py::dict>(vehicles)) {
     const auto columns = py::reinterpret_borrow<py::dict>(vehicles);
@@ -188,7 +199,7 @@ void readStates(py::handle vehicles, Convention c, std::vector<hw::VehicleState>
     raws.resize(n.value_or(0));
     // numbers through one NumPy conversion per column where it can (ids and names element-wise)
     for (auto& [k, col] : cols) {
-      const bool numeric = k != kId && k != kClass && k != kSignals && k != kEquipped;
+      const bool numeric = k != kId && k != kClass && k != kSignals && k != kEquipped && k != kLane;
       if (numeric && py::isinstance<py::array>(col) && py::cast<py::array>(col).dtype().kind() == 'f') {
         auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(col);
         if (!a || a.ndim() != 1)
@@ -230,10 +241,10 @@ void readStates(py::handle vehicles, Convention c, std::vector<hw::VehicleState>
     throw py::type_error("vehicles must be a list of dicts or a dict of columns, got " + typeName(vehicles));
   }
   out.resize(raws.size());
-  for (std::size_t i = 0; i < raws.size(); ++i) toState(raws[i], c, i, out[i]);
+  for (std::size_t i = 0; i < raws.size(); ++i) toState(raws[i], c, i, lanes, out[i]);
 }
 
-py::dict stateDict(const hw::VehicleState& s) {
+py::dict stateDict(const hw::VehicleState& s, const hw::RoadGeometry* road) {
   py::dict d;
   d["id"] = s.id;
   d["x"] = s.position.x();
@@ -248,16 +259,18 @@ py::dict stateDict(const hw::VehicleState& s) {
   d["vehicle_class"] = hw::toString(s.vehicleClass);
   d["signals"] = static_cast<int>(s.signals);
   d["equipped"] = s.equipped;
+  if (road) d["lane"] = s.lane >= 0 ? py::object(py::str(road->lanes.at(static_cast<std::size_t>(s.lane)).id)) : py::none();
   return d;
 }
 
 // ---- settings -----------------------------------------------------------------------------
 
 const char* const kSettings[] = {
-    "detector", "layout", "motion", "broadphase", "check_road", "vehicle_reaction_time", "road_reaction_time",
+    "detector", "layout", "motion", "prediction", "broadphase", "check_road", "vehicle_reaction_time", "road_reaction_time",
     "brake_force", "concentric_inner_margin", "concentric_outer_margin", "body_circles", "cell_length",
     "tx_power_dbm", "path_loss_exponent", "reference_distance", "hysteresis_db", "radio_range", "fat_margin",
-    "fat_lookahead", "decomposition_factor", "max_depth"};
+    "fat_lookahead", "decomposition_factor", "max_depth", "hindsight", "clearance", "evasive_deceleration",
+    "hindsight_lead", "rear_end_below", "crossing_above"};
 
 hw::MonitorConfig configOf(const py::kwargs& kw) {
   hw::MonitorConfig cfg;
@@ -277,6 +290,8 @@ hw::MonitorConfig configOf(const py::kwargs& kw) {
       if (!hw::parseFiveCircleLayout(text(), cfg.detector.five)) throw py::value_error(what + " must be a or b, got '" + text() + "'");
     } else if (name == "motion") {
       if (!hw::parseMotionModel(text(), cfg.detector.motion)) throw py::value_error(what + " must be velocity or acceleration, got '" + text() + "'");
+    } else if (name == "prediction") {
+      if (!hw::parsePrediction(text(), cfg.prediction)) throw py::value_error(what + " must be road or straight, got '" + text() + "'");
     } else if (name == "broadphase") {
       if (!hw::parseBroadphase(text(), cfg.broadphase)) throw py::value_error(what + " must be cells or all-pairs, got '" + text() + "'");
     } else if (name == "check_road") {
@@ -318,6 +333,19 @@ hw::MonitorConfig configOf(const py::kwargs& kw) {
       cfg.cells.fatMargin = number();
     } else if (name == "fat_lookahead") {
       cfg.cells.fatLookahead = number();
+    } else if (name == "hindsight") {  // the scenario's hindsight: {enabled, clearance, evasive_deceleration, lead}
+      cfg.hindsight.enabled = toBool(value, what);
+    } else if (name == "clearance") {
+      cfg.hindsight.clearance = positive();
+    } else if (name == "evasive_deceleration") {
+      cfg.hindsight.evasiveDeceleration = positive();
+    } else if (name == "hindsight_lead") {
+      cfg.hindsight.lead = number();
+      if (cfg.hindsight.lead < 0.0) throw py::value_error(what + " must be >= 0");
+    } else if (name == "rear_end_below" || name == "crossing_above") {  // the scenario's conflict: {...}
+      const double deg = number();
+      if (deg < 0.0 || deg > 180.0) throw py::value_error(what + " must be 0 .. 180 deg, got " + std::to_string(deg));
+      (name == "rear_end_below" ? cfg.conflict.rearEndBelowDeg : cfg.conflict.crossingAboveDeg) = deg;
     } else if (name == "decomposition_factor" || name == "max_depth") {
       const long n = toInt(value, what);
       if (n < 1 || n > 1000000) throw py::value_error(what + " must be 1 .. 1000000");
@@ -328,6 +356,8 @@ hw::MonitorConfig configOf(const py::kwargs& kw) {
       throw py::type_error("Monitor() got an unknown setting '" + name + "' (known: " + known + ")");
     }
   }
+  if (cfg.conflict.crossingAboveDeg < cfg.conflict.rearEndBelowDeg)
+    throw py::value_error("setting 'crossing_above' must be >= 'rear_end_below'");
   return cfg;
 }
 
@@ -345,11 +375,13 @@ struct PyAlert {
 
 class Monitor {
  public:
-  Monitor(const hw::RoadGeometry& road, const hw::MonitorConfig& cfg) : monitor_(road, cfg) {}
+  Monitor(const hw::RoadGeometry& road, const hw::MonitorConfig& cfg) : monitor_(road, cfg), hindsight_(cfg.hindsight) {
+    for (std::size_t i = 0; i < road.lanes.size(); ++i) lanes_.emplace(road.lanes[i].id, static_cast<int>(i));
+  }
 
   void step(double t, py::handle vehicles, Convention c) {
     if (!std::isfinite(t)) throw py::value_error("step time must be finite, got " + std::to_string(t));
-    readStates(vehicles, c, states_);
+    readStates(vehicles, c, lanes_, states_);
     {
       py::gil_scoped_release free;
       monitor_.step(t, states_);
@@ -381,6 +413,8 @@ class Monitor {
     d["toi_checks"] = c.toiChecks;
     d["feature_checks"] = c.featureChecks;
     d["warnings_begun"] = c.warningsBegun;
+    d["road_predicted_updates"] = c.roadPredicted;  // vehicle updates predicted along a lane
+    d["straight_fallback_updates"] = c.straightFallbacks;  // ... on no fitting lane: straight
     py::dict byKind, tet, tit, byZone;
     for (int k = 0; k < hw::kWarningKindCount; ++k) {
       const char* name = hw::toString(static_cast<hw::WarningKind>(k));
@@ -389,11 +423,42 @@ class Monitor {
       tit[name] = c.tit[static_cast<std::size_t>(k)];
     }
     for (int z = 0; z < hw::kZoneCount; ++z) byZone[hw::toString(static_cast<hw::Zone>(z))] = c.warningsByZone[static_cast<std::size_t>(z)];
+    py::dict byType;
+    for (int k = 0; k < hw::kConflictTypeCount; ++k)
+      byType[hw::toString(static_cast<hw::ConflictType>(k))] = c.warningsByType[static_cast<std::size_t>(k)];
     d["warnings_by_kind"] = byKind;
     d["warnings_by_zone"] = byZone;
+    d["warnings_by_type"] = byType;
     d["tet_s"] = tet;
     d["tit_s2"] = tit;
+    d["hindsight"] = hindsightCounters(c);
     return d;
+  }
+  // summary.json's "hindsight" as counters: None with hindsight off; a share of nothing is None
+  py::object hindsightCounters(const hw::MonitorCounters& c) const {
+    if (!hindsight_.enabled) return py::none();
+    auto share = [](std::uint64_t part, std::uint64_t whole) {
+      return whole ? py::object(py::float_(static_cast<double>(part) / static_cast<double>(whole))) : py::object(py::none());
+    };
+    py::dict h, byKind, nearMisses;
+    h["clearance_m"] = hindsight_.clearance;
+    h["evasive_deceleration"] = hindsight_.evasiveDeceleration;
+    h["lead_s"] = hindsight_.lead;
+    for (int k = 0; k < hw::kWarningKindCount; ++k) {
+      const auto i = static_cast<std::size_t>(k);
+      py::dict one;
+      one["judged"] = c.judged[i];
+      one["confirmed"] = c.confirmed[i];
+      one["precision"] = share(c.confirmed[i], c.judged[i]);
+      byKind[hw::toString(static_cast<hw::WarningKind>(k))] = one;
+    }
+    nearMisses["events"] = c.nearMisses;
+    nearMisses["warned"] = c.nearMissesWarned;
+    nearMisses["recall"] = share(c.nearMissesWarned, c.nearMisses);
+    nearMisses["lead_times_s"] = c.nearMissLeads;  // each warned near miss's lead, in order found
+    h["by_kind"] = byKind;
+    h["near_misses"] = nearMisses;
+    return h;
   }
   double lastTime() const { return monitor_.lastTime(); }
   std::size_t featureCount() const { return monitor_.features().features.size(); }
@@ -401,6 +466,8 @@ class Monitor {
 
  private:
   hw::HighwayMonitor monitor_;
+  hw::HindsightConfig hindsight_;
+  LaneIndex lanes_;                       // lane id -> index into the road's lanes
   std::vector<hw::VehicleState> states_;  // the last step's, for the alerts' ids
 };
 
@@ -443,9 +510,28 @@ hw::RoadGeometry roadOfLanes(py::handle lanes) {
   return road;
 }
 
+// ---- a warning's hindsight and conflict fields, as warnings.csv writes them -----------------
+// (models/highway/src/report.cpp, warningCsvRow): None where its cell is empty
+
+py::object judgedNumber(const hw::Warning& w, double x) {
+  return w.verdict != hw::Verdict::Unjudged && std::isfinite(x) ? py::object(py::float_(x)) : py::object(py::none());
+}
+py::object vehicleJudged(const hw::Warning& w, double x) {
+  return w.kind == hw::WarningKind::Vehicle ? judgedNumber(w, x) : py::object(py::none());
+}
+py::object roadJudged(const hw::Warning& w, bool b) {
+  return w.verdict != hw::Verdict::Unjudged && w.kind != hw::WarningKind::Vehicle ? py::object(py::bool_(b))
+                                                                                 : py::object(py::none());
+}
+// a conflict column: NaN (does not apply) is None; an infinite DRAC stays inf
+py::object conflictNumber(double x) { return std::isnan(x) ? py::object(py::none()) : py::object(py::float_(x)); }
+
 class Fcd {
  public:
-  Fcd(const std::string& path, py::handle vtypes) : reader_(path, typesOf(vtypes)) {}
+  // with a net, each vehicle's lane attribute is read against it (as `stsim highway --fcd --net`)
+  Fcd(const std::string& path, py::handle vtypes, py::handle net)
+      : road_(net.is_none() ? std::nullopt : std::optional<hw::RoadGeometry>(roadOf(net))),
+        reader_(path, typesOf(vtypes), {}, road_ ? &*road_ : nullptr) {}
   py::object next() {
     hw::FcdFrame frame;
     bool more = false;
@@ -455,7 +541,7 @@ class Fcd {
     }
     if (!more) throw py::stop_iteration();
     py::list vs;
-    for (const auto& v : frame.vehicles) vs.append(stateDict(v));
+    for (const auto& v : frame.vehicles) vs.append(stateDict(v, road_ ? &*road_ : nullptr));
     return py::make_tuple(frame.time, vs);
   }
 
@@ -464,6 +550,7 @@ class Fcd {
     if (vtypes.is_none()) return {};
     return hw::readSumoVehicleTypes(toStr(py::str(py::module_::import("os").attr("fspath")(vtypes)), "vtypes"));
   }
+  std::optional<hw::RoadGeometry> road_;  // before reader_, which keeps a pointer to it
   hw::FcdReader reader_;
 };
 
@@ -485,6 +572,36 @@ PYBIND11_MODULE(_stsim, m) {
       .def_readonly("min_ttc_time", &hw::Warning::minTtcTime)
       .def_readonly("safe_time", &hw::Warning::safeTimeAtMin)
       .def_readonly("open", &hw::Warning::open)
+      // hindsight and the conflict record: what warnings.csv has in these columns, None where its
+      // cell is empty (the column does not apply to the kind, or the episode is not judged)
+      .def_property_readonly("verdict", [](const hw::Warning& w) { return hw::toString(w.verdict); },
+                             "confirmed, nuisance, or '' (not judged: open, or hindsight off)")
+      .def_property_readonly("clearance", [](const hw::Warning& w) { return vehicleJudged(w, w.clearance); },
+                             "m, vehicle: the smallest body-to-body distance in the window")
+      .def_property_readonly("clearance_time", [](const hw::Warning& w) { return judgedNumber(w, w.clearanceTime); },
+                             "s, when (road: when the body touched the line)")
+      .def_property_readonly("deceleration", [](const hw::Warning& w) { return vehicleJudged(w, w.deceleration); },
+                             "m/s^2, vehicle: the strongest braking of either vehicle in the window")
+      .def_property_readonly("crossed", [](const hw::Warning& w) { return roadJudged(w, w.crossed); },
+                             "road: the body touched the line within the safe time")
+      .def_property_readonly("signalled", [](const hw::Warning& w) { return roadJudged(w, w.signalled); },
+                             "road: with the turn signal of that side on")
+      .def_property_readonly("x", [](const hw::Warning& w) { return conflictNumber(w.x); }, "m, the ego's centre at the minimum TTC")
+      .def_property_readonly("y", [](const hw::Warning& w) { return conflictNumber(w.y); })
+      .def_readonly("lane", &hw::Warning::lane, "the ego's lane id, '' if unknown")
+      .def_property_readonly("ego_speed", [](const hw::Warning& w) { return conflictNumber(w.egoSpeed); }, "m/s")
+      .def_property_readonly("foe_speed", [](const hw::Warning& w) { return conflictNumber(w.foeSpeed); }, "m/s; None for road warnings")
+      .def_property_readonly("heading_angle", [](const hw::Warning& w) { return conflictNumber(w.headingAngle); },
+                             "deg between the headings; road: to the line; None for a hazard")
+      .def_property_readonly("type", [](const hw::Warning& w) { return hw::toString(w.type); },
+                             "rear_end, lane_change, crossing (SSAM's angles) or road")
+      .def_property_readonly("drac", [](const hw::Warning& w) { return conflictNumber(w.drac); },
+                             "m/s^2, deceleration rate to avoid the crash (inf at TTC 0 while closing)")
+      .def_property_readonly("max_delta_v", [](const hw::Warning& w) { return conflictNumber(w.maxDeltaV); },
+                             "m/s, SSAM's MaxDeltaV; None for road warnings")
+      .def_readonly("line", &hw::Warning::line, "road warnings: the curb, marker or hazard")
+      .def_property_readonly("lateral_speed", [](const hw::Warning& w) { return conflictNumber(w.lateralSpeed); },
+                             "m/s, road warnings: the ego's speed towards the line; None for vehicles")
       .def("__repr__", [](const hw::Warning& w) {
         return "<WarningEpisode " + w.ego + " -> " + w.foe + " " + hw::toString(w.kind) + " " + hw::toString(w.zone) + " [" +
                std::to_string(w.begin) + ", " + std::to_string(w.end) + "] min_ttc " + std::to_string(w.minTtc) + ">";
@@ -509,10 +626,13 @@ PYBIND11_MODULE(_stsim, m) {
                       "net: a SUMO .net.xml (lane shapes and widths) or None (no road: car-car only);\n"
                       "lanes: the same as a list of dicts {id, edge, index, shape, width, internal}.\n"
                       "settings: detector (concentric|five|box), layout (a|b), motion (velocity|acceleration),\n"
+                      "prediction (road|straight: along the lanes, the default, or the report's straight line),\n"
                       "broadphase (cells|all-pairs), check_road, vehicle_reaction_time, road_reaction_time,\n"
                       "brake_force {class: N}, concentric_inner_margin, concentric_outer_margin, body_circles,\n"
                       "cell_length, tx_power_dbm, path_loss_exponent, reference_distance, hysteresis_db,\n"
-                      "radio_range, fat_margin, fat_lookahead, decomposition_factor, max_depth.")
+                      "radio_range, fat_margin, fat_lookahead, decomposition_factor, max_depth;\n"
+                      "hindsight (bool), clearance (m), evasive_deceleration (m/s^2), hindsight_lead (s);\n"
+                      "rear_end_below, crossing_above (deg, the conflict types' angles).")
       .def(py::init([](py::object net, py::object lanes, py::kwargs kw) {
              if (!net.is_none() && !lanes.is_none()) throw py::value_error("give net or lanes, not both");
              const hw::RoadGeometry road = lanes.is_none() ? roadOf(net) : roadOfLanes(lanes);
@@ -523,7 +643,8 @@ PYBIND11_MODULE(_stsim, m) {
            py::arg("vehicles"),
            "Every vehicle's state at time t (s, increasing): a list of dicts or a dict of columns with keys\n"
            "id, x, y (centre, m), heading (rad from +x), speed (m/s); optional lateral_speed, acceleration,\n"
-           "length, width, mass (default: the class's), vehicle_class, signals (1 left, 2 right), equipped.\n"
+           "length, width, mass (default: the class's), vehicle_class, signals (1 left, 2 right), equipped,\n"
+           "lane (its lane id in the net: reported in the warnings' lane column; None: unknown).\n"
            "Vehicles absent have left.")
       .def("step_sumo", [](Monitor& self, double t, py::handle v) { self.step(t, v, Convention::Sumo); }, py::arg("t"),
            py::arg("vehicles"),
@@ -539,12 +660,13 @@ PYBIND11_MODULE(_stsim, m) {
       .def_property_readonly("cell_count", &Monitor::cellCount);
 
   py::class_<Fcd>(m, "FcdReader",
-                  "FcdReader(path, vtypes=None): iterates a SUMO FCD trace as (time, [vehicle dict]) in our\n"
-                  "conventions (what Monitor.step takes), read as `stsim highway --fcd` reads it.")
-      .def(py::init([](py::object path, py::object vtypes) {
-             return std::make_unique<Fcd>(toStr(py::str(py::module_::import("os").attr("fspath")(path)), "path"), vtypes);
+                  "FcdReader(path, vtypes=None, net=None): iterates a SUMO FCD trace as (time, [vehicle dict]) in\n"
+                  "our conventions (what Monitor.step takes), read as `stsim highway --fcd` reads it; with the\n"
+                  "network (a .net.xml), each vehicle's 'lane' (its lane id, None for a lane the network lacks).")
+      .def(py::init([](py::object path, py::object vtypes, py::object net) {
+             return std::make_unique<Fcd>(toStr(py::str(py::module_::import("os").attr("fspath")(path)), "path"), vtypes, net);
            }),
-           py::arg("path"), py::arg("vtypes") = py::none())
+           py::arg("path"), py::arg("vtypes") = py::none(), py::arg("net") = py::none())
       .def("__iter__", [](py::object self) { return self; })
       .def("__next__", &Fcd::next);
 }

@@ -26,13 +26,19 @@ from .sumo import TraciMonitor, read_traci_lanes, read_traci_vehicles
 __all__ = ["Alert", "FcdReader", "InputError", "Monitor", "WarningEpisode", "TraciMonitor", "read_traci_lanes",
            "read_traci_vehicles", "warnings_table", "WARNING_COLUMNS", "__version__"]
 
-# the columns of stsim's warnings.csv, in its order
-WARNING_COLUMNS = ("ego", "foe", "kind", "zone", "begin", "end", "min_ttc", "min_ttc_time", "safe_time", "open")
+# the columns of stsim's warnings.csv, in its order: the episode, hindsight, the conflict record
+# (models/highway/README.md); a WarningEpisode has each as an attribute
+WARNING_COLUMNS = ("ego", "foe", "kind", "zone", "begin", "end", "min_ttc", "min_ttc_time", "safe_time", "open",
+                   "verdict", "clearance", "clearance_time", "deceleration", "crossed", "signalled",
+                   "x", "y", "lane", "ego_speed", "foe_speed", "heading_angle", "type", "drac", "max_delta_v", "line",
+                   "lateral_speed")
 
 
 def warnings_table(warnings):
     """Warning episodes as a table with warnings.csv's columns: a pandas DataFrame when pandas is
-    installed, else a dict of lists (which pandas.DataFrame() also takes)."""
+    installed, else a dict of lists (which pandas.DataFrame() also takes). A cell warnings.csv
+    leaves empty (the column does not apply, or the episode is not judged) is None (NaN in a
+    pandas number column)."""
     columns = {c: [getattr(w, c) for w in warnings] for c in WARNING_COLUMNS}
     try:
         import pandas

@@ -265,6 +265,75 @@ TEST(BatchEndToEnd, OneConflictMapPerCombination) {
   EXPECT_NE(report.find("conflict_map_box.svg"), std::string::npos);
 }
 
+// The number after `key` at or after `from` in a summary.json (read here by hand, not by the batch).
+double numberAfter(const std::string& json, const std::string& key, std::size_t from = 0) {
+  const auto at = json.find("\"" + key + "\": ", from);
+  if (at == std::string::npos) {
+    ADD_FAILURE() << "no " << key << " in " << json.substr(0, 200);
+    return 0.0;
+  }
+  return std::stod(json.substr(at + key.size() + 4));
+}
+
+// Hindsight in the batch: hindsight.csv pools each combination's seeds, so its counts are the sums
+// of the runs' own summary.json counts and its shares their ratios; report.md shows them.
+TEST(BatchEndToEnd, HindsightIsPooledPerCombinationAndReported) {
+  const auto dir = freshDir("hindsight");
+  const fs::path file = dir / "experiment.yaml";
+  std::ofstream(file) << "name: hindsight\ncommand: highway\nbase: " << STSIM_SOURCE_DIR
+                      << "/networks/sublane/scenario.yaml\nsweep:\n  detector: [five, box]\n"
+                         "fixed:\n  end: 60\n  action: none\nseeds: 2\n";
+  std::string err;
+  ASSERT_EQ(runStsim({"batch", file.string(), "--out", (dir / "out").string(), "--jobs", "2", "--no-plots"}, dir, &err), 0)
+      << err;
+  const auto runs = tableWithoutTimings(dir / "out/runs.csv");
+  const auto h = tableWithoutTimings(dir / "out/hindsight.csv");
+  ASSERT_EQ(runs.size(), 5u);
+  ASSERT_EQ(h.size(), 3u);
+  auto col = [](const std::vector<std::string>& header, const std::string& name) {
+    const auto at = std::find(header.begin(), header.end(), name);
+    EXPECT_NE(at, header.end()) << name;
+    return static_cast<std::size_t>(at - header.begin());
+  };
+  for (std::size_t row = 1; row < h.size(); ++row) {
+    const std::string detector = h[row][0];
+    double judged = 0, confirmed = 0, markerJudged = 0, markerConfirmed = 0, events = 0, warned = 0, km = 0, markers = 0;
+    for (std::size_t r = 1; r < runs.size(); ++r) {
+      if (runs[r][col(runs[0], "detector")] != detector) continue;
+      const std::string json = slurp(dir / "out/runs" / runs[r][1] / "summary.json");
+      const auto hs = json.find("\"hindsight\"");
+      ASSERT_NE(hs, std::string::npos);
+      judged += numberAfter(json, "judged", json.find("\"vehicle\"", hs));
+      confirmed += numberAfter(json, "confirmed", json.find("\"vehicle\"", hs));
+      markerJudged += numberAfter(json, "judged", json.find("\"lane_marker\"", hs));
+      markerConfirmed += numberAfter(json, "confirmed", json.find("\"lane_marker\"", hs));
+      events += numberAfter(json, "events", hs);
+      warned += numberAfter(json, "warned", hs);
+      km += numberAfter(json, "vehicle_km");
+      markers += numberAfter(json, "lane_marker", json.find("\"by_kind\""));
+    }
+    EXPECT_GT(judged, 0.0) << detector;       // there is something to pool
+    EXPECT_GT(events, 0.0) << detector;
+    EXPECT_EQ(std::stod(h[row][col(h[0], "vehicle.judged")]), judged) << detector;
+    EXPECT_EQ(std::stod(h[row][col(h[0], "vehicle.confirmed")]), confirmed) << detector;
+    EXPECT_NEAR(std::stod(h[row][col(h[0], "vehicle.confirmed_share")]), confirmed / judged, 1e-11) << detector;
+    EXPECT_NEAR(std::stod(h[row][col(h[0], "lane_marker.confirmed_share")]), markerConfirmed / markerJudged, 1e-11);
+    EXPECT_NEAR(std::stod(h[row][col(h[0], "lane_marker.per_vehicle_km")]), markers / km, 1e-9) << detector;
+    EXPECT_EQ(std::stod(h[row][col(h[0], "near_misses")]), events) << detector;
+    EXPECT_NEAR(std::stod(h[row][col(h[0], "near_miss_recall")]), warned / events, 1e-11) << detector;
+    // no hazards on this network: nothing judged, so no share (an empty cell, not 0 or 1)
+    EXPECT_EQ(h[row][col(h[0], "hazard.judged")], "0");
+    EXPECT_EQ(h[row][col(h[0], "hazard.confirmed_share")], "") << detector;
+  }
+  if (std::system("/usr/bin/python3 -c 'import matplotlib' > /dev/null 2>&1") != 0) return;
+  ASSERT_EQ(runStsim({"batch", file.string(), "--out", (dir / "out").string()}, dir, &err), 0) << err;
+  const std::string report = slurp(dir / "out/report.md");
+  EXPECT_NE(report.find("## Hindsight"), std::string::npos) << report;
+  EXPECT_NE(report.find("![confirmed share by warning kind and near-miss recall](hindsight.png)"), std::string::npos);
+  EXPECT_NE(report.find("| five | "), std::string::npos);
+  EXPECT_EQ(slurp(dir / "out/hindsight.png").substr(0, 4), "\x89PNG");
+}
+
 // validate_ssm: the runs' agreement with SUMO's SSM device reaches runs.csv as ssm.* columns, the
 // same numbers as each run's validation.json.
 TEST(BatchEndToEnd, ResumingIntoAnotherExperimentsFolderIsRefused) {

@@ -3,8 +3,10 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <map>
 #include <set>
 #include <stbatch/experiment.hpp>
+#include <stbatch/runner.hpp>
 #include <yaml-cpp/yaml.h>
 
 namespace st::batch {
@@ -58,6 +60,78 @@ TEST(BatchExperiment, RunScenarioAppliesOverridesAndAbsolutizesPaths) {
   EXPECT_DOUBLE_EQ(n["safe_time"]["reaction"].as<double>(), 0.5);
   EXPECT_EQ(n["seed"].as<int>(), 7);
   EXPECT_TRUE(fs::path(n["sumocfg"].as<std::string>()).is_absolute());
+}
+
+// base: as a map, one base scenario per name (networks with their own settings): the names are
+// the first sweep axis, each run starts from its own base, and a key must be in every base.
+TEST(BatchExperiment, SeveralNamedBasesAreTheFirstAxis) {
+  const fs::path dir = writeExperiment("base.yaml", "").parent_path();
+  fs::copy_file(fs::path(STSIM_SOURCE_DIR) / "tests/batch/data/base.yaml", dir / "base.yaml",
+                fs::copy_options::overwrite_existing);
+  fs::create_directories(dir / "other");
+  std::ofstream(dir / "other/two.yaml") << "detector: box\npenetration: 0.5\nseed: 3\nsafe_time: {reaction: 2.0}\n"
+                                           "sumocfg: two.yaml\nend: 60\n";
+  const auto e = loadExperiment(writeExperiment("bases.yaml",
+      "base:\n  one: base.yaml\n  two: {scenario: other/two.yaml, fixed: {end: 90}}\nseeds: [4, 5]\n"
+      "sweep:\n  detector: [five, box]\n"
+      "fixed:\n  safe_time.reaction: 1.5\n"));
+  ASSERT_EQ(e.bases.size(), 2u);
+  EXPECT_EQ(e.bases[1].name, "two");
+  EXPECT_EQ(e.bases[1].file, fs::weakly_canonical(dir / "other/two.yaml"));
+  EXPECT_EQ(e.bases[1].fixed, (std::map<std::string, std::string>{{"end", "90"}}));
+  ASSERT_EQ(e.sweep.size(), 2u);
+  EXPECT_EQ(e.sweep[0].key, "base");
+  EXPECT_EQ(e.sweep[0].values, (std::vector<std::string>{"one", "two"}));
+  const auto runs = expandRuns(e);
+  ASSERT_EQ(runs.size(), 2u * 2u * 2u);
+  std::set<std::string> ids;
+  for (const auto& r : runs) ids.insert(r.id);
+  EXPECT_EQ(ids.size(), runs.size());
+  // the last run: base two, detector box, seed 5, from two.yaml with the overrides applied
+  const RunSpec& last = runs.back();
+  EXPECT_EQ(last.params[0], (std::pair<std::string, std::string>{"base", "two"}));
+  EXPECT_EQ(baseOf(e, last), e.bases[1].file);
+  const YAML::Node n = YAML::Load(runScenarioYaml(e, last));
+  EXPECT_FALSE(n["base"]) << "the base's name is not a scenario key";
+  EXPECT_EQ(n["detector"].as<std::string>(), "box");
+  EXPECT_DOUBLE_EQ(n["penetration"].as<double>(), 0.5);  // two.yaml's own
+  EXPECT_DOUBLE_EQ(n["safe_time"]["reaction"].as<double>(), 1.5);
+  EXPECT_EQ(n["seed"].as<int>(), 5);
+  EXPECT_EQ(n["end"].as<int>(), 90);  // two's own override (two.yaml says 60)
+  EXPECT_EQ(fs::path(n["sumocfg"].as<std::string>()), fs::weakly_canonical(dir / "other/two.yaml"));
+  const YAML::Node first = YAML::Load(runScenarioYaml(e, runs.front()));
+  EXPECT_DOUBLE_EQ(first["penetration"].as<double>(), 1.0);  // base.yaml's
+  EXPECT_FALSE(first["end"]);
+  // the record a batch keeps for resuming and merging shards gives the same runs back
+  const fs::path out = dir / "record";
+  fs::remove_all(out);
+  writeExperimentRecord(e, out);
+  const Experiment back = readExperimentRecord(out);
+  EXPECT_EQ(back.bases, e.bases);
+  std::vector<std::string> backIds;
+  for (const auto& r : expandRuns(back)) backIds.push_back(r.id);
+  std::vector<std::string> runIds;
+  for (const auto& r : runs) runIds.push_back(r.id);
+  EXPECT_EQ(backIds, runIds);
+  EXPECT_NO_THROW(checkResumable(e, out));
+  // a key only one base has would fail the other's runs; the bases are not swept twice
+  // (errorOf writes bad.yaml beside base.yaml and other/two.yaml)
+  EXPECT_NE(errorOf("base: {one: base.yaml, two: other/two.yaml}\nfixed: {end: 30}\n")
+                .find("end: unknown key: not in the base scenario base.yaml"),
+            std::string::npos);
+  EXPECT_NE(errorOf("base: {one: base.yaml}\nsweep: {base: [a]}\n").find("sweep.base: the bases are swept by base:"),
+            std::string::npos);
+  EXPECT_NE(errorOf("base: {one: base.yaml, two: nowhere.yaml}\n").find("base.two: no such file"), std::string::npos);
+  EXPECT_NE(errorOf("base: {}\n").find("base: empty map"), std::string::npos);
+  EXPECT_NE(errorOf("base: [base.yaml]\n").find("base: must be a scenario file, or a map"), std::string::npos);
+  // a base's own overrides: keys of that base, not swept
+  EXPECT_NE(errorOf("base: {one: {scenario: base.yaml, fixed: {end: 5}}}\n").find("base.one.fixed.end: unknown key"),
+            std::string::npos);
+  EXPECT_NE(errorOf("base: {one: {scenario: base.yaml, fixed: {detector: box}}}\nsweep: {detector: [five]}\n")
+                .find("base.one.fixed.detector: is swept"),
+            std::string::npos);
+  EXPECT_NE(errorOf("base: {one: {fixed: {detector: box}}}\n").find("base.one.scenario: missing"), std::string::npos);
+  EXPECT_NE(errorOf("base: {one: {scenario: base.yaml, fixd: {}}}\n").find("base.one.fixd: unknown key"), std::string::npos);
 }
 
 TEST(BatchExperiment, ShardsPartitionTheRuns) {

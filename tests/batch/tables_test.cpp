@@ -114,5 +114,105 @@ TEST(BatchTables, PairedSpreadIsTheDifferencesSpread) {
   fs::remove_all(dir);
 }
 
+// Hindsight figures with nothing to count: a run's summary.json gives them as null; the tables
+// keep the column with an empty cell (not 0, not 1), and hindsight.csv pools each combination's
+// counts, by hand: detector five, seeds 1 and 2: vehicle 3/4 and 1/6 confirmed -> 4/10, curb 0
+// judged in both -> empty; near misses 2 of 2 and none -> 2/2 = 1, lead medians 0.8 and none ->
+// 0.8. Detector box, seed 1 done and seed 2 failed: vehicle 0 of 0, no near miss -> all empty.
+TEST(BatchTables, HindsightNullsStayEmptyAndSharesArePooledOverSeeds) {
+  const fs::path dir = fs::temp_directory_path() / ("stsim_tables_hindsight_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  Experiment e;
+  e.sweep = {{"detector", {"five", "box"}}};
+  e.seeds = {1, 2};
+  const auto specs = expandRuns(e);
+  ASSERT_EQ(specs.size(), 4u);
+  struct Fig {
+    int vJudged, vConfirmed, events, warned;
+    const char* lead;  // the median, or "null"
+    double km;
+    int vehicleWarnings, curbWarnings;
+  };
+  const Fig figs[] = {{4, 3, 2, 2, "0.8", 10.0, 4, 5}, {6, 1, 0, 0, "null", 30.0, 6, 3}, {0, 0, 0, 0, "null", 5.0, 0, 0}};
+  std::vector<RunResult> results;
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    const fs::path run = dir / "runs" / specs[i].id;
+    fs::create_directories(run);
+    const bool failed = i == 3;
+    std::ofstream(run / "result.yaml") << "status: " << (failed ? "failed" : "done") << "\nerror: \"\"\nwall_seconds: 1\n";
+    if (!failed) {
+      const Fig& f = figs[i];
+      auto share = [](int part, int whole) { return whole ? std::to_string(static_cast<double>(part) / whole) : std::string("null"); };
+      const std::string lead = std::string(f.lead) == "null" ? "null"
+                                                             : std::string("{\"min\": 0.6, \"median\": ") + f.lead + ", \"p90\": 1.0}";
+      std::ofstream(run / "summary.json")
+          << "{\"vehicle_km\": " << f.km << ", \"warnings\": {\"by_kind\": {\"vehicle\": " << f.vehicleWarnings
+          << ", \"curb\": " << f.curbWarnings << "}},\n \"hindsight\": {\"clearance_m\": 0.5, \"by_kind\": {"
+          << "\"vehicle\": {\"judged\": " << f.vJudged << ", \"confirmed\": " << f.vConfirmed
+          << ", \"precision\": " << share(f.vConfirmed, f.vJudged) << "}, "
+          << "\"curb\": {\"judged\": 0, \"confirmed\": 0, \"precision\": null}},\n"
+          << " \"near_misses\": {\"events\": " << f.events << ", \"warned\": " << f.warned
+          << ", \"recall\": " << share(f.warned, f.events) << ", \"lead_s\": " << lead << "}}}\n";
+    }
+    results.push_back(loadRunResult(dir, specs[i]));
+    ASSERT_EQ(results.back().status, failed ? RunStatus::Failed : RunStatus::Done) << results.back().error;
+  }
+  writeTables(e, results, dir);
+
+  auto column = [](const std::vector<std::vector<std::string>>& rows, const std::string& name) {
+    for (std::size_t c = 0; c < rows[0].size(); ++c)
+      if (rows[0][c] == name) return c;
+    ADD_FAILURE() << "no column " << name;
+    return std::size_t{0};
+  };
+  // runs.csv: the null figures are empty cells of columns that exist (the curb precision is null
+  // in every run, a lead time in two of three)
+  const auto runs = readCsv(dir / "runs.csv");
+  ASSERT_EQ(runs.size(), 5u);
+  const auto curbPrecision = column(runs, "hindsight.by_kind.curb.precision");
+  const auto recall = column(runs, "hindsight.near_misses.recall");
+  const auto leadMedian = column(runs, "hindsight.near_misses.lead_s.median");
+  EXPECT_EQ(runs[1][curbPrecision], "");
+  EXPECT_EQ(runs[1][recall], "1");
+  EXPECT_EQ(runs[1][leadMedian], "0.8");
+  EXPECT_EQ(runs[2][recall], "");
+  EXPECT_EQ(runs[2][leadMedian], "");
+  EXPECT_EQ(runs[3][column(runs, "hindsight.by_kind.vehicle.precision")], "");
+  for (const auto& row : runs)
+    for (const auto& cell : row) EXPECT_NE(cell, "nan");
+
+  // summary.csv: a mean over the runs that have the figure; none has: empty
+  const auto summary = readCsv(dir / "summary.csv");
+  ASSERT_EQ(summary.size(), 3u);
+  EXPECT_EQ(summary[1][column(summary, "hindsight.near_misses.recall.mean")], "1");
+  EXPECT_EQ(summary[1][column(summary, "hindsight.by_kind.curb.precision.mean")], "");
+  EXPECT_EQ(summary[2][column(summary, "hindsight.near_misses.recall.mean")], "");
+
+  // hindsight.csv: pooled
+  const auto h = readCsv(dir / "hindsight.csv");
+  ASSERT_EQ(h.size(), 3u);
+  EXPECT_EQ(h[0][0], "detector");
+  EXPECT_EQ(h[1][0], "five");
+  EXPECT_EQ(h[1][column(h, "runs")], "2");
+  EXPECT_DOUBLE_EQ(std::stod(h[1][column(h, "vehicle_km")]), 40.0);
+  EXPECT_DOUBLE_EQ(std::stod(h[1][column(h, "vehicle.per_vehicle_km")]), 10.0 / 40.0);
+  EXPECT_DOUBLE_EQ(std::stod(h[1][column(h, "curb.per_vehicle_km")]), 8.0 / 40.0);
+  EXPECT_EQ(h[1][column(h, "vehicle.judged")], "10");
+  EXPECT_EQ(h[1][column(h, "vehicle.confirmed")], "4");
+  EXPECT_DOUBLE_EQ(std::stod(h[1][column(h, "vehicle.confirmed_share")]), 0.4);
+  EXPECT_EQ(h[1][column(h, "curb.judged")], "0");
+  EXPECT_EQ(h[1][column(h, "curb.confirmed_share")], "");
+  EXPECT_EQ(h[1][column(h, "near_misses")], "2");
+  EXPECT_EQ(h[1][column(h, "near_miss_recall")], "1");
+  EXPECT_EQ(h[1][column(h, "near_miss_lead_median_s")], "0.8");
+  EXPECT_EQ(h[2][0], "box");
+  EXPECT_EQ(h[2][column(h, "runs")], "1");
+  EXPECT_EQ(h[2][column(h, "vehicle.confirmed_share")], "");
+  EXPECT_EQ(h[2][column(h, "near_misses")], "0");
+  EXPECT_EQ(h[2][column(h, "near_miss_recall")], "");
+  EXPECT_EQ(h[2][column(h, "near_miss_lead_median_s")], "");
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace st::batch

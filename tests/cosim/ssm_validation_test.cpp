@@ -3,6 +3,11 @@
 // time.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <vector>
+
+#include <stcosim/ssm_validation.hpp>
+
 #include "test_util.hpp"
 
 namespace st::cosim {
@@ -38,6 +43,72 @@ TEST(SsmValidation, BoxTtcMatchesSsmAndDetectorsRecallEveryConflict) {
     EXPECT_EQ(jsonNumber(v, "recalled", at), conflicts) << d << "\n" << v;
     EXPECT_GT(jsonNumber(v, "warnings", at), 0.0) << d;
   }
+}
+
+}  // namespace
+}  // namespace st::cosim
+
+namespace st::cosim {
+namespace {
+
+using namespace st::cosim::test;
+
+// A figure with nothing to count says so: two cars far apart give SSM nothing, so there is no
+// recall (null, "n/a"), not a perfect one; the same for precision and the TTC agreement.
+TEST(SsmValidation, NothingToCountIsReportedAsSuchNotAsOne) {
+  highway::MonitorConfig config;
+  config.checkRoad = false;
+  SsmValidator validator(highway::RoadGeometry{}, config, 0.1);
+  for (int k = 0; k <= 20; ++k) {
+    const double t = 0.1 * k;
+    std::vector<highway::VehicleState> cars(2);
+    cars[0].id = "a";
+    cars[0].handle = 0;
+    cars[0].position = {20.0 * t, 0.0};
+    cars[0].speed = 20.0;
+    cars[1].id = "b";
+    cars[1].handle = 1;
+    cars[1].position = {1000.0 + 20.0 * t, 0.0};
+    cars[1].speed = 20.0;
+    validator.record(t, cars);
+  }
+  validator.finish(2.0);
+  const ValidationReport r = validator.evaluate({});
+  ASSERT_EQ(r.detectors.size(), 3u);
+  EXPECT_TRUE(std::isnan(r.withinFraction()));
+  for (const auto& d : r.detectors) {
+    EXPECT_EQ(d.conflicts, 0u) << d.detector;
+    EXPECT_EQ(d.warnings, 0u) << d.detector;
+    EXPECT_TRUE(std::isnan(d.recall())) << d.detector;
+    EXPECT_TRUE(std::isnan(d.precision())) << d.detector;
+  }
+  const std::string json = toJson(r);
+  EXPECT_NE(json.find("\"recall\": null"), std::string::npos) << json;
+  EXPECT_EQ(json.find("\"recall\": 1"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"within_fraction\": null"), std::string::npos) << json;
+  const std::string line = summaryLine(r);
+  EXPECT_EQ(line.find("recall 1.000"), std::string::npos) << line;
+  EXPECT_NE(line.find("box recall n/a (no SSM conflict below the safe time)"), std::string::npos) << line;
+
+  // the same through stsim: the motorway's first 10 s hold no SSM conflict below the safe time
+  const auto dir = freshDir("ssm_none");
+  const auto run = runStsim({"highway", motorway().string(), "--end", "10", "--validate-ssm", "--no-map", "--out",
+                             dir.string()}, dir);
+  ASSERT_EQ(run.code, 0) << run.err;
+  EXPECT_EQ(run.out.find("recall 1.000"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("five recall n/a (no SSM conflict below the safe time)"), std::string::npos) << run.out;
+  const std::string v = slurp(dir / "validation.json");
+  EXPECT_EQ(jsonNumber(v, "ssm_conflicts_below_safe_time", v.find("\"five\"")), 0.0) << v;
+  EXPECT_NE(v.find("\"recall\": null"), std::string::npos) << v;
+
+  // with something to count the figures are the shares (3 of 4 recalled, 1 of 2 confirmed)
+  DetectorValidation d;
+  d.conflicts = 4;
+  d.recalled = 3;
+  d.warnings = 2;
+  d.confirmed = 1;
+  EXPECT_DOUBLE_EQ(d.recall(), 0.75);
+  EXPECT_DOUBLE_EQ(d.precision(), 0.5);
 }
 
 }  // namespace

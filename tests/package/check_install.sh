@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Uses a build from outside the tree, as a user would, twice: installed with
 # `cmake --install --prefix`, and from the .deb (`cpack -G DEB`, its Depends and contents checked,
-# unpacked with dpkg-deb). In each: `stsim --version`, a replay with the installed tool, a tiny
+# unpacked with dpkg-deb). In each: `stsim --version`, a replay with its conflict map and a batch
+# with its plots by the installed tool with the source tree hidden (unshare -m), a tiny
 # program built with pkg-config, examples/own_loop built with find_package(stsim) and run on the
 # installed copy of a shipped network (it must warn), and `import stsim` when the module was built.
 # usage: tests/package/check_install.sh [BUILD_DIR]   (run from anywhere; about a minute)
@@ -14,15 +15,50 @@ fail() { echo "check_install: FAIL: $*" >&2; exit 1; }
 version=$(sed -n 's/^project(stsim VERSION \([0-9.]*\).*/\1/p' "$src/CMakeLists.txt")
 python=/usr/bin/python3
 
+# Runs a command with the source tree (and the build in it) hidden under an empty tmpfs, in a
+# mount namespace of its own: what it finds, it found in the install.
+without_tree() {
+  local ns=(unshare -m)
+  [ "$(id -u)" -eq 0 ] || ns=(unshare -rm)  # not root: a user namespace may mount too
+  "${ns[@]}" /bin/sh -c 'mount -t tmpfs -o size=1m stsim-hidden "$0" && [ ! -e "$0/CMakeLists.txt" ] && exec "$@"' \
+    "$src" "$@"
+}
+unshare -m true 2>/dev/null || unshare -rm true 2>/dev/null \
+  || fail "needs unshare -m (root, or user namespaces) to hide the source tree from the installed stsim"
+
 check_prefix() {  # PREFIX NAME
   local prefix=$1 out=$work/$2
   mkdir -p "$out"
   local got
   got=$("$prefix/bin/stsim" --version)
   [ "$got" = "stsim $version" ] || fail "$2: stsim --version printed '$got', expected 'stsim $version'"
-  "$prefix/bin/stsim" highway --fcd "$src/tests/data/highway/lanedrop.fcd.xml" \
-    --net "$src/tests/data/highway/lanedrop.net.xml" --out "$out/replay" >/dev/null
+  # from outside the tree, with the tree itself hidden (the build inside it too): the installed
+  # stsim finds its plot scripts in share/stsim, so the replay draws its conflict map and a batch
+  # draws its plots and per-combination maps
+  local data=$out/data
+  mkdir -p "$data"
+  cp "$src/tests/data/highway/lanedrop.fcd.xml" "$src/tests/data/highway/lanedrop.net.xml" "$data/"
+  without_tree "$prefix/bin/stsim" highway --fcd "$data/lanedrop.fcd.xml" --net "$data/lanedrop.net.xml" \
+    --out "$out/replay" > "$out/replay.txt" 2>&1 || fail "$2: the installed stsim replay failed: $(tail -1 "$out/replay.txt")"
   [ "$(wc -l < "$out/replay/warnings.csv")" -gt 1 ] || fail "$2: the installed stsim replay wrote no warnings"
+  [ -s "$out/replay/conflict_map.png" ] && [ -s "$out/replay/conflict_map.svg" ] \
+    || fail "$2: the installed stsim highway drew no conflict map: $(grep -m1 'conflict map' "$out/replay.txt")"
+  cat > "$data/plots.yaml" <<EOF
+name: installed_plots
+command: highway
+base: $prefix/share/stsim/networks/ring/scenario.yaml
+sweep: {detector: [five, box]}
+fixed: {end: 40, action: none}
+seeds: [1]
+EOF
+  without_tree "$prefix/bin/stsim" batch "$data/plots.yaml" --out "$out/batch" --jobs 2 > "$out/batch.txt" 2>&1 \
+    || fail "$2: the installed stsim batch failed: $(tail -1 "$out/batch.txt")"
+  ! grep -q 'plots skipped' "$out/batch.txt" || fail "$2: installed stsim batch: $(grep -m1 'plots skipped' "$out/batch.txt")"
+  local f
+  for f in report.md min_ttc_distribution.png conflict_map_five.png conflict_map_box.svg; do
+    [ -s "$out/batch/$f" ] || fail "$2: the installed stsim batch wrote no $f"
+  done
+  grep -q '(conflict_map_five.png)' "$out/batch/report.md" || fail "$2: report.md does not show the conflict maps"
 
   # headers and libraries through pkg-config
   local pcdir
@@ -67,7 +103,8 @@ for dep in "sumo (>= 1.15)" libeigen3-dev libyaml-cpp-dev libboost1.74-dev libya
 done
 contents=$(dpkg-deb -c "$deb")
 for f in ./usr/bin/stsim ./usr/lib/cmake/stsim/stsimConfig.cmake ./usr/include/sthighway/monitor.hpp \
-         ./usr/include/stsim/version.hpp ./usr/share/stsim/networks/motorway/motorway.sumocfg; do
+         ./usr/include/stsim/version.hpp ./usr/share/stsim/networks/motorway/motorway.sumocfg \
+         ./usr/share/stsim/plots.py ./usr/share/stsim/conflict_map.py; do
   grep -q " $f\$" <<< "$contents" || fail "$(basename "$deb") lacks $f"
 done
 grep -q 'pkgconfig/stsim.pc$' <<< "$contents" || fail "$(basename "$deb") lacks stsim.pc"

@@ -108,25 +108,75 @@ Experiment loadExperiment(const fs::path& file,
     if (!root["seed_key"].IsScalar()) fail(e, "seed_key", root["seed_key"], "must be a key name");
     e.seedKey = root["seed_key"].as<std::string>();
   }
-  if (!root["base"] || !root["base"].IsScalar()) y.missingKey(root, "base", "the base scenario file");
-  e.base = fs::path(root["base"].as<std::string>());
-  if (e.base.is_relative()) e.base = file.parent_path() / e.base;
-  if (!fs::exists(e.base)) fail(e, "base", root["base"], "no such file: " + e.base.string());
-  e.base = fs::weakly_canonical(e.base);
-  const YAML::Node base = y.load(e.base);
+  // base: one scenario file, or a map name -> file (several bases: a sweep axis over the names)
+  const YAML::Node baseNode = root["base"];
+  if (!baseNode) y.missingKey(root, "base", "the base scenario file");
+  if (!baseNode.IsScalar() && !baseNode.IsMap())
+    fail(e, "base", baseNode, "must be a scenario file, or a map of names to scenario files");
+  auto baseFile = [&](const YAML::Node& at, const std::string& key) {
+    if (!at.IsScalar()) fail(e, key, at, "must be a scenario file");
+    fs::path p = at.as<std::string>();
+    if (p.is_relative()) p = file.parent_path() / p;
+    if (!fs::exists(p)) fail(e, key, at, "no such file: " + p.string());
+    return fs::weakly_canonical(p);
+  };
+  std::vector<std::pair<fs::path, YAML::Node>> bases;  // every base, loaded, to check keys against
+  if (baseNode.IsScalar()) {
+    e.base = baseFile(baseNode, "base");
+  } else {
+    if (baseNode.size() == 0) fail(e, "base", baseNode, "empty map: name at least one base scenario");
+    y.onlyKeys(baseNode, "base", [](const std::string&) { return true; });
+    SweepAxis axis{kBaseAxis, {}};
+    for (auto it = baseNode.begin(); it != baseNode.end(); ++it) {
+      const std::string name = it->first.as<std::string>();
+      if (name.empty()) fail(e, "base", it->first, "a base's name must not be empty");
+      NamedBase b{name, {}, {}};
+      const std::string where = "base." + name;
+      if (it->second.IsMap()) {  // {scenario: FILE, fixed: {key: value}}
+        y.onlyKeys(it->second, where, [](const std::string& k) { return k == "scenario" || k == "fixed"; },
+                   "expected scenario (the file) and fixed (this base's overrides)");
+        if (!it->second["scenario"]) y.missingKey(it->second, where + ".scenario", "the base scenario file");
+        b.file = baseFile(it->second["scenario"], where + ".scenario");
+        if (const YAML::Node fixed = it->second["fixed"]) {
+          if (!fixed.IsMap()) fail(e, where + ".fixed", fixed, "must map scenario keys to values");
+          y.onlyKeys(fixed, where + ".fixed", [](const std::string&) { return true; });
+          for (auto f = fixed.begin(); f != fixed.end(); ++f) {
+            if (!f->second.IsScalar()) fail(e, where + ".fixed." + f->first.Scalar(), f->second, "must be a scalar");
+            b.fixed[f->first.Scalar()] = scalarText(f->second);
+          }
+        }
+      } else {
+        b.file = baseFile(it->second, where);
+      }
+      e.bases.push_back(std::move(b));
+      axis.values.push_back(name);
+    }
+    e.base = e.bases.front().file;
+    e.sweep.push_back(std::move(axis));
+  }
+  if (e.bases.empty()) bases.emplace_back(e.base, y.load(e.base));
+  for (const auto& b : e.bases) bases.emplace_back(b.file, y.load(b.file));
   const std::vector<std::string> optionalKeys = optionalKeysFor(e.command);
+  auto optional = [&](const std::string& k) {
+    return std::any_of(optionalKeys.begin(), optionalKeys.end(), [&](const std::string& o) { return o == k || o == "*"; });
+  };
+  // a key is accepted when every base has it (a run of a base without it would fail) or the
+  // command documents it as optional
+  auto lackingBase = [&](const std::string& k) -> const fs::path* {
+    if (optional(k)) return nullptr;
+    for (const auto& [path, node] : bases)
+      if (!hasKey(node, k)) return &path;
+    return nullptr;
+  };
   auto checkKey = [&](const std::string& k, const YAML::Node& at) {
-    if (hasKey(base, k)) return;
-    for (const auto& o : optionalKeys)
-      if (o == k || o == "*") return;
-    fail(e, k, at, "unknown key: not in the base scenario " + e.base.filename().string());
+    if (const fs::path* lacking = lackingBase(k))
+      fail(e, k, at, "unknown key: not in the base scenario " + lacking->filename().string());
   };
 
   // every run sets the seed key: a key the scenarios do not have fails every run, so say it once here
-  if (!hasKey(base, e.seedKey) &&
-      std::none_of(optionalKeys.begin(), optionalKeys.end(), [&](const std::string& o) { return o == e.seedKey || o == "*"; }))
+  if (const fs::path* lacking = lackingBase(e.seedKey))
     fail(e, "seed_key", root["seed_key"] ? root["seed_key"] : root,
-         "'" + e.seedKey + "' is not a key of the base scenario " + e.base.filename().string() +
+         "'" + e.seedKey + "' is not a key of the base scenario " + lacking->filename().string() +
              " (seed_key names the key each run's seed goes to)");
 
   // seeds: a count (1..n) or an explicit list of integers
@@ -164,6 +214,8 @@ Experiment loadExperiment(const fs::path& file,
     y.onlyKeys(sweep, "sweep", [](const std::string&) { return true; });
     for (auto it = sweep.begin(); it != sweep.end(); ++it) {
       const std::string k = it->first.as<std::string>();
+      if (k == kBaseAxis && !e.bases.empty())
+        fail(e, "sweep." + k, it->first, "the bases are swept by base: itself (a map of names to scenario files)");
       checkKey(k, it->first);
       if (k == e.seedKey) fail(e, k, it->first, "sweep seeds with the top-level 'seeds' key");
       SweepAxis axis{k, {}};
@@ -183,6 +235,17 @@ Experiment loadExperiment(const fs::path& file,
       e.sweep.push_back(std::move(axis));
     }
   }
+  // a base's own overrides: keys of that base, and not swept (the sweep would override them)
+  for (std::size_t i = 0; i < e.bases.size(); ++i)
+    for (const auto& [k, v] : e.bases[i].fixed) {
+      const YAML::Node at = baseNode[e.bases[i].name]["fixed"];
+      const std::string where = "base." + e.bases[i].name + ".fixed." + k;
+      if (!hasKey(bases[i].second, k) && !optional(k))
+        fail(e, where, at, "unknown key: not in the base scenario " + e.bases[i].file.filename().string());
+      for (const auto& axis : e.sweep)
+        if (axis.key == k) fail(e, where, at, "is swept: a base cannot fix it");
+      if (k == e.seedKey) fail(e, where, at, "the seeds are the top-level 'seeds' key");
+    }
   if (const YAML::Node fixed = root["fixed"]) {
     if (!fixed.IsMap()) fail(e, "fixed", fixed, "must map scenario keys to values");
     y.onlyKeys(fixed, "fixed", [](const std::string&) { return true; });
@@ -230,11 +293,33 @@ std::vector<RunSpec> expandRuns(const Experiment& e) {
   return runs;
 }
 
+namespace {
+
+const NamedBase* namedBaseOf(const Experiment& e, const RunSpec& run) {
+  if (e.bases.empty()) return nullptr;
+  for (const auto& [k, v] : run.params)
+    if (k == kBaseAxis)
+      for (const auto& b : e.bases)
+        if (b.name == v) return &b;
+  throw std::invalid_argument("run " + run.id + " names no base of the experiment");
+}
+
+}  // namespace
+
+fs::path baseOf(const Experiment& e, const RunSpec& run) {
+  if (const NamedBase* b = namedBaseOf(e, run)) return b->file;
+  return e.base;
+}
+
 std::string runScenarioYaml(const Experiment& e, const RunSpec& run) {
-  YAML::Node root = YAML::LoadFile(e.base.string());
-  absolutizePaths(root, e.base.parent_path());
+  const fs::path base = baseOf(e, run);
+  YAML::Node root = YAML::LoadFile(base.string());
+  absolutizePaths(root, base.parent_path());
   for (const auto& [k, v] : e.fixed) setKey(root, k, v);
-  for (const auto& [k, v] : run.params) setKey(root, k, v);
+  if (const NamedBase* b = namedBaseOf(e, run))
+    for (const auto& [k, v] : b->fixed) setKey(root, k, v);
+  for (const auto& [k, v] : run.params)
+    if (e.bases.empty() || k != kBaseAxis) setKey(root, k, v);
   setKey(root, e.seedKey, std::to_string(run.seed));
   YAML::Emitter out;
   out << root;

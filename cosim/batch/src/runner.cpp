@@ -15,11 +15,13 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
 
 #include <stbatch/stats.hpp>
+#include <stio/data_file.hpp>
 #include <stio/format.hpp>
 
 extern char** environ;
@@ -90,6 +92,9 @@ void flatten(const boost::property_tree::ptree& t, const std::string& prefix,
       const double d = std::strtod(v.c_str(), &end);
       if (!v.empty() && end && *end == '\0') out.emplace_back(name, d);
       else if (v == "true" || v == "false") out.emplace_back(name, v == "true" ? 1.0 : 0.0);
+      // null: a figure with nothing to count (a share of nothing, no lead time): kept as NaN, so
+      // the column is there and its cell empty, never 0 or 1
+      else if (v == "null") out.emplace_back(name, std::numeric_limits<double>::quiet_NaN());
     } else {
       flatten(child, name, out);
     }
@@ -97,6 +102,17 @@ void flatten(const boost::property_tree::ptree& t, const std::string& prefix,
 }
 
 fs::path runDir(const fs::path& outDir, const RunSpec& r) { return outDir / "runs" / r.id; }
+
+// summary.json writes hindsight's near-miss lead times as null when none was warned: that null
+// stands for the distribution's three figures, so their columns are there, empty
+void nullLeadTimes(std::vector<std::pair<std::string, double>>& metrics) {
+  const std::string lead = "hindsight.near_misses.lead_s";
+  const auto at = std::find_if(metrics.begin(), metrics.end(), [&](const auto& m) { return m.first == lead; });
+  if (at == metrics.end() || !std::isnan(at->second)) return;
+  const double none = at->second;
+  const auto next = metrics.erase(at);
+  metrics.insert(next, {{lead + ".min", none}, {lead + ".median", none}, {lead + ".p90", none}});
+}
 
 }  // namespace
 
@@ -118,6 +134,7 @@ RunResult loadRunResult(const fs::path& outDir, const RunSpec& spec) {
       boost::property_tree::ptree tree;
       boost::property_tree::read_json((dir / "summary.json").string(), tree);
       flatten(tree, "", r.metrics);
+      nullLeadTimes(r.metrics);
       // --validate-ssm / validate_ssm: the agreement with SUMO's SSM device, as ssm.*
       if (fs::exists(dir / "validation.json")) {
         boost::property_tree::ptree validation;
@@ -265,7 +282,7 @@ std::string pairedTable(const Experiment& e, const std::vector<RunResult>& resul
   }
   auto metric = [](const RunResult& r, const std::string& name, double& out) {
     for (const auto& [k, v] : r.metrics)
-      if (k == name) return out = v, true;
+      if (k == name) return out = v, !std::isnan(v);
     return false;
   };
   std::ostringstream t;
@@ -308,6 +325,64 @@ std::string pairedTable(const Experiment& e, const std::vector<RunResult>& resul
   return t.str();
 }
 
+// hindsight.csv (highway runs): what hindsight made of the warnings, per parameter combination,
+// pooled over its done runs (seeds): per warning kind the warnings per vehicle-km (all warnings
+// over all vehicle-km), the judged and confirmed warnings and the confirmed share (precision);
+// the near misses, those warned and the recall; the median of the runs' median lead times. A
+// share of nothing (no warning judged, no near miss) and a lead time of no warned near miss are
+// empty, never 0 or 1. Pooling weighs each warning once, where summary.csv's mean of the runs'
+// shares would weigh a run with 3 warnings like one with 3000.
+std::string hindsightTable(const Experiment& e, const std::vector<std::vector<std::string>>& order,
+                           const std::map<std::vector<std::string>, std::vector<const RunResult*>>& groups,
+                           const std::vector<std::string>& metricCols) {
+  const std::string byKind = "hindsight.by_kind.", judgedTail = ".judged";
+  std::vector<std::string> kinds;  // in summary.json's order
+  for (const auto& c : metricCols)
+    if (c.rfind(byKind, 0) == 0 && c.size() > byKind.size() + judgedTail.size() &&
+        c.compare(c.size() - judgedTail.size(), judgedTail.size(), judgedTail) == 0)
+      kinds.push_back(c.substr(byKind.size(), c.size() - byKind.size() - judgedTail.size()));
+  if (kinds.empty()) return "";
+  auto cell = [](double part, double whole) { return whole > 0.0 ? number(part / whole) : std::string(); };
+  std::ostringstream t;
+  for (const auto& axis : e.sweep) t << csvField(axis.key) << ",";
+  t << "runs,vehicle_km";
+  for (const auto& k : kinds) t << "," << csvField(k + ".per_vehicle_km");
+  for (const auto& k : kinds)
+    t << "," << csvField(k + ".judged") << "," << csvField(k + ".confirmed") << "," << csvField(k + ".confirmed_share");
+  t << ",near_misses,near_misses_warned,near_miss_recall,near_miss_lead_median_s\n";
+  for (const auto& key : order) {
+    std::map<std::string, double> total;  // sums over the done runs
+    std::vector<double> leads;            // each run's median lead time (runs with a warned near miss)
+    int done = 0;
+    for (const RunResult* r : groups.at(key)) {
+      if (r->status != RunStatus::Done) continue;
+      ++done;
+      for (const auto& [k, v] : r->metrics) {
+        if (std::isnan(v)) continue;
+        if (k == "hindsight.near_misses.lead_s.median") leads.push_back(v);
+        else total[k] += v;
+      }
+    }
+    for (const auto& v : key) t << csvField(v) << ",";
+    const double km = total["vehicle_km"];
+    t << done << "," << (done ? number(km) : "");
+    for (const auto& k : kinds) t << "," << cell(total["warnings.by_kind." + k], km);
+    for (const auto& k : kinds) {
+      const double judged = total[byKind + k + ".judged"], confirmed = total[byKind + k + ".confirmed"];
+      t << "," << (done ? number(judged) : "") << "," << (done ? number(confirmed) : "") << "," << cell(confirmed, judged);
+    }
+    const double events = total["hindsight.near_misses.events"], warned = total["hindsight.near_misses.warned"];
+    t << "," << (done ? number(events) : "") << "," << (done ? number(warned) : "") << "," << cell(warned, events) << ",";
+    if (!leads.empty()) {
+      std::sort(leads.begin(), leads.end());
+      const std::size_t n = leads.size();
+      t << number(n % 2 ? leads[n / 2] : 0.5 * (leads[n / 2 - 1] + leads[n / 2]));
+    }
+    t << "\n";
+  }
+  return t.str();
+}
+
 }  // namespace
 
 void writeTables(const Experiment& e, std::vector<RunResult> results, const fs::path& outDir) {
@@ -333,7 +408,7 @@ void writeTables(const Experiment& e, std::vector<RunResult> results, const fs::
     for (const auto& [k, v] : r.spec.params) runs << "," << csvField(v);
     runs << "," << r.spec.seed << "," << number(r.wallSeconds) << "," << csvField(r.error);
     std::map<std::string, double> m(r.metrics.begin(), r.metrics.end());
-    for (const auto& c : metricCols) runs << "," << (m.count(c) ? number(m[c]) : "");
+    for (const auto& c : metricCols) runs << "," << (m.count(c) && !std::isnan(m[c]) ? number(m[c]) : "");
     runs << "\n";
   }
   writeFileAtomically(outDir / "runs.csv", runs.str());
@@ -363,7 +438,7 @@ void writeTables(const Experiment& e, std::vector<RunResult> results, const fs::
       for (const auto* r : members) {
         if (r->status != RunStatus::Done) continue;
         for (const auto& [k, v] : r->metrics)
-          if (k == c) xs.push_back(v);
+          if (k == c && !std::isnan(v)) xs.push_back(v);
       }
       const Summary s = summarize(xs);
       if (s.n == 0) sum << ",,,";
@@ -373,6 +448,8 @@ void writeTables(const Experiment& e, std::vector<RunResult> results, const fs::
   }
   writeFileAtomically(outDir / "summary.csv", sum.str());
   writeFileAtomically(outDir / "paired.csv", pairedTable(e, results, metricCols));
+  if (const std::string h = hindsightTable(e, order, groups, metricCols); !h.empty())
+    writeFileAtomically(outDir / "hindsight.csv", h);
 }
 
 namespace {
@@ -382,12 +459,31 @@ std::string experimentRecord(const Experiment& e) {
   em << YAML::BeginMap;
   em << YAML::Key << "name" << YAML::Value << e.name;
   em << YAML::Key << "command" << YAML::Value << e.command;
-  em << YAML::Key << "base" << YAML::Value << e.base.string();
+  if (e.bases.empty()) {
+    em << YAML::Key << "base" << YAML::Value << e.base.string();
+  } else {
+    em << YAML::Key << "base" << YAML::Value << YAML::BeginMap;
+    for (const auto& b : e.bases) {
+      em << YAML::Key << b.name << YAML::Value;
+      if (b.fixed.empty()) {
+        em << b.file.string();
+        continue;
+      }
+      em << YAML::BeginMap << YAML::Key << "scenario" << YAML::Value << b.file.string() << YAML::Key << "fixed"
+         << YAML::Value << YAML::BeginMap;
+      for (const auto& [k, v] : b.fixed) em << YAML::Key << k << YAML::Value << YAML::Load(v);
+      em << YAML::EndMap << YAML::EndMap;
+    }
+    em << YAML::EndMap;
+  }
   em << YAML::Key << "seed_key" << YAML::Value << e.seedKey;
   em << YAML::Key << "seeds" << YAML::Value << YAML::Flow << e.seeds;
-  if (!e.sweep.empty()) {
+  // the bases' axis is base: itself
+  const bool onlyBases = e.sweep.size() == 1 && !e.bases.empty();
+  if (!e.sweep.empty() && !onlyBases) {
     em << YAML::Key << "sweep" << YAML::Value << YAML::BeginMap;
     for (const auto& a : e.sweep) {
+      if (!e.bases.empty() && a.key == kBaseAxis) continue;
       em << YAML::Key << a.key << YAML::Value << YAML::Flow << YAML::BeginSeq;
       for (const auto& v : a.values) em << YAML::Load(v);
       em << YAML::EndSeq;
@@ -460,7 +556,8 @@ std::vector<RunResult> mergeShards(const std::vector<fs::path>& dirs, const fs::
 }
 
 bool writePlots(const fs::path& outDir, std::string& why) {
-  const fs::path script = fs::path(STSIM_BATCH_PLOT_SCRIPT);
+  // installed: share/stsim/plots.py beside bin/stsim; a build in the tree: the source's copy
+  const fs::path script = io::dataFile("plots.py", STSIM_BATCH_PLOT_SCRIPT);
   if (!fs::exists("/usr/bin/python3")) {
     why = "/usr/bin/python3 not found (apt-get install python3-matplotlib)";
     return false;

@@ -183,7 +183,7 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
         if (shifted) {
           r.matchedSamples++;
           if (err <= r.tolerance) r.within++;
-          r.maxAbsError = std::max(r.maxAbsError, err);
+          r.maxAbsError = r.matchedSamples == 1 ? err : std::max(r.maxAbsError, err);
           sumErr += err;
         } else {
           r.matchedUnshifted++;
@@ -192,7 +192,7 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
       }
     }
   }
-  r.meanAbsError = r.matchedSamples == 0 ? 0.0 : sumErr / static_cast<double>(r.matchedSamples);
+  if (r.matchedSamples > 0) r.meanAbsError = sumErr / static_cast<double>(r.matchedSamples);
 
   // SSM's finite-TTC sample times (our clock) per unordered pair, for precision
   std::map<std::pair<std::string, std::string>, std::vector<double>> seen;
@@ -283,6 +283,18 @@ std::string toJson(const ValidationReport& r) {
     os << "]}";
   }
   os << "\n  ]\n}\n";
+  return os.str();
+}
+
+std::string summaryLine(const ValidationReport& r) {
+  auto figure = [](double x, int decimals, const char* none) { return std::isnan(x) ? std::string(none) : io::fixed(x, decimals); };
+  std::ostringstream os;
+  os << r.matchedSamples << " following samples, ";
+  if (r.matchedSamples == 0) os << "none matched by a box TTC;";
+  else os << io::fixed(100.0 * r.withinFraction(), 2) << " % within " << r.tolerance << " s of SSM's TTC;";
+  for (const auto& d : r.detectors)
+    os << " " << d.detector << " recall " << figure(d.recall(), 3, "n/a (no SSM conflict below the safe time)")
+       << " precision " << figure(d.precision(), 3, "n/a (no car-car warning)") << ";";
   return os.str();
 }
 

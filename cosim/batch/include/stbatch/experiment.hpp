@@ -21,9 +21,26 @@ struct SweepAxis {
   std::vector<std::string> values;  // YAML scalars, in the order given
 };
 
+// The sweep axis that a map of base scenarios makes: its values are the bases' names.
+inline constexpr const char* kBaseAxis = "base";
+
+// One of several bases: a name (its value in the tables), the scenario file and overrides for
+// this base's runs only (`base: {name: {scenario: FILE, fixed: {key: value}}}`), applied after
+// the experiment's `fixed`.
+struct NamedBase {
+  std::string name;
+  std::filesystem::path file;  // absolute
+  std::map<std::string, std::string> fixed;
+  bool operator==(const NamedBase&) const = default;
+};
+
 struct Experiment {
   std::filesystem::path file;       // the experiment file
-  std::filesystem::path base;       // base scenario (absolute)
+  std::filesystem::path base;       // base scenario (absolute); with several, the first
+  // `base:` as a map of name -> scenario file (networks with settings of their own in one
+  // experiment): the bases, in file order, and the first sweep axis is kBaseAxis over their names.
+  // Empty for a single base.
+  std::vector<NamedBase> bases;
   std::string command = "highway";  // the stsim subcommand each run executes
   std::string name;
   std::vector<SweepAxis> sweep;     // in file order; the cross product varies the last fastest
@@ -49,7 +66,10 @@ Experiment loadExperiment(const std::filesystem::path& file,
 
 std::vector<RunSpec> expandRuns(const Experiment& e);
 
-// The run's scenario: the base with the run's overrides applied, relative file references made
+// The base scenario a run starts from: its `base` value's file with several bases, else e.base.
+std::filesystem::path baseOf(const Experiment& e, const RunSpec& run);
+
+// The run's scenario: its base with the run's overrides applied, relative file references made
 // absolute (the run scenario is written elsewhere). Returned as YAML text.
 std::string runScenarioYaml(const Experiment& e, const RunSpec& run);
 

@@ -21,6 +21,7 @@
 #include <map>
 #include <memory>
 #include <span>
+#include <limits>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -61,8 +62,13 @@ struct DetectorValidation {
   std::uint64_t warnings = 0;        // this detector's car-car warnings (episodes) by equipped egos
   std::uint64_t confirmed = 0;       // ... with an SSM encounter of the pair overlapping in time
   std::array<std::uint64_t, highway::kZoneCount> unseenByZone{};  // the rest, by zone
-  double recall() const { return conflicts == 0 ? 1.0 : static_cast<double>(recalled) / static_cast<double>(conflicts); }
-  double precision() const { return warnings == 0 ? 1.0 : static_cast<double>(confirmed) / static_cast<double>(warnings); }
+  // The shares, NaN when there is nothing to count (no conflict to recall, no warning to
+  // confirm): a run without SSM conflicts has no recall, not a perfect one. JSON writes null.
+  double recall() const { return share(recalled, conflicts); }
+  double precision() const { return share(confirmed, warnings); }
+  static double share(std::uint64_t part, std::uint64_t whole) {
+    return whole == 0 ? std::numeric_limits<double>::quiet_NaN() : static_cast<double>(part) / static_cast<double>(whole);
+  }
 };
 
 struct ValidationReport {
@@ -72,16 +78,17 @@ struct ValidationReport {
   std::uint64_t matchedSamples = 0;     // ... where the box detector has a TTC too
   std::uint64_t within = 0;             // ... |box - ssm| <= tolerance
   double tolerance = 0.02;
-  double maxAbsError = 0.0;
-  double meanAbsError = 0.0;
+  double maxAbsError = std::numeric_limits<double>::quiet_NaN();   // s; NaN without a matched sample
+  double meanAbsError = std::numeric_limits<double>::quiet_NaN();
   // The same statistic without the time-stamp shift (for the record: shows why it is needed).
   std::uint64_t withinUnshifted = 0, matchedUnshifted = 0;
   std::vector<DetectorValidation> detectors;
-  double withinFraction() const {
-    return matchedSamples == 0 ? 0.0 : static_cast<double>(within) / static_cast<double>(matchedSamples);
-  }
+  double withinFraction() const { return DetectorValidation::share(within, matchedSamples); }  // NaN: none matched
 };
 std::string toJson(const ValidationReport& r);
+// The printed line: samples within tolerance and each detector's recall and precision, a figure
+// with nothing to count said as such ("recall n/a (no SSM conflict below the safe time)").
+std::string summaryLine(const ValidationReport& r);
 
 // Runs the three detectors side by side on the same states and keeps a compact record of every
 // vehicle's body per tick, to evaluate SSM's output after the run.
