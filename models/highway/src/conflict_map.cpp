@@ -4,6 +4,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <stio/data_file.hpp>
+
 namespace st::highway {
 
 namespace {
@@ -26,7 +28,8 @@ std::string lastLine(const std::filesystem::path& p) {
 }  // namespace
 
 bool writeConflictMap(const ConflictMapRequest& r, std::string& why) {
-  const std::filesystem::path script = STSIM_CONFLICT_MAP_SCRIPT;
+  // installed: share/stsim/conflict_map.py beside bin/stsim; a build in the tree: the source's copy
+  const std::filesystem::path script = io::dataFile("conflict_map.py", STSIM_CONFLICT_MAP_SCRIPT);
   if (!std::filesystem::exists("/usr/bin/python3")) {
     why = "/usr/bin/python3 not found (apt-get install python3-matplotlib)";
     return false;
