@@ -70,12 +70,16 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
   for (int i = 0; i < n; ++i)
     if (lanes_[i].count >= 2) starts[key(pt_[lanes_[i].first])].push_back(i);
   constexpr double kJoin = 0.1;  // m: a successor starts this close to the lane's end
+  constexpr double kTurn = 0.35;  // rad (20 degrees): a successor turning more is a turn
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   for (int a = 0; a < n; ++a) {
     const NetLane& la = lanes_[a];
     if (la.count < 2) continue;
     const Vec2 end = pt_[la.first + la.count - 1];
     const Vec2 endDir = (end - pt_[la.first + la.count - 2]).normalized();
-    double best = -2.0;
+    // each successor's turn: to the direction it leaves in (a junction lane's last segment; it
+    // starts along the lane it leaves), signed, to the left positive
+    double straight = kInf, left = kTurn, right = -kTurn;
     for (double dx : {-kJoin, kJoin})
       for (double dy : {-kJoin, kJoin}) {
         auto it = starts.find(key(end + Vec2(dx, dy)));
@@ -83,11 +87,13 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
         for (int b : it->second) {
           const NetLane& lb = lanes_[b];
           if (b == a || (pt_[lb.first] - end).norm() > kJoin) continue;
-          const double c = endDir.dot((pt_[lb.first + 1] - pt_[lb.first]).normalized());
-          if (c > best || (c == best && b < lanes_[a].next)) {
-            best = c;
-            lanes_[a].next = b;
-          }
+          const int k = lb.internal ? lb.count - 2 : 0;
+          const Vec2 out = (pt_[lb.first + k + 1] - pt_[lb.first + k]).normalized();
+          const double turn = std::atan2(cross2(endDir, out), endDir.dot(out));
+          NetLane& l = lanes_[a];
+          if (std::abs(turn) < straight || (std::abs(turn) == straight && b < l.next)) straight = std::abs(turn), l.next = b;
+          if (turn > left || (turn == left && b < l.nextLeft)) left = turn, l.nextLeft = b;
+          if (turn < right || (turn == right && b < l.nextRight)) right = turn, l.nextRight = b;
         }
       }
   }
@@ -290,7 +296,6 @@ bool LanePrediction::alongside(int slot) const {
 }
 
 void LanePrediction::update(double t) {
-  if (lanes_.empty()) return;
   VehicleTable& c = *cars_;
   const std::size_t n = c.body.size();
   if (frame_.size() < n) {
@@ -406,7 +411,9 @@ void LanePrediction::predict(int slot, double t) {
     const double segEnd = S + (pt_[cl.first + seg + 1] - q).norm();
     int nln = ln, nseg = seg + 1;
     if (nseg + 1 >= cl.count) {
-      nln = cl.next;
+      // a car signalling at the junction ahead turns that way (SUMO signals its turns), else straight on
+      const std::uint8_t sig = c.signals[slot];
+      nln = (sig & kSignalLeft) && cl.nextLeft >= 0 ? cl.nextLeft : (sig & kSignalRight) && cl.nextRight >= 0 ? cl.nextRight : cl.next;
       nseg = 0;
       if (nln < 0 || lanes_[nln].count < 2) {
         if (cl.drops && f.endLane < 0) {

@@ -3,7 +3,7 @@
 // the lane its centre is on (by position and heading; the lane is kept while the centre stays in
 // it), described in that lane's frame (arc position s, offset d to the left, lateral speed, yaw
 // relative to the lane) and predicted along the lane's centre line, continued into the
-// straightest successor lane, at its speed along the lane (with its acceleration under the
+// straightest successor lane (or the turn its signal shows: SUMO signals its turns), at its speed along the lane (with its acceleration under the
 // constant-acceleration model), keeping its offset, lateral speed and yaw relative to the lane.
 //
 // The prediction is a list of path pieces: between two vertices of the path the car moves in a
@@ -98,6 +98,7 @@ class LanePrediction {
     double width = 3.2, length = 0.0;
     int left = -1, right = -1;  // neighbours in its edge
     int next = -1;              // the straightest successor (-1: the lane ends)
+    int nextLeft = -1, nextRight = -1;  // the successors turning furthest left and right (by 20 degrees at least)
     bool drops = false;         // ends while another lane of its edge goes on (a lane drop)
     bool internal = false;
   };

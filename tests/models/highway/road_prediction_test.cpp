@@ -341,6 +341,77 @@ TEST(RoadPrediction, PrunesKeepEveryThreatOfTheUnprunedPathsAndPathsStayWithinTh
   EXPECT_GT(curved, 1000u);
 }
 
+TEST(RoadPrediction, ASignalledTurnIsPredictedOntoItsTurningLane) {
+  // a lane ends at a junction with two junction lanes: straight on, and a left turn (a quarter
+  // circle of 8 m); a car 10 m before it at 10 m/s: straight on without a signal, round the left
+  // turn with its left signal on
+  RoadGeometry road;
+  road.lanes.push_back(laneOf("in", 0, {Vec2(-100.0, 0.0), Vec2(0.0, 0.0)}));
+  Lane straight = laneOf(":j_0", 0, {Vec2(0.0, 0.0), Vec2(16.0, 0.0)});
+  straight.internal = true;
+  Lane left = laneOf(":j_1", 0, {});
+  left.internal = true;
+  for (int k = 0; k <= 9; ++k) {
+    const double th = 0.5 * kPi * k / 9.0;
+    left.shape.emplace_back(8.0 * std::sin(th), 8.0 - 8.0 * std::cos(th));
+  }
+  road.lanes.push_back(straight);
+  road.lanes.push_back(left);
+  road.lanes.push_back(laneOf("north", 0, {Vec2(8.0, 8.0), Vec2(8.0, 100.0)}));
+  road.lanes.push_back(laneOf("east", 0, {Vec2(16.0, 0.0), Vec2(100.0, 0.0)}));
+  for (std::uint8_t signal : {std::uint8_t{kSignalNone}, std::uint8_t{kSignalLeft}}) {
+    MonitorConfig cfg;
+    MonitorCounters counters;
+    VehicleTable cars(cfg, counters);
+    LanePrediction paths(road, cfg, cars, counters);
+    VehicleState v;
+    v.id = "car";
+    v.position = Vec2(-10.0, 0.0);
+    v.speed = 10.0;
+    v.signals = signal;
+    std::vector<VehicleState> tick = {v, v};
+    tick[1].id = "fast";  // a faster car sets a longer horizon for both
+    tick[1].position = Vec2(-80.0, 0.0);
+    tick[1].speed = 40.0;
+    cars.update(0.0, tick);
+    paths.update(0.0);
+    const int e = cars.active[0];
+    const Body at = LanePrediction::bodyAt(paths.path(e), cars.body[e], 0.0, false, 3.0);  // 30 m on
+    if (signal == kSignalLeft) {
+      EXPECT_NEAR(at.position.x(), 8.0, 1e-6);  // on the north lane, 30 - 10 - 4 pi = 7.4 m up it
+      EXPECT_NEAR(at.position.y(), 8.0 + 20.0 - 4.0 * kPi, 0.05);  // the polyline's arc is a little shorter
+      EXPECT_NEAR(at.axis.y(), 1.0, 1e-9);
+    } else {
+      EXPECT_NEAR(at.position.x(), 20.0, 1e-9);
+      EXPECT_NEAR(at.position.y(), 0.0, 1e-12);
+    }
+  }
+}
+
+TEST(RoadPrediction, WithoutANetworkEveryCarGoesStraight) {
+  // no lanes: the road prediction is the straight line, every update a fallback; the same TTC
+  std::vector<VehicleState> cars(2);
+  cars[0].id = "follower";
+  cars[0].speed = 30.0;
+  cars[1].id = "leader";
+  cars[1].position = Vec2(20.0, 0.0);
+  cars[1].speed = 20.0;
+  double ttc[2];
+  for (Prediction p : {Prediction::Road, Prediction::Straight}) {
+    MonitorConfig cfg;
+    cfg.prediction = p;
+    cfg.detector.kind = DetectorKind::Box;
+    HighwayMonitor m(RoadGeometry{}, cfg);
+    m.step(0.0, cars);
+    const auto open = m.openWarnings();
+    ASSERT_FALSE(open.empty());
+    ttc[static_cast<int>(p)] = open[0].minTtc;
+    if (p == Prediction::Road) EXPECT_EQ(m.counters().straightFallbacks, 2u);
+  }
+  EXPECT_EQ(ttc[0], ttc[1]);
+  EXPECT_NEAR(ttc[0], 1.5, 1e-9);
+}
+
 }  // namespace
 }  // namespace detail
 }  // namespace st::highway
