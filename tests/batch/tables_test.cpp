@@ -118,7 +118,8 @@ TEST(BatchTables, PairedSpreadIsTheDifferencesSpread) {
 // keep the column with an empty cell (not 0, not 1), and hindsight.csv pools each combination's
 // counts, by hand: detector five, seeds 1 and 2: vehicle 3/4 and 1/6 confirmed -> 4/10, curb 0
 // judged in both -> empty; near misses 2 of 2 and none -> 2/2 = 1, lead medians 0.8 and none ->
-// 0.8. Detector box, seed 1 done and seed 2 failed: vehicle 0 of 0, no near miss -> all empty.
+// 0.8; crossings 3 of 4 (lead median 0.6) and 0 of 2 (null) -> 3/6 = 0.5, 0.6. Detector box, seed
+// 1 done and seed 2 failed: vehicle 0 of 0, no near miss, no crossing -> all empty.
 TEST(BatchTables, HindsightNullsStayEmptyAndSharesArePooledOverSeeds) {
   const fs::path dir = fs::temp_directory_path() / ("stsim_tables_hindsight_" + std::to_string(::getpid()));
   fs::remove_all(dir);
@@ -152,7 +153,12 @@ TEST(BatchTables, HindsightNullsStayEmptyAndSharesArePooledOverSeeds) {
           << ", \"precision\": " << share(f.vConfirmed, f.vJudged) << "}, "
           << "\"curb\": {\"judged\": 0, \"confirmed\": 0, \"precision\": null}},\n"
           << " \"near_misses\": {\"events\": " << f.events << ", \"warned\": " << f.warned
-          << ", \"recall\": " << share(f.warned, f.events) << ", \"lead_s\": " << lead << "}}}\n";
+          << ", \"recall\": " << share(f.warned, f.events) << ", \"lead_s\": " << lead << "},\n"
+          << " \"crossings\": "
+          << (i == 0   ? "{\"events\": 4, \"warned\": 3, \"recall\": 0.75, \"lead_s\": {\"min\": 0.5, \"median\": 0.6, \"p90\": 0.9}}"
+              : i == 1 ? "{\"events\": 2, \"warned\": 0, \"recall\": 0, \"lead_s\": null}"
+                       : "{\"events\": 0, \"warned\": 0, \"recall\": null, \"lead_s\": null}")
+          << "}}\n";
     }
     results.push_back(loadRunResult(dir, specs[i]));
     ASSERT_EQ(results.back().status, failed ? RunStatus::Failed : RunStatus::Done) << results.back().error;
@@ -205,12 +211,19 @@ TEST(BatchTables, HindsightNullsStayEmptyAndSharesArePooledOverSeeds) {
   EXPECT_EQ(h[1][column(h, "near_misses")], "2");
   EXPECT_EQ(h[1][column(h, "near_miss_recall")], "1");
   EXPECT_EQ(h[1][column(h, "near_miss_lead_median_s")], "0.8");
+  EXPECT_EQ(h[1][column(h, "crossings")], "6");
+  EXPECT_EQ(h[1][column(h, "crossings_warned")], "3");
+  EXPECT_EQ(h[1][column(h, "crossing_recall")], "0.5");
+  EXPECT_EQ(h[1][column(h, "crossing_lead_median_s")], "0.6");
   EXPECT_EQ(h[2][0], "box");
   EXPECT_EQ(h[2][column(h, "runs")], "1");
   EXPECT_EQ(h[2][column(h, "vehicle.confirmed_share")], "");
   EXPECT_EQ(h[2][column(h, "near_misses")], "0");
   EXPECT_EQ(h[2][column(h, "near_miss_recall")], "");
   EXPECT_EQ(h[2][column(h, "near_miss_lead_median_s")], "");
+  EXPECT_EQ(h[2][column(h, "crossings")], "0");
+  EXPECT_EQ(h[2][column(h, "crossing_recall")], "");
+  EXPECT_EQ(h[2][column(h, "crossing_lead_median_s")], "");
   fs::remove_all(dir);
 }
 

@@ -106,12 +106,13 @@ fs::path runDir(const fs::path& outDir, const RunSpec& r) { return outDir / "run
 // summary.json writes hindsight's near-miss lead times as null when none was warned: that null
 // stands for the distribution's three figures, so their columns are there, empty
 void nullLeadTimes(std::vector<std::pair<std::string, double>>& metrics) {
-  const std::string lead = "hindsight.near_misses.lead_s";
-  const auto at = std::find_if(metrics.begin(), metrics.end(), [&](const auto& m) { return m.first == lead; });
-  if (at == metrics.end() || !std::isnan(at->second)) return;
-  const double none = at->second;
-  const auto next = metrics.erase(at);
-  metrics.insert(next, {{lead + ".min", none}, {lead + ".median", none}, {lead + ".p90", none}});
+  for (const std::string lead : {"hindsight.near_misses.lead_s", "hindsight.crossings.lead_s"}) {
+    const auto at = std::find_if(metrics.begin(), metrics.end(), [&](const auto& m) { return m.first == lead; });
+    if (at == metrics.end() || !std::isnan(at->second)) continue;
+    const double none = at->second;
+    const auto next = metrics.erase(at);
+    metrics.insert(next, {{lead + ".min", none}, {lead + ".median", none}, {lead + ".p90", none}});
+  }
 }
 
 }  // namespace
@@ -349,18 +350,27 @@ std::string hindsightTable(const Experiment& e, const std::vector<std::vector<st
   for (const auto& k : kinds) t << "," << csvField(k + ".per_vehicle_km");
   for (const auto& k : kinds)
     t << "," << csvField(k + ".judged") << "," << csvField(k + ".confirmed") << "," << csvField(k + ".confirmed_share");
-  t << ",near_misses,near_misses_warned,near_miss_recall,near_miss_lead_median_s\n";
+  // the actual events: near misses, and unsignalled line crossings
+  struct Events {
+    const char *metric, *column, *share;
+  };
+  const Events events[] = {{"near_misses", "near_misses", "near_miss"}, {"crossings", "crossings", "crossing"}};
+  for (const Events& ev : events)
+    t << "," << ev.column << "," << ev.column << "_warned," << ev.share << "_recall," << ev.share << "_lead_median_s";
+  t << "\n";
   for (const auto& key : order) {
     std::map<std::string, double> total;  // sums over the done runs
-    std::vector<double> leads;            // each run's median lead time (runs with a warned near miss)
+    std::map<std::string, std::vector<double>> leads;  // per event kind, each run's median lead time
     int done = 0;
     for (const RunResult* r : groups.at(key)) {
       if (r->status != RunStatus::Done) continue;
       ++done;
       for (const auto& [k, v] : r->metrics) {
         if (std::isnan(v)) continue;
-        if (k == "hindsight.near_misses.lead_s.median") leads.push_back(v);
-        else total[k] += v;
+        bool lead = false;
+        for (const Events& ev : events)
+          if (k == std::string("hindsight.") + ev.metric + ".lead_s.median") leads[ev.metric].push_back(v), lead = true;
+        if (!lead) total[k] += v;
       }
     }
     for (const auto& v : key) t << csvField(v) << ",";
@@ -371,12 +381,16 @@ std::string hindsightTable(const Experiment& e, const std::vector<std::vector<st
       const double judged = total[byKind + k + ".judged"], confirmed = total[byKind + k + ".confirmed"];
       t << "," << (done ? number(judged) : "") << "," << (done ? number(confirmed) : "") << "," << cell(confirmed, judged);
     }
-    const double events = total["hindsight.near_misses.events"], warned = total["hindsight.near_misses.warned"];
-    t << "," << (done ? number(events) : "") << "," << (done ? number(warned) : "") << "," << cell(warned, events) << ",";
-    if (!leads.empty()) {
-      std::sort(leads.begin(), leads.end());
-      const std::size_t n = leads.size();
-      t << number(n % 2 ? leads[n / 2] : 0.5 * (leads[n / 2 - 1] + leads[n / 2]));
+    for (const Events& ev : events) {
+      const std::string at = std::string("hindsight.") + ev.metric;
+      const double count = total[at + ".events"], warned = total[at + ".warned"];
+      t << "," << (done ? number(count) : "") << "," << (done ? number(warned) : "") << "," << cell(warned, count) << ",";
+      std::vector<double>& l = leads[ev.metric];
+      if (!l.empty()) {
+        std::sort(l.begin(), l.end());
+        const std::size_t n = l.size();
+        t << number(n % 2 ? l[n / 2] : 0.5 * (l[n / 2 - 1] + l[n / 2]));
+      }
     }
     t << "\n";
   }
