@@ -380,12 +380,18 @@ void LanePrediction::predict(int slot, double t) {
   ++counters_->roadPredicted;
   straight_[slot] = 0;
   const NetLane& l = lanes_[lane];
+  // a body in a junction (on a junction lane, or half on the lane it leaves) has an offset that
+  // moves with the lanes' geometry (SUMO places it on the chord between its front and its rear),
+  // not with the car: no lateral motion is predicted, and on the lanes after this one it is
+  // predicted on their centre lines
+  const bool straddles = l.internal || !alongside(slot);
+  if (straddles) lateral = 0.0;
 
   // the path: from the centre's foot on the centre line along the lanes, far enough for the horizon
   const Vec2 n0 = leftNormal(pr.dir);
   const Vec2 foot = pt_[l.first + pr.seg] + (pr.s - cum_[l.first + pr.seg]) * pr.dir;
   const Vec2 off = b.position - foot - pr.d * n0;  // zero up to rounding: the path starts at the centre
-  const double yawCos = b.axis.dot(pr.dir), yawSin = cross2(pr.dir, b.axis);
+  bool turns = false;  // some piece's heading is not the body's
   const double need = driven(u, acc, h) + 1.0;
   double dev = 0.0;
   // at a piece's ends: from the straight line, less what the acceleration may add (the prunes
@@ -403,8 +409,12 @@ void LanePrediction::predict(int slot, double t) {
     const Vec2 nk = leftNormal(dir);
     const double uk = std::max(0.0, u + acc * tk);
     const bool first = pieces_.size() == static_cast<std::size_t>(pieceBegin_[slot]);
-    const Vec2 pk = first ? b.position : Vec2(off + q + (f.d + lateral * tk) * nk);
-    const Vec2 axis = first ? b.axis : Vec2(yawCos * dir + yawSin * nk);
+    const double dk = straddles && ln != lane ? 0.0 : f.d + lateral * tk;
+    const Vec2 pk = first ? b.position : Vec2(off + q + dk * nk);
+    // the body as it is now, then square to its lane from the next vertex on: it follows the lane
+    // (a yaw against the lane's segment is mostly SUMO's front-to-rear chord across a joint)
+    const Vec2 axis = first ? b.axis : dir;
+    turns = turns || axis != b.axis;
     pieces_.push_back({tk, pk, dir, nk, axis, uk, lateral});
     deviation(pk, tk);
     // this piece ends at the segment's end, if the path goes on
@@ -440,7 +450,10 @@ void LanePrediction::predict(int slot, double t) {
   pieceEnd_[slot] = static_cast<int>(pieces_.size());
   // the straight prunes hold with the envelopes grown by the deviation (and a rounding margin)
   const double grow = dev * (1.0 + 1e-9) + tol::kPruneSlop;
-  c.ext[slot] = c.ownExt[slot] + Vec2::Constant(grow);
+  // a body that turns on its path has other world extents: every shape lies within its envelope
+  // radius of the centre, whatever the heading
+  const Vec2 own = turns ? Vec2(c.ownExt[slot].cwiseMax(Vec2::Constant(c.ownEnv[slot]))) : c.ownExt[slot];
+  c.ext[slot] = own + Vec2::Constant(grow);
   c.env[slot] = c.ownEnv[slot] + grow;
   c.pairState[slot].ext = c.ext[slot];
   c.pairState[slot].env = c.env[slot];

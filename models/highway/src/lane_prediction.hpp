@@ -4,12 +4,14 @@
 // it), described in that lane's frame (arc position s, offset d to the left, lateral speed, yaw
 // relative to the lane) and predicted along the lane's centre line, continued into the
 // straightest successor lane (or the turn its signal shows: SUMO signals its turns), at its speed along the lane (with its acceleration under the
-// constant-acceleration model), keeping its offset, lateral speed and yaw relative to the lane.
+// constant-acceleration model), keeping its offset and lateral speed relative to the lane, its body
+// square to the lane from the next vertex on.
 //
 // The prediction is a list of path pieces: between two vertices of the path the car moves in a
 // straight line with a fixed heading, so the detectors' straight kernels apply piece by piece.
 // The pair searches prune with straight motion (p + v t); every car's deviation from it over the
-// longest horizon any pair can ask of it is added to its envelope (extent and radius), which
+// longest horizon any pair can ask of it is added to its envelope (extent and radius; the extent
+// of a body that turns on its path is first widened to its envelope radius), which
 // keeps every prune exact: a path is never longer than the straight reach (|p(t) - p(0)| is at
 // most the arc length driven, the distance the straight line covers at the same speed), and its
 // sideways departure from the straight line is exactly that deviation, bounded at the pieces' ends

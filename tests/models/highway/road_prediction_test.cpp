@@ -307,6 +307,10 @@ TEST(RoadPrediction, PrunesKeepEveryThreatOfTheUnprunedPathsAndPathsStayWithinTh
           const Body at = LanePrediction::bodyAt(path, b, b.acceleration, accel, t);
           const double allowed = dev + (accel ? 0.5 * std::abs(b.acceleration) * t * t : 0.0) + 1e-9;
           ASSERT_LE((at.position - b.position - b.velocity * t).norm(), allowed) << "scene " << scene << " t " << t;
+          // and its shapes within the extents the prunes read, at every heading on the path
+          const Vec2 ext = envelopeExtent(cfg.detector, at);
+          ASSERT_LE(ext.x(), cars.ext[e].x() - dev + 1e-9) << "scene " << scene << " t " << t;
+          ASSERT_LE(ext.y(), cars.ext[e].y() - dev + 1e-9) << "scene " << scene << " t " << t;
         }
         if (!cars.equipped[e]) continue;
         std::vector<Threat> want;

@@ -32,8 +32,8 @@ bool parseBroadphase(const std::string& text, Broadphase& out);  // "cells", "al
 // How a car's motion is predicted (its shape and speed model are the detector's, DetectorConfig):
 //   Road      along its road: the centre line of the lane it is on (matched by position and
 //             heading), continued into the straightest successor lane (the turn its signal shows
-//             at a junction), keeping its offset and
-//             lateral speed relative to the lane; curbs and lane markers by time to line crossing
+//             at a junction), keeping its offset and lateral speed relative to the lane, its
+//             body square to the lane from the next vertex on; curbs and lane markers by time to line crossing
 //             in the lane frame (lateral distance over lateral speed, as lane-departure warning
 //             systems do, ISO 17361). A car on no lane falls back to Straight.
 //   Straight  the report's model: a straight line at its heading (headings held fixed), against
