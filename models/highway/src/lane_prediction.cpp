@@ -6,6 +6,7 @@
 
 #include "car_shape.hpp"
 
+#include <stcore/toi.hpp>
 #include <sthighway/tolerances.hpp>
 
 namespace st::highway::detail {
@@ -141,6 +142,31 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
   for (std::size_t c = 0; c < cells.size(); ++c) cellStart_[c + 1] = cellStart_[c] + static_cast<int>(cells[c].size());
   cellLanes_.reserve(cellStart_.back());
   for (const auto& c : cells) cellLanes_.insert(cellLanes_.end(), c.begin(), c.end());
+  // crowded segments: another lane's area overlaps this one's (a junction, a diverge, lanes that
+  // meet end to start). Elsewhere lanes lie side by side at their half widths' sum, so no other
+  // lane can be nearer a centre inside this lane by kSwitch: a car there keeps it unsearched.
+  auto segDistance = [&](const Vec2& a0, const Vec2& a1, const Vec2& b0, const Vec2& b1) {
+    const Vec2 da = a1 - a0, db = b1 - b0, w = b0 - a0;
+    const double den = cross2(da, db);
+    if (den != 0.0) {
+      const double s = cross2(w, db) / den, u = cross2(w, da) / den;
+      if (s >= 0.0 && s <= 1.0 && u >= 0.0 && u <= 1.0) return 0.0;
+    }
+    const Segment A{a0, a1}, B{b0, b1};
+    return std::min({(closestPointOnSegment(B, a0) - a0).norm(), (closestPointOnSegment(B, a1) - a1).norm(),
+                     (closestPointOnSegment(A, b0) - b0).norm(), (closestPointOnSegment(A, b1) - b1).norm()});
+  };
+  crowded_.assign(pt_.size(), 0);
+  for (std::size_t c = 0; c + 1 < cellStart_.size(); ++c)
+    for (int i = cellStart_[c]; i < cellStart_[c + 1]; i += 2)
+      for (int j = i + 2; j < cellStart_[c + 1]; j += 2) {
+        const int la = cellLanes_[i], ka = cellLanes_[i + 1], lb = cellLanes_[j], kb = cellLanes_[j + 1];
+        if (la == lb) continue;
+        const int pa = lanes_[la].first + ka, pb = lanes_[lb].first + kb;
+        if (crowded_[pa] && crowded_[pb]) continue;
+        const double apart = 0.5 * (lanes_[la].width + lanes_[lb].width) - 0.01;
+        if (segDistance(pt_[pa], pt_[pa + 1], pt_[pb], pt_[pb + 1]) < apart) crowded_[pa] = crowded_[pb] = 1;
+      }
 }
 
 // The projection of p on a lane's centre line, walking from segment seg: forward while p lies
@@ -202,7 +228,8 @@ int LanePrediction::match(int slot, const Vec2& p, const Vec2& axis, Projection&
     keep = project(f.lane, p, f.seg);
     if (keep.s <= lanes_[f.lane].length && fits(f.lane, keep, axis, kKeep)) {
       kept = f.lane;
-      if (std::abs(keep.d) <= kCentred) {
+      if (std::abs(keep.d) <= kCentred ||
+          (std::abs(keep.d) <= halfWidth(f.lane) && !crowded_[lanes_[f.lane].first + keep.seg])) {
         out = keep;
         return kept;
       }
@@ -283,10 +310,7 @@ Ttc LanePrediction::vehicleTtc(int e, int f, double horizon) const {
 
 double LanePrediction::beyondLine(int slot, int side, bool shape) const {
   const LaneFrame& f = frame_[slot];
-  Body square = cars_->body[slot];
-  square.axis = f.dir;
-  const double half = shape ? roadSupport(cfg_->detector, square, leftNormal(f.dir)) : 0.5 * square.width;
-  return (side == 1 ? f.d : -f.d) + half - halfWidth(f.lane);
+  return (side == 1 ? f.d : -f.d) + (shape ? f.halfShape : f.halfBody) - halfWidth(f.lane);
 }
 
 bool LanePrediction::alongside(int slot) const {
@@ -363,6 +387,11 @@ void LanePrediction::predict(int slot, double t) {
     f.dir = pr.dir;
     f.speed = u;
     f.lateral = lateral;
+    // the half widths beyondLine reads: the body's, and the detector's road shape square to the lane
+    Body square = b;
+    square.axis = pr.dir;
+    f.halfBody = 0.5 * b.width;
+    f.halfShape = roadSupport(cfg_->detector, square, leftNormal(pr.dir));
   }
   prevLane_[slot] = f.lane;
   prevD_[slot] = f.d;

@@ -48,6 +48,7 @@ struct LaneFrame {
   double lateral = 0.0;  // lateral speed (m/s, to the left), from d tick to tick in a common frame
   double speed = 0.0;    // along the lane (m/s)
   Vec2 dir = Vec2(1.0, 0.0);  // the lane's direction at s
+  double halfBody = 0.0, halfShape = 0.0;  // half widths across the lane (beyondLine)
   double endGap = std::numeric_limits<double>::infinity();  // arc from the centre to the end of a dropped lane ahead
   int endLane = -1;      // that lane
 };
@@ -127,6 +128,7 @@ class LanePrediction {
   int nx_ = 1, ny_ = 1;
   std::vector<int> cellStart_;
   std::vector<int> cellLanes_;
+  std::vector<char> crowded_;  // per segment (by its first point): another lane's area overlaps it
 
   std::vector<LaneFrame> frame_;
   std::vector<double> prevD_, prevT_, horizon_;
