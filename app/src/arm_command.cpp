@@ -16,6 +16,8 @@
 #include <stsim/cli.hpp>
 #include <stsim/commands.hpp>
 
+#include "stop_signals.hpp"
+
 namespace st::cli {
 
 namespace {
@@ -42,8 +44,9 @@ void writeSummary(const fs::path& file, const std::string& scenario, const arm::
   const arm::MonitorCounters& c = m.counters();
   std::ostringstream j;
   j << "{\n  \"scenario\": " << io::jsonString(scenario) << ",\n";
-  j << "  \"status\": " << io::jsonString(error.empty() ? "ok" : "error") << ",\n";
+  j << "  \"status\": " << io::jsonString(!error.empty() ? "error" : st.interrupted ? "interrupted" : "ok") << ",\n";
   if (!error.empty()) j << "  \"error\": " << io::jsonString(error) << ",\n";
+  if (st.interrupted) j << "  \"stopped_at_s\": " << num(m.time()) << ",\n";
   j << "  \"loop\": " << io::jsonString(closedLoop ? "closed" : "open") << ",\n";
   j << "  \"min_distance_m\": " << num(watch.minDistance) << ",\n  \"first_contact_s\": " << num(watch.firstContact)
     << ",\n";
@@ -293,6 +296,8 @@ int runArm(int argc, const char* const* argv) {
   csv << "t_s,arm,link,capsule,other,distance_m,ttc_s,reason,stop\n";
   arm::RunStats stats;
   const std::string bpName = sc.broad.kind == SpaceKind::None ? "none" : toString(sc.broad.kind);
+  // Ctrl-C, SIGTERM, SIGHUP: the run stops after a whole cycle and writes what it has
+  StopSignals stopSignals;
   try {
     arm::run(monitor, sensor, stats, [&](const arm::Monitor& m) {
       if (drive) drive->observe(m, m.time());
@@ -303,7 +308,7 @@ int runArm(int argc, const char* const* argv) {
             << (w.outcome == arm::Approach::Touching ? "separation" : "ttc") << ',' << (w.stop ? "STOP" : "") << '\n';
       }
       if (!m.warnings().empty()) csv.flush();
-    });
+    }, StopSignals::requested);
   } catch (const std::exception& e) {
     // results so far stay on disk
     csv.flush();
@@ -319,6 +324,13 @@ int runArm(int argc, const char* const* argv) {
             << ", min distance " << num(watch.minDistance) << " m, latency p50 "
             << num(arm::percentile(stats.latencyUs, 50)) << " us p99 " << num(arm::percentile(stats.latencyUs, 99))
             << " us -> " << (out / "summary.json").string() << "\n";
+  if (const int sig = StopSignals::signal()) {
+    std::cout.flush();
+    std::cerr << "stsim arm: " << StopSignals::name(sig) << ": "
+              << (stats.interrupted ? "interrupted at t = " + num(monitor.time()) + " s" : std::string("at the end"))
+              << "; results so far written\n";
+    return 128 + sig;
+  }
   return 0;
 }
 

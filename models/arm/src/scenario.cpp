@@ -415,14 +415,20 @@ std::unique_ptr<SensorSource> makeSensor(const Scenario& s) {
 
 Monitor makeMonitor(const Scenario& s) { return Monitor(s.arms, s.obstacles, s.safety, s.broad); }
 
-void run(Monitor& m, SensorSource& src, RunStats& stats, const std::function<void(const Monitor&)>& onCycle) {
+void run(Monitor& m, SensorSource& src, RunStats& stats, const std::function<void(const Monitor&)>& onCycle,
+         const std::function<bool()>& stopRequested) {
   using Clock = std::chrono::steady_clock;
   stats.firstStop.assign(m.armCount(), std::numeric_limits<double>::quiet_NaN());
+  stats.interrupted = false;
   Reading r;
   bool have = src.next(r);
   double last = -std::numeric_limits<double>::infinity();
   std::vector<Reading> batch;
   while (have) {
+    if (stopRequested && stopRequested()) {
+      stats.interrupted = true;
+      return;
+    }
     // one cycle: every reading stamped with the same time
     const double t = r.t;
     if (t < last) throw InputError(r.where + ": time " + std::to_string(t) + " s goes backwards");

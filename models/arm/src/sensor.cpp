@@ -1,5 +1,6 @@
 #include <starm/sensor.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -21,10 +22,16 @@ std::string fmt(double x) {
   return o.str();
 }
 
+// Equal values, NaN equal to NaN (a repeated line is repeated; the reading's check names the NaN).
+bool same(const std::vector<double>& a, const std::vector<double>& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(),
+                    [](double x, double y) { return x == y || (std::isnan(x) && std::isnan(y)); });
+}
+
 }  // namespace
 
 CsvSensor::CsvSensor(const std::string& path, std::vector<std::string> armNames, std::vector<int> dofs)
-    : in_(path), path_(path), names_(std::move(armNames)), dofs_(std::move(dofs)) {
+    : in_(path), path_(path), names_(std::move(armNames)), dofs_(std::move(dofs)), last_(names_.size()) {
   if (!in_) throw InputError(path + ": cannot open the sensor trace");
 }
 
@@ -64,6 +71,17 @@ bool CsvSensor::next(Reading& r) {
       r.q[k] = number(2 + k, "joint angle");
       r.qdot[k] = number(2 + n + k, "joint rate");
     }
+    Last& last = last_[r.arm];
+    if (last.seen && last.t == r.t) {
+      if (same(last.q, r.q) && same(last.qdot, r.qdot)) continue;  // a repeated line: nothing new
+      throw InputError(where + ": arm '" + cells[1] + "' at t = " + cells[0] + " s differs from its reading at line " +
+                       std::to_string(last.line) + " (one arm, one time, one state)");
+    }
+    last.seen = true;
+    last.t = r.t;
+    last.q = r.q;
+    last.qdot = r.qdot;
+    last.line = line_;
     r.where = where;
     return true;
   }

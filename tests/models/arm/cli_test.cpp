@@ -2,13 +2,16 @@
 // YAML key, a non-zero exit, and the warnings so far on disk.
 #include <gtest/gtest.h>
 
+#include <signal.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include <starm/scenario.hpp>
 
@@ -164,6 +167,77 @@ TEST(ArmCli, MissingScenarioIsAUsageErrorOrError) {
   EXPECT_EQ(stsim("--frobnicate x.yaml", d).code, 2);
   EXPECT_EQ(stsim((d / "nope.yaml").string(), d).code, 1);
   fs::remove_all(d);
+}
+
+
+TEST(ArmCli, ConflictingReadingsNameBothTraceLines) {
+  const fs::path d = tempDir("conflict");
+  int badLine = 0, cycles = 0;
+  const fs::path y = badTrace(d, "# the last time again", badLine, cycles);
+  // the last reading (right at the last time) again, once as it is (read once) and once with
+  // its last rate changed: the arm's state at that time is unknown
+  std::string trace = slurp(d / "trace.csv");
+  const std::size_t end = trace.rfind('\n', trace.rfind("# the last") - 1);
+  const std::size_t begin = trace.rfind('\n', end - 1) + 1;
+  const std::string last = trace.substr(begin, end - begin);
+  std::string other = last.substr(0, last.rfind(',') + 1) + (last.substr(last.rfind(',') + 1) == "0" ? "0.01" : "0");
+  std::ofstream(d / "trace.csv", std::ios::app) << last << "\n" << other << "\n";
+  const Result r = stsim(y.string() + " --out " + (d / "out").string(), d);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("trace.csv:" + std::to_string(badLine + 2) + ": arm 'right' at t = "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("differs from its reading at line " + std::to_string(badLine - 1)), std::string::npos) << r.err;
+  // every cycle ran, the last with the first of the two readings (a bad next reading lets its
+  // cycle finish, then stops the run)
+  const std::string summary = slurp(d / "out" / "summary.json");
+  EXPECT_NE(summary.find("\"status\": \"error\""), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"cycles\": " + std::to_string(cycles) + ","), std::string::npos) << summary;
+  fs::remove_all(d);
+}
+
+// Runs `stsim arm` on a long scenario, signals it once it writes warnings, returns its exit code.
+int signalLongRun(int sig, const fs::path& d) {
+  std::string yaml = slurp(scenario("two_pandas"));
+  yaml.replace(yaml.find("duration: 3.0"), 13, "duration: 2000");
+  std::ofstream(d / "long.yaml") << yaml;
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const std::string out = (d / "out").string(), err = (d / "stderr").string(), y = (d / "long.yaml").string();
+    std::freopen(err.c_str(), "w", stderr);
+    std::freopen((d / "stdout").c_str(), "w", stdout);
+    ::execl(STSIM_BINARY, STSIM_BINARY, "arm", y.c_str(), "--out", out.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // the handler is in place once the run writes warnings (they come after 1 s of simulated time)
+  for (int i = 0; i < 3000 && lines(slurp(d / "out" / "warnings.csv")) < 2; ++i) ::usleep(10000);
+  EXPECT_GE(lines(slurp(d / "out" / "warnings.csv")), 2) << "no warnings within 30 s";
+  ::kill(pid, sig);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1000 + WTERMSIG(status);
+}
+
+// Ctrl-C (and SIGTERM, SIGHUP) stop at a whole cycle: whole rows, a summary, 128 + signal
+// (issue 21: arm died on Ctrl-C with no summary)
+TEST(ArmCli, SignalsStopAtAWholeCycleWithASummary) {
+  for (const auto& [sig, code] : {std::pair{SIGINT, 130}, std::pair{SIGTERM, 143}, std::pair{SIGHUP, 129}}) {
+    const fs::path d = tempDir("signal" + std::to_string(sig));
+    EXPECT_EQ(signalLongRun(sig, d), code);
+    const std::string err = slurp(d / "stderr");
+    EXPECT_NE(err.find("interrupted at t = "), std::string::npos) << err;
+    EXPECT_NE(err.find("results so far written"), std::string::npos) << err;
+    const std::string summary = slurp(d / "out" / "summary.json");
+    EXPECT_NE(summary.find("\"status\": \"interrupted\""), std::string::npos) << summary;
+    EXPECT_NE(summary.find("\"stopped_at_s\": "), std::string::npos) << summary;
+    EXPECT_EQ(summary.find("\"cycles\": 2000001"), std::string::npos) << "ran to the end: " << summary;
+    // every row whole: nine fields and a newline
+    const std::string csv = slurp(d / "out" / "warnings.csv");
+    ASSERT_FALSE(csv.empty());
+    EXPECT_EQ(csv.back(), '\n');
+    std::istringstream in(csv);
+    for (std::string row; std::getline(in, row);) EXPECT_EQ(std::count(row.begin(), row.end(), ','), 8) << row;
+    fs::remove_all(d);
+  }
 }
 
 }  // namespace

@@ -206,5 +206,46 @@ TEST(Scenario, TimeGoingBackwardsNamesTheTraceLine) {
   fs::remove(csv);
 }
 
+
+// One arm, one time, one state (issue 21: two conflicting readings were taken silently, the later
+// winning): a second line that differs names both lines; the same line repeated is read once.
+TEST(Scenario, ConflictingReadingsOfOneArmAtOneTimeNameBothLines) {
+  const fs::path csv =
+      write("conflict.csv", "t,arm,q1,qd1\n0.0,a,0.1,0\n0.0,a,0.1,0\n0.001,a,0.1,0\n# c\n0.001,a,0.2,0\n");
+  CsvSensor src(csv.string(), {"a"}, {1});
+  Reading r;
+  ASSERT_TRUE(src.next(r));
+  EXPECT_EQ(r.where, csv.string() + ":2");
+  ASSERT_TRUE(src.next(r));  // line 3 repeats line 2: skipped
+  EXPECT_EQ(r.where, csv.string() + ":4");
+  try {
+    src.next(r);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              csv.string() + ":6: arm 'a' at t = 0.001 s differs from its reading at line 4 (one arm, one time, one state)");
+  }
+  fs::remove(csv);
+}
+
+// The run asks stopRequested before each cycle and stops at a whole cycle (Ctrl-C in stsim arm).
+TEST(Scenario, RunStopsAtAWholeCycleWhenAsked) {
+  const Scenario s = loadScenario(std::string(STSIM_SOURCE_DIR) + "/models/arm/scenarios/two_pandas.yaml");
+  Monitor m = makeMonitor(s);
+  auto src = makeSensor(s);
+  RunStats st;
+  int seen = 0;
+  run(m, *src, st, [&](const Monitor&) { ++seen; }, [&] { return seen == 10; });
+  EXPECT_TRUE(st.interrupted);
+  EXPECT_EQ(st.cycles, 10u);
+  EXPECT_DOUBLE_EQ(m.time(), 0.009);
+  Monitor m2 = makeMonitor(s);
+  auto src2 = makeSensor(s);
+  RunStats all;
+  run(m2, *src2, all, [](const Monitor&) {}, [] { return false; });
+  EXPECT_FALSE(all.interrupted);
+  EXPECT_EQ(all.cycles, 3001u);
+}
+
 }  // namespace
 }  // namespace st::arm

@@ -51,11 +51,14 @@ struct RunStats {
   std::uint64_t cycles = 0;
   std::vector<double> latencyUs;  // per cycle: readings applied + detection
   std::vector<double> firstStop;  // per arm, time of the first STOP (NaN if none)
+  bool interrupted = false;       // stopRequested ended the run before the stream did
 };
 
 // Readings with equal time form one cycle. After each cycle onCycle(monitor) sees its warnings.
+// stopRequested (if given) is asked before every cycle; true ends the run there (a signal, say).
 // On bad input the exception propagates; stats holds the cycles completed so far.
-void run(Monitor& m, SensorSource& src, RunStats& stats, const std::function<void(const Monitor&)>& onCycle);
+void run(Monitor& m, SensorSource& src, RunStats& stats, const std::function<void(const Monitor&)>& onCycle,
+         const std::function<bool()>& stopRequested = {});
 
 double percentile(std::vector<double> v, double p);
 

@@ -33,6 +33,8 @@ class SensorSource {
 };
 
 // CSV lines `t, arm, q1..qn, qdot1..qdotn`; arm by name; '#' comments and a header line allowed.
+// One arm has one state at one time: a second line for it at the same time that differs is an
+// InputError naming both lines; the same line repeated is read once.
 class CsvSensor final : public SensorSource {
  public:
   CsvSensor(const std::string& path, std::vector<std::string> armNames, std::vector<int> dofs);
@@ -44,6 +46,13 @@ class CsvSensor final : public SensorSource {
   std::vector<std::string> names_;
   std::vector<int> dofs_;
   int line_ = 0;
+  struct Last {
+    bool seen = false;
+    double t = 0.0;
+    std::vector<double> q, qdot;
+    int line = 0;
+  };
+  std::vector<Last> last_;  // per arm, its latest reading
 };
 
 // Piecewise-linear joint motion through waypoints, sampled every cycle: q interpolated, qdot
