@@ -85,6 +85,63 @@ TEST(HighwayReliability, SumocfgAndTraciMistakesAreNamed) {
   EXPECT_NE(r.err.find("PORT must be a whole number from 1 to 65535, got '99999'"), std::string::npos) << r.err;
 }
 
+// SUMO's "Error: A vehicle with id 'v00' already exists." named no file: one line naming the
+// route file and line, exit 1, before SUMO starts (issue 21)
+TEST(HighwayReliability, ARepeatedVehicleIdNamesTheRouteFile) {
+  const auto dir = freshDir("rel_dup");
+  const auto ring = sourceDir() / "networks/ring";
+  fs::copy_file(ring / "ring.net.xml", dir / "ring.net.xml");
+  std::string routes = slurp(ring / "ring.rou.xml");
+  routes.replace(routes.find("<vehicle id=\"v01\""), 17, "<vehicle id=\"v00\"");
+  std::ofstream(dir / "ring.rou.xml") << routes;
+  fs::copy_file(ring / "ring.sumocfg", dir / "ring.sumocfg");
+  std::ofstream(dir / "s.yaml") << "sumocfg: ring.sumocfg\nend: 10\n";
+  const auto r = runStsim({"highway", (dir / "s.yaml").string(), "--out", (dir / "out").string()}, dir);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(lines(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find((dir / "ring.rou.xml").string() + ":15: <vehicle id=\"v00\">: the id is given twice (first at line 14)"),
+            std::string::npos)
+      << r.err;
+}
+
+// The relay's framing checks on bytes: a reply passes only whole and only as the answer to the
+// request it follows; anything else is named (fuzz/traci_relay.cpp runs the same on any bytes).
+TEST(TraciRelay, FramingPassesWholeRepliesToTheirRequests) {
+  detail::TraciFraming f;
+  const auto now = detail::TraciFraming::Clock::now();
+  const unsigned char getVersion[] = {0, 0, 0, 6, 2, 0};
+  f.request(getVersion, 3, now);  // requests arrive in pieces too
+  EXPECT_TRUE(f.pending().empty());
+  f.request(getVersion + 3, 3, now);
+  ASSERT_EQ(f.pending().size(), 1u);
+  EXPECT_EQ(f.pending().front().command, 0x00);
+  // [length 15] [status: 7, command 0x00, OK, ""] [4 bytes of payload]
+  const unsigned char reply[] = {0, 0, 0, 15, 7, 0x00, 0x00, 0, 0, 0, 0, 1, 2, 3, 4};
+  std::string why;
+  EXPECT_EQ(f.replies(reply, 10, why), 0u);  // not whole yet
+  EXPECT_EQ(why, "");
+  EXPECT_FALSE(f.answered());
+  EXPECT_EQ(f.replies(reply, sizeof reply, why), sizeof reply);
+  EXPECT_EQ(why, "");
+  EXPECT_TRUE(f.answered());
+  EXPECT_TRUE(f.pending().empty());
+  // a reply to nothing; then an HTTP answer to a request
+  EXPECT_EQ(f.replies(reply, sizeof reply, why), 0u);
+  EXPECT_EQ(why.rfind("not a TraCI server: a reply to no request", 0), 0u) << why;
+  f.request(getVersion, sizeof getVersion, now);
+  const std::string http = "HTTP/1.0 400 Bad request\r\n";
+  why.clear();
+  EXPECT_EQ(f.replies(reinterpret_cast<const unsigned char*>(http.data()), http.size(), why), 0u);
+  EXPECT_EQ(why, "not a TraCI server: reply length field 1213486160 (bytes \"HTTP/1.0\")");
+  // a sound reply to another command
+  detail::TraciFraming g;
+  const unsigned char step[] = {0, 0, 0, 14, 10, 0x02, 0, 0, 0, 0, 0, 0, 0, 0};
+  g.request(step, sizeof step, now);
+  why.clear();
+  EXPECT_EQ(g.replies(reply, sizeof reply, why), 0u);
+  EXPECT_EQ(why, "not a TraCI server: reply to command 0x00, asked 0x02");
+}
+
 // A loopback peer that accepts one connection, reads whatever comes and never answers (an HTTP
 // server waiting for its request line, a SUMO stopped with SIGSTOP). Gives up after 60 s.
 class SilentPeer {

@@ -55,6 +55,54 @@ TEST(Scenario, MissingNetworkOrRouteFileIsNamed) {
   EXPECT_EQ(e.find('\n'), std::string::npos);
 }
 
+// SUMO stops on these with its own words and no file (a repeated id, perhaps when the second
+// departs minutes into the run) or takes them (a mass param of NaN, which stsim met as the vehicle
+// departed): named file:line before SUMO starts (issue 21)
+TEST(Scenario, RouteFileMistakesSumoWouldNotNameAreNamed) {
+  const auto dir = freshDir("route_mistakes");
+  const auto ring = sourceDir() / "networks/ring";
+  std::filesystem::copy_file(ring / "ring.net.xml", dir / "ring.net.xml");
+  const std::string routes = slurp(ring / "ring.rou.xml");
+  auto config = [&](const std::string& name, const std::string& rou, const std::string& more = "") {
+    std::ofstream(dir / (name + ".rou.xml")) << rou;
+    std::ofstream(dir / (name + ".sumocfg")) << "<configuration><input><net-file value=\"ring.net.xml\"/>"
+                                                "<route-files value=\"" << name << ".rou.xml" << more
+                                             << "\"/></input></configuration>";
+    return dir / (name + ".sumocfg");
+  };
+  auto lineOf = [](const std::string& text, const std::string& what) {
+    return 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(text.find(what)), '\n');
+  };
+  // the shipped file passes
+  EXPECT_EQ(errorOf([&] { checkSumoConfig(config("ok", routes)); }), "");
+  // a vehicle id twice
+  std::string dup = routes;
+  dup.replace(dup.find("<vehicle id=\"v01\""), 17, "<vehicle id=\"v00\"");
+  const std::string file = (dir / "dup.rou.xml").string();
+  EXPECT_EQ(errorOf([&] { checkSumoConfig(config("dup", dup)); }),
+            file + ":" + std::to_string(lineOf(dup, "id=\"v00\" type=\"car\"")) +
+                ": <vehicle id=\"v00\">: the id is given twice (first at line " + std::to_string(lineOf(dup, "id=\"v00\"")) +
+                "); SUMO would stop on it");
+  // a trip with a vehicle's id, in a second route file; a comment does not count
+  std::ofstream(dir / "more.rou.xml") << "<routes>\n<!-- <trip id=\"v02\"/> -->\n  <trip id = 'v03' from=\"north\" to=\"south\" depart=\"5\"/>\n</routes>\n";
+  EXPECT_EQ(errorOf([&] { checkSumoConfig(config("two", routes, ",more.rou.xml")); }),
+            (dir / "more.rou.xml").string() + ":3: <trip id=\"v03\">: the id is given twice (first at " +
+                (dir / "two.rou.xml").string() + ":" + std::to_string(lineOf(routes, "id=\"v03\"")) + "); SUMO would stop on it");
+  // a flow may share a vehicle's id (SUMO takes it); two flows may not
+  std::ofstream(dir / "twoflows.rou.xml") << "<routes>\n  <flow id=\"v03\" begin=\"0\" end=\"9\" number=\"1\" from=\"north\" to=\"south\"/>\n"
+                                         "  <flow id=\"v03\" begin=\"0\" end=\"9\" number=\"1\" from=\"north\" to=\"south\"/>\n</routes>\n";
+  EXPECT_NE(errorOf([&] { checkSumoConfig(config("flows", routes, ",twoflows.rou.xml")); })
+                .find("twoflows.rou.xml:3: <flow id=\"v03\">: the id is given twice (first at line 2)"),
+            std::string::npos);
+  // a vType mass of NaN
+  std::string nan = routes;
+  nan.replace(nan.find("value=\"1400\""), 12, "value=\"nan\"");
+  const std::string e = errorOf([&] { checkSumoConfig(config("nan", nan)); });
+  EXPECT_EQ(e.rfind((dir / "nan.rou.xml").string() + ":" + std::to_string(lineOf(nan, "\"nan\"")) + ": ", 0), 0u) << e;
+  EXPECT_NE(e.find("'nan'"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+}
+
 TEST(Scenario, MalformedYamlNamesFileAndLine) {
   const auto dir = freshDir("bad_yaml");
   std::ofstream(dir / "s.yaml") << "sumocfg: x.sumocfg\ndetector: [five\n";

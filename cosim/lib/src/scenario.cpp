@@ -7,7 +7,12 @@
 
 #include <boost/property_tree/ptree.hpp>
 #include <boost/property_tree/xml_parser.hpp>
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <fstream>
+#include <iterator>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -31,6 +36,70 @@ std::vector<std::string> splitList(const std::string& s) {
   if (!cur.empty()) out.push_back(cur);
   return out;
 }
+
+// Vehicle ids given twice in SUMO's route and additional files. SUMO stops on one with its own
+// line, naming no file ("A vehicle with id 'v00' already exists.", or for flows "Another flow
+// with the id 'f' exists."), and only when it reads the second, which may be minutes into the
+// run; here it is named with file and line before SUMO starts. A vehicle and a trip share one
+// id space, flows have their own. A scan of start tags, not a parser: SUMO's reader (and its
+// XML errors) come after.
+class RepeatedIds {
+ public:
+  void scan(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    int line = 1;
+    std::size_t counted = 0;
+    for (std::size_t at = text.find('<'); at != std::string::npos; at = text.find('<', at + 1)) {
+      if (text.compare(at, 4, "<!--") == 0) {
+        at = text.find("-->", at);
+        if (at == std::string::npos) break;
+        continue;
+      }
+      std::size_t end = at + 1;
+      while (end < text.size() && std::isalpha(static_cast<unsigned char>(text[end]))) ++end;
+      const std::string tag = text.substr(at + 1, end - at - 1);
+      if (tag != "vehicle" && tag != "trip" && tag != "flow") continue;
+      const std::size_t close = text.find('>', end);
+      const std::string id = attribute(text.substr(end, close == std::string::npos ? std::string::npos : close - end));
+      if (id.empty()) continue;
+      line += static_cast<int>(std::count(text.begin() + static_cast<std::ptrdiff_t>(counted),
+                                          text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+      counted = at;
+      auto& seen = tag == "flow" ? flows_ : vehicles_;
+      const auto [it, fresh] = seen.emplace(id, Place{file, line});
+      if (fresh) continue;
+      const Place& first = it->second;
+      const std::string where = first.file == file ? "line " + std::to_string(first.line)
+                                                   : first.file.string() + ":" + std::to_string(first.line);
+      throw ScenarioError(file.string() + ":" + std::to_string(line) + ": <" + tag + " id=\"" + id +
+                          "\">: the id is given twice (first at " + where + "); SUMO would stop on it");
+    }
+  }
+
+ private:
+  struct Place {
+    fs::path file;
+    int line;
+  };
+  // the value of the attribute id in a start tag's text (after its name), "" if none
+  static std::string attribute(const std::string& attrs) {
+    for (std::size_t at = attrs.find("id"); at != std::string::npos; at = attrs.find("id", at + 1)) {
+      if (at == 0 || !std::isspace(static_cast<unsigned char>(attrs[at - 1]))) continue;
+      std::size_t k = at + 2;
+      while (k < attrs.size() && std::isspace(static_cast<unsigned char>(attrs[k]))) ++k;
+      if (k >= attrs.size() || attrs[k] != '=') continue;
+      ++k;
+      while (k < attrs.size() && std::isspace(static_cast<unsigned char>(attrs[k]))) ++k;
+      if (k >= attrs.size() || (attrs[k] != '"' && attrs[k] != '\'')) continue;
+      const std::size_t e = attrs.find(attrs[k], k + 1);
+      if (e == std::string::npos) return "";
+      return attrs.substr(k + 1, e - k - 1);
+    }
+    return "";
+  }
+  std::map<std::string, Place> vehicles_, flows_;
+};
 
 // The keys directly under a section of scenarioKeys() ("" for the top level).
 std::set<std::string> keysUnder(const std::string& section) {
@@ -345,6 +414,19 @@ SumoConfigFiles checkSumoConfig(const fs::path& sumocfg) {
     if (auto v = value("end")) out.end = std::stod(*v);
   } catch (const std::exception&) {
     throw ScenarioError(sumocfg.string() + ": step-length and end must be numbers of seconds");
+  }
+  // what SUMO would stop on naming no file: a vehicle id given twice; a vType's mass param that
+  // is not a positive number (SUMO keeps params as text; stsim met NaN when the vehicle departed)
+  std::vector<fs::path> inputs = out.routes;
+  inputs.insert(inputs.end(), out.additionals.begin(), out.additionals.end());
+  RepeatedIds ids;
+  for (const fs::path& f : inputs) {
+    ids.scan(f);
+    try {
+      hw::readSumoVehicleTypes(f);
+    } catch (const hw::InputError& e) {
+      throw ScenarioError(e.what());
+    }
   }
   return out;
 }

@@ -24,9 +24,9 @@ std::uint32_t bigEndian32(const unsigned char* p) {
 }
 
 // The first bytes of a message, printable, for an error line: "HTTP/1.1" or "\x00\x00\x00\x03".
-std::string preview(const std::vector<unsigned char>& b) {
+std::string preview(const unsigned char* b, std::size_t n) {
   std::string out = "\"";
-  for (std::size_t i = 0; i < b.size() && i < 8; ++i) {
+  for (std::size_t i = 0; i < n && i < 8; ++i) {
     const unsigned char c = b[i];
     if (c >= 0x20 && c < 0x7f && c != '"' && c != '\\') {
       out += static_cast<char>(c);
@@ -131,41 +131,38 @@ void TraciRelay::fail(const std::string& why) {
   if (failure_.empty()) failure_ = why;
 }
 
-// Passes the client's bytes on; notes the command of each complete request (the first command in
-// it: that is the status block its reply starts with).
-bool TraciRelay::forwardRequests() {
-  unsigned char buf[65536];
-  const ssize_t n = ::recv(clientFd_, buf, sizeof buf, 0);
-  if (n < 0 && (errno == EINTR || errno == EAGAIN)) return true;
-  if (n <= 0) return false;  // libtraci closed its side: we are done
-  if (!sendAll(serverFd_, buf, static_cast<std::size_t>(n))) return false;  // the server is gone: libtraci learns on recv
-  request_.insert(request_.end(), buf, buf + n);
-  while (request_.size() >= 4) {
+void TraciFraming::request(const unsigned char* bytes, std::size_t n, Clock::time_point now) {
+  request_.insert(request_.end(), bytes, bytes + n);
+  std::size_t used = 0;
+  while (request_.size() - used >= 4) {
     // [length32] [command length | 0, length32] [command] ...; the shortest is 6 bytes (getVersion)
-    const std::uint32_t length = bigEndian32(request_.data());
-    if (length < 6 || (request_.size() > 4 && request_[4] == 0 && length < 10)) {
+    const unsigned char* r = request_.data() + used;
+    const std::size_t have = request_.size() - used;
+    const std::uint32_t length = bigEndian32(r);
+    if (length < 6 || (have > 4 && r[4] == 0 && length < 10)) {
       request_.clear();  // libtraci never sends this; stop tracking rather than guess
-      break;
+      return;
     }
-    if (request_.size() < length) break;
-    const int command = request_[4] == 0 ? request_[9] : request_[5];
-    pending_.push_back({command, Clock::now()});
-    request_.erase(request_.begin(), request_.begin() + length);
+    if (have < length) break;
+    pending_.push_back({r[4] == 0 ? r[9] : r[5], now});
+    used += length;
   }
-  return true;
+  request_.erase(request_.begin(), request_.begin() + static_cast<std::ptrdiff_t>(used));
 }
 
-// Passes on every complete, well-framed reply; returns false (after fail()) on a malformed one.
-bool TraciRelay::checkReplies() {
-  while (reply_.size() >= 4) {
-    const std::uint32_t length = bigEndian32(reply_.data());
+std::size_t TraciFraming::replies(const unsigned char* bytes, std::size_t n, std::string& failure) {
+  std::size_t used = 0;
+  const auto shown = [&] { return preview(bytes + used, n - used); };
+  while (n - used >= 4) {
+    const unsigned char* p = bytes + used;
+    const std::uint32_t length = bigEndian32(p);
     if (length < kMinReply || length > kMaxReply) {
-      fail("not a TraCI server: reply length field " + std::to_string(length) + " (bytes " + preview(reply_) + ")");
-      return false;
+      failure = "not a TraCI server: reply length field " + std::to_string(length) + " (bytes " + shown() + ")";
+      break;
     }
-    if (reply_.size() < length) return true;
+    if (n - used < length) break;
     // the status block: [len | 0, len32] [command] [result] [string: len32, bytes]
-    const unsigned char* s = reply_.data() + 4;
+    const unsigned char* s = p + 4;
     const std::size_t header = s[0] == 0 ? 5 : 1;
     const std::size_t fixed = header + 2 + 4;
     bool sound = 4 + fixed <= length;
@@ -177,26 +174,51 @@ bool TraciRelay::checkReplies() {
               blockLength == fixed + text && 4 + blockLength <= length;
     }
     if (!sound) {
-      fail("not a TraCI server: malformed status in a reply (bytes " + preview(reply_) + ")");
-      return false;
+      failure = "not a TraCI server: malformed status in a reply (bytes " + shown() + ")";
+      break;
     }
     const int command = s[header];
     if (pending_.empty()) {
-      fail("not a TraCI server: a reply to no request (bytes " + preview(reply_) + ")");
-      return false;
+      failure = "not a TraCI server: a reply to no request (bytes " + shown() + ")";
+      break;
     }
     if (command != pending_.front().command) {
       char msg[96];
       std::snprintf(msg, sizeof msg, "not a TraCI server: reply to command 0x%02x, asked 0x%02x", command,
                     pending_.front().command);
-      fail(msg);
-      return false;
+      failure = msg;
+      break;
     }
     pending_.pop_front();
     answered_ = true;
-    if (!sendAll(clientFd_, reply_.data(), length)) return false;
-    reply_.erase(reply_.begin(), reply_.begin() + length);
+    used += length;
+  }
+  return used;
+}
+
+// Passes the client's bytes on and notes its requests.
+bool TraciRelay::forwardRequests() {
+  unsigned char buf[65536];
+  const ssize_t n = ::recv(clientFd_, buf, sizeof buf, 0);
+  if (n < 0 && (errno == EINTR || errno == EAGAIN)) return true;
+  if (n <= 0) return false;  // libtraci closed its side: we are done
+  if (!sendAll(serverFd_, buf, static_cast<std::size_t>(n))) return false;  // the server is gone: libtraci learns on recv
+  framing_.request(buf, static_cast<std::size_t>(n), Clock::now());
+  return true;
+}
+
+// Passes on every complete, well-framed reply; returns false (after fail()) on a malformed one.
+bool TraciRelay::passReplies() {
+  std::string failure;
+  const std::size_t whole = framing_.replies(reply_.data(), reply_.size(), failure);
+  if (whole > 0) {
+    if (!sendAll(clientFd_, reply_.data(), whole)) return false;
+    reply_.erase(reply_.begin(), reply_.begin() + static_cast<std::ptrdiff_t>(whole));
     replyBegan_ = Clock::now();  // the next reply's first bytes, if any, arrived now
+  }
+  if (!failure.empty()) {
+    fail(failure);
+    return false;
   }
   return true;
 }
@@ -235,7 +257,7 @@ void TraciRelay::run() {
       if (n > 0) {
         if (reply_.empty()) replyBegan_ = now;
         reply_.insert(reply_.end(), buf, buf + n);
-        if (!checkReplies()) break;
+        if (!passReplies()) break;
       }
     }
     if (!reply_.empty() && now - replyBegan_ > std::chrono::duration<double>(kStallSeconds)) {
@@ -243,12 +265,12 @@ void TraciRelay::run() {
            std::to_string(static_cast<int>(kStallSeconds)) + " s");
       break;
     }
-    if (reply_.empty() && !pending_.empty()) {
-      const double limit = answered_ ? silenceSeconds_ : firstReplySeconds_;
-      if (now - pending_.front().sent > std::chrono::duration<double>(limit)) {
+    if (reply_.empty() && !framing_.pending().empty()) {
+      const double limit = framing_.answered() ? silenceSeconds_ : firstReplySeconds_;
+      if (now - framing_.pending().front().sent > std::chrono::duration<double>(limit)) {
         char msg[200];
         std::snprintf(msg, sizeof msg,
-                      answered_ ? "no reply for %.0f s (is SUMO stopped? with --num-clients, is every client stepping?)"
+                      framing_.answered() ? "no reply for %.0f s (is SUMO stopped? with --num-clients, is every client stepping?)"
                                 : "no TraCI answer within %.0f s (not a SUMO started with --remote-port?)",
                       limit);
         fail(msg);
@@ -256,7 +278,7 @@ void TraciRelay::run() {
       }
     }
     const double deadline = closeDeadline_.load();
-    if (deadline >= 0.0 && !pending_.empty() &&
+    if (deadline >= 0.0 && !framing_.pending().empty() &&
         std::chrono::duration<double>(now.time_since_epoch()).count() > deadline) {
       fail("no reply to the closing request");
       break;

@@ -71,8 +71,10 @@ const std::vector<std::string>& scenarioKeys();
 Scenario loadScenario(const std::filesystem::path& path);
 
 // The input files a .sumocfg names (net-file, route-files, additional-files), resolved against its
-// directory. Throws ScenarioError if the config is unreadable, names no network, or a named file
-// does not exist.
+// directory. Throws ScenarioError if the config is unreadable, names no network, a named file
+// does not exist, or a route or additional file holds what SUMO would stop on without naming the
+// file: a vehicle (or flow) id given twice, a vType whose mass is not a positive number (each
+// named file:line).
 struct SumoConfigFiles {
   std::filesystem::path net;
   std::vector<std::filesystem::path> routes;
