@@ -228,6 +228,9 @@ int runStreamCommand(int argc, const char* const* argv) {
     std::cout << ", min distance " << num(r.minDistance) << " m -> "
               << (fs::path(cfg.outDir) / "stream_verdicts.csv").string() << std::endl;
   };
+  // Ctrl-C, SIGTERM, SIGHUP: the replay stops after a whole cycle, its log rows whole
+  StopSignals stopSignals;
+  cfg.stopRequested = StopSignals::requested;
   try {
     arm::runStream(cfg, r);
   } catch (...) {
@@ -235,6 +238,12 @@ int runStreamCommand(int argc, const char* const* argv) {
     throw;
   }
   report();
+  if (const int sig = StopSignals::signal()) {
+    std::cerr << "stsim arm stream: " << StopSignals::name(sig) << ": "
+              << (r.interrupted ? "interrupted after " + std::to_string(r.cycles) + " cycles" : std::string("at the end"))
+              << "; results so far written\n";
+    return 128 + sig;
+  }
   return 0;
 }
 

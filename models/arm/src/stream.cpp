@@ -72,6 +72,10 @@ void runStream(const StreamConfig& cfg, StreamResult& res) {
   const double t0 = have ? r.t : 0.0;
   std::string out;
   while (have) {
+    if (cfg.stopRequested && cfg.stopRequested()) {
+      res.interrupted = true;
+      break;
+    }
     // one cycle: every reading of the trace at this time, in one message
     const double t = r.t;
     msg.t = t;

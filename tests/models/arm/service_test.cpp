@@ -549,6 +549,47 @@ TEST(ArmServeCli, StreamCommandClosesTheLoopThroughServe) {
   fs::remove_all(d);
 }
 
+// Ctrl-C on `stsim arm stream` (a real-time replay can be long): it stops after a whole cycle,
+// its log rows whole, the summary line printed, exit 130 (it died, the last row perhaps cut)
+TEST(ArmServeCli, SigintStopsAStreamAfterAWholeCycle) {
+  const fs::path d = tempDir("stream_sig");
+  const fs::path trace = recordTrace(loadScenario(scenarioPath("two_pandas")), d / "sensors.csv");
+  Process serve = spawnServe(d / "log");
+  const std::uint16_t port = readPort(serve.out);
+  ASSERT_GT(port, 0);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string connect = "127.0.0.1:" + std::to_string(port), out = (d / "out").string(), t = trace.string();
+    std::freopen((d / "stdout").c_str(), "w", stdout);
+    std::freopen((d / "stderr").c_str(), "w", stderr);
+    // a tenth of real time: 30 s for the 3 s trace
+    execl(STSIM_BINARY, STSIM_BINARY, "arm", "stream", "--connect", connect.c_str(), t.c_str(), "--rate", "0.1",
+          "--out", out.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  for (int k = 0; k < 1000 && lineCount(slurp(d / "out" / "stream_verdicts.csv")) < 20; ++k) std::this_thread::sleep_for(10ms);
+  kill(pid, SIGINT);
+  EXPECT_EQ(waitExit(pid), 130);
+  const std::string err = slurp(d / "stderr");
+  EXPECT_NE(err.find("stsim arm stream: SIGINT: interrupted after "), std::string::npos) << err;
+  EXPECT_NE(slurp(d / "stdout").find("arm stream (closed loop): "), std::string::npos);
+  const std::string log = slurp(d / "out" / "stream_verdicts.csv");
+  ASSERT_FALSE(log.empty());
+  EXPECT_EQ(log.back(), '\n');
+  const auto fields = [](const std::string& row) { return std::count(row.begin(), row.end(), ','); };
+  std::istringstream rows(log);
+  std::string header;
+  std::getline(rows, header);
+  int n = 0;
+  for (std::string row; std::getline(rows, row); ++n) EXPECT_EQ(fields(row), fields(header)) << row;
+  EXPECT_GE(n, 19);
+  EXPECT_LT(n, 3001);
+  kill(serve.pid, SIGTERM);
+  EXPECT_EQ(waitExit(serve.pid), 143);
+  close(serve.out);
+  fs::remove_all(d);
+}
+
 TEST(ArmServeCli, SigintShutsDownCleanlyWithTheLogFlushed) { signalTest(SIGINT, 130); }
 TEST(ArmServeCli, SigtermShutsDownCleanlyWithTheLogFlushed) { signalTest(SIGTERM, 143); }
 

@@ -26,6 +26,7 @@ struct StreamConfig {
   BrakeConfig braking;         // how this client's arms brake on STOP
   std::string outDir;          // stream_verdicts.csv ("" : none)
   std::chrono::milliseconds verdictTimeout{2000};
+  std::function<bool()> stopRequested;  // asked before each cycle; true ends the replay there
 };
 
 struct StreamResult {
@@ -35,6 +36,7 @@ struct StreamResult {
   std::vector<double> finalSpeed;  // per arm, program speed at the end (0: stopped)
   std::vector<std::string> armNames;
   double minDistance = 0.0;        // smallest nearest-pair distance the verdicts reported
+  bool interrupted = false;        // stopRequested ended the replay before the trace did
 };
 
 // Throws std::runtime_error on a refused connection or an ERROR from the service (its message),
