@@ -92,7 +92,10 @@ std::vector<SumoCollision> readCollisionOutput(const std::filesystem::path& file
   std::vector<SumoCollision> out;
   const auto root = tree.get_child_optional("collisions");
   if (!root) throw std::runtime_error(file.string() + ": not a SUMO collision output (no <collisions>)");
-  for (const auto& [name, node] : *root) {
+  for (const auto& entry : *root) {
+    // not a structured binding: the lambdas below capture node (clang 14 cannot)
+    const std::string& name = entry.first;
+    const pt::ptree& node = entry.second;
     if (name != "collision") continue;
     auto attr = [&](const char* key) {
       const auto v = node.get_optional<std::string>(std::string("<xmlattr>.") + key);
