@@ -175,10 +175,14 @@ struct Server::Connection : std::enable_shared_from_this<Connection> {
     closeDetail = message;
     frameTimerArmed = false;
     idleTimer.cancel();
-    // what is queued is dropped, except a write in flight; the error goes next
-    while (out.size() > (writing ? 1u : 0u)) {
-      queued -= out.back().size();
-      out.pop_back();
+    // the error goes after what is queued: the answers to the frames before the mistake are the
+    // client's whatever the timing (dropping them lost some, depending on which write was in
+    // flight); only a client that does not read loses its queue, which it would never read
+    if (why == CloseReason::OutputOverflow) {
+      while (out.size() > (writing ? 1u : 0u)) {
+        queued -= out.back().size();
+        out.pop_back();
+      }
     }
     send(server.handler_.errorPayload(message), true);
     frameTimer.expires_after(std::chrono::milliseconds(500));

@@ -77,7 +77,8 @@ class Server {
 
   // Frames and queues the payload (false if the connection is gone or was dropped for overflow).
   bool send(ConnectionId id, std::string_view payload);
-  // Sends handler.errorPayload(message) and closes after it is written.
+  // Queues handler.errorPayload(message) after the frames already queued and closes once it is
+  // written (0.5 s at most); for OutputOverflow the queue is dropped first.
   void fail(ConnectionId id, const std::string& message, CloseReason why = CloseReason::Refused);
   std::size_t connections() const { return conns_.size(); }
 
