@@ -165,10 +165,15 @@ std::string ArmService::onReadings(net::ConnectionId id, Peer& p, std::string_vi
   if (r.t < p.lastT)
     return seq + ": time " + num(r.t) + " s goes backwards (this connection's last was " + num(p.lastT) + " s)";
   // every reading checked before any is applied: a refused message leaves the monitor as it was
-  for (const proto::ArmReading& a : r.arms) {
+  for (std::size_t k = 0; k < r.arms.size(); ++k) {
+    const proto::ArmReading& a = r.arms[k];
     if (a.arm >= monitor_.armCount())
       return seq + ": unknown arm id " + std::to_string(a.arm) + " (the scenario has " +
              std::to_string(monitor_.armCount()) + " arms, ids 0.." + std::to_string(monitor_.armCount() - 1) + ")";
+    // one arm, one time, one state (as in a trace: CsvSensor); the same reading twice is harmless
+    for (std::size_t j = 0; j < k; ++j)
+      if (r.arms[j].arm == a.arm && (r.arms[j].q != a.q || r.arms[j].qdot != a.qdot))
+        return seq + ": arm " + std::to_string(a.arm) + " is given twice with different joint values";
     check_.t = r.t;
     check_.arm = a.arm;
     check_.q = a.q;

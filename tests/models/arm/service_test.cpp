@@ -306,6 +306,15 @@ TEST(ArmService, BadClientsAreToldAndClosedOthersGoOn) {
     expectError(p.c, "expected 7 joint angles and rates");
     ++bad;
   }
+  {  // one arm twice in one message, the two differing: which state is it in? (the later won)
+    Peer p(port);
+    proto::Readings r = pandaReading(1, 0.5);
+    r.arms.push_back(r.arms[0]);
+    r.arms[1].q[0] = 0.1;
+    p.c.send(proto::encode(r));
+    expectError(p.c, "READINGS seq 1: arm 0 is given twice with different joint values");
+    ++bad;
+  }
   {  // readings before HELLO
     auto c = raw();
     c->send(proto::encode(pandaReading(1, 0.5)));
@@ -362,7 +371,7 @@ TEST(ArmService, BadClientsAreToldAndClosedOthersGoOn) {
   EXPECT_EQ(svc.service.counters().cycles, static_cast<std::uint64_t>(answered));
   EXPECT_EQ(lineCount(slurp(d / "log" / "verdicts.csv")), 1 + answered);
   const std::string conns = slurp(d / "log" / "connections.csv");
-  EXPECT_EQ(svc.service.counters().rejected, 7u);  // the protocol refusals; frame-level ones are the server's
+  EXPECT_EQ(svc.service.counters().rejected, 8u);  // the protocol refusals; frame-level ones are the server's
   for (const char* why : {"frame too long", "frame timeout", "refused", "peer closed mid-frame", "server full"})
     EXPECT_NE(conns.find(why), std::string::npos) << why << "\n" << conns;
   EXPECT_EQ(svc.service.monitor().arm(0).name, "left");
