@@ -57,6 +57,8 @@ struct Server::Connection : std::enable_shared_from_this<Connection> {
   bool writing = false;
   bool open = true;
   bool closing = false;  // an error frame is on its way; then close
+  bool draining = false;  // it is written: dropping the peer's input until it closes
+  bool reading = false;   // a read is in flight
   CloseReason closeWhy = CloseReason::Refused;
   std::string closeDetail;
 
@@ -71,13 +73,21 @@ struct Server::Connection : std::enable_shared_from_this<Connection> {
 
   void read() {
     if (!open || closing) return;
+    reading = true;
     auto self = shared_from_this();
     socket.async_read_some(asio::buffer(in.data() + have, in.size() - have),
                            [self](const error_code& ec, std::size_t n) { self->onRead(ec, n); });
   }
 
   void onRead(const error_code& ec, std::size_t n) {
-    if (!open || closing) return;
+    reading = false;
+    if (!open) return;
+    if (draining) {
+      if (ec) finish(closeWhy, closeDetail);
+      else drain();
+      return;
+    }
+    if (closing) return;
     if (ec) {
       if (ec == asio::error::eof || ec == asio::error::connection_reset)
         finish(have > 0 ? CloseReason::MidFrame : CloseReason::PeerClosed,
@@ -162,7 +172,7 @@ struct Server::Connection : std::enable_shared_from_this<Connection> {
       self->queued -= self->out.front().size();
       self->out.pop_front();
       if (!self->out.empty()) self->write();
-      else if (self->closing) self->finish(self->closeWhy, self->closeDetail);
+      else if (self->closing) self->linger();
     });
   }
 
@@ -191,6 +201,22 @@ struct Server::Connection : std::enable_shared_from_this<Connection> {
       if (e || !self->open) return;
       self->finish(self->closeWhy, self->closeDetail);
     });
+  }
+
+  // The error frame is written: end our side (FIN) and read and drop what the peer still sends
+  // until it closes (or the grace period ends). Closing a socket with unread input sends a reset,
+  // which can destroy the error frame before the peer reads it (fuzz finding: an oversized
+  // header with more bytes behind it than one read takes).
+  void linger() {
+    draining = true;
+    error_code ignored;
+    socket.shutdown(tcp::socket::shutdown_send, ignored);
+    if (!reading) drain();
+  }
+  void drain() {
+    reading = true;
+    auto self = shared_from_this();
+    socket.async_read_some(asio::buffer(in), [self](const error_code& ec, std::size_t n) { self->onRead(ec, n); });
   }
 
   void finish(CloseReason why, const std::string& detail) {

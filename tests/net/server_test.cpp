@@ -2,7 +2,12 @@
 // only to 127.0.0.1 on a port the system picks, with bounded counts and timeouts.
 #include <gtest/gtest.h>
 
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <atomic>
+#include <cerrno>
 #include <random>
 #include <thread>
 
@@ -134,6 +139,63 @@ TEST(Server, OversizedFrameIsRefusedOthersGoOn) {
   expectToldAndClosed(*bad, "exceeds the limit of 1024 bytes");
   good->send("still here");
   EXPECT_EQ(good->receive(2s).value_or(""), "still here");
+}
+
+// The fuzz finding fuzz/corpus/stnet_server/error_before_reset.bin, replayed as fuzz_stnet_server
+// does it: one thread, a non-blocking raw socket, the server's io_context polled in between. Good
+// frames, then a header announcing more than the limit with bytes behind it; the echoes came
+// back, the error frame did not (the connection was closed with the rest of the input unread).
+TEST(Server, TheErrorFrameArrivesWhateverFollowsTheMistake) {
+  boost::asio::io_context io;
+  Echo echo;
+  ServerConfig cfg;
+  cfg.maxFrame = 64;
+  cfg.handleSignals = false;
+  Server server(io, cfg, echo);
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  addr.sin_port = htons(server.port());
+  ::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr);
+  std::string got;
+  bool closed = false;
+  auto pump = [&] {
+    io.restart();
+    if (io.poll() == 0) {
+      io.restart();
+      io.run_for(100us);
+    }
+    char buf[4096];
+    for (ssize_t k; (k = ::recv(fd, buf, sizeof buf, 0)) != 0;) {
+      if (k < 0) {
+        closed = errno != EAGAIN;
+        return;
+      }
+      got.append(buf, static_cast<std::size_t>(k));
+    }
+    closed = true;
+  };
+  for (int k = 0; k < 1000 && server.connections() == 0; ++k) pump();
+  std::string bytes;
+  for (int k = 0; k < 11; ++k) appendFrame(bytes, "");
+  appendFrame(bytes, std::string(1, '\0'));
+  bytes += std::string("\0\0\x08\0", 4) + std::string(40, '\0');  // 2048 bytes announced, 40 follow
+  // in two pieces, as the finding came: the first ends two bytes into a header
+  for (const std::string& piece : {bytes.substr(0, 6), bytes.substr(6)}) {
+    ASSERT_EQ(::send(fd, piece.data(), piece.size(), MSG_NOSIGNAL), static_cast<ssize_t>(piece.size()));
+    pump();
+  }
+  for (int k = 0; k < 2000 && !closed; ++k) pump();
+  std::string want;
+  for (int k = 0; k < 11; ++k) appendFrame(want, "");
+  appendFrame(want, std::string(1, '\0'));
+  appendFrame(want, "error: frame of 2048 bytes exceeds the limit of 64 bytes");
+  EXPECT_EQ(got, want);
+  EXPECT_TRUE(closed);
+  ::close(fd);
+  for (int k = 0; k < 2000 && server.connections() > 0; ++k) pump();
+  EXPECT_EQ(server.connections(), 0u);
 }
 
 TEST(Server, GarbageIsAnOversizedOrUnfinishedFrame) {
