@@ -10,16 +10,17 @@ limit=(-runs="${FUZZ_RUNS:-12000}" -seed=1)
 what="${FUZZ_RUNS:-12000} inputs"
 if [ "${1:-}" = "--long" ]; then limit=(-max_total_time="${2:-3600}"); what="${2:-3600} s"; fi
 build=$here/build-fuzz
-targets=(pool_yaml arm_yaml batch_yaml fcd net arm_csv)
+targets=(pool_yaml arm_yaml batch_yaml fcd net arm_csv cosim_scenario traci_relay arm_protocol arm_service stnet_server)
 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-  -DSTSIM_FUZZ=ON -DSTSIM_WITH_SUMO=OFF -DSTSIM_BUILD_TESTS=OFF -DSTSIM_BUILD_BENCH=OFF >/dev/null
+  -DSTSIM_FUZZ=ON -DSTSIM_WITH_SUMO=ON -DSTSIM_BUILD_TESTS=OFF -DSTSIM_BUILD_BENCH=OFF >/dev/null
 cmake --build "$build" -j2 --target "${targets[@]/#/fuzz_}"
 for t in "${targets[@]}"; do
   mkdir -p "$build/corpus/$t" "$build/findings/$t"
-  echo "fuzz: $t, $what"
+  began=$(date +%s)
   (cd "$build/findings/$t" && UBSAN_OPTIONS=halt_on_error=1 ASAN_OPTIONS=detect_leaks=0 \
     "$build/fuzz/fuzz_$t" "${limit[@]}" -max_len=4096 -timeout=10 -rss_limit_mb=2048 \
     -print_final_stats=0 "$build/corpus/$t" "$here/fuzz/corpus/$t" 2>"$build/findings/$t/log.txt") ||
     { tail -40 "$build/findings/$t/log.txt"; echo "fuzz: $t found a problem (input in $build/findings/$t)"; exit 1; }
+  echo "fuzz: $t, $what, $(( $(date +%s) - began )) s"
 done
 echo "fuzz: ${#targets[@]} targets, $what each, no findings"
