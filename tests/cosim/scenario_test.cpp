@@ -103,6 +103,19 @@ TEST(Scenario, RouteFileMistakesSumoWouldNotNameAreNamed) {
   EXPECT_EQ(e.find('\n'), std::string::npos) << e;
 }
 
+// A file name longer than the system allows threw std::filesystem_error ("status: File name too
+// long") naming no sumocfg (fuzz finding, fuzz/corpus/cosim_scenario/name_too_long.sumocfg)
+TEST(Scenario, AFileNameTooLongIsNamedWithItsConfig) {
+  const auto dir = freshDir("name_too_long");
+  std::ofstream(dir / "a.sumocfg") << "<configuration><input><net-file value=\"" << std::string(300, 'n')
+                                   << ".net.xml\"/></input></configuration>";
+  const std::string e = errorOf([&] { checkSumoConfig(dir / "a.sumocfg"); });
+  EXPECT_EQ(e.rfind((dir / "a.sumocfg").string() + ": net-file '", 0), 0u) << e;
+  EXPECT_NE(e.find("File name too long"), std::string::npos) << e;
+  EXPECT_NE(errorOf([&] { loadScenario(dir / (std::string(300, 'y') + ".yaml")); }).find("File name too long"),
+            std::string::npos);
+}
+
 TEST(Scenario, MalformedYamlNamesFileAndLine) {
   const auto dir = freshDir("bad_yaml");
   std::ofstream(dir / "s.yaml") << "sumocfg: x.sumocfg\ndetector: [five\n";

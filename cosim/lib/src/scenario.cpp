@@ -353,7 +353,8 @@ const std::vector<std::string>& scenarioKeys() {
 }
 
 Scenario loadScenario(const fs::path& path) {
-  if (!fs::exists(path)) throw ScenarioError(path.string() + ": no such file");
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw ScenarioError(path.string() + ": " + (ec ? ec.message() : "no such file"));
   Scenario s;
   s.source = path;
   const std::string ext = path.extension().string();
@@ -378,8 +379,11 @@ Scenario loadScenario(const fs::path& path) {
 }
 
 SumoConfigFiles checkSumoConfig(const fs::path& sumocfg) {
-  if (!fs::exists(sumocfg)) throw ScenarioError(sumocfg.string() + ": no such SUMO configuration file");
-  if (fs::is_directory(sumocfg)) throw ScenarioError(sumocfg.string() + ": is a directory, not a SUMO configuration file");
+  std::error_code ec;
+  const fs::file_status st = fs::status(sumocfg, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory) throw ScenarioError(sumocfg.string() + ": " + ec.message());
+  if (!fs::exists(st)) throw ScenarioError(sumocfg.string() + ": no such SUMO configuration file");
+  if (fs::is_directory(st)) throw ScenarioError(sumocfg.string() + ": is a directory, not a SUMO configuration file");
   boost::property_tree::ptree pt;
   try {
     boost::property_tree::read_xml(sumocfg.string(), pt);
@@ -398,8 +402,11 @@ SumoConfigFiles checkSumoConfig(const fs::path& sumocfg) {
   };
   auto resolve = [&](const std::string& key, const std::string& f) {
     const fs::path p = fs::path(f).is_absolute() ? fs::path(f) : dir / f;
-    if (!fs::exists(p))
-      throw ScenarioError(sumocfg.string() + ": " + key + " '" + p.string() + "' does not exist");
+    std::error_code why;
+    const bool there = fs::exists(p, why);
+    if (why)  // a name too long, a folder we may not enter: not "does not exist", and no filesystem_error
+      throw ScenarioError(sumocfg.string() + ": " + key + " '" + p.string() + "': " + why.message());
+    if (!there) throw ScenarioError(sumocfg.string() + ": " + key + " '" + p.string() + "' does not exist");
     return p;
   };
   const auto net = value("net-file");
