@@ -223,7 +223,8 @@ Experiment loadExperiment(const fs::path& file,
         axis.values.push_back(scalarText(it->second));
       } else if (it->second.IsSequence()) {
         if (it->second.size() == 0) fail(e, "sweep." + k, it->second, "empty sweep: give at least one value");
-        for (const auto& v : it->second) {
+        const YAML::Node values = it->second;  // a range-for over a temporary's member would dangle
+        for (const auto& v : values) {
           if (!v.IsScalar()) fail(e, "sweep." + k, v, "values must be scalars");
           axis.values.push_back(scalarText(v));
           if (std::count(axis.values.begin(), axis.values.end(), axis.values.back()) > 1)
