@@ -71,6 +71,37 @@ TEST(HighwayCli, SublaneNetworkRaisesLaneMarkerAndCurbWarnings) {
   EXPECT_GT(curbs, 5u);
 }
 
+// A live run and the replay of its own FCD output give the same warnings up to the trace's
+// precision: the road prediction reads lanes and lateral speeds from positions, in the lane frame,
+// the same way whatever the source (the replay once took lateral speed from the centre's backward
+// difference, turning SUMO's lane changes into lateral jumps: 7x the live marker warnings). The
+// sublane network (drifts across markers) and the motorway (lane changes in one step).
+TEST(HighwayCli, LiveRunAndTheReplayOfItsFcdGiveTheSameWarnings) {
+  for (const std::string net : {"sublane", "motorway"}) {
+    const auto dir = freshDir("cli_replay_" + net);
+    const auto src = sourceDir() / "networks" / net;
+    const auto fcd = dir / "trace.fcd.xml";
+    std::ofstream(dir / "live.yaml") << "sumocfg: " << (src / (net + ".sumocfg")).string()
+                                     << "\nseed: 42\nend: 90\naction: none\ndetector: five\n"
+                                     << "safe_time: {vehicle_reaction: 1.0, road_reaction: 0.5}\n"
+                                     << "sumo_args: [--fcd-output, " << fcd.string()
+                                     << ", --fcd-output.signals, 'true', --precision, '6']\n";
+    const auto live = runStsim({"highway", (dir / "live.yaml").string(), "--no-map", "--out", (dir / "live").string()}, dir);
+    ASSERT_EQ(live.code, 0) << live.err;
+    const auto replay = runStsim({"highway", "--fcd", fcd.string(), "--net", (src / (net + ".net.xml")).string(), "--vtypes",
+                                  (src / (net + ".rou.xml")).string(), "--detector", "five", "--no-map", "--out",
+                                  (dir / "replay").string()},
+                                 dir);
+    ASSERT_EQ(replay.code, 0) << replay.err;
+    const std::string a = slurp(dir / "live/summary.json"), b = slurp(dir / "replay/summary.json");
+    for (const char* kind : {"vehicle", "curb", "lane_marker"}) {
+      const double x = jsonNumber(a, kind, a.find("\"by_kind\"")), y = jsonNumber(b, kind, b.find("\"by_kind\""));
+      EXPECT_LE(std::abs(x - y), std::max(3.0, 0.05 * x)) << net << " " << kind << ": live " << x << ", replay " << y;
+      if (net == "sublane" && std::string(kind) == "lane_marker") EXPECT_GT(x, 20.0);
+    }
+  }
+}
+
 TEST(HighwayCli, DeterministicForASeedAndPenetrationDrawsThatShare) {
   const auto dir = freshDir("cli_seed");
   auto go = [&](const std::string& name, const std::string& seed) {
