@@ -97,7 +97,9 @@ TEST(HighwayCli, LiveRunAndTheReplayOfItsFcdGiveTheSameWarnings) {
     for (const char* kind : {"vehicle", "curb", "lane_marker"}) {
       const double x = jsonNumber(a, kind, a.find("\"by_kind\"")), y = jsonNumber(b, kind, b.find("\"by_kind\""));
       EXPECT_LE(std::abs(x - y), std::max(3.0, 0.05 * x)) << net << " " << kind << ": live " << x << ", replay " << y;
-      if (net == "sublane" && std::string(kind) == "lane_marker") EXPECT_GT(x, 20.0);
+      if (net == "sublane" && std::string(kind) == "lane_marker") {
+        EXPECT_GT(x, 20.0);
+      }
     }
   }
 }

@@ -117,12 +117,17 @@ TEST(RoadPrediction, CarsSideBySideThroughACurveNeverWarnEachOther) {
         const double th = 0.2 + u * t / r;
         return std::vector<VehicleState>{onCircle("a", 0, r, th + 3.0 / r, u), onCircle("b", 1, r - 3.2, th, u * (r - 3.2) / r)};
       });
-      if (p == Prediction::Road) EXPECT_EQ(countKind(d, WarningKind::Vehicle), 0u) << toString(kind);
-      else straight = countKind(d, WarningKind::Vehicle);
+      if (p == Prediction::Road) {
+        EXPECT_EQ(countKind(d, WarningKind::Vehicle), 0u) << toString(kind);
+      } else {
+        straight = countKind(d, WarningKind::Vehicle);
+      }
     }
     // the five-circle zones reach far enough for that to warn (the box's 1.4 m gap at 1 m/s stays
     // beyond its safe time)
-    if (kind == DetectorKind::FiveCircle) EXPECT_GT(straight, 0u);
+    if (kind == DetectorKind::FiveCircle) {
+      EXPECT_GT(straight, 0u);
+    }
   }
 }
 
@@ -150,8 +155,11 @@ TEST(RoadPrediction, DriftAcrossAMarkerWarnsWithTheAnalyticTimeToCrossing) {
         if (a.kind != WarningKind::LaneMarker) continue;
         ++alerted;
         // the time to crossing at every tick before it, within rounding
-        if (t < 0.875) EXPECT_NEAR(t + a.ttc, 0.875, 1e-9) << t;
-        else EXPECT_EQ(a.ttc, 0.0) << t;  // across and still moving towards it
+        if (t < 0.875) {
+          EXPECT_NEAR(t + a.ttc, 0.875, 1e-9) << t;
+        } else {
+          EXPECT_EQ(a.ttc, 0.0) << t;  // across and still moving towards it
+        }
       }
       for (auto& w : m.takeFinished()) ws.push_back(std::move(w));
     }
@@ -212,8 +220,12 @@ TEST(RoadPrediction, RearEndOnACurveHasTheTtcOfAStraightRoadOfTheSameArcLength) 
       EXPECT_LE(w.minTtc, 1.5 + 1e-9);  // chords are never longer than arcs
     }
     // the circle models lead the box by their documented reach along the axis over 10 m/s
-    if (kind == DetectorKind::FiveCircle) EXPECT_NEAR(w.minTtc, 1.5 - 0.79 / 10.0, 0.015);
-    if (kind == DetectorKind::Concentric) EXPECT_NEAR(w.minTtc, 1.5 - (std::hypot(5.0, 1.8) - 5.0) / 10.0, 0.015);
+    if (kind == DetectorKind::FiveCircle) {
+      EXPECT_NEAR(w.minTtc, 1.5 - 0.79 / 10.0, 0.015);
+    }
+    if (kind == DetectorKind::Concentric) {
+      EXPECT_NEAR(w.minTtc, 1.5 - (std::hypot(5.0, 1.8) - 5.0) / 10.0, 0.015);
+    }
   }
 }
 
@@ -247,8 +259,8 @@ std::vector<VehicleState> tightScene(std::mt19937_64& rng, const RoadGeometry& r
     base.clear();
     const int n = 20 + static_cast<int>(40 * U(rng));
     for (int i = 0; i < n; ++i) {
-      const Lane& l = road.lanes[static_cast<std::size_t>(U(rng) * road.lanes.size())];
-      const std::size_t seg = static_cast<std::size_t>(U(rng) * (l.shape.size() - 1));
+      const Lane& l = road.lanes[static_cast<std::size_t>(U(rng) * static_cast<double>(road.lanes.size()))];
+      const std::size_t seg = static_cast<std::size_t>(U(rng) * static_cast<double>(l.shape.size() - 1));
       const Vec2 a = l.shape[seg], b = l.shape[seg + 1];
       const Vec2 u = (b - a).normalized();
       VehicleState v;
@@ -410,7 +422,9 @@ TEST(RoadPrediction, WithoutANetworkEveryCarGoesStraight) {
     const auto open = m.openWarnings();
     ASSERT_FALSE(open.empty());
     ttc[static_cast<int>(p)] = open[0].minTtc;
-    if (p == Prediction::Road) EXPECT_EQ(m.counters().straightFallbacks, 2u);
+    if (p == Prediction::Road) {
+      EXPECT_EQ(m.counters().straightFallbacks, 2u);
+    }
   }
   EXPECT_EQ(ttc[0], ttc[1]);
   EXPECT_NEAR(ttc[0], 1.5, 1e-9);
