@@ -53,15 +53,9 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
     }
     nl.length = arc;
   }
-  // neighbours in an edge: the lanes of index +-1
+  // the lanes of each edge (a lane drop, below)
   std::unordered_map<std::string, std::vector<int>> byEdge;
   for (int i = 0; i < n; ++i) byEdge[road.lanes[i].edge].push_back(i);
-  for (auto& [edge, ids] : byEdge)
-    for (int a : ids)
-      for (int b : ids) {
-        if (road.lanes[b].index == road.lanes[a].index + 1) lanes_[a].left = b;
-        if (road.lanes[b].index == road.lanes[a].index - 1) lanes_[a].right = b;
-      }
   // successors: the lanes that start where a lane ends (SUMO's junction-internal lanes start at
   // the end of the lane they leave and end at the start of the lane they reach); the straightest
   auto key = [](const Vec2& p) {
@@ -447,7 +441,8 @@ void LanePrediction::predict(int slot, double t) {
     pieces_.push_back({tk, pk, dir, nk, axis, uk, lateral});
     deviation(pk, tk);
     // this piece ends at the segment's end, if the path goes on
-    const double segEnd = S + (pt_[cl.first + seg + 1] - q).norm();
+    // (along it: a centre just past a lane's end, on its extension, has no segment left)
+    const double segEnd = S + std::max(0.0, (pt_[cl.first + seg + 1] - q).dot(dir));
     int nln = ln, nseg = seg + 1;
     if (nseg + 1 >= cl.count) {
       // a car signalling at the junction ahead turns that way (SUMO signals its turns), else straight on

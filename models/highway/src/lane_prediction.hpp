@@ -78,11 +78,7 @@ class LanePrediction {
   // short of its end: only then do the lane's lines apply (a body straddling a junction, half on
   // the lane it leaves, cuts across where no line is drawn).
   bool alongside(int slot) const;
-  // Half width of a lane and its neighbours in its edge (-1: none).
   double halfWidth(int lane) const { return 0.5 * lanes_[lane].width; }
-  int leftOf(int lane) const { return lanes_[lane].left; }
-  int rightOf(int lane) const { return lanes_[lane].right; }
-  bool internal(int lane) const { return lanes_[lane].internal; }
   // The longest horizon a pair test may ask of a car this tick (s).
   double horizon(int slot) const { return horizon_[slot]; }
   bool straight(int slot) const { return straight_[slot] != 0; }
@@ -99,7 +95,6 @@ class LanePrediction {
   struct NetLane {
     int first = 0, count = 0;  // its points in pt_/cum_
     double width = 3.2, length = 0.0;
-    int left = -1, right = -1;  // neighbours in its edge
     int next = -1;              // the straightest successor (-1: the lane ends)
     int nextLeft = -1, nextRight = -1;  // the successors turning furthest left and right (by 20 degrees at least)
     bool drops = false;         // ends while another lane of its edge goes on (a lane drop)

@@ -33,7 +33,6 @@ class RoadSearch {
 
   // Road prediction: a car on a lane gets its curb and marker threats in the lane frame.
   void usePrediction(const LanePrediction* prediction) { prediction_ = prediction; }
-  const LanePrediction* prediction() const { return prediction_; }
   // The line (feature group) on a lane's right (side 0) or left (side 1); -1: none (internal lanes).
   int lineOf(int lane, int side) const { return lane >= 0 && lane < static_cast<int>(laneLines_.size()) ? laneLines_[lane][side] : -1; }
 
