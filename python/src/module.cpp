@@ -414,6 +414,7 @@ class Monitor {
     d["feature_checks"] = c.featureChecks;
     d["warnings_begun"] = c.warningsBegun;
     d["road_predicted_updates"] = c.roadPredicted;  // vehicle updates predicted along a lane
+    d["route_predicted_updates"] = c.routePredicted;  // of them, along the route the source gave
     d["straight_fallback_updates"] = c.straightFallbacks;  // ... on no fitting lane: straight
     py::dict byKind, tet, tit, byZone;
     for (int k = 0; k < hw::kWarningKindCount; ++k) {
@@ -497,13 +498,17 @@ hw::RoadGeometry roadOfLanes(py::handle lanes) {
       else if (key == "index") l.index = static_cast<int>(toInt(v, what));
       else if (key == "width") l.width = toFinite(v, what);
       else if (key == "internal") l.internal = toBool(v, what);
+      else if (key == "length") {
+        l.length = toFinite(v, what);
+        if (l.length < 0.0) throw py::value_error(what + ": must not be negative");
+      }
       else if (key == "shape") {
         for (py::handle p : v) {
           const auto xy = py::reinterpret_borrow<py::sequence>(p);
           if (py::len(xy) != 2) throw py::value_error(what + ": points must be (x, y)");
           l.shape.emplace_back(toFinite(xy[0], what), toFinite(xy[1], what));
         }
-      } else throw py::value_error(what + ": unknown key (known: id, edge, index, shape, width, internal)");
+      } else throw py::value_error(what + ": unknown key (known: id, edge, index, shape, width, internal, length)");
     }
     road.lanes.push_back(std::move(l));
   }
@@ -624,7 +629,7 @@ PYBIND11_MODULE(_stsim, m) {
   py::class_<Monitor>(m, "Monitor",
                       "Monitor(net=None, *, lanes=None, **settings): smart-car warnings, one step() per tick.\n"
                       "net: a SUMO .net.xml (lane shapes and widths) or None (no road: car-car only);\n"
-                      "lanes: the same as a list of dicts {id, edge, index, shape, width, internal}.\n"
+                      "lanes: the same as a list of dicts {id, edge, index, shape, width, internal, length}.\n"
                       "settings: detector (concentric|five|box), layout (a|b), motion (velocity|acceleration),\n"
                       "prediction (road|straight: along the lanes, the default, or the report's straight line),\n"
                       "broadphase (cells|all-pairs), check_road, vehicle_reaction_time, road_reaction_time,\n"

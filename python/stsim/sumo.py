@@ -19,6 +19,7 @@ def read_traci_lanes(conn):
             "edge": conn.lane.getEdgeID(lane_id),
             "index": int(index) if index.isdigit() else 0,
             "width": conn.lane.getWidth(lane_id),
+            "length": conn.lane.getLength(lane_id),
             "shape": [tuple(p) for p in conn.lane.getShape(lane_id)],
             "internal": lane_id.startswith(":"),
         })

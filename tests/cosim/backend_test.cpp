@@ -78,6 +78,9 @@ void expectSameStates(const Recorded& a, const Recorded& b) {
       EXPECT_EQ(x.type, y.type);
       EXPECT_EQ(x.typeIndex, y.typeIndex);
       EXPECT_EQ(x.serial, y.serial);
+      EXPECT_EQ(x.routeIndex, y.routeIndex);
+      EXPECT_EQ(x.routeId, y.routeId);
+      EXPECT_EQ(x.route, y.route);
     }
   }
 }

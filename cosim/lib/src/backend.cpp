@@ -24,6 +24,12 @@ void Backend::setReads(const VehicleReads& reads) {
   for (SumoVehicle& v : vehicles_) {
     if (!reads_.acceleration) v.acceleration = 0.0;
     if (!reads_.signals) v.signals = 0;
+    if (!reads_.route) {
+      v.routeIndex = -1;
+      v.routeId.clear();
+      v.route.clear();
+      v.routeVersion = ++routeReads_;
+    }
   }
 }
 

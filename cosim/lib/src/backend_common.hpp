@@ -27,6 +27,7 @@ std::vector<SumoLane> readLanes() {
     l.edge = Lane::getEdgeID(id);
     l.index = laneIndex(id);
     l.width = Lane::getWidth(id);
+    l.length = Lane::getLength(id);
     for (const auto& p : Lane::getShape(id).value) l.shape.emplace_back(p.x, p.y);
     l.internal = !id.empty() && id[0] == ':';
     out.push_back(std::move(l));

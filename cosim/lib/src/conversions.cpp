@@ -45,6 +45,7 @@ highway::RoadGeometry toRoadGeometry(const std::vector<SumoLane>& lanes) {
     h.edge = l.edge;
     h.index = l.index;
     h.width = l.width;
+    h.length = l.length;
     h.internal = l.internal;
     for (const auto& [x, y] : l.shape) h.shape.emplace_back(x, y);
     road.lanes.push_back(std::move(h));

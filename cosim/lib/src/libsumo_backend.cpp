@@ -119,6 +119,15 @@ class LibsumoBackend final : public Backend {
       if (lateral_) v.lateralSpeed = libsumo::Vehicle::getLateralSpeed(v.id);
       if (reads_.acceleration) v.acceleration = libsumo::Vehicle::getAcceleration(v.id);
       if (reads_.signals) v.signals = libsumo::Vehicle::getSignals(v.id);
+      if (reads_.route) {
+        v.routeIndex = libsumo::Vehicle::getRouteIndex(v.id);
+        std::string routeId = libsumo::Vehicle::getRouteID(v.id);
+        if (routeId != v.routeId) {
+          v.route = libsumo::Vehicle::getRoute(v.id);
+          v.routeId = std::move(routeId);
+          v.routeVersion = ++routeReads_;
+        }
+      }
     }
   }
 

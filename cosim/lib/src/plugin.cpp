@@ -30,21 +30,19 @@ VehicleReads readsFor(const highway::MonitorConfig& m) {
   VehicleReads r;
   r.acceleration = m.detector.motion == highway::MotionModel::ConstantAcceleration;
   r.signals = m.checkRoad;
+  r.route = m.prediction == highway::Prediction::Road;
   return r;
 }
 }  // namespace
 
 HighwayPlugin::HighwayPlugin(Backend& backend, PluginConfig config)
-    : backend_(backend), config_(std::move(config)), monitor_(toRoadGeometry(backend_.lanes()), config_.monitor) {
-  backend_.setReads(readsFor(config_.monitor));
-  incidentRuns_.resize(config_.incidents.size());
-}
+    : HighwayPlugin(nullptr, backend, std::move(config), toRoadGeometry(backend.lanes())) {}
 
-HighwayPlugin::HighwayPlugin(std::unique_ptr<Backend> owned, PluginConfig config)
-    : owned_(std::move(owned)),
-      backend_(*owned_),
-      config_(std::move(config)),
-      monitor_(toRoadGeometry(backend_.lanes()), config_.monitor) {
+HighwayPlugin::HighwayPlugin(std::unique_ptr<Backend>&& owned, Backend& backend, PluginConfig config,
+                             const highway::RoadGeometry& road)
+    : owned_(std::move(owned)), backend_(backend), config_(std::move(config)), monitor_(road, config_.monitor) {
+  const std::vector<std::string> edges = highway::edgeIds(road);
+  for (int e = 0; e < static_cast<int>(edges.size()); ++e) edgeIndex_.emplace(edges[e], e);
   backend_.setReads(readsFor(config_.monitor));
   incidentRuns_.resize(config_.incidents.size());
 }
@@ -52,7 +50,10 @@ HighwayPlugin::HighwayPlugin(std::unique_ptr<Backend> owned, PluginConfig config
 HighwayPlugin::~HighwayPlugin() = default;
 
 std::unique_ptr<HighwayPlugin> HighwayPlugin::forLibsumo(PluginConfig config) {
-  return std::unique_ptr<HighwayPlugin>(new HighwayPlugin(attachLibsumo(), std::move(config)));
+  std::unique_ptr<Backend> backend = attachLibsumo();
+  Backend& b = *backend;
+  const highway::RoadGeometry road = toRoadGeometry(b.lanes());
+  return std::unique_ptr<HighwayPlugin>(new HighwayPlugin(std::move(backend), b, std::move(config), road));
 }
 
 const HighwayPlugin::TypeInfo& HighwayPlugin::typeInfo(int typeIndex) {
@@ -99,6 +100,22 @@ void HighwayPlugin::update() {
       if (pv.equipped) counters_.equipped++;
     }
     states_[i].equipped = pv.equipped != 0;
+    // the route from the current edge on, as the monitor's edge indices (converted once per route)
+    if (pv.routeVersion != v.routeVersion) {
+      pv.routeVersion = v.routeVersion;
+      pv.route.clear();
+      for (const std::string& e : v.route) {
+        const auto it = edgeIndex_.find(e);
+        pv.route.push_back(it == edgeIndex_.end() ? -1 : it->second);
+      }
+    }
+    auto& route = states_[i].route;
+    route.fill(-1);
+    for (int k = 0; k < highway::kRouteAhead && v.routeIndex >= 0; ++k) {
+      const std::size_t at = static_cast<std::size_t>(v.routeIndex) + k;
+      if (at >= pv.route.size() || pv.route[at] < 0) break;
+      route[k] = pv.route[at];
+    }
   }
   monitor_.step(backend_.time(), states_);
   runIncidents();

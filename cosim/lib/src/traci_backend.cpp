@@ -27,7 +27,7 @@ using libsumo::TraCIResults;
 // needed once per vehicle, but as a getter it would cost a round trip: it rides along.
 const std::vector<int> kVehicleVars{libsumo::VAR_TYPE,      libsumo::VAR_POSITION,     libsumo::VAR_ANGLE,
                                     libsumo::VAR_SPEED,     libsumo::VAR_SPEED_LAT,    libsumo::VAR_ACCELERATION,
-                                    libsumo::VAR_SIGNALS};
+                                    libsumo::VAR_SIGNALS,   libsumo::VAR_ROUTE_INDEX,  libsumo::VAR_ROUTE_ID};
 const std::vector<int> kSimulationVars{libsumo::VAR_TIME,
                                        libsumo::VAR_DEPARTED_VEHICLES_IDS,
                                        libsumo::VAR_ARRIVED_VEHICLES_IDS,
@@ -267,6 +267,16 @@ class TraciBackend final : public Backend {
       if (reads_.acceleration)
         v.acceleration = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_ACCELERATION, "acceleration").value;
       if (reads_.signals) v.signals = resultAs<libsumo::TraCIInt>(r, libsumo::VAR_SIGNALS, "signals").value;
+      if (reads_.route) {
+        v.routeIndex = resultAs<libsumo::TraCIInt>(r, libsumo::VAR_ROUTE_INDEX, "route index").value;
+        const std::string& routeId = resultAs<libsumo::TraCIString>(r, libsumo::VAR_ROUTE_ID, "route").value;
+        if (routeId != v.routeId) {
+          // one round trip per vehicle and route (SUMO gives a rerouted vehicle a new route id)
+          v.route = libtraci::Vehicle::getRoute(v.id);
+          v.routeId = routeId;
+          v.routeVersion = ++routeReads_;
+        }
+      }
     }
   }
 

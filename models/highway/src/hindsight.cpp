@@ -315,21 +315,27 @@ double Hindsight::leadOf(const std::unordered_map<std::uint64_t, std::vector<Pai
 }
 
 // Equipped cars whose body begins to reach across a line of their lane (in the lane frame): a
-// curb, or a marker without that side's signal. Was a warning about that line open `lead` before?
+// curb, or a marker without that side's signal, while the lines apply (the car alongside its
+// lane at this tick and the last: a body that comes out of a junction or onto a lane already
+// reaching across a line did not cross it). Was a warning about that line open `lead` before?
 void Hindsight::findCrossings(double t) {
   if (!frames_) return;
   const VehicleTable& c = *cars_;
   if (touching_.size() < c.slots.size()) touching_.resize(c.slots.size(), {-1, -1});
-  for (int s : c.arrived) touching_[s] = {-1, -1};
+  if (along_.size() < c.slots.size()) along_.resize(c.slots.size(), 0);
+  for (int s : c.arrived) touching_[s] = {-1, -1}, along_[s] = 0;
   for (int s : c.active) {
     std::array<int, 2> now = {-1, -1};
     const int lane = frames_->frame(s).lane;
-    if (lane >= 0 && frames_->alongside(s))
+    const bool along = lane >= 0 && frames_->alongside(s);
+    const bool was = along_[s] != 0;
+    along_[s] = along;
+    if (along)
       for (int side = 0; side < 2; ++side) {
         const int g = road_->lineOf(lane, side);
         if (g < 0 || frames_->beyondLine(s, side, false) < 0.0) continue;
         now[side] = g;
-        if (!c.equipped[s] || g == touching_[s][0] || g == touching_[s][1]) continue;
+        if (!was || !c.equipped[s] || g == touching_[s][0] || g == touching_[s][1]) continue;
         const bool marker = road_->features().features[road_->groupFeatures(g).front()].kind == FeatureKind::LaneMarker;
         if (marker && (c.signals[s] & (side == 1 ? kSignalLeft : kSignalRight))) continue;
         ++counters_->crossings;

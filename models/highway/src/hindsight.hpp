@@ -101,6 +101,7 @@ class Hindsight {
   std::unordered_map<std::uint64_t, std::vector<PairEpisode>> pairEpisodes_;
   std::unordered_map<std::uint64_t, std::vector<PairEpisode>> lineEpisodes_;  // (ego serial, line group)
   std::vector<std::array<int, 2>> touching_;  // per slot: the lines (groups) its body touched last tick
+  std::vector<char> along_;                    // per slot: alongside its lane last tick (its lines applied)
   std::unordered_set<std::uint64_t> nearBefore_, nearNow_;
   std::vector<std::pair<double, int>> order_;  // the sweep's order (coordinate, slot), kept
   std::vector<std::uint64_t> seen_;            // per slot: the sweep that ordered it

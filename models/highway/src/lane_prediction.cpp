@@ -52,10 +52,18 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
       ++nl.count;
     }
     nl.length = arc;
+    // a car moves scale times its reported speed along the shape (bounded: a wrong length
+    // stays a wrong speed, not an absurd one)
+    if (l.length > 0.0 && arc > 0.0) nl.scale = std::clamp(arc / l.length, 0.25, 4.0);
   }
-  // the lanes of each edge (a lane drop, below)
+  // the lanes of each edge (a lane drop, below), and each lane's edge index (VehicleState::route)
   std::unordered_map<std::string, std::vector<int>> byEdge;
   for (int i = 0; i < n; ++i) byEdge[road.lanes[i].edge].push_back(i);
+  {
+    const std::vector<std::string> edges = edgeIds(road);
+    for (int e = 0; e < static_cast<int>(edges.size()); ++e)
+      for (int i : byEdge[edges[e]]) lanes_[i].edge = e;
+  }
   // successors: the lanes that start where a lane ends (SUMO's junction-internal lanes start at
   // the end of the lane they leave and end at the start of the lane they reach); the straightest
   auto key = [](const Vec2& p) {
@@ -67,9 +75,12 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
   constexpr double kJoin = 0.1;  // m: a successor starts this close to the lane's end
   constexpr double kTurn = 0.35;  // rad (20 degrees): a successor turning more is a turn
   constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<std::pair<double, int>> found;  // a lane's successors: |turn|, lane
   for (int a = 0; a < n; ++a) {
+    lanes_[a].succBegin = lanes_[a].succEnd = static_cast<int>(succ_.size());
     const NetLane& la = lanes_[a];
     if (la.count < 2) continue;
+    found.clear();
     const Vec2 end = pt_[la.first + la.count - 1];
     const Vec2 endDir = (end - pt_[la.first + la.count - 2]).normalized();
     // each successor's turn: to the direction it leaves in (a junction lane's last segment; it
@@ -85,12 +96,25 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
           const int k = lb.internal ? lb.count - 2 : 0;
           const Vec2 out = (pt_[lb.first + k + 1] - pt_[lb.first + k]).normalized();
           const double turn = std::atan2(cross2(endDir, out), endDir.dot(out));
+          found.emplace_back(std::abs(turn), b);
           NetLane& l = lanes_[a];
           if (std::abs(turn) < straight || (std::abs(turn) == straight && b < l.next)) straight = std::abs(turn), l.next = b;
           if (turn > left || (turn == left && b < l.nextLeft)) left = turn, l.nextLeft = b;
           if (turn < right || (turn == right && b < l.nextRight)) right = turn, l.nextRight = b;
         }
       }
+    // (the four probes may find a lane twice)
+    std::sort(found.begin(), found.end());
+    found.erase(std::unique(found.begin(), found.end()), found.end());
+    for (const auto& [turn, b] : found) succ_.push_back(b);
+    lanes_[a].succEnd = static_cast<int>(succ_.size());
+  }
+  // the edge a car reaches: its own on a normal lane; through a junction's lanes, the first
+  // normal lane's (a junction lane has one successor, another junction lane at most a few times)
+  for (int a = 0; a < n; ++a) {
+    int b = a;
+    for (int hop = 0; hop < 8 && b >= 0 && lanes_[b].internal; ++hop) b = lanes_[b].next;
+    lanes_[a].exitEdge = b >= 0 && !lanes_[b].internal ? lanes_[b].edge : lanes_[a].edge;
   }
   // a lane without successor ends the road for its cars only where its edge goes on (a lane drop);
   // where no lane of the edge goes on, the cars leave the network (or the net has no junction lanes)
@@ -197,6 +221,25 @@ LanePrediction::Projection LanePrediction::project(int lane, const Vec2& p, int 
   return pr;
 }
 
+// How far to the left of the centre line (at the centre's projection pr) the middle of the chord
+// between the line's points half a body length behind and ahead lies: where a body whose front and
+// rear follow the line has its centre. 0 unless a vertex lies between them on the lane.
+double LanePrediction::chordOffset(int lane, const Projection& pr, double half) const {
+  const NetLane& l = lanes_[lane];
+  if (!(pr.s >= half && pr.s <= l.length - half)) return 0.0;
+  auto at = [&](double s, int seg) {
+    while (seg + 2 < l.count && cum_[l.first + seg + 1] < s) ++seg;
+    while (seg > 0 && cum_[l.first + seg] > s) --seg;
+    const Vec2 a = pt_[l.first + seg], b = pt_[l.first + seg + 1];
+    return std::pair{seg, Vec2(a + (s - cum_[l.first + seg]) / (cum_[l.first + seg + 1] - cum_[l.first + seg]) * (b - a))};
+  };
+  const auto [rearSeg, rear] = at(pr.s - half, pr.seg);
+  const auto [frontSeg, front] = at(pr.s + half, pr.seg);
+  if (rearSeg == frontSeg) return 0.0;
+  const Vec2 foot = pt_[l.first + pr.seg] + (pr.s - cum_[l.first + pr.seg]) * pr.dir;
+  return cross2(pr.dir, 0.5 * (rear + front) - foot);
+}
+
 // The centre lies in the lane (within slack of its sides, and not beyond its ends by more than
 // kEndSlack) and the car heads along it (within 60 degrees).
 bool LanePrediction::fits(int lane, const Projection& pr, const Vec2& axis, double slack) const {
@@ -258,6 +301,30 @@ int LanePrediction::match(int slot, const Vec2& p, const Vec2& axis, Projection&
   return best;
 }
 
+// The lane a car's path takes after `lane` ends, -1 if none. Along its route where it has one:
+// routeAt is the index in the route of the edge the lane drives on or reaches (-1: off its route),
+// moved on as the path enters the next edge. Off its route: the turn its signal shows at the
+// junction ahead (SUMO signals its turns), else straight on.
+int LanePrediction::successor(int slot, int lane, int& routeAt) const {
+  const NetLane& l = lanes_[lane];
+  const auto& route = cars_->route[slot];
+  if (routeAt >= 0) {
+    // a junction lane goes on to the edge it reaches; a normal lane to its route's next edge
+    const int at = l.internal ? routeAt : routeAt + 1;
+    const int want = at < kRouteAhead ? route[at] : -1;
+    if (want >= 0)
+      for (int k = l.succBegin; k < l.succEnd; ++k)
+        if (lanes_[succ_[k]].exitEdge == want) {
+          routeAt = at;
+          return succ_[k];
+        }
+    // the route leaves from another lane of this edge (the car changes lanes first), or is over
+    routeAt = -1;
+  }
+  const std::uint8_t sig = cars_->signals[slot];
+  return (sig & kSignalLeft) && l.nextLeft >= 0 ? l.nextLeft : (sig & kSignalRight) && l.nextRight >= 0 ? l.nextRight : l.next;
+}
+
 Body LanePrediction::bodyAt(std::span<const PathPiece> path, const Body& now, double acceleration, bool accelerate, double t) {
   std::size_t i = 0;
   while (i + 1 < path.size() && path[i + 1].t0 <= t) ++i;
@@ -266,8 +333,9 @@ Body LanePrediction::bodyAt(std::span<const PathPiece> path, const Body& now, do
   const double a = accelerate ? acceleration : 0.0;
   Body b = now;
   const double speed = accelerate && a < 0.0 ? std::max(0.0, pc.speed + a * tau) : pc.speed + a * tau;
-  b.position = pc.p + driven(pc.speed, a, tau) * pc.dir + (pc.lateral * tau) * pc.normal;
-  b.velocity = speed * pc.dir + pc.lateral * pc.normal;
+  b.position = pc.p + (pc.scale * driven(pc.speed, a, tau)) * pc.dir + (pc.lateral * tau) * pc.normal;
+  b.velocity = (pc.scale * speed) * pc.dir + pc.lateral * pc.normal;
+  b.acceleration = pc.scale * now.acceleration;
   b.axis = pc.axis;
   return b;
 }
@@ -321,6 +389,7 @@ void LanePrediction::update(double t) {
     prevD_.resize(n);
     prevT_.resize(n);
     prevLane_.resize(n, -1);
+    prevAlong_.resize(n, 0);
     prevPos_.resize(n, Vec2::Zero());
     horizon_.resize(n);
     pieceBegin_.resize(n);
@@ -352,23 +421,33 @@ void LanePrediction::predict(int slot, double t) {
   Projection pr;
   const int lane = match(slot, b.position, b.axis, pr);
   if (c.lane[slot] < 0) c.lane[slot] = lane;  // reported: the lane the source did not name
+  // the car's own offset: less the chord's (a body whose front and rear follow the centre line
+  // across a vertex sits inside the bend: a 12 m truck on a 14 degree joint 0.7 m off the line)
+  const double chord = lane >= 0 ? chordOffset(lane, pr, 0.5 * b.length) : 0.0;
+  pr.d -= chord;
   pieceBegin_[slot] = static_cast<int>(pieces_.size());
   const bool accelerate = cfg_->detector.motion == MotionModel::ConstantAcceleration;
   const double acc = accelerate ? b.acceleration : 0.0;
   constexpr double kMinPathSpeed = 0.1;  // m/s: slower cars are predicted where they are (straight)
   const double u = lane >= 0 ? b.velocity.dot(pr.dir) : 0.0;
-  // the lateral speed, from the offset tick to tick: in the lane's own frame, or (a lane change
-  // whose centre crossed the marker) with the last offset moved into this lane's frame; the
-  // smaller, so a lane change SUMO makes in one step (a jump) is no lateral motion
+  // the lateral speed, from the offset tick to tick while the car drives along one edge: in the
+  // lane's own frame, or (a lane change whose centre crossed the marker) with the last position
+  // moved into this lane's frame, the smaller of the two, so a lane change SUMO makes in one step
+  // (a jump) is no lateral motion and a centre drifting across the marker is what it moved.
+  // Out of a junction (the last offset moved with the lanes' geometry: a body straddling a
+  // junction sits on the chord from its front to its rear) or onto another edge (the offset was
+  // measured against another road's line): what its heading carries across the lane, as a
+  // source's lateral speed there is no better (an FCD replay's backward difference turns SUMO's
+  // one-step lane change into tens of m/s where SUMO reports none). At first sight: the source's.
   double lateral = lane >= 0 ? b.velocity.dot(leftNormal(pr.dir)) : 0.0;
-  if (lane >= 0 && wasHere && c.slots[slot].present && t > prevT_[slot] && prevLane_[slot] >= 0) {
+  const bool before = lane >= 0 && wasHere && c.slots[slot].present && t > prevT_[slot] && prevLane_[slot] >= 0;
+  if (before && !(prevAlong_[slot] && lanes_[lane].edge == lanes_[prevLane_[slot]].edge)) {
+    lateral = b.velocity.dot(b.axis) * b.axis.dot(leftNormal(pr.dir));
+  } else if (before) {
     const double dt = t - prevT_[slot];
     lateral = (pr.d - prevD_[slot]) / dt;
     if (lane != prevLane_[slot]) {
-      // the last position in this lane's frame: the car's own lateral motion; of the two the
-      // smaller, so a lane change SUMO makes in one step (a jump) is no lateral motion, and a
-      // centre crossing into the next lane or onto an offset successor is what it moved
-      const double common = (pr.d - project(lane, prevPos_[slot], pr.seg).d) / dt;
+      const double common = (pr.d + chord - project(lane, prevPos_[slot], pr.seg).d) / dt;
       if (std::abs(common) < std::abs(lateral)) lateral = common;
     }
   }
@@ -388,6 +467,7 @@ void LanePrediction::predict(int slot, double t) {
     f.halfShape = roadSupport(cfg_->detector, square, leftNormal(pr.dir));
   }
   prevLane_[slot] = f.lane;
+  prevAlong_[slot] = alongside(slot);
   prevD_[slot] = f.d;
   prevT_[slot] = t;
   prevPos_[slot] = b.position;
@@ -403,6 +483,11 @@ void LanePrediction::predict(int slot, double t) {
   ++counters_->roadPredicted;
   straight_[slot] = 0;
   const NetLane& l = lanes_[lane];
+  // where its route holds this lane's edge, the path follows the route
+  int routeAt = -1;
+  for (int k = 0; k < kRouteAhead && routeAt < 0; ++k)
+    if (c.route[slot][k] >= 0 && c.route[slot][k] == l.exitEdge) routeAt = k;
+  if (routeAt >= 0) ++counters_->routePredicted;
   // a body in a junction (on a junction lane, or half on the lane it leaves) has an offset that
   // moves with the lanes' geometry (SUMO places it on the chord between its front and its rear),
   // not with the car: no lateral motion is predicted, and on the lanes after this one it is
@@ -413,18 +498,21 @@ void LanePrediction::predict(int slot, double t) {
   // the path: from the centre's foot on the centre line along the lanes, far enough for the horizon
   const Vec2 n0 = leftNormal(pr.dir);
   const Vec2 foot = pt_[l.first + pr.seg] + (pr.s - cum_[l.first + pr.seg]) * pr.dir;
-  const Vec2 off = b.position - foot - pr.d * n0;  // zero up to rounding: the path starts at the centre
+  // zero up to rounding: the path starts at the centre (and leaves the chord's offset behind)
+  const Vec2 off = b.position - foot - (pr.d + chord) * n0;
   bool turns = false;  // some piece's heading is not the body's
   const double need = driven(u, acc, h) + 1.0;
   double dev = 0.0;
   // at a piece's ends: from the straight line, less what the acceleration may add (the prunes
-  // allow |a| t^2 / 2 already): |p - p0 - v t| + |driven - u t| bounds the affine part there
-  auto deviation = [&](const Vec2& p, double tk) {
-    dev = std::max(dev, (p - b.position - b.velocity * tk).norm() + std::abs(driven(u, acc, tk) - u * tk));
+  // allow |a| t^2 / 2 already): |p - p0 - v t| + scale |driven - u t| bounds the affine part
+  // there; a lane whose scale exceeds 1 adds (scale - 1) |driven - u t| at most (below)
+  double maxScale = 1.0;
+  auto deviation = [&](const Vec2& p, double tk, double scale) {
+    dev = std::max(dev, (p - b.position - b.velocity * tk).norm() + scale * std::abs(driven(u, acc, tk) - u * tk));
   };
   int ln = lane, seg = pr.seg;
   Vec2 q = foot;   // the path's point at arc S from the car
-  double S = 0.0;  // arc from the car
+  double S = 0.0;  // arc from the car, in the source's lengths (Lane::length: times at the speed it gives)
   double tk = 0.0;
   while (true) {
     const NetLane& cl = lanes_[ln];
@@ -438,16 +526,15 @@ void LanePrediction::predict(int slot, double t) {
     // (a yaw against the lane's segment is mostly SUMO's front-to-rear chord across a joint)
     const Vec2 axis = first ? b.axis : dir;
     turns = turns || axis != b.axis;
-    pieces_.push_back({tk, pk, dir, nk, axis, uk, lateral});
-    deviation(pk, tk);
+    pieces_.push_back({tk, pk, dir, nk, axis, uk, lateral, cl.scale});
+    maxScale = std::max(maxScale, cl.scale);
+    deviation(pk, tk, cl.scale);
     // this piece ends at the segment's end, if the path goes on
     // (along it: a centre just past a lane's end, on its extension, has no segment left)
-    const double segEnd = S + std::max(0.0, (pt_[cl.first + seg + 1] - q).dot(dir));
+    const double segEnd = S + std::max(0.0, (pt_[cl.first + seg + 1] - q).dot(dir)) / cl.scale;
     int nln = ln, nseg = seg + 1;
     if (nseg + 1 >= cl.count) {
-      // a car signalling at the junction ahead turns that way (SUMO signals its turns), else straight on
-      const std::uint8_t sig = c.signals[slot];
-      nln = (sig & kSignalLeft) && cl.nextLeft >= 0 ? cl.nextLeft : (sig & kSignalRight) && cl.nextRight >= 0 ? cl.nextRight : cl.next;
+      nln = successor(slot, ln, routeAt);
       nseg = 0;
       if (nln < 0 || lanes_[nln].count < 2) {
         if (cl.drops && f.endLane < 0) {
@@ -461,10 +548,10 @@ void LanePrediction::predict(int slot, double t) {
     if (!(tEnd < h)) {
       // the last piece: its deviation at the horizon
       const double tau = h - tk;
-      deviation(pk + (driven(u, acc, h) - S) * dir + (lateral * tau) * nk, h);
+      deviation(pk + ((driven(u, acc, h) - S) * cl.scale) * dir + (lateral * tau) * nk, h, cl.scale);
       break;
     }
-    deviation(pk + (driven(u, acc, tEnd) - S) * dir + (lateral * (tEnd - tk)) * nk, tEnd);
+    deviation(pk + ((driven(u, acc, tEnd) - S) * cl.scale) * dir + (lateral * (tEnd - tk)) * nk, tEnd, cl.scale);
     ln = nln;
     seg = nseg;
     q = pt_[lanes_[ln].first + seg];
@@ -472,6 +559,9 @@ void LanePrediction::predict(int slot, double t) {
     tk = tEnd;
   }
   pieceEnd_[slot] = static_cast<int>(pieces_.size());
+  // |driven - u t| grows with t: within a piece of scale s the path's own acceleration part
+  // exceeds the prunes' allowance by (s - 1) |driven - u t| at most, largest at the horizon
+  dev += (maxScale - 1.0) * std::abs(driven(u, acc, h) - u * h);
   // the straight prunes hold with the envelopes grown by the deviation (and a rounding margin)
   const double grow = dev * (1.0 + 1e-9) + tol::kPruneSlop;
   // a body that turns on its path has other world extents: every shape lies within its envelope

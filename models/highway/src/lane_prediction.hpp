@@ -2,8 +2,9 @@
 // Road-aware prediction (MonitorConfig::prediction == Road): each tick every car is matched to
 // the lane its centre is on (by position and heading; the lane is kept while the centre stays in
 // it), described in that lane's frame (arc position s, offset d to the left, lateral speed, yaw
-// relative to the lane) and predicted along the lane's centre line, continued into the
-// straightest successor lane (or the turn its signal shows: SUMO signals its turns), at its speed along the lane (with its acceleration under the
+// relative to the lane) and predicted along the lane's centre line, continued through junctions
+// along its route (VehicleState::route: SUMO gives it), else into the turn its signal shows, else
+// the straightest successor, at its speed along the lane (with its acceleration under the
 // constant-acceleration model), keeping its offset and lateral speed relative to the lane, its body
 // square to the lane from the next vertex on.
 //
@@ -12,10 +13,12 @@
 // The pair searches prune with straight motion (p + v t); every car's deviation from it over the
 // longest horizon any pair can ask of it is added to its envelope (extent and radius; the extent
 // of a body that turns on its path is first widened to its envelope radius), which
-// keeps every prune exact: a path is never longer than the straight reach (|p(t) - p(0)| is at
-// most the arc length driven, the distance the straight line covers at the same speed), and its
-// sideways departure from the straight line is exactly that deviation, bounded at the pieces' ends
-// (the distance between two affine motions is convex in time).
+// keeps every prune exact: a path's departure from the straight line is that deviation, bounded
+// at the pieces' ends (the distance between two affine motions is convex in time). The path is
+// never longer than the straight reach (|p(t) - p(0)| is at most the arc length driven, the
+// distance the straight line covers at the same speed) unless a lane's shape is longer than the
+// source's length of it (Lane::length: SUMO moves a car shape / length times its speed there);
+// the deviation holds that too.
 #include <limits>
 #include <span>
 #include <vector>
@@ -35,8 +38,9 @@ struct PathPiece {
   Vec2 dir = Vec2(1.0, 0.0);
   Vec2 normal = Vec2(0.0, 1.0);
   Vec2 axis = Vec2(1.0, 0.0);
-  double speed = 0.0;    // along dir at t0 (m/s)
+  double speed = 0.0;    // along the lane at t0, as the source measures it (m/s)
   double lateral = 0.0;  // along normal (m/s)
+  double scale = 1.0;    // metres along dir per metre of that speed (Lane::length)
 };
 
 // A car in its lane's frame.
@@ -44,12 +48,14 @@ struct LaneFrame {
   int lane = -1;         // index into RoadGeometry::lanes; -1: predicted in a straight line
   int seg = 0;           // the segment of the lane's centre line the centre projects on
   double s = 0.0;        // arc position of the centre on the lane (m; < 0 or > length: just beyond an end)
-  double d = 0.0;        // offset to the left of the centre line (m)
+  double d = 0.0;        // offset to the left of the centre line (m), the car's own: less the chord's at a vertex
   double lateral = 0.0;  // lateral speed (m/s, to the left), from d tick to tick in a common frame
   double speed = 0.0;    // along the lane (m/s)
   Vec2 dir = Vec2(1.0, 0.0);  // the lane's direction at s
   double halfBody = 0.0, halfShape = 0.0;  // half widths across the lane (beyondLine)
-  double endGap = std::numeric_limits<double>::infinity();  // arc from the centre to the end of a dropped lane ahead
+  // arc from the centre to the end of a dropped lane ahead, in the source's lengths (Lane::length;
+  // over speed, a time)
+  double endGap = std::numeric_limits<double>::infinity();
   int endLane = -1;      // that lane
 };
 
@@ -79,6 +85,8 @@ class LanePrediction {
   // the lane it leaves, cuts across where no line is drawn).
   bool alongside(int slot) const;
   double halfWidth(int lane) const { return 0.5 * lanes_[lane].width; }
+  // Metres along a lane's shape per metre of the source's length of it (Lane::length).
+  double scale(int lane) const { return lanes_[lane].scale; }
   // The longest horizon a pair test may ask of a car this tick (s).
   double horizon(int slot) const { return horizon_[slot]; }
   bool straight(int slot) const { return straight_[slot] != 0; }
@@ -97,7 +105,11 @@ class LanePrediction {
     double width = 3.2, length = 0.0;
     int next = -1;              // the straightest successor (-1: the lane ends)
     int nextLeft = -1, nextRight = -1;  // the successors turning furthest left and right (by 20 degrees at least)
+    int succBegin = 0, succEnd = 0;     // all successors in succ_, the straightest first
+    int edge = -1;                      // index into edgeIds(road)
+    int exitEdge = -1;                  // the edge a car on it drives on or reaches next (a junction lane's outgoing edge)
     bool drops = false;         // ends while another lane of its edge goes on (a lane drop)
+    double scale = 1.0;         // its shape's length over the source's length of it (Lane::length)
     bool internal = false;
   };
   struct Projection {
@@ -107,7 +119,9 @@ class LanePrediction {
   };
   Projection project(int lane, const Vec2& p, int seg) const;
   bool fits(int lane, const Projection& pr, const Vec2& axis, double slack) const;
+  double chordOffset(int lane, const Projection& pr, double half) const;
   int match(int slot, const Vec2& p, const Vec2& axis, Projection& out) const;
+  int successor(int slot, int lane, int& routeAt) const;
   void predict(int slot, double horizon);
 
   const MonitorConfig* cfg_;
@@ -115,6 +129,7 @@ class LanePrediction {
   MonitorCounters* counters_;
   bool alongLanes_ = false;
   std::vector<NetLane> lanes_;
+  std::vector<int> succ_;
   std::vector<Vec2> pt_;
   std::vector<double> cum_;  // arc length at each point of its lane
   // a uniform grid of the lanes' segments, for matching a car not on its last lane
@@ -129,6 +144,7 @@ class LanePrediction {
   std::vector<double> prevD_, prevT_, horizon_;
   std::vector<Vec2> prevPos_;
   std::vector<int> prevLane_, pieceBegin_, pieceEnd_;
+  std::vector<char> prevAlong_;  // alongside() at the last tick
   std::vector<char> straight_;  // the path is the straight line (no lane, or slow)
   std::vector<PathPiece> pieces_;
 };

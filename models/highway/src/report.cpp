@@ -145,6 +145,7 @@ std::string summaryJson(const MonitorCounters& c, const RunInfo& info) {
   os << "  \"feature_checks\": " << c.featureChecks << ",\n";
   // road prediction: updates predicted along a lane, and those in a straight line (no fitting lane, or stopped)
   os << "  \"road_predicted_updates\": " << c.roadPredicted << ",\n";
+  os << "  \"route_predicted_updates\": " << c.routePredicted << ",\n";
   os << "  \"straight_fallback_updates\": " << c.straightFallbacks << ",\n";
   for (const auto& [k, v] : info.numbers) os << "  " << jsonString(k) << ": " << num(v) << ",\n";
   for (const auto& [k, v] : info.strings) os << "  " << jsonString(k) << ": " << jsonString(v) << ",\n";

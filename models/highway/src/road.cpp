@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <stdexcept>
+#include <unordered_set>
 
 #include <sthighway/tolerances.hpp>
 
@@ -71,6 +72,14 @@ void grow(Aabb<2>& b, bool& first, const Vec2& p, double r) {
 }
 
 }  // namespace
+
+std::vector<std::string> edgeIds(const RoadGeometry& road) {
+  std::vector<std::string> ids;
+  std::unordered_set<std::string> seen;
+  for (const Lane& l : road.lanes)
+    if (seen.insert(l.edge).second) ids.push_back(l.edge);
+  return ids;
+}
 
 RoadFeatures deriveFeatures(const RoadGeometry& road) {
   RoadFeatures rf;

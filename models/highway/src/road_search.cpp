@@ -293,7 +293,7 @@ void RoadSearch::laneThreats(int e, std::vector<Threat>& out) const {
     const int g = curb(0) >= 0 ? curb(0) : curb(1);
     if (g >= 0 && f.speed > 0.0) {
       counters_->featureChecks += 1;
-      const double gap = f.endGap - roadSupport(dc, t.body[e], f.dir);
+      const double gap = f.endGap - roadSupport(dc, t.body[e], f.dir) / prediction_->scale(f.endLane);
       const double a = dc.motion == MotionModel::ConstantAcceleration ? t.body[e].acceleration : 0.0;
       double ttc = 0.0;
       if (gap > 0.0) {

@@ -236,6 +236,8 @@ RoadGeometry readSumoNet(const std::filesystem::path& path, std::vector<std::str
       l.edge = edge;
       l.index = static_cast<int>(required(x, t, "index"));
       l.width = optionalNumber(x, t, "width", 3.2);
+      l.length = optionalNumber(x, t, "length", 0.0);
+      if (!(l.length >= 0.0)) x.fail(t.line, "<lane id=\"" + l.id + "\"> length must not be negative");
       if (!(l.width > 0.0)) x.fail(t.line, "<lane id=\"" + l.id + "\"> width must be positive");
       const std::string* shape = t.attr("shape");
       if (!shape) x.fail(t.line, "<lane id=\"" + l.id + "\"> lacks attribute 'shape'");

@@ -48,6 +48,7 @@ void VehicleTable::ensure(std::size_t n) {
   wide.resize(n);
   inputOf.resize(n, -1);
   lane.resize(n, -1);
+  route.resize(n);
   braking.resize(n);
 }
 
@@ -156,6 +157,7 @@ void VehicleTable::take(int s, const VehicleState& v, double t) {
   signals[s] = v.signals;
   equipped[s] = v.equipped ? 1 : 0;
   lane[s] = v.lane;
+  route[s] = v.route;
   if (sl.present) counters->vehicleMeters += (v.position - sl.prev).norm();
   braking[s] = sl.present && t > sl.prevTime ? std::max(0.0, (sl.prevSpeed - v.speed) / (t - sl.prevTime)) : 0.0;
   sl.prev = v.position;

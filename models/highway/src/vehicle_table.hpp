@@ -84,6 +84,7 @@ struct VehicleTable {
   std::vector<int> wide;
   std::vector<int> inputOf;                  // index in the current span, -1 if absent
   std::vector<int> lane;                     // VehicleState::lane (only reported)
+  std::vector<std::array<int, kRouteAhead>> route;  // VehicleState::route
   // how hard the car braked since its last tick (m/s^2, >= 0), from its speeds: what it actually
   // did, whether or not the source reports accelerations
   std::vector<double> braking;

@@ -168,6 +168,33 @@ TEST(Hindsight, MarkerCrossingConfirmsOnlyWhenTheBodyTouchesUnsignalled) {
   EXPECT_FALSE(n->crossed);
 }
 
+// The recall over the run's line crossings: a car drifting across a marker unsignalled is one,
+// warned before it (its time to crossing fell below the road safe time, 0.5 s + 1500 / 24000 s
+// per m/s of lateral speed); the same drift signalled is none, nor is a car first seen already
+// reaching across the marker that stays there (it never crossed while the lines applied).
+TEST(Hindsight, CrossingRecallCountsUnsignalledDriftsAcrossALine) {
+  MonitorConfig cfg;
+  cfg.detector.kind = DetectorKind::Box;
+  cfg.hindsight.lead = 0.5;
+  const Outcome r = simulate(cfg, 40, 0.1, [](int, double t) {
+    // lane 0's centre at y = 0, the marker to lane 1 at y = 1.6, half widths 0.9: touching at y = 0.7
+    VehicleState drifter = car("drifter", 0, 100.0, 0.5 * t, 20.0);  // touches at t = 1.4 s
+    drifter.position.x() += 20.0 * t;
+    VehicleState signalled = drifter;
+    signalled.id = "signalled";
+    signalled.handle = 1;
+    signalled.position.x() += 200.0;
+    signalled.signals = kSignalLeft;
+    VehicleState across = car("across", 2, 600.0 + 20.0 * t, 1.0, 20.0);  // 0.3 m across from the start
+    return std::vector<VehicleState>{drifter, signalled, across};
+  });
+  EXPECT_EQ(r.counters.crossings, 1u);
+  EXPECT_EQ(r.counters.crossingsWarned, 1u);
+  ASSERT_EQ(r.counters.crossingLeads.size(), 1u);
+  // TLC = (0.7 - 0.5 t) / 0.5 <= 0.5 + 0.5 / 16 from t = 0.87 s: the first tick after, 0.9 s
+  EXPECT_NEAR(r.counters.crossingLeads[0], 0.5, 1e-9);
+}
+
 // Hindsight off: warnings pass through unjudged, as before.
 TEST(Hindsight, OffLeavesWarningsUnjudged) {
   MonitorConfig cfg = boxConfig();

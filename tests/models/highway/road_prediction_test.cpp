@@ -4,6 +4,7 @@
 // length; and its prunes against an unpruned brute force along the same paths.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -235,7 +236,8 @@ namespace detail {
 namespace {
 
 // A straight three-lane stretch, then a tight two-lane curve (radius 60 m, 3 degree vertices)
-// and a lane that continues into it: cars anywhere on them, at any speed, some drifting.
+// and a lane that continues into it, two lanes longer or shorter than SUMO would measure them:
+// cars anywhere on them, at any speed, some drifting.
 RoadGeometry tightRoad() {
   RoadGeometry r;
   for (int i = 0; i < 3; ++i) r.lanes.push_back(laneOf("a", i, {Vec2(0.0, 3.2 * i), Vec2(300.0, 3.2 * i)}));
@@ -249,6 +251,12 @@ RoadGeometry tightRoad() {
     shape.front() = Vec2(300.0, 3.2 * i);
     r.lanes.push_back(laneOf("b", i, std::move(shape)));
   }
+  // lanes whose source length is not their shape's (SUMO's `length`): a car moves 1/0.6 times
+  // its speed along the inner curve, 2/3 of it on the left straight lane
+  double arc = 0.0;
+  for (std::size_t k = 0; k + 1 < r.lanes[3].shape.size(); ++k) arc += (r.lanes[3].shape[k + 1] - r.lanes[3].shape[k]).norm();
+  r.lanes[3].length = 0.6 * arc;
+  r.lanes[2].length = 450.0;
   return r;
 }
 
@@ -357,10 +365,9 @@ TEST(RoadPrediction, PrunesKeepEveryThreatOfTheUnprunedPathsAndPathsStayWithinTh
   EXPECT_GT(curved, 1000u);
 }
 
-TEST(RoadPrediction, ASignalledTurnIsPredictedOntoItsTurningLane) {
-  // a lane ends at a junction with two junction lanes: straight on, and a left turn (a quarter
-  // circle of 8 m); a car 10 m before it at 10 m/s: straight on without a signal, round the left
-  // turn with its left signal on
+// A lane "in" ends at a junction with two junction lanes: straight on (to "east"), and a left
+// turn (a quarter circle of 8 m, to "north").
+RoadGeometry turnJunction() {
   RoadGeometry road;
   road.lanes.push_back(laneOf("in", 0, {Vec2(-100.0, 0.0), Vec2(0.0, 0.0)}));
   Lane straight = laneOf(":j_0", 0, {Vec2(0.0, 0.0), Vec2(16.0, 0.0)});
@@ -375,33 +382,63 @@ TEST(RoadPrediction, ASignalledTurnIsPredictedOntoItsTurningLane) {
   road.lanes.push_back(left);
   road.lanes.push_back(laneOf("north", 0, {Vec2(8.0, 8.0), Vec2(8.0, 100.0)}));
   road.lanes.push_back(laneOf("east", 0, {Vec2(16.0, 0.0), Vec2(100.0, 0.0)}));
-  for (std::uint8_t signal : {std::uint8_t{kSignalNone}, std::uint8_t{kSignalLeft}}) {
-    MonitorConfig cfg;
-    MonitorCounters counters;
-    VehicleTable cars(cfg, counters);
-    LanePrediction paths(road, cfg, cars, counters);
-    VehicleState v;
-    v.id = "car";
-    v.position = Vec2(-10.0, 0.0);
-    v.speed = 10.0;
-    v.signals = signal;
-    std::vector<VehicleState> tick = {v, v};
-    tick[1].id = "fast";  // a faster car sets a longer horizon for both
-    tick[1].position = Vec2(-80.0, 0.0);
-    tick[1].speed = 40.0;
-    cars.update(0.0, tick);
-    paths.update(0.0);
-    const int e = cars.active[0];
-    const Body at = LanePrediction::bodyAt(paths.path(e), cars.body[e], 0.0, false, 3.0);  // 30 m on
-    if (signal == kSignalLeft) {
-      EXPECT_NEAR(at.position.x(), 8.0, 1e-6);  // on the north lane, 30 - 10 - 4 pi = 7.4 m up it
-      EXPECT_NEAR(at.position.y(), 8.0 + 20.0 - 4.0 * kPi, 0.05);  // the polyline's arc is a little shorter
-      EXPECT_NEAR(at.axis.y(), 1.0, 1e-9);
-    } else {
-      EXPECT_NEAR(at.position.x(), 20.0, 1e-9);
-      EXPECT_NEAR(at.position.y(), 0.0, 1e-12);
-    }
-  }
+  return road;
+}
+
+// Where a car 10 m before turnJunction's junction at 10 m/s is 3 s on, given its signal and route
+// (edge ids, from its own edge on).
+Body turnedAfter3s(std::uint8_t signal, const std::vector<std::string>& route, std::uint64_t* routePredicted = nullptr) {
+  const RoadGeometry road = turnJunction();
+  const std::vector<std::string> edges = edgeIds(road);
+  MonitorConfig cfg;
+  MonitorCounters counters;
+  VehicleTable cars(cfg, counters);
+  LanePrediction paths(road, cfg, cars, counters);
+  VehicleState v;
+  v.id = "car";
+  v.position = Vec2(-10.0, 0.0);
+  v.speed = 10.0;
+  v.signals = signal;
+  for (std::size_t k = 0; k < route.size(); ++k)
+    v.route[k] = static_cast<int>(std::find(edges.begin(), edges.end(), route[k]) - edges.begin());
+  std::vector<VehicleState> tick = {v, v};
+  tick[1].id = "fast";  // a faster car sets a longer horizon for both
+  tick[1].position = Vec2(-80.0, 0.0);
+  tick[1].speed = 40.0;
+  tick[1].route = {};
+  tick[1].route.fill(-1);
+  tick[1].signals = kSignalNone;
+  cars.update(0.0, tick);
+  paths.update(0.0);
+  if (routePredicted) *routePredicted = counters.routePredicted;
+  const int e = cars.active[0];
+  return LanePrediction::bodyAt(paths.path(e), cars.body[e], 0.0, false, 3.0);  // 30 m on
+}
+
+bool onNorthLane(const Body& at) {
+  // 30 - 10 - 4 pi = 7.4 m up it (the polyline's arc is a little shorter than the circle's)
+  return std::abs(at.position.x() - 8.0) < 1e-6 && std::abs(at.position.y() - (8.0 + 20.0 - 4.0 * kPi)) < 0.05 &&
+         std::abs(at.axis.y() - 1.0) < 1e-9;
+}
+bool onEastLane(const Body& at) { return std::abs(at.position.x() - 20.0) < 1e-9 && std::abs(at.position.y()) < 1e-12; }
+
+TEST(RoadPrediction, ASignalledTurnIsPredictedOntoItsTurningLane) {
+  // straight on without a signal, round the left turn with its left signal on
+  EXPECT_TRUE(onEastLane(turnedAfter3s(kSignalNone, {})));
+  EXPECT_TRUE(onNorthLane(turnedAfter3s(kSignalLeft, {})));
+}
+
+TEST(RoadPrediction, TheRouteIsFollowedThroughTheJunctionOverTheSignal) {
+  // SUMO's route says where the car goes: round the turn unsignalled, straight on though it
+  // signals left; a route that does not hold the car's edge is ignored (signal, then straight)
+  std::uint64_t followed = 0;
+  EXPECT_TRUE(onNorthLane(turnedAfter3s(kSignalNone, {"in", "north"}, &followed)));
+  EXPECT_EQ(followed, 1u);
+  EXPECT_TRUE(onEastLane(turnedAfter3s(kSignalLeft, {"in", "east"})));
+  EXPECT_TRUE(onEastLane(turnedAfter3s(kSignalNone, {"in"})));  // the route ends: straight on
+  EXPECT_TRUE(onNorthLane(turnedAfter3s(kSignalLeft, {"north"}, &followed)));
+  EXPECT_EQ(followed, 0u);
+  EXPECT_TRUE(onEastLane(turnedAfter3s(kSignalNone, {"elsewhere"})));
 }
 
 TEST(RoadPrediction, WithoutANetworkEveryCarGoesStraight) {
@@ -428,6 +465,121 @@ TEST(RoadPrediction, WithoutANetworkEveryCarGoesStraight) {
   }
   EXPECT_EQ(ttc[0], ttc[1]);
   EXPECT_NEAR(ttc[0], 1.5, 1e-9);
+}
+
+
+TEST(RoadPrediction, ALaneLongerThanItsLengthCarriesTheCarFasterAlongIt) {
+  // SUMO moves a car along a lane at shape / length times its speed (a netedit lane of 80 m drawn
+  // 111 m long): a follower reporting 20 m/s on a 200 m shape of length 100 closes at 40 m/s on a
+  // stopped car 35 m ahead, box TTC 35 / 40 = 0.875 s; the straight line takes its 20 m/s
+  RoadGeometry road;
+  road.lanes.push_back(laneOf("long", 0, {Vec2(0.0, 0.0), Vec2(200.0, 0.0)}));
+  road.lanes[0].length = 100.0;
+  std::vector<VehicleState> cars(2);
+  cars[0].id = "follower";
+  cars[0].position = Vec2(20.0, 0.0);
+  cars[0].speed = 20.0;
+  cars[1].id = "stopped";
+  cars[1].position = Vec2(60.0, 0.0);
+  cars[1].equipped = false;
+  for (Prediction p : {Prediction::Road, Prediction::Straight}) {
+    MonitorConfig cfg = config(DetectorKind::Box, p);
+    cfg.checkRoad = false;
+    HighwayMonitor m(road, cfg);
+    m.step(0.0, cars);
+    const auto open = m.openWarnings();
+    ASSERT_EQ(open.size(), 1u);
+    EXPECT_NEAR(open[0].minTtc, p == Prediction::Road ? 0.875 : 1.75, 1e-9) << toString(p);
+  }
+}
+
+// The point at arc s along a polyline (beyond its end: on its last segment's extension) and the
+// direction of the segment it is on.
+std::pair<Vec2, Vec2> along(const std::vector<Vec2>& line, double s) {
+  for (std::size_t k = 0; k + 1 < line.size(); ++k) {
+    const double len = (line[k + 1] - line[k]).norm();
+    const Vec2 u = (line[k + 1] - line[k]) / len;
+    if (s <= len || k + 2 == line.size()) return {line[k] + s * u, u};
+    s -= len;
+  }
+  return {line.front(), Vec2(1.0, 0.0)};
+}
+
+TEST(RoadPrediction, LeavingAJunctionLaneSidewaysIsNoLateralMotion) {
+  // a two-way street: a car comes out of a junction lane that shifts it 3.2 m to the left onto the
+  // northbound lane, placed as SUMO places it (its front and rear on the lanes, its heading from
+  // its rear to its front, its centre half a length behind), while a car drives south on the
+  // other lane, 3.2 m to its left: they pass 1.4 m apart and neither ever warns. (SUMO heads a car
+  // from its rear to its front, so the centre sits off its new lane until the rear leaves the
+  // junction; that offset shrinking, read as lateral motion, drove the car into the oncoming one.)
+  RoadGeometry road;
+  road.lanes.push_back(laneOf("in", 0, {Vec2(3.2, -200.0), Vec2(3.2, 0.0)}));
+  Lane shift = laneOf(":j_0", 0, {Vec2(3.2, 0.0), Vec2(2.7, 3.0), Vec2(1.6, 5.0), Vec2(0.5, 7.0), Vec2(0.0, 10.0)});
+  shift.internal = true;
+  road.lanes.push_back(shift);
+  road.lanes.push_back(laneOf("north", 0, {Vec2(0.0, 10.0), Vec2(0.0, 300.0)}));
+  road.lanes.push_back(laneOf("south", 0, {Vec2(-3.2, 300.0), Vec2(-3.2, 12.0)}));
+  std::vector<Vec2> route;
+  for (int k : {0, 1, 2})
+    for (const Vec2& q : road.lanes[k].shape)
+      if (route.empty() || (q - route.back()).norm() > 1e-9) route.push_back(q);
+  const double speed = 15.0, dt = 0.1;
+  // (the concentric detector's outer circles overlap across adjacent lanes by design)
+  for (DetectorKind kind : {DetectorKind::Box, DetectorKind::FiveCircle}) {
+    MonitorConfig cfg = config(kind, Prediction::Road);
+    cfg.checkRoad = false;
+    const Drive r = drive(road, cfg, 100, dt, [&](double t) {
+      std::vector<VehicleState> cars(2);
+      cars[0].id = "out";
+      // its front reaches the junction at 0.8 s and the north lane at 1.5 s
+      const double s = 200.0 - 12.5 + speed * t;
+      const Vec2 front = along(route, s).first, rear = along(route, s - 5.0).first;
+      const Vec2 dir = (front - rear).normalized();
+      cars[0].heading = std::atan2(dir.y(), dir.x());
+      cars[0].position = front - 2.5 * dir;
+      cars[0].speed = speed;
+      cars[1].id = "oncoming";  // level with the first at 3.6 s, 1.7 s after its rear left the junction
+      cars[1].position = Vec2(-3.2, 92.35 - speed * t);
+      cars[1].heading = -0.5 * kPi;
+      cars[1].speed = speed;
+      return cars;
+    });
+    EXPECT_EQ(countKind(r, WarningKind::Vehicle), 0u) << toString(kind);
+  }
+}
+
+
+TEST(RoadPrediction, ATruckFollowingAKinkedLaneStaysInIt) {
+  // a 3.75 m lane whose centre line turns 14 degrees at one vertex (SUMO's polylines); a 12 m,
+  // 2.55 m truck drives it placed as SUMO places it (front and rear on the line, heading from rear
+  // to front): its centre cuts 0.7 m inside the bend, its side 0.1 m over the curb line, yet it
+  // follows its lane: no curb warning and no crossing (measured from the line, it is one)
+  const double turn = 14.0 * kPi / 180.0;
+  RoadGeometry road;
+  road.lanes.push_back(laneOf("ramp", 0, {Vec2(0.0, 0.0), Vec2(300.0, 0.0), Vec2(300.0 + 300.0 * std::cos(turn), -300.0 * std::sin(turn))}));
+  road.lanes[0].width = 3.75;
+  for (DetectorKind kind : {DetectorKind::Box, DetectorKind::FiveCircle}) {
+    MonitorConfig cfg = config(kind, Prediction::Road);
+    double worst = 0.0;  // the centre's largest distance from the line
+    const Drive r = drive(road, cfg, 200, 0.1, [&](double t) {
+      const double s = 250.0 + 20.0 * t;  // the front
+      const Vec2 front = along(road.lanes[0].shape, s).first, rear = along(road.lanes[0].shape, s - 12.0).first;
+      const Vec2 dir = (front - rear).normalized();
+      VehicleState v;
+      v.id = "truck";
+      makeTruck(v);
+      v.width = 2.55;
+      v.heading = std::atan2(dir.y(), dir.x());
+      v.position = front - 6.0 * dir;
+      v.speed = 20.0;
+      const Vec2 c = v.position;
+      worst = std::max(worst, c.x() <= 300.0 ? std::abs(c.y()) : std::abs(std::sin(turn) * (c.x() - 300.0) + std::cos(turn) * c.y()));
+      return std::vector<VehicleState>{v};
+    });
+    EXPECT_GT(worst, 0.6);  // so the side reached over the line (1.875 - 1.275 = 0.6 m of room)
+    EXPECT_EQ(countKind(r, WarningKind::Curb), 0u) << toString(kind);
+    EXPECT_EQ(r.counters.crossings, 0u) << toString(kind);
+  }
 }
 
 }  // namespace

@@ -44,6 +44,14 @@ struct SumoVehicle {
   double lateralSpeed = 0.0;  // to the left (m/s), sublane model only
   double acceleration = 0.0;  // longitudinal (m/s^2)
   int signals = 0;            // SUMO signal bits
+  // Its route (VehicleReads::route): the index of its current edge in it (inside a junction, of
+  // the edge it left), the route's id, its edges (read again only when the id changes: SUMO
+  // gives a rerouted vehicle a new route), and a number that changes whenever they are read
+  // (unique in the backend's life: a per-vehicle cache keyed by it is never stale).
+  int routeIndex = -1;
+  std::string routeId;
+  std::vector<std::string> route;
+  std::uint64_t routeVersion = 0;
 };
 
 // A vehicle type, read once per type and cached by the backend.
@@ -61,6 +69,7 @@ struct SumoLane {
   std::string edge;
   int index = 0;       // 0 = rightmost
   double width = 0.0;  // m
+  double length = 0.0; // m, SUMO's (positions and speeds along the lane are in it)
   std::vector<std::pair<double, double>> shape;
   bool internal = false;  // a junction-internal lane (id starting with ':')
 };
@@ -87,6 +96,7 @@ struct StepEvents {
 struct VehicleReads {
   bool acceleration = true;  // used by the constant-acceleration motion model only
   bool signals = true;       // blinkers: used by the lane-marker check only
+  bool route = true;         // the route: used by the road-aware prediction only
   bool operator==(const VehicleReads&) const = default;
 };
 
@@ -179,6 +189,7 @@ class Backend {
   std::vector<SumoVehicle> vehicles_;
   StepEvents events_;
   VehicleReads reads_;
+  std::uint64_t routeReads_ = 0;  // SumoVehicle::routeVersion's source
 
  private:
   void appear(const std::string& id);

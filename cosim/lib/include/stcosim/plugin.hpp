@@ -18,6 +18,7 @@
 #include <span>
 #include <set>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <sthighway/monitor.hpp>
@@ -126,7 +127,8 @@ class HighwayPlugin {
   int drawCells();
 
  private:
-  HighwayPlugin(std::unique_ptr<Backend> owned, PluginConfig config);
+  HighwayPlugin(std::unique_ptr<Backend>&& owned, Backend& backend, PluginConfig config,
+                const highway::RoadGeometry& road);
   void act();
   void runIncidents();
   bool inIncident(std::uint32_t serial) const;  // braking or held by a scripted incident
@@ -135,6 +137,7 @@ class HighwayPlugin {
   Backend& backend_;
   PluginConfig config_;
   highway::HighwayMonitor monitor_;
+  std::unordered_map<std::string, int> edgeIndex_;  // SUMO edge id -> index into edgeIds(road)
   std::vector<highway::VehicleState> states_;
   // per vType (by the backend's type index): converted once, and whether it is a smart type
   struct TypeInfo {
@@ -150,6 +153,8 @@ class HighwayPlugin {
     std::uint8_t level = 0;     // 0 own colour, 1 warning, 2 danger
     bool painted = false;       // `original` read (at its first warning)
     Rgba original;
+    std::uint64_t routeVersion = 0;  // of SumoVehicle::route, converted into
+    std::vector<int> route;          // its edges as indices (-1: not in the network's lanes)
   };
   std::vector<PerVehicle> perVehicle_;
   std::vector<char> alerted_;  // per state index, act()'s scratch

@@ -129,6 +129,9 @@ struct MonitorCounters {
   // stopped), predicted in a straight line.
   std::uint64_t roadPredicted = 0;
   std::uint64_t straightFallbacks = 0;
+  // Of the road-predicted updates, those whose route (VehicleState::route) holds their lane's
+  // edge: they are predicted along it through junctions.
+  std::uint64_t routePredicted = 0;
   // Time exposed (TET, s) and time-integrated (TIT, s^2) TTC below the safe time, per kind:
   // sum over equipped cars and ticks of dt, and of dt * (t_safe - TTC) for the worst threat.
   std::array<double, kWarningKindCount> tet{};

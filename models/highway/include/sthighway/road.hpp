@@ -17,6 +17,9 @@ struct Lane {
   std::vector<Vec2> shape;       // centre line, in driving direction (m)
   double width = 3.2;            // m
   bool internal = false;         // inside a junction: no curbs, markers or cell sites
+  // Its length as the source measures positions and speeds along it (m; SUMO's `length`, which
+  // may differ from the shape's: a car there moves shape / length times its speed); 0: the shape's.
+  double length = 0.0;
 };
 
 // A point hazard (pothole, debris): a disc on the road.
@@ -30,6 +33,10 @@ struct RoadGeometry {
   std::vector<Lane> lanes;
   std::vector<Hazard> hazards;
 };
+
+// The network's edges in order of first appearance among its lanes (junction edges included):
+// the index space of VehicleState::route.
+std::vector<std::string> edgeIds(const RoadGeometry& road);
 
 enum class FeatureKind : std::uint8_t { Curb, LaneMarker, Hazard };
 const char* toString(FeatureKind k);

@@ -24,6 +24,10 @@ VehicleClass vehicleClassFromName(std::string_view name);
 // Turn-signal bits (ours, not SUMO's: the trace reader converts).
 enum TurnSignal : std::uint8_t { kSignalNone = 0, kSignalLeft = 1, kSignalRight = 2 };
 
+// How many edges of a vehicle's route it carries (VehicleState::route): enough for the
+// junctions within the longest prediction horizon on urban blocks; beyond them, straight on.
+inline constexpr int kRouteAhead = 8;
+
 struct VehicleState {
   std::string id;                // for output; the monitor finds a vehicle by its handle
   // The caller's dense index for this vehicle (0, 1, 2, ...; the same at every tick while it is
@@ -43,6 +47,11 @@ struct VehicleState {
   // The lane it drives on: an index into the monitor's RoadGeometry::lanes, or -1 (unknown; a
   // source without a network). Only reported (warnings.csv), never used to decide a warning.
   int lane = -1;
+  // Its route from the edge it is on (or, inside a junction, the edge it left) on: indices into
+  // edgeIds(road) of the monitor's RoadGeometry, -1 past the last one known. The road-aware
+  // prediction follows it through junctions; without one (all -1: FCD traces, most callers) a
+  // car is predicted into the turn its signal shows, else the straightest successor.
+  std::array<int, kRouteAhead> route = {-1, -1, -1, -1, -1, -1, -1, -1};
 
   Vec2 direction() const { return {std::cos(heading), std::sin(heading)}; }
   Vec2 velocity() const {
