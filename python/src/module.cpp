@@ -69,9 +69,9 @@ std::string toStr(py::handle h, const std::string& what) {
 
 // The keys a vehicle may have; which ones depend on the convention.
 enum Key { kId, kX, kY, kHeading, kAngle, kSpeed, kLateralSpeed, kAcceleration, kLength, kWidth, kMass, kClass,
-           kSignals, kEquipped, kLane, kKeyCount };
+           kSignals, kEquipped, kLane, kRoute, kKeyCount };
 const char* const kKeyNames[kKeyCount] = {"id", "x", "y", "heading", "angle", "speed", "lateral_speed", "acceleration",
-                                          "length", "width", "mass", "vehicle_class", "signals", "equipped", "lane"};
+                                          "length", "width", "mass", "vehicle_class", "signals", "equipped", "lane", "route"};
 
 enum class Convention { Ours, Sumo };
 
@@ -112,6 +112,7 @@ struct Raw {
   long signals = 0;
   bool equipped = true;
   std::string lane;  // the lane id (reported in the warnings' lane column); empty: unknown
+  std::vector<std::string> route;  // edge ids from the current edge on (SUMO: route[routeIndex:])
 };
 
 void setValue(Raw& r, int key, py::handle value, Convention c, const std::string& where) {
@@ -126,6 +127,13 @@ void setValue(Raw& r, int key, py::handle value, Convention c, const std::string
       break;
     case kEquipped: r.equipped = toBool(value, what); break;
     case kLane: r.lane = value.is_none() ? std::string() : toStr(value, what); break;
+    case kRoute:
+      r.route.clear();
+      if (value.is_none()) break;
+      if (PyUnicode_Check(value.ptr()) || !py::isinstance<py::sequence>(value))
+        throw py::type_error(what + " must be a list of edge ids, got " + typeName(value));
+      for (py::handle e : value) r.route.push_back(toStr(e, what));
+      break;
     default: r.v[key] = toFinite(value, what);
   }
 }
@@ -134,11 +142,14 @@ std::string vehicleWhere(std::size_t i, const Raw& r) {
   return "vehicle " + std::to_string(i) + (r.has[kId] ? " ('" + r.id + "')" : "");
 }
 
-// A lane id's index into the monitor's RoadGeometry::lanes (VehicleState::lane).
+// A lane id's index into the monitor's RoadGeometry::lanes (VehicleState::lane), and an edge id's
+// into edgeIds(road) (VehicleState::route).
 using LaneIndex = std::unordered_map<std::string, int>;
+using EdgeIndex = std::unordered_map<std::string, int>;
 
 // The state in our conventions. SUMO's: as st::cosim::toVehicleState (cosim/lib/src/conversions.cpp).
-void toState(const Raw& r, Convention c, std::size_t i, const LaneIndex& lanes, hw::VehicleState& s) {
+void toState(const Raw& r, Convention c, std::size_t i, const LaneIndex& lanes, const EdgeIndex& edges,
+             hw::VehicleState& s) {
   const std::string where = vehicleWhere(i, r);
   const int needed[] = {kId, kX, kY, c == Convention::Ours ? kHeading : kAngle, kSpeed};
   for (int k : needed)
@@ -156,6 +167,12 @@ void toState(const Raw& r, Convention c, std::size_t i, const LaneIndex& lanes, 
     // as the FCD reader does: the lane's index in the road, -1 for a lane the road lacks
     const auto at = lanes.find(r.lane);
     s.lane = at == lanes.end() ? -1 : at->second;
+  }
+  // as the SUMO coupling does: up to kRouteAhead edges, ending at the first the road lacks
+  for (std::size_t k = 0; k < r.route.size() && k < static_cast<std::size_t>(hw::kRouteAhead); ++k) {
+    const auto at = edges.find(r.route[k]);
+    if (at == edges.end()) break;
+    s.route[k] = at->second;
   }
   const double lateral = r.has[kLateralSpeed] ? r.v[kLateralSpeed] : 0.0;
   if (c == Convention::Ours) {
@@ -179,7 +196,8 @@ void toState(const Raw& r, Convention c, std::size_t i, const LaneIndex& lanes, 
 }
 
 // A list of dicts, or a dict of equally long columns.
-void readStates(py::handle vehicles, Convention c, const LaneIndex& lanes, std::vector<hw::VehicleState>& out) {
+void readStates(py::handle vehicles, Convention c, const LaneIndex& lanes, const EdgeIndex& edges,
+                std::vector<hw::VehicleState>& out) {
   std::vector<Raw> raws;
   if (py::isinstance<py::dict>(vehicles)) {
     const auto columns = py::reinterpret_borrow<py::dict>(vehicles);
@@ -199,7 +217,7 @@ void readStates(py::handle vehicles, Convention c, const LaneIndex& lanes, std::
     raws.resize(n.value_or(0));
     // numbers through one NumPy conversion per column where it can (ids and names element-wise)
     for (auto& [k, col] : cols) {
-      const bool numeric = k != kId && k != kClass && k != kSignals && k != kEquipped && k != kLane;
+      const bool numeric = k != kId && k != kClass && k != kSignals && k != kEquipped && k != kLane && k != kRoute;
       if (numeric && py::isinstance<py::array>(col) && py::cast<py::array>(col).dtype().kind() == 'f') {
         auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(col);
         if (!a || a.ndim() != 1)
@@ -241,7 +259,7 @@ void readStates(py::handle vehicles, Convention c, const LaneIndex& lanes, std::
     throw py::type_error("vehicles must be a list of dicts or a dict of columns, got " + typeName(vehicles));
   }
   out.resize(raws.size());
-  for (std::size_t i = 0; i < raws.size(); ++i) toState(raws[i], c, i, lanes, out[i]);
+  for (std::size_t i = 0; i < raws.size(); ++i) toState(raws[i], c, i, lanes, edges, out[i]);
 }
 
 py::dict stateDict(const hw::VehicleState& s, const hw::RoadGeometry* road) {
@@ -377,11 +395,13 @@ class Monitor {
  public:
   Monitor(const hw::RoadGeometry& road, const hw::MonitorConfig& cfg) : monitor_(road, cfg), hindsight_(cfg.hindsight) {
     for (std::size_t i = 0; i < road.lanes.size(); ++i) lanes_.emplace(road.lanes[i].id, static_cast<int>(i));
+    const std::vector<std::string> edges = hw::edgeIds(road);
+    for (std::size_t e = 0; e < edges.size(); ++e) edges_.emplace(edges[e], static_cast<int>(e));
   }
 
   void step(double t, py::handle vehicles, Convention c) {
     if (!std::isfinite(t)) throw py::value_error("step time must be finite, got " + std::to_string(t));
-    readStates(vehicles, c, lanes_, states_);
+    readStates(vehicles, c, lanes_, edges_, states_);
     {
       py::gil_scoped_release free;
       monitor_.step(t, states_);
@@ -469,6 +489,7 @@ class Monitor {
   hw::HighwayMonitor monitor_;
   hw::HindsightConfig hindsight_;
   LaneIndex lanes_;                       // lane id -> index into the road's lanes
+  EdgeIndex edges_;                       // edge id -> index into edgeIds(road)
   std::vector<hw::VehicleState> states_;  // the last step's, for the alerts' ids
 };
 

@@ -3,7 +3,8 @@
 monitor in SUMO's conventions (front bumper, navigational degrees), where they are converted by
 the same code as stsim's own SUMO coupling. The reads follow the coupling's: position, angle,
 speed, lateral speed; acceleration only for the constant-acceleration motion model, turn signals
-only when the road is checked; size, class and the vType's "mass" param once per type."""
+only when the road is checked, the route only for the road prediction; size, class and the
+vType's "mass" param once per type."""
 import math
 
 from ._stsim import Monitor
@@ -44,9 +45,10 @@ def _vehicle_type(conn, type_id):
     return info
 
 
-def read_traci_vehicles(conn, types=None, acceleration=True, signals=True):
+def read_traci_vehicles(conn, types=None, acceleration=True, signals=True, route=True):
     """Every vehicle's state now, as columns in SUMO's conventions (Monitor.step_sumo takes them).
-    `types` caches the vTypes between calls (a dict, filled here)."""
+    `types` caches the vTypes between calls (a dict, filled here). With `route`, each vehicle's
+    route from its current edge on (what the road prediction follows through junctions)."""
     if types is None:
         types = {}
     v = conn.vehicle
@@ -57,6 +59,8 @@ def read_traci_vehicles(conn, types=None, acceleration=True, signals=True):
         cols["acceleration"] = []
     if signals:
         cols["signals"] = []
+    if route:
+        cols["route"] = []
     masses = []
     for vid in ids:
         x, y = v.getPosition(vid)
@@ -69,6 +73,8 @@ def read_traci_vehicles(conn, types=None, acceleration=True, signals=True):
             cols["acceleration"].append(v.getAcceleration(vid))
         if signals:
             cols["signals"].append(v.getSignals(vid))
+        if route:
+            cols["route"].append(list(v.getRoute(vid))[max(0, v.getRouteIndex(vid)):])
         type_id = v.getTypeID(vid)
         t = types.get(type_id)
         if t is None:
@@ -109,10 +115,11 @@ class TraciMonitor:
         self.monitor = Monitor(net, **settings) if net is not None else Monitor(lanes=read_traci_lanes(conn), **settings)
         self._acceleration = settings.get("motion", "velocity") == "acceleration"
         self._signals = settings.get("check_road", True)
+        self._route = settings.get("prediction", "road") == "road"
         self._types = {}
 
     def step(self):
-        states = read_traci_vehicles(self.conn, self._types, self._acceleration, self._signals)
+        states = read_traci_vehicles(self.conn, self._types, self._acceleration, self._signals, self._route)
         self.monitor.step_sumo(self.conn.simulation.getTime(), states)
 
     def finish(self, t=None):

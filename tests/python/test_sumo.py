@@ -1,7 +1,9 @@
 """SUMO's conventions (step_sumo, TraciMonitor): checked against the conversion done by hand, and
-TraciMonitor over Python's libsumo against stsim's own C++ SUMO coupling on the shipped motorway."""
+TraciMonitor over Python's libsumo against stsim's own C++ SUMO coupling on the shipped motorway,
+the sublane network and SUMO's grid6; a route given through Python is followed through a junction."""
 import csv
 import math
+import pathlib
 import sys
 
 import pytest
@@ -65,11 +67,14 @@ def libsumo_module():
     return libsumo
 
 
-# the motorway (trucks with a mass param, cars without) and the sublane network (lateral speeds)
-@pytest.mark.parametrize("network", ["motorway", "sublane"])
+# the motorway (trucks with a mass param, cars without), the sublane network (lateral speeds) and
+# SUMO's grid6 (junctions: the routes are read and followed, lanes longer than their length)
+@pytest.mark.parametrize("network", ["motorway/motorway", "sublane/sublane", "experiments/real_networks/grid6"])
 def test_traci_monitor_equals_the_cxx_coupling(stsim_binary, tmp_path, network):
-    cfg = SOURCE / f"networks/{network}/{network}.sumocfg"
-    end = 60.0
+    cfg = SOURCE / f"networks/{network}.sumocfg"
+    if not cfg.exists() or (network.endswith("grid6") and not pathlib.Path("/usr/share/sumo/tools/game/grid6").exists()):
+        pytest.skip(f"{cfg} or SUMO's game networks missing")
+    end = 200.0 if network.endswith("grid6") else 60.0  # grid6 fills slowly
     r = run_stsim(stsim_binary, "highway", cfg, "--end", end, "--action", "none", "--out", tmp_path / "cxx")
     if "built without SUMO support" in r.stderr:
         pytest.skip("stsim built without SUMO (-DSTSIM_WITH_SUMO=OFF)")
@@ -98,3 +103,33 @@ def test_traci_monitor_equals_the_cxx_coupling(stsim_binary, tmp_path, network):
     assert got == want  # bit for bit
     table = stsim.warnings_table([])
     assert list(table.keys() if isinstance(table, dict) else table.columns) == list(stsim.WARNING_COLUMNS)
+
+
+def test_a_route_is_followed_through_a_junction():
+    # a lane ends at a junction: straight on to "east", or round a left turn (a quarter circle of
+    # 8 m) to "north", where a stopped car stands 10 m up; a car 10 m before the junction at
+    # 20 m/s reaches it along the turn after about 1 s, not going straight on
+    turn = [(8.0 * math.sin(0.5 * math.pi * k / 9), 8.0 - 8.0 * math.cos(0.5 * math.pi * k / 9)) for k in range(10)]
+    lanes = [
+        {"id": "in_0", "edge": "in", "shape": [(-100.0, 0.0), (0.0, 0.0)]},
+        {"id": ":j_0_0", "edge": ":j_0", "shape": [(0.0, 0.0), (16.0, 0.0)], "internal": True},
+        {"id": ":j_1_0", "edge": ":j_1", "shape": turn, "internal": True},
+        {"id": "north_0", "edge": "north", "shape": [(8.0, 8.0), (8.0, 100.0)]},
+        {"id": "east_0", "edge": "east", "shape": [(16.0, 0.0), (100.0, 0.0)], "length": 84.0},
+    ]
+    stopped = {"id": "stopped", "x": 8.0, "y": 18.0, "heading": 0.5 * math.pi, "speed": 0.0, "equipped": False}
+
+    def warned(route):
+        m = stsim.Monitor(lanes=lanes, detector="box", check_road=False)
+        car = {"id": "car", "x": -10.0, "y": 0.0, "heading": 0.0, "speed": 20.0}
+        if route is not None:
+            car["route"] = route
+        m.step(0.0, [car, stopped])
+        return [w.foe for w in m.open_warnings()], m.counters["route_predicted_updates"]
+
+    assert warned(["in", "north"]) == (["stopped"], 1)
+    assert warned(["in", "east"]) == ([], 1)
+    assert warned(None) == ([], 0)  # no route, no signal: straight on
+    assert warned(["nowhere"]) == ([], 0)  # a route that does not hold its edge is none
+    with pytest.raises(TypeError, match="route"):
+        stsim.Monitor(lanes=lanes).step(0.0, [{"id": "c", "x": 0, "y": 0, "heading": 0, "speed": 1, "route": "in"}])
