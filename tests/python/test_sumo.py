@@ -68,7 +68,8 @@ def libsumo_module():
 
 
 # the motorway (trucks with a mass param, cars without), the sublane network (lateral speeds) and
-# SUMO's grid6 (junctions: the routes are read and followed, lanes longer than their length)
+# SUMO's grid6 (junctions, lanes drawn longer than their length; its turns are signalled, so the
+# route changes no warning there: test_a_route_is_followed_through_a_junction checks the route)
 @pytest.mark.parametrize("network", ["motorway/motorway", "sublane/sublane", "experiments/real_networks/grid6"])
 def test_traci_monitor_equals_the_cxx_coupling(stsim_binary, tmp_path, network):
     cfg = SOURCE / f"networks/{network}.sumocfg"

@@ -74,7 +74,6 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
     if (lanes_[i].count >= 2) starts[key(pt_[lanes_[i].first])].push_back(i);
   constexpr double kJoin = 0.1;  // m: a successor starts this close to the lane's end
   constexpr double kTurn = 0.35;  // rad (20 degrees): a successor turning more is a turn
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   std::vector<std::pair<double, int>> found;  // a lane's successors: |turn|, lane
   for (int a = 0; a < n; ++a) {
     lanes_[a].succBegin = lanes_[a].succEnd = static_cast<int>(succ_.size());
@@ -85,7 +84,7 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
     const Vec2 endDir = (end - pt_[la.first + la.count - 2]).normalized();
     // each successor's turn: to the direction it leaves in (a junction lane's last segment; it
     // starts along the lane it leaves), signed, to the left positive
-    double straight = kInf, left = kTurn, right = -kTurn;
+    double left = kTurn, right = -kTurn;
     for (double dx : {-kJoin, kJoin})
       for (double dy : {-kJoin, kJoin}) {
         auto it = starts.find(key(end + Vec2(dx, dy)));
@@ -98,16 +97,16 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
           const double turn = std::atan2(cross2(endDir, out), endDir.dot(out));
           found.emplace_back(std::abs(turn), b);
           NetLane& l = lanes_[a];
-          if (std::abs(turn) < straight || (std::abs(turn) == straight && b < l.next)) straight = std::abs(turn), l.next = b;
           if (turn > left || (turn == left && b < l.nextLeft)) left = turn, l.nextLeft = b;
           if (turn < right || (turn == right && b < l.nextRight)) right = turn, l.nextRight = b;
         }
       }
-    // (the four probes may find a lane twice)
+    // the straightest first, the lower index among equals (the four probes may find a lane twice)
     std::sort(found.begin(), found.end());
     found.erase(std::unique(found.begin(), found.end()), found.end());
     for (const auto& [turn, b] : found) succ_.push_back(b);
     lanes_[a].succEnd = static_cast<int>(succ_.size());
+    if (!found.empty()) lanes_[a].next = found.front().second;
   }
   // the edge a car reaches: its own on a normal lane; through a junction's lanes, the first
   // normal lane's (a junction lane has one successor, another junction lane at most a few times)
@@ -486,7 +485,7 @@ void LanePrediction::predict(int slot, double t) {
   // where its route holds this lane's edge, the path follows the route
   int routeAt = -1;
   for (int k = 0; k < kRouteAhead && routeAt < 0; ++k)
-    if (c.route[slot][k] >= 0 && c.route[slot][k] == l.exitEdge) routeAt = k;
+    if (c.route[slot][k] == l.exitEdge) routeAt = k;
   if (routeAt >= 0) ++counters_->routePredicted;
   // a body in a junction (on a junction lane, or half on the lane it leaves) has an offset that
   // moves with the lanes' geometry (SUMO places it on the chord between its front and its rear),

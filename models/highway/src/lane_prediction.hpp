@@ -103,7 +103,7 @@ class LanePrediction {
   struct NetLane {
     int first = 0, count = 0;  // its points in pt_/cum_
     double width = 3.2, length = 0.0;
-    int next = -1;              // the straightest successor (-1: the lane ends)
+    int next = -1;              // the straightest successor, succ_[succBegin] (-1: the lane ends)
     int nextLeft = -1, nextRight = -1;  // the successors turning furthest left and right (by 20 degrees at least)
     int succBegin = 0, succEnd = 0;     // all successors in succ_, the straightest first
     int edge = -1;                      // index into edgeIds(road)
