@@ -88,6 +88,7 @@ int runTrace(const Args& a) {
   if (ec) throw std::runtime_error("cannot create output directory " + out.string() + ": " + ec.message());
   hw::removeRunOutputs(out);  // an earlier SUMO run's collisions.csv etc. are not this replay's
   hw::WarningsCsvWriter csv(out / "warnings.csv");
+  hw::EventsCsvWriter eventsCsv(out / "events.csv");
 
   hw::RunInfo info;
   info.source = a.get("fcd");
@@ -97,13 +98,20 @@ int runTrace(const Args& a) {
   info.hindsight = cfg.hindsight;
   double first = 0.0, last = 0.0;
   bool any = false;
-  std::vector<hw::Warning> ended;  // one buffer for every frame
+  std::vector<hw::Warning> ended;  // buffers for every frame
+  std::vector<hw::HindsightEvent> events;
+  auto writeOutputs = [&] {
+    monitor.takeFinished(ended);
+    csv.write(ended);
+    monitor.takeEvents(events);
+    eventsCsv.write(events);
+  };
   // on any error: close what is open, write everything so far, then report the error
   auto flushAll = [&](const std::string& error) {
     monitor.finish(any ? last : 0.0);
-    monitor.takeFinished(ended);
-    csv.write(ended);
+    writeOutputs();
     csv.flush();
+    eventsCsv.flush();
     info.simulatedSeconds = any ? last - first : 0.0;
     info.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
     if (!error.empty()) info.strings.emplace_back("error", error);
@@ -121,8 +129,7 @@ int runTrace(const Args& a) {
       if (!any) first = frame.time;
       any = true;
       last = frame.time;
-      monitor.takeFinished(ended);
-      csv.write(ended);
+      writeOutputs();
     }
   } catch (const std::exception& e) {
     flushAll(e.what());

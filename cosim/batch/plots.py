@@ -147,9 +147,11 @@ def write_hindsight(f, sweep, kinds, rows):
     f.write("## Hindsight (pooled over seeds; [hindsight.csv](hindsight.csv))\n\n"
             "Warnings per vehicle-km by kind; the confirmed share of each kind's warnings (what "
             "followed confirmed the conflict); the near misses' recall (warned at least the lead "
-            "time before) and the median lead time; the same for the unsignalled line crossings. n/a: nothing to count.\n\n")
+            "time before) and the median lead time; the same for the unsignalled line crossings and for SUMO's "
+            "collisions (the collider warned about the victim). n/a: nothing to count.\n\n")
     cols = sweep + ["%s /veh-km" % k for k in kinds] + ["%s confirmed" % k for k in kinds] + \
-        ["near-miss recall", "median lead (s)", "crossing recall", "median lead (s)"]
+        ["near-miss recall", "median lead (s)", "crossing recall", "median lead (s)",
+         "collision recall", "median lead (s)"]
     f.write("| " + " | ".join(cols) + " |\n")
     f.write("|" + "---|" * len(cols) + "\n")
     for r in rows:
@@ -160,6 +162,8 @@ def write_hindsight(f, sweep, kinds, rows):
         cells.append(fmt(r.get("near_miss_lead_median_s")) or "n/a")
         cells.append(share(r, "crossings_warned", "crossings", "crossing_recall"))
         cells.append(fmt(r.get("crossing_lead_median_s")) or "n/a")
+        cells.append(share(r, "collisions_warned", "collisions", "collision_recall"))
+        cells.append(fmt(r.get("collision_lead_median_s")) or "n/a")
         f.write("| " + " | ".join(cells) + " |\n")
     f.write("\n")
 

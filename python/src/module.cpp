@@ -409,6 +409,11 @@ class Monitor {
   }
   void finish(double t) { monitor_.finish(t); }
   std::vector<hw::Warning> takeFinished() { return monitor_.takeFinished(); }
+  std::vector<hw::HindsightEvent> takeEvents() {
+    std::vector<hw::HindsightEvent> out;
+    monitor_.takeEvents(out);
+    return out;
+  }
   std::vector<hw::Warning> openWarnings() const { return monitor_.openWarnings(); }
   std::vector<PyAlert> alerts() const {
     std::vector<PyAlert> out;
@@ -587,6 +592,24 @@ PYBIND11_MODULE(_stsim, m) {
   m.attr("__version__") = STSIM_VERSION_STRING;
   py::register_exception<hw::InputError>(m, "InputError", PyExc_ValueError);
 
+  py::class_<hw::HindsightEvent>(m, "HindsightEvent",
+                                 "A near miss or an unsignalled line crossing that happened, and whether it was warned\n"
+                                 "(what events.csv has: models/highway/README.md, Hindsight).")
+      .def_property_readonly("kind", [](const hw::HindsightEvent& e) { return hw::toString(e.kind); }, "near_miss or crossing")
+      .def_readonly("time", &hw::HindsightEvent::time)
+      .def_readonly("ego", &hw::HindsightEvent::ego)
+      .def_readonly("foe", &hw::HindsightEvent::foe, "near miss: the other vehicle; crossing: the line")
+      .def_readonly("x", &hw::HindsightEvent::x)
+      .def_readonly("y", &hw::HindsightEvent::y)
+      .def_readonly("lane", &hw::HindsightEvent::lane)
+      .def_readonly("speed", &hw::HindsightEvent::speed)
+      .def_property_readonly("gap", [](const hw::HindsightEvent& e) { return conflictNumber(e.gap); }, "m, near miss: body to body")
+      .def_property_readonly("lateral_speed", [](const hw::HindsightEvent& e) { return conflictNumber(e.lateralSpeed); },
+                             "m/s, crossing: towards the line")
+      .def_readonly("warned", &hw::HindsightEvent::warned, "a warning about it was open the lead time before")
+      .def_property_readonly("lead", [](const hw::HindsightEvent& e) { return conflictNumber(e.lead); },
+                             "s since the earliest warning about it began; None: not warned");
+
   py::class_<hw::Warning>(m, "WarningEpisode", "One warning episode: (ego, foe, kind) from its first tick to its end.")
       .def_readonly("ego", &hw::Warning::ego)
       .def_readonly("foe", &hw::Warning::foe)
@@ -678,6 +701,8 @@ PYBIND11_MODULE(_stsim, m) {
            "signals as SUMO's bits (1 right, 2 left), vehicle_class a SUMO vClass.")
       .def("finish", &Monitor::finish, py::arg("t"), "Closes every open episode at time t.")
       .def("take_finished", &Monitor::takeFinished, "Episodes that ended since the last call, in order of ending.")
+      .def("take_events", &Monitor::takeEvents,
+           "Near misses and unsignalled crossings hindsight found since the last call (HindsightEvent).")
       .def("open_warnings", &Monitor::openWarnings)
       .def("alerts", &Monitor::alerts)
       .def_property_readonly("counters", &Monitor::counters)

@@ -107,7 +107,7 @@ class TraciMonitor:
 
     TraciMonitor(conn, net=None, **settings): conn is `traci`, a `traci.Connection` or `libsumo`;
     the road comes from `net` (a .net.xml) or, without it, from the lanes SUMO has loaded;
-    settings are Monitor's. take_finished(), open_warnings(), alerts(), counters, finish() as
+    settings are Monitor's. take_finished(), take_events(), open_warnings(), alerts(), counters, finish() as
     Monitor's (finish() without a time closes at SUMO's current time)."""
 
     def __init__(self, conn, net=None, **settings):
@@ -127,6 +127,9 @@ class TraciMonitor:
 
     def take_finished(self):
         return self.monitor.take_finished()
+
+    def take_events(self):
+        return self.monitor.take_events()
 
     def open_warnings(self):
         return self.monitor.open_warnings()

@@ -118,8 +118,9 @@ TEST(BatchTables, PairedSpreadIsTheDifferencesSpread) {
 // keep the column with an empty cell (not 0, not 1), and hindsight.csv pools each combination's
 // counts, by hand: detector five, seeds 1 and 2: vehicle 3/4 and 1/6 confirmed -> 4/10, curb 0
 // judged in both -> empty; near misses 2 of 2 and none -> 2/2 = 1, lead medians 0.8 and none ->
-// 0.8; crossings 3 of 4 (lead median 0.6) and 0 of 2 (null) -> 3/6 = 0.5, 0.6. Detector box, seed
-// 1 done and seed 2 failed: vehicle 0 of 0, no near miss, no crossing -> all empty.
+// 0.8; crossings 3 of 4 (lead median 0.6) and 0 of 2 (null) -> 3/6 = 0.5, 0.6; SUMO collisions
+// 2 of 3 warned ahead (lead median 1.2) and 1 of 1 (2.0) -> 3/4 = 0.75, 1.6. Detector box, seed 1
+// done and seed 2 failed: vehicle 0 of 0, no near miss, no crossing, no collision figures -> all empty.
 TEST(BatchTables, HindsightNullsStayEmptyAndSharesArePooledOverSeeds) {
   const fs::path dir = fs::temp_directory_path() / ("stsim_tables_hindsight_" + std::to_string(::getpid()));
   fs::remove_all(dir);
@@ -147,7 +148,11 @@ TEST(BatchTables, HindsightNullsStayEmptyAndSharesArePooledOverSeeds) {
       const std::string lead = std::string(f.lead) == "null" ? "null"
                                                              : std::string("{\"min\": 0.6, \"median\": ") + f.lead + ", \"p90\": 1.0}";
       std::ofstream(run / "summary.json")
-          << "{\"vehicle_km\": " << f.km << ", \"warnings\": {\"by_kind\": {\"vehicle\": " << f.vehicleWarnings
+          << "{\"vehicle_km\": " << f.km
+          << (i == 0   ? ", \"sumo_collisions\": 3, \"collisions_warned_ahead\": 2, \"collision_lead_time_median_s\": 1.2"
+              : i == 1 ? ", \"sumo_collisions\": 1, \"collisions_warned_ahead\": 1, \"collision_lead_time_median_s\": 2"
+                       : "")
+          << ", \"warnings\": {\"by_kind\": {\"vehicle\": " << f.vehicleWarnings
           << ", \"curb\": " << f.curbWarnings << "}},\n \"hindsight\": {\"clearance_m\": 0.5, \"by_kind\": {"
           << "\"vehicle\": {\"judged\": " << f.vJudged << ", \"confirmed\": " << f.vConfirmed
           << ", \"precision\": " << share(f.vConfirmed, f.vJudged) << "}, "
@@ -215,6 +220,10 @@ TEST(BatchTables, HindsightNullsStayEmptyAndSharesArePooledOverSeeds) {
   EXPECT_EQ(h[1][column(h, "crossings_warned")], "3");
   EXPECT_EQ(h[1][column(h, "crossing_recall")], "0.5");
   EXPECT_EQ(h[1][column(h, "crossing_lead_median_s")], "0.6");
+  EXPECT_EQ(h[1][column(h, "collisions")], "4");
+  EXPECT_EQ(h[1][column(h, "collisions_warned")], "3");
+  EXPECT_EQ(h[1][column(h, "collision_recall")], "0.75");
+  EXPECT_EQ(h[1][column(h, "collision_lead_median_s")], "1.6");
   EXPECT_EQ(h[2][0], "box");
   EXPECT_EQ(h[2][column(h, "runs")], "1");
   EXPECT_EQ(h[2][column(h, "vehicle.confirmed_share")], "");
@@ -224,6 +233,9 @@ TEST(BatchTables, HindsightNullsStayEmptyAndSharesArePooledOverSeeds) {
   EXPECT_EQ(h[2][column(h, "crossings")], "0");
   EXPECT_EQ(h[2][column(h, "crossing_recall")], "");
   EXPECT_EQ(h[2][column(h, "crossing_lead_median_s")], "");
+  // no collision figures (an attached run counts none): empty, not 0
+  EXPECT_EQ(h[2][column(h, "collisions")], "");
+  EXPECT_EQ(h[2][column(h, "collision_recall")], "");
   fs::remove_all(dir);
 }
 

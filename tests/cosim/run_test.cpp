@@ -31,7 +31,7 @@ TEST(CosimRun, StopsWhenAskedAndWritesWhatItLists) {
   EXPECT_EQ(r.plugin.steps, 20u);
   EXPECT_EQ(reports, 20);
   EXPECT_EQ(r.backend.rfind("libsumo", 0), 0u) << r.backend;
-  ASSERT_EQ(r.written.size(), 4u);  // the map is off (setup.map): drawing is tested with the CLI
+  ASSERT_EQ(r.written.size(), 5u);  // the map is off (setup.map): drawing is tested with the CLI
   for (const auto& f : r.written) EXPECT_TRUE(std::filesystem::is_regular_file(f)) << f;
   const std::string summary = slurp(setup.out / "summary.json");
   EXPECT_EQ(jsonString(summary, "stop_reason"), "interrupted");

@@ -93,15 +93,24 @@ def test_traci_monitor_equals_the_cxx_coupling(stsim_binary, tmp_path, network):
     try:
         monitor = stsim.TraciMonitor(libsumo)  # the road from SUMO's lanes, as the coupling reads it
         dt = libsumo.simulation.getDeltaT()
+        events = []
         while libsumo.simulation.getMinExpectedNumber() > 0 and libsumo.simulation.getTime() < end - 0.5 * dt:
             libsumo.simulationStep()
             monitor.step()
+            events += monitor.take_events()
         monitor.finish()
         got = sorted((tuple(getattr(w, c) for c in stsim.WARNING_COLUMNS) for w in monitor.take_finished()),
                      key=episode)
     finally:
         libsumo.close()
     assert got == want  # bit for bit
+    # the near misses and crossings that happened, as events.csv lists them
+    with open(tmp_path / "cxx" / "events.csv", newline="") as f:
+        want_events = [(float(r["time"]), r["kind"], r["ego"], r["foe"], r["warned"] == "1",
+                        float(r["lead"]) if r["lead"] else None) for r in csv.DictReader(f)]
+    assert [(e.time, e.kind, e.ego, e.foe, e.warned, e.lead) for e in events] == want_events
+    if network.startswith("sublane"):
+        assert "crossing" in {e[1] for e in want_events}  # (its first 60 s have no near miss)
     table = stsim.warnings_table([])
     assert list(table.keys() if isinstance(table, dict) else table.columns) == list(stsim.WARNING_COLUMNS)
 

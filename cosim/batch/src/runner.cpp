@@ -329,7 +329,8 @@ std::string pairedTable(const Experiment& e, const std::vector<RunResult>& resul
 // hindsight.csv (highway runs): what hindsight made of the warnings, per parameter combination,
 // pooled over its done runs (seeds): per warning kind the warnings per vehicle-km (all warnings
 // over all vehicle-km), the judged and confirmed warnings and the confirmed share (precision);
-// the near misses, those warned and the recall; the median of the runs' median lead times. A
+// the near misses, those warned and the recall; the median of the runs' median lead times; the
+// same for the unsignalled crossings and SUMO's collisions (warned the lead time ahead). A
 // share of nothing (no warning judged, no near miss) and a lead time of no warned near miss are
 // empty, never 0 or 1. Pooling weighs each warning once, where summary.csv's mean of the runs'
 // shares would weigh a run with 3 warnings like one with 3000.
@@ -350,11 +351,16 @@ std::string hindsightTable(const Experiment& e, const std::vector<std::vector<st
   for (const auto& k : kinds) t << "," << csvField(k + ".per_vehicle_km");
   for (const auto& k : kinds)
     t << "," << csvField(k + ".judged") << "," << csvField(k + ".confirmed") << "," << csvField(k + ".confirmed_share");
-  // the actual events: near misses, and unsignalled line crossings
+  // the actual events: near misses, unsignalled line crossings (hindsight's), SUMO's collisions
+  // (the collider warned about the victim the lead time before; cosim's run.cpp)
   struct Events {
-    const char *metric, *column, *share;
+    const char *count, *warned, *lead, *column, *share;
   };
-  const Events events[] = {{"near_misses", "near_misses", "near_miss"}, {"crossings", "crossings", "crossing"}};
+  const Events events[] = {
+      {"hindsight.near_misses.events", "hindsight.near_misses.warned", "hindsight.near_misses.lead_s.median", "near_misses",
+       "near_miss"},
+      {"hindsight.crossings.events", "hindsight.crossings.warned", "hindsight.crossings.lead_s.median", "crossings", "crossing"},
+      {"sumo_collisions", "collisions_warned_ahead", "collision_lead_time_median_s", "collisions", "collision"}};
   for (const Events& ev : events)
     t << "," << ev.column << "," << ev.column << "_warned," << ev.share << "_recall," << ev.share << "_lead_median_s";
   t << "\n";
@@ -369,7 +375,7 @@ std::string hindsightTable(const Experiment& e, const std::vector<std::vector<st
         if (std::isnan(v)) continue;
         bool lead = false;
         for (const Events& ev : events)
-          if (k == std::string("hindsight.") + ev.metric + ".lead_s.median") leads[ev.metric].push_back(v), lead = true;
+          if (k == ev.lead) leads[ev.column].push_back(v), lead = true;
         if (!lead) total[k] += v;
       }
     }
@@ -382,10 +388,11 @@ std::string hindsightTable(const Experiment& e, const std::vector<std::vector<st
       t << "," << (done ? number(judged) : "") << "," << (done ? number(confirmed) : "") << "," << cell(confirmed, judged);
     }
     for (const Events& ev : events) {
-      const std::string at = std::string("hindsight.") + ev.metric;
-      const double count = total[at + ".events"], warned = total[at + ".warned"];
-      t << "," << (done ? number(count) : "") << "," << (done ? number(warned) : "") << "," << cell(warned, count) << ",";
-      std::vector<double>& l = leads[ev.metric];
+      // a run without the figure (an attached run counts no collisions) leaves it empty
+      const bool counted = total.count(ev.count) > 0;
+      const double count = total[ev.count], warned = total[ev.warned];
+      t << "," << (counted ? number(count) : "") << "," << (counted ? number(warned) : "") << "," << cell(warned, count) << ",";
+      std::vector<double>& l = leads[ev.column];
       if (!l.empty()) {
         std::sort(l.begin(), l.end());
         const std::size_t n = l.size();

@@ -32,6 +32,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
 
   // outputs first, so whatever happens later leaves valid files
   hw::WarningsCsvWriter csv(out / "warnings.csv");
+  hw::EventsCsvWriter eventsCsv(out / "events.csv");
   std::ofstream collisionsCsv(out / "collisions.csv");
   if (!collisionsCsv) throw std::runtime_error("cannot write " + (out / "collisions.csv").string());
   collisionsCsv << "time,collider,victim,type,lane,pos,collider_speed,victim_speed\n";
@@ -99,10 +100,13 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
   // kept for the collisions' warning lead times, worked out at the end
   std::vector<SumoCollision> collisionReports;
   std::vector<hw::Warning> vehicleWarnings;
+  std::vector<hw::HindsightEvent> events;  // one buffer for every step
   auto writeWarnings = [&](const std::vector<hw::Warning>& finished) {
     csv.write(finished);
     for (const hw::Warning& w : finished)
       if (w.kind == hw::WarningKind::Vehicle) vehicleWarnings.push_back(w);
+    plugin.takeEvents(events);
+    eventsCsv.write(events);
   };
   auto fmt3 = [](double v) { return io::fixed(v, 3); };
   auto writeCollision = [&](const SumoCollision& c) {
@@ -161,6 +165,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
   plugin.finish();
   writeWarnings(plugin.takeFinished());
   csv.flush();
+  eventsCsv.flush();
   writeCollisions();
   collisionsCsv.flush();
   if (validator) validator->finish(backend->time());
@@ -243,6 +248,16 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
       info.numbers.push_back({"collision_lead_time_mean_s", sum / warned});
       info.numbers.push_back({"collision_lead_time_min_s", least});
     }
+    // recall as hindsight counts it for near misses: warned at least its lead time before
+    std::vector<double> ahead;
+    for (const CollisionWarning& w : leads)
+      if (w.leadTime && *w.leadTime >= s.plugin.monitor.hindsight.lead) ahead.push_back(*w.leadTime);
+    info.numbers.push_back({"collisions_warned_ahead", static_cast<double>(ahead.size())});
+    if (!ahead.empty()) {
+      std::sort(ahead.begin(), ahead.end());
+      const std::size_t n = ahead.size();
+      info.numbers.push_back({"collision_lead_time_median_s", n % 2 ? ahead[n / 2] : 0.5 * (ahead[n / 2 - 1] + ahead[n / 2])});
+    }
   }
   info.strings = {{"sumocfg", s.sumocfg.string()},
                   {"net", fs::absolute(files.net).string()},
@@ -269,7 +284,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
   result.wallSeconds = info.wallSeconds;
   result.monitor = plugin.monitor().counters();
   result.plugin = pc;
-  result.written = {out / "warnings.csv", out / "collisions.csv"};
+  result.written = {out / "warnings.csv", out / "events.csv", out / "collisions.csv"};
   if (!attach) result.written.push_back(out / "collision_warnings.csv");
   result.written.push_back(out / "summary.json");
   if (result.validation) result.written.push_back(out / "validation.json");

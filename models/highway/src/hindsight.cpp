@@ -270,12 +270,13 @@ void Hindsight::findNearMisses(double t) {
       nearNow_.insert(key);
       if (nearBefore_.count(key)) continue;
       // a new approach: was an episode between the two open `lead` seconds before?
-      ++counters_->nearMisses;
-      const double lead = leadOf(pairEpisodes_, key, t);
-      if (lead >= 0.0) {
-        ++counters_->nearMissesWarned;
-        counters_->nearMissLeads.push_back(lead);
-      }
+      const int e = c.equipped[a] ? a : b, f = e == a ? b : a;
+      HindsightEvent ev;
+      ev.kind = EventKind::NearMiss;
+      ev.foe = c.slots[f].id;
+      ev.gap = gap;
+      record(std::move(ev), e, t, leadOf(pairEpisodes_, key, t), counters_->nearMisses, counters_->nearMissesWarned,
+             counters_->nearMissLeads);
     }
   }
   std::swap(nearBefore_, nearNow_);
@@ -304,14 +305,36 @@ void Hindsight::finishAll(std::vector<Warning>& out) {
   release(out);
 }
 
-double Hindsight::leadOf(const std::unordered_map<std::uint64_t, std::vector<PairEpisode>>& episodes, std::uint64_t key,
-                         double t) const {
+Hindsight::Lead Hindsight::leadOf(const std::unordered_map<std::uint64_t, std::vector<PairEpisode>>& episodes,
+                                  std::uint64_t key, double t) const {
   const double at = t - cfg_->hindsight.lead;
-  double lead = -1.0;
+  Lead out{std::numeric_limits<double>::quiet_NaN(), false};
   if (auto it = episodes.find(key); it != episodes.end())
     for (const PairEpisode& pe : it->second)
-      if (pe.begin <= at && pe.end >= at) lead = std::max(lead, t - pe.begin);
-  return lead;
+      if (pe.end >= at && pe.begin <= t) {
+        if (!(t - pe.begin <= out.lead)) out.lead = t - pe.begin;
+        out.warned = out.warned || pe.begin <= at;
+      }
+  return out;
+}
+
+void Hindsight::record(HindsightEvent&& ev, int e, double t, const Lead& lead, std::uint64_t& count, std::uint64_t& warned,
+                       std::vector<double>& leads) {
+  const VehicleTable& c = *cars_;
+  ++count;
+  if (lead.warned) {
+    ++warned;
+    leads.push_back(lead.lead);
+  }
+  ev.time = t;
+  ev.ego = c.slots[e].id;
+  ev.x = c.centre[e].x();
+  ev.y = c.centre[e].y();
+  if (c.lane[e] >= 0 && c.lane[e] < static_cast<int>(laneIds_.size())) ev.lane = laneIds_[c.lane[e]];
+  ev.speed = c.body[e].velocity.norm();
+  ev.warned = lead.warned;
+  ev.lead = lead.lead;
+  events_.push_back(std::move(ev));
 }
 
 // Equipped cars whose body begins to reach across a line of their lane (in the lane frame): a
@@ -338,12 +361,12 @@ void Hindsight::findCrossings(double t) {
         if (!was || !c.equipped[s] || g == touching_[s][0] || g == touching_[s][1]) continue;
         const bool marker = road_->features().features[road_->groupFeatures(g).front()].kind == FeatureKind::LaneMarker;
         if (marker && (c.signals[s] & (side == 1 ? kSignalLeft : kSignalRight))) continue;
-        ++counters_->crossings;
-        const double lead = leadOf(lineEpisodes_, lineKey(c.slots[s].serial, g), t);
-        if (lead >= 0.0) {
-          ++counters_->crossingsWarned;
-          counters_->crossingLeads.push_back(lead);
-        }
+        HindsightEvent ev;
+        ev.kind = EventKind::Crossing;
+        ev.foe = road_->features().features[road_->groupFeatures(g).front()].name;
+        ev.lateralSpeed = (side == 1 ? 1.0 : -1.0) * frames_->frame(s).lateral;
+        record(std::move(ev), s, t, leadOf(lineEpisodes_, lineKey(c.slots[s].serial, g), t), counters_->crossings,
+               counters_->crossingsWarned, counters_->crossingLeads);
       }
     touching_[s] = now;
   }

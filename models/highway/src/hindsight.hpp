@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <array>
 #include <deque>
+#include <string>
 #include <unordered_map>
 #include <unordered_set>
 #include <utility>
@@ -39,8 +40,10 @@ bool segmentTouches(const Segment& s, const Body& b);
 
 class Hindsight {
  public:
-  Hindsight(const MonitorConfig& config, const VehicleTable& cars, const RoadSearch& road, MonitorCounters& counters)
-      : cfg_(&config), cars_(&cars), road_(&road), counters_(&counters) {}
+  // laneIds: the road's lane ids by index (VehicleTable::lane), for the events' lanes.
+  Hindsight(const MonitorConfig& config, const VehicleTable& cars, const RoadSearch& road, std::vector<std::string> laneIds,
+            MonitorCounters& counters)
+      : cfg_(&config), cars_(&cars), road_(&road), counters_(&counters), laneIds_(std::move(laneIds)) {}
 
   bool enabled() const { return cfg_->hindsight.enabled; }
   // The lane frames road warnings are judged in (a car on no lane: against the line's polyline).
@@ -56,6 +59,11 @@ class Hindsight {
   void release(std::vector<Warning>& out);
   // Closes every window with what it saw (the run ends) and releases everything.
   void finishAll(std::vector<Warning>& out);
+  // The events found since the last call (into out, replacing its contents).
+  void takeEvents(std::vector<HindsightEvent>& out) {
+    out.clear();
+    std::swap(out, events_);
+  }
 
  private:
   struct Window {
@@ -83,8 +91,16 @@ class Hindsight {
   void findNearMisses(double t);
   void findCrossings(double t);
   static std::uint64_t lineKey(std::uint64_t serial, int group) { return (serial << 32) | static_cast<std::uint32_t>(group); }
-  // how long before t the earliest episode of key still open `lead` s before t began, or -1
-  double leadOf(const std::unordered_map<std::uint64_t, std::vector<PairEpisode>>& episodes, std::uint64_t key, double t) const;
+  // Of the episodes of key still open `lead` s before t or later, begun by t: how long before t
+  // the earliest began (NaN: none), and whether one was open `lead` s before t (recall's test).
+  struct Lead {
+    double lead;
+    bool warned;
+  };
+  Lead leadOf(const std::unordered_map<std::uint64_t, std::vector<PairEpisode>>& episodes, std::uint64_t key, double t) const;
+  // An event at t of ego slot e: counted, its lead time kept if warned, listed.
+  void record(HindsightEvent&& ev, int e, double t, const Lead& lead, std::uint64_t& count, std::uint64_t& warned,
+              std::vector<double>& leads);
   static std::uint64_t pairKey(std::uint64_t a, std::uint64_t b) {
     return a < b ? (a << 32) | b : (b << 32) | a;
   }
@@ -94,6 +110,8 @@ class Hindsight {
   const RoadSearch* road_;
   const LanePrediction* frames_ = nullptr;
   MonitorCounters* counters_;
+  std::vector<std::string> laneIds_;
+  std::vector<HindsightEvent> events_;
   std::vector<Window> windows_;
   std::vector<int> freeWindows_;
   std::vector<int> live_;  // windows still measuring

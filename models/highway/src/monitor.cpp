@@ -41,6 +41,8 @@ const char* toString(WarningKind k) {
   return "vehicle";
 }
 
+const char* toString(EventKind k) { return k == EventKind::NearMiss ? "near_miss" : "crossing"; }
+
 const char* toString(Verdict v) {
   switch (v) {
     case Verdict::Unjudged: return "";
@@ -116,7 +118,7 @@ struct HighwayMonitor::Impl {
         prediction(geometry, cfg, cars, counters),
         road(geometry, cfg, cars, counters),
         cells(geometry, cellBounds(road.features()), cfg.cells),
-        hindsight(cfg, cars, road, counters),
+        hindsight(cfg, cars, road, laneIdsOf(geometry), counters),
         book(cars, road, hindsight, cfg, laneIdsOf(geometry), counters) {
     const detail::LanePrediction* paths = prediction.alongLanes() ? &prediction : nullptr;
     road.usePrediction(paths);
@@ -185,6 +187,8 @@ void HighwayMonitor::takeFinished(std::vector<Warning>& out) {
   out.clear();
   out.swap(impl_->book.finished());
 }
+
+void HighwayMonitor::takeEvents(std::vector<HindsightEvent>& out) { impl_->hindsight.takeEvents(out); }
 
 std::vector<Warning> HighwayMonitor::openWarnings() const { return impl_->book.openWarnings(); }
 std::span<const Alert> HighwayMonitor::alerts() const { return impl_->book.alerts(); }

@@ -78,21 +78,41 @@ std::string warningCsvRow(const Warning& w) {
   return os.str();
 }
 
-WarningsCsvWriter::WarningsCsvWriter(const std::filesystem::path& path) : path_(path), out_(path) {
+CsvRowWriter::CsvRowWriter(const std::filesystem::path& path, const std::string& header) : path_(path), out_(path) {
   if (!out_) throw std::runtime_error("cannot write " + path.string());
-  out_ << warningsCsvHeader() << '\n';
+  out_ << header << '\n';
   out_.flush();
 }
 
+void CsvRowWriter::row(const std::string& line) {
+  out_ << line << '\n';
+  ++rows_;
+  if (!out_) throw std::runtime_error("write failed: " + path_.string());
+}
+
+void CsvRowWriter::flush() {
+  out_.flush();
+  if (!out_) throw std::runtime_error("write failed: " + path_.string());
+}
+
+WarningsCsvWriter::WarningsCsvWriter(const std::filesystem::path& path) : CsvRowWriter(path, warningsCsvHeader()) {}
 void WarningsCsvWriter::write(std::span<const Warning> warnings) {
-  for (const Warning& w : warnings) out_ << warningCsvRow(w) << '\n';
-  rows_ += warnings.size();
-  if (!out_) throw std::runtime_error("write failed: " + path_.string());
+  for (const Warning& w : warnings) row(warningCsvRow(w));
 }
 
-void WarningsCsvWriter::flush() {
-  out_.flush();
-  if (!out_) throw std::runtime_error("write failed: " + path_.string());
+std::string eventCsvRow(const HindsightEvent& e) {
+  auto field = [](double x) { return std::isfinite(x) ? num(x) : std::string(); };
+  std::ostringstream os;
+  os << num(e.time) << ',' << toString(e.kind) << ',' << csvField(e.ego) << ',' << csvField(e.foe) << ',' << num(e.x) << ','
+     << num(e.y) << ',' << csvField(e.lane) << ',' << num(e.speed) << ',' << field(e.gap) << ',' << field(e.lateralSpeed)
+     << ',' << (e.warned ? 1 : 0) << ',' << field(e.lead);
+  return os.str();
+}
+
+EventsCsvWriter::EventsCsvWriter(const std::filesystem::path& path)
+    : CsvRowWriter(path, "time,kind,ego,foe,x,y,lane,speed,gap,lateral_speed,warned,lead") {}
+void EventsCsvWriter::write(std::span<const HindsightEvent> events) {
+  for (const HindsightEvent& e : events) row(eventCsvRow(e));
 }
 
 std::string summaryJson(const MonitorCounters& c, const RunInfo& info) {
@@ -169,7 +189,7 @@ void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& 
 }
 
 void removeRunOutputs(const std::filesystem::path& out) {
-  for (const char* f : {"warnings.csv", "summary.json", "collisions.csv", "collision_warnings.csv", "validation.json",
+  for (const char* f : {"warnings.csv", "events.csv", "summary.json", "collisions.csv", "collision_warnings.csv", "validation.json",
                         "ssm.xml", "sumo_collisions.xml", "sumo.log", "conflict_map.png", "conflict_map.svg",
                         "conflict_map.log"}) {
     std::error_code ec;

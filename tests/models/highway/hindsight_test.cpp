@@ -30,6 +30,7 @@ VehicleState car(const std::string& id, int handle, double x, double y, double s
 
 struct Outcome {
   std::vector<Warning> warnings;
+  std::vector<HindsightEvent> events;
   MonitorCounters counters;
 };
 
@@ -38,12 +39,17 @@ template <class Tick>
 Outcome simulate(const MonitorConfig& cfg, int count, double dt, Tick tick) {
   HighwayMonitor m(threeLanes(), cfg);
   Outcome r;
+  std::vector<HindsightEvent> events;
   for (int k = 0; k < count; ++k) {
     m.step(dt * k, tick(k, dt * k));
     for (Warning& w : m.takeFinished()) r.warnings.push_back(std::move(w));
+    m.takeEvents(events);
+    r.events.insert(r.events.end(), events.begin(), events.end());
   }
   m.finish(dt * (count - 1));
   for (Warning& w : m.takeFinished()) r.warnings.push_back(std::move(w));
+  m.takeEvents(events);
+  EXPECT_TRUE(events.empty());  // events are found while stepping
   r.counters = m.counters();
   return r;
 }
@@ -122,6 +128,17 @@ TEST(Hindsight, NearMissRecallAndLeadTime) {
   // (braking phase) < 0.5 for 4 - t < sqrt(0.08): t > 3.717 s, the tick at 3.8 s
   EXPECT_NEAR(nearly.counters.nearMissLeads[0], 3.8 - w->begin, 1e-9);
   EXPECT_GE(nearly.counters.nearMissLeads[0], 0.5);
+  // the same event listed, as it was at that tick
+  ASSERT_EQ(nearly.events.size(), 1u);
+  const HindsightEvent& ev = nearly.events[0];
+  EXPECT_EQ(ev.kind, EventKind::NearMiss);
+  EXPECT_NEAR(ev.time, 3.8, 1e-9);
+  EXPECT_TRUE((ev.ego == "follow" && ev.foe == "lead") || (ev.ego == "lead" && ev.foe == "follow")) << ev.ego << " " << ev.foe;
+  EXPECT_NEAR(ev.gap, (Stop{5.0, 0.3}.gap(3.8)), 1e-9);
+  EXPECT_TRUE(ev.warned);
+  EXPECT_EQ(ev.lead, nearly.counters.nearMissLeads[0]);
+  EXPECT_EQ(ev.lane, "a_0");
+  EXPECT_TRUE(std::isnan(ev.lateralSpeed));
 
   const Outcome sudden = simulate(boxConfig(), 3, 0.1, [](int k, double t) {
     return std::vector<VehicleState>{car("lead", 0, 100.0 + 10.0 * t, 0.0, 10.0),
@@ -129,6 +146,10 @@ TEST(Hindsight, NearMissRecallAndLeadTime) {
   });
   EXPECT_EQ(sudden.counters.nearMisses, 1u);
   EXPECT_EQ(sudden.counters.nearMissesWarned, 0u);
+  // listed as missed: no warning, or one begun less than the lead before
+  ASSERT_EQ(sudden.events.size(), 1u);
+  EXPECT_FALSE(sudden.events[0].warned);
+  EXPECT_TRUE(std::isnan(sudden.events[0].lead) || sudden.events[0].lead < 0.5) << sudden.events[0].lead;
 }
 
 // A lane marker: a car drifting left at 1 m/s across it unsignalled is confirmed (the body touched
@@ -193,6 +214,21 @@ TEST(Hindsight, CrossingRecallCountsUnsignalledDriftsAcrossALine) {
   ASSERT_EQ(r.counters.crossingLeads.size(), 1u);
   // TLC = (0.7 - 0.5 t) / 0.5 <= 0.5 + 0.5 / 16 from t = 0.87 s: the first tick after, 0.9 s
   EXPECT_NEAR(r.counters.crossingLeads[0], 0.5, 1e-9);
+  // listed: the drifter's crossing of the marker its warning named, at its lateral speed
+  ASSERT_EQ(r.events.size(), 1u);
+  const HindsightEvent& ev = r.events[0];
+  EXPECT_EQ(ev.kind, EventKind::Crossing);
+  EXPECT_EQ(ev.ego, "drifter");
+  EXPECT_NEAR(ev.time, 1.4, 1e-9);
+  EXPECT_NEAR(ev.lateralSpeed, 0.5, 1e-6);
+  EXPECT_NEAR(ev.speed, 20.0, 1e-9);  // the source's speed, along its heading
+  EXPECT_NEAR(ev.y, 0.7, 1e-9);
+  EXPECT_TRUE(std::isnan(ev.gap));
+  EXPECT_TRUE(ev.warned);
+  EXPECT_NEAR(ev.lead, 0.5, 1e-9);
+  bool named = false;
+  for (const Warning& w : r.warnings) named = named || (w.ego == "drifter" && w.kind == WarningKind::LaneMarker && w.line == ev.foe);
+  EXPECT_TRUE(named) << ev.foe;
 }
 
 // Hindsight off: warnings pass through unjudged, as before.

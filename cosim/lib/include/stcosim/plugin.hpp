@@ -110,6 +110,8 @@ class HighwayPlugin {
   void finish();
 
   std::vector<highway::Warning> takeFinished() { return monitor_.takeFinished(); }
+  // Hindsight's near misses and unsignalled crossings since the last call (HighwayMonitor::takeEvents).
+  void takeEvents(std::vector<highway::HindsightEvent>& out) { monitor_.takeEvents(out); }
   std::vector<highway::Warning> openWarnings() const { return monitor_.openWarnings(); }
   std::span<const highway::Alert> alerts() const { return monitor_.alerts(); }
   // SUMO collisions since the last call.

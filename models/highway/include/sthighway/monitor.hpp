@@ -83,6 +83,29 @@ struct Warning {
   double lateralSpeed = 0.0;   // m/s, road warnings: the ego's speed towards the line; NaN for vehicles
 };
 
+// An actual event hindsight counts for recall (hindsight.cpp): a near miss (two bodies, one of
+// them equipped, closer than the clearance while on a collision course; one per approach) or an
+// equipped car's unsignalled line crossing; and whether a warning about it was open
+// HindsightConfig::lead seconds before. A list of them is where the misses can be looked at.
+enum class EventKind : std::uint8_t { NearMiss, Crossing };
+const char* toString(EventKind k);  // "near_miss", "crossing"
+
+struct HindsightEvent {
+  EventKind kind = EventKind::NearMiss;
+  double time = 0.0;   // s, the first tick of the approach or of the crossing
+  std::string ego;     // the equipped car (a near miss of two equipped cars: either)
+  std::string foe;     // near miss: the other vehicle; crossing: the line (RoadFeature::name)
+  double x = 0.0, y = 0.0;  // m, the ego's centre
+  std::string lane;    // the ego's lane id, empty if unknown
+  double speed = 0.0;  // m/s, the ego's
+  double gap = std::numeric_limits<double>::quiet_NaN();           // m, near miss: body to body then
+  double lateralSpeed = std::numeric_limits<double>::quiet_NaN();  // m/s, crossing: towards the line (lane frame)
+  bool warned = false;  // a warning about it was open `lead` s before (what recall counts)
+  // s: how long before the event the earliest warning about it (open at `time - lead` or
+  // later) began; NaN: none by then. Below `lead`: warned too late.
+  double lead = std::numeric_limits<double>::quiet_NaN();
+};
+
 // An equipped car's worst current threat this tick (for actions: colour, brake).
 struct Alert {
   int vehicle = -1;        // index into the span given to the last step()
@@ -180,6 +203,9 @@ class HighwayMonitor {
   // The same into `out` (replacing its contents): the monitor keeps out's old buffer, so a caller
   // that passes the same vector every tick allocates nothing once both have grown.
   void takeFinished(std::vector<Warning>& out);
+  // The near misses and unsignalled crossings hindsight found since the last call, in order
+  // (into `out`, replacing its contents); none with hindsight off.
+  void takeEvents(std::vector<HindsightEvent>& out);
   // Episodes still open now (end == time of the last tick).
   std::vector<Warning> openWarnings() const;
   // Worst threat of each equipped car with an active warning at the last tick.

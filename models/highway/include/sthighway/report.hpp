@@ -1,6 +1,7 @@
 #pragma once
-// Output files: warnings.csv (one row per episode, streamed so a run that stops early leaves a
-// valid file) and summary.json.
+// Output files: warnings.csv (one row per episode) and events.csv (hindsight's near misses and
+// crossings), streamed so a run that stops early leaves valid files, and summary.json.
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <span>
@@ -12,14 +13,12 @@
 
 namespace st::highway {
 
-// Columns: ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open, then hindsight's:
-// verdict,clearance,clearance_time,deceleration,crossed,signalled, then the conflict at the minimum TTC: x,y,lane,ego_speed,foe_speed,heading_angle,type,drac,max_delta_v,line,
-// lateral_speed (models/highway/README.md; empty where a column does not apply).
-class WarningsCsvWriter {
+// A CSV file written row by row, flushed as the run goes (a run that stops early leaves a valid file).
+class CsvRowWriter {
  public:
   // Creates (truncates) the file and writes the header; throws std::runtime_error naming the path.
-  explicit WarningsCsvWriter(const std::filesystem::path& path);
-  void write(std::span<const Warning> warnings);
+  CsvRowWriter(const std::filesystem::path& path, const std::string& header);
+  void row(const std::string& line);
   void flush();
   std::uint64_t rows() const { return rows_; }
 
@@ -28,6 +27,25 @@ class WarningsCsvWriter {
   std::ofstream out_;
   std::uint64_t rows_ = 0;
 };
+
+// warnings.csv. Columns: ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open, then hindsight's:
+// verdict,clearance,clearance_time,deceleration,crossed,signalled, then the conflict at the minimum TTC: x,y,lane,ego_speed,foe_speed,heading_angle,type,drac,max_delta_v,line,
+// lateral_speed (models/highway/README.md; empty where a column does not apply).
+class WarningsCsvWriter : public CsvRowWriter {
+ public:
+  explicit WarningsCsvWriter(const std::filesystem::path& path);
+  void write(std::span<const Warning> warnings);
+};
+
+// events.csv: hindsight's near misses and unsignalled crossings (HindsightEvent), one a row.
+// Columns: time,kind,ego,foe,x,y,lane,speed,gap,lateral_speed,warned,lead (empty where a column
+// does not apply or, lead, no warning about it began by then).
+class EventsCsvWriter : public CsvRowWriter {
+ public:
+  explicit EventsCsvWriter(const std::filesystem::path& path);
+  void write(std::span<const HindsightEvent> events);
+};
+std::string eventCsvRow(const HindsightEvent& e);
 
 std::string warningsCsvHeader();
 std::string warningCsvRow(const Warning& w);
@@ -58,7 +76,7 @@ std::string summaryJson(const MonitorCounters& counters, const RunInfo& info);
 void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& counters,
                       const RunInfo& info);
 
-// Removes from out every file a highway run may write (warnings.csv, summary.json and, from SUMO
+// Removes from out every file a highway run may write (warnings.csv, events.csv, summary.json and, from SUMO
 // runs, collisions.csv, collision_warnings.csv, validation.json, ssm.xml, sumo_collisions.xml,
 // sumo.log; the conflict map), so that what is there after a run belongs to it. Throws std::runtime_error.
 void removeRunOutputs(const std::filesystem::path& out);
