@@ -168,6 +168,40 @@ def write_hindsight(f, sweep, kinds, rows):
     f.write("\n")
 
 
+def write_misses(f, out, runs, sweep, samples=5):
+    """report.md's missed events: per parameter combination, the near misses and unsignalled
+    crossings (each run's events.csv) that were not warned the lead time ahead, counted, and the
+    first few of them to look at (late: warned, but less than the lead time ahead)."""
+    groups = {}
+    for r in runs:
+        path = os.path.join(out, "runs", r["run_id"], "events.csv")
+        if r["status"] != "done" or not os.path.exists(path):
+            continue
+        g = groups.setdefault(tuple(r[p] for p in sweep), {"events": 0, "missed": []})
+        _, rows = read_csv(path)
+        g["events"] += len(rows)
+        g["missed"] += [dict(e, run=r["run_id"]) for e in rows if e["warned"] != "1"]
+    if not any(g["missed"] for g in groups.values()):
+        return
+
+    def cell(text):  # a marker's name joins its two lanes with "|"
+        return text.replace("|", "\\|")
+    f.write("## Missed events (from each run's events.csv)\n\n"
+            "Near misses and unsignalled crossings not warned the lead time ahead, per combination, and "
+            "the first %d of them: late (warned, but less than the lead time ahead) or not warned at all.\n\n" % samples)
+    f.write("| " + " | ".join(sweep + ["missed", "time (s)", "kind", "ego", "foe / line", "lane", "x, y (m)", "warned", "run"]) + " |\n")
+    f.write("|" + "---|" * (len(sweep) + 9) + "\n")
+    for key, g in groups.items():
+        for i, e in enumerate(g["missed"][:samples]):
+            lead = num(e["lead"])
+            cells = list(key) if i == 0 else [""] * len(key)
+            cells += ["%d of %d" % (len(g["missed"]), g["events"]) if i == 0 else "", fmt(num(e["time"])), e["kind"],
+                      cell(e["ego"]), cell(e["foe"]), cell(e["lane"]), "%.1f, %.1f" % (num(e["x"]), num(e["y"])),
+                      "not" if lead is None else "%.1f s ahead" % lead, e["run"]]
+            f.write("| " + " | ".join(cells) + " |\n")
+    f.write("\n")
+
+
 def write_ssm(f, sweep, summary, metrics):
     """report.md's SSM validation (runs with validate_ssm): the box TTC's agreement with SUMO's SSM
     device and each detector's recall of SSM's conflicts below the safe time, n/a where the runs
@@ -330,6 +364,7 @@ def main(out):
             f.write("## %s\n\n![%s](%s)\n\n" % (title, title, name))
         if hindsight:
             write_hindsight(f, sweep, hindsight[1], hindsight[2])
+            write_misses(f, out, runs, sweep)
         write_ssm(f, sweep, summary, metrics)
         if maps:
             f.write("## Conflict maps (one per parameter combination, all seeds)\n\n"
