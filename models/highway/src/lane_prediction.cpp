@@ -222,10 +222,11 @@ LanePrediction::Projection LanePrediction::project(int lane, const Vec2& p, int 
 
 // How far to the left of the centre line (at the centre's projection pr) the middle of the chord
 // between the line's points half a body length behind and ahead lies: where a body whose front and
-// rear follow the line has its centre. 0 unless a vertex lies between them on the lane.
+// rear follow the line has its centre. 0 unless a vertex lies between them on the lane. Beyond
+// the lane's ends the line goes on straight (the lanes before and after a junction lane mostly
+// do: a bus in a tight turn has its rear on the lane it came from).
 double LanePrediction::chordOffset(int lane, const Projection& pr, double half) const {
   const NetLane& l = lanes_[lane];
-  if (!(pr.s >= half && pr.s <= l.length - half)) return 0.0;
   auto at = [&](double s, int seg) {
     while (seg + 2 < l.count && cum_[l.first + seg + 1] < s) ++seg;
     while (seg > 0 && cum_[l.first + seg] > s) --seg;
@@ -241,11 +242,15 @@ double LanePrediction::chordOffset(int lane, const Projection& pr, double half) 
 
 // The centre lies in the lane (within slack of its sides, and not beyond its ends by more than
 // kEndSlack) and the car heads along it (within 60 degrees).
-bool LanePrediction::fits(int lane, const Projection& pr, const Vec2& axis, double slack) const {
+// A body that follows a tight curve (a turn inside a junction) has its centre on the chord from
+// its rear to its front, inside the bend by more than the lane's half width: its offset is taken
+// less the chord's (half: half the body's length).
+bool LanePrediction::fits(int lane, const Projection& pr, const Vec2& axis, double slack, double half) const {
   constexpr double kEndSlack = 0.5;  // m
   const NetLane& l = lanes_[lane];
-  return std::abs(pr.d) <= 0.5 * l.width + slack && pr.s >= -kEndSlack && pr.s <= l.length + kEndSlack &&
-         axis.dot(pr.dir) >= 0.5;
+  if (!(pr.s >= -kEndSlack && pr.s <= l.length + kEndSlack && axis.dot(pr.dir) >= 0.5)) return false;
+  const double side = 0.5 * l.width + slack;
+  return std::abs(pr.d) <= side || std::abs(pr.d - chordOffset(lane, pr, half)) <= side;
 }
 
 // The lane the car's centre is on: its last lane while the centre stays near its centre line; else
@@ -258,11 +263,12 @@ int LanePrediction::match(int slot, const Vec2& p, const Vec2& axis, Projection&
   constexpr double kKeep = 0.25;    // m beyond the lane's side a car is still on its last lane
   constexpr double kSwitch = 0.25;  // m nearer another lane's centre line must be to take the car
   const LaneFrame& f = frame_[slot];
+  const double half = 0.5 * cars_->body[slot].length;
   int kept = -1;
   Projection keep;
   if (f.lane >= 0 && cars_->slots[slot].present) {
     keep = project(f.lane, p, f.seg);
-    if (keep.s <= lanes_[f.lane].length && fits(f.lane, keep, axis, kKeep)) {
+    if (keep.s <= lanes_[f.lane].length && fits(f.lane, keep, axis, kKeep, half)) {
       kept = f.lane;
       if (std::abs(keep.d) <= kCentred ||
           (std::abs(keep.d) <= halfWidth(f.lane) && !crowded_[lanes_[f.lane].first + keep.seg])) {
@@ -282,7 +288,7 @@ int LanePrediction::match(int slot, const Vec2& p, const Vec2& axis, Projection&
       const int lane = cellLanes_[k];
       if (lanes_[lane].count < 2) continue;
       const Projection pr = project(lane, p, cellLanes_[k + 1]);
-      if (!fits(lane, pr, axis, 0.0)) continue;
+      if (!fits(lane, pr, axis, 0.0, half)) continue;
       // nearest centre line first, then the better aligned (overlapping junction lanes), then the lower index
       const double score = std::abs(pr.d) - 1e-3 * axis.dot(pr.dir);
       if (score < bestScore) {

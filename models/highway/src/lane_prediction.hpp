@@ -118,7 +118,7 @@ class LanePrediction {
     Vec2 dir = Vec2(1.0, 0.0);
   };
   Projection project(int lane, const Vec2& p, int seg) const;
-  bool fits(int lane, const Projection& pr, const Vec2& axis, double slack) const;
+  bool fits(int lane, const Projection& pr, const Vec2& axis, double slack, double half) const;
   double chordOffset(int lane, const Projection& pr, double half) const;
   int match(int slot, const Vec2& p, const Vec2& axis, Projection& out) const;
   int successor(int slot, int lane, int& routeAt) const;

@@ -582,6 +582,52 @@ TEST(RoadPrediction, ATruckFollowingAKinkedLaneStaysInIt) {
   }
 }
 
+TEST(RoadPrediction, ABusTurningTightlyInAJunctionStaysOnItsLanes) {
+  // a right turn on a junction lane of radius 10 m, as SUMO's cross network has them; a 12.5 m
+  // bus driven through it placed as SUMO places it (front and rear on the lanes, heading from rear
+  // to front): mid-turn its centre lies 2.2 m inside the bend, beyond the lane's side, yet it is
+  // on its lane every tick (predicted straight it crossed the other arm of the junction: SUMO's
+  // cross had warnings against the cars waiting there) and never warns about a curb
+  RoadGeometry road;
+  road.lanes.push_back(laneOf("in", 0, {Vec2(0.0, -200.0), Vec2(0.0, 0.0)}));
+  std::vector<Vec2> arc;
+  for (int k = 0; k <= 9; ++k) {
+    const double th = k * kPi / 18.0;
+    arc.emplace_back(10.0 - 10.0 * std::cos(th), 10.0 * std::sin(th));
+  }
+  Lane turn = laneOf(":j_0", 0, arc);
+  turn.internal = true;
+  road.lanes.push_back(turn);
+  road.lanes.push_back(laneOf("out", 0, {Vec2(10.0, 10.0), Vec2(300.0, 10.0)}));
+  std::vector<Vec2> route;
+  for (int k : {0, 1, 2})
+    for (const Vec2& q : road.lanes[k].shape)
+      if (route.empty() || (q - route.back()).norm() > 1e-9) route.push_back(q);
+  for (DetectorKind kind : {DetectorKind::Box, DetectorKind::FiveCircle}) {
+    MonitorConfig cfg = config(kind, Prediction::Road);
+    double worst = 0.0;  // the centre's largest distance inside the arc
+    const Drive r = drive(road, cfg, 40, 0.1, [&](double t) {
+      const double s = 195.0 + 8.0 * t;  // the front: into the turn at 0.6 s, out of it at 2.6 s
+      const Vec2 front = along(route, s).first, rear = along(route, s - 12.5).first;
+      const Vec2 dir = (front - rear).normalized();
+      VehicleState v;
+      v.id = "bus";
+      makeTruck(v);
+      v.length = 12.5;
+      v.width = 2.4;
+      v.heading = std::atan2(dir.y(), dir.x());
+      v.position = front - 6.25 * dir;
+      v.speed = 8.0;
+      const Vec2 c = v.position - Vec2(10.0, 0.0);
+      if (c.x() < 0.0 && c.y() > 0.0) worst = std::max(worst, 10.0 - c.norm());
+      return std::vector<VehicleState>{v};
+    });
+    EXPECT_GT(worst, 1.6 + 0.25);  // beyond the lane's side and the slack a kept lane has
+    EXPECT_EQ(r.counters.straightFallbacks, 0u) << toString(kind);
+    EXPECT_EQ(countKind(r, WarningKind::Curb), 0u) << toString(kind);
+  }
+}
+
 }  // namespace
 }  // namespace detail
 }  // namespace st::highway
