@@ -15,7 +15,8 @@ if [ "${1:-}" = "--long" ]; then long=${2:-3600}; fi
 heavy=" cosim_scenario arm_service stnet_server "
 build=$here/build-fuzz
 targets=(pool_yaml arm_yaml batch_yaml fcd net arm_csv cosim_scenario traci_relay arm_protocol arm_service stnet_server)
-cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
+  -DCMAKE_CXX_COMPILER=clang++ \
   -DSTSIM_FUZZ=ON -DSTSIM_WITH_SUMO=ON -DSTSIM_BUILD_TESTS=OFF -DSTSIM_BUILD_BENCH=OFF >/dev/null
 cmake --build "$build" -j2 --target "${targets[@]/#/fuzz_}"
 for t in "${targets[@]}"; do
