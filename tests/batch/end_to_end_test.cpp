@@ -344,7 +344,8 @@ TEST(BatchEndToEnd, HindsightIsPooledPerCombinationAndReported) {
       EXPECT_EQ(listedWarned[0], numberAfter(json, "warned", hs));
       EXPECT_EQ(listed[1], numberAfter(json, "events", json.find("\"crossings\"", hs)));
       EXPECT_EQ(listedWarned[1], numberAfter(json, "warned", json.find("\"crossings\"", hs)));
-      collisions += numberAfter(json, "sumo_collisions");
+      collisions += numberAfter(json, "events", json.find("\"collisions\": {"));
+      EXPECT_EQ(numberAfter(json, "events", json.find("\"collisions\": {")), numberAfter(json, "sumo_collisions"));
       km += numberAfter(json, "vehicle_km");
       markers += numberAfter(json, "lane_marker", json.find("\"by_kind\""));
     }

@@ -149,8 +149,10 @@ TEST(BatchTables, HindsightNullsStayEmptyAndSharesArePooledOverSeeds) {
                                                              : std::string("{\"min\": 0.6, \"median\": ") + f.lead + ", \"p90\": 1.0}";
       std::ofstream(run / "summary.json")
           << "{\"vehicle_km\": " << f.km
-          << (i == 0   ? ", \"sumo_collisions\": 3, \"collisions_warned_ahead\": 2, \"collision_lead_time_median_s\": 1.2"
-              : i == 1 ? ", \"sumo_collisions\": 1, \"collisions_warned_ahead\": 1, \"collision_lead_time_median_s\": 2"
+          << (i == 0 ? ", \"collisions\": {\"events\": 3, \"warned\": 2, \"recall\": 0.667, "
+                       "\"lead_s\": {\"min\": 0.9, \"median\": 1.2, \"p90\": 1.5}}"
+              : i == 1 ? ", \"collisions\": {\"events\": 1, \"warned\": 1, \"recall\": 1, "
+                         "\"lead_s\": {\"min\": 2, \"median\": 2, \"p90\": 2}}"
                        : "")
           << ", \"warnings\": {\"by_kind\": {\"vehicle\": " << f.vehicleWarnings
           << ", \"curb\": " << f.curbWarnings << "}},\n \"hindsight\": {\"clearance_m\": 0.5, \"by_kind\": {"

@@ -103,10 +103,10 @@ void flatten(const boost::property_tree::ptree& t, const std::string& prefix,
 
 fs::path runDir(const fs::path& outDir, const RunSpec& r) { return outDir / "runs" / r.id; }
 
-// summary.json writes hindsight's near-miss lead times as null when none was warned: that null
+// summary.json writes the events' lead times as null when none was warned: that null
 // stands for the distribution's three figures, so their columns are there, empty
 void nullLeadTimes(std::vector<std::pair<std::string, double>>& metrics) {
-  for (const std::string lead : {"hindsight.near_misses.lead_s", "hindsight.crossings.lead_s"}) {
+  for (const std::string lead : {"hindsight.near_misses.lead_s", "hindsight.crossings.lead_s", "collisions.lead_s"}) {
     const auto at = std::find_if(metrics.begin(), metrics.end(), [&](const auto& m) { return m.first == lead; });
     if (at == metrics.end() || !std::isnan(at->second)) continue;
     const double none = at->second;
@@ -354,13 +354,11 @@ std::string hindsightTable(const Experiment& e, const std::vector<std::vector<st
   // the actual events: near misses, unsignalled line crossings (hindsight's), SUMO's collisions
   // (the collider warned about the victim the lead time before; cosim's run.cpp)
   struct Events {
-    const char *count, *warned, *lead, *column, *share;
+    const char *metric, *column, *share;  // metric: summary.json's {events, warned, recall, lead_s}
   };
-  const Events events[] = {
-      {"hindsight.near_misses.events", "hindsight.near_misses.warned", "hindsight.near_misses.lead_s.median", "near_misses",
-       "near_miss"},
-      {"hindsight.crossings.events", "hindsight.crossings.warned", "hindsight.crossings.lead_s.median", "crossings", "crossing"},
-      {"sumo_collisions", "collisions_warned_ahead", "collision_lead_time_median_s", "collisions", "collision"}};
+  const Events events[] = {{"hindsight.near_misses", "near_misses", "near_miss"},
+                           {"hindsight.crossings", "crossings", "crossing"},
+                           {"collisions", "collisions", "collision"}};
   for (const Events& ev : events)
     t << "," << ev.column << "," << ev.column << "_warned," << ev.share << "_recall," << ev.share << "_lead_median_s";
   t << "\n";
@@ -375,7 +373,7 @@ std::string hindsightTable(const Experiment& e, const std::vector<std::vector<st
         if (std::isnan(v)) continue;
         bool lead = false;
         for (const Events& ev : events)
-          if (k == ev.lead) leads[ev.column].push_back(v), lead = true;
+          if (k == std::string(ev.metric) + ".lead_s.median") leads[ev.column].push_back(v), lead = true;
         if (!lead) total[k] += v;
       }
     }
@@ -389,8 +387,9 @@ std::string hindsightTable(const Experiment& e, const std::vector<std::vector<st
     }
     for (const Events& ev : events) {
       // a run without the figure (an attached run counts no collisions) leaves it empty
-      const bool counted = total.count(ev.count) > 0;
-      const double count = total[ev.count], warned = total[ev.warned];
+      const std::string at = ev.metric;
+      const bool counted = total.count(at + ".events") > 0;
+      const double count = total[at + ".events"], warned = total[at + ".warned"];
       t << "," << (counted ? number(count) : "") << "," << (counted ? number(warned) : "") << "," << cell(warned, count) << ",";
       std::vector<double>& l = leads[ev.column];
       if (!l.empty()) {

@@ -252,12 +252,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
     std::vector<double> ahead;
     for (const CollisionWarning& w : leads)
       if (w.leadTime && *w.leadTime >= s.plugin.monitor.hindsight.lead) ahead.push_back(*w.leadTime);
-    info.numbers.push_back({"collisions_warned_ahead", static_cast<double>(ahead.size())});
-    if (!ahead.empty()) {
-      std::sort(ahead.begin(), ahead.end());
-      const std::size_t n = ahead.size();
-      info.numbers.push_back({"collision_lead_time_median_s", n % 2 ? ahead[n / 2] : 0.5 * (ahead[n / 2 - 1] + ahead[n / 2])});
-    }
+    info.rawJson.push_back({"collisions", hw::eventRecallJson(leads.size(), ahead.size(), ahead)});
   }
   info.strings = {{"sumocfg", s.sumocfg.string()},
                   {"net", fs::absolute(files.net).string()},

@@ -47,7 +47,7 @@ Warning EpisodeBook::warningOf(int e, const Episode& ep, bool open) const {
   const bool vehicle = ep.kind == WarningKind::Vehicle;
   describeConflict(c, ep.kind, cars_->mass[e], vehicle ? cars_->mass[ep.foe] : 0.0, ep.minTtc, road_->features(),
                    cfg_->conflict, w);
-  if (c.lane >= 0 && c.lane < static_cast<int>(laneIds_.size())) w.lane = laneIds_[c.lane];
+  w.lane = cars_->laneId(c.lane);
   if (c.feature >= 0) w.line = road_->features().features[c.feature].name;
   return w;
 }

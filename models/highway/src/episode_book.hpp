@@ -18,9 +18,8 @@ namespace st::highway::detail {
 class EpisodeBook {
  public:
   EpisodeBook(const VehicleTable& cars, const RoadSearch& road, Hindsight& hindsight, const MonitorConfig& config,
-              std::vector<std::string> laneIds, MonitorCounters& counters)
-      : cars_(&cars), road_(&road), hindsight_(&hindsight), cfg_(&config), laneIds_(std::move(laneIds)),
-        counters_(&counters) {}
+              MonitorCounters& counters)
+      : cars_(&cars), road_(&road), hindsight_(&hindsight), cfg_(&config), counters_(&counters) {}
 
   // Time exposed and integrated deficit over the interval dt that just ended, from the threats of
   // its first tick.
@@ -68,7 +67,6 @@ class EpisodeBook {
   const RoadSearch* road_;
   Hindsight* hindsight_;
   const MonitorConfig* cfg_;
-  std::vector<std::string> laneIds_;  // the road's lanes (VehicleState::lane indexes them)
   MonitorCounters* counters_;
   // Open episodes of every car, contiguous in the order the cars were processed at the last tick
   // (keys ascending per car): a tick reads them in that order and writes the next pool in the

@@ -275,8 +275,7 @@ void Hindsight::findNearMisses(double t) {
       ev.kind = EventKind::NearMiss;
       ev.foe = c.slots[f].id;
       ev.gap = gap;
-      record(std::move(ev), e, t, leadOf(pairEpisodes_, key, t), counters_->nearMisses, counters_->nearMissesWarned,
-             counters_->nearMissLeads);
+      record(std::move(ev), e, t, leadOf(pairEpisodes_, key, t));
     }
   }
   std::swap(nearBefore_, nearNow_);
@@ -318,19 +317,20 @@ Hindsight::Lead Hindsight::leadOf(const std::unordered_map<std::uint64_t, std::v
   return out;
 }
 
-void Hindsight::record(HindsightEvent&& ev, int e, double t, const Lead& lead, std::uint64_t& count, std::uint64_t& warned,
-                       std::vector<double>& leads) {
+void Hindsight::record(HindsightEvent&& ev, int e, double t, const Lead& lead) {
   const VehicleTable& c = *cars_;
-  ++count;
+  MonitorCounters& k = *counters_;
+  const bool near = ev.kind == EventKind::NearMiss;
+  ++(near ? k.nearMisses : k.crossings);
   if (lead.warned) {
-    ++warned;
-    leads.push_back(lead.lead);
+    ++(near ? k.nearMissesWarned : k.crossingsWarned);
+    (near ? k.nearMissLeads : k.crossingLeads).push_back(lead.lead);
   }
   ev.time = t;
   ev.ego = c.slots[e].id;
   ev.x = c.centre[e].x();
   ev.y = c.centre[e].y();
-  if (c.lane[e] >= 0 && c.lane[e] < static_cast<int>(laneIds_.size())) ev.lane = laneIds_[c.lane[e]];
+  ev.lane = c.laneId(c.lane[e]);
   ev.speed = c.body[e].velocity.norm();
   ev.warned = lead.warned;
   ev.lead = lead.lead;
@@ -365,8 +365,7 @@ void Hindsight::findCrossings(double t) {
         ev.kind = EventKind::Crossing;
         ev.foe = road_->features().features[road_->groupFeatures(g).front()].name;
         ev.lateralSpeed = (side == 1 ? 1.0 : -1.0) * frames_->frame(s).lateral;
-        record(std::move(ev), s, t, leadOf(lineEpisodes_, lineKey(c.slots[s].serial, g), t), counters_->crossings,
-               counters_->crossingsWarned, counters_->crossingLeads);
+        record(std::move(ev), s, t, leadOf(lineEpisodes_, lineKey(c.slots[s].serial, g), t));
       }
     touching_[s] = now;
   }

@@ -19,7 +19,6 @@
 #include <cstdint>
 #include <array>
 #include <deque>
-#include <string>
 #include <unordered_map>
 #include <unordered_set>
 #include <utility>
@@ -40,10 +39,8 @@ bool segmentTouches(const Segment& s, const Body& b);
 
 class Hindsight {
  public:
-  // laneIds: the road's lane ids by index (VehicleTable::lane), for the events' lanes.
-  Hindsight(const MonitorConfig& config, const VehicleTable& cars, const RoadSearch& road, std::vector<std::string> laneIds,
-            MonitorCounters& counters)
-      : cfg_(&config), cars_(&cars), road_(&road), counters_(&counters), laneIds_(std::move(laneIds)) {}
+  Hindsight(const MonitorConfig& config, const VehicleTable& cars, const RoadSearch& road, MonitorCounters& counters)
+      : cfg_(&config), cars_(&cars), road_(&road), counters_(&counters) {}
 
   bool enabled() const { return cfg_->hindsight.enabled; }
   // The lane frames road warnings are judged in (a car on no lane: against the line's polyline).
@@ -98,9 +95,8 @@ class Hindsight {
     bool warned;
   };
   Lead leadOf(const std::unordered_map<std::uint64_t, std::vector<PairEpisode>>& episodes, std::uint64_t key, double t) const;
-  // An event at t of ego slot e: counted, its lead time kept if warned, listed.
-  void record(HindsightEvent&& ev, int e, double t, const Lead& lead, std::uint64_t& count, std::uint64_t& warned,
-              std::vector<double>& leads);
+  // An event of ego slot e at t: counted by its kind, its lead time kept if warned, listed.
+  void record(HindsightEvent&& ev, int e, double t, const Lead& lead);
   static std::uint64_t pairKey(std::uint64_t a, std::uint64_t b) {
     return a < b ? (a << 32) | b : (b << 32) | a;
   }
@@ -110,7 +106,6 @@ class Hindsight {
   const RoadSearch* road_;
   const LanePrediction* frames_ = nullptr;
   MonitorCounters* counters_;
-  std::vector<std::string> laneIds_;
   std::vector<HindsightEvent> events_;
   std::vector<Window> windows_;
   std::vector<int> freeWindows_;

@@ -241,10 +241,10 @@ double LanePrediction::chordOffset(int lane, const Projection& pr, double half) 
 }
 
 // The centre lies in the lane (within slack of its sides, and not beyond its ends by more than
-// kEndSlack) and the car heads along it (within 60 degrees).
-// A body that follows a tight curve (a turn inside a junction) has its centre on the chord from
-// its rear to its front, inside the bend by more than the lane's half width: its offset is taken
-// less the chord's (half: half the body's length).
+// kEndSlack) and the car heads along it (within 60 degrees). A body that follows a tight curve (a
+// turn inside a junction) has its centre on the chord from its rear to its front, inside the bend
+// by more than the lane's half width: there its offset less the chord's counts (half: half the
+// body's length).
 bool LanePrediction::fits(int lane, const Projection& pr, const Vec2& axis, double slack, double half) const {
   constexpr double kEndSlack = 0.5;  // m
   const NetLane& l = lanes_[lane];

@@ -114,12 +114,12 @@ struct HighwayMonitor::Impl {
 
   Impl(const RoadGeometry& geometry, const MonitorConfig& config)
       : cfg((checkConfig(config), config)),
-        cars(cfg, counters),
+        cars(cfg, counters, laneIdsOf(geometry)),
         prediction(geometry, cfg, cars, counters),
         road(geometry, cfg, cars, counters),
         cells(geometry, cellBounds(road.features()), cfg.cells),
-        hindsight(cfg, cars, road, laneIdsOf(geometry), counters),
-        book(cars, road, hindsight, cfg, laneIdsOf(geometry), counters) {
+        hindsight(cfg, cars, road, counters),
+        book(cars, road, hindsight, cfg, counters) {
     const detail::LanePrediction* paths = prediction.alongLanes() ? &prediction : nullptr;
     road.usePrediction(paths);
     hindsight.useLaneFrames(&prediction);

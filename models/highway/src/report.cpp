@@ -47,11 +47,14 @@ std::string hindsightJson(const MonitorCounters& c, const HindsightConfig& h) {
   for (int k = 0; k < kWarningKindCount; ++k)
     os << (k ? ", " : "") << jsonString(toString(static_cast<WarningKind>(k))) << ": {\"judged\": " << c.judged[k]
        << ", \"confirmed\": " << c.confirmed[k] << ", \"precision\": " << share(c.confirmed[k], c.judged[k]) << "}";
-  os << "},\n    \"near_misses\": {\"events\": " << c.nearMisses << ", \"warned\": " << c.nearMissesWarned
-     << ", \"recall\": " << share(c.nearMissesWarned, c.nearMisses) << ", \"lead_s\": " << leadJson(c.nearMissLeads) << "},"
-     << "\n    \"crossings\": {\"events\": " << c.crossings << ", \"warned\": " << c.crossingsWarned
-     << ", \"recall\": " << share(c.crossingsWarned, c.crossings) << ", \"lead_s\": " << leadJson(c.crossingLeads) << "}}";
+  os << "},\n    \"near_misses\": " << eventRecallJson(c.nearMisses, c.nearMissesWarned, c.nearMissLeads)
+     << ",\n    \"crossings\": " << eventRecallJson(c.crossings, c.crossingsWarned, c.crossingLeads) << "}";
   return os.str();
+}
+
+std::string eventRecallJson(std::uint64_t events, std::uint64_t warned, const std::vector<double>& leads) {
+  return "{\"events\": " + std::to_string(events) + ", \"warned\": " + std::to_string(warned) +
+         ", \"recall\": " + share(warned, events) + ", \"lead_s\": " + leadJson(leads) + "}";
 }
 
 std::string warningsCsvHeader() {

@@ -8,6 +8,7 @@
 #include <span>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include <sthighway/monitor.hpp>
@@ -39,7 +40,14 @@ struct VehicleTable {
     Vec2 axis = Vec2(1.0, 0.0);                          // (cos, sin) of heading
   };
 
-  VehicleTable(const MonitorConfig& config, MonitorCounters& sink) : cfg(&config), counters(&sink) {}
+  // laneIds: the road's lane ids by index (what VehicleState::lane indexes), for what is reported
+  VehicleTable(const MonitorConfig& config, MonitorCounters& sink, std::vector<std::string> laneIds = {})
+      : cfg(&config), counters(&sink), laneIds_(std::move(laneIds)) {}
+
+  // The id of lane index `lane` (VehicleState::lane), empty if unknown.
+  std::string laneId(int lane) const {
+    return lane >= 0 && lane < static_cast<int>(laneIds_.size()) ? laneIds_[lane] : std::string();
+  }
 
   // Maps this tick's vehicles to slots and takes their state; the slots of the cars that left
   // are listed in `departed` (in the order they were active), still holding their ids until
@@ -90,6 +98,7 @@ struct VehicleTable {
   std::vector<double> braking;
 
  private:
+  std::vector<std::string> laneIds_;
   std::vector<int> next_;  // scratch: the next tick's active list
   int slotFor(const VehicleState& v, int i, double t);
   int newSlot(const VehicleState& v);

@@ -69,6 +69,10 @@ struct RunInfo {
 // summary.json's "hindsight": thresholds, per kind judged / confirmed / precision, near misses
 // with recall and lead times (null figures where there is nothing to count).
 std::string hindsightJson(const MonitorCounters& counters, const HindsightConfig& config);
+// One kind of actual event's recall, as summary.json writes it: {"events", "warned" (the lead time
+// ahead), "recall" (null for no event), "lead_s": the warned ones' lead times, min, median and
+// p90 (null for none)}.
+std::string eventRecallJson(std::uint64_t events, std::uint64_t warned, const std::vector<double>& leads);
 
 // summary.json: vehicles, vehicle_km, warnings (total, by kind, by zone, by conflict type, per vehicle-km),
 // tet_s / tit_s2 by kind, handoffs, subdivisions, candidate_pairs, toi_checks, wall time.
