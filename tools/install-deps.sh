@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages stsim needs, only those that are missing, so a second run is instant.
 set -euo pipefail
 packages=(
-  build-essential cmake ninja-build pkg-config
+  build-essential cmake ninja-build pkg-config ccache
   libeigen3-dev libyaml-cpp-dev libboost1.74-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   sumo sumo-tools
