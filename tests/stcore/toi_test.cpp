@@ -25,12 +25,13 @@
 #include <vector>
 
 #include <stcore/toi.hpp>
+#include "test_scale.hpp"
 #include <stcore/tolerances.hpp>
 
 namespace st {
 namespace {
 
-constexpr int kCases = 100000;
+const int kCases = test::scaledCount(100000);  // fewer under the sanitizers (test_scale.hpp)
 constexpr double kSlop = tol::kLinearSlop;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 

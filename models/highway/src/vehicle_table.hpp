@@ -44,9 +44,9 @@ struct VehicleTable {
   VehicleTable(const MonitorConfig& config, MonitorCounters& sink, std::vector<std::string> laneIds = {})
       : cfg(&config), counters(&sink), laneIds_(std::move(laneIds)) {}
 
-  // The id of lane index `lane` (VehicleState::lane), empty if unknown.
-  std::string laneId(int lane) const {
-    return lane >= 0 && lane < static_cast<int>(laneIds_.size()) ? laneIds_[lane] : std::string();
+  // The id of lane index `index` (VehicleState::lane), empty if unknown.
+  std::string laneId(int index) const {
+    return index >= 0 && index < static_cast<int>(laneIds_.size()) ? laneIds_[index] : std::string();
   }
 
   // Maps this tick's vehicles to slots and takes their state; the slots of the cars that left

@@ -1,6 +1,7 @@
 // Time to collision by conservative advancement against dense time sampling of the exact
 // distance: never later than the first sampled contact, never a miss.
 #include <gtest/gtest.h>
+#include "test_scale.hpp"
 
 #include <random>
 
@@ -52,7 +53,7 @@ TEST(Ttc, RotatingLinkSweepsIntoSphere) {
 
 TEST(Ttc, NeverLaterThanDenseSamplingOnRandomMotions) {
   Rng rng(21);
-  const int motions = 10000;
+  const int motions = test::scaledCount(10000);
   const int samples = 2000;
   const double horizon = 0.5;
   int hits = 0, touching = 0, clear = 0, capped = 0;

@@ -3,6 +3,7 @@
 // time to line crossing, a rear-end pair on a curve against the straight road of the same arc
 // length; and its prunes against an unpruned brute force along the same paths.
 #include <gtest/gtest.h>
+#include "test_scale.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -297,7 +298,8 @@ TEST(RoadPrediction, PrunesKeepEveryThreatOfTheUnprunedPathsAndPathsStayWithinTh
   std::mt19937_64 rng(4242);
   const RoadGeometry road = tightRoad();
   std::uint64_t threats = 0, curved = 0;
-  for (int scene = 0; scene < 240; ++scene) {
+  const int scenes = test::scaledCount(240);
+  for (int scene = 0; scene < scenes; ++scene) {
     MonitorConfig cfg;
     cfg.detector.kind = static_cast<DetectorKind>(scene % 3);
     cfg.detector.motion = (scene / 3) % 2 ? MotionModel::ConstantAcceleration : MotionModel::ConstantVelocity;
@@ -361,8 +363,8 @@ TEST(RoadPrediction, PrunesKeepEveryThreatOfTheUnprunedPathsAndPathsStayWithinTh
       }
     }
   }
-  EXPECT_GT(threats, 1000u);
-  EXPECT_GT(curved, 1000u);
+  EXPECT_GT(threats, 1000u * scenes / 240);
+  EXPECT_GT(curved, 1000u * scenes / 240);
 }
 
 // A lane "in" ends at a junction with two junction lanes: straight on (to "east"), and a left
