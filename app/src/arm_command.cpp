@@ -3,7 +3,6 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -13,6 +12,7 @@
 #include <starm/study.hpp>
 #include <stnet/frame.hpp>
 #include <stio/format.hpp>
+#include <stio/output.hpp>
 #include <stsim/cli.hpp>
 #include <stsim/commands.hpp>
 
@@ -75,9 +75,7 @@ void writeSummary(const fs::path& file, const std::string& scenario, const arm::
     << num(st.cycles ? static_cast<double>(c.candidatePairs) / static_cast<double>(st.cycles) : 0.0) << ",\n";
   j << "  \"exact_pairs\": " << c.exactPairs << ",\n  \"advance_steps\": " << c.advanceSteps
     << ",\n  \"capped_advances\": " << c.cappedAdvances << "\n}\n";
-  std::ofstream out(file);
-  out << j.str();
-  if (!out) throw std::runtime_error(file.string() + ": cannot write");
+  io::writeTextFile(file, j.str());
 }
 
 int runStudy(const Args& args) {
@@ -99,9 +97,9 @@ int runStudy(const Args& args) {
   const arm::StudyResult r = arm::stoppingStudy(cfg);
   const fs::path out = args.get("out");
   fs::create_directories(out);
-  std::ofstream csv(out / "stopping_study.csv");
-  csv << "assumed_stopping_s,safe_time_s,needed_s,courses,contacts_open,contacts_closed,contacts_closed_moving,"
-         "min_distance_closed_m,median_min_distance_closed_m\n";
+  io::CsvRowWriter csv(out / "stopping_study.csv",
+                      "assumed_stopping_s,safe_time_s,needed_s,courses,contacts_open,contacts_closed,"
+                      "contacts_closed_moving,min_distance_closed_m,median_min_distance_closed_m");
   std::printf("stopping study: %zu shipped + %d random courses (seed %llu), arms brake in %.3f s after a %.3f s delay\n\n",
               cfg.shipped.size(), cfg.randomCourses, static_cast<unsigned long long>(cfg.seed), cfg.stoppingTime,
               r.rows.empty() ? 0.0 : r.rows.front().needed - cfg.stoppingTime - 0.001);
@@ -133,14 +131,30 @@ int runStudy(const Args& args) {
     std::printf("  %9.3f %9.3f %+11.3f %4d/%-4d %9d %13.4f %13.4f  %s\n", row.assumedStopping, row.safeTime,
                 row.safeTime - row.needed, row.contactsClosed, row.courses, row.contactsClosedMoving, row.minDistanceClosed,
                 row.medianMinDistanceClosed, fails.c_str());
-    csv << num(row.assumedStopping) << ',' << num(row.safeTime) << ',' << num(row.needed) << ',' << row.courses << ','
-        << row.contactsOpen << ',' << row.contactsClosed << ',' << row.contactsClosedMoving << ','
-        << num(row.minDistanceClosed) << ',' << num(row.medianMinDistanceClosed) << '\n';
+    std::ostringstream line;
+    line << num(row.assumedStopping) << ',' << num(row.safeTime) << ',' << num(row.needed) << ',' << row.courses << ','
+         << row.contactsOpen << ',' << row.contactsClosed << ',' << row.contactsClosedMoving << ','
+         << num(row.minDistanceClosed) << ',' << num(row.medianMinDistanceClosed);
+    csv.row(line.str());
   }
   csv.flush();
-  if (!csv) throw std::runtime_error((out / "stopping_study.csv").string() + ": cannot write");
   std::printf("\n-> %s\n", (out / "stopping_study.csv").c_str());
   return 0;
+}
+
+// An integer option in [lo, hi], refused naming the option (a 0 or -1 never quietly becomes 1).
+long intIn(const Args& args, const std::string& name, long lo, long hi) {
+  const long v = args.getInt(name);
+  if (v < lo || v > hi)
+    throw UsageError("--" + name + ": expected " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " + args.get(name));
+  return v;
+}
+
+// A time option in seconds, >= 0 and at most an hour.
+double secondsIn(const Args& args, const std::string& name) {
+  const double v = args.getDouble(name);
+  if (!(v >= 0.0 && v <= 3600.0)) throw UsageError("--" + name + ": expected a time in 0..3600 s, got " + args.get(name));
+  return v;
 }
 
 net::HostPort hostPort(const std::string& option, const std::string& text) {
@@ -158,7 +172,10 @@ int runServe(int argc, const char* const* argv) {
   args.option("listen", "HOST:PORT", "address to listen on (port 0: pick one and print it)", "127.0.0.1:0");
   args.option("token", "TEXT", "shared token every client must present (required off loopback)", "");
   args.option("out", "DIR", "folder of the logs", "arm-serve");
-  args.option("max-connections", "N", "connections served at once (more are told and closed)", "128");
+  args.option("max-connections", "N", "clients served at once past HELLO (more are told and closed)", "128");
+  args.option("max-pending", "N", "connections waiting for their HELLO, apart from the clients' slots (one more "
+              "closes the oldest)", "16");
+  args.option("hello-timeout", "MS", "time a connection has to say HELLO", "2000");
   args.option("frame-timeout", "MS", "time a client has to finish a frame it has begun", "2000");
   if (!args.parse(argc, argv)) {
     std::cout << args.help();
@@ -168,8 +185,10 @@ int runServe(int argc, const char* const* argv) {
   arm::ServiceConfig cfg;
   cfg.net.address = hp.host == "localhost" ? "127.0.0.1" : hp.host;
   cfg.net.port = hp.port;
-  cfg.net.maxConnections = static_cast<std::size_t>(std::max(1L, args.getInt("max-connections")));
-  cfg.net.frameTimeout = std::chrono::milliseconds(std::max(1L, args.getInt("frame-timeout")));
+  cfg.maxClients = static_cast<std::size_t>(intIn(args, "max-connections", 1, 100000));
+  cfg.maxPending = static_cast<std::size_t>(intIn(args, "max-pending", 1, 100000));
+  cfg.helloTimeout = std::chrono::milliseconds(intIn(args, "hello-timeout", 1, 3600000));
+  cfg.net.frameTimeout = std::chrono::milliseconds(intIn(args, "frame-timeout", 1, 3600000));
   cfg.token = args.get("token");
   cfg.logDir = args.get("out");
   const arm::Scenario sc = arm::loadScenario(*args.positionalValue(0));
@@ -209,10 +228,13 @@ int runStreamCommand(int argc, const char* const* argv) {
   cfg.token = args.get("token");
   cfg.trace = *args.positionalValue(0);
   cfg.rate = args.getDouble("rate");
-  if (!(cfg.rate >= 0.0)) throw UsageError("--rate: expected a number >= 0");
+  // 0 is "as fast as possible"; otherwise a speed whose trace times stay a sleep the clock can
+  // hold (1e-20 overflowed into no sleep at all: full speed)
+  if (!(cfg.rate == 0.0 || (cfg.rate >= 1e-3 && cfg.rate <= 1e6)))
+    throw UsageError("--rate: expected 0 (as fast as possible) or a speed in 0.001..1e6, got " + args.get("rate"));
   cfg.closedLoop = !args.has("open-loop");
-  cfg.braking.stoppingTime = args.getDouble("stopping-time");
-  cfg.braking.delay = args.getDouble("delay");
+  cfg.braking.stoppingTime = secondsIn(args, "stopping-time");
+  cfg.braking.delay = secondsIn(args, "delay");
   cfg.outDir = args.get("out");
   arm::StreamResult r;
   auto report = [&] {
@@ -300,9 +322,8 @@ int runArm(int argc, const char* const* argv) {
 
   const fs::path out = args.get("out");
   fs::create_directories(out);
-  std::ofstream csv(out / "warnings.csv");
-  if (!csv) throw std::runtime_error((out / "warnings.csv").string() + ": cannot write");
-  csv << "t_s,arm,link,capsule,other,distance_m,ttc_s,reason,stop\n";
+  io::CsvRowWriter csv(out / "warnings.csv", "t_s,arm,link,capsule,other,distance_m,ttc_s,reason,stop");
+  std::ostringstream line;
   arm::RunStats stats;
   const std::string bpName = sc.broad.kind == SpaceKind::None ? "none" : toString(sc.broad.kind);
   // Ctrl-C, SIGTERM, SIGHUP: the run stops after a whole cycle and writes what it has
@@ -312,16 +333,24 @@ int runArm(int argc, const char* const* argv) {
       if (drive) drive->observe(m, m.time());
       watch.see(m);
       for (const arm::Warning& w : m.warnings()) {
-        csv << num(w.t) << ',' << io::csvField(m.arm(w.arm).name) << ',' << io::csvField(arm::bodyName(m.arm(w.arm).model, w.body))
-            << ',' << w.capsule << ',' << io::csvField(arm::otherName(m, w)) << ',' << num(w.distance) << ',' << num(w.ttc) << ','
-            << (w.outcome == arm::Approach::Touching ? "separation" : "ttc") << ',' << (w.stop ? "STOP" : "") << '\n';
+        line.str("");
+        line << num(w.t) << ',' << io::csvField(m.arm(w.arm).name) << ',' << io::csvField(arm::bodyName(m.arm(w.arm).model, w.body))
+             << ',' << w.capsule << ',' << io::csvField(arm::otherName(m, w)) << ',' << num(w.distance) << ',' << num(w.ttc)
+             << ',' << (w.outcome == arm::Approach::Touching ? "separation" : "ttc") << ',' << (w.stop ? "STOP" : "");
+        csv.row(line.str());
       }
       if (!m.warnings().empty()) csv.flush();
     }, StopSignals::requested);
   } catch (const std::exception& e) {
-    // results so far stay on disk
-    csv.flush();
-    writeSummary(out / "summary.json", path, monitor, stats, bpName, e.what(), closedLoop, watch);
+    // results so far stay on disk; the first failure is the one reported (a full disk fails both)
+    try {
+      csv.flush();
+    } catch (const std::exception&) {
+    }
+    try {
+      writeSummary(out / "summary.json", path, monitor, stats, bpName, e.what(), closedLoop, watch);
+    } catch (const std::exception&) {
+    }
     throw;
   }
   csv.flush();

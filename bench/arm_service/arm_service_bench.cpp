@@ -208,7 +208,8 @@ NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& 
   ServiceConfig cfg;
   cfg.batchCycles = batch;
   cfg.net.handleSignals = false;
-  cfg.net.maxConnections = 256;
+  cfg.net.maxConnections = 256;  // the echo floor's server
+  cfg.maxClients = 256;           // the service's (it sets its server's from this)
   // no log: its flush is off the latency path anyway; measured without disk noise
   cfg.logDir = std::getenv("ARM_BENCH_LOG") ? std::getenv("ARM_BENCH_LOG") : "";
   std::unique_ptr<Backend> backend;

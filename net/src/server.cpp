@@ -328,6 +328,11 @@ void Server::fail(ConnectionId id, const std::string& message, CloseReason why) 
   if (it != conns_.end()) it->second->fail(message, why);
 }
 
+void Server::close(ConnectionId id, CloseReason why, const std::string& detail) {
+  const auto it = conns_.find(id);
+  if (it != conns_.end()) it->second->finish(why, detail);
+}
+
 void Server::closed(ConnectionId id, CloseReason why, const std::string& detail) {
   if (conns_.erase(id) == 0) return;
   handler_.onClose(*this, id, why, detail);

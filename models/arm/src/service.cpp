@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
 
@@ -32,68 +33,148 @@ bool sameToken(const std::string& a, const std::string& b) {
   return diff == 0;
 }
 
+// A time in seconds beyond any sensor clock (seconds since 1970 are 1.7e9): refused, so that no
+// extrapolation over it overflows the monitor's geometry.
+constexpr double kMaxClock = 1e12;
+// A sensor counts as talking (its time bounds the others') for this long after its last message.
+constexpr auto kTalking = std::chrono::seconds(1);
+
 net::ServerConfig checked(const ServiceConfig& c) {
   if (!isLoopback(c.net.address) && c.token.empty())
     throw std::runtime_error(c.net.address + ": listening on a non-loopback address needs a shared token (--token)");
-  return c.net;
+  if (c.maxClients < 1 || c.maxPending < 1) throw std::runtime_error("service: maxClients and maxPending must be at least 1");
+  if (c.helloTimeout.count() <= 0) throw std::runtime_error("service: helloTimeout must be positive");
+  if (!(c.staleAfter >= 0.0 && c.staleAfter <= kMaxClock)) throw std::runtime_error("service: staleAfter must be a time >= 0 (s)");
+  if (!(c.maxLead > 0.0 && c.maxLead <= kMaxClock)) throw std::runtime_error("service: maxLead must be a time > 0 (s)");
+  net::ServerConfig n = c.net;
+  // the sockets: every client slot and every pending one (the service sheds pending ones itself)
+  n.maxConnections = c.maxClients + c.maxPending;
+  return n;
 }
 
 }  // namespace
 
 ArmService::ArmService(boost::asio::io_context& io, const Scenario& scenario, ServiceConfig cfg)
-    : cfg_(std::move(cfg)), monitor_(makeMonitor(scenario)), server_(io, checked(cfg_), *this) {
-  lastReading_.assign(monitor_.armCount(), -std::numeric_limits<double>::infinity());
-  pendingArm_.resize(monitor_.armCount());
+    : cfg_(std::move(cfg)), monitor_(makeMonitor(scenario)), server_(io, checked(cfg_), *this), helloTimer_(io) {
+  const int arms = monitor_.armCount();
+  lastReading_.assign(arms, -std::numeric_limits<double>::infinity());
+  readingFrom_.assign(arms, 0);
+  appliedT_.assign(arms, -std::numeric_limits<double>::infinity());
+  pendingArm_.resize(arms);
+  // a reading older than this could not start the braking in time
+  staleAfter_ = cfg_.staleAfter > 0.0 ? cfg_.staleAfter : monitor_.safety().reactionTime + monitor_.safety().cycleTime;
   if (!cfg_.logDir.empty()) {
     namespace fs = std::filesystem;
     fs::create_directories(cfg_.logDir);
-    verdictLog_.open(fs::path(cfg_.logDir) / "verdicts.csv");
-    connLog_.open(fs::path(cfg_.logDir) / "connections.csv");
-    if (!verdictLog_ || !connLog_) throw std::runtime_error(cfg_.logDir + ": cannot write the logs");
-    verdictLog_ << "cycle,t_s,readings_from";
-    for (int a = 0; a < monitor_.armCount(); ++a)
-      verdictLog_ << ',' << io::csvField(monitor_.arm(a).name + "_level") << ','
-                  << io::csvField(monitor_.arm(a).name + "_min_ttc_s");
-    verdictLog_ << ",nearest,nearest_other,distance_m,ttc_s\n";
-    connLog_ << "wall_s,connection,event,detail\n";
-    verdictLog_.flush();
-    connLog_.flush();
+    std::string header = "cycle,t_s,readings_from";
+    for (int a = 0; a < arms; ++a)
+      header += ',' + io::csvField(monitor_.arm(a).name + "_level") + ',' + io::csvField(monitor_.arm(a).name + "_min_ttc_s");
+    verdictLog_.emplace(fs::path(cfg_.logDir) / "verdicts.csv", header + ",nearest,nearest_other,distance_m,ttc_s");
+    connLog_.emplace(fs::path(cfg_.logDir) / "connections.csv", "wall_s,connection,event,detail");
   }
-  verdict_.arms.resize(monitor_.armCount());
+  verdict_.arms.resize(arms);
 }
 
-ArmService::~ArmService() {
-  verdictLog_.flush();
-  connLog_.flush();
-}
+ArmService::~ArmService() = default;
 
 int ArmService::run() {
   const int sig = server_.run();
   // a cycle whose readings arrived just before the stop still runs and is logged
   if (pending_) runCycle();
-  verdictLog_.flush();
-  connLog_.flush();
+  if (verdictLog_) verdictLog_->flush();
+  if (connLog_) connLog_->flush();
   return sig;
 }
 
 void ArmService::stop() { server_.stop(); }
 
 void ArmService::logConnection(net::ConnectionId id, const std::string& event, const std::string& detail) {
-  if (!connLog_.is_open()) return;
-  connLog_ << io::fixed(wallSeconds(), 6) << ',' << id << ',' << io::csvField(event) << ','
-           << io::csvField(io::oneLine(detail)) << '\n';
-  connLog_.flush();
+  if (!connLog_) return;
+  connLog_->row(io::fixed(wallSeconds(), 6) + ',' + std::to_string(id) + ',' + io::csvField(event) + ',' +
+                io::csvField(io::oneLine(detail)));
+  connLog_->flush();
 }
 
 void ArmService::onOpen(net::Server&, net::ConnectionId id) {
   peers_[id] = Peer{};
   ++counters_.connections;
+  ++awaitingHello_;
+  helloQueue_.emplace_back(id, Clock::now() + cfg_.helloTimeout);
   logConnection(id, "open", "");
+  // one more than the pending slots: the oldest pending connection makes room (a flood sheds
+  // itself; a sensor says HELLO at once and leaves the queue before many arrive)
+  while (awaitingHello_ > cfg_.maxPending && !helloQueue_.empty()) {
+    const net::ConnectionId oldest = helloQueue_.front().first;
+    helloQueue_.pop_front();
+    const auto it = peers_.find(oldest);
+    if (it == peers_.end() || it->second.stage != Stage::Pending) continue;
+    it->second.stage = Stage::Leaving;
+    --awaitingHello_;
+    ++counters_.shed;
+    server_.close(oldest, net::CloseReason::ServerFull,
+                  "shed: " + std::to_string(cfg_.maxPending) + " connections already wait for their HELLO");
+  }
+  armHelloTimer();
+}
+
+void ArmService::armHelloTimer() {
+  if (helloTimerArmed_ || helloQueue_.empty()) return;
+  helloTimerArmed_ = true;
+  helloTimer_.expires_at(helloQueue_.front().second);
+  helloTimer_.async_wait([this](const boost::system::error_code& e) {
+    helloTimerArmed_ = false;
+    if (!e) onHelloTimer();
+  });
+}
+
+void ArmService::onHelloTimer() {
+  const auto now = Clock::now();
+  while (!helloQueue_.empty() && helloQueue_.front().second <= now) {
+    const net::ConnectionId id = helloQueue_.front().first;
+    helloQueue_.pop_front();
+    const auto it = peers_.find(id);
+    if (it == peers_.end() || it->second.stage != Stage::Pending) continue;
+    it->second.stage = Stage::Leaving;
+    --awaitingHello_;
+    ++counters_.helloTimeouts;
+    server_.fail(id, "no HELLO within " + std::to_string(cfg_.helloTimeout.count()) + " ms of connecting");
+  }
+  armHelloTimer();
 }
 
 void ArmService::onClose(net::Server&, net::ConnectionId id, net::CloseReason why, const std::string& detail) {
-  peers_.erase(id);
+  const auto it = peers_.find(id);
+  if (it != peers_.end()) {
+    if (it->second.stage == Stage::Pending) --awaitingHello_;
+    if (it->second.stage == Stage::Client) --clients_;
+    peers_.erase(it);
+  }
+  // a sensor that leaves takes its time with it: the arms it read are free for any newer
+  // reading, and the service's time is the newest of those still connected
+  for (int a = 0; a < monitor_.armCount(); ++a)
+    if (readingFrom_[a] == id) lastReading_[a] = -std::numeric_limits<double>::infinity();
+  lastCycleT_ = -1e300;
+  for (const auto& [pid, p] : peers_) lastCycleT_ = std::max(lastCycleT_, p.newestT);
   logConnection(id, net::toString(why), detail);
+}
+
+std::string ArmService::checkTime(net::ConnectionId id, const std::string& what, double t) const {
+  if (!std::isfinite(t)) return what + ": time is not a finite number";
+  if (std::abs(t) > kMaxClock) return what + ": time " + num(t) + " s is beyond any clock (at most 1e12 s either way)";
+  // the newest time among the other sensors that are talking: this one may not lead or trail it by much
+  const auto now = Clock::now();
+  double others = -std::numeric_limits<double>::infinity();
+  for (const auto& [pid, p] : peers_)
+    if (pid != id && std::isfinite(p.newestT) && now - p.lastHeard <= kTalking) others = std::max(others, p.newestT);
+  if (std::isfinite(others) && std::abs(t - others) > cfg_.maxLead)
+    return what + ": time " + num(t) + " s is more than " + num(cfg_.maxLead) + " s " + (t > others ? "ahead of" : "behind") +
+           " the other sensors (newest " + num(others) + " s)";
+  return "";
+}
+
+void ArmService::heard(Peer& p, double t) {
+  p.newestT = std::max(p.newestT, t);
+  p.lastHeard = Clock::now();
 }
 
 std::string ArmService::errorPayload(const std::string& message) { return proto::encode(proto::Error{message}); }
@@ -144,6 +225,16 @@ std::string ArmService::onHello(net::ConnectionId id, Peer& p, std::string_view 
     return "protocol version " + std::to_string(h.version) + " not supported (this service speaks " +
            std::to_string(proto::kVersion) + ")";
   if (!cfg_.token.empty() && !sameToken(h.token, cfg_.token)) return "bad token";
+  // a client slot: those are apart from the pending ones, so a flood of pending connections never takes them
+  p.stage = Stage::Leaving;
+  --awaitingHello_;
+  if (clients_ >= cfg_.maxClients) {
+    ++counters_.refusedFull;
+    server_.fail(id, "server full (" + std::to_string(cfg_.maxClients) + " connections)", net::CloseReason::ServerFull);
+    return "";
+  }
+  p.stage = Stage::Client;
+  ++clients_;
   p.hello = true;
   proto::Welcome w;
   w.cycleTime = monitor_.safety().cycleTime;
@@ -161,7 +252,7 @@ std::string ArmService::onReadings(net::ConnectionId id, Peer& p, std::string_vi
   if (std::string e = proto::decodeReadings(payload, readings_); !e.empty()) return e;
   const proto::Readings& r = readings_;
   const std::string seq = "READINGS seq " + std::to_string(r.seq);
-  if (!std::isfinite(r.t)) return seq + ": time is not a finite number";
+  if (std::string e = checkTime(id, seq, r.t); !e.empty()) return e;
   if (r.t < p.lastT)
     return seq + ": time " + num(r.t) + " s goes backwards (this connection's last was " + num(p.lastT) + " s)";
   // every reading checked before any is applied: a refused message leaves the monitor as it was
@@ -198,8 +289,10 @@ std::string ArmService::onReadings(net::ConnectionId id, Peer& p, std::string_vi
     pa.t = r.t;
     pa.fresh = true;
     lastReading_[a.arm] = r.t;
+    readingFrom_[a.arm] = id;
   }
   p.lastT = r.t;
+  heard(p, r.t);
   counters_.readings += r.arms.size();
   if (!p.inCycle) {
     p.inCycle = true;
@@ -216,7 +309,7 @@ std::string ArmService::onObstacles(net::ConnectionId id, Peer& p, std::string_v
   if (!d.ok) return d.error;
   const auto& m = std::get<proto::Obstacles>(d.message);
   const std::string seq = "OBSTACLES seq " + std::to_string(m.seq);
-  if (!std::isfinite(m.t)) return seq + ": time is not a finite number";
+  if (std::string e = checkTime(id, seq, m.t); !e.empty()) return e;
   for (const proto::ObstaclePose& o : m.obstacles) {
     if (o.obstacle >= monitor_.obstacles().size())
       return seq + ": unknown obstacle id " + std::to_string(o.obstacle) + " (the scenario has " +
@@ -227,6 +320,7 @@ std::string ArmService::onObstacles(net::ConnectionId id, Peer& p, std::string_v
   }
   for (const proto::ObstaclePose& o : m.obstacles) monitor_.setObstaclePose(o.obstacle, m.t, o.position, o.velocity);
   counters_.obstaclePoses += m.obstacles.size();
+  heard(p, m.t);
   if (!p.inCycle) {
     p.inCycle = true;
     inCycle_.push_back(id);
@@ -249,6 +343,7 @@ void ArmService::runCycle() {
     Pending& pa = pendingArm_[a];
     if (!pa.fresh) continue;
     monitor_.setJointState(a, pa.t, pa.q.data(), pa.qdot.data());
+    appliedT_[a] = pa.t;
     pa.fresh = false;
   }
   monitor_.cycle(t);
@@ -260,6 +355,11 @@ void ArmService::runCycle() {
     proto::ArmVerdict& v = verdict_.arms[a];
     v.minTtc = monitor_.minTtc(a);
     v.level = monitor_.stopped(a) ? proto::Level::Stop : std::isfinite(v.minTtc) ? proto::Level::Warn : proto::Level::Ok;
+    // fail safe: a verdict on a reading that is not current (or none) is no verdict: STOP
+    if (!(std::abs(t - appliedT_[a]) <= staleAfter_) && v.level != proto::Level::Stop) {
+      v.level = proto::Level::Stop;
+      ++counters_.staleStops;
+    }
   }
   const Warning& n = monitor_.nearest();
   verdict_.nearest = {static_cast<std::int16_t>(n.arm), static_cast<std::int16_t>(n.body),
@@ -273,16 +373,18 @@ void ArmService::runCycle() {
     if (server_.send(id, out_)) ++counters_.verdictsSent;
   }
   // the log row after the verdicts are on their way (the write is off the latency path)
-  if (verdictLog_.is_open()) {
-    verdictLog_ << counters_.cycles << ',' << num(t) << ',';
-    for (std::size_t k = 0; k < inCycle_.size(); ++k) verdictLog_ << (k ? " " : "") << inCycle_[k];
+  if (verdictLog_) {
+    std::string& row = logRow_;
+    row = std::to_string(counters_.cycles) + ',' + num(t) + ',';
+    for (std::size_t k = 0; k < inCycle_.size(); ++k) (row += k ? " " : "") += std::to_string(inCycle_[k]);
     for (int a = 0; a < monitor_.armCount(); ++a)
-      verdictLog_ << ',' << proto::toString(verdict_.arms[a].level) << ',' << num(verdict_.arms[a].minTtc);
+      row += ',' + std::string(proto::toString(verdict_.arms[a].level)) + ',' + num(verdict_.arms[a].minTtc);
     if (n.arm >= 0)
-      verdictLog_ << ',' << io::csvField(monitor_.arm(n.arm).name + "/" + bodyName(monitor_.arm(n.arm).model, n.body))
-                  << ',' << io::csvField(otherName(monitor_, n)) << ',' << num(n.distance) << ',' << num(n.ttc) << '\n';
-    else verdictLog_ << ",,,inf,inf\n";
-    verdictLog_.flush();
+      row += ',' + io::csvField(monitor_.arm(n.arm).name + "/" + bodyName(monitor_.arm(n.arm).model, n.body)) + ',' +
+             io::csvField(otherName(monitor_, n)) + ',' + num(n.distance) + ',' + num(n.ttc);
+    else row += ",,,inf,inf";
+    verdictLog_->row(row);
+    verdictLog_->flush();
   }
   for (net::ConnectionId id : inCycle_) {
     const auto it = peers_.find(id);

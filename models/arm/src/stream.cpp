@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <thread>
 
@@ -55,15 +57,14 @@ void runStream(const StreamConfig& cfg, StreamResult& res) {
     loop = std::make_unique<ClosedLoopSensor>(std::move(csv), std::vector<ArmModel>(arms), cfg.braking);
     src = loop.get();
   }
-  std::ofstream log;
+  std::optional<io::CsvRowWriter> log;
   if (!cfg.outDir.empty()) {
     std::filesystem::create_directories(cfg.outDir);
-    log.open(std::filesystem::path(cfg.outDir) / "stream_verdicts.csv");
-    if (!log) throw std::runtime_error(cfg.outDir + ": cannot write stream_verdicts.csv");
-    log << "t_s,seq,rtt_us";
-    for (const std::string& n : w->armNames) log << ',' << io::csvField(n + "_level") << ',' << io::csvField(n + "_speed");
-    log << ",distance_m,ttc_s\n";
+    std::string header = "t_s,seq,rtt_us";
+    for (const std::string& n : w->armNames) header += ',' + io::csvField(n + "_level") + ',' + io::csvField(n + "_speed");
+    log.emplace(std::filesystem::path(cfg.outDir) / "stream_verdicts.csv", header + ",distance_m,ttc_s");
   }
+  std::ostringstream line;
 
   proto::Readings msg;
   Reading r;
@@ -118,36 +119,37 @@ void runStream(const StreamConfig& cfg, StreamResult& res) {
     }
     res.stopCycles += anyStop ? 1 : 0;
     res.minDistance = std::min(res.minDistance, v->nearest.distance);
-    if (log.is_open()) {
-      log << num(t) << ',' << msg.seq << ',' << num(rtt);
+    if (log) {
+      line.str("");
+      line << num(t) << ',' << msg.seq << ',' << num(rtt);
       for (int a = 0; a < arms; ++a)
-        log << ',' << proto::toString(a < static_cast<int>(v->arms.size()) ? v->arms[a].level : proto::Level::Ok) << ','
-            << num(loop ? loop->drive(a).speed() : 1.0);
-      log << ',' << num(v->nearest.distance) << ',' << num(v->nearest.ttc) << '\n';
+        line << ',' << proto::toString(a < static_cast<int>(v->arms.size()) ? v->arms[a].level : proto::Level::Ok) << ','
+             << num(loop ? loop->drive(a).speed() : 1.0);
+      line << ',' << num(v->nearest.distance) << ',' << num(v->nearest.ttc);
+      log->row(line.str());
     }
   }
   if (loop)
     for (int a = 0; a < arms; ++a) res.finalSpeed[a] = loop->drive(a).speed();
-  log.flush();
+  if (log) log->flush();
   client.close();
 }
 
 RecordingSensor::RecordingSensor(SensorSource& inner, const std::string& path, std::vector<std::string> armNames)
-    : inner_(inner), out_(path), path_(path), names_(std::move(armNames)) {
-  if (!out_) throw std::runtime_error(path + ": cannot write the trace");
-  out_.precision(17);
-  out_ << "t,arm,q...,qdot...\n";
-}
+    : inner_(inner), out_(path, "t,arm,q...,qdot..."), names_(std::move(armNames)) {}
 
 bool RecordingSensor::next(Reading& r) {
   if (!inner_.next(r)) {
     out_.flush();
     return false;
   }
-  out_ << r.t << ',' << names_[r.arm];  // the CsvSensor format: names as they are (it splits on commas)
-  for (double v : r.q) out_ << ',' << v;
-  for (double v : r.qdot) out_ << ',' << v;
-  out_ << '\n';
+  // the CsvSensor format: names as they are (it splits on commas), every number read back exactly
+  line_ = io::number(r.t, 17);
+  line_ += ',';
+  line_ += names_[r.arm];
+  for (double v : r.q) (line_ += ',') += io::number(v, 17);
+  for (double v : r.qdot) (line_ += ',') += io::number(v, 17);
+  out_.row(line_);
   return true;
 }
 

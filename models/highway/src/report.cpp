@@ -81,23 +81,6 @@ std::string warningCsvRow(const Warning& w) {
   return os.str();
 }
 
-CsvRowWriter::CsvRowWriter(const std::filesystem::path& path, const std::string& header) : path_(path), out_(path) {
-  if (!out_) throw std::runtime_error("cannot write " + path.string());
-  out_ << header << '\n';
-  out_.flush();
-}
-
-void CsvRowWriter::row(const std::string& line) {
-  out_ << line << '\n';
-  ++rows_;
-  if (!out_) throw std::runtime_error("write failed: " + path_.string());
-}
-
-void CsvRowWriter::flush() {
-  out_.flush();
-  if (!out_) throw std::runtime_error("write failed: " + path_.string());
-}
-
 WarningsCsvWriter::WarningsCsvWriter(const std::filesystem::path& path) : CsvRowWriter(path, warningsCsvHeader()) {}
 void WarningsCsvWriter::write(std::span<const Warning> warnings) {
   for (const Warning& w : warnings) row(warningCsvRow(w));
@@ -185,10 +168,7 @@ std::string conflictTypeBreakdown(const MonitorCounters& c) {
 }
 
 void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& counters, const RunInfo& info) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write " + path.string());
-  out << summaryJson(counters, info);
-  if (!out) throw std::runtime_error("write failed: " + path.string());
+  io::writeTextFile(path, summaryJson(counters, info));
 }
 
 void removeRunOutputs(const std::filesystem::path& out) {

@@ -80,6 +80,9 @@ class Server {
   // Queues handler.errorPayload(message) after the frames already queued and closes once it is
   // written (0.5 s at most); for OutputOverflow the queue is dropped first.
   void fail(ConnectionId id, const std::string& message, CloseReason why = CloseReason::Refused);
+  // Closes at once, no error frame, no grace period: for shedding a connection that has not
+  // identified itself (a flood must not hold sockets while an error frame lingers).
+  void close(ConnectionId id, CloseReason why, const std::string& detail);
   std::size_t connections() const { return conns_.size(); }
 
   struct Counters {

@@ -219,6 +219,70 @@ int signalLongRun(int sig, const fs::path& d) {
 
 // Ctrl-C (and SIGTERM, SIGHUP) stop at a whole cycle: whole rows, a summary, 128 + signal
 // (issue 21: arm died on Ctrl-C with no summary)
+TEST(ArmCli, AFullDiskIsAnErrorNamingTheFile) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const fs::path d = tempDir("full");
+  // each output on a full device in turn (a symlink to /dev/full: no root, no tmpfs)
+  for (const char* f : {"warnings.csv", "summary.json"}) {
+    const fs::path out = d / (std::string("out_") + f);
+    fs::create_directories(out);
+    fs::create_symlink("/dev/full", out / f);
+    const Result r = stsim(scenario("two_pandas") + " --out " + out.string(), d);
+    EXPECT_EQ(r.code, 1) << f << ": " << r.err;
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("write failed: " + (out / f).string()), std::string::npos) << r.err;
+  }
+  const Result r = stsim(scenario("two_pandas") + " --out " + (d / "out").string() + " --record-trace /dev/full", d);
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("stsim arm: error: write failed: /dev/full"), std::string::npos) << r.err;
+  fs::remove_all(d);
+}
+
+TEST(ArmCli, ADiskFillingMidRunIsAnErrorWithTheSummarySaying) {
+  // a file size limit of a few KB (the write fails with EFBIG once warnings.csv, 8.5 KB, reaches it)
+  const fs::path d = tempDir("fills");
+  const Result r = stsim(scenario("two_pandas") + " --out " + (d / "out").string(), d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_GT(fs::file_size(d / "out" / "warnings.csv"), 6000u);
+  const std::string cmd = "ulimit -f 8; trap '' XFSZ; " + std::string(STSIM_BINARY) + " arm " + scenario("two_pandas") +
+                          " --out " + (d / "lim").string() + " 2> " + (d / "stderr").string() + " > /dev/null";
+  const int status = std::system(cmd.c_str());
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1);
+  const std::string err = slurp(d / "stderr");
+  EXPECT_EQ(lines(err), 1) << err;
+  EXPECT_NE(err.find("write failed: " + (d / "lim" / "warnings.csv").string()), std::string::npos) << err;
+  const std::string summary = slurp(d / "lim" / "summary.json");
+  EXPECT_NE(summary.find("\"status\": \"error\""), std::string::npos) << summary;
+  fs::remove_all(d);
+}
+
+TEST(ArmCli, OutOfRangeServiceOptionsAreRefusedNamingTheOption) {
+  const fs::path d = tempDir("opts");
+  std::ofstream(d / "t.csv") << "t,arm,q...,qdot...\n";
+  // bounded: were one taken, `timeout` ends the service it started
+  const std::pair<std::string, std::string> cases[] = {
+      {"serve " + scenario("two_pandas") + " --max-connections 0", "--max-connections: expected 1..100000, got 0"},
+      {"serve " + scenario("two_pandas") + " --max-connections -1", "--max-connections: expected 1..100000, got -1"},
+      {"serve " + scenario("two_pandas") + " --frame-timeout 0", "--frame-timeout: expected 1..3600000, got 0"},
+      {"serve " + scenario("two_pandas") + " --frame-timeout -5", "--frame-timeout: expected 1..3600000, got -5"},
+      {"serve " + scenario("two_pandas") + " --max-pending 0", "--max-pending: expected 1..100000, got 0"},
+      {"serve " + scenario("two_pandas") + " --hello-timeout 0", "--hello-timeout: expected 1..3600000, got 0"},
+      {"stream --connect 127.0.0.1:1 " + (d / "t.csv").string() + " --rate 1e-20",
+       "--rate: expected 0 (as fast as possible) or a speed in 0.001..1e6, got 1e-20"},
+      {"stream --connect 127.0.0.1:1 " + (d / "t.csv").string() + " --delay -1", "--delay: expected a time in 0..3600 s"},
+  };
+  for (const auto& [args, why] : cases) {
+    const std::string cmd = "timeout 5 " + std::string(STSIM_BINARY) + " arm " + args + " --out " + (d / "o").string() +
+                            " > /dev/null 2> " + (d / "stderr").string();
+    const int status = std::system(cmd.c_str());
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2) << args;
+    const std::string err = slurp(d / "stderr");
+    EXPECT_EQ(lines(err), 1) << err;
+    EXPECT_NE(err.find(why), std::string::npos) << args << ": " << err;
+  }
+  fs::remove_all(d);
+}
+
 TEST(ArmCli, SignalsStopAtAWholeCycleWithASummary) {
   for (const auto& [sig, code] : {std::pair{SIGINT, 130}, std::pair{SIGTERM, 143}, std::pair{SIGHUP, 129}}) {
     const fs::path d = tempDir("signal" + std::to_string(sig));

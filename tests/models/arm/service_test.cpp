@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -205,7 +206,7 @@ TEST(ArmService, BadClientsAreToldAndClosedOthersGoOn) {
   cfg.logDir = (d / "log").string();
   cfg.net.frameTimeout = 300ms;
   cfg.net.maxFrame = 4096;
-  cfg.net.maxConnections = 24;
+  cfg.maxClients = 24;
   Service svc(s, cfg);
   const std::uint16_t port = svc.service.port();
   Peer good(port);
@@ -339,15 +340,19 @@ TEST(ArmService, BadClientsAreToldAndClosedOthersGoOn) {
     std::this_thread::sleep_for(200ms);  // the service sees the close before the count below
   }
   goodCycle();
-  {  // many connections at once: beyond the limit they are told, the held ones work
+  {  // many clients at once: beyond the limit they are told at their HELLO, the held ones work
     std::vector<std::unique_ptr<Peer>> held;
     for (int k = 0; k < 20; ++k) held.push_back(std::make_unique<Peer>(port, false));
     std::vector<std::unique_ptr<net::Client>> extra;
-    for (int k = 0; k < 10; ++k) extra.push_back(raw());
+    for (int k = 0; k < 10; ++k) {
+      extra.push_back(raw());
+      extra.back()->send(proto::encode(proto::Hello{proto::kVersion, ""}));
+    }
     int full = 0;
     for (auto& c : extra) {
       const auto f = c->receive(500ms);
       if (f && proto::decode(*f).ok &&
+          std::holds_alternative<proto::Error>(proto::decode(*f).message) &&
           std::get<proto::Error>(proto::decode(*f).message).message.find("server full (24 connections)") != std::string::npos)
         ++full;
     }
@@ -451,19 +456,188 @@ TEST(ArmService, ObstaclePosesMoveTheObstacle) {
   expectError(p.c, "unknown obstacle id 9");
 }
 
+// Fault tests (issue 35): a sensor's clock far ahead or behind, a sensor that falls silent, a
+// flood of connections that never say HELLO. Each: a colliding pose still gets STOP at once, a
+// real sensor can still connect.
+
+proto::Readings bothArms(std::uint32_t seq, double t) {
+  proto::Readings r = pandaReading(seq, t, 0);
+  r.arms.push_back(pandaReading(seq, t, 1).arms[0]);
+  return r;
+}
+
+// The verdict acknowledging seq (earlier ones skipped), or nullopt.
+std::optional<proto::Verdict> verdictFor(Peer& p, std::uint32_t seq) {
+  for (int k = 0; k < 10; ++k) {
+    const auto m = p.next();
+    if (!m) return std::nullopt;
+    if (const auto* v = std::get_if<proto::Verdict>(&*m); v && v->ack >= seq) return *v;
+  }
+  return std::nullopt;
+}
+
+// The column moved onto the resting left arm's hand: a collision, STOP for the left arm.
+proto::Obstacles columnOnTheLeftHand(std::uint32_t seq, double t) {
+  const auto f = forwardKinematics(pandaModel(), Eigen::Isometry3d::Identity(), {0, -0.785, 0, -2.356, 0, 1.571, 0.785});
+  proto::Obstacles o;
+  o.seq = seq;
+  o.t = t;
+  o.obstacles = {{0, f.back().translation(), Vec3::Zero()}};
+  return o;
+}
+
+TEST(ArmServiceFaults, AClockFarAheadOrBehindIsRefusedAndTheCollisionStillStops) {
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  Service svc(s, {});
+  Peer good(svc.service.port());
+  good.c.send(proto::encode(bothArms(1, 0.0)));
+  ASSERT_TRUE(verdictFor(good, 1));
+  good.c.send(proto::encode(columnOnTheLeftHand(2, 0.001)));
+  const auto before = verdictFor(good, 2);
+  ASSERT_TRUE(before);
+  ASSERT_EQ(before->arms[0].level, proto::Level::Stop);
+  // a sensor whose clock is off: told and closed, its time never the cycle's
+  const std::pair<double, const char*> bad[] = {
+      {1e300, "time 1e+300 s is beyond any clock"},
+      {-1e300, "time -1e+300 s is beyond any clock"},
+      {1e6, "time 1000000 s is more than 1 s ahead of the other sensors (newest 0.001 s)"},
+      {-50.0, "time -50 s is more than 1 s behind the other sensors (newest 0.001 s)"},
+  };
+  for (const auto& [t, why] : bad) {
+    Peer p(svc.service.port());
+    p.c.send(proto::encode(bothArms(1, t)));
+    expectError(p.c, why);
+  }
+  good.c.send(proto::encode(bothArms(3, 0.002)));
+  const auto after = verdictFor(good, 3);
+  ASSERT_TRUE(after);
+  EXPECT_EQ(after->t, 0.002) << "another sensor's clock decided the cycle's time";
+  EXPECT_EQ(after->arms[0].level, proto::Level::Stop) << "the colliding pose was let through";
+}
+
+TEST(ArmServiceFaults, ALoneSensorsClockLeavesWithIt) {
+  // a sensor alone sets its own time (1e6 s, the left arm turned away), then leaves; the next
+  // sensor's readings at t = 0 are current, not stale: the column on the hand is a STOP at t = 0.001
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  Service svc(s, {});
+  {
+    Peer early(svc.service.port());
+    proto::Readings r = bothArms(1, 1e6);
+    r.arms[0].q[0] = 2.0;
+    early.c.send(proto::encode(r));
+    const auto v = verdictFor(early, 1);
+    ASSERT_TRUE(v);
+    EXPECT_EQ(v->t, 1e6);
+    early.c.close();
+  }
+  std::this_thread::sleep_for(100ms);  // the service sees the close first
+  Peer good(svc.service.port());
+  good.c.send(proto::encode(bothArms(1, 0.0)));
+  ASSERT_TRUE(verdictFor(good, 1));
+  good.c.send(proto::encode(columnOnTheLeftHand(2, 0.001)));
+  const auto v = verdictFor(good, 2);
+  ASSERT_TRUE(v);
+  EXPECT_EQ(v->t, 0.001) << "the departed sensor's clock still stamps the cycles";
+  EXPECT_EQ(v->arms[0].level, proto::Level::Stop) << "the current readings were dropped as stale";
+  svc.stop();
+  EXPECT_EQ(svc.service.counters().stale, 0u);
+}
+
+TEST(ArmServiceFaults, AnArmWithoutACurrentReadingIsStopped) {
+  // two_pandas: reaction 0.010 s + cycle 0.001 s: a reading is current for 0.011 s
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  Service svc(s, {});
+  Peer p(svc.service.port());
+  p.c.send(proto::encode(bothArms(2, 0.001)));
+  auto v = verdictFor(p, 2);
+  ASSERT_TRUE(v);
+  EXPECT_EQ(v->arms[0].level, proto::Level::Ok);
+  EXPECT_EQ(v->arms[1].level, proto::Level::Ok);
+  // the left arm's sensor falls silent; the right one goes on
+  p.c.send(proto::encode(pandaReading(3, 0.011, 1)));
+  v = verdictFor(p, 3);
+  ASSERT_TRUE(v);
+  EXPECT_EQ(v->arms[0].level, proto::Level::Ok) << "0.010 s old is still current";
+  p.c.send(proto::encode(pandaReading(4, 0.013, 1)));
+  v = verdictFor(p, 4);
+  ASSERT_TRUE(v);
+  EXPECT_EQ(v->arms[0].level, proto::Level::Stop) << "a verdict on a 0.012 s old reading is no verdict";
+  EXPECT_EQ(v->arms[1].level, proto::Level::Ok);
+  // back: current again
+  p.c.send(proto::encode(bothArms(5, 0.014)));
+  v = verdictFor(p, 5);
+  ASSERT_TRUE(v);
+  EXPECT_EQ(v->arms[0].level, proto::Level::Ok);
+  svc.stop();
+  EXPECT_EQ(svc.service.counters().staleStops, 1u);
+}
+
+TEST(ArmServiceFaults, AFloodWithoutHelloNeverLocksASensorOut) {
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  const fs::path d = tempDir("flood");
+  ServiceConfig cfg;
+  cfg.maxClients = 4;
+  cfg.maxPending = 4;
+  cfg.helloTimeout = 1000ms;
+  cfg.logDir = (d / "log").string();
+  Service svc(s, cfg);
+  // 40 connections that never say HELLO, ten times the pending slots
+  std::vector<std::unique_ptr<net::Client>> flood;
+  for (int k = 0; k < 40; ++k) {
+    flood.push_back(std::make_unique<net::Client>());
+    flood.back()->connect("127.0.0.1", svc.service.port(), 2s);
+  }
+  // a sensor connecting now is served at once, not after the flood's HELLO time has run out
+  const auto t0 = std::chrono::steady_clock::now();
+  Peer sensor(svc.service.port());
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, 900ms);
+  sensor.c.send(proto::encode(bothArms(1, 0.0)));
+  ASSERT_TRUE(verdictFor(sensor, 1));
+  // the shed ones are closed without a word; the last three waiting are told at 1 s
+  int told = 0, closed = 0;
+  for (auto& c : flood) {
+    const auto f = c->receive(3s);
+    if (!f) {
+      closed += c->closed() ? 1 : 0;
+      continue;
+    }
+    const proto::Decoded m = proto::decode(*f);
+    if (m.ok && std::holds_alternative<proto::Error>(m.message) &&
+        std::get<proto::Error>(m.message).message == "no HELLO within 1000 ms of connecting")
+      ++told;
+  }
+  EXPECT_EQ(told, 3);
+  EXPECT_EQ(closed, 37);
+  // the sensor still has its service
+  sensor.c.send(proto::encode(bothArms(2, 0.001)));
+  EXPECT_TRUE(verdictFor(sensor, 2));
+  svc.stop();
+  EXPECT_EQ(svc.service.counters().shed, 37u);
+  EXPECT_EQ(svc.service.counters().helloTimeouts, 3u);
+  fs::remove_all(d);
+}
+
 // `stsim arm serve` as a process: the port it prints, a stream against it, then a signal.
 struct Process {
   pid_t pid = -1;
   int out = -1;
 };
 
-Process spawnServe(const fs::path& logDir) {
+// fileLimit > 0: the files it writes may not grow beyond that many bytes (RLIMIT_FSIZE, the
+// write then fails with EFBIG): a file system that fills while the service runs, without root.
+Process spawnServe(const fs::path& logDir, rlim_t fileLimit = 0) {
   int fds[2];
   if (pipe(fds) != 0) throw std::runtime_error("pipe");
   Process p;
   p.pid = fork();
   if (p.pid == 0) {
     dup2(fds[1], 1);
+    if (fileLimit > 0) {
+      dup2(fds[1], 2);
+      const rlimit lim{fileLimit, fileLimit};
+      setrlimit(RLIMIT_FSIZE, &lim);
+      signal(SIGXFSZ, SIG_IGN);
+    }
     close(fds[0]);
     const std::string scen = scenarioPath("two_pandas"), out = logDir.string();
     execl(STSIM_BINARY, STSIM_BINARY, "arm", "serve", scen.c_str(), "--listen", "127.0.0.1:0", "--out", out.c_str(),
@@ -596,6 +770,58 @@ TEST(ArmServeCli, SigintStopsAStreamAfterAWholeCycle) {
   kill(serve.pid, SIGTERM);
   EXPECT_EQ(waitExit(serve.pid), 143);
   close(serve.out);
+  fs::remove_all(d);
+}
+
+TEST(ArmServeCli, AFullDiskStopsTheServiceNamingTheLog) {
+  // verdicts.csv may grow to 16 KB: about 200 cycles in, the write fails; the service stops
+  // (exit 1, the file named) rather than serve on without its record
+  const fs::path d = tempDir("fullserve");
+  Process p = spawnServe(d / "log", 16 * 1024);
+  const std::uint16_t port = readPort(p.out);
+  ASSERT_GT(port, 0);
+  int cycles = 0;
+  {
+    Peer peer(port);
+    for (std::uint32_t k = 1; k <= 2000; ++k) {
+      peer.c.send(proto::encode(pandaReading(k, 0.001 * k)));
+      const auto m = peer.next();
+      if (!m || !std::holds_alternative<proto::Verdict>(*m)) break;
+      ++cycles;
+    }
+  }
+  EXPECT_LT(cycles, 2000) << "the service served on past its full log";
+  EXPECT_EQ(waitExit(p.pid), 1);
+  std::string rest;
+  char buf[256];
+  ssize_t n;
+  while ((n = read(p.out, buf, sizeof buf)) > 0) rest.append(buf, static_cast<std::size_t>(n));
+  close(p.out);
+  EXPECT_NE(rest.find("stsim arm: error: write failed: " + (d / "log" / "verdicts.csv").string()), std::string::npos)
+      << rest;
+  // what it wrote is whole rows
+  const std::string log = slurp(d / "log" / "verdicts.csv");
+  EXPECT_FALSE(log.empty());
+  EXPECT_LE(log.size(), 16u * 1024u);
+  fs::remove_all(d);
+}
+
+TEST(ArmServeCli, StreamOnAFullDiskIsAnErrorNamingTheFile) {
+  const fs::path d = tempDir("fullstream");
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  const fs::path trace = recordTrace(s, d / "sensors.csv");
+  Service svc(s, {});
+  fs::create_directories(d / "out");
+  fs::create_symlink("/dev/full", d / "out" / "stream_verdicts.csv");
+  const std::string cmd = std::string("timeout 60 ") + STSIM_BINARY + " arm stream --connect 127.0.0.1:" +
+                          std::to_string(svc.service.port()) + " " + trace.string() + " --rate 0 --out " +
+                          (d / "out").string() + " > " + (d / "stdout").string() + " 2> " + (d / "stderr").string();
+  const int status = std::system(cmd.c_str());
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1);
+  const std::string err = slurp(d / "stderr");
+  EXPECT_EQ(lineCount(err), 1) << err;
+  EXPECT_NE(err.find("write failed: " + (d / "out" / "stream_verdicts.csv").string()), std::string::npos) << err;
   fs::remove_all(d);
 }
 

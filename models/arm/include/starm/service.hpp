@@ -3,24 +3,43 @@
 // starm/protocol.hpp. Sensor clients send joint readings and obstacle poses; each cycle (the
 // readings that arrived together, at the latest time among them) the monitor runs and every
 // subscriber gets a verdict. A verdict log (CSV, one row per cycle) and a connection log are
-// written and flushed as they go. A connection that breaks the protocol gets one ERROR and is
-// closed; the monitor state and the other clients are not touched by a rejected message.
+// written and flushed as they go; a log that cannot be written stops the service (run() throws
+// naming the file). A connection that breaks the protocol gets one ERROR and is closed; the
+// monitor state and the other clients are not touched by a rejected message.
+//
+// Fail safe: an arm whose last reading is not within `staleAfter` of the cycle's time (a sensor
+// fallen silent, a clock far behind, no reading yet) gets STOP, whatever the geometry says. No
+// one sensor sets the others' time: a time beyond any clock, or more than `maxLead` ahead of or
+// behind the other sensors that are talking, is refused; a sensor that leaves takes its time
+// with it. Sensors that said HELLO have their own slots (`maxClients`), apart from connections
+// that have not yet (`maxPending`, each with `helloTimeout` to do so; the oldest is shed when
+// more arrive), so a flood of silent connections cannot lock a sensor out.
+#include <chrono>
 #include <cstdint>
-#include <fstream>
+#include <deque>
 #include <limits>
+#include <optional>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <starm/protocol.hpp>
 #include <starm/scenario.hpp>
+#include <stio/output.hpp>
 #include <stnet/server.hpp>
 
 namespace st::arm {
 
 struct ServiceConfig {
-  net::ServerConfig net;
+  net::ServerConfig net;  // its maxConnections is set by the service: maxClients + maxPending
+  std::size_t maxClients = 128;  // connections past HELLO served at once (more are told "server full")
+  std::size_t maxPending = 16;   // connections before HELLO; one more sheds the oldest of them
+  std::chrono::milliseconds helloTimeout{2000};  // from connect to HELLO
+  double staleAfter = 0.0;  // s; an arm's reading older (or newer) than this at the cycle: STOP. 0: reaction + cycle time
+  double maxLead = 1.0;     // s; a message's time this far from the other talking sensors' is refused
   std::string token;   // required from every client when set; required to set for a non-loopback address
   std::string logDir;  // verdicts.csv, connections.csv ("" : no logs)
   // true: the messages read in one pass of the event loop share one cycle; false: a cycle per
@@ -32,6 +51,8 @@ struct ServiceConfig {
 struct ServiceCounters {
   std::uint64_t cycles = 0, readings = 0, obstaclePoses = 0, verdictsSent = 0, rejected = 0, connections = 0;
   std::uint64_t stale = 0;  // readings older than the arm's newest (from another client): not applied
+  std::uint64_t staleStops = 0;  // arm verdicts forced to STOP: no current reading of the arm
+  std::uint64_t helloTimeouts = 0, shed = 0, refusedFull = 0;  // pending closed late / shed; HELLO past maxClients
 };
 
 class ArmService final : public net::Handler {
@@ -54,18 +75,28 @@ class ArmService final : public net::Handler {
   void onIdle(net::Server&) override;
 
  private:
+  using Clock = std::chrono::steady_clock;
+  enum class Stage { Pending, Client, Leaving };  // before HELLO, past it, refused or shed
   struct Peer {
+    Stage stage = Stage::Pending;
     bool hello = false;
     bool subscribed = false;
     bool ownOnly = false;
     bool inCycle = false;
     std::uint32_t ack = 0;
     double lastT = -std::numeric_limits<double>::infinity();  // of its last READINGS
+    double newestT = -std::numeric_limits<double>::infinity();  // of its READINGS and OBSTACLES
+    Clock::time_point lastHeard{};  // when newestT last moved
   };
   // Each returns "" or the one-line reason to refuse the message.
   std::string onHello(net::ConnectionId id, Peer& p, std::string_view payload);
   std::string onReadings(net::ConnectionId id, Peer& p, std::string_view payload);
   std::string onObstacles(net::ConnectionId id, Peer& p, std::string_view payload);
+  // "" or why a message at time t from `id` cannot be taken (beyond any clock, too far from the others)
+  std::string checkTime(net::ConnectionId id, const std::string& what, double t) const;
+  void heard(Peer& p, double t);
+  void armHelloTimer();
+  void onHelloTimer();
   void runCycle();
   void logConnection(net::ConnectionId id, const std::string& event, const std::string& detail);
 
@@ -74,7 +105,16 @@ class ArmService final : public net::Handler {
   net::Server server_;
   std::unordered_map<net::ConnectionId, Peer> peers_;
   std::vector<net::ConnectionId> inCycle_;
-  std::vector<double> lastReading_;  // per arm, time of its last reading
+  std::vector<double> lastReading_;  // per arm, time of its newest reading taken (-inf: free for any)
+  std::vector<net::ConnectionId> readingFrom_;  // per arm, the connection that gave it
+  std::vector<double> appliedT_;     // per arm, time of the reading the monitor holds (-inf: none)
+  // connections before HELLO, oldest first, with their deadlines (entries of closed or greeted
+  // connections are skipped when they come up)
+  std::deque<std::pair<net::ConnectionId, Clock::time_point>> helloQueue_;
+  std::size_t awaitingHello_ = 0, clients_ = 0;
+  boost::asio::steady_timer helloTimer_;
+  bool helloTimerArmed_ = false;
+  double staleAfter_ = 0.0;
   struct Pending {
     std::vector<double> q, qdot;
     double t = 0.0;
@@ -87,8 +127,8 @@ class ArmService final : public net::Handler {
   proto::Readings readings_;  // reused
   Reading check_;             // reused for validation
   proto::Verdict verdict_;
-  std::string out_;
-  std::ofstream verdictLog_, connLog_;
+  std::string out_, logRow_;
+  std::optional<io::CsvRowWriter> verdictLog_, connLog_;
   ServiceCounters counters_;
 };
 

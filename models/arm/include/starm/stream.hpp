@@ -6,13 +6,13 @@
 // network. Records every verdict and its round-trip time.
 #include <chrono>
 #include <cstdint>
-#include <fstream>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include <starm/drive.hpp>
 #include <starm/protocol.hpp>
+#include <stio/output.hpp>
 
 namespace st::arm {
 
@@ -51,9 +51,9 @@ class RecordingSensor final : public SensorSource {
 
  private:
   SensorSource& inner_;
-  std::ofstream out_;
-  std::string path_;
+  io::CsvRowWriter out_;
   std::vector<std::string> names_;
+  std::string line_;  // reused
 };
 
 }  // namespace st::arm

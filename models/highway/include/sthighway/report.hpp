@@ -10,23 +10,12 @@
 #include <vector>
 
 #include <sthighway/monitor.hpp>
+#include <stio/output.hpp>
 
 namespace st::highway {
 
-// A CSV file written row by row, flushed as the run goes (a run that stops early leaves a valid file).
-class CsvRowWriter {
- public:
-  // Creates (truncates) the file and writes the header; throws std::runtime_error naming the path.
-  CsvRowWriter(const std::filesystem::path& path, const std::string& header);
-  void row(const std::string& line);
-  void flush();
-  std::uint64_t rows() const { return rows_; }
-
- private:
-  std::filesystem::path path_;
-  std::ofstream out_;
-  std::uint64_t rows_ = 0;
-};
+// A CSV file written row by row, flushed as the run goes, every write checked (st::io).
+using CsvRowWriter = io::CsvRowWriter;
 
 // warnings.csv. Columns: ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open, then hindsight's:
 // verdict,clearance,clearance_time,deceleration,crossed,signalled, then the conflict at the minimum TTC: x,y,lane,ego_speed,foe_speed,heading_angle,type,drac,max_delta_v,line,

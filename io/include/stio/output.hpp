@@ -1,0 +1,37 @@
+#pragma once
+// Output files that say when they fail. A full disk, a quota or a closed pipe is an exception
+// naming the file ("write failed: PATH"), never a run that exits 0 with its results cut short.
+// One writer for every command (highway, arm, the arm service and its client), so a file is
+// checked the same way wherever it is written.
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <string_view>
+
+namespace st::io {
+
+// A CSV (or any line-based) file written row by row and flushed as the run goes: a run that
+// stops early leaves whole rows. Every row and flush checks the stream: std::ofstream only sees
+// a failed write when its buffer goes to the file, so the check after each is what catches it.
+class CsvRowWriter {
+ public:
+  // Creates (truncates) the file and writes the header line (none if empty); throws
+  // std::runtime_error naming the path.
+  CsvRowWriter(const std::filesystem::path& path, const std::string& header);
+  void row(std::string_view line);  // one line, '\n' added
+  void flush();
+  std::uint64_t rows() const { return rows_; }
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  void check();
+  std::filesystem::path path_;
+  std::ofstream out_;
+  std::uint64_t rows_ = 0;
+};
+
+// The whole file at once (summary.json): written, flushed and checked; throws naming the path.
+void writeTextFile(const std::filesystem::path& path, std::string_view text);
+
+}  // namespace st::io
