@@ -102,6 +102,8 @@ int runBatch(int argc, const char* const* argv) {
       .option("shard", "I/N", "run only the I-th (1-based) of N disjoint slices, e.g. --shard $SLURM_ARRAY_TASK_ID/4")
       .flag("mpi", "spread runs over MPI ranks (mpirun -np K stsim batch --mpi ...); rank 0 writes the tables")
       .flag("list", "print the runs (id and parameters) and exit")
+      .option("max-runs", "N", "refuse an experiment of more runs than this (a runaway sweep)",
+              std::to_string(batch::kDefaultMaxRuns))
       .flag("no-plots", "skip the PNG plots and report.md");
   if (!args.parse(argc, argv)) {
     std::cout << args.help();
@@ -109,7 +111,9 @@ int runBatch(int argc, const char* const* argv) {
   }
   const fs::path expFile = *args.positionalValue(0);
   const batch::Experiment e = batch::loadExperiment(expFile, optionalKeysFor);
-  std::vector<batch::RunSpec> runs = batch::expandRuns(e);
+  const long maxRuns = args.getInt("max-runs");
+  if (maxRuns < 1) throw UsageError("--max-runs: expected a count >= 1, got " + args.get("max-runs"));
+  std::vector<batch::RunSpec> runs = batch::expandRuns(e, static_cast<std::uint64_t>(maxRuns));
   if (args.has("list")) {
     for (const auto& r : runs) {
       std::cout << r.index << " " << r.id;

@@ -71,4 +71,18 @@ std::string oneLine(std::string_view s) {
   return out;
 }
 
+std::string jsonForScript(std::string_view json) {
+  std::string out;
+  out.reserve(json.size());
+  for (const char c : json) {
+    switch (c) {
+      case '<': out += "\\u003c"; break;
+      case '>': out += "\\u003e"; break;
+      case '&': out += "\\u0026"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
 }  // namespace st::io

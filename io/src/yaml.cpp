@@ -1,5 +1,7 @@
 #include <stio/yaml.hpp>
 
+#include <stio/input.hpp>
+
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -71,23 +73,13 @@ YAML::Node loadText(const std::string& text, std::string_view file, std::string&
 YAML::Node loadFile(const fs::path& file, std::string& error) {
   error.clear();
   std::error_code ec;
-  const auto status = fs::status(file, ec);
-  if (!fs::exists(status)) {
-    error = file.string() + ": no such file";
-    return YAML::Node();
-  }
-  if (fs::is_directory(status)) {
+  if (fs::is_directory(file, ec)) {
     error = file.string() + ": is a directory, not a YAML file";
     return YAML::Node();
   }
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  if (in) text << in.rdbuf();
-  if (!in || in.bad()) {
-    error = file.string() + ": cannot read the file";
-    return YAML::Node();
-  }
-  return loadText(text.str(), file.string(), error);
+  std::string text;
+  if (!readTextFile(file, text, error)) return YAML::Node();
+  return loadText(text, file.string(), error);
 }
 
 }  // namespace st::io

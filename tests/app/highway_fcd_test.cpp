@@ -64,6 +64,31 @@ TEST(HighwayFcd, FarOutsideTheNetworkOrTooFastIsAnInputError) {
                    "length and width must be at most");
 }
 
+TEST(HighwayFcd, AngleNegativeSpeedAndUnclosedVehiclesAreInputErrors) {
+  // issue 35: each of these exited 0 (angle 1e300 even changed the warnings)
+  const std::string pos = "x=\"2853.97\" y=\"-9.38\" type=\"car\" lane=\"downstream_0\"";
+  expectInputError(replay("angle", trace(pos + " angle=\"1e300\" speed=\"20\"")),
+                   "<vehicle id=\"a\"> angle 1e+300 is not a heading (degrees, 0..360)");
+  expectInputError(replay("backwards", trace(pos + " angle=\"90\" speed=\"-5\"")),
+                   "<vehicle id=\"a\"> speed -5 m/s is negative");
+  const std::string good = pos + " angle=\"90.00\" speed=\"23.50\"";
+  expectInputError(replay("unclosed", "<fcd-export>\n"
+                                      "<timestep time=\"0\">\n<vehicle id=\"a\" " + good + "/>\n</timestep>\n"
+                                      "<timestep time=\"1\">\n<vehicle id=\"a\" " + good + "/>\n</timestep>\n"
+                                      "<timestep time=\"2\">\n<vehicle id=\"a\" " + good + ">\n</timestep>\n"
+                                      "</fcd-export>\n"),
+                   "<vehicle> is not closed (expected \"/>\" or </vehicle> before line 10)");
+}
+
+TEST(HighwayFcd, ADeviceOfNulBytesIsNamedNotReadForEver) {
+  // --fcd /dev/zero hung (killed at 30 s): it is no XML, and says so at once
+  const fs::path dir = freshDir("fcd_zero");
+  const auto r = runStsim({"highway", "--fcd", "/dev/zero", "--net", kNet, "--out", (dir / "out").string()}, dir,
+                          {"timeout", "20"});
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("/dev/zero:1: a NUL byte: not an XML text file"), std::string::npos) << r.err;
+}
+
 TEST(HighwayFcd, UnknownLanesAndTypesAreInputErrors) {
   const std::string pos = "x=\"2853.97\" y=\"-9.38\" angle=\"90.00\" speed=\"23.5\"";
   expectInputError(replay("lane", trace(pos + " type=\"car\" lane=\"nosuch_0\"")), "lane 'nosuch_0' is not in");

@@ -407,6 +407,54 @@ TEST(BatchEndToEnd, ResumingIntoAnotherExperimentsFolderIsRefused) {
   EXPECT_NE(table.find((dir / "b/runs").string()), std::string::npos) << table;
 }
 
+TEST(BatchEndToEnd, AnEditedBaseScenarioIsRunAgainNotReused) {
+  // a pool break (no SUMO, a second a run): the run ids name the parameters, not the base's
+  // content; a base struck at 8 m/s edited to 4 m/s must not leave the 8 m/s runs "done"
+  const auto dir = freshDir("stale");
+  const fs::path base = dir / "break.yaml", out = dir / "out", exp = dir / "exp.yaml";
+  std::string text = slurp(fs::path(STSIM_SOURCE_DIR) / "models/pool/scenarios/break.yaml");
+  const auto at = text.find("speed: 8.0");
+  ASSERT_NE(at, std::string::npos);
+  std::ofstream(base) << text;
+  std::ofstream(exp) << "name: stale\ncommand: pool\nbase: " << base.string() << "\nsweep:\n  until: [1.0]\nseeds: 2\n";
+  std::string err;
+  ASSERT_EQ(runStsim({"batch", exp.string(), "--out", out.string(), "--no-plots"}, dir, &err), 0) << err;
+  std::vector<fs::path> runs;
+  for (const auto& d : fs::directory_iterator(out / "runs")) runs.push_back(d.path());
+  ASSERT_EQ(runs.size(), 2u);
+  for (const auto& r : runs) EXPECT_NE(slurp(r / "scenario.yaml").find("speed: 8"), std::string::npos);
+  // unchanged: both reused
+  ASSERT_EQ(runStsim({"batch", exp.string(), "--out", out.string(), "--no-plots"}, dir, &err), 0) << err;
+  EXPECT_EQ(err.find("stale"), std::string::npos) << err;
+  // edited: both run again, on the new base
+  text.replace(at, 10, "speed: 4.0");
+  std::ofstream(base) << text;
+  ASSERT_EQ(runStsim({"batch", exp.string(), "--out", out.string(), "--no-plots"}, dir, &err), 0) << err;
+  EXPECT_NE(err.find("stale (its scenario changed since it ran): run again"), std::string::npos) << err;
+  for (const auto& r : runs) {
+    const std::string scenario = slurp(r / "scenario.yaml");
+    EXPECT_NE(scenario.find("speed: 4"), std::string::npos) << r << " still holds the old scenario:\n" << scenario;
+  }
+}
+
+TEST(BatchEndToEnd, ARunawaySweepIsRefusedListToo) {
+  const auto dir = freshDir("runaway");
+  const fs::path exp = dir / "exp.yaml";
+  std::ofstream(exp) << "name: runaway\ncommand: pool\nbase: " << STSIM_SOURCE_DIR
+                     << "/models/pool/scenarios/break.yaml\nsweep:\n  until: [1.0, 2.0, 3.0]\nseeds: 2\n";
+  std::string err;
+  EXPECT_EQ(runStsim({"batch", exp.string(), "--list", "--max-runs", "5"}, dir, &err), 1);
+  EXPECT_NE(err.find("the experiment makes 6 runs (3 until x 2 seeds), more than the limit of 5 (raise it with --max-runs N)"),
+            std::string::npos)
+      << err;
+  EXPECT_EQ(slurp(dir / "stdout.txt"), "") << "runs were listed";
+  EXPECT_EQ(runStsim({"batch", exp.string(), "--list", "--max-runs", "6"}, dir, &err), 0) << err;
+  const std::string listed = slurp(dir / "stdout.txt");
+  EXPECT_EQ(std::count(listed.begin(), listed.end(), '\n'), 6) << listed;
+  EXPECT_EQ(runStsim({"batch", exp.string(), "--list", "--max-runs", "0"}, dir, &err), 2);
+  EXPECT_NE(err.find("--max-runs: expected a count >= 1, got 0"), std::string::npos) << err;
+}
+
 TEST(BatchEndToEnd, SigtermToTheBatchAloneStopsItsRuns) {
   const auto dir = freshDir("sigterm");
   const fs::path file = dir / "long.yaml";

@@ -134,6 +134,32 @@ TEST(BatchExperiment, SeveralNamedBasesAreTheFirstAxis) {
   EXPECT_NE(errorOf("base: {one: {scenario: base.yaml, fixd: {}}}\n").find("base.one.fixd: unknown key"), std::string::npos);
 }
 
+TEST(BatchExperiment, RunCountIsLimitedBeforeAnyRunIsMade) {
+  // 1000 x 1000 values x 100 seeds: 1e8 runs, refused at once (it was 8 GB of --list in 20 s)
+  std::string a, b;
+  for (int k = 0; k < 1000; ++k) {
+    a += (k ? ", d" : "d") + std::to_string(k);
+    b += (k ? ", " : "") + std::to_string(k);
+  }
+  const auto big = loadExperiment(writeExperiment("big.yaml", "base: base.yaml\nseeds: 100\nsweep:\n  detector: [" + a +
+                                                                  "]\n  penetration: [" + b + "]\n"));
+  EXPECT_EQ(runCount(big), 100000000u);
+  try {
+    expandRuns(big);
+    FAIL() << "1e8 runs were made";
+  } catch (const ExperimentError& e) {
+    EXPECT_NE(std::string(e.what()).find("big.yaml: the experiment makes 100000000 runs (1000 detector x 1000 penetration x "
+                                         "100 seeds), more than the limit of 100000 (raise it with --max-runs N)"),
+              std::string::npos)
+        << e.what();
+  }
+  // the limit is the caller's: 3 x 2 x 1 = 6 runs pass 6 and not 5
+  const auto small = loadExperiment(writeExperiment("small.yaml",
+      "base: base.yaml\nseeds: 1\nsweep:\n  detector: [concentric, five, box]\n  penetration: [0.5, 1.0]\n"));
+  EXPECT_EQ(expandRuns(small, 6).size(), 6u);
+  EXPECT_THROW(expandRuns(small, 5), ExperimentError);
+}
+
 TEST(BatchExperiment, ShardsPartitionTheRuns) {
   const auto e = loadExperiment(writeExperiment("d.yaml", "base: base.yaml\nseeds: 5\nsweep:\n  detector: [five, box]\n"));
   const auto runs = expandRuns(e);

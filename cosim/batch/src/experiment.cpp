@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -260,7 +261,23 @@ Experiment loadExperiment(const fs::path& file,
   return e;
 }
 
-std::vector<RunSpec> expandRuns(const Experiment& e) {
+std::uint64_t runCount(const Experiment& e) {
+  std::uint64_t n = e.seeds.size();
+  for (const SweepAxis& a : e.sweep) {
+    const std::uint64_t k = a.values.size();
+    n = k != 0 && n > std::numeric_limits<std::uint64_t>::max() / k ? std::numeric_limits<std::uint64_t>::max() : n * k;
+  }
+  return n;
+}
+
+std::vector<RunSpec> expandRuns(const Experiment& e, std::uint64_t maxRuns) {
+  if (const std::uint64_t n = runCount(e); n > maxRuns) {
+    std::string shape;
+    for (const SweepAxis& a : e.sweep) shape += std::to_string(a.values.size()) + " " + a.key + " x ";
+    throw ExperimentError(e.file.string() + ": the experiment makes " + std::to_string(n) + " runs (" + shape +
+                          std::to_string(e.seeds.size()) + " seeds), more than the limit of " + std::to_string(maxRuns) +
+                          " (raise it with --max-runs N)");
+  }
   std::vector<RunSpec> runs;
   std::vector<std::size_t> idx(e.sweep.size(), 0);
   while (true) {

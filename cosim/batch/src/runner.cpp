@@ -157,6 +157,14 @@ std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpe
   std::vector<std::size_t> todo;
   for (std::size_t i = 0; i < runs.size(); ++i) {
     results[i] = loadRunResult(o.outDir, runs[i]);
+    // a finished run is reused only if it ran the scenario this experiment makes of it now: the
+    // run id names the parameters, not the base's content (an edited base left every old run "done")
+    if (results[i].status == RunStatus::Done &&
+        readFile(runDir(o.outDir, runs[i]) / "scenario.yaml") != runScenarioYaml(e, runs[i])) {
+      if (o.log) o.log(runs[i].id + " stale (its scenario changed since it ran): run again");
+      results[i] = RunResult{};
+      results[i].spec = runs[i];
+    }
     if (results[i].status != RunStatus::Done) todo.push_back(i);  // failed runs are tried again
   }
   const auto t0 = std::chrono::steady_clock::now();
@@ -551,7 +559,8 @@ std::vector<RunResult> mergeShards(const std::vector<fs::path>& dirs, const fs::
     if (readFile(d / "experiment.yaml") != record)
       throw ExperimentError(d.string() + ": experiment.yaml differs from " + dirs.front().string() + ": not shards of one experiment");
   fs::create_directories(outDir / "runs");
-  const auto runs = expandRuns(e);
+  // the shards ran this experiment: the limit their --max-runs set admitted it
+  const auto runs = expandRuns(e, std::numeric_limits<std::uint64_t>::max());
   std::vector<RunResult> results;
   for (const auto& spec : runs) {
     RunResult best;

@@ -21,6 +21,11 @@ std::string fixed(double x, int decimals);
 // Bytes >= 0x80 pass through (UTF-8 stays UTF-8).
 std::string jsonString(std::string_view s);
 
+// JSON text made safe to place inside an HTML <script> element: '<', '>' and '&' become \u003c,
+// \u003e, \u0026 (same value to JSON and JavaScript), so no string in it can close the element
+// ("</script>") or open a comment. Outside strings JSON has none of the three.
+std::string jsonForScript(std::string_view json);
+
 // A CSV field as RFC 4180 writes it: quoted when it holds a comma, a quote, CR or LF, inner quotes
 // doubled; otherwise unchanged.
 std::string csvField(std::string_view s);

@@ -9,6 +9,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <stio/format.hpp>
 #include <stio/yaml.hpp>
 
 namespace st::arm {
@@ -18,6 +19,7 @@ namespace {
 // Bounds on the work one scenario may ask for (s; cycles).
 constexpr double kMaxLookAhead = 60.0;
 constexpr double kMaxCycles = 1e7;
+constexpr double kMaxSeparation = 10.0;  // m
 
 // Error helpers: every message is "file:line: key: what".
 struct Yaml {
@@ -238,6 +240,10 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
     if (s.safety.reactionTime < 0) y.fail(n["reaction_time"], "safety.reaction_time", "must not be negative");
     if (s.safety.stoppingTime < 0) y.fail(n["stopping_time"], "safety.stopping_time", "must not be negative");
     if (s.safety.minSeparation < 0) y.fail(n["min_separation"], "safety.min_separation", "must not be negative");
+    // every object is grown by half of it: 1e300 made every pair a warning (1.3 M of them)
+    if (s.safety.minSeparation > kMaxSeparation)
+      y.fail(n["min_separation"], "safety.min_separation",
+             io::number(s.safety.minSeparation) + " m is more than " + io::number(kMaxSeparation) + " m (a workcell's size)");
     if (s.safety.horizon != 0.0 && s.safety.horizon < s.safety.safeTime())
       y.fail(n["horizon"], "safety.horizon", "must be at least the safe time (cycle + reaction + stopping)");
     // the work of a cycle grows with the look-ahead: 1e300 ran for minutes and wrote nothing
@@ -374,15 +380,30 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
   } else if (!anyWaypoints) {
     y.fail(root, "trace", "expected a sensor trace or waypoints for at least one arm");
   }
+  const double waypointsEnd = s.duration;
   s.duration = y.number(root, "duration", "", s.duration);
   if (s.duration < 0.0) y.fail(root["duration"], "duration", "must not be negative");
-  // waypoints are sampled every cycle: cycle_time 1e-12 asked for 1e12 cycles
-  if (s.tracePath.empty() && s.duration / s.safety.cycleTime > kMaxCycles)
+  // waypoints are sampled every cycle: cycle_time 1e-12 asked for 1e12 cycles; the key blamed
+  // is the one out of the ordinary (a cycle shorter than a microsecond, else a duration given
+  // beyond the waypoints: 1e300 blamed the cycle time)
+  if (s.tracePath.empty() && s.duration / s.safety.cycleTime > kMaxCycles) {
+    if (root["duration"] && s.duration > waypointsEnd && s.safety.cycleTime >= 1e-6)
+      y.fail(root["duration"], "duration",
+             io::number(s.duration) + " s would take more than 1e7 cycles at the cycle time of " +
+                 io::number(s.safety.cycleTime) + " s");
     y.fail(root["safety"] && root["safety"]["cycle_time"] ? root["safety"]["cycle_time"] : root, "safety.cycle_time",
-           "the waypoints' " + std::to_string(s.duration) + " s would take more than 1e7 cycles at this cycle time");
+           "the waypoints' " + io::number(s.duration) + " s would take more than 1e7 cycles at this cycle time");
+  }
   if (const YAML::Node obs = y.list(root["obstacles"], "obstacles")) {
-    for (std::size_t i = 0; i < obs.size(); ++i)
-      s.obstacles.push_back(parseObstacle(y, obs[i], "obstacles[" + std::to_string(i) + "]", static_cast<int>(i)));
+    for (std::size_t i = 0; i < obs.size(); ++i) {
+      const std::string key = "obstacles[" + std::to_string(i) + "]";
+      s.obstacles.push_back(parseObstacle(y, obs[i], key, static_cast<int>(i)));
+      // a name names one obstacle (in the logs, the verdicts), as an arm's does
+      for (std::size_t j = 0; j + 1 < s.obstacles.size(); ++j)
+        if (s.obstacles[j].name == s.obstacles.back().name)
+          y.fail(obs[i]["name"] ? obs[i]["name"] : obs[i], key + ".name",
+                 "duplicate obstacle name '" + s.obstacles.back().name + "' (also obstacles[" + std::to_string(j) + "])");
+    }
   }
   if (const YAML::Node n = root["random_obstacles"]) randomObstacles(y, n, s);
   return s;

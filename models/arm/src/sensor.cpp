@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 
 namespace st::arm {
@@ -32,6 +33,8 @@ bool same(const std::vector<double>& a, const std::vector<double>& b) {
 
 CsvSensor::CsvSensor(const std::string& path, std::vector<std::string> armNames, std::vector<int> dofs)
     : in_(path), path_(path), names_(std::move(armNames)), dofs_(std::move(dofs)), last_(names_.size()) {
+  // a directory opens as a stream that reads nothing: it was "0 cycles", exit 0
+  if (std::filesystem::is_directory(path)) throw InputError(path + ": is a directory, not a sensor trace");
   if (!in_) throw InputError(path + ": cannot open the sensor trace");
 }
 

@@ -82,6 +82,12 @@ void runStream(const StreamConfig& cfg, StreamResult& res) {
     msg.t = t;
     msg.arms.clear();
     while (have && r.t == t) {
+      // named by its trace line here; the service would name only its message
+      for (std::size_t k = 0; k < r.q.size(); ++k) {
+        const std::string joint = "joint " + std::to_string(k + 1);
+        if (!std::isfinite(r.q[k])) throw InputError(r.where + ": " + joint + " angle is not a finite number");
+        if (!std::isfinite(r.qdot[k])) throw InputError(r.where + ": " + joint + " rate is not a finite number");
+      }
       msg.arms.push_back({static_cast<std::uint16_t>(r.arm), r.q, r.qdot});
       have = src->next(r);
     }
@@ -132,6 +138,7 @@ void runStream(const StreamConfig& cfg, StreamResult& res) {
   if (loop)
     for (int a = 0; a < arms; ++a) res.finalSpeed[a] = loop->drive(a).speed();
   if (log) log->flush();
+  if (res.cycles == 0 && !res.interrupted) throw InputError(cfg.trace + ": holds no readings (an empty sensor trace)");
   client.close();
 }
 

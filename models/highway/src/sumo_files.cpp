@@ -112,6 +112,8 @@ class XmlScanner {
   int get() {
     const int c = in_.get();
     if (c == '\n') ++line_;
+    // no XML holds a NUL: /dev/zero was read for ever, one NUL at a time, looking for a '<'
+    if (c == 0) fail(line_, "a NUL byte: not an XML text file");
     return c;
   }
   void skipPast(const char* end, long start) {
@@ -359,7 +361,15 @@ bool FcdReader::next(FcdFrame& frame) {
   XmlScanner::Tag t;
   bool inStep = false;
   long stepLine = 0;
+  long openVehicle = 0;  // line of a <vehicle ...> not yet closed by </vehicle>
   while (x.next(t)) {
+    if (openVehicle && !(t.name == "vehicle" && t.closing))
+      x.fail(openVehicle, "<vehicle> is not closed (expected \"/>\" or </vehicle> before line " + std::to_string(t.line) + ")");
+    if (t.name == "vehicle" && t.closing) {
+      if (!openVehicle) x.fail(t.line, "</vehicle> without <vehicle>");
+      openVehicle = 0;
+      continue;
+    }
     if (t.name == "timestep") {
       if (t.closing) {
         if (!inStep) x.fail(t.line, "</timestep> without <timestep>");
@@ -376,8 +386,9 @@ bool FcdReader::next(FcdFrame& frame) {
       stepLine = t.line;
       continue;
     }
-    if (t.name != "vehicle" || t.closing) continue;
+    if (t.name != "vehicle") continue;
     if (!inStep) x.fail(t.line, "<vehicle> outside a <timestep>");
+    if (!t.selfClosing) openVehicle = t.line;
     VehicleState v;
     const std::string* id = t.attr("id");
     if (!id) x.fail(t.line, "<vehicle> lacks attribute 'id'");
@@ -409,9 +420,15 @@ bool FcdReader::next(FcdFrame& frame) {
                            ") is more than " + fmtNumber(g) + " m outside " + c.netFile + " (x " + fmtNumber(c.lo.x()) +
                            ".." + fmtNumber(c.hi.x()) + ", y " + fmtNumber(c.lo.y()) + ".." + fmtNumber(c.hi.y()) + ")");
     }
-    v.heading = headingFromNavigationDegrees(required(x, t, "angle"));
+    // SUMO writes [0, 360); 1e300 was taken and changed the warnings
+    const double angle = required(x, t, "angle");
+    if (!(std::abs(angle) <= 360.0))
+      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> angle " + fmtNumber(angle) + " is not a heading (degrees, 0..360)");
+    v.heading = headingFromNavigationDegrees(angle);
     v.position = centreFromFrontBumper(front, v.heading, v.length);
     v.speed = required(x, t, "speed");
+    if (v.speed < 0.0)
+      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> speed " + fmtNumber(v.speed) + " m/s is negative (SUMO's are >= 0)");
     if (!(std::abs(v.speed) <= kFcdMaxSpeed))
       x.fail(t.line, "<vehicle id=\"" + v.id + "\"> speed " + fmtNumber(v.speed) + " m/s is beyond any vehicle's (at most " +
                          fmtNumber(kFcdMaxSpeed) + ")");
@@ -443,6 +460,7 @@ bool FcdReader::next(FcdFrame& frame) {
     m.last[v.id] = {frame.time, v.position, v.handle};
     frame.vehicles.push_back(std::move(v));
   }
+  if (openVehicle) x.fail(openVehicle, "<vehicle> is not closed (expected \"/>\" or </vehicle>)");
   if (inStep) x.fail(stepLine, "unterminated <timestep>");
   if (!m.anyStep) throw InputError(x.path() + ": holds no <timestep> (not a SUMO FCD trace, sumo --fcd-output?)");
   return false;

@@ -277,7 +277,7 @@ button,input{vertical-align:middle}
 <span id="clock"></span></div>
 <canvas id="c"></canvas>
 <script>
-const D = )HTML" << data.str() << R"HTML(;
+const D = )HTML" << io::jsonForScript(data.str()) << R"HTML(;
 // position of ball b at time t: the last keyframe before t, moved in a straight line
 function state(b, t) {
   if (b.gone !== null && t >= b.gone) return null;

@@ -12,6 +12,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <stcore/tolerances.hpp>
+#include <stio/input.hpp>
 #include <stio/yaml.hpp>
 
 #include <stpool/rack.hpp>
@@ -390,11 +391,10 @@ Scenario parseScenario(const std::string& yamlText, const std::string& source) {
 Scenario loadScenario(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw ScenarioError(path + ": is a directory, not a YAML file");
-  std::ifstream in(path);
-  if (!in) throw ScenarioError(path + ": cannot open the scenario file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parseScenario(ss.str(), path);
+  if (!std::filesystem::exists(path, ec)) throw ScenarioError(path + ": cannot open the scenario file");
+  std::string text, error;
+  if (!io::readTextFile(path, text, error)) throw ScenarioError(error);
+  return parseScenario(text, path);
 }
 
 }  // namespace st::pool

@@ -84,7 +84,17 @@ TEST(Scenario, ErrorsNameFileLineAndKey) {
   expectError("only_name.yaml", "name: x\n", ":1: arms: missing key");
   expectError("huge_horizon.yaml", arm + "safety: {horizon: 1e300}\n", ":3: safety.horizon: the look-ahead");
   expectError("tiny_cycle.yaml", arm + "safety: {cycle_time: 1e-12}\nduration: 10\n",
-              ":3: safety.cycle_time: the waypoints' 10.000000 s would take more than 1e7 cycles");
+              ":3: safety.cycle_time: the waypoints' 10 s would take more than 1e7 cycles");
+  // issue 35: 1e300 blamed the cycle time in a 300-digit number; 1e300 m of separation ran
+  // with 1.3 M warnings; two obstacles of one name were taken
+  expectError("long_duration.yaml", arm + "duration: 1e300\n",
+              ":3: duration: 1e+300 s would take more than 1e7 cycles at the cycle time of 0.001 s");
+  expectError("huge_separation.yaml", arm + "safety: {min_separation: 1e300}\n",
+              ":3: safety.min_separation: 1e+300 m is more than 10 m");
+  expectError("same_obstacle_name.yaml",
+              arm + "obstacles:\n  - {name: post, sphere: {center: [1, 1, 1], radius: 0.1}}\n"
+                    "  - {name: post, sphere: {center: [2, 1, 1], radius: 0.1}}\n",
+              ":5: obstacles[1].name: duplicate obstacle name 'post' (also obstacles[0])");
   expectError("two_shapes.yaml",
               arm + "obstacles:\n  - {sphere: {center: [1, 1, 1], radius: 0.1}, box: {center: [0, 0, 0], half_extents: [1, 1, 1]}}\n",
               ":4: obstacles[0]: give one of sphere, capsule, box");
@@ -104,6 +114,16 @@ TEST(Scenario, ErrorsNameFileLineAndKey) {
               "models:\n  m:\n    convention: modified\n    joints: [{d: 0.1}]\n    capsules: [{body: 5, a: [0, 0, 0], b: [0, 0, 1], radius: 0.1}]\n" +
                   std::string("arms:\n  - {name: a, model: m, waypoints: [{t: 0, q: [0]}]}\n"),
               "models.m.capsules[0].body: expected an integer 0..2");
+}
+
+TEST(Scenario, ADeviceOrBinaryIsNamedNotABadAlloc) {
+  // /dev/zero ended in std::bad_alloc naming no file
+  try {
+    loadScenario("/dev/zero");
+    ADD_FAILURE() << "/dev/zero loaded";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/zero: holds a NUL byte: not a text file"), std::string::npos) << e.what();
+  }
 }
 
 // Shapes yaml-cpp would otherwise throw on ("bad conversion", no file, no key) or that were

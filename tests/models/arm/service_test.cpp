@@ -825,6 +825,33 @@ TEST(ArmServeCli, StreamOnAFullDiskIsAnErrorNamingTheFile) {
   fs::remove_all(d);
 }
 
+TEST(ArmServeCli, StreamOfABadTraceNamesTheFileAndLine) {
+  // a folder or an empty trace was "0 cycles", exit 0; a NaN was named by the protocol message
+  const fs::path d = tempDir("badtrace");
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  Service svc(s, {});
+  std::ofstream(d / "empty.csv") << "t,arm,q...,qdot...\n";
+  std::ofstream(d / "nan.csv") << "t,arm,q...,qdot...\n0,left,0,-0.785,0,-2.356,0,1.571,0.785,0,0,0,0,0,0,0\n"
+                                  "0.001,left,0,nan,0,-2.356,0,1.571,0.785,0,0,0,0,0,0,0\n";
+  fs::create_directories(d / "dir");
+  const std::pair<std::string, std::string> cases[] = {
+      {(d / "dir").string(), (d / "dir").string() + ": is a directory, not a sensor trace"},
+      {(d / "empty.csv").string(), (d / "empty.csv").string() + ": holds no readings"},
+      {(d / "nan.csv").string(), (d / "nan.csv").string() + ":3: joint 2 angle is not a finite number"},
+  };
+  for (const auto& [trace, why] : cases) {
+    const std::string cmd = std::string("timeout 60 ") + STSIM_BINARY + " arm stream --connect 127.0.0.1:" +
+                            std::to_string(svc.service.port()) + " " + trace + " --rate 0 --out " + (d / "out").string() +
+                            " > /dev/null 2> " + (d / "stderr").string();
+    const int status = std::system(cmd.c_str());
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1) << trace;
+    const std::string err = slurp(d / "stderr");
+    EXPECT_EQ(lineCount(err), 1) << err;
+    EXPECT_NE(err.find(why), std::string::npos) << err;
+  }
+  fs::remove_all(d);
+}
+
 TEST(ArmServeCli, SigintShutsDownCleanlyWithTheLogFlushed) { signalTest(SIGINT, 130); }
 TEST(ArmServeCli, SigtermShutsDownCleanlyWithTheLogFlushed) { signalTest(SIGTERM, 143); }
 

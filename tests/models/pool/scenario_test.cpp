@@ -117,6 +117,16 @@ shots: [{ball: 0, speed: 1}]
             "s.yaml:2:3: (key): keys must be names");
 }
 
+TEST(Scenario, ADeviceOrBinaryIsNamedNotABadAlloc) {
+  // /dev/zero ended in std::bad_alloc naming no file
+  try {
+    loadScenario("/dev/zero");
+    ADD_FAILURE() << "/dev/zero loaded";
+  } catch (const ScenarioError& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/zero: holds a NUL byte: not a text file"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Scenario, FrozenRackLoadsAndRackErrorsNameTheRack) {
   // gap 0 puts neighbours 2r apart up to roundoff: touching, not overlapping (it used to be
   // refused as "ball 9 overlaps ball 1")
@@ -250,6 +260,28 @@ TEST(PoolCommand, BreakWritesEveryOutput) {
   const std::string html = slurp(dir / "animation.html");
   EXPECT_EQ(html.find("http"), std::string::npos);  // self-contained: nothing fetched
   EXPECT_NE(slurp(dir / "table.svg").find("stroke-dasharray"), std::string::npos);  // space drawn
+}
+
+TEST(PoolCommand, ScenarioNameCannotCloseTheAnimationsScript) {
+  // the name goes into animation.html's <script> block as JSON: "</script>" in it ended the
+  // block and the <img onerror> after it ran
+  const auto dir = tempDir("inject");
+  std::filesystem::create_directories(dir);
+  std::string text = slurp(std::string(STSIM_SOURCE_DIR) + "/models/pool/scenarios/break.yaml");
+  const auto at = text.find("name: break");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 11, "name: \"</script><img src=x onerror=alert(1)><!--\"");
+  std::ofstream(dir / "evil.yaml") << text;
+  const Ran r = runStsim("pool " + (dir / "evil.yaml").string() + " --until 0.1 --out " + (dir / "out").string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string html = slurp(dir / "out" / "animation.html");
+  // one script element, closed once, by the page itself; no markup of the name's
+  EXPECT_EQ(html.find("<img"), std::string::npos) << "the name's markup is in the page";
+  EXPECT_EQ(html.find("<!--"), std::string::npos);
+  const auto close = html.find("</script>");
+  ASSERT_NE(close, std::string::npos);
+  EXPECT_EQ(html.find("</script>", close + 1), std::string::npos);
+  EXPECT_LT(html.find("\\u003c/script\\u003e\\u003cimg src=x onerror=alert(1)\\u003e"), close) << "the title is not kept";
 }
 
 TEST(PoolCommand, OverridesAndUsageErrors) {

@@ -64,7 +64,13 @@ Experiment loadExperiment(const std::filesystem::path& file,
 Experiment loadExperiment(const std::filesystem::path& file,
                           const std::function<std::vector<std::string>(const std::string& command)>& optionalKeys);
 
-std::vector<RunSpec> expandRuns(const Experiment& e);
+// Runs the experiment makes: the product of its sweep's value counts and its seeds (saturating
+// at UINT64_MAX), counted without making them.
+std::uint64_t runCount(const Experiment& e);
+constexpr std::uint64_t kDefaultMaxRuns = 100000;
+// Every run, in index order. Throws ExperimentError naming the count when it exceeds maxRuns
+// (before making any: a sweep of 1e8 runs was 8 GB of --list in 20 s).
+std::vector<RunSpec> expandRuns(const Experiment& e, std::uint64_t maxRuns = kDefaultMaxRuns);
 
 // The base scenario a run starts from: its `base` value's file with several bases, else e.base.
 std::filesystem::path baseOf(const Experiment& e, const RunSpec& run);
