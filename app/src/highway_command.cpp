@@ -63,9 +63,10 @@ int runTrace(const Args& a) {
   hw::MonitorConfig cfg;
   applyMonitorOptions(a, cfg, false);
   const double penetration = penetrationOption(a);
-  const long seed = a.getInt("seed");
+  // checked as for a SUMO run (-1 was taken: no frame, exit 0; a seed outside the draw's range)
+  const long seed = seedOption(a);
   const bool hasEnd = a.has("end");
-  const double end = hasEnd ? a.getDouble("end") : 0.0;
+  const double end = hasEnd ? endOption(a) : 0.0;
 
   const auto wallStart = std::chrono::steady_clock::now();
   std::vector<std::string> leftOut;
@@ -195,6 +196,18 @@ void applyMonitorOptions(const Args& a, hw::MonitorConfig& cfg, bool givenOnly) 
   const hw::ConflictConfig& cc = cfg.conflict;
   if (!(cc.rearEndBelowDeg >= 0.0 && cc.rearEndBelowDeg <= cc.crossingAboveDeg && cc.crossingAboveDeg <= 180.0))
     throw UsageError("--rear-end-below and --crossing-above need 0 <= rear-end-below <= crossing-above <= 180");
+}
+
+double endOption(const Args& a) {
+  const double e = a.getDouble("end");
+  if (e <= 0.0) throw UsageError("--end must be positive");
+  return e;
+}
+
+long seedOption(const Args& a) {
+  const long seed = a.getInt("seed");
+  if (seed < 0 || seed > 2147483647) throw UsageError("--seed must be in [0, 2^31 - 1]");
+  return seed;
 }
 
 double penetrationOption(const Args& a) {

@@ -11,5 +11,8 @@ void applyMonitorOptions(const Args& a, highway::MonitorConfig& cfg, bool givenO
 
 // --penetration, checked to lie in [0, 1]. Throws UsageError.
 double penetrationOption(const Args& a);
+// --end, positive (s); --seed in [0, 2^31 - 1]. The same words for replays and SUMO runs. Throw UsageError.
+double endOption(const Args& a);
+long seedOption(const Args& a);
 
 }  // namespace st::cli

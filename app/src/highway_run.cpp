@@ -82,11 +82,7 @@ void applyOptions(const st::cli::Args& a, Scenario& s) {
   if (a.has("penetration")) s.plugin.smart.penetration = st::cli::penetrationOption(a);
   if (a.has("action") && !parseAction(a.get("action"), s.plugin.actions.action))
     throw st::cli::UsageError("--action must be color, brake or none, got '" + a.get("action") + "'");
-  if (a.has("end")) {
-    const double e = a.getDouble("end");
-    if (e <= 0.0) throw st::cli::UsageError("--end must be positive");
-    s.end = e;
-  }
+  if (a.has("end")) s.end = st::cli::endOption(a);
   if (a.has("scale")) {
     const double d = a.getDouble("scale");
     if (!(d >= 0.0 && d <= 1000.0)) throw st::cli::UsageError("--scale must be in [0, 1000]");
@@ -94,8 +90,7 @@ void applyOptions(const st::cli::Args& a, Scenario& s) {
   }
   if (a.has("validate-ssm")) s.validateSsm = true;
   if (a.has("seed")) {
-    const long seed = a.getInt("seed");
-    if (seed < 0 || seed > 2147483647) throw st::cli::UsageError("--seed must be in [0, 2^31 - 1]");
+    const long seed = st::cli::seedOption(a);
     s.seed = static_cast<std::uint64_t>(seed);
     s.plugin.smart.seed = s.seed;
   }

@@ -12,12 +12,20 @@
 #include <yaml-cpp/yaml.h>
 
 #include <stcore/tolerances.hpp>
+#include <stio/format.hpp>
 #include <stio/input.hpp>
 #include <stio/yaml.hpp>
 
 #include <stpool/rack.hpp>
 
 namespace st::pool {
+
+namespace {
+
+constexpr double kMaxTableSide = 100.0;  // m; a snooker table is 3.6
+constexpr double kMaxFriction = 100.0;   // m/s^2; cloth's rolling resistance is about 0.1
+
+}  // namespace
 
 namespace {
 
@@ -103,6 +111,8 @@ using Locate = std::function<Where(const std::string& key, int ball)>;
 // `ballsKey`: "balls" for a ball list, or the key that generated them ("rack", "random"), which
 // is then named instead of a balls[i] key the file does not have.
 void validate(const Scenario& s, const Locate& where, const std::string& ballsKey = "balls") {
+  if (s.table.width > kMaxTableSide) fail(where("table.width", -1), "must be at most " + io::number(kMaxTableSide) + " m");
+  if (s.table.height > kMaxTableSide) fail(where("table.height", -1), "must be at most " + io::number(kMaxTableSide) + " m");
   const bool listed = ballsKey == "balls";
   auto ballKey = [&](int i, const char* field) {
     return listed ? indexed("balls", static_cast<std::size_t>(i)) + field : ballsKey;
@@ -160,6 +170,10 @@ void validate(const Scenario& s, const Locate& where, const std::string& ballsKe
   }
   if (!(s.until > 0.0)) fail(where("until", -1), "must be positive");
   if (!(s.friction >= 0.0) || !std::isfinite(s.friction)) fail(where("friction", -1), "must be zero or positive");
+  // a deceleration beyond any cloth's: 1e308 was blamed on until (the event limit)
+  if (s.friction > kMaxFriction)
+    fail(where("friction", -1), io::number(s.friction) + " m/s^2 is more than any cloth's rolling resistance (at most " +
+                                    io::number(kMaxFriction) + " m/s^2)");
   const SpaceSpec& sp = s.space;
   if (sp.decompositionFactor < 1) fail(where("space.decomposition_factor", -1), "must be at least 1");
   if (sp.divisions != 2 && sp.divisions != 4) fail(where("space.divisions", -1), "must be 2 or 4");
@@ -208,6 +222,11 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
   if (!table["height"]) fail(rd.at(table, "table.height"), io::missingKeyText());
   s.table.width = rd.positive(table["width"], "table.width");
   s.table.height = rd.positive(table["height"], "table.height");
+  // named here, before a rack is placed on it (1e300 was reported as the rack's overlap)
+  for (const auto& [key, v] : {std::pair{"table.width", s.table.width}, std::pair{"table.height", s.table.height}})
+    if (v > kMaxTableSide)
+      fail(rd.at(table[std::string(key).substr(6)], key), io::number(v) + " m is more than any table's (at most " +
+                                                               io::number(kMaxTableSide) + " m)");
   if (table["pockets"]) s.table.pockets = rd.boolean(table["pockets"], "table.pockets");
   if (table["corner_mouth"]) s.table.cornerMouth = rd.positive(table["corner_mouth"], "table.corner_mouth");
   if (table["side_mouth"]) s.table.sideMouth = rd.positive(table["side_mouth"], "table.side_mouth");

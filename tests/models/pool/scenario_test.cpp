@@ -117,6 +117,16 @@ shots: [{ball: 0, speed: 1}]
             "s.yaml:2:3: (key): keys must be names");
 }
 
+TEST(Scenario, AbsurdFrictionAndTableSizesAreNamedAsThemselves) {
+  // issue 35: friction 1e308 was blamed on until (the event limit); a 1e300 m table on the rack
+  EXPECT_EQ(errorOf(std::string(kGood) + "friction: 1e308\n"),
+            "s.yaml:7:11: friction: 1e+308 m/s^2 is more than any cloth's rolling resistance (at most 100 m/s^2)");
+  EXPECT_EQ(errorOf("table: {width: 1e300, height: 1.27}\nrack: {kind: standard}\n"),
+            "s.yaml:1:16: table.width: 1e+300 m is more than any table's (at most 100 m)");
+  EXPECT_EQ(errorOf("table: {width: 2.54, height: 1e300}\nrack: {kind: standard}\n"),
+            "s.yaml:1:30: table.height: 1e+300 m is more than any table's (at most 100 m)");
+}
+
 TEST(Scenario, ADeviceOrBinaryIsNamedNotABadAlloc) {
   // /dev/zero ended in std::bad_alloc naming no file
   try {
