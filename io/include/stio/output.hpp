@@ -13,7 +13,8 @@ namespace st::io {
 
 // A CSV (or any line-based) file written row by row and flushed as the run goes: a run that
 // stops early leaves whole rows. Every row and flush checks the stream: std::ofstream only sees
-// a failed write when its buffer goes to the file, so the check after each is what catches it.
+// a failed write when its buffer goes to the file, so the check after each is what catches it;
+// the file is then trimmed back to its last whole row.
 class CsvRowWriter {
  public:
   // Creates (truncates) the file and writes the header line (none if empty); throws
@@ -31,7 +32,8 @@ class CsvRowWriter {
   std::uint64_t rows_ = 0;
 };
 
-// The whole file at once (summary.json): written, flushed and checked; throws naming the path.
+// The whole file at once (summary.json): written, flushed and checked; throws naming the path
+// and removes what a failed write left (never a cut document).
 void writeTextFile(const std::filesystem::path& path, std::string_view text);
 
 }  // namespace st::io

@@ -253,6 +253,12 @@ TEST(ArmCli, ADiskFillingMidRunIsAnErrorWithTheSummarySaying) {
   EXPECT_NE(err.find("write failed: " + (d / "lim" / "warnings.csv").string()), std::string::npos) << err;
   const std::string summary = slurp(d / "lim" / "summary.json");
   EXPECT_NE(summary.find("\"status\": \"error\""), std::string::npos) << summary;
+  // what was written is whole rows (the stream's buffer went out in pieces: a row was cut)
+  const std::string csv = slurp(d / "lim" / "warnings.csv");
+  ASSERT_FALSE(csv.empty());
+  EXPECT_EQ(csv.back(), '\n') << "a cut row at the end";
+  std::istringstream rows(csv);
+  for (std::string row; std::getline(rows, row);) EXPECT_EQ(std::count(row.begin(), row.end(), ','), 8) << row;
   fs::remove_all(d);
 }
 

@@ -799,10 +799,16 @@ TEST(ArmServeCli, AFullDiskStopsTheServiceNamingTheLog) {
   close(p.out);
   EXPECT_NE(rest.find("stsim arm: error: write failed: " + (d / "log" / "verdicts.csv").string()), std::string::npos)
       << rest;
-  // what it wrote is whole rows
+  // what it wrote is whole rows, none cut where the limit fell
   const std::string log = slurp(d / "log" / "verdicts.csv");
-  EXPECT_FALSE(log.empty());
+  ASSERT_FALSE(log.empty());
   EXPECT_LE(log.size(), 16u * 1024u);
+  EXPECT_EQ(log.back(), '\n');
+  std::istringstream rows(log);
+  std::string header;
+  std::getline(rows, header);
+  const auto fields = std::count(header.begin(), header.end(), ',');
+  for (std::string row; std::getline(rows, row);) EXPECT_EQ(std::count(row.begin(), row.end(), ','), fields) << row;
   fs::remove_all(d);
 }
 
