@@ -3,7 +3,8 @@
 // goes to the service's handler the way st::net hands it over; a refused connection is closed
 // and another opens in its place, as the server does. No exception may leave the handler (it
 // would stop the service for every client), and the monitor's time never goes back from one
-// cycle to the next.
+// cycle to the next unless a client left between them (a sensor that leaves takes its time with
+// it: the cycles are stamped by those still connected).
 #include <cmath>
 #include <cstdlib>
 #include <string_view>
@@ -39,6 +40,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (auto& id : ids) svc.onOpen(server, id = next++);
   std::string_view in(reinterpret_cast<const char*>(data), size);
   double lastT = -INFINITY;
+  bool left = false;  // a client closed since the last cycle
   while (!in.empty()) {
     const int c = static_cast<unsigned char>(in[0]) % kClients;
     const st::net::FrameSplit f = st::net::splitFrame(in.substr(1), 1 << 16);
@@ -49,13 +51,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (svc.counters().rejected != refused) {
       svc.onClose(server, ids[c], st::net::CloseReason::Refused, "");
       svc.onOpen(server, ids[c] = next++);
+      left = true;
     }
     const auto cycles = svc.counters().cycles;
     svc.onIdle(server);  // the end of one read: the cycle runs
     if (svc.counters().cycles == cycles) continue;
     const double t = svc.monitor().time();  // of the cycle that ran (before the first: 0, no cycle's)
-    if (t < lastT) std::abort();
+    if (t < lastT && !left) std::abort();
     lastT = t;
+    left = false;
   }
   for (auto id : ids) svc.onClose(server, id, st::net::CloseReason::PeerClosed, "");
   return 0;
