@@ -60,6 +60,7 @@ ArmService::ArmService(boost::asio::io_context& io, const Scenario& scenario, Se
   lastReading_.assign(arms, -std::numeric_limits<double>::infinity());
   readingFrom_.assign(arms, 0);
   appliedT_.assign(arms, -std::numeric_limits<double>::infinity());
+  poseT_.assign(monitor_.obstacles().size(), std::numeric_limits<double>::quiet_NaN());
   pendingArm_.resize(arms);
   // a reading older than this could not start the braking in time
   staleAfter_ = cfg_.staleAfter > 0.0 ? cfg_.staleAfter : monitor_.safety().reactionTime + monitor_.safety().cycleTime;
@@ -318,7 +319,10 @@ std::string ArmService::onObstacles(net::ConnectionId id, Peer& p, std::string_v
       return seq + ": obstacle " + std::to_string(o.obstacle) + " pose is not finite";
     if (o.velocity.norm() > 100.0) return seq + ": obstacle " + std::to_string(o.obstacle) + " faster than 100 m/s";
   }
-  for (const proto::ObstaclePose& o : m.obstacles) monitor_.setObstaclePose(o.obstacle, m.t, o.position, o.velocity);
+  for (const proto::ObstaclePose& o : m.obstacles) {
+    monitor_.setObstaclePose(o.obstacle, m.t, o.position, o.velocity);
+    poseT_[o.obstacle] = m.t;
+  }
   counters_.obstaclePoses += m.obstacles.size();
   heard(p, m.t);
   if (!p.inCycle) {
@@ -351,12 +355,15 @@ void ArmService::runCycle() {
   // the verdict: per arm OK / WARN / STOP, the nearest pair and its time to collision
   verdict_.cycle = counters_.cycles;
   verdict_.t = t;
+  // a tracked obstacle whose tracker fell silent may be anywhere near any arm: every arm stops
+  bool obstacleLost = false;
+  for (const double pt : poseT_) obstacleLost = obstacleLost || (!std::isnan(pt) && !(std::abs(t - pt) <= staleAfter_));
   for (int a = 0; a < monitor_.armCount(); ++a) {
     proto::ArmVerdict& v = verdict_.arms[a];
     v.minTtc = monitor_.minTtc(a);
     v.level = monitor_.stopped(a) ? proto::Level::Stop : std::isfinite(v.minTtc) ? proto::Level::Warn : proto::Level::Ok;
     // fail safe: a verdict on a reading that is not current (or none) is no verdict: STOP
-    if (!(std::abs(t - appliedT_[a]) <= staleAfter_) && v.level != proto::Level::Stop) {
+    if ((obstacleLost || !(std::abs(t - appliedT_[a]) <= staleAfter_)) && v.level != proto::Level::Stop) {
       v.level = proto::Level::Stop;
       ++counters_.staleStops;
     }

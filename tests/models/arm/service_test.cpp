@@ -572,6 +572,38 @@ TEST(ArmServiceFaults, AnArmWithoutACurrentReadingIsStopped) {
   EXPECT_EQ(svc.service.counters().staleStops, 1u);
 }
 
+TEST(ArmServiceFaults, ATrackedObstacleWithoutACurrentPoseStopsEveryArm) {
+  // the column is tracked (OBSTACLES), far from both arms; its tracker falls silent while the
+  // arms' sensors go on: past reaction + cycle time (0.011 s) nobody knows where it is
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  Service svc(s, {});
+  Peer p(svc.service.port());
+  proto::Obstacles o;
+  o.seq = 1;
+  o.t = 0.0;
+  o.obstacles = {{0, Vec3(0.55, 2.0, 0.75), Vec3::Zero()}};
+  p.c.send(proto::encode(o));
+  ASSERT_TRUE(verdictFor(p, 1));
+  p.c.send(proto::encode(bothArms(2, 0.010)));
+  auto v = verdictFor(p, 2);
+  ASSERT_TRUE(v);
+  EXPECT_EQ(v->arms[0].level, proto::Level::Ok);
+  EXPECT_EQ(v->arms[1].level, proto::Level::Ok);
+  p.c.send(proto::encode(bothArms(3, 0.012)));
+  v = verdictFor(p, 3);
+  ASSERT_TRUE(v);
+  EXPECT_EQ(v->arms[0].level, proto::Level::Stop) << "a verdict against an obstacle of unknown place";
+  EXPECT_EQ(v->arms[1].level, proto::Level::Stop);
+  // its tracker is back: the arms go on
+  o.seq = 4;
+  o.t = 0.013;
+  p.c.send(proto::encode(o));
+  v = verdictFor(p, 4);
+  ASSERT_TRUE(v);
+  EXPECT_EQ(v->arms[0].level, proto::Level::Ok);
+  EXPECT_EQ(v->arms[1].level, proto::Level::Ok);
+}
+
 TEST(ArmServiceFaults, AFloodWithoutHelloNeverLocksASensorOut) {
   const Scenario s = loadScenario(scenarioPath("two_pandas"));
   const fs::path d = tempDir("flood");

@@ -8,7 +8,8 @@
 // monitor state and the other clients are not touched by a rejected message.
 //
 // Fail safe: an arm whose last reading is not within `staleAfter` of the cycle's time (a sensor
-// fallen silent, a clock far behind, no reading yet) gets STOP, whatever the geometry says. No
+// fallen silent, a clock far behind, no reading yet) gets STOP, whatever the geometry says; so
+// does every arm while an obstacle that has been tracked (OBSTACLES) has no current pose. No
 // one sensor sets the others' time: a time beyond any clock, or more than `maxLead` ahead of or
 // behind the other sensors that are talking, is refused; a sensor that leaves takes its time
 // with it. Sensors that said HELLO have their own slots (`maxClients`), apart from connections
@@ -108,6 +109,7 @@ class ArmService final : public net::Handler {
   std::vector<double> lastReading_;  // per arm, time of its newest reading taken (-inf: free for any)
   std::vector<net::ConnectionId> readingFrom_;  // per arm, the connection that gave it
   std::vector<double> appliedT_;     // per arm, time of the reading the monitor holds (-inf: none)
+  std::vector<double> poseT_;        // per obstacle, time of its last pose report (NaN: never, it stands where the scenario put it)
   // connections before HELLO, oldest first, with their deadlines (entries of closed or greeted
   // connections are skipped when they come up)
   std::deque<std::pair<net::ConnectionId, Clock::time_point>> helloQueue_;
