@@ -73,15 +73,24 @@ int runPool(int argc, const char* const* argv) {
       .option("space", "KIND", "override space.kind: none, single, quadtree or cells")
       .option("df", "N", "override space.decomposition_factor")
       .option("until", "T", "override every shot's time limit (s)")
-      .option("study", "NAME", "run a study instead of a scenario: fig13");
+      .option("study", "NAME", "run a study instead of a scenario: fig13")
+      .option("counting", "HOW", "with --study fig13: events (the simulator's own checks, the default) or report\n"
+                                 "(the report's per-step counting as well, side by side)");
   if (!args.parse(argc, argv)) {
     std::cout << args.help();
     return 0;
   }
+  if (args.has("counting") && !args.has("study")) throw UsageError("option --counting needs --study fig13");
   if (args.has("study")) {
     if (args.get("study") != "fig13") throw UsageError("unknown study '" + args.get("study") + "' (fig13)");
     if (args.positionalValue(0)) throw UsageError("--study takes no scenario file");
-    pool::printFig13Study(std::cout);
+    pool::Counting counting = pool::Counting::Events;
+    if (args.has("counting")) {
+      if (args.get("counting") == "report") counting = pool::Counting::Report;
+      else if (args.get("counting") != "events")
+        throw UsageError("option --counting: unknown counting '" + args.get("counting") + "' (events, report)");
+    }
+    pool::printFig13Study(std::cout, counting);
     return 0;
   }
   const auto path = args.positionalValue(0);

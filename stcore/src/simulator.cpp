@@ -8,6 +8,7 @@
 
 #include <stcore/resolve.hpp>
 #include <stcore/toi.hpp>
+#include <stcore/tolerances.hpp>
 
 namespace st {
 
@@ -63,8 +64,9 @@ int Simulator<D>::addBall(const Vec<D>& p, const Vec<D>& v, double radius, doubl
   balls_.push_back(b);
   motion_.push_back(Motion{b.p, b.v, b.t, b.radius});
   next_.push_back(Next{});
-  if (space_) space_->insert(i, boxOf(i, now_), config_.marginFactor * radius);
-  repredictWidened();
+  mark_.push_back(0u);
+  if (space_) space_->insert(i, boxOf(i, now_), spaceMargin(i));
+  settleSpace();
   predict(i);
   return i;
 }
@@ -119,7 +121,7 @@ void Simulator<D>::setVelocity(int i, const Vec<D>& v) {
   if (!b.active) throw std::invalid_argument("ball is no longer in the simulation");
   advance(i, now_);
   redirect(i, v);
-  repredictWidened();
+  settleSpace();
 }
 
 // Ball i, advanced to now, leaves with velocity v: a new generation, membership and prediction.
@@ -142,7 +144,7 @@ void Simulator<D>::deactivate(int i) {
   ++b.gen;
   heap_.remove(i);
   if (space_) space_->remove(i);
-  repredictWidened();
+  settleSpace();
 }
 
 template <int D>
@@ -165,16 +167,66 @@ void Simulator<D>::synchronize(double t) {
   now_ = t;
 }
 
+// Cells: the fat margin; a tree: the slop its region events keep against rounding.
 template <int D>
-void Simulator<D>::spaceUpdate(int i) {
-  if (space_) space_->update(i, boxOf(i, balls_[i].t), config_.marginFactor * balls_[i].radius);
+double Simulator<D>::spaceMargin(int i) const {
+  switch (space_->kind()) {
+    case SpaceKind::Cells: return config_.marginFactor * balls_[i].radius;
+    case SpaceKind::Tree: return tol::kRegionSlop;
+    default: return 0.0;
+  }
 }
 
 template <int D>
-void Simulator<D>::repredictWidened() {
-  if (!space_ || !space_->hasWidened()) return;
-  for (int j : space_->takeWidened())
-    if (balls_[j].active) predict(j);
+void Simulator<D>::spaceUpdate(int i) {
+  if (space_) space_->update(i, boxOf(i, balls_[i].t), spaceMargin(i));
+}
+
+// A tree: ball i's membership moves to its box now; its path is unchanged, so its prediction
+// stands and only the neighbours it gained are checked.
+template <int D>
+void Simulator<D>::refileGained(int i) {
+  oldLeaves_ = space_->leavesOf(i);
+  const std::uint64_t restructures = space_->counters().subdivisions + space_->counters().reunions;
+  if (!space_->update(i, boxOf(i, now_), spaceMargin(i))) {
+    schedule(i, next_[i]);  // the same neighbours: only the region event moves
+    return;
+  }
+  if (space_->counters().subdivisions + space_->counters().reunions != restructures) {
+    predict(i);  // leaves were rebuilt: the old ones name other regions now
+    return;
+  }
+  // the old leaves are still the leaves they were: their objects are the old neighbours
+  if (++markNow_ == 0) {
+    std::fill(mark_.begin(), mark_.end(), 0u);
+    markNow_ = 1;
+  }
+  for (int leaf : oldLeaves_)
+    for (int j : space_->objectsIn(leaf)) mark_[j] = markNow_;
+  const Next old = next_[i];
+  Next best = old;
+  space_->forEachNeighbor(i, [&](int j) {
+    if (mark_[j] != markNow_) pairCandidate(i, j, best);
+  });
+  // a new partner is taken as it is now; the old one keeps the generation it was predicted with
+  if (best.kind == EventKind::BallBall && (best.other != old.other || best.t != old.t || old.kind != best.kind))
+    best.otherGen = balls_[best.other].gen;
+  schedule(i, best);
+}
+
+// After a change to the space: a tree's divisions and reunions re-listed other balls by the
+// boxes they were last filed with; each is re-filed where it is now (checking the neighbours it
+// gained), and those a reunion listed in a wider region are predicted again.
+template <int D>
+void Simulator<D>::settleSpace() {
+  if (!space_) return;
+  while (space_->hasRelisted() || space_->hasWidened()) {
+    const std::vector<int> widened = space_->takeWidened();
+    for (int j : space_->takeRelisted())
+      if (balls_[j].active) refileGained(j);
+    for (int j : widened)
+      if (balls_[j].active) predict(j);
+  }
 }
 
 template <int D>
@@ -308,6 +360,16 @@ template <int D>
 double Simulator<D>::exitTime(int i) const {
   if (!space_) return kInf;
   const BallState<D>& bi = balls_[i];
+  if (space_->kind() == SpaceKind::Tree) {
+    // exact along the path, quadratic while the ball slows
+    BallPath<D> path{bi.p, bi.v, bi.radius};
+    if (accelerating(i)) {
+      path.a = bi.acceleration();
+      path.horizon = bi.stopTime() - bi.t;
+    }
+    const double dt = space_->exitTime(i, path);
+    return dt < kInf ? bi.t + dt : kInf;
+  }
   if (accelerating(i)) {
     // the straight constant-velocity path from now runs ahead of the decelerating one along every
     // axis, so its exit time is a safe (early) bound
@@ -435,12 +497,15 @@ void Simulator<D>::process(int i) {
   if (n.boundaryFirst()) {
     // membership follows the ball; its path is unchanged, so only its own prediction is redone
     now_ = std::max(now_, n.exit);
-    space_->update(i, boxOf(i, n.exit), config_.marginFactor * bi.radius);
-    // cells: only the cells entered can hold new neighbours; a tree's leaves may have split or
-    // merged anywhere, and a full prediction also drops candidates gone stale
-    if (accelerating(i) || space_->kind() != SpaceKind::Cells) predict(i);
-    else predictGained(i);
-    repredictWidened();
+    if (space_->kind() == SpaceKind::Tree) {
+      refileGained(i);
+    } else {
+      space_->update(i, boxOf(i, n.exit), spaceMargin(i));
+      // cells: only the cells entered can hold new neighbours
+      if (accelerating(i)) predict(i);
+      else predictGained(i);
+    }
+    settleSpace();
     ++counters_.events[static_cast<int>(EventKind::Boundary)];
     last_ = EventRecord{n.exit, EventKind::Boundary, i, -1};
     return;
@@ -495,7 +560,7 @@ void Simulator<D>::process(int i) {
     case EventKind::Count:
       return;
   }
-  repredictWidened();
+  settleSpace();
   ++counters_.events[static_cast<int>(n.kind)];
   last_ = EventRecord{n.t, n.kind, i, n.other};
 }

@@ -138,10 +138,19 @@ template <int D>
       if (id >= static_cast<int>(objs.size()) || !objs[id].present)
         return ::testing::AssertionFailure() << "leaf " << leaf << " lists absent object " << id;
   if (s.kind() == SpaceKind::Tree) {
-    // over-full leaves only at the depth limit; divided regions = subdivisions - reunions
-    for (int leaf : leaves)
-      if (static_cast<int>(s.objectsIn(leaf).size()) > s.rule().decompositionFactor && s.depthOf(leaf) < s.rule().maxDepth)
-        return ::testing::AssertionFailure() << "leaf " << leaf << " holds " << s.objectsIn(leaf).size() << " objects";
+    // over-full leaves only at the depth limit or where no child would hold fewer (every member
+    // reaches every child: a division separates nothing); divided regions = subdivisions - reunions
+    for (int leaf : leaves) {
+      const ObjectList in = s.objectsIn(leaf);
+      if (static_cast<int>(in.size()) <= s.rule().decompositionFactor || s.depthOf(leaf) >= s.rule().maxDepth) continue;
+      SpaceRule once = s.rule();
+      once.maxDepth = 1;
+      Space<D> probe(SpaceKind::Tree, s.leafBounds(leaf), once);
+      int k = 0;
+      for (int id : in) probe.insert(k++, clampTo(objs[id].fat(), s.leafBounds(leaf)));
+      if (probe.divided())
+        return ::testing::AssertionFailure() << "leaf " << leaf << " holds " << in.size() << " objects and would divide";
+    }
     const auto divided = static_cast<std::uint64_t>((leaves.size() - 1) / (s.rule().divisions - 1));
     if (s.counters().subdivisions - s.counters().reunions != divided)
       return ::testing::AssertionFailure() << "subdivisions " << s.counters().subdivisions << " - reunions "

@@ -20,9 +20,17 @@ double threadCpuSeconds() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-StudyRun measure(const Scenario& s, double duration) {
+StudyRun measure(const Scenario& s, double duration, bool reportCounting = false) {
   Game game(s, simulatorConfig(s));
   StudyRun r;
+  if (reportCounting) {
+    // a run of its own: the recount after every event would dominate the timing
+    Game counted(s, simulatorConfig(s));
+    counted.coast(duration, [&](const PoolEvent&) {
+      r.reportChecks += reportChecksNow(counted.simulator());
+      r.reportBoundaryChecks += reportBoundaryChecksNow(counted.simulator());
+    });
+  }
   const double cpu0 = threadCpuSeconds();
   r.wallSeconds = wallSeconds([&] { game.coast(duration, [](const PoolEvent&) {}); });
   r.cpuSeconds = threadCpuSeconds() - cpu0;
@@ -50,9 +58,7 @@ SpaceSpec spaceOf(SpaceKind kind, int df = 5) {
   return s;
 }
 
-}  // namespace
-
-StudyRun runFig13Case(int mobile, const SpaceSpec& space, std::uint64_t seed, double duration, double speed) {
+Scenario fig13Scenario(int mobile, const SpaceSpec& space, std::uint64_t seed, double speed) {
   Scenario s;
   s.name = "fig13";
   s.table.pockets = false;
@@ -63,7 +69,55 @@ StudyRun runFig13Case(int mobile, const SpaceSpec& space, std::uint64_t seed, do
     const double phi = 2.0 * std::numbers::pi * rng.uniform();
     s.balls[i].velocity = speed * Vec2(std::cos(phi), std::sin(phi));
   }
-  return measure(s, duration);
+  return s;
+}
+
+}  // namespace
+
+std::uint64_t reportChecksNow(const Simulator<2>& sim) {
+  const auto& balls = sim.balls();
+  const double t = sim.now();
+  auto moving = [&](int b) { return balls[b].active && (balls[b].velocityAt(t).array() != 0.0).any(); };
+  // n objects in a region, m of them moving: the pairs with a mover
+  auto pairs = [](std::uint64_t n, std::uint64_t m) { return m * (n - 1) - m * (m - 1) / 2; };
+  const Space<2>* space = sim.space();
+  if (!space) {
+    std::uint64_t n = 0, m = 0;
+    for (int b = 0; b < static_cast<int>(balls.size()); ++b) {
+      n += balls[b].active ? 1 : 0;
+      m += moving(b) ? 1 : 0;
+    }
+    return m > 0 ? pairs(n, m) : 0;
+  }
+  std::uint64_t sum = 0;
+  for (int leaf : space->leaves()) {
+    std::uint64_t n = 0, m = 0;
+    for (int b : space->objectsIn(leaf)) {
+      ++n;
+      m += moving(b) ? 1 : 0;
+    }
+    if (m > 0) sum += pairs(n, m);
+  }
+  return sum;
+}
+
+std::uint64_t reportBoundaryChecksNow(const Simulator<2>& sim) {
+  const Space<2>* space = sim.space();
+  if (!space) return 0;
+  const auto& balls = sim.balls();
+  const double t = sim.now();
+  std::uint64_t sum = 0;
+  for (int leaf : space->leaves())
+    for (int b : space->objectsIn(leaf)) sum += (balls[b].velocityAt(t).array() != 0.0).any() ? 1 : 0;
+  return sum;
+}
+
+StudyRun runFig13Case(int mobile, const SpaceSpec& space, std::uint64_t seed, double duration, double speed) {
+  return measure(fig13Scenario(mobile, space, seed, speed), duration);
+}
+
+StudyRun runFig13CaseCounted(int mobile, const SpaceSpec& space, std::uint64_t seed, double duration) {
+  return measure(fig13Scenario(mobile, space, seed, 1.0), duration, true);
 }
 
 StudyRun runBoxCase(int n, const SpaceSpec& space, std::uint64_t seed, double duration) {
@@ -79,26 +133,46 @@ StudyRun runBoxCase(int n, const SpaceSpec& space, std::uint64_t seed, double du
   return measure(s, duration);
 }
 
-void printFig13Study(std::ostream& os) {
+void printFig13Study(std::ostream& os, Counting counting) {
   constexpr int kSeeds = 5;
   constexpr double kDuration = 10.0;
-  os << "Fig. 13 redone: collision checks (ball-ball predictions) in " << kDuration
+  const bool report = counting == Counting::Report;
+  os << "Fig. 13 redone: collision checks in " << kDuration
      << " s, 15 balls on a closed 2.54 x 1.27 m table,\n"
         "k of them moving at 1 m/s in random directions, the rest at rest; sums over "
-     << kSeeds << " seeded layouts.\n\n";
+     << kSeeds << " seeded layouts.\n"
+        "event-driven: ball-ball predictions, each ball re-predicted at its own events (a region event\n"
+        "checks only the balls of the leaves it enters).\n";
+  if (report)
+    os << "report: the report's counting, a global minimum step from one event (a collision or a region\n"
+          "crossing) to the next, and after each every pair within a space with a ball moving in it (§2);\n"
+          "+ walls: the same plus one check per moving ball and space it is in, against that space's\n"
+          "boundary (§5.1: \"collision checks ... between objects and space boundaries\").\n";
+  os << "\n";
   const SpaceSpec spaces[] = {spaceOf(SpaceKind::None), spaceOf(SpaceKind::Single), spaceOf(SpaceKind::Tree, 10),
                               spaceOf(SpaceKind::Tree, 5), spaceOf(SpaceKind::Tree, 2)};
   os << std::left << std::setw(8) << "mobile";
-  for (const auto& sp : spaces) os << std::right << std::setw(12) << label(sp);
-  os << "   | checks/event for the same columns\n";
+  for (const auto& sp : spaces) os << std::right << std::setw(11) << label(sp);
+  if (report) {
+    os << "   | report:";
+    for (const auto& sp : spaces)
+      if (sp.kind != SpaceKind::Single) os << std::right << std::setw(10) << label(sp);
+    os << "   | + walls:";
+    for (const auto& sp : spaces)
+      if (sp.kind != SpaceKind::Single) os << std::right << std::setw(10) << label(sp);
+  }
+  os << "   | checks/event\n";
   std::vector<std::vector<StudyRun>> all;
   for (int mobile : {2, 3, 5, 10, 15}) {
     std::vector<StudyRun> row;
     for (const auto& sp : spaces) {
       StudyRun sum;
       for (int seed = 1; seed <= kSeeds; ++seed) {
-        const StudyRun r = runFig13Case(mobile, sp, static_cast<std::uint64_t>(seed), kDuration);
+        const StudyRun r = report ? runFig13CaseCounted(mobile, sp, static_cast<std::uint64_t>(seed), kDuration)
+                                  : runFig13Case(mobile, sp, static_cast<std::uint64_t>(seed), kDuration);
         sum.checks += r.checks;
+        sum.reportChecks += r.reportChecks;
+        sum.reportBoundaryChecks += r.reportBoundaryChecks;
         sum.events += r.events;
         sum.collisions += r.collisions;
         sum.wallSeconds += r.wallSeconds;
@@ -107,58 +181,38 @@ void printFig13Study(std::ostream& os) {
       row.push_back(sum);
     }
     os << std::left << std::setw(8) << mobile << std::right;
-    for (const auto& r : row) os << std::setw(12) << r.checks;
+    for (const auto& r : row) os << std::setw(11) << r.checks;
+    if (report) {
+      os << "   |        ";
+      for (std::size_t j = 0; j < row.size(); ++j)
+        if (spaces[j].kind != SpaceKind::Single) os << std::setw(10) << row[j].reportChecks;
+      os << "   |         ";
+      for (std::size_t j = 0; j < row.size(); ++j)
+        if (spaces[j].kind != SpaceKind::Single) os << std::setw(10) << row[j].reportChecks + row[j].reportBoundaryChecks;
+    }
     os << "   |";
     for (const auto& r : row)
-      os << std::setw(7) << std::fixed << std::setprecision(2)
+      os << std::setw(6) << std::fixed << std::setprecision(2)
          << static_cast<double>(r.checks) / static_cast<double>(std::max<std::uint64_t>(r.events, 1));
     os << std::defaultfloat << "\n";
     all.push_back(row);
   }
   os << "\nCPU time (ms, this thread: the wall time on an idle core) for the same runs:\n" << std::left << std::setw(8)
      << "mobile";
-  for (const auto& sp : spaces) os << std::right << std::setw(12) << label(sp);
+  for (const auto& sp : spaces) os << std::right << std::setw(11) << label(sp);
   os << "\n";
   const int mobiles[] = {2, 3, 5, 10, 15};
   for (std::size_t i = 0; i < all.size(); ++i) {
     os << std::left << std::setw(8) << mobiles[i] << std::right << std::fixed << std::setprecision(2);
-    for (const auto& r : all[i]) os << std::setw(12) << 1e3 * r.cpuSeconds;
+    for (const auto& r : all[i]) os << std::setw(11) << 1e3 * r.cpuSeconds;
     os << std::defaultfloat << "\n";
   }
   os << "wall clock (ms, with any preemption) at 15 mobile:" << std::fixed << std::setprecision(2);
   for (std::size_t j = 0; j < all.back().size(); ++j) os << " " << label(spaces[j]) << " " << 1e3 * all.back()[j].wallSeconds;
   os << std::defaultfloat << "\n";
-  os << "events (collisions + space crossings) at 15 mobile:";
+  os << "events (collisions + region crossings) at 15 mobile:";
   for (std::size_t j = 0; j < all.back().size(); ++j) os << " " << label(spaces[j]) << " " << all.back()[j].events;
   os << "\nreport (Fig. 13) at 15 mobile: NS 16756, one space 17078, df 10 12081, df 5 10742, df 2 11210\n";
-
-  // the lever on the boundary events: a wider fat box means fewer re-filings, more neighbours
-  os << "\nThe fat-box margin (space.margin, fraction of the radius) at 15 mobile, same layouts:\n"
-     << std::left << std::setw(8) << "margin" << std::right;
-  const int marginDfs[] = {10, 5, 2};
-  for (int df : marginDfs) os << std::setw(14) << ("df " + std::to_string(df) + " checks");
-  os << std::setw(10) << "events" << std::setw(14) << "df 5 cpu ms" << "\n";
-  for (double margin : {0.5, 1.0, 2.0, 4.0, 8.0}) {
-    os << std::left << std::setw(8) << margin << std::right;
-    std::uint64_t events = 0;
-    double cpu5 = 0.0;
-    for (int df : marginDfs) {
-      SpaceSpec sp = spaceOf(SpaceKind::Tree, df);
-      sp.margin = margin;
-      StudyRun sum;
-      for (int seed = 1; seed <= kSeeds; ++seed) {
-        const StudyRun r = runFig13Case(15, sp, static_cast<std::uint64_t>(seed), kDuration);
-        sum.checks += r.checks;
-        sum.events += r.events;
-        sum.cpuSeconds += r.cpuSeconds;
-      }
-      os << std::setw(14) << sum.checks;
-      events = sum.events;
-      if (df == 5) cpu5 = sum.cpuSeconds;
-    }
-    os << std::setw(10) << events << std::setw(14) << std::fixed << std::setprecision(2) << 1e3 * cpu5
-       << std::defaultfloat << "\n";
-  }
 
   // past the report: many balls
   os << "\nBeyond the report: n balls at 1 m/s in a square box with 10 % of its area covered, 1 s "

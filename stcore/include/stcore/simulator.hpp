@@ -97,8 +97,9 @@ struct SimulatorCounters {
 struct SimulatorConfig {
   SpaceKind spaceKind = SpaceKind::Tree;
   SpaceRule rule;
-  // Extra room around each ball's box in the space, as a fraction of its radius: larger means
-  // fewer membership events but more candidates.
+  // Cells: extra room around each ball's box in the grid, as a fraction of its radius: larger
+  // means fewer membership events but more candidates. (A tree lists each ball by its box and
+  // takes its events from the leaf walls, with tol::kRegionSlop against rounding.)
   double marginFactor = 0.5;
 };
 
@@ -200,8 +201,10 @@ class Simulator {
   void syncMotion(int i) { motion_[i] = Motion{balls_[i].p, balls_[i].v, balls_[i].t, balls_[i].radius}; }
   bool accelerating(int i) const { return decelerating_ > 0 && balls_[i].accelerating(); }
   Aabb<D> boxOf(int i, double t) const;
+  double spaceMargin(int i) const;
   void spaceUpdate(int i);
-  void repredictWidened();
+  void refileGained(int i);
+  void settleSpace();
 
   // model events: a min-heap on (time, scheduling order); cancelled ones are skipped when they surface
   struct ModelEvent {
@@ -231,6 +234,10 @@ class Simulator {
   std::vector<bool> modelCancelled_;
   SimulatorCounters counters_;
   EventRecord last_;
+  // refileGained: a ball's leaves before its update, and its neighbours then
+  std::vector<int> oldLeaves_;
+  std::vector<std::uint32_t> mark_;
+  std::uint32_t markNow_ = 0;
 };
 
 template <int D>

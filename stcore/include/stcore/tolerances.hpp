@@ -9,6 +9,11 @@ namespace st::tol {
 // hide real interpenetration in tests; smaller ones approach roundoff of positions ~1e3 m.
 inline constexpr double kLinearSlop = 1e-9;
 
+// A ball is listed in a region tree's leaves by its box grown by this, and leaves a leaf once
+// 2 slops clear of it: the update at a region event then sees the change whatever the rounding
+// of the ball's position (about 1e-16 relative: ample for coordinates up to 1e4 m).
+inline constexpr double kRegionSlop = 10 * kLinearSlop;
+
 // Squared speeds below this are "not moving" for time-of-impact purposes (m^2/s^2).
 // Too large and slow approaches are missed; too small and 1/v blows up in the kernels.
 inline constexpr double kSpeedSqEpsilon = 1e-24;

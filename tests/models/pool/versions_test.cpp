@@ -15,12 +15,14 @@ using test::physical;
 struct Variant {
   SpaceKind kind;
   int df;
-  double margin = -1.0;  // fat-box margin (space.margin; -1: the pool's automatic default)
+  double margin = -1.0;  // cells' fat-box margin (space.margin; -1: the pool's automatic default)
+  int maxDepth = -1;     // space.max_depth (-1: the pool's automatic depth)
 };
 
 const Variant kVariants[] = {{SpaceKind::None, 0},  {SpaceKind::Single, 0}, {SpaceKind::Tree, 1},
                              {SpaceKind::Tree, 2},  {SpaceKind::Tree, 5},   {SpaceKind::Tree, 10},
-                             {SpaceKind::Tree, 5, 0.5}, {SpaceKind::Tree, 5, 3.0}, {SpaceKind::Cells, 0}};
+                             {SpaceKind::Tree, 5, -1.0, 1}, {SpaceKind::Tree, 2, -1.0, 8}, {SpaceKind::Cells, 0},
+                             {SpaceKind::Cells, 0, 3.0}};
 
 SimulatorConfig configOf(const Variant& v) {
   SpaceSpec s;
@@ -28,6 +30,7 @@ SimulatorConfig configOf(const Variant& v) {
   if (v.df > 0) s.decompositionFactor = v.df;
   s.cellSize = 0.15;
   s.margin = v.margin;
+  s.maxDepth = v.maxDepth;
   return simulatorConfig(s, TableSpec{}, {});
 }
 

@@ -26,13 +26,12 @@ struct SpaceSpec {
   int divisions = 4;
   int maxDepth = -1;      // -1: deepest level whose regions are still at least one ball across
   double cellSize = 0.1;  // m, Cells kind only
-  // Fat-box margin, as a fraction of each ball's radius (SimulatorConfig::marginFactor): a tree
-  // lists a ball in every leaf its box grown by this touches, and re-files it (a boundary
-  // event) when it leaves that grown box. Larger: fewer boundary events, more candidates.
-  // <= 0: automatic, 2 for a tree (not stcore's 0.5: 3x less time on the break, 2.5x on 10000
-  // balls) and 0.5 for cells, whose exit times come from the cell walls (models/pool/README.md).
+  // Cells only: the fat-box margin, as a fraction of each ball's radius
+  // (SimulatorConfig::marginFactor); a ball is re-filed when its box reaches a cell outside the
+  // block its grown box touches. <= 0: automatic, 0.5. (A tree lists each ball by its own box and
+  // takes its region events from the leaf walls: no margin.)
   double margin = -1.0;
-  double marginFactor() const { return margin > 0.0 ? margin : kind == SpaceKind::Cells ? 0.5 : 2.0; }
+  double marginFactor() const { return margin > 0.0 ? margin : 0.5; }
 };
 
 struct Scenario {

@@ -1,0 +1,147 @@
+#pragma once
+// The broadphase: which objects may touch. One interface, three implementations, each in its own
+// header (in the way Jolt puts a quadtree and a brute-force broadphase behind one BroadPhase):
+//   SingleList<D>   single_list.hpp   one region listing every object: the report's version I
+//   RegionTree<D>   region_tree.hpp   the report's space (§2.6): regions that subdivide past a
+//                                     decomposition factor and reunite below it; a quadtree in
+//                                     2-D, an octree in 3-D (version II)
+//   UniformGrid<D>  uniform_grid.hpp  fixed uniform cells, never divided
+// Space<D> (space.hpp) holds the one a caller picks at run time; a caller that knows its kind
+// may use the type itself. (The report's "no space" is no broadphase: callers test every pair.)
+//
+// Every implementation, for objects named by the caller's dense ids (0, 1, 2, ...) and given
+// as boxes (grown by an optional margin), answers:
+//   insert(id, box, margin), update(id, box, margin), remove(id), contains(id)
+//   forEachNeighbor(id, f)    f(other) once for every other object sharing a leaf with id
+//   forEachInBox(box, f)      f(object) once for every object listed in a leaf the box touches
+//   forEachPair(f)            f(a, b) once for every pair sharing a leaf (a < b)
+//   exitTime(id, path)        the next region event of a ball moving from its listed box
+//   leaves(), leafBounds(leaf), objectsIn(leaf), leavesOf(id), depthOf(leaf), leafCount()
+// An object is listed in every leaf its box (closed) touches; the box is clamped to the bounds.
+#include <concepts>
+#include <cstddef>
+#include <cstdint>
+#include <iterator>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <stcore/shapes.hpp>
+
+namespace st {
+
+enum class SpaceKind { None, Single, Tree, Cells };
+
+// Parses "none", "single", "tree"/"quadtree"/"octree", "cells"; returns false if unknown.
+bool parseSpaceKind(const std::string& text, SpaceKind& out);
+const char* toString(SpaceKind kind);
+
+// The report's Rule (§1.2.11).
+struct SpaceRule {
+  int decompositionFactor = 5;  // a leaf holding more objects than this subdivides
+  bool subdivide = true;        // false: the space never divides
+  int divisions = 0;            // children per division: 2, 4 or 8 (<= 2^D); 0 means 2^D
+  int maxDepth = 12;            // a leaf this deep never divides (objects that overlap all children)
+  double cellSize = 0.0;        // Cells kind: edge length of a cell (m)
+  // A leaf does not divide when half its longest edge is shorter than this times the smallest
+  // (fat) object box it holds: children that small cannot separate objects that overlap,
+  // and dense clusters of more than df objects would split down to maxDepth. 0: only maxDepth.
+  double minChildSizeRatio = 0.0;
+};
+
+struct SpaceCounters {
+  std::uint64_t subdivisions = 0;
+  std::uint64_t reunions = 0;
+  std::uint64_t transfers = 0;  // membership changes of an object (the report's TransferObject)
+};
+
+// A ball's path from its last update: centre p, velocity v, a constant acceleration a (zero, or
+// a deceleration along -v until the ball stops), for `horizon` seconds (the stop; infinity).
+template <int D>
+struct BallPath {
+  Vec<D> p;
+  Vec<D> v;
+  double radius = 0.0;
+  Vec<D> a = Vec<D>::Zero();
+  double horizon = std::numeric_limits<double>::infinity();
+};
+
+// First time in [0, horizon] at which x0 + v t + a t^2 / 2 reaches `wall`, for a coordinate
+// heading toward it (a opposes v or is zero: it slows and may stop short); infinity if it never
+// does, 0 if it is already there or past.
+double reachTime(double x0, double v, double a, double wall, double horizon);
+
+// The objects listed in one leaf: a view, valid until the space changes. A grid stores each entry
+// as (object << D) | corner bits (UniformGrid); the view yields the objects.
+class ObjectList {
+ public:
+  class iterator {
+   public:
+    using iterator_category = std::input_iterator_tag;
+    using iterator_concept = std::forward_iterator_tag;
+    using value_type = int;
+    using difference_type = std::ptrdiff_t;
+    using pointer = void;
+    using reference = int;
+    iterator() = default;
+    iterator(const int* p, int shift) : p_(p), shift_(shift) {}
+    int operator*() const { return *p_ >> shift_; }
+    iterator& operator++() {
+      ++p_;
+      return *this;
+    }
+    iterator operator++(int) {
+      iterator old = *this;
+      ++p_;
+      return old;
+    }
+    bool operator==(const iterator& o) const { return p_ == o.p_; }
+
+   private:
+    const int* p_ = nullptr;
+    int shift_ = 0;
+  };
+  ObjectList(const int* first, std::size_t count, int shift) : first_(first), count_(count), shift_(shift) {}
+  iterator begin() const { return {first_, shift_}; }
+  iterator end() const { return {first_ + count_, shift_}; }
+  std::size_t size() const { return count_; }
+  bool empty() const { return count_ == 0; }
+  int operator[](std::size_t k) const { return first_[k] >> shift_; }
+
+ private:
+  const int* first_;
+  std::size_t count_;
+  int shift_;
+};
+
+namespace detail {
+template <int D>
+inline Aabb<D> clampBox(const Aabb<D>& b, const Aabb<D>& bounds) {
+  return {b.min.cwiseMax(bounds.min).cwiseMin(bounds.max), b.max.cwiseMin(bounds.max).cwiseMax(bounds.min)};
+}
+template <int D>
+inline Aabb<D> grownBox(const Aabb<D>& b, double margin) {
+  return {b.min.array() - margin, b.max.array() + margin};
+}
+}  // namespace detail
+
+// What every implementation offers (checked where each is defined).
+template <class B, int D>
+concept Broadphase = requires(B b, const B cb, int id, const Aabb<D>& box, double margin, const BallPath<D>& path) {
+  b.insert(id, box, margin);
+  b.update(id, box, margin);
+  b.remove(id);
+  { cb.contains(id) } -> std::same_as<bool>;
+  cb.forEachNeighbor(id, [](int) {});
+  cb.forEachInBox(box, [](int) {});
+  cb.forEachPair([](int, int) {});
+  { cb.exitTime(id, path) } -> std::same_as<double>;
+  { cb.leaves() } -> std::same_as<std::vector<int>>;
+  { cb.leafBounds(id) } -> std::same_as<Aabb<D>>;
+  { cb.objectsIn(id) } -> std::same_as<ObjectList>;
+  { cb.leavesOf(id) } -> std::same_as<const std::vector<int>&>;
+  { cb.leafCount() } -> std::same_as<int>;
+  { cb.counters() } -> std::same_as<const SpaceCounters&>;
+};
+
+}  // namespace st
