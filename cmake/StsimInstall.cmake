@@ -62,7 +62,7 @@ function(stsim_in_tree_links target out)
   set(${out} ${result} PARENT_SCOPE)
 endfunction()
 
-# The experiment runner (cosim/batch, st::batch) is the tool's, not a library for plugins: not
+# The experiment runner (batch/, st::batch) is the tool's, not a library for plugins: not
 # installed, so a consumer needs no MPI.
 stsim_install_library(stsim_cosim cosim cosim/lib/include)
 stsim_install_library(starm arm models/arm/include)
@@ -93,7 +93,7 @@ install(TARGETS stsim RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/networks/ DESTINATION ${CMAKE_INSTALL_DATADIR}/stsim/networks)
 # the plot scripts the tool runs (stsim batch's report, the conflict map): found beside the
 # executable first (bin/../share/stsim, st::io::dataFile), then in the source tree
-install(FILES ${PROJECT_SOURCE_DIR}/cosim/batch/plots.py ${PROJECT_SOURCE_DIR}/models/highway/conflict_map.py
+install(FILES ${PROJECT_SOURCE_DIR}/batch/plots.py ${PROJECT_SOURCE_DIR}/models/highway/conflict_map.py
         DESTINATION ${CMAKE_INSTALL_DATADIR}/stsim)
 
 # CMake package

@@ -1,4 +1,4 @@
-// The TraCI relay's framing checks (cosim/lib/src/traci_relay.hpp TraciFraming): the input is a
+// The TraCI relay's framing checks (stcosim/traci_framing.hpp TraciFraming): the input is a
 // conversation, records [u8 h] [h & 0x7f bytes], from libtraci (h < 0x80) or from the server. A
 // reply is passed on only whole: what replies() accepts must be a run of frames whose length
 // fields add up to it, each in [kMinReply, kMaxReply], one per pending request it removes; once
@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "traci_relay.hpp"
+#include <stcosim/traci_framing.hpp>
 
-using st::cosim::detail::TraciFraming;
+using st::cosim::TraciFraming;
 
 namespace {
 

@@ -32,10 +32,10 @@
 
 #include <libsumo/libsumo.h>
 
-#include "sumo_process.hpp"
 #include <stcosim/backend.hpp>
 #include <stcosim/plugin.hpp>
 #include <stcosim/scenario.hpp>
+#include <stcosim/sumo_home.hpp>
 
 namespace fs = std::filesystem;
 using namespace st::cosim;
@@ -138,7 +138,7 @@ Row inProcess(const std::string& name, const std::function<double()>& body) {
 int main(int argc, char** argv) {
   const double seconds = argc > 1 ? std::atof(argv[1]) : 120.0;
   const fs::path dir = argc > 2 ? fs::path(argv[2]) : fs::temp_directory_path() / "stsim_cosim_overhead";
-  detail::ensureSumoHome();
+  ensureSumoHome();
   const fs::path cfg = makeScenario(dir, seconds);
   Scenario s = loadScenario(cfg);
   s.plugin.actions.action = Action::None;

@@ -107,8 +107,8 @@ TEST(HighwayReliability, ARepeatedVehicleIdNamesTheRouteFile) {
 // The relay's framing checks on bytes: a reply passes only whole and only as the answer to the
 // request it follows; anything else is named (fuzz/traci_relay.cpp runs the same on any bytes).
 TEST(TraciRelay, FramingPassesWholeRepliesToTheirRequests) {
-  detail::TraciFraming f;
-  const auto now = detail::TraciFraming::Clock::now();
+  TraciFraming f;
+  const auto now = TraciFraming::Clock::now();
   const unsigned char getVersion[] = {0, 0, 0, 6, 2, 0};
   f.request(getVersion, 3, now);  // requests arrive in pieces too
   EXPECT_TRUE(f.pending().empty());
@@ -134,7 +134,7 @@ TEST(TraciRelay, FramingPassesWholeRepliesToTheirRequests) {
   EXPECT_EQ(f.replies(reinterpret_cast<const unsigned char*>(http.data()), http.size(), why), 0u);
   EXPECT_EQ(why, "not a TraCI server: reply length field 1213486160 (bytes \"HTTP/1.0\")");
   // a sound reply to another command
-  detail::TraciFraming g;
+  TraciFraming g;
   const unsigned char step[] = {0, 0, 0, 14, 10, 0x02, 0, 0, 0, 0, 0, 0, 0, 0};
   g.request(step, sizeof step, now);
   why.clear();

@@ -19,7 +19,7 @@ TEST(DataFile, InstalledCopyBesideTheExecutableFirstThenTheSourceTree) {
   fs::remove_all(prefix);
   fs::create_directories(prefix / "bin");
   fs::create_directories(prefix / "share/stsim");
-  const fs::path exe = prefix / "bin/stsim", source = "/src/cosim/batch/plots.py";
+  const fs::path exe = prefix / "bin/stsim", source = "/src/batch/plots.py";
   // nothing installed: the source tree's copy
   EXPECT_EQ(dataFile("plots.py", source, exe), source);
   std::ofstream(prefix / "share/stsim/plots.py") << "# installed\n";

@@ -139,7 +139,7 @@ class LibsumoBackend final : public Backend {
 }  // namespace
 
 std::unique_ptr<Backend> startLibsumo(const SumoLaunch& launch) {
-  detail::ensureSumoHome();
+  ensureSumoHome();
   std::vector<std::string> cmd{"sumo"};
   cmd.insert(cmd.end(), launch.args.begin(), launch.args.end());
   // SUMO prints some start errors itself (option checks: "Error: The end time should be after

@@ -23,12 +23,16 @@
 
 extern char** environ;
 
-namespace st::cosim::detail {
+namespace st::cosim {
 
 void ensureSumoHome() {
   if (std::getenv("SUMO_HOME") == nullptr && ::access("/usr/share/sumo/data/xsd", F_OK) == 0)
     ::setenv("SUMO_HOME", "/usr/share/sumo", 0);
 }
+
+}  // namespace st::cosim
+
+namespace st::cosim::detail {
 
 StderrCapture::StderrCapture() {
   std::fflush(stderr);

@@ -4,6 +4,8 @@
 #include <sys/types.h>
 #include <vector>
 
+#include <stcosim/sumo_home.hpp>  // ensureSumoHome
+
 namespace st::cosim::detail {
 
 class SumoProcess {
@@ -29,11 +31,6 @@ class SumoProcess {
   int port_ = 0;
   std::string log_;
 };
-
-// SUMO validates its XML inputs against the schemas under $SUMO_HOME/data/xsd; without SUMO_HOME it
-// tries to fetch them from the web and, offline, rejects every input. If SUMO_HOME is unset and
-// Debian's /usr/share/sumo exists, sets it (for this process and the SUMO processes it starts).
-void ensureSumoHome();
 
 // Holds this process's stderr (fd 2) in a temporary file from construction to finish() (or
 // destruction), for SUMO's own error lines during libsumo's start. Not for use while other threads

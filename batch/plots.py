@@ -2,7 +2,7 @@
 """Plots and report.md for a `stsim batch` output folder (runs.csv, summary.csv, runs/*/warnings.csv).
 
 Uses Debian's python3-matplotlib. Called by `stsim batch`; can be re-run by hand:
-    /usr/bin/python3 cosim/batch/plots.py OUT_DIR
+    /usr/bin/python3 batch/plots.py OUT_DIR
 """
 import csv
 import importlib.util
@@ -51,7 +51,7 @@ def conflict_maps(out, runs, sweep):
     # installed, both scripts sit in share/stsim; in the source tree the map's is the model's
     here = os.path.dirname(os.path.abspath(__file__))
     script = next((p for p in (os.path.join(here, "conflict_map.py"),
-                               os.path.join(here, "..", "..", "models", "highway", "conflict_map.py"))
+                               os.path.join(here, "..", "models", "highway", "conflict_map.py"))
                    if os.path.exists(p)), None)
     if script is None:
         return []
