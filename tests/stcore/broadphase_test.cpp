@@ -16,6 +16,8 @@
 
 #include <stcore/simulator.hpp>
 #include <stcore/space.hpp>
+
+#include "boxes.hpp"
 #include <stcore/tolerances.hpp>
 
 namespace st {
@@ -23,15 +25,8 @@ namespace {
 
 using Pairs = std::set<std::pair<int, int>>;
 
-template <int D>
-Aabb<D> clampTo(const Aabb<D>& b, const Aabb<D>& bounds) {
-  return {b.min.cwiseMax(bounds.min).cwiseMin(bounds.max), b.max.cwiseMin(bounds.max).cwiseMax(bounds.min)};
-}
-
-template <int D>
-bool overlapsOpen(const Aabb<D>& a, const Aabb<D>& b) {
-  return (a.min.array() < b.max.array()).all() && (b.min.array() < a.max.array()).all();
-}
+using test::clampTo;
+using test::overlapsOpen;
 
 // A random scene: boxes of every size from a speck to most of the world, a fifth of them snapped
 // to the tree's split planes and the grid's faces, some reaching past the bounds.

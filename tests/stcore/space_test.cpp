@@ -22,6 +22,8 @@
 
 #include <stcore/space.hpp>
 
+#include "boxes.hpp"
+
 namespace st {
 namespace {
 
@@ -44,16 +46,8 @@ Key<D> keyOf(const Aabb<D>& b) {
   return k;
 }
 
-template <int D>
-Aabb<D> clampTo(const Aabb<D>& b, const Aabb<D>& bounds) {
-  return {b.min.cwiseMax(bounds.min).cwiseMin(bounds.max), b.max.cwiseMin(bounds.max).cwiseMax(bounds.min)};
-}
-
-// Open overlap: the boxes share interior (used for the cells' half-open boundaries).
-template <int D>
-bool overlapsOpen(const Aabb<D>& a, const Aabb<D>& b) {
-  return (a.min.array() < b.max.array()).all() && (b.min.array() < a.max.array()).all();
-}
+using test::clampTo;
+using test::overlapsOpen;
 
 // What a test object is: its box and margin as last given to the space.
 template <int D>

@@ -110,10 +110,7 @@ struct CellNetwork::Impl {
 
   // The network level is a uniform grid of about one cell length (coarser on huge networks).
   static double indexCellSize(const CellConfig& c, const Aabb<2>& bounds) {
-    const Vec2 ext = grown(bounds, c.cellLength).extent();
-    double size = c.cellLength;
-    while ((ext.x() / size) * (ext.y() / size) > 4e6) size *= 2.0;
-    return size;
+    return gridCellSize<2>(grown(bounds, c.cellLength).extent(), c.cellLength, kMaxGridCells);
   }
 
   double distSq(int cell, const Vec2& p) const {
@@ -393,7 +390,7 @@ CellNetwork::CellNetwork(const RoadGeometry& road, const RoadFeatures& features,
   m.gridSize = std::min(config.cellLength, config.radioRange);
   m.gridOrigin = features.bounds.min.array() - config.radioRange;
   const Vec2 ext = features.bounds.extent().array() + 2.0 * config.radioRange;
-  while ((ext.x() / m.gridSize) * (ext.y() / m.gridSize) > 4e6) m.gridSize *= 2.0;
+  m.gridSize = gridCellSize<2>(ext, m.gridSize, kMaxGridCells);
   m.gridNx = std::max(1, static_cast<int>(std::ceil(ext.x() / m.gridSize)));
   m.gridNy = std::max(1, static_cast<int>(std::ceil(ext.y() / m.gridSize)));
   m.grid.assign(static_cast<std::size_t>(m.gridNx) * m.gridNy, {});

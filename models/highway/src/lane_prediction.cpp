@@ -7,6 +7,7 @@
 #include "car_shape.hpp"
 
 #include <stcore/toi.hpp>
+#include <stcore/uniform_grid.hpp>
 #include <sthighway/tolerances.hpp>
 
 namespace st::highway::detail {
@@ -134,7 +135,7 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
   const double grow = 0.5 * maxWidth + 1.0;
   origin_ = lo - Vec2::Constant(grow);
   const Vec2 ext = hi - lo + Vec2::Constant(2.0 * grow);
-  while ((ext.x() / cell_) * (ext.y() / cell_) > 4e6) cell_ *= 2.0;
+  cell_ = gridCellSize<2>(ext, cell_, kMaxGridCells);
   nx_ = std::max(1, static_cast<int>(std::ceil(ext.x() / cell_)));
   ny_ = std::max(1, static_cast<int>(std::ceil(ext.y() / cell_)));
   std::vector<std::vector<int>> cells(static_cast<std::size_t>(nx_) * ny_);

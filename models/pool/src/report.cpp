@@ -51,9 +51,8 @@ std::string describe(const SpaceSpec& space) {
   if (space.kind == SpaceKind::Tree)
     os << " df=" << space.decompositionFactor << " divisions=" << space.divisions << " max_depth="
        << (space.maxDepth < 0 ? std::string("auto") : std::to_string(space.maxDepth));
-  if (space.kind == SpaceKind::Cells) os << " cell_size=" << space.cellSize;
-  if (space.kind == SpaceKind::Tree || space.kind == SpaceKind::Cells)
-    os << " margin=" << space.marginFactor() << (space.margin > 0.0 ? "" : "(auto)");
+  if (space.kind == SpaceKind::Cells)
+    os << " cell_size=" << space.cellSize << " margin=" << space.marginFactor() << (space.margin > 0.0 ? "" : "(auto)");
   return os.str();
 }
 

@@ -17,10 +17,13 @@
 
 namespace st {
 
+// The most cells a grid over a whole network gets (4e6: 16 MB of cell heads at most).
+inline constexpr double kMaxGridCells = 4e6;
+
 // The edge of a uniform grid's cells: `target`, doubled until the grid over `extent` has at most
 // `maxCells` cells. The one sizing rule of every grid in stsim.
 template <int D>
-double gridCellSize(const Vec<D>& extent, double target, double maxCells);
+double gridCellSize(const Vec<D>& extent, double target, double maxCells = kMaxGridCells);
 
 template <int D>
 class UniformGrid {
