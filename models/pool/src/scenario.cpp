@@ -317,15 +317,20 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
     for (std::size_t k = 0; k < shots.size(); ++k) {
       const YAML::Node n = shots[k];
       const std::string key = indexed("shots", k);
-      rd.onlyKeys(n, key, {"ball", "cue", "speed", "angle", "until"});
+      rd.onlyKeys(n, key, {"ball", "cue", "speed", "angle", "velocity", "until"});
       Shot shot;
       mark(key, n);
       if (n["ball"]) shot.ball = static_cast<int>(rd.integer(n["ball"], key + ".ball"));
       mark(key + ".ball", n["ball"] ? n["ball"] : n);
       const bool cue = static_cast<bool>(n["cue"]);
       const bool polar = n["speed"] || n["angle"];
-      if (cue == polar) fail(rd.at(n, key), "give either cue or speed and angle");
-      if (cue) {
+      const bool direct = static_cast<bool>(n["velocity"]);
+      if ((cue ? 1 : 0) + (polar ? 1 : 0) + (direct ? 1 : 0) != 1)
+        fail(rd.at(n, key), "give one of cue, speed and angle, or velocity");
+      if (direct) {
+        // the velocity as the Game takes it: what a recorded game (writeScenarioYaml) replays bit for bit
+        shot.velocity = rd.vec2(n["velocity"], key + ".velocity");
+      } else if (cue) {
         const YAML::Node c = n["cue"];
         rd.onlyKeys(c, key + ".cue", {"from", "to", "scale"});
         if (!c["from"]) fail(rd.at(c, key + ".cue.from"), io::missingKeyText());

@@ -1,5 +1,13 @@
 #pragma once
-// Helpers for the pool tests: small scenarios built in code.
+// Helpers for the pool tests: small scenarios built in code, the stsim command run as a user would.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <sys/wait.h>
+
 #include <stpool/game.hpp>
 #include <stpool/rack.hpp>
 #include <stpool/scenario.hpp>
@@ -34,6 +42,38 @@ inline std::vector<PoolEvent> physical(const std::vector<PoolEvent>& all) {
     if (e.kind != PoolEventKind::Boundary && e.kind != PoolEventKind::Strike && e.kind != PoolEventKind::Stop)
       out.push_back(e);
   return out;
+}
+
+// `stsim ARGS` (the built binary), its exit code and its stdout + stderr.
+struct Ran {
+  int code;
+  std::string out;
+};
+
+inline Ran runStsim(const std::string& args) {
+  const std::string cmd = std::string(STSIM_BINARY) + " " + args + " 2>&1";
+  Ran r{-1, ""};
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, p)) r.out += buf;
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+inline std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// A fresh, empty folder name under the system's temp directory.
+inline std::filesystem::path tempDir(const std::string& name) {
+  const auto d = std::filesystem::temp_directory_path() / ("stsim_pool_test_" + name);
+  std::filesystem::remove_all(d);
+  return d;
 }
 
 }  // namespace st::pool::test

@@ -13,6 +13,8 @@
 #include <stpool/report.hpp>
 #include <stpool/scenario.hpp>
 
+#include "pool_test_util.hpp"
+
 namespace st::pool {
 namespace {
 
@@ -225,35 +227,10 @@ TEST(Scenario, PracticeShotsFollowOneAnotherFromRest) {
 
 // ---- the command --------------------------------------------------------------------------------
 
-struct Ran {
-  int code;
-  std::string out;
-};
-
-Ran runStsim(const std::string& args) {
-  const std::string cmd = std::string(STSIM_BINARY) + " " + args + " 2>&1";
-  Ran r{-1, ""};
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  while (std::fgets(buf, sizeof buf, p)) r.out += buf;
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::filesystem::path tempDir(const std::string& name) {
-  const auto d = std::filesystem::temp_directory_path() / ("stsim_pool_test_" + name);
-  std::filesystem::remove_all(d);
-  return d;
-}
+using test::Ran;
+using test::runStsim;
+using test::slurp;
+using test::tempDir;
 
 TEST(PoolCommand, BreakWritesEveryOutput) {
   const auto dir = tempDir("break");
