@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <stcore/box2.hpp>
 #include <stcore/toi.hpp>
 
 #include <sthighway/tolerances.hpp>
@@ -166,20 +167,6 @@ double foeEnvelope(const DetectorConfig& cfg, double l, double w) {
   return halfDiagonal(l, w);
 }
 
-// The four SAT axes of two oriented rectangles, relative to ego (r = foe centre - ego centre).
-int boxAxes(const Body& a, const Body& b, detail::Axis* axes) {
-  const Vec2 an = detail::normalOf(a.axis), bn = detail::normalOf(b.axis);
-  const double ahl = 0.5 * a.length, ahw = 0.5 * a.width, bhl = 0.5 * b.length, bhw = 0.5 * b.width;
-  const Vec2 dirs[4] = {a.axis, an, b.axis, bn};
-  for (int k = 0; k < 4; ++k) {
-    const Vec2& n = dirs[k];
-    const double ea = ahl * std::abs(a.axis.dot(n)) + ahw * std::abs(an.dot(n));
-    const double eb = bhl * std::abs(b.axis.dot(n)) + bhw * std::abs(bn.dot(n));
-    axes[k] = {n, 0.0, ea + eb};
-  }
-  return 4;
-}
-
 // The skip constants (tol::kSkip*) are documented in tolerances.hpp.
 using tol::kSkipMargin;
 using tol::kSkipRadius;
@@ -269,9 +256,8 @@ double envelopeRadius(const DetectorConfig& cfg, double length, double width) {
 
 Vec2 envelopeExtent(const DetectorConfig& cfg, const Body& b) {
   // the rectangle itself
-  const Vec2 n = detail::normalOf(b.axis);
-  const double hl = 0.5 * b.length, hw = 0.5 * b.width;
-  Vec2 ext(hl * std::abs(b.axis.x()) + hw * std::abs(n.x()), hl * std::abs(b.axis.y()) + hw * std::abs(n.y()));
+  const Box2 box = b.box();
+  Vec2 ext(support(box, Vec2(1.0, 0.0)), support(box, Vec2(0.0, 1.0)));
   auto add = [&](const Circ& c) {
     const Vec2 o = detail::toWorld(b, c.offset.x(), c.offset.y());
     ext = ext.cwiseMax(o.cwiseAbs() + Vec2::Constant(c.radius));
@@ -300,8 +286,7 @@ double roadSupport(const DetectorConfig& cfg, const Body& ego, const Vec2& n) {
       const Circ c = zoneCircle(cfg.five.zones[FiveCircleLayout::kCenter], ego.length, ego.width);
       return std::abs(detail::toWorld(ego, c.offset.x(), c.offset.y()).dot(n)) + c.radius;
     }
-    case DetectorKind::Box:
-      return 0.5 * ego.length * std::abs(ego.axis.dot(n)) + 0.5 * ego.width * std::abs(detail::normalOf(ego.axis).dot(n));
+    case DetectorKind::Box: return support(ego.box(), n);
   }
   return halfDiagonal(ego.length, ego.width);
 }
@@ -337,12 +322,17 @@ bool layoutCoversBody(const FiveCircleLayout& layout, double length, double widt
 }
 
 double boxTtc(const Body& a, const Body& b, MotionModel motion, double horizon) {
-  detail::Axis axes[4];
-  boxAxes(a, b, axes);
+  const Box2 boxA = a.box(), boxB = b.box();
+  if (motion == MotionModel::ConstantVelocity) {
+    const Impact hit = timeOfEntry(boxA, boxB, b.velocity - a.velocity, horizon, tol::kContactSlop);
+    return hit.acts() ? hit.actTime() : kInf;
+  }
+  // braking cars: the same axes on each piece of their relative motion
+  const std::array<SeparatingAxis, 4> axes = separatingAxes(boxA, boxB);
   std::array<detail::Piece, 3> pcs;
   const int n = detail::bodyPieces(a, b, motion, horizon, pcs);
   for (int i = 0; i < n; ++i) {
-    const double s = detail::satEntry(pcs[i], axes, 4);
+    const double s = detail::satEntry(pcs[i], axes);
     if (s < kInf) return pcs[i].start + s;
   }
   return kInf;
@@ -473,9 +463,9 @@ Ttc featureTtc(const DetectorConfig& cfg, const Body& ego, const RoadFeature& f,
       double s = kInf;
       if (point) {
         // the rectangle grown by the disc: two crossed rectangles and four corner discs
-        const detail::Axis ax1[2] = {{ego.axis, 0.0, hl + f.radius}, {an, 0.0, hw}};
-        const detail::Axis ax2[2] = {{ego.axis, 0.0, hl}, {an, 0.0, hw + f.radius}};
-        s = std::min(detail::satEntry(pcs[i], ax1, 2), detail::satEntry(pcs[i], ax2, 2));
+        const SeparatingAxis ax1[2] = {{ego.axis, hl + f.radius}, {an, hw}};
+        const SeparatingAxis ax2[2] = {{ego.axis, hl}, {an, hw + f.radius}};
+        s = std::min(detail::satEntry(pcs[i], ax1), detail::satEntry(pcs[i], ax2));
         for (double sx : {-1.0, 1.0})
           for (double sy : {-1.0, 1.0})
             s = std::min(s, detail::discEntry(pcs[i], -(sx * hl * ego.axis + sy * hw * an), f.radius));
@@ -485,11 +475,10 @@ Ttc featureTtc(const DetectorConfig& cfg, const Body& ego, const RoadFeature& f,
         const double hlen = 0.5 * d.norm();
         const Vec2 dn = hlen > 0.0 ? Vec2(d / (2.0 * hlen)) : Vec2(1.0, 0.0);
         const Vec2 sn = detail::normalOf(dn);
-        const detail::Axis ax[3] = {
-            {ego.axis, 0.0, hl + hlen * std::abs(dn.dot(ego.axis))},
-            {an, 0.0, hw + hlen * std::abs(dn.dot(an))},
-            {sn, 0.0, hl * std::abs(ego.axis.dot(sn)) + hw * std::abs(an.dot(sn))}};
-        s = detail::satEntry(pcs[i], ax, 3);
+        const SeparatingAxis ax[3] = {{ego.axis, hl + hlen * std::abs(dn.dot(ego.axis))},
+                                      {an, hw + hlen * std::abs(dn.dot(an))},
+                                      {sn, support(ego.box(), sn)}};
+        s = detail::satEntry(pcs[i], ax);
       }
       if (s < kInf) t = pcs[i].start + s;
     }
@@ -517,8 +506,8 @@ Ttc featureTtc(const DetectorConfig& cfg, const Body& ego, const RoadFeature& f,
           const Vec2 d = f.segment.b - f.segment.a;
           const double hlen = 0.5 * d.norm();
           const Vec2 dn = hlen > 0.0 ? Vec2(d / (2.0 * hlen)) : Vec2(1.0, 0.0);
-          const detail::Axis ax[2] = {{dn, 0.0, hlen}, {detail::normalOf(dn), 0.0, r}};
-          s = std::min({detail::satEntry(pcs[i], ax, 2), detail::discEntry(pcs[i], f.segment.a - mid, r),
+          const SeparatingAxis ax[2] = {{dn, hlen}, {detail::normalOf(dn), r}};
+          s = std::min({detail::satEntry(pcs[i], ax), detail::discEntry(pcs[i], f.segment.a - mid, r),
                         detail::discEntry(pcs[i], f.segment.b - mid, r)});
         }
         if (s < kInf) t = pcs[i].start + s;

@@ -5,64 +5,10 @@
 #include <cmath>
 #include <limits>
 
+#include <stcore/box2.hpp>
 #include <stcore/toi.hpp>
 
 namespace st::highway::detail {
-
-namespace {
-
-std::array<Vec2, 4> cornersOf(const Body& b) {
-  const Vec2 hx = 0.5 * b.length * b.axis, hy = 0.5 * b.width * Vec2(-b.axis.y(), b.axis.x());
-  return {b.position + hx + hy, b.position - hx + hy, b.position - hx - hy, b.position + hx - hy};
-}
-
-// The largest gap between the two rectangles' projections on an axis of either (the separating
-// axis test): positive when they are apart, and then never more than their distance.
-double separation(const Body& a, const Body& b) {
-  const Vec2 d = b.position - a.position;
-  const Vec2 an(-a.axis.y(), a.axis.x()), bn(-b.axis.y(), b.axis.x());
-  const double ca = std::abs(a.axis.dot(b.axis)), cb = std::abs(a.axis.dot(bn)), cc = std::abs(an.dot(b.axis)),
-               cd = std::abs(an.dot(bn));
-  const double la = 0.5 * a.length, wa = 0.5 * a.width, lb = 0.5 * b.length, wb = 0.5 * b.width;
-  return std::max({std::abs(d.dot(a.axis)) - la - lb * ca - wb * cb, std::abs(d.dot(an)) - wa - lb * cc - wb * cd,
-                   std::abs(d.dot(b.axis)) - lb - la * ca - wa * cc, std::abs(d.dot(bn)) - wb - la * cb - wa * cd});
-}
-
-double pointRectangleDistanceSq(const Vec2& p, const Body& b) {
-  const Vec2 d = p - b.position;
-  const double u = std::max(0.0, std::abs(d.dot(b.axis)) - 0.5 * b.length);
-  const double w = std::max(0.0, std::abs(d.dot(Vec2(-b.axis.y(), b.axis.x()))) - 0.5 * b.width);
-  return u * u + w * w;
-}
-double pointRectangleDistance(const Vec2& p, const Body& b) { return std::sqrt(pointRectangleDistanceSq(p, b)); }
-
-}  // namespace
-
-double rectangleDistance(const Body& a, const Body& b) {
-  if (separation(a, b) <= 0.0) return 0.0;
-  // apart: the distance is reached at a corner of one against the other
-  double best = kInf;
-  for (const Vec2& c : cornersOf(a)) best = std::min(best, pointRectangleDistanceSq(c, b));
-  for (const Vec2& c : cornersOf(b)) best = std::min(best, pointRectangleDistanceSq(c, a));
-  return std::sqrt(best);
-}
-
-bool segmentTouches(const Segment& s, const Body& b) {
-  // separating axes: the rectangle's two and the segment's normal
-  const Vec2 n0 = b.axis, n1(-b.axis.y(), b.axis.x());
-  const double h[2] = {0.5 * b.length, 0.5 * b.width};
-  const Vec2 axes[2] = {n0, n1};
-  for (int k = 0; k < 2; ++k) {
-    const double pa = axes[k].dot(s.a - b.position), pb = axes[k].dot(s.b - b.position);
-    if (std::min(pa, pb) > h[k] || std::max(pa, pb) < -h[k]) return false;
-  }
-  const Vec2 dir = s.b - s.a;
-  if (dir.squaredNorm() == 0.0) return pointRectangleDistance(s.a, b) == 0.0;
-  const Vec2 n = Vec2(-dir.y(), dir.x()).normalized();
-  const double off = n.dot(b.position - s.a);
-  const double reach = h[0] * std::abs(n.dot(n0)) + h[1] * std::abs(n.dot(n1));
-  return std::abs(off) <= reach;
-}
 
 int Hindsight::open(int e, int foe, WarningKind kind, double t, double safe) {
   int id;
@@ -120,8 +66,9 @@ void Hindsight::measure(Window& w, double t) {
     const Body& b = cars_->body[w.foe];
     // the gap along a separating axis bounds the distance from below: most ticks it cannot
     // beat the smallest clearance so far (a car alongside in the next lane)
-    if (!w.measured || separation(a, b) < w.clearance) {
-      const double d = rectangleDistance(a, b);
+    const Box2 boxA = a.box(), boxB = b.box();
+    if (!w.measured || separation(boxA, boxB) < w.clearance) {
+      const double d = distance(boxA, boxB);
       if (!w.measured || d < w.clearance) {
         w.clearance = d;
         w.clearanceTime = t;
@@ -151,7 +98,7 @@ void Hindsight::measure(Window& w, double t) {
   for (int fi : road_->groupFeatures(w.foe)) {
     const RoadFeature& f = rf.features[fi];
     const bool touches =
-        f.kind == FeatureKind::Hazard ? pointRectangleDistance(f.segment.a, a) <= f.radius : segmentTouches(f.segment, a);
+        f.kind == FeatureKind::Hazard ? distance(f.segment.a, a.box()) <= f.radius : overlaps(f.segment, a.box());
     if (!touches) continue;
     w.crossed = true;
     w.clearanceTime = t;
@@ -261,7 +208,7 @@ void Hindsight::findNearMisses(double t) {
       if (p.dot(c.vel[b] - c.vel[a]) >= 0.0) continue;  // not closing
       const double far = c.ownEnv[a] + c.ownEnv[b] + h.clearance;
       if (p.squaredNorm() >= far * far) continue;  // the envelopes hold the bodies
-      const double gap = rectangleDistance(c.body[a], c.body[b]);
+      const double gap = distance(c.body[a].box(), c.body[b].box());
       if (gap >= h.clearance) continue;
       // on a collision course (SSAM's conflict): touching, or the rectangles meet within
       // near_miss_ttc at their velocities now; two cars passing side by side are not

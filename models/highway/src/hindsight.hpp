@@ -32,11 +32,6 @@
 
 namespace st::highway::detail {
 
-// Body-to-body distance of two oriented rectangles (0 when they touch or overlap).
-double rectangleDistance(const Body& a, const Body& b);
-// True when the segment touches the body's rectangle.
-bool segmentTouches(const Segment& s, const Body& b);
-
 class Hindsight {
  public:
   Hindsight(const MonitorConfig& config, const VehicleTable& cars, const RoadSearch& road, MonitorCounters& counters)

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <stcore/box2.hpp>
 #include <stcore/roots.hpp>
 #include <stcore/toi.hpp>
 #include <sthighway/tolerances.hpp>
@@ -82,40 +83,21 @@ double discEntryAccelerating(const Piece& pc, const Vec2& p, double radius) {
   return polishBallsRoot<2>(p, pc.v, pc.a, radius, t, pc.len);
 }
 
-double satEntry(const Piece& pc, const Axis* axes, int count) {
-  // overlapping now?
-  bool now = true;
-  for (int k = 0; k < count && now; ++k)
-    now = std::abs(axes[k].n.dot(pc.p) + axes[k].c) <= axes[k].e + tol::kContactSlop;
-  if (now) return 0.0;
+double satEntry(const Piece& pc, std::span<const SeparatingAxis> axes) {
   if (!pc.accelerating()) {
-    // slabs: each axis overlaps on one interval of time; the shapes overlap on their intersection
-    double enter = 0.0, exit = pc.len;
-    for (int k = 0; k < count; ++k) {
-      const double s0 = axes[k].n.dot(pc.p) + axes[k].c;
-      const double s1 = axes[k].n.dot(pc.v);
-      const double e = axes[k].e;
-      if (std::abs(s1) <= 1e-15) {
-        if (std::abs(s0) > e) return kInf;
-        continue;
-      }
-      double t1 = (-e - s0) / s1, t2 = (e - s0) / s1;
-      if (t1 > t2) std::swap(t1, t2);
-      enter = std::max(enter, t1);
-      exit = std::min(exit, t2);
-      if (enter > exit) return kInf;
-    }
-    return enter;
+    const Impact hit = timeOfEntry(axes, pc.p, pc.v, pc.len, tol::kContactSlop);
+    return hit.acts() ? hit.actTime() : kInf;
   }
+  if (overlapsOn(axes, pc.p, tol::kContactSlop)) return 0.0;
   // quadratic motion: the first moment of overlap is a root of some axis' boundary equation
   double cand[32];
   int nc = 0;
-  for (int k = 0; k < count; ++k) {
-    const double s0 = axes[k].n.dot(pc.p) + axes[k].c;
-    const double s1 = axes[k].n.dot(pc.v);
-    const double s2 = 0.5 * axes[k].n.dot(pc.a);
+  for (const SeparatingAxis& ax : axes) {
+    const double s0 = ax.n.dot(pc.p);
+    const double s1 = ax.n.dot(pc.v);
+    const double s2 = 0.5 * ax.n.dot(pc.a);
     for (double sign : {-1.0, 1.0}) {
-      const QuadraticRoots r = solveQuadratic(s2, s1, s0 - sign * axes[k].e);
+      const QuadraticRoots r = solveQuadratic(s2, s1, s0 - sign * ax.extent);
       for (int i = 0; i < r.count; ++i)
         if (r.root[i] >= 0.0 && r.root[i] <= pc.len && nc < 32) cand[nc++] = r.root[i];
     }
@@ -125,10 +107,10 @@ double satEntry(const Piece& pc, const Axis* axes, int count) {
     const double s = cand[i];
     const Vec2 r = pc.p + pc.v * s + 0.5 * pc.a * s * s;
     bool all = true;
-    for (int k = 0; k < count && all; ++k) {
+    for (std::size_t k = 0; k < axes.size() && all; ++k) {
       // relative slop: boundary roots carry roundoff proportional to the coordinates
-      const double slop = tol::kContactSlop * (1.0 + std::abs(axes[k].e));
-      all = std::abs(axes[k].n.dot(r) + axes[k].c) <= axes[k].e + slop;
+      const double slop = tol::kContactSlop * (1.0 + std::abs(axes[k].extent));
+      all = std::abs(axes[k].n.dot(r)) <= axes[k].extent + slop;
     }
     if (all) return s;
   }

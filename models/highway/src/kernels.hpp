@@ -4,7 +4,9 @@
 // (detector.cpp) are wrappers over these; tests reach them directly. Nothing here knows a car.
 #include <array>
 #include <limits>
+#include <span>
 
+#include <stcore/box2.hpp>
 #include <stcore/toi.hpp>
 #include <sthighway/tolerances.hpp>
 
@@ -51,15 +53,10 @@ inline double discEntry(const Piece& pc, const Vec2& offset, double radius) {
   return hit.acts() && hit.actTime() <= pc.len ? hit.actTime() : kInf;
 }
 
-// One separating axis: the shapes overlap along it when |n . r(s) + c| <= e.
-struct Axis {
-  Vec2 n;
-  double c = 0.0;
-  double e = 0.0;
-};
-// First s in [0, len] at which the shapes overlap on every axis (0 if they already do); kInf if
-// none. Exact for convex polygons when the axes are all their edge normals.
-double satEntry(const Piece& pc, const Axis* axes, int count);
+// First s in [0, len] at which the shapes overlap on every separating axis (stcore/box2.hpp: along
+// n when |n . r(s)| <= extent), 0 if they already do (within tol::kContactSlop); kInf if none.
+// A steady piece is stcore's timeOfEntry; an accelerating one solves each axis' quadratic.
+double satEntry(const Piece& pc, std::span<const SeparatingAxis> axes);
 
 // The unit normal (left) of a unit axis.
 inline Vec2 normalOf(const Vec2& axis) { return {-axis.y(), axis.x()}; }

@@ -49,6 +49,15 @@ struct Capsule {
   double radius = 0.0;
 };
 
+// Oriented box in the plane (a car's footprint): centre, unit axis (the box's x), half extents
+// along the axis and across it, along normal() (the axis turned left). Queries: box2.hpp.
+struct Box2 {
+  Vec2 center;
+  Vec2 axis = Vec2(1.0, 0.0);
+  Vec2 halfExtents;
+  Vec2 normal() const { return Vec2(-axis.y(), axis.x()); }
+};
+
 // Oriented box: centre, half extents along its own axes, and the rotation from box to world.
 struct Box {
   Vec3 center;

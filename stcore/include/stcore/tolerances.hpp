@@ -31,6 +31,11 @@ inline constexpr double kRootResolution = 1e-15;
 // real contacts that close together are merged.
 inline constexpr double kRootMerge = 1e-13;
 
+// Along a separating axis, a projection moving slower than this (m/s) is taken as fixed by the
+// time of entry of two boxes (box2.hpp): larger values miss slow approaches along the axis,
+// smaller ones only divide by speeds that are roundoff.
+inline constexpr double kParallelSpeed = 1e-15;
+
 // Events closer in time than this are treated as simultaneous when comparing event orders in tests (s).
 inline constexpr double kTimeEpsilon = 1e-12;
 

@@ -15,6 +15,8 @@
 #include <limits>
 #include <string>
 
+#include <stcore/shapes.hpp>
+
 #include <sthighway/road.hpp>
 #include <sthighway/vehicle.hpp>
 
@@ -69,7 +71,8 @@ struct DetectorConfig {
   int bodyCircles = 0;  // circles covering a foe's body in the five-circle model; 0: ceil(L/W)
 };
 
-// A kinematic snapshot of one car for prediction.
+// A kinematic snapshot of one car for prediction. Its rectangle is stcore's Box2 (box()), whose
+// kernels (stcore/box2.hpp) the box detector and hindsight use.
 struct Body {
   Vec2 position = Vec2::Zero();   // centre (m)
   Vec2 axis = Vec2(1.0, 0.0);     // unit heading
@@ -77,6 +80,7 @@ struct Body {
   double acceleration = 0.0;      // along axis (m/s^2); used by ConstantAcceleration
   double length = 5.0;
   double width = 1.8;
+  Box2 box() const { return {position, axis, Vec2(0.5 * length, 0.5 * width)}; }
 };
 Body bodyOf(const VehicleState& v);
 // The same with the unit heading axis given (v.direction(), computed once and cached by the caller).
