@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include <stcore/static_grid.hpp>
 #include <sthighway/tolerances.hpp>
 
 namespace st::highway {
@@ -94,11 +95,7 @@ struct CellNetwork::Impl {
   std::vector<Cell> cells;
   std::vector<Served> vehicles;
   Space<2> index;
-  // site grid for "which sites does a car hear"
-  Vec2 gridOrigin = Vec2::Zero();
-  double gridSize = 1.0;
-  int gridNx = 1, gridNy = 1;
-  std::vector<std::vector<int>> grid;
+  StaticGrid<2> siteGrid;  // for "which sites does a car hear"
   double ratioSq = 1.0;  // (d_old / d_new)^2 above which the hysteresis margin is passed
   CellCounters counters;
   SpaceCounters retired;  // of the trees of cells that have since reunited
@@ -123,12 +120,11 @@ struct CellNetwork::Impl {
   int strongest(const Vec2& p) const {
     int best = -1;
     double bestD = std::numeric_limits<double>::infinity();
-    const int gx = static_cast<int>(std::floor((p.x() - gridOrigin.x()) / gridSize));
-    const int gy = static_cast<int>(std::floor((p.y() - gridOrigin.y()) / gridSize));
+    const StaticGrid<2>::Index g = siteGrid.cellOf(p);
+    const int gx = g.x(), gy = g.y();
     const double range2 = cfg.radioRange * cfg.radioRange;
     auto scan = [&](int x, int y) {
-      if (x < 0 || y < 0 || x >= gridNx || y >= gridNy) return;
-      for (int s : grid[x * gridNy + y]) {
+      for (int s : siteGrid.objectsIn(StaticGrid<2>::Index(x, y))) {
         const double d = distSq(s, p);
         if (d <= range2 && (d < bestD || (d == bestD && s < best))) {
           bestD = d;
@@ -151,9 +147,9 @@ struct CellNetwork::Impl {
           scan(gx + k, gy + j);
         }
       }
-      const double reach = k * gridSize;
+      const double reach = k * siteGrid.cellSize();
       if (best >= 0 && bestD < reach * reach) return best;
-      if (reach > cfg.radioRange + gridSize) break;
+      if (reach > cfg.radioRange + siteGrid.cellSize()) break;
     }
     if (best >= 0) return best;
     for (int s = 0; s < static_cast<int>(sites.size()); ++s) {
@@ -171,16 +167,14 @@ struct CellNetwork::Impl {
   // the distance beyond which the unscanned squares lie (0 off the grid: no bound).
   double rivalsAndBound(int cell, const Vec2& p, std::array<int, kRivals>& rivals) const {
     rivals.fill(-1);
-    const int gx = static_cast<int>(std::floor((p.x() - gridOrigin.x()) / gridSize));
-    const int gy = static_cast<int>(std::floor((p.y() - gridOrigin.y()) / gridSize));
-    if (gx < 0 || gy < 0 || gx >= gridNx || gy >= gridNy) return 0.0;
+    const StaticGrid<2>::Index g = siteGrid.cellOf(p);
+    if (!siteGrid.inGrid(g)) return 0.0;
     std::array<double, kRivals> near;
     near.fill(std::numeric_limits<double>::infinity());
-    double best = gridSize;  // every site outside the 3 x 3 squares around p is at least this far
-    for (int x = gx - 1; x <= gx + 1; ++x)
-      for (int y = gy - 1; y <= gy + 1; ++y) {
-        if (x < 0 || y < 0 || x >= gridNx || y >= gridNy) continue;
-        for (int site : grid[x * gridNy + y]) {
+    double best = siteGrid.cellSize();  // every site outside the 3 x 3 squares around p is at least this far
+    for (int x = g.x() - 1; x <= g.x() + 1; ++x)
+      for (int y = g.y() - 1; y <= g.y() + 1; ++y) {
+        for (int site : siteGrid.objectsIn(StaticGrid<2>::Index(x, y))) {
           if (site == cell) continue;
           // insert among the nearest; the one pushed out (or this one) joins the rest
           double d = (sites[site].position - p).norm();
@@ -387,19 +381,12 @@ CellNetwork::CellNetwork(const RoadGeometry& road, const RoadFeatures& features,
                                  std::nullopt, {}, {}, 0});
   }
   // the site grid
-  m.gridSize = std::min(config.cellLength, config.radioRange);
-  m.gridOrigin = features.bounds.min.array() - config.radioRange;
+  const Vec2 gridOrigin = features.bounds.min.array() - config.radioRange;
   const Vec2 ext = features.bounds.extent().array() + 2.0 * config.radioRange;
-  m.gridSize = gridCellSize<2>(ext, m.gridSize, kMaxGridCells);
-  m.gridNx = std::max(1, static_cast<int>(std::ceil(ext.x() / m.gridSize)));
-  m.gridNy = std::max(1, static_cast<int>(std::ceil(ext.y() / m.gridSize)));
-  m.grid.assign(static_cast<std::size_t>(m.gridNx) * m.gridNy, {});
-  for (int s = 0; s < static_cast<int>(m.sites.size()); ++s) {
-    const Vec2 q = (m.sites[s].position - m.gridOrigin) / m.gridSize;
-    const int gx = std::clamp(static_cast<int>(std::floor(q.x())), 0, m.gridNx - 1);
-    const int gy = std::clamp(static_cast<int>(std::floor(q.y())), 0, m.gridNy - 1);
-    m.grid[gx * m.gridNy + gy].push_back(s);
-  }
+  m.siteGrid = StaticGrid<2>(gridOrigin, ext, std::min(config.cellLength, config.radioRange));
+  m.siteGrid.build(static_cast<int>(m.sites.size()), [&](int s) {
+    return std::optional<Aabb<2>>(Aabb<2>{m.sites[s].position, m.sites[s].position});
+  });
   for (int c = 0; c < static_cast<int>(m.cells.size()); ++c) m.index.insert(c, m.cells[c].indexed);
 }
 

@@ -7,7 +7,6 @@
 #include "car_shape.hpp"
 
 #include <stcore/toi.hpp>
-#include <stcore/uniform_grid.hpp>
 #include <sthighway/tolerances.hpp>
 
 namespace st::highway::detail {
@@ -16,6 +15,16 @@ namespace {
 
 inline double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 inline Vec2 leftNormal(const Vec2& u) { return {-u.y(), u.x()}; }
+
+constexpr double kSegmentCell = 25.0;  // m: the segment grid's cells (coarser on huge networks)
+
+// The first segment of each run of one lane's segments in a cell's list (the list is in point
+// order: lane by lane, along each lane).
+void firstOfRuns(std::span<const int> segments, const std::vector<int>& pointLane, std::vector<int>& runs) {
+  runs.clear();
+  for (int seg : segments)
+    if (runs.empty() || pointLane[runs.back()] != pointLane[seg]) runs.push_back(seg);
+}
 
 // Arc length driven after tau s from speed u at acceleration a (stopping, not reversing, when a < 0).
 inline double driven(double u, double a, double tau) {
@@ -133,33 +142,17 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
   double maxWidth = 0.0;
   for (const NetLane& l : lanes_) maxWidth = std::max(maxWidth, l.width);
   const double grow = 0.5 * maxWidth + 1.0;
-  origin_ = lo - Vec2::Constant(grow);
+  const Vec2 origin = lo - Vec2::Constant(grow);
   const Vec2 ext = hi - lo + Vec2::Constant(2.0 * grow);
-  cell_ = gridCellSize<2>(ext, cell_, kMaxGridCells);
-  nx_ = std::max(1, static_cast<int>(std::ceil(ext.x() / cell_)));
-  ny_ = std::max(1, static_cast<int>(std::ceil(ext.y() / cell_)));
-  std::vector<std::vector<int>> cells(static_cast<std::size_t>(nx_) * ny_);
-  for (int i = 0; i < n; ++i) {
-    const NetLane& l = lanes_[i];
-    for (int k = 0; k + 1 < l.count; ++k) {
-      const Vec2 a = pt_[l.first + k], b = pt_[l.first + k + 1];
-      const Vec2 mn = a.cwiseMin(b) - Vec2::Constant(grow) - origin_, mx = a.cwiseMax(b) + Vec2::Constant(grow) - origin_;
-      const int x0 = std::clamp(static_cast<int>(mn.x() / cell_), 0, nx_ - 1), x1 = std::clamp(static_cast<int>(mx.x() / cell_), 0, nx_ - 1);
-      const int y0 = std::clamp(static_cast<int>(mn.y() / cell_), 0, ny_ - 1), y1 = std::clamp(static_cast<int>(mx.y() / cell_), 0, ny_ - 1);
-      for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x) {
-          auto& c = cells[static_cast<std::size_t>(y) * nx_ + x];
-          if (c.empty() || c[c.size() - 2] != i) {
-            c.push_back(i);
-            c.push_back(k);
-          }
-        }
-    }
-  }
-  cellStart_.assign(cells.size() + 1, 0);
-  for (std::size_t c = 0; c < cells.size(); ++c) cellStart_[c + 1] = cellStart_[c] + static_cast<int>(cells[c].size());
-  cellLanes_.reserve(cellStart_.back());
-  for (const auto& c : cells) cellLanes_.insert(cellLanes_.end(), c.begin(), c.end());
+  segments_ = StaticGrid<2>(origin, ext, kSegmentCell);
+  pointLane_.assign(pt_.size(), -1);
+  for (int i = 0; i < n; ++i) std::fill_n(pointLane_.begin() + lanes_[i].first, lanes_[i].count, i);
+  segments_.build(static_cast<int>(pt_.size()), [&](int p) -> std::optional<Aabb<2>> {
+    const int l = pointLane_[p];
+    if (p + 1 >= lanes_[l].first + lanes_[l].count) return std::nullopt;  // a lane's last point
+    const Vec2 a = pt_[p], b = pt_[p + 1];
+    return Aabb<2>{a.cwiseMin(b) - Vec2::Constant(grow), a.cwiseMax(b) + Vec2::Constant(grow)};
+  });
   // crowded segments: another lane's area overlaps this one's (a junction, a diverge, lanes that
   // meet end to start). Elsewhere lanes lie side by side at their half widths' sum, so no other
   // lane can be nearer a centre inside this lane by kSwitch: a car there keeps it unsearched.
@@ -175,16 +168,18 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
                      (closestPointOnSegment(A, b0) - b0).norm(), (closestPointOnSegment(A, b1) - b1).norm()});
   };
   crowded_.assign(pt_.size(), 0);
-  for (std::size_t c = 0; c + 1 < cellStart_.size(); ++c)
-    for (int i = cellStart_[c]; i < cellStart_[c + 1]; i += 2)
-      for (int j = i + 2; j < cellStart_[c + 1]; j += 2) {
-        const int la = cellLanes_[i], ka = cellLanes_[i + 1], lb = cellLanes_[j], kb = cellLanes_[j + 1];
+  std::vector<int> runs;
+  for (int c = 0; c < segments_.cellCount(); ++c) {
+    firstOfRuns(segments_.objectsIn(c), pointLane_, runs);
+    for (std::size_t i = 0; i < runs.size(); ++i)
+      for (std::size_t j = i + 1; j < runs.size(); ++j) {
+        const int pa = runs[i], pb = runs[j], la = pointLane_[pa], lb = pointLane_[pb];
         if (la == lb) continue;
-        const int pa = lanes_[la].first + ka, pb = lanes_[lb].first + kb;
         if (crowded_[pa] && crowded_[pb]) continue;
         const double apart = 0.5 * (lanes_[la].width + lanes_[lb].width) - 0.01;
         if (segDistance(pt_[pa], pt_[pa + 1], pt_[pb], pt_[pb + 1]) < apart) crowded_[pa] = crowded_[pb] = 1;
       }
+  }
 }
 
 // The projection of p on a lane's centre line, walking from segment seg: forward while p lies
@@ -280,23 +275,21 @@ int LanePrediction::match(int slot, const Vec2& p, const Vec2& axis, Projection&
   }
   int best = -1;
   Projection found;
-  const Vec2 g = (p - origin_) / cell_;
-  const int cx = static_cast<int>(std::floor(g.x())), cy = static_cast<int>(std::floor(g.y()));
-  if (!cellLanes_.empty() && cx >= 0 && cy >= 0 && cx < nx_ && cy < ny_) {
-    const int c = cy * nx_ + cx;
-    double bestScore = std::numeric_limits<double>::infinity();
-    for (int k = cellStart_[c]; k < cellStart_[c + 1]; k += 2) {
-      const int lane = cellLanes_[k];
-      if (lanes_[lane].count < 2) continue;
-      const Projection pr = project(lane, p, cellLanes_[k + 1]);
-      if (!fits(lane, pr, axis, 0.0, half)) continue;
-      // nearest centre line first, then the better aligned (overlapping junction lanes), then the lower index
-      const double score = std::abs(pr.d) - 1e-3 * axis.dot(pr.dir);
-      if (score < bestScore) {
-        bestScore = score;
-        best = lane;
-        found = pr;
-      }
+  double bestScore = std::numeric_limits<double>::infinity();
+  int prevLane = -1;
+  for (int seg : segments_.objectsIn(segments_.cellOf(p))) {
+    // a lane's run of segments through the cell is projected once, from its first segment
+    const int lane = pointLane_[seg];
+    if (lane == prevLane) continue;
+    prevLane = lane;
+    const Projection pr = project(lane, p, seg - lanes_[lane].first);
+    if (!fits(lane, pr, axis, 0.0, half)) continue;
+    // nearest centre line first, then the better aligned (overlapping junction lanes), then the lower index
+    const double score = std::abs(pr.d) - 1e-3 * axis.dot(pr.dir);
+    if (score < bestScore) {
+      bestScore = score;
+      best = lane;
+      found = pr;
     }
   }
   if (kept >= 0 && (best < 0 || best == kept || !(std::abs(found.d) < std::abs(keep.d) - kSwitch))) {

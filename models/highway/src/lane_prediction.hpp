@@ -23,6 +23,7 @@
 #include <span>
 #include <vector>
 
+#include <stcore/static_grid.hpp>
 #include <sthighway/monitor.hpp>
 
 #include "vehicle_table.hpp"
@@ -132,12 +133,9 @@ class LanePrediction {
   std::vector<int> succ_;
   std::vector<Vec2> pt_;
   std::vector<double> cum_;  // arc length at each point of its lane
-  // a uniform grid of the lanes' segments, for matching a car not on its last lane
-  double cell_ = 25.0;
-  Vec2 origin_ = Vec2::Zero();
-  int nx_ = 1, ny_ = 1;
-  std::vector<int> cellStart_;
-  std::vector<int> cellLanes_;
+  // the lanes' segments (by their first point), for matching a car not on its last lane
+  StaticGrid<2> segments_;
+  std::vector<int> pointLane_;  // the lane each point belongs to
   std::vector<char> crowded_;  // per segment (by its first point): another lane's area overlaps it
 
   std::vector<LaneFrame> frame_;
