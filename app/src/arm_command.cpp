@@ -197,11 +197,11 @@ int runServe(int argc, const char* const* argv) {
   std::cout << "arm serve: listening on " << cfg.net.address << ":" << service.port() << std::endl;
   const int sig = service.run();
   const arm::ServiceCounters& c = service.counters();
-  std::cout << "arm serve: " << (sig ? (sig == SIGINT ? "SIGINT" : "SIGTERM") : "stopped") << ", " << c.connections
+  std::cout << "arm serve: " << (sig ? StopSignals::name(sig) : "stopped") << ", " << c.connections
             << " connections, " << c.readings << " readings, " << c.cycles << " cycles, " << c.verdictsSent
             << " verdicts, " << c.rejected << " refused -> " << (fs::path(cfg.logDir) / "verdicts.csv").string()
             << std::endl;
-  return sig == SIGINT ? 130 : sig == SIGTERM ? 143 : 0;
+  return sig ? 128 + sig : 0;  // 130, 143, 129: as every command (stop_signals.hpp)
 }
 
 int runStreamCommand(int argc, const char* const* argv) {

@@ -1,7 +1,6 @@
 // stsim batch: parameter sweeps and seeds over a scenario, one process per run, with statistics.
 #include <unistd.h>
 
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -16,14 +15,14 @@
 #include <stsim/cli.hpp>
 #include <stsim/commands.hpp>
 
+#include "stop_signals.hpp"
+
 namespace st::cli {
 
 namespace fs = std::filesystem;
 
 namespace {
 
-volatile std::sig_atomic_t gStop = 0;  // the signal that stopped the batch, 0 if none
-void onInterrupt(int sig) { gStop = sig; }
 
 // Scenario keys a command accepts even when the base scenario leaves them out.
 std::vector<std::string> optionalKeysFor(const std::string& command) {
@@ -152,13 +151,10 @@ int runBatch(int argc, const char* const* argv) {
   } else {
     o.log = [](const std::string& line) { std::cerr << "batch: " << line << "\n"; };
   }
-  // without SA_RESTART (std::signal sets it), so the signal wakes the runner's waitpid and the
-  // runs are told to stop at once
-  struct sigaction sa {};
-  sa.sa_handler = onInterrupt;
-  sigemptyset(&sa.sa_mask);
-  for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
-  o.stopRequested = [] { return gStop != 0; };
+  // the guard installs its handlers without SA_RESTART: a signal wakes the runner's waitpid and
+  // the runs are told to stop at once
+  const StopSignals stopSignals;
+  o.stopRequested = StopSignals::requested;
 
   batch::checkResumable(e, out);  // before any run: a folder of another experiment is left alone
   std::vector<batch::RunResult> results;
@@ -174,9 +170,9 @@ int runBatch(int argc, const char* const* argv) {
   if (args.has("mpi")) batch::writeExperimentRecord(e, out);
   batch::writeTables(e, results, out);
   summarizeResults(results, out);
-  if (gStop) {
+  if (StopSignals::requested()) {
     std::cerr << "stsim batch: interrupted; finished runs are kept, re-run the same command to resume\n";
-    return 128 + static_cast<int>(gStop);  // 130 on Ctrl-C, 143 on SIGTERM
+    return StopSignals::exitCode();  // 130 on Ctrl-C, 143 on SIGTERM, 129 on SIGHUP
   }
   std::string why;
   if (!args.has("no-plots") && !batch::writePlots(out, why)) std::cerr << "stsim batch: plots skipped: " << why << "\n";

@@ -2,7 +2,6 @@
 // at the end); st::cosim below it does not print.
 #include "highway_run.hpp"
 
-#include <signal.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -16,42 +15,13 @@
 #include <stio/format.hpp>
 
 #include "highway_options.hpp"
+#include "stop_signals.hpp"
 
 namespace st::cosim {
 namespace {
 
 namespace fs = std::filesystem;
 namespace hw = st::highway;
-
-volatile sig_atomic_t gInterrupted = 0;  // the signal that stopped the run, 0 if none
-extern "C" void onInterrupt(int sig) { gInterrupted = sig; }
-
-// Installs a SIGINT/SIGTERM handler for the run and restores the previous ones afterwards.
-class InterruptGuard {
- public:
-  InterruptGuard() {
-    gInterrupted = 0;
-    struct sigaction sa {};
-    sa.sa_handler = onInterrupt;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &oldInt_);
-    sigaction(SIGTERM, &sa, &oldTerm_);
-    sigaction(SIGHUP, &sa, &oldHup_);  // a closed terminal: stop as cleanly as on Ctrl-C
-    // a peer closing the TraCI socket must give an error, not kill us
-    struct sigaction ign {};
-    ign.sa_handler = SIG_IGN;
-    sigaction(SIGPIPE, &ign, &oldPipe_);
-  }
-  ~InterruptGuard() {
-    sigaction(SIGINT, &oldInt_, nullptr);
-    sigaction(SIGTERM, &oldTerm_, nullptr);
-    sigaction(SIGHUP, &oldHup_, nullptr);
-    sigaction(SIGPIPE, &oldPipe_, nullptr);
-  }
-
- private:
-  struct sigaction oldInt_ {}, oldTerm_ {}, oldHup_ {}, oldPipe_ {};
-};
 
 TraciEndpoint parseTraci(const std::string& text) {
   // HOST:PORT[:ORDER]
@@ -110,9 +80,10 @@ int runHighwayCommand(const st::cli::Args& a) {
   setup.map = !a.has("no-map");
   if (a.has("traci")) setup.attach = parseTraci(a.get("traci"));
 
-  InterruptGuard interruptGuard;
+  // a peer closing the TraCI socket must give an error, not kill the run
+  const st::cli::StopSignals stopSignals(st::cli::StopSignals::Pipe::Ignore);
   RunObserver observer;
-  observer.stopRequested = [] { return gInterrupted != 0; };
+  observer.stopRequested = st::cli::StopSignals::requested;
   const bool progress = ::isatty(STDERR_FILENO) == 1;
   if (progress)
     observer.progress = [](const RunProgress& p) {
@@ -157,7 +128,7 @@ int runHighwayCommand(const st::cli::Args& a) {
   if (!r.mapProblem.empty()) std::cerr << "stsim highway: no conflict map: " << r.mapProblem << "\n";
   if (r.stopReason == "interrupted") {
     std::cerr << "stsim highway: interrupted at t = " << fmt(r.simulatedSeconds, 1) << " s; results so far written\n";
-    return 128 + (gInterrupted ? static_cast<int>(gInterrupted) : SIGINT);  // 130 on Ctrl-C, 143 on SIGTERM
+    return st::cli::StopSignals::exitCode();  // 130 on Ctrl-C, 143 on SIGTERM, 129 on SIGHUP
   }
   return 0;
 }

@@ -9,12 +9,12 @@
 #include <stsim/cli.hpp>
 #include <stsim/commands.hpp>
 
-#include <signal.h>
-
 #include <stpool/game.hpp>
 #include <stpool/report.hpp>
 #include <stpool/scenario.hpp>
 #include <stpool/study.hpp>
+
+#include "stop_signals.hpp"
 
 namespace st::cli {
 
@@ -60,8 +60,6 @@ void printSummary(std::ostream& os, const pool::RunRecord& run, const pool::Game
   os << "\n  wall time " << run.wallSeconds << " s\n";
 }
 
-volatile sig_atomic_t gStop = 0;  // the signal that stopped the run, 0 if none
-extern "C" void onStop(int sig) { gStop = sig; }
 
 int runPool(int argc, const char* const* argv) {
   Args args("pool",
@@ -114,15 +112,9 @@ int runPool(int argc, const char* const* argv) {
 
   pool::Game game(scenario, pool::simulatorConfig(scenario));
   // Ctrl-C, SIGTERM, SIGHUP: stop at the next event and write what was played (never a cut row)
-  struct sigaction sa {}, oldInt {}, oldTerm {}, oldHup {};
-  sa.sa_handler = onStop;
-  sigemptyset(&sa.sa_mask);
-  gStop = 0;
-  sigaction(SIGINT, &sa, &oldInt);
-  sigaction(SIGTERM, &sa, &oldTerm);
-  sigaction(SIGHUP, &sa, &oldHup);
-  pool::RunRecord run = pool::playScenario(game, scenario, until, [] { return gStop != 0; });
-  const int stopSignal = static_cast<int>(gStop);
+  const StopSignals stopSignals;
+  pool::RunRecord run = pool::playScenario(game, scenario, until, StopSignals::requested);
+  const int stopSignal = StopSignals::signal();
   if (run.error.empty() && stopSignal) run.error = "interrupted while writing";
 
   // the record is written even when the run stopped on an error
@@ -137,12 +129,9 @@ int runPool(int argc, const char* const* argv) {
   printSummary(std::cout, run, game);
   if (args.has("out")) std::cout << "  wrote events.csv, summary.json, table.svg, animation.html to " << args.get("out") << "\n";
   std::cout.flush();
-  sigaction(SIGINT, &oldInt, nullptr);
-  sigaction(SIGTERM, &oldTerm, nullptr);
-  sigaction(SIGHUP, &oldHup, nullptr);
   if (stopSignal) {
     std::cerr << "stsim pool: " << run.error << "; results so far written\n";
-    return 128 + stopSignal;
+    return StopSignals::exitCode();
   }
   if (!run.error.empty()) throw std::runtime_error(run.error);
   return 0;

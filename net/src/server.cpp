@@ -244,8 +244,10 @@ Server::Server(asio::io_context& io, ServerConfig cfg, Handler& handler)
   if (!ec) impl_->acceptor.listen(asio::socket_base::max_listen_connections, ec);
   if (ec) throw std::runtime_error(where + ": cannot listen: " + ec.message());
   if (cfg_.handleSignals) {
+    // the three signals every stsim command stops on (app/src/stop_signals.hpp)
     impl_->signals.add(SIGINT);
     impl_->signals.add(SIGTERM);
+    impl_->signals.add(SIGHUP);
     impl_->signals.async_wait([this](const error_code& e, int signo) {
       if (e) return;
       signal_ = signo;

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The fault matrix (issue 35): every command run with its output on a full file system, into a
-# read-only folder, and stopped by SIGINT / SIGTERM while it writes. Each must exit non-zero; on
+# read-only folder, and stopped by SIGINT / SIGTERM / SIGHUP while it writes. Each must exit non-zero; on
 # a full or read-only disk its last line on stderr names the file or folder; what it wrote is
 # whole: CSV files end on a complete row, JSON files parse.
 #   usage: fault_matrix.sh STSIM SOURCE_DIR
@@ -9,6 +9,8 @@
 # mount one, else a folder without write permission (which root would ignore). Bounded: every
 # command under `timeout`, every wait polled with a deadline.
 set -uo pipefail
+# 128 + the signal: every command stops the same way (app/src/stop_signals.hpp)
+exit_code() { case $1 in INT) echo 130 ;; TERM) echo 143 ;; HUP) echo 129 ;; esac; }
 stsim=$1
 src=$2
 work=$(mktemp -d "${TMPDIR:-/tmp}/stsim_faults.XXXXXX")
@@ -115,9 +117,9 @@ for name in pool arm highway_replay highway_live batch; do
     timeout 120 "$stsim" ${cmd[$name]//OUT/$ro/out} >/dev/null 2>"$work/err"
     expect_named "$name read-only" $? "$work/err" "$ro/out"
   fi
-  # SIGINT and SIGTERM once it has begun to write
+  # SIGINT, SIGTERM and SIGHUP once it has begun to write
   [ -n "${long[$name]}" ] || continue
-  for sig in INT TERM; do
+  for sig in INT TERM HUP; do
     out=$work/${sig}_$name
     timeout 300 "$stsim" ${long[$name]//OUT/$out} >/dev/null 2>"$work/err" &
     pid=$!
@@ -132,7 +134,7 @@ for name in pool arm highway_replay highway_live batch; do
     kill -s "$sig" "$pid"
     wait "$pid"
     code=$?
-    want=$([ $sig = INT ] && echo 130 || echo 143)
+    want=$(exit_code $sig)
     cases=$((cases + 1))
     [ "$code" = "$want" ] || bad "$name SIG$sig: exit $code, expected $want ($(tail -n 1 "$work/err"))"
     whole "$out" "$name SIG$sig"
@@ -169,7 +171,7 @@ if [ -n "$ro" ]; then
   stream "$ro/out"
   expect_named "arm stream read-only" $? "$work/err" "$ro/out"
 fi
-for sig in INT TERM; do
+for sig in INT TERM HUP; do
   # real time: 3 s of trace, stopped after 1
   (exec timeout 60 "$stsim" arm stream --connect "127.0.0.1:$port" "$work/sensors.csv" --rate 1 \
     --out "$work/${sig}_stream") >/dev/null 2>"$work/err" &
@@ -178,7 +180,7 @@ for sig in INT TERM; do
   kill -s "$sig" "$pid"
   wait "$pid"
   code=$?
-  want=$([ $sig = INT ] && echo 130 || echo 143)
+  want=$(exit_code $sig)
   cases=$((cases + 1))
   [ "$code" = "$want" ] || bad "arm stream SIG$sig: exit $code, expected $want"
   whole "$work/${sig}_stream" "arm stream SIG$sig"
@@ -195,7 +197,7 @@ if [ -n "$ro" ]; then
   timeout 20 "$stsim" arm serve "$src/models/arm/scenarios/two_pandas.yaml" --out "$ro/out" >/dev/null 2>"$work/err"
   expect_named "arm serve read-only" $? "$work/err" "$ro/out"
 fi
-for sig in INT TERM; do
+for sig in INT TERM HUP; do
   serve "$work/${sig}_serve"
   stream "$work/${sig}_client" unlimited 1 &
   client=$!
@@ -204,7 +206,7 @@ for sig in INT TERM; do
   wait "$serve_pid"
   code=$?
   wait "$client"
-  want=$([ $sig = INT ] && echo 130 || echo 143)
+  want=$(exit_code $sig)
   cases=$((cases + 1))
   [ "$code" = "$want" ] || bad "arm serve SIG$sig: exit $code, expected $want"
   whole "$work/${sig}_serve" "arm serve SIG$sig"

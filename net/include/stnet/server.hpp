@@ -5,7 +5,7 @@
 // connections, time to finish a frame once begun (a client trickling bytes, "slowloris"), idle
 // time. A connection that breaks a bound gets one error frame (one line, built by the handler)
 // and is closed; the others go on. Single-threaded: the handler runs on the thread that calls
-// run(), so it needs no locks. SIGINT / SIGTERM stop it cleanly (run() returns, signal noted).
+// run(), so it needs no locks. SIGINT / SIGTERM / SIGHUP stop it cleanly (run() returns, signal noted).
 #include <chrono>
 #include <cstdint>
 #include <functional>

@@ -1,6 +1,6 @@
 // The arm service over loopback: closed loop through the network equals closed loop in
 // process; every kind of bad client gets one ERROR and is closed while the service and the
-// other clients go on and the log keeps every cycle; SIGINT / SIGTERM end `stsim arm serve`
+// other clients go on and the log keeps every cycle; SIGINT / SIGTERM / SIGHUP end `stsim arm serve`
 // cleanly. Only 127.0.0.1, ports picked by the system, every wait bounded.
 #include <gtest/gtest.h>
 
@@ -726,7 +726,7 @@ void signalTest(int sig, int expectCode) {
   ssize_t n;
   while ((n = read(p.out, buf, sizeof buf)) > 0) rest.append(buf, static_cast<std::size_t>(n));
   close(p.out);
-  EXPECT_NE(rest.find(sig == SIGINT ? "SIGINT" : "SIGTERM"), std::string::npos) << rest;
+  EXPECT_NE(rest.find(sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "SIGHUP"), std::string::npos) << rest;
   EXPECT_EQ(lineCount(slurp(d / "log" / "verdicts.csv")), 1 + cycles) << "the log lost cycles";
   fs::remove_all(d);
 }
@@ -892,6 +892,7 @@ TEST(ArmServeCli, StreamOfABadTraceNamesTheFileAndLine) {
 
 TEST(ArmServeCli, SigintShutsDownCleanlyWithTheLogFlushed) { signalTest(SIGINT, 130); }
 TEST(ArmServeCli, SigtermShutsDownCleanlyWithTheLogFlushed) { signalTest(SIGTERM, 143); }
+TEST(ArmServeCli, SighupShutsDownCleanlyWithTheLogFlushed) { signalTest(SIGHUP, 129); }
 
 }  // namespace
 }  // namespace st::arm
