@@ -18,6 +18,7 @@
 #include <stcore/space.hpp>
 
 #include "boxes.hpp"
+#include "test_scale.hpp"
 #include <stcore/tolerances.hpp>
 
 namespace st {
@@ -155,8 +156,9 @@ void everyBroadphaseMatchesBruteForce(unsigned seed, int scenes) {
   EXPECT_GT(divided, scenes / 2);  // the trees were divided, not one leaf each
 }
 
-TEST(Broadphase, EveryKindMatchesBruteForce2D) { everyBroadphaseMatchesBruteForce<2>(101, 1000); }
-TEST(Broadphase, EveryKindMatchesBruteForce3D) { everyBroadphaseMatchesBruteForce<3>(102, 1000); }
+// (fewer scenes under the sanitizers: test_scale.hpp)
+TEST(Broadphase, EveryKindMatchesBruteForce2D) { everyBroadphaseMatchesBruteForce<2>(101, test::scaledCount(1000)); }
+TEST(Broadphase, EveryKindMatchesBruteForce3D) { everyBroadphaseMatchesBruteForce<3>(102, test::scaledCount(1000)); }
 
 // A division that would leave every object in every child separates nothing: objects all lying
 // across the middle stay in one leaf; one of them away divides it; back, it reunites.

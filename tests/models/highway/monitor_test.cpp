@@ -11,6 +11,7 @@
 #include <sthighway/report.hpp>
 
 #include "roads.hpp"
+#include "test_scale.hpp"
 #include "scenes.hpp"
 
 namespace st::highway {
@@ -55,7 +56,8 @@ TEST(Monitor, CellsEqualAllPairsOnRandomScenes) {
   const RoadGeometry road = testRoad();
   std::uint64_t total = 0, cellPairs = 0, allPairs = 0, handoffs = 0, subdivisions = 0;
   std::array<std::uint64_t, kWarningKindCount> byKind{};
-  for (int scene = 0; scene < 1000; ++scene) {
+  const int scenes = test::scaledCount(1000);  // fewer under the sanitizers (test_scale.hpp)
+  for (int scene = 0; scene < scenes; ++scene) {
     MonitorConfig cfg;
     cfg.prediction = Prediction::Straight;  // the brute force predicts in straight lines
     cfg.detector.kind = static_cast<DetectorKind>(scene % 3);
@@ -83,10 +85,12 @@ TEST(Monitor, CellsEqualAllPairsOnRandomScenes) {
     subdivisions += cells.counters().subdivisions;
   }
   // the scenes exercise every kind of warning, and the cells do prune
-  for (int k = 0; k < kWarningKindCount; ++k) EXPECT_GT(byKind[k], 20u) << toString(static_cast<WarningKind>(k));
+  // (floors per 1000 scenes, scaled with them)
+  for (int k = 0; k < kWarningKindCount; ++k)
+    EXPECT_GT(byKind[k], 20u * scenes / 1000) << toString(static_cast<WarningKind>(k));
   EXPECT_LT(cellPairs * 2, allPairs);
   EXPECT_GT(handoffs, 0u);
-  EXPECT_GT(subdivisions, 50u);
+  EXPECT_GT(subdivisions, 50u * scenes / 1000);
   RecordProperty("warnings", static_cast<int>(total));
   RecordProperty("subdivisions", static_cast<int>(subdivisions));
 }
@@ -174,7 +178,8 @@ TEST(Monitor, PruningNeverChangesTheAnswer) {
   std::uniform_real_distribution<double> U(0.0, 1.0);
   const RoadGeometry road = testRoad();
   std::size_t threats = 0;
-  for (int scene = 0; scene < 300; ++scene) {
+  const int scenes = test::scaledCount(300);  // fewer under the sanitizers (test_scale.hpp)
+  for (int scene = 0; scene < scenes; ++scene) {
     MonitorConfig cfg;
     cfg.prediction = Prediction::Straight;  // the brute force predicts in straight lines
     cfg.detector.kind = static_cast<DetectorKind>(scene % 3);
@@ -198,7 +203,7 @@ TEST(Monitor, PruningNeverChangesTheAnswer) {
       ASSERT_NO_FATAL_FAILURE(expectBruteForceThreats(road, cfg, bp, vs, scene, found));
     threats += found.size();
   }
-  EXPECT_GT(threats, 1000u);
+  EXPECT_GT(threats, 1000u * scenes / 300);
 }
 
 TEST(Monitor, RoadPruneNeverChangesTheAnswerNearSegmentEnds) {
