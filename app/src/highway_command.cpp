@@ -4,10 +4,13 @@
 #include <cstdint>
 #include <filesystem>
 #include <iostream>
+#include <ranges>
 #include <string>
+#include <utility>
 
 #include <sthighway/conflict_map.hpp>
 #include <sthighway/monitor.hpp>
+#include <sthighway/settings.hpp>
 #include <sthighway/report.hpp>
 #include <sthighway/sumo_files.hpp>
 #include <stsim/cli.hpp>
@@ -16,6 +19,8 @@
 #include "highway_options.hpp"
 
 #ifdef STSIM_HAVE_COSIM
+#include <stcosim/scenario.hpp>
+
 #include "highway_run.hpp"
 #define STSIM_HIGHWAY_COSIM 1
 #endif
@@ -26,6 +31,11 @@ namespace {
 
 namespace hw = st::highway;
 
+// The default of a monitor setting, as the help shows it.
+std::string settingDefault(const char* key) {
+  return hw::settingText(hw::findSetting(key)->get(hw::MonitorConfig{}));
+}
+
 Args makeArgs() {
   Args a("highway",
          "Smart-car collision warnings (report section 4): concentric, five-circle or exact box detector,\n"
@@ -35,11 +45,13 @@ Args makeArgs() {
       .option("fcd", "TRACE.xml", "SUMO floating-car-data trace to replay (sumo --fcd-output)")
       .option("net", "NET.net.xml", "SUMO network giving lane shapes and widths (with --fcd)")
       .option("vtypes", "FILE.xml", "route/additional file whose <vType>s give sizes and masses (with --fcd)")
-      .option("detector", "concentric|five|box", "collision detector", "five")
-      .option("layout", "a|b", "five-circle zone layout: Fig. 11(a) small or 11(b) large overlaps", "a")
-      .option("motion", "velocity|acceleration", "prediction: constant velocity, or constant acceleration", "velocity")
-      .option("broadphase", "cells|all-pairs", "neighbour search", "cells")
-      .option("prediction", "road|straight", "motion along the lanes (lane-frame road checks), or straight lines", "road")
+      .option("detector", "concentric|five|box", "collision detector", settingDefault("detector"))
+      .option("layout", "a|b", "five-circle zone layout: Fig. 11(a) small or 11(b) large overlaps", settingDefault("layout"))
+      .option("motion", "velocity|acceleration", "prediction: constant velocity, or constant acceleration", settingDefault("motion"))
+      .option("broadphase", "cells|all-pairs", "neighbour search", settingDefault("broadphase"))
+      .option("prediction", "road|straight", "motion along the lanes (lane-frame road checks), or straight lines", settingDefault("prediction"))
+      .option("set", "KEY=VALUE[,...]", "any monitor setting by its scenario key, e.g. safe_time.vehicle_reaction=1.2 (--settings lists them)")
+      .flag("settings", "print every monitor setting (key, range, default, what it sets) and exit")
       .option("out", "DIR", "output directory for warnings.csv and summary.json", ".")
       .option("penetration", "P", "fraction of vehicles equipped with the smart-car system, 0..1", "1")
       .option("action", "color|brake|none", "action on a warning (SUMO runs)", "color")
@@ -49,8 +61,8 @@ Args makeArgs() {
       .option("scale", "FACTOR", "multiply the routes' demand (SUMO --scale; SUMO runs)")
       .option("seed", "N", "seed for the equipped-vehicle draw (and SUMO)", "42")
       .flag("validate-ssm", "compare with SUMO's SSM device, writes validation.json (SUMO runs)")
-      .option("rear-end-below", "DEG", "conflict type: rear-end below this heading angle (scenario conflict.rear_end_below)")
-      .option("crossing-above", "DEG", "conflict type: crossing above this angle, lane change between (conflict.crossing_above)")
+      .option("rear-end-below", "DEG", "conflict type: rear-end below this heading angle (scenario conflict.rear_end_below)", settingDefault("conflict.rear_end_below"))
+      .option("crossing-above", "DEG", "conflict type: crossing above this angle, lane change between (conflict.crossing_above)", settingDefault("conflict.crossing_above"))
       .flag("no-map", "do not draw the conflict map (conflict_map.png / .svg)");
   return a;
 }
@@ -162,6 +174,21 @@ int run(int argc, const char* const* argv) {
     return 0;
   }
   const auto scenario = a.positionalValue(0);
+  if (a.has("settings")) {
+    // the values in effect: the defaults, a scenario's, then the options
+    hw::MonitorConfig cfg;
+#ifdef STSIM_HIGHWAY_COSIM
+    if (scenario) cfg = st::cosim::loadScenario(*scenario).plugin.monitor;
+#else
+    if (scenario) throw std::runtime_error("cannot read " + *scenario + ": stsim was built without SUMO support (cosim)");
+#endif
+    applyMonitorOptions(a, cfg, true);
+    bool given = scenario.has_value() || a.has("set");
+    for (const char* opt : {"detector", "layout", "motion", "broadphase", "prediction", "rear-end-below", "crossing-above"})
+      given = given || a.has(opt);
+    std::cout << hw::settingsReferenceMarkdown(cfg, given ? "in effect" : "default");
+    return 0;
+  }
   if (a.has("fcd")) {
     if (scenario) throw UsageError("give either --fcd TRACE (replay) or a SCENARIO (SUMO run), not both");
     return runTrace(a);
@@ -179,23 +206,36 @@ int run(int argc, const char* const* argv) {
 }  // namespace
 
 void applyMonitorOptions(const Args& a, hw::MonitorConfig& cfg, bool givenOnly) {
-  auto wanted = [&](const char* opt) { return !givenOnly || a.has(opt); };
-  if (wanted("detector") && !hw::parseDetectorKind(a.get("detector"), cfg.detector.kind))
-    throw UsageError("--detector must be concentric, five or box, got '" + a.get("detector") + "'");
-  if (wanted("broadphase") && !hw::parseBroadphase(a.get("broadphase"), cfg.broadphase))
-    throw UsageError("--broadphase must be cells or all-pairs, got '" + a.get("broadphase") + "'");
-  if (wanted("prediction") && !hw::parsePrediction(a.get("prediction"), cfg.prediction))
-    throw UsageError("--prediction must be road or straight, got '" + a.get("prediction") + "'");
-  if (wanted("layout") && !hw::parseFiveCircleLayout(a.get("layout"), cfg.detector.five))
-    throw UsageError("--layout must be a or b, got '" + a.get("layout") + "'");
-  if (wanted("motion") && !hw::parseMotionModel(a.get("motion"), cfg.detector.motion))
-    throw UsageError("--motion must be velocity or acceleration, got '" + a.get("motion") + "'");
-  // the conflict type's angles (SSAM's 30 and 85 degrees unless given)
-  if (a.has("rear-end-below")) cfg.conflict.rearEndBelowDeg = a.getDouble("rear-end-below");
-  if (a.has("crossing-above")) cfg.conflict.crossingAboveDeg = a.getDouble("crossing-above");
-  const hw::ConflictConfig& cc = cfg.conflict;
-  if (!(cc.rearEndBelowDeg >= 0.0 && cc.rearEndBelowDeg <= cc.crossingAboveDeg && cc.crossingAboveDeg <= 180.0))
-    throw UsageError("--rear-end-below and --crossing-above need 0 <= rear-end-below <= crossing-above <= 180");
+  // the short options, each one setting of sthighway/settings.hpp, checked and worded by it
+  static constexpr std::pair<const char*, const char*> kShort[] = {
+      {"detector", "detector"},   {"layout", "layout"},         {"motion", "motion"},
+      {"broadphase", "broadphase"}, {"prediction", "prediction"}, {"rear-end-below", "conflict.rear_end_below"},
+      {"crossing-above", "conflict.crossing_above"}};
+  auto apply = [&](const hw::Setting& s, const std::string& value, const std::string& option) {
+    try {
+      hw::applySettingText(cfg, s, value);
+    } catch (const hw::SettingError& e) {
+      throw UsageError(option + ": " + e.problem());
+    }
+  };
+  for (const auto& [opt, key] : kShort)
+    if (!givenOnly || a.has(opt)) apply(*hw::findSetting(key), a.get(opt), std::string("--") + opt);
+  if (a.has("set")) {
+    for (const auto part : std::views::split(a.get("set"), ',')) {
+      const std::string item(part.begin(), part.end());
+      const auto eq = item.find('=');
+      if (eq == std::string::npos) throw UsageError("--set needs KEY=VALUE, got '" + item + "'");
+      const std::string key = item.substr(0, eq);
+      const hw::Setting* s = hw::findSetting(key);
+      if (!s) throw UsageError("--set: unknown setting '" + key + "' (stsim highway --settings lists them)");
+      apply(*s, item.substr(eq + 1), "--set " + std::string(s->key));
+    }
+  }
+  try {
+    hw::checkSettings(cfg);
+  } catch (const hw::SettingError& e) {
+    throw UsageError("--set " + e.key() + ": " + e.problem());
+  }
 }
 
 double endOption(const Args& a) {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include <sthighway/monitor.hpp>
+#include <sthighway/settings.hpp>
 #include <sthighway/sumo_files.hpp>
 #include <stsim/version.hpp>
 
@@ -283,99 +284,56 @@ py::dict stateDict(const hw::VehicleState& s, const hw::RoadGeometry* road) {
 
 // ---- settings -----------------------------------------------------------------------------
 
-const char* const kSettings[] = {
-    "detector", "layout", "motion", "prediction", "broadphase", "check_road", "vehicle_reaction_time", "road_reaction_time",
-    "brake_force", "concentric_inner_margin", "concentric_outer_margin", "body_circles", "cell_length",
-    "tx_power_dbm", "path_loss_exponent", "reference_distance", "hysteresis_db", "radio_range", "fat_margin",
-    "fat_lookahead", "decomposition_factor", "max_depth", "hindsight", "clearance", "evasive_deceleration",
-    "hindsight_lead", "rear_end_below", "crossing_above"};
+// Every key of sthighway/settings.hpp, by its YAML name ("safe_time.vehicle_reaction"), its flat
+// spelling (safe_time_vehicle_reaction=1.0) or nested dicts (safe_time={"vehicle_reaction": 1.0}).
+// The table's type decides what a value must be (TypeError); the table checks it (ValueError),
+// in the words every front end uses.
+void setFromPython(hw::MonitorConfig& cfg, const hw::Setting& s, py::handle value) {
+  const std::string what = std::string("setting '") + s.key + "'";
+  hw::SettingValue v;
+  switch (s.type) {
+    case hw::SettingType::Number:
+    case hw::SettingType::Integer:
+      v = toDouble(value, what);  // an int or a float (a whole number for an Integer: the table checks)
+      break;
+    case hw::SettingType::Boolean: v = toBool(value, what); break;
+    case hw::SettingType::Choice: v = toStr(value, what); break;
+  }
+  try {
+    hw::applySetting(cfg, s, v);
+  } catch (const hw::SettingError& e) {
+    throw py::value_error("setting '" + e.key() + "' " + e.problem());
+  }
+}
+
+void setNested(hw::MonitorConfig& cfg, const std::string& name, py::handle value) {
+  if (const hw::Setting* s = hw::findSetting(name)) return setFromPython(cfg, *s, value);
+  bool section = false;
+  for (const hw::Setting& s : hw::monitorSettings()) section = section || std::string(s.key).rfind(name + ".", 0) == 0;
+  if (section && py::isinstance<py::dict>(value)) {
+    for (auto [k, v] : py::reinterpret_borrow<py::dict>(value)) setNested(cfg, name + "." + toStr(k, "a key of setting '" + name + "'"), v);
+    return;
+  }
+  if (section) {
+    std::string msg = "setting '";
+    msg.append(name).append("' must be a dict of its keys, got ").append(typeName(value));
+    throw py::type_error(msg);
+  }
+  std::string msg = "Monitor() got an unknown setting '";
+  msg.append(name).append("' (known:");
+  for (const hw::Setting& s : hw::monitorSettings()) msg.append(" ").append(s.key);
+  msg.append("; in a keyword '.' is written '_')");
+  throw py::type_error(msg);
+}
 
 hw::MonitorConfig configOf(const py::kwargs& kw) {
   hw::MonitorConfig cfg;
-  for (auto [nameH, value] : kw) {
-    const std::string name = py::cast<std::string>(nameH);
-    const std::string what = "setting '" + name + "'";
-    auto text = [&] { return toStr(value, what); };
-    auto number = [&] { return toFinite(value, what); };
-    auto positive = [&] {
-      const double x = number();
-      if (!(x > 0.0)) throw py::value_error(what + " must be > 0, got " + std::to_string(x));
-      return x;
-    };
-    if (name == "detector") {
-      if (!hw::parseDetectorKind(text(), cfg.detector.kind)) throw py::value_error(what + " must be concentric, five or box, got '" + text() + "'");
-    } else if (name == "layout") {
-      if (!hw::parseFiveCircleLayout(text(), cfg.detector.five)) throw py::value_error(what + " must be a or b, got '" + text() + "'");
-    } else if (name == "motion") {
-      if (!hw::parseMotionModel(text(), cfg.detector.motion)) throw py::value_error(what + " must be velocity or acceleration, got '" + text() + "'");
-    } else if (name == "prediction") {
-      if (!hw::parsePrediction(text(), cfg.prediction)) throw py::value_error(what + " must be road or straight, got '" + text() + "'");
-    } else if (name == "broadphase") {
-      if (!hw::parseBroadphase(text(), cfg.broadphase)) throw py::value_error(what + " must be cells or all-pairs, got '" + text() + "'");
-    } else if (name == "check_road") {
-      cfg.checkRoad = toBool(value, what);
-    } else if (name == "vehicle_reaction_time") {
-      cfg.safeTime.vehicleReactionTime = number();
-    } else if (name == "road_reaction_time") {
-      cfg.safeTime.roadReactionTime = number();
-    } else if (name == "brake_force") {
-      if (!py::isinstance<py::dict>(value)) throw py::type_error(what + " must be a dict {vehicle class: N}, got " + typeName(value));
-      for (auto [cls, force] : py::reinterpret_borrow<py::dict>(value)) {
-        const std::string w = what + "[" + std::string(py::repr(cls)) + "]";
-        const hw::VehicleClass vc = classOf(toStr(cls, w), Convention::Ours, w);
-        const double f = toFinite(force, w);
-        if (!(f > 0.0)) throw py::value_error(w + " must be > 0");
-        cfg.safeTime.brakeForce[static_cast<int>(vc)] = f;
-      }
-    } else if (name == "concentric_inner_margin") {
-      cfg.detector.concentric.innerMargin = number();
-    } else if (name == "concentric_outer_margin") {
-      cfg.detector.concentric.outerMargin = number();
-    } else if (name == "body_circles") {
-      const long n = toInt(value, what);
-      if (n < 0 || n > 1000) throw py::value_error(what + " must be 0 (automatic) .. 1000");
-      cfg.detector.bodyCircles = static_cast<int>(n);
-    } else if (name == "cell_length") {
-      cfg.cells.cellLength = positive();
-    } else if (name == "tx_power_dbm") {
-      cfg.cells.txPowerDbm = number();
-    } else if (name == "path_loss_exponent") {
-      cfg.cells.pathLossExponent = positive();
-    } else if (name == "reference_distance") {
-      cfg.cells.referenceDistance = positive();
-    } else if (name == "hysteresis_db") {
-      cfg.cells.hysteresisDb = number();
-    } else if (name == "radio_range") {
-      cfg.cells.radioRange = positive();
-    } else if (name == "fat_margin") {
-      cfg.cells.fatMargin = number();
-    } else if (name == "fat_lookahead") {
-      cfg.cells.fatLookahead = number();
-    } else if (name == "hindsight") {  // the scenario's hindsight: {enabled, clearance, evasive_deceleration, lead}
-      cfg.hindsight.enabled = toBool(value, what);
-    } else if (name == "clearance") {
-      cfg.hindsight.clearance = positive();
-    } else if (name == "evasive_deceleration") {
-      cfg.hindsight.evasiveDeceleration = positive();
-    } else if (name == "hindsight_lead") {
-      cfg.hindsight.lead = number();
-      if (cfg.hindsight.lead < 0.0) throw py::value_error(what + " must be >= 0");
-    } else if (name == "rear_end_below" || name == "crossing_above") {  // the scenario's conflict: {...}
-      const double deg = number();
-      if (deg < 0.0 || deg > 180.0) throw py::value_error(what + " must be 0 .. 180 deg, got " + std::to_string(deg));
-      (name == "rear_end_below" ? cfg.conflict.rearEndBelowDeg : cfg.conflict.crossingAboveDeg) = deg;
-    } else if (name == "decomposition_factor" || name == "max_depth") {
-      const long n = toInt(value, what);
-      if (n < 1 || n > 1000000) throw py::value_error(what + " must be 1 .. 1000000");
-      (name == "max_depth" ? cfg.cells.maxDepth : cfg.cells.decompositionFactor) = static_cast<int>(n);
-    } else {
-      std::string known;
-      for (const char* k : kSettings) known += (known.empty() ? "" : ", ") + std::string(k);
-      throw py::type_error("Monitor() got an unknown setting '" + name + "' (known: " + known + ")");
-    }
+  for (auto [name, value] : kw) setNested(cfg, py::cast<std::string>(name), value);
+  try {
+    hw::checkSettings(cfg);
+  } catch (const hw::SettingError& e) {
+    throw py::value_error("setting '" + e.key() + "' " + e.problem());
   }
-  if (cfg.conflict.crossingAboveDeg < cfg.conflict.rearEndBelowDeg)
-    throw py::value_error("setting 'crossing_above' must be >= 'rear_end_below'");
   return cfg;
 }
 
@@ -408,6 +366,22 @@ class Monitor {
     }
   }
   void finish(double t) { monitor_.finish(t); }
+  // every setting in effect, by its key (sthighway/settings.hpp)
+  py::dict settings() const {
+    py::dict out;
+    for (const hw::Setting& s : hw::monitorSettings()) {
+      const hw::SettingValue v = s.get(monitor_.config());
+      if (const double* x = std::get_if<double>(&v)) {
+        if (s.type == hw::SettingType::Integer) out[s.key] = static_cast<long>(*x);
+        else out[s.key] = *x;
+      } else if (const bool* b = std::get_if<bool>(&v)) {
+        out[s.key] = *b;
+      } else {
+        out[s.key] = std::get<std::string>(v);
+      }
+    }
+    return out;
+  }
   std::vector<hw::Warning> takeFinished() { return monitor_.takeFinished(); }
   std::vector<hw::HindsightEvent> takeEvents() {
     std::vector<hw::HindsightEvent> out;
@@ -700,6 +674,8 @@ PYBIND11_MODULE(_stsim, m) {
            "As step(), in SUMO's conventions: x, y of the front bumper, angle in navigational degrees,\n"
            "signals as SUMO's bits (1 right, 2 left), vehicle_class a SUMO vClass.")
       .def("finish", &Monitor::finish, py::arg("t"), "Closes every open episode at time t.")
+      .def_property_readonly("settings", &Monitor::settings,
+                             "Every setting in effect, by its scenario key (stsim highway --settings lists them).")
       .def("take_finished", &Monitor::takeFinished, "Episodes that ended since the last call, in order of ending.")
       .def("take_events", &Monitor::takeEvents,
            "Near misses and unsignalled crossings hindsight found since the last call (HindsightEvent).")

@@ -73,17 +73,18 @@ def test_time_must_increase_and_be_finite():
 
 
 @pytest.mark.parametrize("settings,error,message", [
-    ({"detectr": "box"}, TypeError, r"unknown setting 'detectr' \(known: detector, "),
-    ({"detector": "sonar"}, ValueError, r"setting 'detector' must be concentric, five or box, got 'sonar'"),
+    ({"detectr": "box"}, TypeError, r"unknown setting 'detectr' \(known: detector "),
+    ({"detector": "sonar"}, ValueError, r"setting 'detector' must be one of concentric, five, box, got 'sonar'"),
     ({"detector": 3}, TypeError, r"setting 'detector' must be a str, got int"),
-    ({"motion": "warp"}, ValueError, r"setting 'motion' must be velocity or acceleration"),
-    ({"cell_length": 0.0}, ValueError, r"setting 'cell_length' must be > 0"),
-    ({"cell_length": "long"}, TypeError, r"setting 'cell_length' must be a number"),
-    ({"vehicle_reaction_time": math.nan}, ValueError, r"'vehicle_reaction_time' must be finite"),
-    ({"brake_force": {"tank": 1e5}}, ValueError, r"brake_force'\['tank'\] must be passenger, truck"),
-    ({"brake_force": [1.0]}, TypeError, r"'brake_force' must be a dict"),
+    ({"motion": "warp"}, ValueError, r"setting 'motion' must be one of velocity, acceleration"),
+    ({"cells_length": 0.0}, ValueError, r"setting 'cells.length' must be in \[1, 1000000\] m, got 0"),
+    ({"cells": {"length": "long"}}, TypeError, r"setting 'cells.length' must be a number"),
+    ({"safe_time_vehicle_reaction": math.nan}, ValueError, r"'safe_time.vehicle_reaction' must be in \[0, 60\] s, got nan"),
+    ({"safe_time": {"brake_force": {"tank": 1e5}}}, TypeError, r"unknown setting 'safe_time.brake_force.tank'"),
+    ({"safe_time": {"brake_force": [1.0]}}, TypeError, r"'safe_time.brake_force' must be a dict"),
     ({"check_road": "no"}, TypeError, r"'check_road' must be a bool"),
-    ({"max_depth": 0}, ValueError, r"'max_depth' must be 1 .. 1000000"),
+    ({"cells_max_depth": 40}, ValueError, r"'cells.max_depth' must be in \[0, 32\], got 40"),
+    ({"cells_max_depth": 2.5}, ValueError, r"'cells.max_depth' must be a whole number, got 2.5"),
 ])
 def test_bad_settings(settings, error, message):
     with pytest.raises(error, match=message):

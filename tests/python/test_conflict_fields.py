@@ -151,16 +151,18 @@ def test_a_lane_the_network_lacks_is_none_and_an_unknown_lane_no_lane():
 
 
 def test_hindsight_and_conflict_settings():
-    assert stsim.Monitor(hindsight=False).counters["hindsight"] is None
-    h = stsim.Monitor(clearance=0.7, evasive_deceleration=5.0, hindsight_lead=0.25).counters["hindsight"]
+    # the scenario's keys: nested dicts, or flat with '_' for '.'
+    assert stsim.Monitor(hindsight={"enabled": False}).counters["hindsight"] is None
+    assert stsim.Monitor(hindsight_enabled=False).counters["hindsight"] is None
+    h = stsim.Monitor(hindsight={"clearance": 0.7, "evasive_deceleration": 5.0}, hindsight_lead=0.25).counters["hindsight"]
     assert (h["clearance_m"], h["evasive_deceleration"], h["lead_s"]) == (0.7, 5.0, 0.25)
     assert h["by_kind"]["vehicle"] == {"judged": 0, "confirmed": 0, "precision": None}  # nothing to count
     assert h["near_misses"]["recall"] is None
-    with pytest.raises(ValueError, match="crossing_above"):
-        stsim.Monitor(rear_end_below=60.0, crossing_above=40.0)
-    with pytest.raises(ValueError, match="rear_end_below"):
-        stsim.Monitor(rear_end_below=200.0)
+    with pytest.raises(ValueError, match="conflict.crossing_above' must be at least conflict.rear_end_below"):
+        stsim.Monitor(conflict={"rear_end_below": 60.0, "crossing_above": 40.0})
+    with pytest.raises(ValueError, match=r"conflict.rear_end_below' must be in \[0, 180\] deg, got 200"):
+        stsim.Monitor(conflict_rear_end_below=200.0)
     with pytest.raises(ValueError, match="clearance"):
-        stsim.Monitor(clearance=0.0)
-    with pytest.raises(ValueError, match="prediction' must be road or straight"):
+        stsim.Monitor(hindsight_clearance=-1.0)
+    with pytest.raises(ValueError, match="prediction' must be one of road, straight"):
         stsim.Monitor(prediction="curved")

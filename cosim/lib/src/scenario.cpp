@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <sthighway/settings.hpp>
 #include <sthighway/sumo_files.hpp>
 #include <stio/yaml.hpp>
 
@@ -204,6 +205,16 @@ void checkSmartTypes(const Reader& r, const YAML::Node& node, const Scenario& s)
   }
 }
 
+// The node of a nested key ("safe_time.brake_force.truck") in a mapping; undefined if absent.
+// Through const nodes only: a mutable yaml-cpp node would add the keys it is asked for.
+YAML::Node settingNode(const YAML::Node& map, std::string_view key) {
+  if (!map || !map.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
+  const auto dot = key.find('.');
+  const YAML::Node child = map[std::string(key.substr(0, dot))];
+  if (dot == std::string_view::npos) return child;
+  return settingNode(child, key.substr(dot + 1));
+}
+
 void readYaml(const fs::path& path, Scenario& s) {
   const Reader r(path);
   const YAML::Node root = r.load(path);
@@ -215,19 +226,6 @@ void readYaml(const fs::path& path, Scenario& s) {
   if (auto n = root["end"]) s.end = r.number(n, "end", 0, kBig);
   if (auto n = root["demand_scale"]) s.demandScale = r.number(n, "demand_scale", 0, 1000);
   if (auto n = root["validate_ssm"]) s.validateSsm = r.boolean(n, "validate_ssm");
-  if (auto n = root["detector"])
-    if (!hw::parseDetectorKind(r.text(n, "detector"), m.detector.kind))
-      r.fail(n, "detector", "must be concentric, five or box");
-  if (auto n = root["layout"])
-    if (!hw::parseFiveCircleLayout(r.text(n, "layout"), m.detector.five)) r.fail(n, "layout", "must be a or b");
-  if (auto n = root["motion"])
-    if (!hw::parseMotionModel(r.text(n, "motion"), m.detector.motion))
-      r.fail(n, "motion", "must be velocity or acceleration");
-  if (auto n = root["prediction"])
-    if (!hw::parsePrediction(r.text(n, "prediction"), m.prediction)) r.fail(n, "prediction", "must be road or straight");
-  if (auto n = root["broadphase"])
-    if (!hw::parseBroadphase(r.text(n, "broadphase"), m.broadphase)) r.fail(n, "broadphase", "must be cells or all-pairs");
-  if (auto n = root["check_road"]) m.checkRoad = r.boolean(n, "check_road");
   if (auto n = root["penetration"]) s.plugin.smart.penetration = r.number(n, "penetration", 0, 1);
   if (auto n = root["smart_types"]) s.plugin.smart.types = r.list(n, "smart_types");
   if (auto n = root["action"])
@@ -243,53 +241,35 @@ void readYaml(const fs::path& path, Scenario& s) {
     if (a.brakeMaxDeceleration < a.brakeDeceleration)
       r.fail(b, "brake.max_deceleration", "must be at least brake.deceleration");
   }
-  if (auto st = root["safe_time"]) {
-    r.checkKeys(st, "safe_time", keysUnder("safe_time"));
-    if (auto n = st["vehicle_reaction"]) m.safeTime.vehicleReactionTime = r.number(n, "safe_time.vehicle_reaction", 0, 60);
-    if (auto n = st["road_reaction"]) m.safeTime.roadReactionTime = r.number(n, "safe_time.road_reaction", 0, 60);
-    if (auto bf = st["brake_force"]) {
-      r.checkKeys(bf, "safe_time.brake_force", keysUnder("safe_time.brake_force"));
-      for (int c = 0; c < hw::kVehicleClassCount; ++c) {
-        const char* name = hw::toString(static_cast<hw::VehicleClass>(c));
-        if (auto n = bf[name])
-          m.safeTime.brakeForce[static_cast<std::size_t>(c)] = r.number(n, std::string("safe_time.brake_force.") + name, 1, 1e8);
+  // the monitor's settings: one table (sthighway/settings.hpp) names, checks and words them
+  for (const char* section : {"safe_time", "safe_time.brake_force", "conflict", "concentric", "cells", "hindsight"})
+    if (const YAML::Node node = settingNode(root, section)) r.checkKeys(node, section, keysUnder(section));
+  for (const hw::Setting& setting : hw::monitorSettings()) {
+    const YAML::Node n = settingNode(root, setting.key);
+    if (!n) continue;
+    if (!n.IsScalar()) r.fail(n, setting.key, "must be " + hw::expected(setting));
+    hw::SettingValue v;
+    try {
+      switch (setting.type) {
+        case hw::SettingType::Number:
+        case hw::SettingType::Integer: v = n.as<double>(); break;
+        case hw::SettingType::Boolean: v = n.as<bool>(); break;
+        case hw::SettingType::Choice: v = n.as<std::string>(); break;
       }
+    } catch (const YAML::Exception&) {
+      r.fail(n, setting.key, "must be " + hw::expected(setting));
+    }
+    try {
+      hw::applySetting(m, setting, v);
+    } catch (const hw::SettingError& e) {
+      r.fail(n, e.key(), e.problem());
     }
   }
-  if (auto c = root["conflict"]) {
-    r.checkKeys(c, "conflict", keysUnder("conflict"));
-    hw::ConflictConfig& cc = m.conflict;
-    if (auto n = c["rear_end_below"]) cc.rearEndBelowDeg = r.number(n, "conflict.rear_end_below", 0, 180);
-    if (auto n = c["crossing_above"]) cc.crossingAboveDeg = r.number(n, "conflict.crossing_above", 0, 180);
-    if (cc.crossingAboveDeg < cc.rearEndBelowDeg)
-      r.fail(c, "conflict.crossing_above", "must be at least conflict.rear_end_below");
-  }
-  if (auto c = root["concentric"]) {
-    r.checkKeys(c, "concentric", keysUnder("concentric"));
-    if (auto n = c["inner_margin"]) m.detector.concentric.innerMargin = r.number(n, "concentric.inner_margin", 0, 100);
-    if (auto n = c["outer_margin"]) m.detector.concentric.outerMargin = r.number(n, "concentric.outer_margin", 0, 100);
-  }
-  if (auto c = root["cells"]) {
-    r.checkKeys(c, "cells", keysUnder("cells"));
-    hw::CellConfig& cc = m.cells;
-    if (auto n = c["length"]) cc.cellLength = r.number(n, "cells.length", 1, 1e6);
-    if (auto n = c["hysteresis_db"]) cc.hysteresisDb = r.number(n, "cells.hysteresis_db", 0, 100);
-    if (auto n = c["tx_power_dbm"]) cc.txPowerDbm = r.number(n, "cells.tx_power_dbm", -100, 100);
-    if (auto n = c["path_loss_exponent"]) cc.pathLossExponent = r.number(n, "cells.path_loss_exponent", 1, 10);
-    if (auto n = c["reference_distance"]) cc.referenceDistance = r.number(n, "cells.reference_distance", 0.01, 1000);
-    if (auto n = c["radio_range"]) cc.radioRange = r.number(n, "cells.radio_range", 1, 1e6);
-    if (auto n = c["decomposition_factor"])
-      cc.decompositionFactor = static_cast<int>(r.integer(n, "cells.decomposition_factor", 1, 1e6));
-    if (auto n = c["max_depth"]) cc.maxDepth = static_cast<int>(r.integer(n, "cells.max_depth", 0, 32));
-  }
-  if (auto h = root["hindsight"]) {
-    r.checkKeys(h, "hindsight", keysUnder("hindsight"));
-    hw::HindsightConfig& hc = m.hindsight;
-    if (auto n = h["enabled"]) hc.enabled = r.boolean(n, "hindsight.enabled");
-    if (auto n = h["clearance"]) hc.clearance = r.number(n, "hindsight.clearance", 0, 100);
-    if (auto n = h["evasive_deceleration"]) hc.evasiveDeceleration = r.number(n, "hindsight.evasive_deceleration", 0.1, 100);
-    if (auto n = h["lead"]) hc.lead = r.number(n, "hindsight.lead", 0, 60);
-    if (auto n = h["near_miss_ttc"]) hc.nearMissTtc = r.number(n, "hindsight.near_miss_ttc", 0, 60);
+  try {
+    hw::checkSettings(m);
+  } catch (const hw::SettingError& e) {
+    const YAML::Node n = settingNode(root, e.key());
+    r.fail(n ? n : root, e.key(), e.problem());
   }
   if (auto n = root["collision_action"]) {
     s.collisionAction = r.text(n, "collision_action");
@@ -336,17 +316,10 @@ void readYaml(const fs::path& path, Scenario& s) {
 const std::vector<std::string>& scenarioKeys() {
   static const std::vector<std::string> keys = [] {
     std::vector<std::string> k = {"sumocfg", "description", "seed", "end", "demand_scale", "validate_ssm",
-                                  "detector", "layout", "motion", "prediction", "broadphase", "check_road", "penetration",
-                                  "smart_types", "action", "brake.deceleration", "brake.max_deceleration",
-                                  "brake.standstill_gap", "safe_time.vehicle_reaction", "safe_time.road_reaction"};
-    for (int c = 0; c < hw::kVehicleClassCount; ++c)
-      k.push_back(std::string("safe_time.brake_force.") + hw::toString(static_cast<hw::VehicleClass>(c)));
-    for (const char* more : {"conflict.rear_end_below", "conflict.crossing_above", "concentric.inner_margin", "concentric.outer_margin", "cells.length", "cells.hysteresis_db",
-                             "cells.tx_power_dbm", "cells.path_loss_exponent", "cells.reference_distance",
-                             "cells.radio_range", "cells.decomposition_factor", "cells.max_depth", "hindsight.enabled",
-                             "hindsight.clearance", "hindsight.evasive_deceleration", "hindsight.lead", "hindsight.near_miss_ttc", "collision_action",
-                             "collision_mingap_factor", "incidents", "sumo_args", "out"})
-      k.push_back(more);
+                                  "penetration", "smart_types", "action", "brake.deceleration",
+                                  "brake.max_deceleration", "brake.standstill_gap", "collision_action",
+                                  "collision_mingap_factor", "incidents", "sumo_args", "out"};
+    for (const hw::Setting& setting : hw::monitorSettings()) k.push_back(setting.key);
     return k;
   }();
   return keys;

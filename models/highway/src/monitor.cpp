@@ -1,4 +1,5 @@
 #include <sthighway/monitor.hpp>
+#include <sthighway/settings.hpp>
 
 #include <cmath>
 #include <limits>
@@ -54,28 +55,6 @@ const char* toString(Verdict v) {
 
 namespace {
 
-void checkConfig(const MonitorConfig& config) {
-  const HindsightConfig& h = config.hindsight;
-  if (!(h.clearance >= 0.0) || !std::isfinite(h.clearance) || !(h.evasiveDeceleration > 0.0) ||
-      !std::isfinite(h.evasiveDeceleration) || !(h.lead >= 0.0) || !std::isfinite(h.lead) || !(h.nearMissTtc >= 0.0) ||
-      !std::isfinite(h.nearMissTtc))
-    throw std::invalid_argument("hindsight: clearance and lead must be finite and non-negative, evasive_deceleration positive");
-  const SafeTimeConfig& st = config.safeTime;
-  if (!(st.vehicleReactionTime >= 0.0) || !(st.roadReactionTime >= 0.0))
-    throw std::invalid_argument("safe time: reaction times must be non-negative");
-  const ConflictConfig& cc = config.conflict;
-  if (!(cc.rearEndBelowDeg >= 0.0 && cc.rearEndBelowDeg <= cc.crossingAboveDeg && cc.crossingAboveDeg <= 180.0))
-    throw std::invalid_argument("conflict: need 0 <= rear_end_below <= crossing_above <= 180 degrees");
-  for (double f : st.brakeForce)
-    if (!(f > 0.0)) throw std::invalid_argument("safe time: every brake force must be positive");
-  if (config.detector.kind == DetectorKind::FiveCircle) {
-    // the zones must cover the car or the five-circle TTC is not a conservative envelope
-    for (double aspect : {1.0, 2.0, 2.78, 4.7, 8.0})
-      if (!layoutCoversBody(config.detector.five, aspect, 1.0))
-        throw std::invalid_argument("five-circle layout: front/rear/left/right zones do not cover the car");
-  }
-}
-
 // The cells cover the road's features; a network without extent (none, or one point) gets room.
 RoadFeatures cellBounds(RoadFeatures f) {
   if (f.bounds.extent().minCoeff() <= 0.0) f.bounds = {f.bounds.min.array() - 100.0, f.bounds.max.array() + 100.0};
@@ -113,7 +92,7 @@ struct HighwayMonitor::Impl {
   bool started = false;
 
   Impl(const RoadGeometry& geometry, const MonitorConfig& config)
-      : cfg((checkConfig(config), config)),
+      : cfg((checkSettings(config), config)),
         cars(cfg, counters, laneIdsOf(geometry)),
         prediction(geometry, cfg, cars, counters),
         road(geometry, cfg, cars, counters),
