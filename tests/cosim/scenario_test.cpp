@@ -103,6 +103,28 @@ TEST(Scenario, RouteFileMistakesSumoWouldNotNameAreNamed) {
   EXPECT_EQ(e.find('\n'), std::string::npos) << e;
 }
 
+// A configuration or a network named as route or additional files: SUMO read no vehicle from it,
+// said nothing, and the run exited 0 with no traffic (issue 35)
+TEST(Scenario, AConfigOrNetworkNamedAsRoutesIsRefused) {
+  const auto dir = freshDir("routes_not_routes");
+  const auto ring = sourceDir() / "networks/ring";
+  std::filesystem::copy_file(ring / "ring.net.xml", dir / "ring.net.xml");
+  std::filesystem::copy_file(ring / "ring.rou.xml", dir / "ring.rou.xml");
+  auto config = [&](const std::string& name, const std::string& key, const std::string& files) {
+    std::ofstream(dir / (name + ".sumocfg")) << "<?xml version=\"1.0\"?>\n<!-- <routes> in a comment -->\n"
+                                                "<configuration><input><net-file value=\"ring.net.xml\"/><" << key
+                                             << " value=\"" << files << "\"/></input></configuration>";
+    return dir / (name + ".sumocfg");
+  };
+  EXPECT_EQ(errorOf([&] { checkSumoConfig(config("ok", "route-files", "ring.rou.xml")); }), "");
+  EXPECT_EQ(errorOf([&] { checkSumoConfig(config("cfg", "route-files", "ring.rou.xml,ok.sumocfg")); }),
+            (dir / "cfg.sumocfg").string() + ": route-files '" + (dir / "ok.sumocfg").string() +
+                "' is a SUMO configuration, not a route file");
+  EXPECT_EQ(errorOf([&] { checkSumoConfig(config("net", "additional-files", "ring.net.xml")); }),
+            (dir / "net.sumocfg").string() + ": additional-files '" + (dir / "ring.net.xml").string() +
+                "' is a SUMO network, not an additional file");
+}
+
 // A file name longer than the system allows threw std::filesystem_error ("status: File name too
 // long") naming no sumocfg (fuzz finding, fuzz/corpus/cosim_scenario/name_too_long.sumocfg)
 TEST(Scenario, AFileNameTooLongIsNamedWithItsConfig) {

@@ -351,6 +351,28 @@ Scenario loadScenario(const fs::path& path) {
   return s;
 }
 
+// The name of an XML file's root element: the first start tag past the declaration, comments
+// and DOCTYPE in its first 64 KiB ("" if none there).
+std::string rootElement(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::string head(65536, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  for (std::size_t at = head.find('<'); at != std::string::npos; at = head.find('<', at + 1)) {
+    if (head.compare(at, 4, "<!--") == 0) {
+      at = head.find("-->", at);
+      if (at == std::string::npos) return "";
+      continue;
+    }
+    if (head.compare(at, 2, "<?") == 0 || head.compare(at, 2, "<!") == 0) continue;
+    std::size_t end = at + 1;
+    while (end < head.size() && (std::isalnum(static_cast<unsigned char>(head[end])) || head[end] == '_' || head[end] == '-'))
+      ++end;
+    return head.substr(at + 1, end - at - 1);
+  }
+  return "";
+}
+
 SumoConfigFiles checkSumoConfig(const fs::path& sumocfg) {
   std::error_code ec;
   const fs::file_status st = fs::status(sumocfg, ec);
@@ -389,6 +411,15 @@ SumoConfigFiles checkSumoConfig(const fs::path& sumocfg) {
     for (const auto& f : splitList(*r)) out.routes.push_back(resolve("route-files", f));
   if (auto a = value("additional-files"))
     for (const auto& f : splitList(*a)) out.additionals.push_back(resolve("additional-files", f));
+  // a configuration or a network named as routes: SUMO reads no vehicle from it and says nothing
+  for (const auto& [key, files] : {std::pair{"route-files", &out.routes}, std::pair{"additional-files", &out.additionals}})
+    for (const fs::path& f : *files) {
+      const std::string root = rootElement(f);
+      if (root == "configuration" || root == "net")
+        throw ScenarioError(sumocfg.string() + ": " + key + " '" + f.string() + "' is a SUMO " +
+                            (root == "net" ? "network" : "configuration") + ", not " +
+                            (std::string(key) == "route-files" ? "a route" : "an additional") + " file");
+    }
   try {
     if (auto v = value("step-length")) out.stepLength = std::stod(*v);
     if (auto v = value("end")) out.end = std::stod(*v);
