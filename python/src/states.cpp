@@ -1,0 +1,225 @@
+#include "states.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+
+#include "values.hpp"
+
+namespace stpy {
+
+namespace {
+
+// The keys a vehicle may have; which ones depend on the convention.
+enum Key { kId, kX, kY, kHeading, kAngle, kSpeed, kLateralSpeed, kAcceleration, kLength, kWidth, kMass, kClass,
+           kSignals, kEquipped, kLane, kRoute, kKeyCount };
+const char* const kKeyNames[kKeyCount] = {"id", "x", "y", "heading", "angle", "speed", "lateral_speed", "acceleration",
+                                          "length", "width", "mass", "vehicle_class", "signals", "equipped", "lane", "route"};
+
+
+std::string knownKeys(Convention c) {
+  std::string s;
+  for (int k = 0; k < kKeyCount; ++k) {
+    if ((c == Convention::Ours && k == kAngle) || (c == Convention::Sumo && k == kHeading)) continue;
+    s += (s.empty() ? "" : ", ") + std::string(kKeyNames[k]);
+  }
+  return s;
+}
+
+int keyOf(const std::string& name, Convention c, const std::string& where) {
+  for (int k = 0; k < kKeyCount; ++k)
+    if (name == kKeyNames[k]) {
+      if (c == Convention::Ours && k == kAngle)
+        throw py::value_error(where + ": unknown key 'angle' (SUMO's navigational angle: use step_sumo(), or 'heading' in rad)");
+      if (c == Convention::Sumo && k == kHeading)
+        throw py::value_error(where + ": unknown key 'heading' for step_sumo() (SUMO gives 'angle' in degrees)");
+      return k;
+    }
+  throw py::value_error(where + ": unknown key '" + name + "' (known: " + knownKeys(c) + ")");
+}
+
+hw::VehicleClass classOf(const std::string& name, Convention c, const std::string& what) {
+  if (c == Convention::Sumo) return hw::vehicleClassFromName(name);  // as the SUMO coupling does
+  for (int k = 0; k < hw::kVehicleClassCount; ++k)
+    if (name == hw::toString(static_cast<hw::VehicleClass>(k))) return static_cast<hw::VehicleClass>(k);
+  throw py::value_error(what + " must be passenger, truck, bus, motorcycle, emergency or other, got '" + name + "'");
+}
+
+// One vehicle's values as given, before the convention is applied.
+struct Raw {
+  std::string id;
+  double v[kKeyCount] = {};
+  bool has[kKeyCount] = {};
+  hw::VehicleClass vehicleClass = hw::VehicleClass::Passenger;
+  long signals = 0;
+  bool equipped = true;
+  std::string lane;  // the lane id (reported in the warnings' lane column); empty: unknown
+  std::vector<std::string> route;  // edge ids from the current edge on (SUMO: route[routeIndex:])
+};
+
+void setValue(Raw& r, int key, py::handle value, Convention c, const std::string& where) {
+  const std::string what = where + ": '" + kKeyNames[key] + "'";
+  r.has[key] = true;
+  switch (key) {
+    case kId: r.id = toStr(value, what); break;
+    case kClass: r.vehicleClass = classOf(toStr(value, what), c, what); break;
+    case kSignals:
+      r.signals = toInt(value, what);
+      if (r.signals < 0) throw py::value_error(what + " must be >= 0");
+      break;
+    case kEquipped: r.equipped = toBool(value, what); break;
+    case kLane: r.lane = value.is_none() ? std::string() : toStr(value, what); break;
+    case kRoute:
+      r.route.clear();
+      if (value.is_none()) break;
+      if (PyUnicode_Check(value.ptr()) || !py::isinstance<py::sequence>(value))
+        throw py::type_error(what + " must be a list of edge ids, got " + typeName(value));
+      for (py::handle e : value) r.route.push_back(toStr(e, what));
+      break;
+    default: r.v[key] = toFinite(value, what);
+  }
+}
+
+std::string vehicleWhere(std::size_t i, const Raw& r) {
+  return "vehicle " + std::to_string(i) + (r.has[kId] ? " ('" + r.id + "')" : "");
+}
+
+
+// The state in our conventions. SUMO's: as st::cosim::toVehicleState (cosim/lib/src/conversions.cpp).
+void toState(const Raw& r, Convention c, std::size_t i, const LaneIndex& lanes, const EdgeIndex& edges,
+             hw::VehicleState& s) {
+  const std::string where = vehicleWhere(i, r);
+  const int needed[] = {kId, kX, kY, c == Convention::Ours ? kHeading : kAngle, kSpeed};
+  for (int k : needed)
+    if (!r.has[k]) throw py::value_error(where + ": missing '" + kKeyNames[k] + "'");
+  const hw::ClassDefaults d = hw::classDefaults(r.vehicleClass);
+  s = hw::VehicleState{};  // every field this layer does not set keeps the model's default
+  s.id = r.id;
+  s.vehicleClass = r.vehicleClass;
+  s.length = r.has[kLength] ? r.v[kLength] : d.length;
+  s.width = r.has[kWidth] ? r.v[kWidth] : d.width;
+  s.mass = r.has[kMass] ? r.v[kMass] : d.mass;
+  s.acceleration = r.has[kAcceleration] ? r.v[kAcceleration] : 0.0;
+  s.equipped = r.equipped;
+  if (!r.lane.empty()) {
+    // as the FCD reader does: the lane's index in the road, -1 for a lane the road lacks
+    const auto at = lanes.find(r.lane);
+    s.lane = at == lanes.end() ? -1 : at->second;
+  }
+  // as the SUMO coupling does: up to kRouteAhead edges, ending at the first the road lacks
+  for (std::size_t k = 0; k < r.route.size() && k < static_cast<std::size_t>(hw::kRouteAhead); ++k) {
+    const auto at = edges.find(r.route[k]);
+    if (at == edges.end()) break;
+    s.route[k] = at->second;
+  }
+  const double lateral = r.has[kLateralSpeed] ? r.v[kLateralSpeed] : 0.0;
+  if (c == Convention::Ours) {
+    s.position = st::Vec2(r.v[kX], r.v[kY]);
+    s.heading = r.v[kHeading];
+    s.speed = r.v[kSpeed];
+    s.lateralSpeed = lateral;
+    if (r.signals > (hw::kSignalLeft | hw::kSignalRight))
+      throw py::value_error(where + ": 'signals' must be 0..3 (1 left, 2 right), got " + std::to_string(r.signals));
+    s.signals = static_cast<std::uint8_t>(r.signals);
+  } else {
+    s.heading = hw::headingFromNavigationDegrees(r.v[kAngle]);
+    s.position = hw::centreFromFrontBumper(st::Vec2(r.v[kX], r.v[kY]), s.heading, s.length);
+    const double speed = r.v[kSpeed];
+    s.speed = lateral == 0.0 ? speed : std::copysign(std::hypot(speed, lateral), speed);
+    s.lateralSpeed = 0.0;
+    s.signals = 0;  // SUMO's bit 1 is the left blinker, bit 0 the right
+    if (r.signals & 2) s.signals |= hw::kSignalLeft;
+    if (r.signals & 1) s.signals |= hw::kSignalRight;
+  }
+}
+
+}  // namespace
+
+// A list of dicts, or a dict of equally long columns.
+void readStates(py::handle vehicles, Convention c, const LaneIndex& lanes, const EdgeIndex& edges,
+                std::vector<hw::VehicleState>& out) {
+  std::vector<Raw> raws;
+  if (py::isinstance<py::dict>(vehicles)) {
+    const auto columns = py::reinterpret_borrow<py::dict>(vehicles);
+    std::optional<std::size_t> n;
+    std::vector<std::pair<int, py::object>> cols;
+    for (auto [name, col] : columns) {
+      const std::string key = py::isinstance<py::str>(name) ? py::cast<std::string>(name) : std::string(py::repr(name));
+      const int k = keyOf(key, c, "column");
+      if (PyUnicode_Check(col.ptr()) || !py::hasattr(col, "__len__"))
+        throw py::type_error("column '" + key + "' must be a sequence or array, got " + typeName(col));
+      const std::size_t len = py::len(col);
+      if (n && *n != len)
+        throw py::value_error("column '" + key + "' has " + std::to_string(len) + " values, the others " + std::to_string(*n));
+      n = len;
+      cols.emplace_back(k, py::reinterpret_borrow<py::object>(col));
+    }
+    raws.resize(n.value_or(0));
+    // numbers through one NumPy conversion per column where it can (ids and names element-wise)
+    for (auto& [k, col] : cols) {
+      const bool numeric = k != kId && k != kClass && k != kSignals && k != kEquipped && k != kLane && k != kRoute;
+      if (numeric && py::isinstance<py::array>(col) && py::cast<py::array>(col).dtype().kind() == 'f') {
+        auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(col);
+        if (!a || a.ndim() != 1)
+          throw py::value_error(std::string("column '") + kKeyNames[k] + "' must be one-dimensional");
+        const double* p = a.data();
+        for (std::size_t i = 0; i < raws.size(); ++i) {
+          if (!std::isfinite(p[i]))
+            throw py::value_error("vehicle " + std::to_string(i) + ": '" + kKeyNames[k] + "' must be finite, got " +
+                                  std::to_string(p[i]));
+          raws[i].v[k] = p[i];
+          raws[i].has[k] = true;
+        }
+        continue;
+      }
+      std::size_t i = 0;
+      for (py::handle value : col) {
+        if (i >= raws.size()) break;
+        setValue(raws[i], k, value, c, "vehicle " + std::to_string(i));
+        ++i;
+      }
+    }
+  } else if (py::isinstance<py::sequence>(vehicles) && !PyUnicode_Check(vehicles.ptr())) {
+    const auto rows = py::reinterpret_borrow<py::sequence>(vehicles);
+    raws.resize(py::len(rows));
+    for (std::size_t i = 0; i < raws.size(); ++i) {
+      py::object row = rows[i];
+      if (!py::isinstance<py::dict>(row))
+        throw py::type_error("vehicle " + std::to_string(i) + " must be a dict, got " + typeName(row));
+      const auto d = py::reinterpret_borrow<py::dict>(row);
+      if (d.contains("id")) setValue(raws[i], kId, d["id"], c, "vehicle " + std::to_string(i));
+      for (auto [name, value] : d) {
+        const std::string where = vehicleWhere(i, raws[i]);
+        if (!py::isinstance<py::str>(name)) throw py::type_error(where + ": keys must be str, got " + typeName(name));
+        const int k = keyOf(py::cast<std::string>(name), c, where);
+        if (k != kId) setValue(raws[i], k, value, c, where);
+      }
+    }
+  } else {
+    throw py::type_error("vehicles must be a list of dicts or a dict of columns, got " + typeName(vehicles));
+  }
+  out.resize(raws.size());
+  for (std::size_t i = 0; i < raws.size(); ++i) toState(raws[i], c, i, lanes, edges, out[i]);
+}
+
+py::dict stateDict(const hw::VehicleState& s, const hw::RoadGeometry* road) {
+  py::dict d;
+  d["id"] = s.id;
+  d["x"] = s.position.x();
+  d["y"] = s.position.y();
+  d["heading"] = s.heading;
+  d["speed"] = s.speed;
+  d["lateral_speed"] = s.lateralSpeed;
+  d["acceleration"] = s.acceleration;
+  d["length"] = s.length;
+  d["width"] = s.width;
+  d["mass"] = s.mass;
+  d["vehicle_class"] = hw::toString(s.vehicleClass);
+  d["signals"] = static_cast<int>(s.signals);
+  d["equipped"] = s.equipped;
+  if (road) d["lane"] = s.lane >= 0 ? py::object(py::str(road->lanes.at(static_cast<std::size_t>(s.lane)).id)) : py::none();
+  return d;
+}
+
+}  // namespace stpy
