@@ -26,8 +26,12 @@ TYPES = [
     ("rear_end", "rear-end", "#d62728"),
     ("lane_change", "lane change", "#ff7f0e"),
     ("crossing", "crossing", "#1f77b4"),
+    # none of SSAM's conflicts: a zone occupied (or reached) without the bodies on a collision course
+    ("proximity", "proximity (no collision course)", "#9467bd"),
     ("road", "road (curb, marker, hazard)", "#7f7f7f"),
 ]
+# drawn underneath and fainter, so the conflicts show
+FAINT = ("proximity", "road")
 # marker area (pt^2) at severity 0 and per m/s, capped
 SIZE0, SIZE_PER_MS, SIZE_MAX = 6.0, 6.0, 160.0
 
@@ -107,11 +111,11 @@ def main(argv):
             continue
         # the most severe drawn last (on top)
         pts.sort(key=lambda w: w[3])
-        # road warnings (often the most) underneath and fainter, so the vehicle conflicts show
-        road = key == "road"
+        # road and proximity warnings (often the most) underneath and fainter, so the conflicts show
+        faint = key in FAINT
         sc = ax.scatter([w[0] for w in pts], [w[1] for w in pts], s=[size_of(w[3]) for w in pts],
-                        c=colour, alpha=0.3 if road else 0.65, linewidths=0.3, edgecolors="black",
-                        zorder=2 if road else 3)
+                        c=colour, alpha=0.3 if faint else 0.65, linewidths=0.3, edgecolors="black",
+                        zorder=2 if faint else 3)
         sc.set_gid("warnings_" + key)
     # the legend: types (with counts) and three sizes, from proxy handles (not counted as warnings)
     handles = [Line2D([], [], linestyle="none", marker="o", markersize=7, markerfacecolor=colour,
@@ -132,7 +136,9 @@ def main(argv):
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
-    ax.set_title((a.title + ": " if a.title else "") + "%d warnings" % len(warnings), fontsize=9)
+    conflicts = sum(counts[k] for k in ("rear_end", "lane_change", "crossing"))
+    ax.set_title((a.title + ": " if a.title else "") + "%d warnings: %d conflicts, %d proximity, %d road"
+                 % (len(warnings), conflicts, counts["proximity"], counts["road"]), fontsize=9)
     ax.grid(alpha=0.2)
     fig.tight_layout()
     fig.savefig(a.out + ".png", dpi=100)

@@ -76,9 +76,10 @@ PYBIND11_MODULE(_stsim, m) {
       .def_property_readonly("heading_angle", [](const hw::Warning& w) { return conflictNumber(w.headingAngle); },
                              "deg between the headings; road: to the line; None for a hazard")
       .def_property_readonly("type", [](const hw::Warning& w) { return hw::toString(w.type); },
-                             "rear_end, lane_change, crossing (SSAM's angles) or road")
+                             "rear_end, lane_change, crossing (SSAM's angles, on a collision course), proximity (only the detector's "
+                             "zones meet or overlap: no collision course) or road")
       .def_property_readonly("drac", [](const hw::Warning& w) { return conflictNumber(w.drac); },
-                             "m/s^2, deceleration rate to avoid the crash (inf at TTC 0 while closing)")
+                             "m/s^2, deceleration rate to avoid the crash (inf at TTC 0 while closing); None for proximity")
       .def_property_readonly("max_delta_v", [](const hw::Warning& w) { return conflictNumber(w.maxDeltaV); },
                              "m/s, SSAM's MaxDeltaV; None for road warnings")
       .def_readonly("line", &hw::Warning::line, "road warnings: the curb, marker or hazard")

@@ -1,6 +1,7 @@
 // `stsim highway SCENARIO` end to end: outputs, determinism, bad input, Ctrl-C.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <thread>
 
 #include "test_util.hpp"
@@ -29,6 +30,52 @@ TEST(HighwayCli, MotorwayRunWritesWarningsSummaryAndCollisions) {
   // the warnings counted in the summary are the rows of the CSV
   EXPECT_DOUBLE_EQ(jsonNumber(summary, "total"), static_cast<double>(rows));
   EXPECT_EQ(lines(slurp(dir / "collisions.csv"))[0], "time,collider,victim,type,lane,pos,collider_speed,victim_speed");
+}
+
+// The main job (five-circle): cars side by side in adjacent lanes inside each other's side circles
+// (a truck's reach across the 3.75 m lanes) warn with TTC 0 in zone left or right. With the
+// headings parallel they are proximity states, none a rear-end conflict, and carry no DRAC; the
+// headline and summary.json count them apart from SSAM's types.
+TEST(HighwayCli, TheMainJobsSideBySideWarningsAreProximityNotRearEnd) {
+  const auto dir = freshDir("cli_proximity");
+  const auto r = runStsim({"highway", motorway().string(), "--no-map", "--out", dir.string()}, dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto rows = lines(slurp(dir / "warnings.csv"));
+  ASSERT_GT(rows.size(), 1u);
+  const auto header = splitCsv(rows[0]);
+  auto col = [&](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    EXPECT_NE(it, header.end()) << name;
+    return static_cast<std::size_t>(it - header.begin());
+  };
+  const std::size_t kind = col("kind"), zone = col("zone"), ttc = col("min_ttc"), angle = col("heading_angle"),
+                    type = col("type"), drac = col("drac");
+  long sideBySide = 0, proximity = 0, rearEnd = 0;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const auto f = splitCsv(rows[i]);
+    ASSERT_EQ(f.size(), header.size()) << rows[i];
+    if (f[type] == "proximity") {
+      ++proximity;
+      EXPECT_EQ(f[drac], "") << rows[i];  // excluded from DRAC
+    }
+    rearEnd += f[type] == "rear_end";
+    if (f[kind] != "vehicle" || std::stod(f[ttc]) != 0.0 || (f[zone] != "left" && f[zone] != "right")) continue;
+    if (std::stod(f[angle]) > 1.0) continue;  // converging (the ramp's taper): typed by its angle
+    ++sideBySide;
+    EXPECT_EQ(f[type], "proximity") << rows[i];
+  }
+  EXPECT_GT(sideBySide, 500);  // most of the run's warnings
+  const std::string summary = slurp(dir / "summary.json");
+  EXPECT_DOUBLE_EQ(jsonNumber(summary, "proximity"), static_cast<double>(proximity));
+  EXPECT_DOUBLE_EQ(jsonNumber(summary, "rear_end"), static_cast<double>(rearEnd));
+  EXPECT_DOUBLE_EQ(jsonNumber(summary, "conflicts"),
+                   jsonNumber(summary, "rear_end") + jsonNumber(summary, "lane_change") + jsonNumber(summary, "crossing"));
+  EXPECT_LT(rearEnd * 5, proximity);
+  // the headline: the same counts, proximity apart from the conflicts
+  EXPECT_NE(r.out.find("rear_end " + std::to_string(rearEnd) + ","), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("; proximity " + std::to_string(proximity) + " (zone occupied, no collision course)"),
+            std::string::npos)
+      << r.out;
 }
 
 // SUMO's default rule counts a gap below minGap (1.5 m here) as a collision, crawling queues

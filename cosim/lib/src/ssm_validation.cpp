@@ -207,9 +207,14 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
   for (std::size_t d = 0; d < m.monitors.size(); ++d) {
     DetectorValidation dv;
     dv.detector = names[d];
-    std::map<std::pair<std::string, std::string>, std::vector<std::pair<double, double>>> episodes;
+    // the car-car episodes of each ordered pair: (begin, end, one of SSAM's types)
+    struct Span {
+      double begin, end;
+      bool conflict;
+    };
+    std::map<std::pair<std::string, std::string>, std::vector<Span>> episodes;
     for (const auto& w : m.warnings[d])
-      if (w.kind == hw::WarningKind::Vehicle) episodes[{w.ego, w.foe}].emplace_back(w.begin, w.end);
+      if (w.kind == hw::WarningKind::Vehicle) episodes[{w.ego, w.foe}].push_back({w.begin, w.end, hw::isSsamType(w.type)});
 
     // 2. recall over SSM conflicts below the ego's safe time
     for (const auto& c : conflicts) {
@@ -226,10 +231,14 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
       const double safe = m.base.safeTime.vehicleSafeTime(ego->mass, closing, ego->cls);
       if (!(c.minTtc < safe)) continue;
       dv.conflicts++;
-      bool hit = false;
+      bool hit = false, byConflict = false;
       if (auto it = episodes.find({c.ego, c.foe}); it != episodes.end())
-        for (const auto& [b, e] : it->second)
-          if (b <= t + 1e-6 && t <= e + 1e-6) hit = true;
+        for (const Span& s : it->second)
+          if (s.begin <= t + 1e-6 && t <= s.end + 1e-6) {
+            hit = true;
+            byConflict = byConflict || s.conflict;
+          }
+      if (byConflict) dv.recalledByConflicts++;
       if (hit) dv.recalled++;
       else if (dv.missed.size() < 20) {
         std::ostringstream os;
@@ -249,6 +258,10 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
       }
       if (confirmed) dv.confirmed++;
       else dv.unseenByZone[static_cast<std::size_t>(w.zone)]++;
+      if (hw::isSsamType(w.type)) {
+        dv.conflictWarnings++;
+        if (confirmed) dv.conflictsConfirmed++;
+      }
     }
     r.detectors.push_back(std::move(dv));
   }
@@ -270,7 +283,10 @@ std::string toJson(const ValidationReport& r) {
     os << (i ? "," : "") << "\n    {\"detector\": " << io::jsonString(d.detector)
        << ", \"ssm_conflicts_below_safe_time\": " << d.conflicts << ", \"recalled\": " << d.recalled
        << ", \"recall\": " << num(d.recall()) << ", \"warnings\": " << d.warnings << ", \"confirmed_by_ssm\": " << d.confirmed
-       << ", \"precision\": " << num(d.precision()) << ",\n     \"not_seen_by_ssm_by_zone\": {";
+       << ", \"precision\": " << num(d.precision()) << ",\n     \"conflicts\": {\"recalled\": " << d.recalledByConflicts
+       << ", \"recall\": " << num(d.conflictRecall()) << ", \"warnings\": " << d.conflictWarnings
+       << ", \"confirmed_by_ssm\": " << d.conflictsConfirmed << ", \"precision\": " << num(d.conflictPrecision())
+       << "},\n     \"not_seen_by_ssm_by_zone\": {";
     bool first = true;
     for (int z = 0; z < highway::kZoneCount; ++z) {
       if (d.unseenByZone[static_cast<std::size_t>(z)] == 0) continue;
@@ -294,7 +310,8 @@ std::string summaryLine(const ValidationReport& r) {
   else os << io::fixed(100.0 * r.withinFraction(), 2) << " % within " << r.tolerance << " s of SSM's TTC;";
   for (const auto& d : r.detectors)
     os << " " << d.detector << " recall " << figure(d.recall(), 3, "n/a (no SSM conflict below the safe time)")
-       << " precision " << figure(d.precision(), 3, "n/a (no car-car warning)") << ";";
+       << " precision " << figure(d.precision(), 3, "n/a (no car-car warning)") << " (conflicts alone: recall "
+       << figure(d.conflictRecall(), 3, "n/a") << ", precision " << figure(d.conflictPrecision(), 3, "n/a") << ");";
   return os.str();
 }
 

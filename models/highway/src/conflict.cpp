@@ -11,6 +11,7 @@ const char* toString(ConflictType t) {
     case ConflictType::RearEnd: return "rear_end";
     case ConflictType::LaneChange: return "lane_change";
     case ConflictType::Crossing: return "crossing";
+    case ConflictType::Proximity: return "proximity";
     case ConflictType::Road: return "road";
   }
   return "?";

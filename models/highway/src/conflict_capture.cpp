@@ -17,30 +17,39 @@ double angleDeg(const Vec2& a, const Vec2& b) {
 }  // namespace
 
 void describeConflict(const ConflictCapture& c, WarningKind kind, double egoMass, double foeMass, double ttc,
-                      const RoadFeatures& road, const ConflictConfig& config, Warning& w) {
+                      double safeTime, const DetectorConfig& detector, const RoadFeatures& road, const ConflictConfig& config,
+                      Warning& w) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  w.x = c.egoPos.x();
-  w.y = c.egoPos.y();
-  w.egoSpeed = c.egoVel.norm();
+  const Body &a = c.ego, &b = c.foe;
+  w.x = a.position.x();
+  w.y = a.position.y();
+  w.egoSpeed = a.velocity.norm();
   if (kind == WarningKind::Vehicle) {
-    w.foeSpeed = c.foeVel.norm();
-    w.headingAngle = angleDeg(c.egoAxis, c.foeAxis);
+    w.foeSpeed = b.velocity.norm();
+    w.headingAngle = angleDeg(a.axis, b.axis);
+    w.maxDeltaV = maxDeltaV(egoMass, a.velocity, foeMass, b.velocity);
+    w.lateralSpeed = kNaN;
+    if (!onCollisionCourse(detector, a, b, safeTime)) {
+      // only the zones meet: no angle class, and no deceleration avoids a crash not coming
+      w.type = ConflictType::Proximity;
+      w.drac = kNaN;
+      return;
+    }
     w.type = conflictType(w.headingAngle, config);
     // the rate the centre distance shrinks, as the safe time has it
-    const Vec2 p = c.foePos - c.egoPos, v = c.foeVel - c.egoVel;
+    const Vec2 p = b.position - a.position, v = b.velocity - a.velocity;
     const double dist = p.norm();
     const double closing = dist > 0.0 ? -p.dot(v) / dist : v.norm();
     w.drac = decelerationToAvoid(closing, ttc);
-    w.maxDeltaV = maxDeltaV(egoMass, c.egoVel, foeMass, c.foeVel);
     w.lateralSpeed = kNaN;
     return;
   }
   // a road feature: the speed towards its closest point, as the road search has it
   const RoadFeature& f = road.features[c.feature];
-  const Vec2 closest = f.kind == FeatureKind::Hazard ? f.segment.a : closestPointOnSegment(f.segment, c.egoPos);
-  const Vec2 d = closest - c.egoPos;
+  const Vec2 closest = f.kind == FeatureKind::Hazard ? f.segment.a : closestPointOnSegment(f.segment, a.position);
+  const Vec2 d = closest - a.position;
   const double dist = d.norm();
-  w.lateralSpeed = dist > 0.0 ? c.egoVel.dot(d) / dist : c.egoVel.norm();
+  w.lateralSpeed = dist > 0.0 ? a.velocity.dot(d) / dist : a.velocity.norm();
   w.drac = decelerationToAvoid(w.lateralSpeed, ttc);
   w.foeSpeed = kNaN;
   w.maxDeltaV = kNaN;
@@ -49,7 +58,7 @@ void describeConflict(const ConflictCapture& c, WarningKind kind, double egoMass
     w.headingAngle = kNaN;
   } else {
     // a line has no direction: the angle to it is at most 90 degrees
-    const double deg = angleDeg(c.egoAxis, along.normalized());
+    const double deg = angleDeg(a.axis, along.normalized());
     w.headingAngle = std::min(deg, 180.0 - deg);
   }
   w.type = ConflictType::Road;

@@ -13,32 +13,35 @@
 namespace st::highway::detail {
 
 struct ConflictCapture {
-  Vec2 egoPos = Vec2::Zero(), egoVel = Vec2::Zero(), egoAxis = Vec2(1.0, 0.0);
-  Vec2 foePos = Vec2::Zero(), foeVel = Vec2::Zero(), foeAxis = Vec2(1.0, 0.0);  // vehicle threats
+  Body ego, foe;     // foe: vehicle threats
   int lane = -1;     // the ego's lane (index into the road's lanes)
   int feature = -1;  // road threats: the feature that fired
 };
 
 inline void capture(const VehicleTable& cars, int e, const Threat& th, ConflictCapture& c) {
-  const Body& a = cars.body[e];
-  c.egoPos = a.position;
-  c.egoVel = a.velocity;
-  c.egoAxis = a.axis;
+  c.ego = cars.body[e];
   c.lane = cars.lane[e];
   if (th.kind == WarningKind::Vehicle) {
-    const Body& b = cars.body[th.foe];
-    c.foePos = b.position;
-    c.foeVel = b.velocity;
-    c.foeAxis = b.axis;
+    c.foe = cars.body[th.foe];
     c.feature = -1;
   } else {
     c.feature = th.feature;
   }
 }
 
+// On a collision course (conflict.hpp): the two bodies' exact rectangles meet within the safe
+// time. Always so for a box warning (its TTC is the rectangles', along the prediction); for the
+// circle detectors, whose zones reach beyond the body, the rectangles in straight lines at the
+// detector's motion model (as hindsight's near misses have it).
+inline bool onCollisionCourse(const DetectorConfig& dc, const Body& ego, const Body& foe, double safeTime) {
+  return dc.kind == DetectorKind::Box || boxTtc(ego, foe, dc.motion, safeTime) <= safeTime;
+}
+
 // The conflict fields of w (x .. lateralSpeed, but lane and line: the caller names them) from a
-// capture, the two masses (foeMass for vehicle warnings) and the episode's minimum TTC.
+// capture, the two masses (foeMass for vehicle warnings), the episode's minimum TTC and the safe
+// time then, and the detector (for the collision course).
 void describeConflict(const ConflictCapture& c, WarningKind kind, double egoMass, double foeMass, double ttc,
-                      const RoadFeatures& road, const ConflictConfig& config, Warning& w);
+                      double safeTime, const DetectorConfig& detector, const RoadFeatures& road, const ConflictConfig& config,
+                      Warning& w);
 
 }  // namespace st::highway::detail

@@ -45,8 +45,8 @@ Warning EpisodeBook::warningOf(int e, const Episode& ep, bool open) const {
   w.open = open;
   const ConflictCapture& c = captures_[ep.capture];
   const bool vehicle = ep.kind == WarningKind::Vehicle;
-  describeConflict(c, ep.kind, cars_->mass[e], vehicle ? cars_->mass[ep.foe] : 0.0, ep.minTtc, road_->features(),
-                   cfg_->conflict, w);
+  describeConflict(c, ep.kind, cars_->mass[e], vehicle ? cars_->mass[ep.foe] : 0.0, ep.minTtc, ep.safeTimeAtMin,
+                   cfg_->detector, road_->features(), cfg_->conflict, w);
   w.lane = cars_->laneId(c.lane);
   if (c.feature >= 0) w.line = road_->features().features[c.feature].name;
   return w;

@@ -123,7 +123,7 @@ std::string summaryJson(const MonitorCounters& c, const RunInfo& info) {
   os << "},\n    \"by_zone\": {";
   for (int z = 0; z < kZoneCount; ++z)
     os << (z ? ", " : "") << jsonString(toString(static_cast<Zone>(z))) << ": " << c.warningsByZone[z];
-  os << "},\n    \"by_type\": {";
+  os << "},\n    \"conflicts\": " << ssamConflicts(c) << ",\n    \"by_type\": {";
   for (int k = 0; k < kConflictTypeCount; ++k)
     os << (k ? ", " : "") << jsonString(toString(static_cast<ConflictType>(k))) << ": " << c.warningsByType[k];
   os << "},\n    \"per_vehicle_km_by_type\": {";
@@ -161,10 +161,20 @@ std::string summaryJson(const MonitorCounters& c, const RunInfo& info) {
 }
 
 std::string conflictTypeBreakdown(const MonitorCounters& c) {
+  // SSAM's conflicts first, then apart what is none of them: proximity (zones only), road
+  auto n = [&](ConflictType t) { return std::to_string(c.warningsByType[static_cast<int>(t)]); };
   std::string s;
+  for (ConflictType t : {ConflictType::RearEnd, ConflictType::LaneChange, ConflictType::Crossing})
+    s += std::string(t == ConflictType::RearEnd ? "" : ", ") + toString(t) + " " + n(t);
+  return s + "; proximity " + n(ConflictType::Proximity) + " (zone occupied, no collision course); road " +
+         n(ConflictType::Road);
+}
+
+std::uint64_t ssamConflicts(const MonitorCounters& c) {
+  std::uint64_t n = 0;
   for (int k = 0; k < kConflictTypeCount; ++k)
-    s += std::string(k ? ", " : "") + toString(static_cast<ConflictType>(k)) + " " + std::to_string(c.warningsByType[k]);
-  return s;
+    if (isSsamType(static_cast<ConflictType>(k))) n += c.warningsByType[k];
+  return n;
 }
 
 void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& counters, const RunInfo& info) {

@@ -130,6 +130,136 @@ TEST(ConflictRecord, CurbWarningCarriesTheLineAndTheLateralSpeed) {
   EXPECT_TRUE(std::isnan(w->foeSpeed));
 }
 
+// three lanes of the given width, centre lines at y = -width, 0, width (indices 0, 1, 2)
+RoadGeometry threeLaneRoad(double width) {
+  RoadGeometry r;
+  for (int i = 0; i < 3; ++i)
+    r.lanes.push_back({"e_" + std::to_string(i), "e", i, {Vec2(-100.0, (i - 1) * width), Vec2(1000.0, (i - 1) * width)},
+                       width, false});
+  return r;
+}
+RoadGeometry twoLaneRoad() { return threeLaneRoad(3.2); }
+
+MonitorConfig fiveConfig() {
+  MonitorConfig cfg;
+  cfg.detector.kind = DetectorKind::FiveCircle;  // Fig. 11(a), the main job's
+  cfg.broadphase = Broadphase::AllPairs;
+  cfg.checkRoad = false;
+  return cfg;
+}
+
+VehicleState truck(const std::string& id, Vec2 p, double speed) {
+  VehicleState v = car(id, p, 0.0, speed);
+  v.length = 12.0;  // the motorway's trucks
+  v.width = 2.55;
+  v.mass = 20000.0;
+  v.vehicleClass = VehicleClass::Truck;
+  return v;
+}
+
+// Side by side in adjacent lanes, the five-circle detector's side circles reach into the other
+// vehicle: a truck's (radius 2.1 m about a point 0.64 m off its axis) into a car's body circle
+// (1.23 m) across the motorway's 3.75 m lanes, two cars' across 2.5 m lanes: TTC 0 in zone left
+// or right, though the bodies run parallel and never meet. That is a proximity state, never a
+// rear-end conflict, whatever the speeds (level, overtaken with the centres closing, pulling
+// away), under either prediction; it has no DRAC. The box detector does not warn at all.
+TEST(ConflictRecord, SideBySideInTheFiveCircleZonesIsProximityNeverRearEnd) {
+  struct Case {
+    const char* what;
+    double laneWidth;
+    VehicleState ego, other;
+    Zone zone;
+  };
+  const double w = 3.75;
+  const Case cases[] = {
+      {"a car level on the truck's left", w, truck("ego", Vec2(0.0, 0.0), 25.0), car("other", Vec2(0.0, w), 0.0, 25.0), Zone::Left},
+      {"a car overtaking on the left, centres closing", w, truck("ego", Vec2(0.0, 0.0), 25.0),
+       car("other", Vec2(-2.0, w), 0.0, 27.0), Zone::Left},
+      {"a car on the right pulling away", w, truck("ego", Vec2(0.0, 0.0), 25.0), car("other", Vec2(2.0, -w), 0.0, 26.0),
+       Zone::Right},
+      {"two cars in 2.5 m lanes", 2.5, car("ego", Vec2(0.0, 0.0), 0.0, 25.0), car("other", Vec2(0.5, 2.5), 0.0, 24.0),
+       Zone::Left}};
+  for (Case k : cases) {
+    k.ego.lane = 1;
+    k.other.lane = k.other.position.y() > 0.0 ? 2 : 0;
+    k.other.equipped = false;
+    for (Prediction pred : {Prediction::Road, Prediction::Straight}) {
+      MonitorConfig cfg = fiveConfig();
+      cfg.prediction = pred;
+      const auto ws = oneTick(threeLaneRoad(k.laneWidth), cfg, {k.ego, k.other});
+      const Warning* x = find(ws, "ego", WarningKind::Vehicle);
+      ASSERT_NE(x, nullptr) << k.what;
+      EXPECT_EQ(x->minTtc, 0.0) << k.what;  // the zone already overlaps the other vehicle
+      EXPECT_EQ(x->zone, k.zone) << k.what;
+      EXPECT_EQ(x->type, ConflictType::Proximity) << k.what;
+      EXPECT_NE(x->type, ConflictType::RearEnd) << k.what;
+      EXPECT_TRUE(std::isnan(x->drac)) << k.what;
+      EXPECT_NEAR(x->headingAngle, 0.0, 1e-12);  // still recorded, and the impact's severity
+      EXPECT_FALSE(std::isnan(x->maxDeltaV));
+      MonitorConfig box = cfg;
+      box.detector.kind = DetectorKind::Box;
+      EXPECT_EQ(find(oneTick(threeLaneRoad(k.laneWidth), box, {k.ego, k.other}), "ego", WarningKind::Vehicle), nullptr)
+          << k.what;
+    }
+  }
+}
+
+// The same zones occupied on a collision course are typed by SSAM's angles: a car cutting in
+// (10 degrees towards the other, whose side it reaches within its safe time), and a follower
+// whose front circle is already in the leader, closing fast enough to touch within the safe time.
+TEST(ConflictRecord, ZonesOccupiedOnACollisionCourseKeepTheirSsamType) {
+  // cutting in: heading 10 deg to the left at 25 m/s (4.3 m/s across the 0.7 m between the bodies)
+  VehicleState in = car("in", Vec2(0.0, 0.0), 10.0, 25.0);
+  VehicleState next = car("next", Vec2(0.0, 2.5), 0.0, 25.0);
+  next.equipped = false;
+  const auto ws = oneTick(threeLaneRoad(2.5), fiveConfig(), {in, next});
+  const Warning* w = find(ws, "in", WarningKind::Vehicle);
+  ASSERT_NE(w, nullptr);
+  EXPECT_EQ(w->minTtc, 0.0);
+  EXPECT_NEAR(w->headingAngle, 10.0, 1e-9);
+  EXPECT_EQ(w->type, ConflictType::RearEnd);  // SSAM: below 30 degrees
+  EXPECT_TRUE(std::isinf(w->drac));           // closing at TTC 0
+  // rear-end: 0.5 m bumper to bumper, closing at 5 m/s (touching in 0.1 s)
+  VehicleState f = car("follower", Vec2(0.0, 0.0), 0.0, 30.0);
+  VehicleState l = car("leader", Vec2(5.5, 0.0), 0.0, 25.0);
+  l.equipped = false;
+  const auto ws2 = oneTick(twoLaneRoad(), fiveConfig(), {f, l});
+  const Warning* r = find(ws2, "follower", WarningKind::Vehicle);
+  ASSERT_NE(r, nullptr);
+  EXPECT_EQ(r->zone, Zone::Front);
+  EXPECT_EQ(r->type, ConflictType::RearEnd);
+  EXPECT_FALSE(std::isnan(r->drac));
+  // the same follower at the leader's speed: its front circle in the leader, no collision course
+  f.speed = 25.0;
+  const auto ws3 = oneTick(twoLaneRoad(), fiveConfig(), {f, l});
+  ASSERT_NE(find(ws3, "follower", WarningKind::Vehicle), nullptr);
+  EXPECT_EQ(find(ws3, "follower", WarningKind::Vehicle)->type, ConflictType::Proximity);
+}
+
+TEST(ConflictRecord, ProximityCountsApartFromTheSsamTypes) {
+  HighwayMonitor m(threeLaneRoad(2.5), fiveConfig());
+  VehicleState ego = car("ego", Vec2(0.0, 0.0), 0.0, 25.0), other = car("other", Vec2(0.0, 2.5), 0.0, 25.0);
+  ego.lane = 1;
+  other.lane = 2;
+  m.step(0.0, std::vector<VehicleState>{ego, other});
+  m.finish(0.1);
+  const auto& c = m.counters();
+  EXPECT_EQ(c.warningsByType[static_cast<int>(ConflictType::Proximity)], 2u);
+  EXPECT_EQ(c.warningsByType[static_cast<int>(ConflictType::RearEnd)], 0u);
+  EXPECT_EQ(ssamConflicts(c), 0u);
+  RunInfo info;
+  const std::string json = summaryJson(c, info);
+  EXPECT_NE(json.find("\"conflicts\": 0,\n    \"by_type\": {\"rear_end\": 0, \"lane_change\": 0, \"crossing\": 0, "
+                      "\"proximity\": 2, \"road\": 0}"),
+            std::string::npos)
+      << json;
+  EXPECT_EQ(conflictTypeBreakdown(c),
+            "rear_end 0, lane_change 0, crossing 0; proximity 2 (zone occupied, no collision course); road 0");
+  // in warnings.csv: the type and an empty DRAC
+  const std::string row = warningCsvRow(m.takeFinished().front());
+  EXPECT_NE(row.find(",proximity,,"), std::string::npos) << row;
+}
+
 // a cross junction: four one-lane edges into and out of c
 fs::path buildJunction(const fs::path& dir) {
   fs::create_directories(dir);

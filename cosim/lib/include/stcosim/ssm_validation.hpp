@@ -62,10 +62,18 @@ struct DetectorValidation {
   std::uint64_t warnings = 0;        // this detector's car-car warnings (episodes) by equipped egos
   std::uint64_t confirmed = 0;       // ... with an SSM encounter of the pair overlapping in time
   std::array<std::uint64_t, highway::kZoneCount> unseenByZone{};  // the rest, by zone
+  // The same counting SSAM's types alone (highway/conflict.hpp: proximity warnings, zones meeting
+  // with no collision course, left out): the conflicts that recalled an SSM conflict, the
+  // conflicts among the car-car warnings and those SSM also saw.
+  std::uint64_t recalledByConflicts = 0;
+  std::uint64_t conflictWarnings = 0;
+  std::uint64_t conflictsConfirmed = 0;
   // The shares, NaN when there is nothing to count (no conflict to recall, no warning to
   // confirm): a run without SSM conflicts has no recall, not a perfect one. JSON writes null.
   double recall() const { return share(recalled, conflicts); }
   double precision() const { return share(confirmed, warnings); }
+  double conflictRecall() const { return share(recalledByConflicts, conflicts); }
+  double conflictPrecision() const { return share(conflictsConfirmed, conflictWarnings); }
   static double share(std::uint64_t part, std::uint64_t whole) {
     return whole == 0 ? std::numeric_limits<double>::quiet_NaN() : static_cast<double>(part) / static_cast<double>(whole);
   }

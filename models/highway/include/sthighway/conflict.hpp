@@ -9,10 +9,19 @@
 
 namespace st::highway {
 
-// Road warnings (curb, lane marker, hazard) are of type Road: SSAM's types are of vehicle pairs.
-enum class ConflictType : std::uint8_t { RearEnd, LaneChange, Crossing, Road };
-inline constexpr int kConflictTypeCount = 4;
-const char* toString(ConflictType t);  // "rear_end", "lane_change", "crossing", "road"
+// SSAM's types (RearEnd, LaneChange, Crossing) are of vehicle pairs on a collision course: the
+// two bodies (their exact rectangles) are predicted to meet within the safe time at the tick of
+// minimum TTC. A vehicle warning whose bodies are not, only the detector's zones (a circle that
+// already overlaps the other car side by side in the next lane, TTC 0, or will), is Proximity: a
+// blind-spot or close-following state, not a conflict of any angle class; it keeps its zone and
+// has no DRAC. Road warnings (curb, lane marker, hazard) are of type Road.
+enum class ConflictType : std::uint8_t { RearEnd, LaneChange, Crossing, Proximity, Road };
+inline constexpr int kConflictTypeCount = 5;
+const char* toString(ConflictType t);  // "rear_end", "lane_change", "crossing", "proximity", "road"
+// True for SSAM's three angle classes (the conflicts proper).
+inline bool isSsamType(ConflictType t) {
+  return t == ConflictType::RearEnd || t == ConflictType::LaneChange || t == ConflictType::Crossing;
+}
 
 struct ConflictConfig {
   // SSAM: a conflict angle below 30 degrees is a rear-end, above 85 degrees a crossing, a

@@ -63,7 +63,8 @@ std::string hindsightJson(const MonitorCounters& counters, const HindsightConfig
 // p90 (null for none)}.
 std::string eventRecallJson(std::uint64_t events, std::uint64_t warned, const std::vector<double>& leads);
 
-// summary.json: vehicles, vehicle_km, warnings (total, by kind, by zone, by conflict type, per vehicle-km),
+// summary.json: vehicles, vehicle_km, warnings (total, by kind, by zone, conflicts (SSAM's types), by conflict
+// type, per vehicle-km),
 // tet_s / tit_s2 by kind, handoffs, subdivisions, candidate_pairs, toi_checks, wall time.
 std::string summaryJson(const MonitorCounters& counters, const RunInfo& info);
 void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& counters,
@@ -74,7 +75,11 @@ void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& 
 // sumo.log; the conflict map), so that what is there after a run belongs to it. Throws std::runtime_error.
 void removeRunOutputs(const std::filesystem::path& out);
 
-// "rear_end N, lane_change N, crossing N, road N" (for a printed summary).
+// "rear_end N, lane_change N, crossing N; proximity N (zone occupied, no collision course); road N"
+// (for a printed summary): SSAM's conflicts, then apart the warnings that are none.
 std::string conflictTypeBreakdown(const MonitorCounters& counters);
+// The finished warnings of SSAM's three types (conflict.hpp: on a collision course); summary.json's
+// warnings.conflicts.
+std::uint64_t ssamConflicts(const MonitorCounters& counters);
 
 }  // namespace st::highway
