@@ -95,6 +95,8 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/networks/ DESTINATION ${CMAKE_INSTALL_DA
 # executable first (bin/../share/stsim, st::io::dataFile), then in the source tree
 install(FILES ${PROJECT_SOURCE_DIR}/batch/plots.py ${PROJECT_SOURCE_DIR}/models/highway/conflict_map.py
         DESTINATION ${CMAKE_INSTALL_DATADIR}/stsim)
+# the page of stsim pool serve (one self-contained file: nothing fetched from elsewhere)
+install(FILES ${PROJECT_SOURCE_DIR}/models/pool/serve/web/index.html DESTINATION ${CMAKE_INSTALL_DATADIR}/stsim/pool)
 
 # CMake package
 install(EXPORT stsimTargets NAMESPACE stsim:: DESTINATION ${STSIM_INSTALL_CMAKEDIR})

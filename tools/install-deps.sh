@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config ccache
-  libeigen3-dev libyaml-cpp-dev libboost1.74-dev
+  libeigen3-dev libyaml-cpp-dev libboost1.74-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   sumo sumo-tools
   libfcl-dev

@@ -15,6 +15,13 @@
 #include <stpool/study.hpp>
 
 #include "stop_signals.hpp"
+#ifdef STSIM_HAVE_POOL_SERVE
+#include <boost/asio/io_context.hpp>
+#include <stio/data_file.hpp>
+#include <stnet/frame.hpp>
+
+#include "pool_server.hpp"
+#endif
 
 namespace st::cli {
 
@@ -61,11 +68,68 @@ void printSummary(std::ostream& os, const pool::RunRecord& run, const pool::Game
 }
 
 
+#ifdef STSIM_HAVE_POOL_SERVE
+// The scenario a served game starts from when none is given: the standard rack with a seeded
+// gap, a little rolling resistance so every shot comes to rest, version II.
+const char* kServeDefault = R"(name: rack
+table: {width: 2.54, height: 1.27}
+rack: {kind: standard, gap: 2.0e-5}
+friction: 0.15
+until: 60
+space: {kind: quadtree, decomposition_factor: 5}
+)";
+
+int runServe(int argc, const char* const* argv) {
+  Args args("pool serve",
+            "The report's interactive table in the browser: serves one page and a WebSocket per tab, each\n"
+            "tab its own game; the server plays every shot with stcore and streams its events, the page\n"
+            "animates them. Open the printed address. Protocol and bounds in models/pool/README.md.");
+  args.positional("SCENARIO.yaml", "the game's initial layout and settings (default: the standard rack)", false)
+      .option("listen", "HOST:PORT", "address to listen on (port 0: pick one and print it)", "127.0.0.1:8080")
+      .option("max-games", "N", "games (tabs) served at once; more are refused", "64")
+      .option("page", "FILE", "serve this page instead of the installed one (for working on it)");
+  if (!args.parse(argc, argv)) {
+    std::cout << args.help();
+    return 0;
+  }
+  const auto hp = net::parseHostPort(args.get("listen"));
+  if (!hp) throw UsageError("option --listen: expected HOST:PORT, got '" + args.get("listen") + "'");
+  const long maxGames = args.getInt("max-games");
+  if (maxGames < 1 || maxGames > 10000) throw UsageError("option --max-games needs an integer in 1..10000");
+  const pool::Scenario scenario = args.positionalValue(0) ? pool::loadScenario(*args.positionalValue(0))
+                                                          : pool::parseScenario(kServeDefault, "(default rack)");
+  pool::ServeConfig cfg = pool::defaultServeConfig();
+  cfg.web.net.address = hp->host == "localhost" ? "127.0.0.1" : hp->host;
+  cfg.web.net.port = hp->port;
+  cfg.web.net.maxConnections = static_cast<std::size_t>(maxGames);
+  const std::filesystem::path page =
+      args.has("page") ? std::filesystem::path(args.get("page")) : io::dataFile("pool/index.html", STSIM_POOL_PAGE);
+  std::ifstream in(page);
+  if (!in) throw std::runtime_error(page.string() + ": cannot read the page");
+  std::stringstream html;
+  html << in.rdbuf();
+  cfg.page = html.str();
+  boost::asio::io_context io;
+  pool::PoolServer server(io, scenario, cfg);
+  std::cout << "pool serve: http://" << cfg.web.net.address << ":" << server.port() << "/ (" << scenario.name
+            << ", at most " << maxGames << " games; Ctrl-C stops)" << std::endl;
+  const int sig = server.run();
+  const auto& c = server.counters();
+  std::cout << "pool serve: " << (sig ? StopSignals::name(sig) : "stopped") << ", " << c.games
+            << " games, " << c.shots << " shots, " << c.messages << " messages, " << c.errors << " refused" << std::endl;
+  return sig ? 128 + sig : 0;  // 130, 143, 129: as every command (stop_signals.hpp)
+}
+#endif
+
 int runPool(int argc, const char* const* argv) {
+#ifdef STSIM_HAVE_POOL_SERVE
+  if (argc > 0 && std::string(argv[0]) == "serve") return runServe(argc - 1, argv + 1);
+#endif
   Args args("pool",
             "Plays a pool scenario on the event-driven simulator (the report's OOSPG) and writes\n"
             "events.csv, summary.json, table.svg and animation.html to --out; or, with --study fig13,\n"
-            "prints the report's Fig. 13 collision-check study and its extension to large boxes.");
+            "prints the report's Fig. 13 collision-check study and its extension to large boxes.\n"
+            "  stsim pool serve [SCENARIO.yaml] --listen 127.0.0.1:8080   play it in the browser (pool serve --help)");
   args.positional("SCENARIO.yaml", "the scenario (models/pool/README.md documents its keys)", false)
       .option("out", "DIR", "write the run's files to this directory (created if missing)")
       .option("space", "KIND", "override space.kind: none, single, quadtree or cells")

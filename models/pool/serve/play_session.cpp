@@ -1,0 +1,450 @@
+#include "play_session.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include <stcore/tolerances.hpp>
+#include <stio/format.hpp>
+#include <stpool/scenario_writer.hpp>
+
+namespace st::pool {
+
+using json = nlohmann::json;
+
+namespace {
+
+// A message the game refuses: the field it names and why. The game goes on.
+struct FieldError {
+  std::string field, message;
+};
+
+std::string errorMessage(const std::string& field, const std::string& message) {
+  return "{\"type\":\"error\",\"field\":" + io::jsonString(field) + ",\"message\":" + io::jsonString(message) + "}";
+}
+
+// Shortest text that reads back to the same double in JavaScript too: the page shows the bits.
+std::string num(double x) { return io::jsonNumber(x); }
+// appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "[" + std::string
+std::string pair(const Vec2& v) {
+  std::string s(1, '[');
+  s += num(v.x());
+  s += ',';
+  s += num(v.y());
+  s += ']';
+  return s;
+}
+
+// Nesting deeper than any message needs is refused before parsing (bounded work on garbage).
+bool nestedDeeperThan(std::string_view text, int limit) {
+  int depth = 0;
+  bool inString = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (inString) {
+      if (c == '\\') ++i;
+      else if (c == '"') inString = false;
+    } else if (c == '"') inString = true;
+    else if (c == '[' || c == '{') {
+      if (++depth > limit) return true;
+    } else if (c == ']' || c == '}') --depth;
+  }
+  return false;
+}
+
+void onlyFields(const json& j, std::initializer_list<const char*> allowed) {
+  for (const auto& [key, value] : j.items())
+    if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }))
+      throw FieldError{key, "unknown field"};
+}
+
+double number(const json& j, const char* key) {
+  if (!j.contains(key)) throw FieldError{key, "missing"};
+  const json& v = j.at(key);
+  if (!v.is_number()) throw FieldError{key, "must be a number"};
+  const double x = v.get<double>();
+  if (!std::isfinite(x)) throw FieldError{key, "must be finite"};
+  return x;
+}
+
+long integer(const json& j, const char* key) {
+  if (!j.contains(key)) throw FieldError{key, "missing"};
+  const json& v = j.at(key);
+  if (!v.is_number_integer()) throw FieldError{key, "must be an integer"};
+  return v.get<long>();
+}
+
+Vec2 vec2(const json& j, const char* key) {
+  if (!j.contains(key)) throw FieldError{key, "missing"};
+  const json& v = j.at(key);
+  if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number())
+    throw FieldError{key, "must be a pair of numbers [x, y]"};
+  const Vec2 p(v[0].get<double>(), v[1].get<double>());
+  if (!p.allFinite()) throw FieldError{key, "must be finite"};
+  return p;
+}
+
+std::string regionsJson(const Simulator<2>& sim) {
+  std::string out = "[";
+  if (const Space<2>* sp = sim.space()) {
+    bool first = true;
+    for (int leaf : sp->leaves()) {
+      const Rect b = sp->leafBounds(leaf);
+      if (!first) out += ',';
+      first = false;
+      const std::string lo = pair(b.min), hi = pair(b.max);  // [x0,y0] [x1,y1] -> [x0,y0,x1,y1]
+      out.append(lo, 0, lo.size() - 1);
+      out += ',';
+      out.append(hi, 1, std::string::npos);
+    }
+  }
+  return out + "]";
+}
+
+// Subdivisions plus reunions: changes when the regions change.
+std::uint64_t regionChanges(const Simulator<2>& sim) {
+  const Space<2>* sp = sim.space();
+  return sp ? sp->counters().subdivisions + sp->counters().reunions : 0;
+}
+
+int version(SpaceKind k) { return k == SpaceKind::Tree ? 2 : 1; }
+
+}  // namespace
+
+// The message handlers, on the JSON library (kept out of the public header).
+struct SessionMessages {
+  static void shoot(PlaySession& s, const json& j, std::vector<std::string>& out);
+  static void edit(PlaySession& s, const json& j, const std::string& type, std::vector<std::string>& out);
+  static void checkPlace(const PlaySession& s, const Scenario& layout, int skip, const Vec2& p, double radius);
+};
+
+PlaySession::PlaySession(const Scenario& initial, SessionLimits limits) : initial_(initial), limits_(limits) {
+  initial_.shots.clear();
+  if (static_cast<int>(initial_.balls.size()) > limits_.maxBalls)
+    throw ScenarioError(initial_.name + ": balls: " + std::to_string(initial_.balls.size()) +
+                        " balls, more than a served game takes (" + std::to_string(limits_.maxBalls) + ")");
+  initial_.until = std::min(initial_.until, limits_.maxUntil);
+  rebuild(initial_);
+}
+
+PlaySession::~PlaySession() = default;
+
+void PlaySession::rebuild(Scenario layout) {
+  layout.shots.clear();
+  auto game = std::make_unique<Game>(layout, simulatorConfig(layout));  // validates; throws before anything changes
+  layout_ = std::move(layout);
+  game_ = std::move(game);
+}
+
+Scenario PlaySession::restingLayout() const {
+  if (layout_.shots.empty()) return layout_;
+  Scenario next = layout_;
+  next.shots.clear();
+  next.balls.clear();
+  const Simulator<2>& sim = game_->simulator();
+  for (int i = 0; i < static_cast<int>(game_->specs().size()); ++i) {
+    if (!sim.ball(i).active) continue;
+    BallSpec b = game_->specs()[i];
+    b.position = sim.ball(i).positionAt(sim.now());
+    b.velocity = sim.ball(i).velocityAt(sim.now());
+    next.balls.push_back(b);
+  }
+  return next;
+}
+
+std::vector<std::string> PlaySession::handle(std::string_view message) {
+  std::vector<std::string> out;
+  try {
+    if (nestedDeeperThan(message, 8)) throw FieldError{"(message)", "nested deeper than 8 levels"};
+    json j;
+    std::string lastKey;  // the key being read: a number JSON cannot hold (1e999) is its field's error
+    try {
+      j = json::parse(message, [&](int, json::parse_event_t event, json& parsed) {
+        if (event == json::parse_event_t::key && parsed.is_string()) lastKey = parsed.get<std::string>();
+        return true;
+      });
+    } catch (const json::parse_error& e) {
+      std::string what = e.what();
+      if (const auto p = what.find("] "); p != std::string::npos) what.erase(0, p + 2);
+      throw FieldError{"(message)", "malformed JSON: " + what};
+    } catch (const json::out_of_range& e) {
+      if (e.id == 406) throw FieldError{lastKey.empty() ? "(message)" : lastKey, "must be finite"};
+      throw FieldError{"(message)", e.what()};
+    }
+    if (!j.is_object()) throw FieldError{"(message)", "must be a JSON object"};
+    if (!j.contains("type") || !j["type"].is_string()) throw FieldError{"type", "missing (a string)"};
+    const std::string type = j["type"].get<std::string>();
+    if (type == "state") {
+      onlyFields(j, {"type"});
+      out.push_back(stateMessage());
+    } else if (type == "download") {
+      onlyFields(j, {"type"});
+      out.push_back("{\"type\":\"download\",\"name\":\"pool-game.yaml\",\"yaml\":" + io::jsonString(downloadYaml()) + "}");
+    } else if (type == "shoot") {
+      SessionMessages::shoot(*this, j, out);
+    } else if (type == "move" || type == "add" || type == "remove" || type == "restart" || type == "settings") {
+      SessionMessages::edit(*this, j, type, out);
+    } else {
+      throw FieldError{"type", "unknown message type '" + type + "' (shoot, move, add, remove, restart, settings, state, download)"};
+    }
+  } catch (const FieldError& e) {
+    out.push_back(errorMessage(e.field, e.message));
+  } catch (const json::exception& e) {
+    // a shape the checks did not foresee
+    out.push_back(errorMessage("(message)", e.what()));
+  }
+  return out;
+}
+
+std::optional<std::string> PlaySession::nextPart() {
+  if (parts_.empty()) return std::nullopt;
+  std::string p = std::move(parts_.front());
+  parts_.pop_front();
+  return p;
+}
+
+void SessionMessages::shoot(PlaySession& s, const json& j, std::vector<std::string>& out) {
+  onlyFields(j, {"type", "ball", "angle", "speed", "cue", "velocity", "until"});
+  if (s.streaming()) throw FieldError{"type", "a shot is still playing (wait for its shot_end)"};
+  if (s.shotsTaken_ >= s.limits_.maxShots)
+    throw FieldError{"type", "this game has taken its " + std::to_string(s.limits_.maxShots) + " shots"};
+  const int cueBall = j.contains("ball") ? static_cast<int>(std::clamp(integer(j, "ball"), -1L, 1L << 30)) : 0;
+  const int h = s.game_->handleOf(cueBall);
+  if (h < 0) throw FieldError{"ball", "no ball number " + std::to_string(cueBall)};
+  if (!s.game_->simulator().ball(h).active) throw FieldError{"ball", "ball " + std::to_string(cueBall) + " was pocketed"};
+  // the velocity as the scenario reader derives it (speed and angle, a cue vector, or given)
+  const int ways = (j.contains("angle") || j.contains("speed") ? 1 : 0) + (j.contains("cue") ? 1 : 0) +
+                   (j.contains("velocity") ? 1 : 0);
+  if (ways != 1) throw FieldError{"speed", "give one of angle and speed, cue, or velocity"};
+  Vec2 v = Vec2::Zero();
+  if (j.contains("cue")) {
+    const json& c = j["cue"];
+    if (!c.is_object()) throw FieldError{"cue", "must be an object {from, to, scale}"};
+    try {
+      onlyFields(c, {"from", "to", "scale"});
+      const double scale = c.contains("scale") ? number(c, "scale") : 1.0;
+      if (!(scale > 0.0)) throw FieldError{"scale", "must be positive"};
+      v = scale * (vec2(c, "to") - vec2(c, "from"));
+    } catch (const FieldError& e) {
+      throw FieldError{"cue." + e.field, e.message};
+    }
+  } else if (j.contains("velocity")) {
+    v = vec2(j, "velocity");
+  } else {
+    const double speed = number(j, "speed");
+    const double rad = number(j, "angle") * std::numbers::pi / 180.0;
+    v = speed * Vec2(std::cos(rad), std::sin(rad));
+  }
+  if (!v.allFinite()) throw FieldError{"speed", "must be finite"};
+  if (!(v.norm() > 0.0)) throw FieldError{"speed", "must be positive"};
+  if (v.norm() > kMaxSpeed) throw FieldError{"speed", "must be at most " + std::to_string(static_cast<int>(kMaxSpeed)) + " m/s"};
+  Shot shot{cueBall, v, -1.0};
+  if (j.contains("until")) {
+    shot.until = number(j, "until");
+    if (!(shot.until > 0.0) || shot.until > s.limits_.maxUntil)
+      throw FieldError{"until", "must be in (0, " + io::number(s.limits_.maxUntil) + "] s"};
+  }
+  const double limit = shot.until > 0.0 ? shot.until : s.layout_.until;
+
+  // play it now (a break takes well under a millisecond), in parts of bounded size
+  const Simulator<2>& sim = s.game_->simulator();
+  const int index = s.shotsTaken_;
+  const std::uint64_t checks0 = sim.counters().pairChecks, obstacle0 = sim.counters().staticChecks;
+  const std::size_t pocketed0 = s.game_->pocketed().size();
+  std::uint64_t regions = regionChanges(sim);
+  std::deque<std::string> parts;
+  parts.push_back("{\"type\":\"shot\",\"index\":" + std::to_string(index) + ",\"ball\":" + std::to_string(cueBall) +
+                  ",\"velocity\":" + pair(v) + ",\"start\":" + num(sim.now()) + ",\"until\":" + num(limit) + "}");
+  std::string part;
+  std::size_t count = 0;
+  auto close = [&] {
+    if (part.empty()) return;
+    parts.push_back("{\"type\":\"events\",\"index\":" + std::to_string(index) + ",\"events\":[" + part + "]}");
+    part.clear();
+  };
+  ShotSummary summary;
+  try {
+    summary = s.game_->play(shot, limit, [&](const PoolEvent& e) {
+      if (++count > s.limits_.maxShotEvents)
+        throw std::runtime_error("the shot needs more than " + std::to_string(s.limits_.maxShotEvents) +
+                                 " events (lower until or raise friction)");
+      if (!part.empty()) part += ',';
+      part += "{\"t\":" + num(e.t) + ",\"k\":\"" + toString(e.kind) + "\",\"b\":" + std::to_string(e.ball) +
+              ",\"o\":" + std::to_string(e.other) + ",\"p\":" + pair(e.p) + ",\"v\":" + pair(e.v);
+      if (e.kind == PoolEventKind::Ball) part += ",\"op\":" + pair(e.otherP) + ",\"ov\":" + pair(e.otherV);
+      part += ",\"c\":" + std::to_string(sim.counters().pairChecks - checks0);
+      // version II: the regions after every event that subdivided or reunited them
+      if (const std::uint64_t r = regionChanges(sim); r != regions) {
+        regions = r;
+        part += ",\"r\":" + regionsJson(sim);
+      }
+      part += '}';
+      if (part.size() > s.limits_.partBytes) close();
+    });
+  } catch (const std::runtime_error& e) {
+    // undo: the game as it was before the shot (replayed: the same bits)
+    Scenario layout = s.layout_;
+    const std::vector<Shot> shots = layout.shots;
+    s.rebuild(layout);
+    for (const Shot& k : shots) s.game_->play(k, k.until > 0.0 ? k.until : s.layout_.until);
+    s.layout_.shots = shots;
+    throw FieldError{"until", std::string(e.what()) + "; the shot was undone"};
+  }
+  close();
+  s.layout_.shots.push_back(shot);
+  ++s.shotsTaken_;
+  std::ostringstream end;
+  end << "{\"type\":\"shot_end\",\"index\":" << index << ",\"ending\":\"" << toString(summary.ending)
+      << "\",\"end\":" << num(summary.end) << ",\"events\":" << summary.events
+      << ",\"checks\":" << sim.counters().pairChecks - checks0 << ",\"obstacle_checks\":" << sim.counters().staticChecks - obstacle0
+      << ",\"ke_start\":" << num(summary.keStart) << ",\"ke_end\":" << num(summary.keEnd)
+      << ",\"ke_pocketed\":" << num(summary.kePocketed) << ",\"energy_drift\":" << num(summary.energyDrift()) << ",\"pocketed\":[";
+  for (std::size_t k = pocketed0; k < s.game_->pocketed().size(); ++k) {
+    const Pocketing& p = s.game_->pocketed()[k];
+    end << (k > pocketed0 ? "," : "") << "{\"number\":" << p.number << ",\"pocket\":" << p.pocket << ",\"t\":" << num(p.t) << "}";
+  }
+  end << "]}";
+  parts.push_back(end.str());
+  parts.push_back(s.stateMessage());
+  s.parts_ = std::move(parts);
+  (void)out;  // the parts go out through nextPart, paced by the socket
+}
+
+void SessionMessages::checkPlace(const PlaySession& s, const Scenario& layout, int skip, const Vec2& p, double radius) {
+  if (const char* why = placementProblem(s.game_->table(), p, radius); *why) throw FieldError{"position", why};
+  for (int i = 0; i < static_cast<int>(layout.balls.size()); ++i) {
+    if (i == skip) continue;
+    const BallSpec& b = layout.balls[i];
+    if ((b.position - p).norm() < b.radius + radius - tol::kLinearSlop)
+      throw FieldError{"position", "overlaps ball " + std::to_string(b.number)};
+  }
+}
+
+void SessionMessages::edit(PlaySession& s, const json& j, const std::string& type, std::vector<std::string>& out) {
+  if (s.streaming()) throw FieldError{"type", "a shot is still playing (wait for its shot_end)"};
+  // an edit after shots starts a new layout from where the balls rest (the download holds it)
+  Scenario next = s.restingLayout();
+  auto find = [&](const char* key) {
+    const long number = integer(j, key);
+    for (int i = 0; i < static_cast<int>(next.balls.size()); ++i)
+      if (next.balls[i].number == number) return i;
+    throw FieldError{key, "no ball number " + std::to_string(number) + " on the table"};
+  };
+  if (type == "move") {
+    onlyFields(j, {"type", "ball", "position"});
+    const int i = find("ball");
+    const Vec2 p = vec2(j, "position");
+    checkPlace(s, next, i, p, next.balls[i].radius);
+    next.balls[i].position = p;
+    next.balls[i].velocity = Vec2::Zero();
+  } else if (type == "add") {
+    onlyFields(j, {"type", "position", "number"});
+    if (static_cast<int>(next.balls.size()) >= s.limits_.maxBalls)
+      throw FieldError{"type", "the table holds at most " + std::to_string(s.limits_.maxBalls) + " balls"};
+    std::set<int> used;
+    for (const BallSpec& b : next.balls) used.insert(b.number);
+    int number = 1;
+    if (j.contains("number")) {
+      const long n = integer(j, "number");
+      if (n < 0 || n > 1000000) throw FieldError{"number", "must be between 0 and 1000000"};
+      number = static_cast<int>(n);
+      if (used.count(number)) throw FieldError{"number", "ball " + std::to_string(number) + " is on the table"};
+    } else {
+      while (used.count(number)) ++number;
+    }
+    const Vec2 p = vec2(j, "position");
+    checkPlace(s, next, -1, p, kBallRadius);
+    next.balls.push_back(makeBall(number, p));
+  } else if (type == "remove") {
+    onlyFields(j, {"type", "ball"});
+    const int i = find("ball");
+    if (next.balls.size() == 1) throw FieldError{"ball", "the last ball stays on the table"};
+    next.balls.erase(next.balls.begin() + i);
+  } else if (type == "restart") {
+    onlyFields(j, {"type"});
+    Scenario again = s.initial_;
+    again.space = next.space;
+    again.friction = next.friction;
+    again.until = next.until;
+    next = again;
+  } else {  // settings
+    onlyFields(j, {"type", "version", "df", "friction", "until"});
+    if (j.contains("version")) {
+      const long v = integer(j, "version");
+      if (v != 1 && v != 2) throw FieldError{"version", "must be 1 (one space) or 2 (the quadtree)"};
+      next.space.kind = v == 1 ? SpaceKind::Single : SpaceKind::Tree;
+    }
+    if (j.contains("df")) {
+      const long df = integer(j, "df");
+      if (df < 1 || df > s.limits_.maxDecompositionFactor)
+        throw FieldError{"df", "must be between 1 and " + std::to_string(s.limits_.maxDecompositionFactor)};
+      next.space.decompositionFactor = static_cast<int>(df);
+    }
+    if (j.contains("friction")) {
+      const double f = number(j, "friction");
+      if (f < 0.0 || f > s.limits_.maxFriction)
+        throw FieldError{"friction", "must be between 0 and " + io::number(s.limits_.maxFriction) + " m/s^2"};
+      next.friction = f;
+    }
+    if (j.contains("until")) {
+      const double u = number(j, "until");
+      if (!(u > 0.0) || u > s.limits_.maxUntil) throw FieldError{"until", "must be in (0, " + io::number(s.limits_.maxUntil) + "] s"};
+      next.until = u;
+    }
+  }
+  try {
+    s.rebuild(next);
+  } catch (const std::exception& e) {
+    throw FieldError{"(layout)", e.what()};
+  }
+  out.push_back(s.stateMessage());
+}
+
+std::string PlaySession::stateMessage() const {
+  const Table& t = game_->table();
+  const Simulator<2>& sim = game_->simulator();
+  std::ostringstream os;
+  os << "{\"type\":\"state\",\"table\":{\"width\":" << num(t.spec.width) << ",\"height\":" << num(t.spec.height)
+     << ",\"bounds\":[" << num(t.bounds().min.x()) << "," << num(t.bounds().min.y()) << "," << num(t.bounds().max.x())
+     << "," << num(t.bounds().max.y()) << "],\"cushions\":[";
+  for (std::size_t i = 0; i < t.cushions.size(); ++i)
+    os << (i ? "," : "") << "[" << num(t.cushions[i].a.x()) << "," << num(t.cushions[i].a.y()) << ","
+       << num(t.cushions[i].b.x()) << "," << num(t.cushions[i].b.y()) << "]";
+  os << "],\"pockets\":[";
+  for (std::size_t i = 0; i < t.pockets.size(); ++i)
+    os << (i ? "," : "") << "[" << num(t.pockets[i].center.x()) << "," << num(t.pockets[i].center.y()) << ","
+       << num(t.pockets[i].radius) << "]";
+  os << "]},\"t\":" << num(sim.now()) << ",\"balls\":[";
+  bool first = true;
+  for (int i = 0; i < static_cast<int>(game_->specs().size()); ++i) {
+    const BallSpec& b = game_->specs()[i];
+    const BallState<2>& ball = sim.ball(i);
+    if (!ball.active) continue;
+    os << (first ? "" : ",") << "{\"h\":" << i << ",\"n\":" << b.number << ",\"p\":" << pair(ball.positionAt(sim.now()))
+       << ",\"v\":" << pair(ball.velocityAt(sim.now())) << ",\"r\":" << num(b.radius) << ",\"m\":" << num(b.mass) << ",\"colour\":\"" << hexOf(b.colour)
+       << "\",\"striped\":" << (b.pattern == Pattern::Striped ? "true" : "false") << "}";
+    first = false;
+  }
+  os << "],\"regions\":" << regionsJson(sim) << ",\"settings\":{\"version\":" << version(layout_.space.kind)
+     << ",\"space\":\"" << toString(layout_.space.kind) << "\",\"df\":" << layout_.space.decompositionFactor
+     << ",\"friction\":" << num(layout_.friction) << ",\"until\":" << num(layout_.until) << "},\"shots\":" << shotsTaken_
+     << ",\"layout_shots\":" << layout_.shots.size() << ",\"pocketed\":[";
+  for (std::size_t k = 0; k < game_->pocketed().size(); ++k) os << (k ? "," : "") << game_->pocketed()[k].number;
+  os << "],\"limits\":{\"balls\":" << limits_.maxBalls << ",\"shots\":" << limits_.maxShots << "}}";
+  return os.str();
+}
+
+std::string PlaySession::downloadYaml() const {
+  std::ostringstream os;
+  os << "# A game played with stsim pool serve: the layout since its last edit and the shots taken since.\n"
+        "# `stsim pool THIS.yaml --out DIR` replays it to the same events.\n";
+  writeScenarioYaml(os, layout_);
+  return os.str();
+}
+
+}  // namespace st::pool
