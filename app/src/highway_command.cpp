@@ -52,14 +52,14 @@ Args makeArgs() {
       .option("prediction", "road|straight", "motion along the lanes (lane-frame road checks), or straight lines", settingDefault("prediction"))
       .option("set", "KEY=VALUE[,...]", "any monitor setting by its scenario key, e.g. safe_time.vehicle_reaction=1.2 (--settings lists them)")
       .flag("settings", "print every monitor setting (key, range, default, what it sets) and exit")
-      .option("out", "DIR", "output directory for warnings.csv and summary.json", ".")
+      .option("out", "DIR", "output directory (default: the scenario's out:, out/<config name>/ for a .sumocfg, . for --fcd)", ".")
       .option("penetration", "P", "fraction of vehicles equipped with the smart-car system, 0..1", "1")
       .option("action", "color|brake|none", "action on a warning (SUMO runs)", "color")
       .option("traci", "HOST:PORT", "attach to a running SUMO through TraCI instead of embedding libsumo")
       .flag("gui", "run sumo-gui and draw the cells (SUMO runs)")
       .option("end", "SECONDS", "stop at this simulated time")
       .option("scale", "FACTOR", "multiply the routes' demand (SUMO --scale; SUMO runs)")
-      .option("seed", "N", "seed for the equipped-vehicle draw (and SUMO)", "42")
+      .option("seed", "N", "seed for the equipped-vehicle draw and SUMO (default: the scenario's seed: 42, a .sumocfg's own)")
       .flag("validate-ssm", "compare with SUMO's SSM device, writes validation.json (SUMO runs)")
       .option("rear-end-below", "DEG", "conflict type: rear-end below this heading angle (scenario conflict.rear_end_below)", settingDefault("conflict.rear_end_below"))
       .option("crossing-above", "DEG", "conflict type: crossing above this angle, lane change between (conflict.crossing_above)", settingDefault("conflict.crossing_above"))
@@ -245,6 +245,7 @@ double endOption(const Args& a) {
 }
 
 long seedOption(const Args& a) {
+  if (!a.has("seed")) return 42;  // a replay's draw (a SUMO run takes the scenario's when not given)
   const long seed = a.getInt("seed");
   if (seed < 0 || seed > 2147483647) throw UsageError("--seed must be in [0, 2^31 - 1]");
   return seed;

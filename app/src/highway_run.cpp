@@ -62,6 +62,7 @@ void applyOptions(const st::cli::Args& a, Scenario& s) {
   if (a.has("seed")) {
     const long seed = st::cli::seedOption(a);
     s.seed = static_cast<std::uint64_t>(seed);
+    s.passSeed = true;
     s.plugin.smart.seed = s.seed;
   }
 }

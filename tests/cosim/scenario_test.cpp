@@ -40,6 +40,32 @@ TEST(Scenario, PlainSumocfgTakesItsSeed) {
   EXPECT_EQ(s.plugin.monitor.detector.kind, highway::DetectorKind::FiveCircle);
 }
 
+// A plain .sumocfg runs the traffic it describes: SUMO gets no --seed of stsim's (it replaced a
+// config's own seed, or SUMO's default 23423, with 42 without a word), the smart-car draw takes
+// the seed SUMO uses, and the outputs go to out/<config name>/, not the current folder (issue 34)
+TEST(Scenario, PlainSumocfgRunsWithItsOwnSeedIntoItsOwnFolder) {
+  auto hasSeed = [](const Scenario& s) {
+    const auto a = sumoArguments(s);
+    return std::find(a.begin(), a.end(), "--seed") != a.end();
+  };
+  const Scenario own = loadScenario(sourceDir() / "networks/motorway/motorway.sumocfg");
+  EXPECT_FALSE(hasSeed(own));
+  ASSERT_TRUE(own.out.has_value());
+  EXPECT_EQ(*own.out, std::filesystem::path("out") / "motorway");
+
+  const auto dir = freshDir("plain_seed");
+  std::filesystem::copy_file(sourceDir() / "networks/ring/ring.net.xml", dir / "ring.net.xml");
+  std::ofstream(dir / "noseed.sumocfg") << "<configuration><input><net-file value=\"ring.net.xml\"/></input></configuration>";
+  const Scenario none = loadScenario(dir / "noseed.sumocfg");
+  EXPECT_FALSE(hasSeed(none));
+  EXPECT_EQ(none.seed, 23423u);  // SUMO's default, the draw's too
+  EXPECT_EQ(none.plugin.smart.seed, 23423u);
+
+  // a YAML scenario says its seed (42 unless set): SUMO is given it
+  const Scenario yaml = loadScenario(motorway());
+  EXPECT_TRUE(hasSeed(yaml));
+}
+
 TEST(Scenario, MissingNetworkOrRouteFileIsNamed) {
   const auto dir = freshDir("missing_files");
   std::ofstream(dir / "a.sumocfg") << "<configuration><input><net-file value=\"gone.net.xml\"/></input></configuration>";

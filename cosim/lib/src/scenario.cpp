@@ -175,6 +175,7 @@ class Reader {
 };
 
 constexpr double kBig = 1e12;
+constexpr std::uint64_t kSumoDefaultSeed = 23423;  // SUMO's --seed default
 
 // smart_types must name vTypes the run can have (a typo would equip nobody, silently): those of
 // the sumocfg's route and additional files and SUMO's built-in defaults. Skipped when sumo_args
@@ -335,7 +336,10 @@ Scenario loadScenario(const fs::path& path) {
     readYaml(path, s);
   } else if (ext == ".sumocfg" || ext == ".xml") {
     s.sumocfg = path;
-    // a plain SUMO config: take its seed so the smart-car draw follows the same seed
+    // a plain SUMO config runs as it says: its seed (or SUMO's own), the smart-car draw with it;
+    // its outputs in out/<config name>/ (not beside whatever the current folder holds)
+    s.passSeed = false;
+    s.seed = kSumoDefaultSeed;
     try {
       boost::property_tree::ptree pt;
       boost::property_tree::read_xml(path.string(), pt);
@@ -345,6 +349,7 @@ Scenario loadScenario(const fs::path& path) {
       // reported with its file name by checkSumoConfig
     }
     s.plugin.smart.seed = s.seed;
+    s.out = fs::path("out") / path.stem();
   } else {
     throw ScenarioError(path.string() + ": expected a scenario .yaml or a SUMO .sumocfg");
   }
@@ -443,9 +448,10 @@ SumoConfigFiles checkSumoConfig(const fs::path& sumocfg) {
 }
 
 std::vector<std::string> sumoArguments(const Scenario& s) {
-  std::vector<std::string> a{"-c", s.sumocfg.string(), "--seed", std::to_string(s.seed), "--collision.action",
-                             s.collisionAction, "--no-step-log", "true", "--duration-log.disable", "true",
-                             "--duration-log.statistics", "false", "--no-warnings", "true"};
+  std::vector<std::string> a{"-c", s.sumocfg.string()};
+  if (s.passSeed) a.insert(a.end(), {"--seed", std::to_string(s.seed)});
+  a.insert(a.end(), {"--collision.action", s.collisionAction, "--no-step-log", "true", "--duration-log.disable", "true",
+                     "--duration-log.statistics", "false", "--no-warnings", "true"});
   auto option = [&](const char* name, double value) {
     std::ostringstream os;
     os.precision(17);  // round-trips the double

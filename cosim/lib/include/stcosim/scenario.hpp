@@ -54,6 +54,9 @@ struct Scenario {
   std::filesystem::path sumocfg;
   PluginConfig plugin;
   std::uint64_t seed = 42;
+  // false for a plain .sumocfg that sets no seed and a command line without --seed: SUMO keeps
+  // its own (23423, or a random one under <random>), and the smart-car draw takes 23423
+  bool passSeed = true;
   std::optional<double> end;
   std::optional<double> demandScale;  // SUMO --scale
   bool validateSsm = false;
