@@ -12,6 +12,7 @@ packages=(
   clang libclang-rt-14-dev  # libFuzzer for fuzz/ (clang's fuzzer runtime is in the compiler-rt dev package)
   python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest  # the Python module stsim
   file  # cpack -G DEB finds the ELF files for dpkg-shlibdeps with it
+  chromium nodejs  # the pool page in a real browser (tests/models/pool/pool_page_test.js, headless over a pipe)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -251,7 +251,7 @@ void SessionMessages::shoot(PlaySession& s, const json& j, std::vector<std::stri
   }
   const double limit = shot.until > 0.0 ? shot.until : s.layout_.until;
 
-  // play it now (a break takes well under a millisecond), in parts of bounded size
+  // play it now (the served break: about 4 ms; bench/pool_serve), in parts of bounded size
   const Simulator<2>& sim = s.game_->simulator();
   const int index = s.shotsTaken_;
   const std::uint64_t checks0 = sim.counters().pairChecks, obstacle0 = sim.counters().staticChecks;
