@@ -13,6 +13,8 @@
 
 #include <stnet/frame.hpp>
 
+#include "listen.hpp"
+
 namespace st::net {
 
 namespace asio = boost::asio;
@@ -233,27 +235,12 @@ struct Server::Connection : std::enable_shared_from_this<Connection> {
 
 Server::Server(asio::io_context& io, ServerConfig cfg, Handler& handler)
     : io_(io), cfg_(std::move(cfg)), handler_(handler), impl_(std::make_unique<Impl>(io)) {
-  error_code ec;
-  const auto addr = asio::ip::make_address(cfg_.address, ec);
-  if (ec) throw std::runtime_error(cfg_.address + ": not an IP address");
-  const tcp::endpoint ep(addr, cfg_.port);
-  const std::string where = cfg_.address + ":" + std::to_string(cfg_.port);
-  impl_->acceptor.open(ep.protocol(), ec);
-  if (!ec) impl_->acceptor.set_option(tcp::acceptor::reuse_address(true), ec);
-  if (!ec) impl_->acceptor.bind(ep, ec);
-  if (!ec) impl_->acceptor.listen(asio::socket_base::max_listen_connections, ec);
-  if (ec) throw std::runtime_error(where + ": cannot listen: " + ec.message());
-  if (cfg_.handleSignals) {
-    // the three signals every stsim command stops on (app/src/stop_signals.hpp)
-    impl_->signals.add(SIGINT);
-    impl_->signals.add(SIGTERM);
-    impl_->signals.add(SIGHUP);
-    impl_->signals.async_wait([this](const error_code& e, int signo) {
-      if (e) return;
+  detail::listen(impl_->acceptor, cfg_.address, cfg_.port);
+  if (cfg_.handleSignals)
+    detail::watchStopSignals(impl_->signals, [this](int signo) {
       signal_ = signo;
       stop();
     });
-  }
   accept();
 }
 
