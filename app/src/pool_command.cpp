@@ -69,15 +69,6 @@ void printSummary(std::ostream& os, const pool::RunRecord& run, const pool::Game
 
 
 #ifdef STSIM_HAVE_POOL_SERVE
-// The scenario a served game starts from when none is given: the standard rack with a seeded
-// gap, a little rolling resistance so every shot comes to rest, version II.
-const char* kServeDefault = R"(name: rack
-table: {width: 2.54, height: 1.27}
-rack: {kind: standard, gap: 2.0e-5}
-friction: 0.15
-until: 60
-space: {kind: quadtree, decomposition_factor: 5}
-)";
 
 int runServe(int argc, const char* const* argv) {
   Args args("pool serve",
@@ -97,7 +88,7 @@ int runServe(int argc, const char* const* argv) {
   const long maxGames = args.getInt("max-games");
   if (maxGames < 1 || maxGames > 10000) throw UsageError("option --max-games needs an integer in 1..10000");
   const pool::Scenario scenario = args.positionalValue(0) ? pool::loadScenario(*args.positionalValue(0))
-                                                          : pool::parseScenario(kServeDefault, "(default rack)");
+                                                          : pool::parseScenario(pool::kServeDefaultScenario, "(default rack)");
   pool::ServeConfig cfg = pool::defaultServeConfig();
   cfg.web.net.address = hp->host == "localhost" ? "127.0.0.1" : hp->host;
   cfg.web.net.port = hp->port;

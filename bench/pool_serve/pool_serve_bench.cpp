@@ -32,13 +32,6 @@ using namespace st;
 using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
 
-const char* kRack = R"(name: rack
-table: {width: 2.54, height: 1.27}
-rack: {kind: standard, gap: 2.0e-5}
-friction: 0.15
-until: 60
-space: {kind: quadtree, decomposition_factor: 5}
-)";
 const char* kBreak = R"({"type":"shoot","ball":0,"angle":0,"speed":8})";
 
 double us(Clock::duration d) { return std::chrono::duration<double, std::micro>(d).count(); }
@@ -130,7 +123,7 @@ Samples inProcess(const pool::Scenario& rack, int rounds) {
 
 int main(int argc, char** argv) {
   const int rounds = argc > 1 ? std::max(5, std::atoi(argv[1])) : 100;
-  const pool::Scenario rack = pool::parseScenario(kRack, "(rack)");
+  const pool::Scenario rack = pool::parseScenario(pool::kServeDefaultScenario, "(rack)");
   std::printf("pool_serve_bench: the break (standard rack, friction 0.15, version II df 5, 8 m/s) over 127.0.0.1;\n"
               "cue released (shoot sent) -> first events frame, and -> the shot's last frame (state); load %.1f\n\n",
               loadAverage());

@@ -106,7 +106,9 @@ TEST(WebServer, OversizedMessageClosesThatSocketOnly) {
   const bool sent = big->send(std::string(5000, 'y'));
   EXPECT_FALSE(big->receive().has_value());
   EXPECT_TRUE(big->closed());
-  if (sent) EXPECT_EQ(big->closeCode(), 1009u) << big->error();  // RFC 6455: message too big
+  if (sent) {
+    EXPECT_EQ(big->closeCode(), 1009u) << big->error();  // RFC 6455: message too big
+  }
   expectEcho(*good, "still here");
   r.stop();
   EXPECT_NE(std::find(r.echo.closes.begin(), r.echo.closes.end(), CloseReason::FrameTooLong), r.echo.closes.end());

@@ -15,6 +15,16 @@
 
 namespace st::pool {
 
+// The scenario a served game starts from when none is given: the standard rack with a seeded
+// gap, a little rolling resistance so every shot comes to rest, version II.
+inline constexpr const char* kServeDefaultScenario = R"(name: rack
+table: {width: 2.54, height: 1.27}
+rack: {kind: standard, gap: 2.0e-5}
+friction: 0.15
+until: 60
+space: {kind: quadtree, decomposition_factor: 5}
+)";
+
 struct ServeConfig {
   net::WebConfig web;      // address, port and the server's bounds
   SessionLimits limits;    // per game

@@ -385,7 +385,9 @@ TEST(PoolServe, GarbageOversizedFramesAndAClientThatStopsReading) {
     const bool sent = big->send(std::string(20000, ' '));
     EXPECT_FALSE(until(*big, "never").size());
     EXPECT_TRUE(big->closed());
-    if (sent) EXPECT_EQ(big->closeCode(), 1009u) << big->error();
+    if (sent) {
+      EXPECT_EQ(big->closeCode(), 1009u) << big->error();
+    }
   }
   {  // raw garbage on the socket
     auto bad = s.open();
