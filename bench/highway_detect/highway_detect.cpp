@@ -17,6 +17,7 @@
 // usage: highway_detect [--n 1000,10000,100000] [--ticks K] [--seed S] [--all-pairs yes|no]
 //                       [--detector concentric|five|box]  (default: all three) [--hindsight yes|no]
 //                       [--prediction road|straight|both]  (both: the road prediction's cost, side by side)
+//                       [--hindsight both]  (hindsight's cost: rounds without and with it, side by side)
 //                       [--repeat R]  (R rounds of cells then all pairs: median times, and the
 //                                      speedup as the median of the rounds' own ratios)
 #include <algorithm>
@@ -232,11 +233,12 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   bool allPairs = true;
   std::vector<DetectorKind> kinds{DetectorKind::Concentric, DetectorKind::FiveCircle, DetectorKind::Box};
-  bool comparePredictions = false;
+  bool comparePredictions = false, compareHindsight = false;
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--n")) ns = parseList(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--all-pairs")) allPairs = std::strcmp(argv[i + 1], "no") != 0;
     else if (!std::strcmp(argv[i], "--ticks")) ticksOverride = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--hindsight") && !std::strcmp(argv[i + 1], "both")) compareHindsight = true;
     else if (!std::strcmp(argv[i], "--hindsight")) gHindsight = std::strcmp(argv[i + 1], "no") != 0;
     else if (!std::strcmp(argv[i], "--prediction") && !std::strcmp(argv[i + 1], "both")) comparePredictions = true;
     else if (Prediction p; !std::strcmp(argv[i], "--prediction") && parsePrediction(argv[i + 1], p)) gPrediction = p;
@@ -244,10 +246,37 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--repeat") && std::atoi(argv[i + 1]) >= 1) repeat = std::atoi(argv[i + 1]);
     else if (DetectorKind k; !std::strcmp(argv[i], "--detector") && parseDetectorKind(argv[i + 1], k)) kinds = {k};
     else {
-      std::fprintf(stderr, "usage: highway_detect [--n 1000,10000,100000] [--ticks K] [--seed S] [--all-pairs yes|no] [--hindsight yes|no] "
+      std::fprintf(stderr, "usage: highway_detect [--n 1000,10000,100000] [--ticks K] [--seed S] [--all-pairs yes|no] [--hindsight yes|no|both] "
                            "[--detector concentric|five|box] [--repeat R] [--prediction road|straight|both]\n");
       return 2;
     }
+  }
+  if (compareHindsight) {
+    // hindsight's cost: rounds without then with it, cells, each round's own ratio
+    std::printf("highway_detect: hindsight's cost, cells, %s prediction, seed %llu\n", toString(gPrediction),
+                static_cast<unsigned long long>(seed));
+    std::printf("%8s %-10s %14s %14s %12s %12s\n", "vehicles", "detector", "without us/t", "with us/t", "with/without", "rounds");
+    for (long n : ns)
+      for (DetectorKind kind : kinds) {
+        const int ticks = ticksOverride ? ticksOverride : n <= 1000 ? 200 : n <= 10000 ? 40 : 8;
+        std::vector<double> ratios, us[2];
+        std::uint64_t warnings[2] = {0, 0};
+        for (int r = 0; r < repeat; ++r) {
+          for (int h = 0; h < 2; ++h) {
+            gHindsight = h == 1;
+            const Row row = measure(n, kind, Broadphase::Cells, ticks, seed);
+            us[h].push_back(row.usPerTick);
+            warnings[h] = row.warnings;
+          }
+          ratios.push_back(us[1].back() / us[0].back());
+        }
+        for (auto* v : {&ratios, &us[0], &us[1]}) std::sort(v->begin(), v->end());
+        std::printf("%8ld %-10s %14.1f %14.1f %12.3f %5.2f-%.2f   warnings %llu / %llu\n", n, toString(kind), us[0][repeat / 2],
+                    us[1][repeat / 2], ratios[repeat / 2], ratios.front(), ratios.back(),
+                    static_cast<unsigned long long>(warnings[0]), static_cast<unsigned long long>(warnings[1]));
+        std::fflush(stdout);
+      }
+    return 0;
   }
   if (comparePredictions) {
     // the road prediction's cost: rounds of straight then road, cells, each round's own ratio

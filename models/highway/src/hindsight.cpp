@@ -31,10 +31,12 @@ int Hindsight::open(int e, int foe, WarningKind kind, double t, double safe) {
   w.end = t + safe + (kind == WarningKind::Vehicle ? 1.0 : 0.0);
   if (kind == WarningKind::Vehicle) {
     w.foeSerial = cars_->slots[foe].serial;
-    pairEpisodes_[pairKey(w.egoSerial, w.foeSerial)].push_back({w.egoSerial, t, kInf});
-  } else if (kind != WarningKind::Hazard) {
-    lineEpisodes_[lineKey(w.egoSerial, foe)].push_back({w.egoSerial, t, kInf});
+    const std::uint64_t key = pairKey(w.egoSerial, w.foeSerial);
+    liveVehicles_.push_back({id, trackFor(e, foe, key), e, foe, w.end});
+    pairEpisodes_[key].push_back({w.egoSerial, t, kInf});
+    return id;
   }
+  if (kind != WarningKind::Hazard) lineEpisodes_[lineKey(w.egoSerial, foe)].push_back({w.egoSerial, t, kInf});
   live_.push_back(id);
   return id;
 }
@@ -54,6 +56,90 @@ void Hindsight::finished(Warning&& w, int window) {
   pending_.push_back({std::move(w), window, tick_});
 }
 
+// The track of the pair (slots e and foe, serials' key), shared by every live window on it.
+int Hindsight::trackFor(int e, int foe, std::uint64_t key) {
+  auto [it, fresh] = trackOf_.try_emplace(key, -1);
+  if (fresh) {
+    if (!freeTracks_.empty()) {
+      it->second = freeTracks_.back();
+      freeTracks_.pop_back();
+    } else {
+      it->second = static_cast<int>(tracks_.size());
+      tracks_.emplace_back();
+    }
+    Track& tr = tracks_[it->second];
+    tr = Track{};
+    tr.key = key;
+    tr.a = e;
+    tr.b = foe;
+    tr.serialA = cars_->slots[e].serial;
+    tr.serialB = cars_->slots[foe].serial;
+  }
+  ++tracks_[it->second].windows;
+  return it->second;
+}
+
+// Each track's state at this tick, in one pass over the tracks: both cars here (the slot still
+// holds the car it held), their boxes and the gap bound.
+void Hindsight::measureTracks() {
+  const VehicleTable& c = *cars_;
+  if (serialOf_.size() < c.slots.size()) serialOf_.resize(c.slots.size(), 0);
+  for (int s : c.arrived) serialOf_[s] = c.slots[s].serial;
+  auto here = [&](int s, std::uint64_t serial) { return c.inputOf[s] >= 0 && serialOf_[s] == serial; };
+  for (Track& tr : tracks_) {
+    if (tr.windows == 0) continue;
+    tr.here = here(tr.a, tr.serialA) && here(tr.b, tr.serialB);
+    tr.hasDist = false;
+    if (!tr.here) continue;
+    tr.boxA = c.body[tr.a].box();
+    tr.boxB = c.body[tr.b].box();
+    tr.sep = separation(tr.boxA, tr.boxB);
+  }
+}
+
+// The vehicle windows: the smallest clearance so far, when, and the hardest braking. The gap
+// along a separating axis bounds the distance from below: most ticks it cannot beat the smallest
+// clearance so far (a car alongside in the next lane).
+void Hindsight::measureVehicles(double t) {
+  const std::vector<double>& braking = cars_->braking;
+  for (std::size_t i = 0; i < liveVehicles_.size();) {
+    LiveVehicle& v = liveVehicles_[i];
+    Track& tr = tracks_[v.track];
+    if (t > v.end || !tr.here) {
+      closeVehicle(i);
+      continue;
+    }
+    if (!v.measured || tr.sep < v.clearance) {
+      if (!tr.hasDist) tr.dist = distance(tr.boxA, tr.boxB), tr.hasDist = true;
+      if (!v.measured || tr.dist < v.clearance) {
+        v.clearance = tr.dist;
+        v.clearanceTime = t;
+      }
+    }
+    v.deceleration = std::max({v.deceleration, braking[v.ego], braking[v.foe]});
+    v.measured = true;
+    ++i;
+  }
+}
+
+// A vehicle window stops measuring: what it saw into its Window; the last window on a track frees it.
+void Hindsight::closeVehicle(std::size_t i) {
+  const LiveVehicle& v = liveVehicles_[i];
+  Window& w = windows_[v.id];
+  w.clearance = v.clearance;
+  w.clearanceTime = v.clearanceTime;
+  w.deceleration = v.deceleration;
+  w.measured = v.measured;
+  w.closed = true;
+  Track& tr = tracks_[v.track];
+  if (--tr.windows == 0) {
+    trackOf_.erase(tr.key);
+    freeTracks_.push_back(v.track);
+  }
+  liveVehicles_[i] = liveVehicles_.back();
+  liveVehicles_.pop_back();
+}
+
 bool Hindsight::alive(const Window& w) const {
   const auto& slots = cars_->slots;
   auto here = [&](int s, std::uint64_t serial) { return slots[s].present && slots[s].serial == serial; };
@@ -62,22 +148,6 @@ bool Hindsight::alive(const Window& w) const {
 
 void Hindsight::measure(Window& w, double t) {
   const Body& a = cars_->body[w.ego];
-  if (w.kind == WarningKind::Vehicle) {
-    const Body& b = cars_->body[w.foe];
-    // the gap along a separating axis bounds the distance from below: most ticks it cannot
-    // beat the smallest clearance so far (a car alongside in the next lane)
-    const Box2 boxA = a.box(), boxB = b.box();
-    if (!w.measured || separation(boxA, boxB) < w.clearance) {
-      const double d = distance(boxA, boxB);
-      if (!w.measured || d < w.clearance) {
-        w.clearance = d;
-        w.clearanceTime = t;
-      }
-    }
-    w.deceleration = std::max({w.deceleration, cars_->braking[w.ego], cars_->braking[w.foe]});
-    w.measured = true;
-    return;
-  }
   w.measured = true;
   if (w.crossed) return;
   const LanePrediction* lp = frames_;
@@ -132,6 +202,8 @@ void Hindsight::judge(Warning& w, const Window& win) {
 
 void Hindsight::observe(double t) {
   ++tick_;
+  measureTracks();
+  measureVehicles(t);
   for (std::size_t i = 0; i < live_.size();) {
     Window& w = windows_[live_[i]];
     if (t > w.end || !alive(w)) {
@@ -196,16 +268,39 @@ void Hindsight::findNearMisses(double t) {
     }
   }
   const double reach = 2.0 * rmax + h.clearance;
-  nearNow_.clear();
+  // the sorted cars' state, contiguous; a body lies within its half diagonal of its centre, so
+  // two bodies whose centres are farther apart than the half diagonals and the clearance (and a
+  // micrometre for rounding) cannot come closer than the clearance: the pair is skipped as the
+  // tests below would skip it
   n = order_.size();
+  sweepCentre_.resize(n);
+  sweepVel_.resize(n);
+  sweepHalfDiag_.resize(n);
+  sweepEquipped_.resize(n);
+  double hmax = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    const int a = order_[i].second;
-    for (std::size_t j = i + 1; j < n && order_[j].first - order_[i].first <= reach; ++j) {
-      const int b = order_[j].second;
-      if (!c.equipped[a] && !c.equipped[b]) continue;
-      const Vec2 p = c.centre[b] - c.centre[a];
-      if (std::abs(p[1 - axis]) > reach) continue;
-      if (p.dot(c.vel[b] - c.vel[a]) >= 0.0) continue;  // not closing
+    const int s = order_[i].second;
+    const Body& b = c.body[s];
+    sweepCentre_[i] = c.centre[s];
+    sweepVel_[i] = c.vel[s];
+    sweepHalfDiag_[i] = 0.5 * std::sqrt(b.length * b.length + b.width * b.width);
+    sweepEquipped_[i] = c.equipped[s];
+    hmax = std::max(hmax, sweepHalfDiag_[i]);
+  }
+  constexpr double kRoundingMargin = 1e-6;  // m, far above the rounding of a box distance
+  nearNow_.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 ca = sweepCentre_[i], va = sweepVel_[i];
+    const double ha = sweepHalfDiag_[i];
+    const double reachI = std::min(reach, ha + hmax + h.clearance + kRoundingMargin);
+    for (std::size_t j = i + 1; j < n && order_[j].first - order_[i].first <= reachI; ++j) {
+      if (!sweepEquipped_[i] && !sweepEquipped_[j]) continue;
+      const Vec2 p = sweepCentre_[j] - ca;
+      if (std::abs(p[1 - axis]) > reachI) continue;
+      if (p.dot(sweepVel_[j] - va) >= 0.0) continue;  // not closing
+      const double near = ha + sweepHalfDiag_[j] + h.clearance + kRoundingMargin;
+      if (p.squaredNorm() >= near * near) continue;
+      const int a = order_[i].second, b = order_[j].second;
       const double far = c.ownEnv[a] + c.ownEnv[b] + h.clearance;
       if (p.squaredNorm() >= far * far) continue;  // the envelopes hold the bodies
       const double gap = distance(c.body[a].box(), c.body[b].box());
@@ -246,6 +341,7 @@ void Hindsight::release(std::vector<Warning>& out) {
 }
 
 void Hindsight::finishAll(std::vector<Warning>& out) {
+  while (!liveVehicles_.empty()) closeVehicle(liveVehicles_.size() - 1);
   for (int id : live_) windows_[id].closed = true;
   live_.clear();
   release(out);

@@ -24,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include <stcore/box2.hpp>
 #include <sthighway/monitor.hpp>
 
 #include "lane_prediction.hpp"
@@ -71,6 +72,26 @@ class Hindsight {
     int window;
     std::uint64_t tick;  // the tick it ended in: a tick's warnings are released together
   };
+  // The two vehicles one or more vehicle windows watch (either direction, episodes in a row): both
+  // still here, their boxes and the gap bound taken once a tick for all of them, the clearance on
+  // demand. distance() and separation() of two boxes are symmetric bit for bit, so a window reads
+  // the numbers it would compute itself.
+  struct Track {
+    std::uint64_t key = 0;  // pairKey of the serials
+    int a = -1, b = -1;
+    std::uint64_t serialA = 0, serialB = 0;
+    int windows = 0;  // live windows on it (0: free)
+    bool here = false, hasDist = false;
+    double sep = 0.0, dist = 0.0;
+    Box2 boxA{Vec2::Zero(), Vec2(1.0, 0.0), Vec2::Zero()}, boxB{Vec2::Zero(), Vec2(1.0, 0.0), Vec2::Zero()};
+  };
+  // A vehicle window while it measures, dense (written back to its Window when it closes).
+  struct LiveVehicle {
+    int id, track, ego, foe;
+    double end;
+    double clearance = 0.0, clearanceTime = 0.0, deceleration = 0.0;
+    bool measured = false;
+  };
   // an episode between two vehicles, for recall (direction-blind)
   struct PairEpisode {
     std::uint64_t ego;
@@ -78,6 +99,10 @@ class Hindsight {
   };
 
   bool alive(const Window& w) const;
+  int trackFor(int e, int foe, std::uint64_t key);
+  void measureTracks();
+  void measureVehicles(double t);
+  void closeVehicle(std::size_t i);
   void measure(Window& w, double t);
   void judge(Warning& w, const Window& win);
   void findNearMisses(double t);
@@ -104,7 +129,12 @@ class Hindsight {
   std::vector<HindsightEvent> events_;
   std::vector<Window> windows_;
   std::vector<int> freeWindows_;
-  std::vector<int> live_;  // windows still measuring
+  std::vector<int> live_;  // road windows still measuring
+  std::vector<LiveVehicle> liveVehicles_;  // vehicle windows still measuring
+  std::vector<std::uint64_t> serialOf_;    // per slot: the serial of the car that holds it
+  std::vector<Track> tracks_;
+  std::vector<int> freeTracks_;
+  std::unordered_map<std::uint64_t, int> trackOf_;  // pairKey -> track (looked up when a window opens)
   std::deque<Pending> pending_;
   std::unordered_map<std::uint64_t, std::vector<PairEpisode>> pairEpisodes_;
   std::unordered_map<std::uint64_t, std::vector<PairEpisode>> lineEpisodes_;  // (ego serial, line group)
@@ -112,6 +142,10 @@ class Hindsight {
   std::vector<char> along_;                    // per slot: alongside its lane last tick (its lines applied)
   std::unordered_set<std::uint64_t> nearBefore_, nearNow_;
   std::vector<std::pair<double, int>> order_;  // the sweep's order (coordinate, slot), kept
+  // the sweep's cars in its order, contiguous: centre, velocity, half diagonal, equipped
+  std::vector<Vec2> sweepCentre_, sweepVel_;
+  std::vector<double> sweepHalfDiag_;
+  std::vector<char> sweepEquipped_;
   std::vector<std::uint64_t> seen_;            // per slot: the sweep that ordered it
   std::uint64_t stamp_ = 0;
   double lastPrune_ = 0.0;
