@@ -10,13 +10,12 @@ namespace st {
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// sorted, once each
-std::vector<int> takeSorted(std::vector<int>& list) {
-  std::vector<int> out;
+// sorted, once each, into out (its storage traded with the list's: neither allocates again)
+void takeSorted(std::vector<int>& list, std::vector<int>& out) {
+  out.clear();
   out.swap(list);
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
-  return out;
 }
 }  // namespace
 
@@ -51,12 +50,26 @@ std::vector<int> RegionTree<D>::leaves() const {
 
 template <int D>
 std::vector<int> RegionTree<D>::takeRelisted() {
-  return takeSorted(relisted_);
+  std::vector<int> out;
+  takeRelisted(out);
+  return out;
+}
+
+template <int D>
+void RegionTree<D>::takeRelisted(std::vector<int>& out) {
+  takeSorted(relisted_, out);
 }
 
 template <int D>
 std::vector<int> RegionTree<D>::takeWidened() {
-  return takeSorted(widened_);
+  std::vector<int> out;
+  takeWidened(out);
+  return out;
+}
+
+template <int D>
+void RegionTree<D>::takeWidened(std::vector<int>& out) {
+  takeSorted(widened_, out);
 }
 
 // ---- membership ---------------------------------------------------------------------------------
@@ -152,10 +165,11 @@ bool RegionTree<D>::update(int id, const Box& box, double margin) {
   }
   scratch_ = m.leaves;  // old membership, to count transfers
   std::sort(scratch_.begin(), scratch_.end());
-  detach(id);
-  members_[id].fat = detail::grownBox(box, margin);
-  members_[id].margin = margin;
-  attach(id);
+  const Box before = listedBox(id);
+  m.fat = detail::grownBox(box, margin);
+  m.margin = margin;
+  moveRec(id, before);
+  restructureAround(id);
   scratchNow_ = members_[id].leaves;
   std::sort(scratchNow_.begin(), scratchNow_.end());
   if (scratchNow_ != scratch_) ++counters_.transfers;
@@ -169,16 +183,54 @@ bool RegionTree<D>::update(int id, const Box& box, double margin) {
 
 template <int D>
 void RegionTree<D>::attach(int id) {
+  members_[id].leaves.clear();
+  addRec(id);
+  restructureAround(id);
+}
+
+// After id was listed where its box lies: reunite and divide the leaves it landed in.
+template <int D>
+void RegionTree<D>::restructureAround(int id) {
+  // the leaves it landed in, copied (divisions and reunions rewrite them)
+  landed_ = members_[id].leaves;
+  // lying across more children may leave a divided region with nothing it separates
+  for (int leaf : landed_) collapseUpFrom(leaf);
+  if (rule_.subdivide) {
+    landed_ = members_[id].leaves;
+    for (int leaf : landed_) maybeSplit(leaf);
+  }
+}
+
+// One walk over the nodes the old or the new listed box touches: the counts change only where
+// exactly one of them does, and a leaf both touch keeps the object where it is in its list.
+template <int D>
+void RegionTree<D>::moveRec(int id, const Box& before) {
+  const Box after = listedBox(id);
   Member& m = members_[id];
   m.leaves.clear();
-  addRec(id);
-  // the leaves it landed in, copied (divisions and reunions rewrite them)
-  const std::vector<int> landed = m.leaves;
-  // lying across more children may leave a divided region with nothing it separates
-  for (int leaf : landed) collapseUpFrom(leaf);
-  if (rule_.subdivide) {
-    const std::vector<int> now = members_[id].leaves;
-    for (int leaf : now) maybeSplit(leaf);
+  int stack[256];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const int n = stack[--top];
+    Node& node = nodes_[n];
+    const bool was = node.box.overlaps(before);
+    const bool is = node.box.overlaps(after);
+    if (!was && !is) continue;
+    if (was != is) node.count += is ? 1 : -1;
+    if (node.firstChild < 0) {
+      if (is) {
+        if (!was) node.objects.push_back(id);
+        m.leaves.push_back(n);
+      } else {
+        auto it = std::find(node.objects.begin(), node.objects.end(), id);
+        assert(it != node.objects.end());
+        *it = node.objects.back();
+        node.objects.pop_back();
+      }
+    } else {
+      for (int c = 0; c < childCount_; ++c) stack[top++] = node.firstChild + c;
+    }
   }
 }
 
@@ -290,10 +342,19 @@ void RegionTree<D>::maybeSplit(int leaf) {
   const int first = allocBlock();  // may reallocate nodes_: index, don't hold references
   Node& parent = nodes_[leaf];
   parent.firstChild = first;
-  for (int c = 0; c < childCount_; ++c) nodes_[first + c] = Node{childBox(parent.box, c), leaf, -1, parent.depth + 1, 0, {}};
-  std::vector<int> objs;
-  objs.swap(parent.objects);
-  for (int id : objs) {
+  for (int c = 0; c < childCount_; ++c) {
+    // field by field: a reused block keeps its lists' storage
+    Node& child = nodes_[first + c];
+    child.box = childBox(parent.box, c);
+    child.parent = leaf;
+    child.firstChild = -1;
+    child.depth = parent.depth + 1;
+    child.count = 0;
+    child.objects.clear();
+  }
+  split_.clear();
+  split_.swap(parent.objects);
+  for (int id : split_) {
     const Box fat = listedBox(id);
     auto& leaves = members_[id].leaves;
     leaves.erase(std::find(leaves.begin(), leaves.end(), leaf));
@@ -316,7 +377,8 @@ void RegionTree<D>::collapse(int n) {
   const int first = nodes_[n].firstChild;
   if (first < 0) return;
   for (int c = 0; c < childCount_; ++c) collapse(first + c);
-  std::vector<int> merged;
+  std::vector<int>& merged = nodes_[n].objects;  // empty while divided; nodes_ does not grow here
+  merged.clear();
   for (int c = 0; c < childCount_; ++c) {
     Node& child = nodes_[first + c];
     for (int id : child.objects) {
@@ -336,7 +398,6 @@ void RegionTree<D>::collapse(int n) {
   }
   Node& node = nodes_[n];
   node.firstChild = -1;
-  node.objects = std::move(merged);
   assert(static_cast<int>(node.objects.size()) == node.count);
   freeBlocks_.push_back(first);
   ++counters_.reunions;

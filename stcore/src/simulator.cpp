@@ -186,28 +186,41 @@ void Simulator<D>::spaceUpdate(int i) {
 // stands and only the neighbours it gained are checked.
 template <int D>
 void Simulator<D>::refileGained(int i) {
-  oldLeaves_ = space_->leavesOf(i);
-  const std::uint64_t restructures = space_->counters().subdivisions + space_->counters().reunions;
+  const RegionTree<D>& tree = *space_->tree();
+  oldLeaves_ = tree.leavesOf(i);
+  const std::uint64_t restructures = tree.counters().subdivisions + tree.counters().reunions;
   if (!space_->update(i, boxOf(i, now_), spaceMargin(i))) {
     schedule(i, next_[i]);  // the same neighbours: only the region event moves
     return;
   }
-  if (space_->counters().subdivisions + space_->counters().reunions != restructures) {
+  if (tree.counters().subdivisions + tree.counters().reunions != restructures) {
     predict(i);  // leaves were rebuilt: the old ones name other regions now
     return;
   }
-  // the old leaves are still the leaves they were: their objects are the old neighbours
-  if (++markNow_ == 0) {
-    std::fill(mark_.begin(), mark_.end(), 0u);
-    markNow_ = 1;
-  }
-  for (int leaf : oldLeaves_)
-    for (int j : space_->objectsIn(leaf)) mark_[j] = markNow_;
+  // The old leaves are still the leaves they were, so a new neighbour is one listed in a leaf
+  // the ball entered and in none of its old ones (a ball that only left leaves gained none).
+  auto inOld = [&](int leaf) { return std::find(oldLeaves_.begin(), oldLeaves_.end(), leaf) != oldLeaves_.end(); };
   const Next old = next_[i];
   Next best = old;
-  space_->forEachNeighbor(i, [&](int j) {
-    if (mark_[j] != markNow_) pairCandidate(i, j, best);
-  });
+  bool stamped = false;
+  for (int leaf : tree.leavesOf(i)) {
+    if (inOld(leaf)) continue;
+    if (!stamped) {
+      // once each, should it lie in several entered leaves
+      if (++markNow_ == 0) {
+        std::fill(mark_.begin(), mark_.end(), 0u);
+        markNow_ = 1;
+      }
+      mark_[i] = markNow_;
+      stamped = true;
+    }
+    for (int j : tree.objectsIn(leaf)) {
+      if (mark_[j] == markNow_) continue;
+      mark_[j] = markNow_;
+      const std::vector<int>& shared = tree.leavesOf(j);
+      if (std::none_of(shared.begin(), shared.end(), inOld)) pairCandidate(i, j, best);
+    }
+  }
   // a new partner is taken as it is now; the old one keeps the generation it was predicted with
   if (best.kind == EventKind::BallBall && (best.other != old.other || best.t != old.t || old.kind != best.kind))
     best.otherGen = balls_[best.other].gen;
@@ -221,10 +234,11 @@ template <int D>
 void Simulator<D>::settleSpace() {
   if (!space_) return;
   while (space_->hasRelisted() || space_->hasWidened()) {
-    const std::vector<int> widened = space_->takeWidened();
-    for (int j : space_->takeRelisted())
+    space_->takeWidened(widened_);
+    space_->takeRelisted(relisted_);
+    for (int j : relisted_)
       if (balls_[j].active) refileGained(j);
-    for (int j : widened)
+    for (int j : widened_)
       if (balls_[j].active) predict(j);
   }
 }

@@ -69,9 +69,11 @@ class RegionTree {
   // moved or removed, since the last call (sorted, once each): their listed boxes are as last
   // given, so a caller whose objects moved since re-files them.
   std::vector<int> takeRelisted();
+  void takeRelisted(std::vector<int>& out);  // the same into out, reusing its storage
   bool hasRelisted() const { return !relisted_.empty(); }
   // Of those, the ones a reunion listed in a wider region: they may have new neighbours.
   std::vector<int> takeWidened();
+  void takeWidened(std::vector<int>& out);
   bool hasWidened() const { return !widened_.empty(); }
 
  private:
@@ -95,6 +97,8 @@ class RegionTree {
   void attach(int id);
   void detach(int id);
   void addRec(int id);
+  void moveRec(int id, const Box& before);
+  void restructureAround(int id);
   void removeRec(int id);
   bool shouldSplit(int leaf) const;
   void maybeSplit(int leaf);
@@ -123,6 +127,8 @@ class RegionTree {
   // an update's old and new leaves (kept to reuse their storage: an update allocates nothing)
   std::vector<int> scratch_;
   std::vector<int> scratchNow_;
+  std::vector<int> landed_;  // restructureAround's copy of the leaves
+  std::vector<int> split_;   // maybeSplit's objects of the leaf it divides
 };
 
 // ---- inline templates -------------------------------------------------------------------------

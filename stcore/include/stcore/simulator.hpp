@@ -238,6 +238,9 @@ class Simulator {
   std::vector<int> oldLeaves_;
   std::vector<std::uint32_t> mark_;
   std::uint32_t markNow_ = 0;
+  // settleSpace: the balls a restructure re-listed and widened (kept for their storage)
+  std::vector<int> relisted_;
+  std::vector<int> widened_;
 };
 
 template <int D>

@@ -120,6 +120,10 @@ class Space {
     auto* t = std::get_if<RegionTree<D>>(&impl_);
     return t ? t->takeRelisted() : std::vector<int>{};
   }
+  void takeRelisted(std::vector<int>& out) {
+    if (auto* t = std::get_if<RegionTree<D>>(&impl_)) t->takeRelisted(out);
+    else out.clear();
+  }
   bool hasRelisted() const {
     const auto* t = std::get_if<RegionTree<D>>(&impl_);
     return t && t->hasRelisted();
@@ -127,6 +131,10 @@ class Space {
   std::vector<int> takeWidened() {
     auto* t = std::get_if<RegionTree<D>>(&impl_);
     return t ? t->takeWidened() : std::vector<int>{};
+  }
+  void takeWidened(std::vector<int>& out) {
+    if (auto* t = std::get_if<RegionTree<D>>(&impl_)) t->takeWidened(out);
+    else out.clear();
   }
   bool hasWidened() const {
     const auto* t = std::get_if<RegionTree<D>>(&impl_);
