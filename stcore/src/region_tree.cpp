@@ -164,11 +164,22 @@ bool RegionTree<D>::update(int id, const Box& box, double margin) {
     return split;
   }
   scratch_ = m.leaves;  // old membership, to count transfers
-  std::sort(scratch_.begin(), scratch_.end());
   const Box before = listedBox(id);
   m.fat = detail::grownBox(box, margin);
   m.margin = margin;
-  moveRec(id, before);
+  if (!moveRec(id, before)) {
+    // no leaf entered or left: no count changed, so nothing reunites; a full leaf the box no
+    // longer straddles may divide (as restructureAround would)
+    const std::uint64_t divisions = counters_.subdivisions;
+    if (rule_.subdivide)
+      for (int leaf : scratch_)
+        if (static_cast<int>(nodes_[leaf].objects.size()) > rule_.decompositionFactor) maybeSplit(leaf);
+    const bool split = counters_.subdivisions != divisions;
+    if (split) ++counters_.transfers;
+    moving_ = -1;
+    return split;
+  }
+  std::sort(scratch_.begin(), scratch_.end());
   restructureAround(id);
   scratchNow_ = members_[id].leaves;
   std::sort(scratchNow_.begin(), scratchNow_.end());
@@ -204,10 +215,11 @@ void RegionTree<D>::restructureAround(int id) {
 // One walk over the nodes the old or the new listed box touches: the counts change only where
 // exactly one of them does, and a leaf both touch keeps the object where it is in its list.
 template <int D>
-void RegionTree<D>::moveRec(int id, const Box& before) {
+bool RegionTree<D>::moveRec(int id, const Box& before) {
   const Box after = listedBox(id);
   Member& m = members_[id];
   m.leaves.clear();
+  bool changed = false;
   int stack[256];
   int top = 0;
   stack[top++] = 0;
@@ -217,7 +229,10 @@ void RegionTree<D>::moveRec(int id, const Box& before) {
     const bool was = node.box.overlaps(before);
     const bool is = node.box.overlaps(after);
     if (!was && !is) continue;
-    if (was != is) node.count += is ? 1 : -1;
+    if (was != is) {
+      node.count += is ? 1 : -1;
+      changed = true;
+    }
     if (node.firstChild < 0) {
       if (is) {
         if (!was) node.objects.push_back(id);
@@ -232,6 +247,7 @@ void RegionTree<D>::moveRec(int id, const Box& before) {
       for (int c = 0; c < childCount_; ++c) stack[top++] = node.firstChild + c;
     }
   }
+  return changed;
 }
 
 template <int D>
@@ -432,6 +448,19 @@ double RegionTree<D>::exitTime(int id, const BallPath<D>& path) const {
   const Member& m = members_[id];
   const Box fat = listedBox(id);
   double t = kInf;
+  if (m.leaves.size() == 1) {
+    // in one leaf: its next event is reaching a wall of it; the listed box trails the ball, so
+    // the leaf is left only after the wall is reached (reachTime grows with the distance)
+    const Box& lb = nodes_[m.leaves[0]].box;
+    for (int i = 0; i < D; ++i) {
+      const double v = path.v[i];
+      if (v > 0.0 && lb.max[i] < bounds_.max[i])
+        t = std::min(t, reachTime(path.p[i] + path.radius, v, path.a[i], lb.max[i], path.horizon));
+      else if (v < 0.0 && lb.min[i] > bounds_.min[i])
+        t = std::min(t, reachTime(path.p[i] - path.radius, v, path.a[i], lb.min[i], path.horizon));
+    }
+    return t;
+  }
   for (int i = 0; i < D; ++i) {
     const double v = path.v[i];
     if (v == 0.0) continue;

@@ -24,26 +24,6 @@ const char* toString(SpaceKind kind) {
   return "?";
 }
 
-double reachTime(double x0, double v, double a, double wall, double horizon) {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  if (v == 0.0) return kInf;
-  // along the direction of motion: distance d >= 0 to go at speed s, slowing at rate b >= 0
-  const double d = v > 0.0 ? wall - x0 : x0 - wall;
-  if (!(d > 0.0)) return 0.0;
-  const double s = std::abs(v);
-  const double b = std::abs(a);
-  double t;
-  if (b == 0.0) {
-    t = d / s;
-  } else {
-    // s t - b t^2 / 2 = d: the smaller root, in the form without cancellation
-    const double disc = s * s - 2.0 * b * d;
-    if (disc < 0.0) return kInf;  // stops short of the wall
-    t = 2.0 * d / (s + std::sqrt(disc));
-  }
-  return t <= horizon ? t : kInf;
-}
-
 template <int D>
 typename Space<D>::Impl Space<D>::make(SpaceKind kind, const Box& bounds, const SpaceRule& rule) {
   switch (kind) {

@@ -217,7 +217,7 @@ void printFig13Study(std::ostream& os, Counting counting) {
   // past the report: many balls
   os << "\nBeyond the report: n balls at 1 m/s in a square box with 10 % of its area covered, 1 s "
         "simulated (about 4 collisions per ball), seed 1.\n";
-  const int dfs[] = {1, 2, 3, 5, 8, 12, 20};
+  const int dfs[] = {1, 2, 3, 5, 8, 12, 20, 40, 80};
   for (int n : {100, 1000, 10000}) {
     os << "\nn = " << n << "\n"
        << std::left << std::setw(12) << "space" << std::right << std::setw(14) << "checks" << std::setw(10)

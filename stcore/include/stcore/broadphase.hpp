@@ -18,6 +18,7 @@
 //   exitTime(id, path)        the next region event of a ball moving from its listed box
 //   leaves(), leafBounds(leaf), objectsIn(leaf), leavesOf(id), depthOf(leaf), leafCount()
 // An object is listed in every leaf its box (closed) touches; the box is clamped to the bounds.
+#include <cmath>
 #include <concepts>
 #include <cstddef>
 #include <cstdint>
@@ -69,7 +70,26 @@ struct BallPath {
 // First time in [0, horizon] at which x0 + v t + a t^2 / 2 reaches `wall`, for a coordinate
 // heading toward it (a opposes v or is zero: it slows and may stop short); infinity if it never
 // does, 0 if it is already there or past.
-double reachTime(double x0, double v, double a, double wall, double horizon);
+// (inline: a region event computes several per ball)
+inline double reachTime(double x0, double v, double a, double wall, double horizon) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  if (v == 0.0) return kInf;
+  // along the direction of motion: distance d >= 0 to go at speed s, slowing at rate b >= 0
+  const double d = v > 0.0 ? wall - x0 : x0 - wall;
+  if (!(d > 0.0)) return 0.0;
+  const double s = std::abs(v);
+  const double b = std::abs(a);
+  double t;
+  if (b == 0.0) {
+    t = d / s;
+  } else {
+    // s t - b t^2 / 2 = d: the smaller root, in the form without cancellation
+    const double disc = s * s - 2.0 * b * d;
+    if (disc < 0.0) return kInf;  // stops short of the wall
+    t = 2.0 * d / (s + std::sqrt(disc));
+  }
+  return t <= horizon ? t : kInf;
+}
 
 // The objects listed in one leaf: a view, valid until the space changes. A grid stores each entry
 // as (object << D) | corner bits (UniformGrid); the view yields the objects.

@@ -97,7 +97,7 @@ class RegionTree {
   void attach(int id);
   void detach(int id);
   void addRec(int id);
-  void moveRec(int id, const Box& before);
+  bool moveRec(int id, const Box& before);  // true if a leaf was entered or left
   void restructureAround(int id);
   void removeRec(int id);
   bool shouldSplit(int leaf) const;
