@@ -363,6 +363,15 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
       if (!parseSpaceKind(k, s.space.kind))
         fail(rd.at(sp["kind"], "space.kind"), "unknown space kind '" + k + "' (none, single, quadtree, cells)");
     }
+    // a key of another kind would be taken and do nothing: refused, naming the kind it is for
+    const char* kindName = s.space.kind == SpaceKind::Tree ? "quadtree" : toString(s.space.kind);
+    auto onlyFor = [&](const char* k, SpaceKind kind, const char* name) {
+      if (sp[k] && s.space.kind != kind)
+        fail(rd.at(sp[k], std::string("space.") + k),
+             std::string("only for kind ") + name + " (this space is " + kindName + ")");
+    };
+    for (const char* k : {"decomposition_factor", "divisions", "max_depth"}) onlyFor(k, SpaceKind::Tree, "quadtree");
+    for (const char* k : {"cell_size", "margin"}) onlyFor(k, SpaceKind::Cells, "cells");
     auto intKey = [&](const char* k, int& out) {
       if (!sp[k]) return;
       const std::string key = std::string("space.") + k;

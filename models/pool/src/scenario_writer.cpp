@@ -34,11 +34,15 @@ void writeScenarioYaml(std::ostream& os, const Scenario& s) {
   }
   os << "space:\n";
   os << "  kind: " << (s.space.kind == SpaceKind::Tree ? "quadtree" : toString(s.space.kind)) << "\n";
-  os << "  decomposition_factor: " << s.space.decompositionFactor << "\n";
-  os << "  divisions: " << s.space.divisions << "\n";
-  os << "  max_depth: " << s.space.maxDepth << "\n";
-  os << "  cell_size: " << num(s.space.cellSize) << "\n";
-  if (s.space.margin > 0.0) os << "  margin: " << num(s.space.margin) << "\n";
+  // only the keys of its kind (the reader refuses the others)
+  if (s.space.kind == SpaceKind::Tree) {
+    os << "  decomposition_factor: " << s.space.decompositionFactor << "\n";
+    os << "  divisions: " << s.space.divisions << "\n";
+    os << "  max_depth: " << s.space.maxDepth << "\n";
+  } else if (s.space.kind == SpaceKind::Cells) {
+    os << "  cell_size: " << num(s.space.cellSize) << "\n";
+    if (s.space.margin > 0.0) os << "  margin: " << num(s.space.margin) << "\n";
+  }
   os << "until: " << num(s.until) << "\n";
   os << "friction: " << num(s.friction) << "\n";
   if (s.shots.empty()) return;

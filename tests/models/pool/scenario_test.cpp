@@ -181,14 +181,28 @@ balls: [{number: 0, position: [0.6, 0.6], velocity: [0, -2000]}]
             "s.yaml:2:31: balls[0].velocity: speed must be at most 1000 m/s");
   EXPECT_EQ(errorOf("table: {width: 2.54, height: 1.27}\nrandom: {count: 3, speed: 1e4}\n"),
             "s.yaml:2:27: random.speed: must be between 0 and 1000 m/s");
-  EXPECT_EQ(errorOf(std::string(kGood) + "space: {margin: 0}\n"), "s.yaml:7:17: space.margin: must be positive");
+  EXPECT_EQ(errorOf(std::string(kGood) + "space: {kind: cells, margin: 0}\n"), "s.yaml:7:30: space.margin: must be positive");
   // the limit itself is accepted
   EXPECT_EQ(errorOf(R"(table: {width: 2.54, height: 1.27}
 balls: [{number: 0, position: [0.6, 0.6]}]
 shots: [{ball: 0, speed: 1000, angle: 30}]
-space: {margin: 2}
+space: {kind: cells, margin: 2}
 )"),
             "(accepted)");
+}
+
+// A key of another space kind would do nothing: refused, naming the kind it belongs to.
+TEST(Scenario, SpaceKeysOfAnotherKindAreRefused) {
+  EXPECT_EQ(errorOf(std::string(kGood) + "space: {margin: 2}\n"),
+            "s.yaml:7:17: space.margin: only for kind cells (this space is quadtree)");
+  EXPECT_EQ(errorOf(std::string(kGood) + "space: {kind: quadtree, cell_size: 0.1}\n"),
+            "s.yaml:7:36: space.cell_size: only for kind cells (this space is quadtree)");
+  EXPECT_EQ(errorOf(std::string(kGood) + "space: {kind: cells, decomposition_factor: 5}\n"),
+            "s.yaml:7:44: space.decomposition_factor: only for kind quadtree (this space is cells)");
+  EXPECT_EQ(errorOf(std::string(kGood) + "space: {kind: single, max_depth: 3}\n"),
+            "s.yaml:7:34: space.max_depth: only for kind quadtree (this space is single)");
+  EXPECT_EQ(errorOf(std::string(kGood) + "space: {kind: cells, cell_size: 0.1, margin: 0.3}\n"), "(accepted)");
+  EXPECT_EQ(errorOf(std::string(kGood) + "space: {decomposition_factor: 5, divisions: 2, max_depth: 4}\n"), "(accepted)");
 }
 
 TEST(Scenario, ShippedScenariosLoad) {
