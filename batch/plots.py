@@ -1,8 +1,13 @@
 #!/usr/bin/python3
-"""Plots and report.md for a `stsim batch` output folder (runs.csv, summary.csv, runs/*/warnings.csv).
+"""Plots and report.md for a `stsim batch` output folder (runs.csv, summary.csv, paired.csv,
+hindsight.csv, runs/*/warnings.csv).
 
 Uses Debian's python3-matplotlib. Called by `stsim batch`; can be re-run by hand:
     /usr/bin/python3 batch/plots.py OUT_DIR
+
+Every figure is built by a function that returns the matplotlib Figure (none of them saves), so a
+test can read its titles, labels and legends: metric_figure, min_ttc_figure, collisions_figure,
+paired_figure, hindsight_figure; load(out) reads the folder they all take.
 """
 import csv
 import importlib.util
@@ -16,6 +21,85 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+Z95 = 1.959963984540054  # the normal 0.975 quantile (Wilson intervals)
+
+# metric key -> (what it counts, unit): "SUMO collisions" + "per run" reads "SUMO collisions per run"
+LABELS = {
+    "sumo_collisions": ("SUMO collisions", "per run"),
+    "sumo_collision_steps": ("SUMO collision reports (steps touching)", "per run"),
+    "collisions_warned": ("collisions the collider warned of", "per run"),
+    "warnings.total": ("warnings", "per run"),
+    "warnings.conflicts": ("conflict warnings", "per run"),
+    "warnings.per_vehicle_km": ("warnings", "per vehicle-km"),
+    "vehicle_km": ("distance driven", "vehicle-km per run"),
+    "vehicles": ("vehicles", "per run"),
+    "collision_checks": ("collision checks", "per run"),
+    "min_ttc": ("minimum TTC per warning episode", "s"),
+    "near_miss_recall": ("near-miss recall", "share"),
+    "confirmed_share": ("confirmed share", "share"),
+}
+# patterns for the families of keys: (regex, what, unit), \1 the kind, zone or type
+LABEL_PATTERNS = [
+    (r"^warnings\.per_vehicle_km_by_(?:type|kind)\.(\w+)$", r"\1 warnings", "per vehicle-km"),
+    (r"^warnings\.by_(?:type|kind|zone)\.(\w+)$", r"\1 warnings", "per run"),
+    (r"^tet_s\.(\w+)$", r"time exposed below the safe time, \1", "s per run"),
+    (r"^tit_s2\.(\w+)$", r"time-integrated TTC deficit, \1", "s² per run"),
+]
+
+
+def quantity(key):
+    """(what, unit) of a metric key: the table, the patterns, else the key itself, unitless."""
+    if key in LABELS:
+        return LABELS[key]
+    for pattern, what, unit in LABEL_PATTERNS:
+        if re.match(pattern, key):
+            return re.sub(pattern, what, key).replace("_", " "), unit
+    return key.replace("_", " "), ""
+
+
+def label(key):
+    """A metric key as an analyst reads it: sumo_collisions -> "SUMO collisions per run"."""
+    what, unit = quantity(key)
+    if not unit:
+        return what
+    return "%s %s" % (what, unit) if unit.startswith("per ") else "%s (%s)" % (what, unit)
+
+
+def wilson(k, n, z=Z95):
+    """Wilson score interval (lo, hi) of the share k/n; None for n = 0."""
+    if not n:
+        return None
+    p = k / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    # the ends exact where the share is: 0/n reaches down to 0, n/n up to 1
+    return (0.0 if k == 0 else max(0.0, centre - half)), (1.0 if k == n else min(1.0, centre + half))
+
+
+def decimals(values, sig=3):
+    """Decimals that give the largest of values `sig` significant digits: one precision a column."""
+    vals = [abs(v) for v in values if v is not None and math.isfinite(v) and v != 0]
+    if not vals:
+        return 0
+    return max(0, sig - 1 - int(math.floor(math.log10(max(vals)))))
+
+
+def estimate(mean, half, n, d):
+    """'estimate ± half-width (95 % CI, n=…)' at d decimals; no interval from fewer than 2."""
+    if mean is None:
+        return "n/a"
+    if half is None or n is None or n < 2:
+        return "%.*f (n=%s, no interval)" % (d, mean, n if n is not None else "?")
+    return "%.*f ± %.*f (95 %% CI, n=%d)" % (d, mean, d, half, n)
+
+
+def share_text(k, n):
+    """A share with its Wilson interval and counts: '0.584 (95 % CI 0.579–0.589, 19458/33343)'."""
+    ci = wilson(k, n)
+    if ci is None:
+        return "n/a"
+    return "%.3f (95 %% CI %.3f–%.3f, %d/%d)" % (k / n, ci[0], ci[1], k, n)
 
 
 def read_csv(path):
@@ -91,6 +175,297 @@ def conflict_maps(out, runs, sweep):
     return maps
 
 
+class Batch:
+    """A batch output folder read once: runs, summary, paired differences, the experiment record."""
+
+    def __init__(self, out):
+        self.out = out
+        self.runs_header, self.runs = read_csv(os.path.join(out, "runs.csv"))
+        sum_header, self.summary = read_csv(os.path.join(out, "summary.csv"))
+        # parameters sit between "status" and "wall_seconds"; the last of them is the seed key
+        params = self.runs_header[self.runs_header.index("status") + 1: self.runs_header.index("wall_seconds")]
+        self.sweep, self.seed_key = params[:-1], params[-1]
+        self.metrics = [c[: -len(".mean")] for c in sum_header if c.endswith(".mean")]
+        self.done = [r for r in self.runs if r["status"] == "done"]
+        # each swept key's values in the experiment's order (the runs' order)
+        self.values = {p: list(dict.fromkeys(r[p] for r in self.runs)) for p in self.sweep}
+        self.seeds = list(dict.fromkeys(r[self.seed_key] for r in self.runs))
+        path = os.path.join(out, "paired.csv")
+        self.paired = read_csv(path)[1] if os.path.exists(path) else []
+        self.record = read_record(os.path.join(out, "experiment.yaml"))
+        self.headline = find_col(self.metrics, r"per_vehicle_km.*total|total.*per_vehicle_km", r"per_vehicle_km",
+                                 r"collision_checks$", r"warnings") or (self.metrics[0] if self.metrics else None)
+        self.collisions = find_col(self.metrics, r"^sumo_collisions$", r"sumo.*collisions", r"collisions$")
+
+    def key(self, r):
+        return tuple(r[p] for p in self.sweep)
+
+    def combos(self):
+        """The parameter combinations in the summary's order."""
+        return [self.key(r) for r in self.summary]
+
+    def combo_label(self, key, params=None):
+        params = self.sweep if params is None else params
+        return ", ".join("%s=%s" % (p, v) for p, v in zip(params, key)) or "all runs"
+
+    def n(self, key, metric, params=None):
+        """Done runs of a combination (of params, default the whole sweep) with a value of metric."""
+        params = self.sweep if params is None else params
+        return sum(1 for r in self.done if tuple(r[p] for p in params) == tuple(key) and num(r.get(metric)) is not None)
+
+    def per_seed_differences(self, row, metric):
+        """A paired.csv row's differences run by run, (seed, compared - baseline), from runs.csv."""
+        axis = self.sweep.index(row["compared"])
+        key = tuple(row[p] for p in self.sweep)
+        base = key[:axis] + (row["baseline"],) + key[axis + 1:]
+        by = {(self.key(r), r[self.seed_key]): num(r.get(metric)) for r in self.done}
+        out = []
+        for s in self.seeds:
+            x, y = by.get((key, s)), by.get((base, s))
+            if x is not None and y is not None:
+                out.append((s, x - y))
+        return out
+
+
+def read_record(path):
+    """experiment.yaml as written by the batch (a dict; empty if unreadable)."""
+    try:
+        import yaml
+        with open(path) as f:
+            return yaml.safe_load(f) or {}
+    except ImportError:  # the record's top-level scalars only
+        rec = {}
+        with open(path) as f:
+            for line in f:
+                m = re.match(r"^(\w+): (.+)$", line.rstrip())
+                if m:
+                    rec[m.group(1)] = m.group(2)
+        return rec
+    except (OSError, ValueError):
+        return {}
+
+
+def _panels(n, width=6.0, height=4.0):
+    """One axes, or a grid of small panels for many series (readable for a few or for dozens)."""
+    if n <= 6:
+        fig, ax = plt.subplots(figsize=(width, height))
+        return fig, [ax] * max(1, n)
+    cols = min(4, n)
+    rows = (n + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, 2.4 * rows + 0.8), sharex=True, squeeze=False)
+    flat = [a for row in axes for a in row]
+    for a in flat[n:]:
+        a.set_visible(False)
+    return fig, flat[:n]
+
+
+def metric_figure(b, x):
+    """The headline metric against a numeric swept parameter, one line per combination of the
+    other swept parameters (mean and 95 % t-interval over seeds, from summary.csv)."""
+    m = b.headline
+    others = [p for p in b.sweep if p != x]
+    groups = {}
+    for r in b.summary:
+        groups.setdefault(tuple(r[p] for p in others), []).append(r)
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    ns = set()
+    for key, rows in groups.items():
+        rows = sorted((r for r in rows if num(r.get(m + ".mean")) is not None), key=lambda r: num(r[x]))
+        ns |= {b.n(b.key(r), m) for r in rows}
+        ax.errorbar([num(r[x]) for r in rows], [num(r[m + ".mean"]) for r in rows],
+                    yerr=[num(r.get(m + ".ci95")) or 0.0 for r in rows], marker="o", capsize=3,
+                    label=b.combo_label(key, others))
+    n_text = "n=%d seeds" % min(ns) if len(ns) == 1 else "n=%d-%d seeds" % (min(ns), max(ns)) if ns else "n=0"
+    ax.set_title("%s against %s\n(mean ± 95 %% CI over seeds, %s per point)" % (label(m), x, n_text), fontsize=10)
+    ax.set_xlabel(x)
+    ax.set_ylabel(label(m))
+    ax.grid(alpha=0.3)
+    if others:
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def min_ttc_values(b):
+    """Per parameter combination, the minimum TTC of every warning episode (runs' warnings.csv)."""
+    by = {}
+    for r in b.done:
+        path = os.path.join(b.out, "runs", r["run_id"], "warnings.csv")
+        if not os.path.exists(path):
+            continue
+        with open(path, newline="") as f:
+            rd = csv.DictReader(f)
+            col = find_col(rd.fieldnames or [], r"^min_ttc$", r"^min_ttc", r"min_ttc")
+            if not col:
+                continue
+            vals = by.setdefault(b.key(r), [])
+            for w in rd:
+                v = num(w[col])
+                if v is not None:
+                    vals.append(v)
+    return by
+
+
+def nice_step(span, bins=30):
+    raw = span / bins
+    mag = 10 ** math.floor(math.log10(raw))
+    return next(s * mag for s in (1, 2, 2.5, 5, 10) if s * mag >= raw)
+
+
+def min_ttc_figure(b, by=None):
+    """Distribution of the minimum TTC per warning episode, one series (or panel) per parameter
+    combination. Episodes at TTC 0 (the zone already overlapping when the warning began: a
+    proximity state, no closing) are left out of the histogram and counted in the legend."""
+    by = min_ttc_values(b) if by is None else by
+    if not any(by.values()):
+        return None
+    keys = [k for k in b.combos() if k in by] + [k for k in by if k not in b.combos()]
+    positive = [v for vals in by.values() for v in vals if v > 0]
+    hi = max(positive) if positive else 1.0
+    step = nice_step(hi)
+    bins = [step * i for i in range(int(math.ceil(hi / step)) + 1)] or [0, step]
+    if len(bins) < 2:
+        bins.append(step)
+    fig, axes = _panels(len(keys))
+    zero_total = 0
+    for i, (ax, key) in enumerate(zip(axes, keys)):
+        vals = by[key]
+        pos = [v for v in vals if v > 0]
+        zero = len(vals) - len(pos)
+        zero_total += zero
+        name = b.combo_label(key)
+        text = "%s: n=%d (TTC 0, left out: %d)" % (name, len(pos), zero)
+        ax.hist(pos, bins=bins, histtype="step", linewidth=1.5, color="C%d" % (i % 10), label=text)
+        if len(keys) > 6:
+            ax.set_title(text, fontsize=7)
+    for ax in set(axes):
+        ax.set_xlabel("minimum TTC per episode (s)")
+        ax.set_ylabel("episodes per %g s bin" % step)
+        ax.grid(alpha=0.3)
+        if len(keys) <= 6:
+            ax.legend(fontsize=8, title=", ".join(b.sweep) or None)
+    total = sum(len(v) for v in by.values())
+    fig.suptitle("Minimum TTC per warning episode, all seeds pooled per combination\n"
+                 "%d episodes; %d at TTC 0 (zone already overlapping, no closing) left out" % (total, zero_total),
+                 fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def collision_rows(b):
+    """(other params' values, action, mean, ci95, n) for each combination with the collisions."""
+    coll = b.collisions
+    others = [p for p in b.sweep if p != "action"]
+    actions = sorted(b.values.get("action", []), key=lambda a: (a != "none", b.values["action"].index(a)))
+    groups = list(dict.fromkeys(tuple(r[p] for p in others) for r in b.summary))
+    out = []
+    for g in groups:
+        for action in actions:
+            row = next((r for r in b.summary if r["action"] == action and tuple(r[p] for p in others) == g), None)
+            m = num(row.get(coll + ".mean")) if row else None
+            if m is None:
+                continue
+            out.append((g, action, m, num(row.get(coll + ".ci95")), b.n(g + (action,), coll, others + ["action"])))
+    return out
+
+
+def collisions_figure(b):
+    """SUMO's collisions per action (the brake action against none), per combination of the other
+    swept parameters: mean and 95 % t-interval over seeds (summary.csv), each run as a dot."""
+    coll = b.collisions
+    if "action" not in b.sweep or not coll:
+        return None
+    others = [p for p in b.sweep if p != "action"]
+    rows = collision_rows(b)
+    if not rows:
+        return None
+    actions = list(dict.fromkeys(a for _, a, _, _, _ in rows))
+    groups = list(dict.fromkeys(g for g, _, _, _, _ in rows))
+    fig, ax = plt.subplots(figsize=(max(5.0, 1.6 * len(groups) + 2.5), 4.2))
+    width = 0.8 / max(1, len(actions))
+    ns = set()
+    for ai, action in enumerate(actions):
+        xs, ys, es = [], [], []
+        for gi, g in enumerate(groups):
+            row = next((r for r in rows if r[0] == g and r[1] == action), None)
+            if row is None:
+                continue
+            x = gi + (ai - (len(actions) - 1) / 2) * width if others else ai
+            xs.append(x)
+            ys.append(row[2])
+            es.append(row[3] or 0.0)
+            ns.add(row[4])
+            dots = [num(r[coll]) for r in b.done if r["action"] == action and
+                    tuple(r[p] for p in others) == g and num(r[coll]) is not None]
+            ax.plot([x] * len(dots), dots, "k.", alpha=0.35, label="one run (seed)" if not xs[1:] and ai == 0 else None)
+        ax.bar(xs, ys, width=width * 0.9 if others else 0.6, yerr=es, capsize=4, label="%s: mean ± 95 %% CI" % action,
+               color="#999999" if action == "none" else "#cc3333" if ai == 1 else "C%d" % ai, alpha=0.85)
+    if others:
+        ax.set_xticks(range(len(groups)))
+        ax.set_xticklabels([b.combo_label(g, others) for g in groups], fontsize=8)
+        ax.set_xlabel(", ".join(others))
+    else:
+        ax.set_xticks(range(len(actions)))
+        ax.set_xticklabels(actions)
+        ax.set_xlabel("action")
+    n_text = "n=%d seeds" % min(ns) if len(ns) == 1 else "n=%d-%d seeds" % (min(ns), max(ns))
+    ax.set_title("%s by action\n(mean ± 95 %% CI over seeds, %s each)" % (label(coll), n_text), fontsize=10)
+    ax.set_ylabel(label(coll))
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3, axis="y")
+    fig.tight_layout()
+    return fig
+
+
+def paired_metrics(b):
+    return [m for m in (b.collisions, find_col(b.metrics, r"^collisions_warned$"), b.headline) if m]
+
+
+def paired_figure(b, metrics=None):
+    """The paired study's result: for each metric a panel, for each compared combination
+    (paired.csv, a swept value against the key's first value on the same seeds) every seed's
+    difference as a dot and their mean with its 95 % t-interval, the numbers of paired.csv."""
+    metrics = paired_metrics(b) if metrics is None else metrics
+    rows = [r for r in b.paired if (num(r.get("pairs")) or 0) >= 2]
+    metrics = [m for m in metrics if any(num(r.get(m + ".diff_mean")) is not None for r in rows)]
+    if not rows or not metrics:
+        return None
+    fig, axes = plt.subplots(1, len(metrics), squeeze=False,
+                             figsize=(max(4.2, 1.3 * len(rows) + 2.6) * len(metrics), 4.6))
+    names = []
+    for r in rows:
+        others = [p for p in b.sweep if p != r["compared"]]
+        names.append("%s − %s" % (r[r["compared"]], r["baseline"]) +
+                     ("\n" + b.combo_label(tuple(r[p] for p in others), others) if others else ""))
+    for ax, m in zip(axes[0], metrics):
+        ns = set()
+        for i, r in enumerate(rows):
+            diffs = [d for _, d in b.per_seed_differences(r, m)]
+            jitter = [((j * 0.6180339887) % 1 - 0.5) * 0.3 for j in range(len(diffs))]
+            ax.plot([i + j for j in jitter], diffs, "o", color="#4477aa", alpha=0.45, markersize=4,
+                    label="one seed's difference" if i == 0 else None)
+            mean, half = num(r.get(m + ".diff_mean")), num(r.get(m + ".diff_ci95"))
+            ns.add(len(diffs))
+            if mean is not None:
+                ax.errorbar([i], [mean], yerr=[half or 0.0], fmt="D", color="black", capsize=6, markersize=6,
+                            label="mean ± 95 % CI (t)" if i == 0 else None)
+        ax.axhline(0.0, color="#555555", linewidth=0.8, linestyle="--")
+        ax.set_xticks(range(len(rows)))
+        ax.set_xticklabels(names, fontsize=8)
+        ax.set_xlim(-0.6, len(rows) - 0.4)
+        ax.set_xlabel("compared − baseline, same seed")
+        what, unit = quantity(m)
+        ax.set_ylabel("difference in %s" % label(m))
+        n_text = "n=%d pairs" % min(ns) if len(ns) == 1 else "n=%d-%d pairs" % (min(ns), max(ns))
+        ax.set_title("%s (%s)" % (what, n_text), fontsize=9)
+        ax.grid(alpha=0.3, axis="y")
+        ax.legend(fontsize=7)
+    fig.suptitle("Paired differences on the same seeds: each seed, and the mean with its 95 % t-interval",
+                 fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
 def hindsight_rows(out):
     path = os.path.join(out, "hindsight.csv")
     if not os.path.exists(path):
@@ -100,72 +475,51 @@ def hindsight_rows(out):
     return kinds, rows
 
 
-def hindsight_plot(out, sweep):
-    """Per parameter combination (pooled over seeds, hindsight.csv): each kind's confirmed share
-    and the near misses' recall. A share of nothing is no bar, marked n/a: it is not 0."""
-    kinds, rows = hindsight_rows(out)
-    if not rows:
-        return None
-    labels = [", ".join(r[p] for p in sweep) or "all runs" for r in rows]
-    series = [(k.replace("_", " ") + " confirmed", k + ".confirmed_share") for k in kinds]
-    series.append(("near-miss recall", "near_miss_recall"))
-    # a share with nothing to count in any combination (a kind never judged) gets no bars at all
-    empty = [name for name, col in series if all(num(r.get(col)) is None for r in rows)]
-    series = [(name, col) for name, col in series if name not in empty] or series[-1:]
-    # one panel per share, the combinations down the side: readable for a few or for dozens
-    fig, axes = plt.subplots(1, len(series), sharey=True, squeeze=False,
-                             figsize=(2.4 * len(series) + 2.2, 0.26 * len(rows) + 1.6))
+def hindsight_shares(kinds):
+    """(name, part column, whole column) of every share hindsight.csv gives."""
+    shares = [(k.replace("_", " ") + " warnings confirmed", k + ".confirmed", k + ".judged") for k in kinds]
+    shares.append(("near-miss recall", "near_misses_warned", "near_misses"))
+    shares.append(("crossing recall", "crossings_warned", "crossings"))
+    shares.append(("collision recall", "collisions_warned", "collisions"))
+    return shares
+
+
+def hindsight_figure(b, kinds, rows):
+    """Per parameter combination (pooled over seeds, hindsight.csv): each kind's confirmed share and
+    the recall of near misses, crossings and collisions, with Wilson 95 % intervals and k/n. A
+    share of nothing is no bar, marked n/a: it is not 0; a share nothing ever had is no panel."""
+    shares = [s for s in hindsight_shares(kinds)
+              if any(num(r.get(s[2])) for r in rows)] or hindsight_shares(kinds)[-3:-2]
+    labels = [b.combo_label(tuple(r[p] for p in b.sweep)) for r in rows]
+    fig, axes = plt.subplots(1, len(shares), sharey=True, squeeze=False,
+                             figsize=(2.7 * len(shares) + 2.4, 0.32 * len(rows) + 2.4))
     ys = list(range(len(rows)))
-    for si, (ax, (name, col)) in enumerate(zip(axes[0], series)):
+    for si, (ax, (name, part, whole)) in enumerate(zip(axes[0], shares)):
         for y, r in zip(ys, rows):
-            v = num(r.get(col))
-            if v is None:
-                ax.text(0.02, y, "n/a", va="center", fontsize=6, color="#777777")
-            else:
-                ax.barh(y, v, height=0.7, color="C%d" % si)
+            k, n = num(r.get(part)), num(r.get(whole))
+            ci = wilson(k or 0, n) if n else None
+            if ci is None:
+                ax.text(0.02, y, "n/a (n=0)", va="center", fontsize=6, color="#777777")
+                continue
+            p = k / n
+            ax.barh(y, p, height=0.7, color="C%d" % si, alpha=0.8)
+            ax.errorbar([p], [y], xerr=[[max(0.0, p - ci[0])], [max(0.0, ci[1] - p)]], fmt="none", ecolor="black", capsize=2)
+            inside = ci[1] > 0.75  # no room right of the interval: the counts go inside the bar
+            ax.text(0.03 if inside else ci[1] + 0.02, y, "%d/%d" % (k, n), va="center", fontsize=6,
+                    color="white" if inside else "black", fontweight="bold" if inside else "normal")
         ax.set_xlim(0, 1.0)
         ax.set_title(name, fontsize=8)
+        ax.set_xlabel("share (Wilson 95 % CI)", fontsize=7)
         ax.grid(alpha=0.3, axis="x")
         ax.tick_params(labelsize=7)
     axes[0][0].set_yticks(ys)
     axes[0][0].set_yticklabels(labels, fontsize=7)
+    axes[0][0].set_ylabel(", ".join(b.sweep) or "runs", fontsize=7)
     axes[0][0].invert_yaxis()
-    fig.suptitle("share, pooled over seeds" + ("; n/a, nothing to count: " + ", ".join(empty) if empty else ""),
-                 fontsize=8)
+    fig.suptitle("Hindsight: confirmed shares and recall, pooled over the seeds of each combination "
+                 "(k/n beside each bar)", fontsize=9)
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "hindsight.png"), dpi=110)
-    plt.close(fig)
-    return ("hindsight.png", "confirmed share by warning kind and near-miss recall"), kinds, rows
-
-
-def write_hindsight(f, sweep, kinds, rows):
-    """report.md's hindsight table: warnings per vehicle-km by kind, confirmed share (confirmed /
-    judged), near-miss recall (warned / events), median lead time; n/a where nothing was counted."""
-    def share(r, part, whole, col):
-        v = num(r.get(col))
-        return "n/a" if v is None else "%.3f (%d/%d)" % (v, num(r.get(part)), num(r.get(whole)))
-    f.write("## Hindsight (pooled over seeds; [hindsight.csv](hindsight.csv))\n\n"
-            "Warnings per vehicle-km by kind; the confirmed share of each kind's warnings (what "
-            "followed confirmed the conflict); the near misses' recall (warned at least the lead "
-            "time before) and the median lead time; the same for the unsignalled line crossings and for SUMO's "
-            "collisions (the collider warned about the victim). n/a: nothing to count.\n\n")
-    cols = sweep + ["%s /veh-km" % k for k in kinds] + ["%s confirmed" % k for k in kinds] + \
-        ["near-miss recall", "median lead (s)", "crossing recall", "median lead (s)",
-         "collision recall", "median lead (s)"]
-    f.write("| " + " | ".join(cols) + " |\n")
-    f.write("|" + "---|" * len(cols) + "\n")
-    for r in rows:
-        cells = [r[p] for p in sweep]
-        cells += [fmt(r.get(k + ".per_vehicle_km")) or "n/a" for k in kinds]
-        cells += [share(r, k + ".confirmed", k + ".judged", k + ".confirmed_share") for k in kinds]
-        cells.append(share(r, "near_misses_warned", "near_misses", "near_miss_recall"))
-        cells.append(fmt(r.get("near_miss_lead_median_s")) or "n/a")
-        cells.append(share(r, "crossings_warned", "crossings", "crossing_recall"))
-        cells.append(fmt(r.get("crossing_lead_median_s")) or "n/a")
-        cells.append(share(r, "collisions_warned", "collisions", "collision_recall"))
-        cells.append(fmt(r.get("collision_lead_median_s")) or "n/a")
-        f.write("| " + " | ".join(cells) + " |\n")
-    f.write("\n")
+    return fig
 
 
 def write_misses(f, out, runs, sweep, samples=5):
@@ -228,182 +582,220 @@ def write_ssm(f, sweep, summary, metrics):
     f.write("\n")
 
 
+def seeds_text(seeds):
+    """1..20 for a run of consecutive seeds, else the list."""
+    ints = [int(s) for s in seeds if re.match(r"^-?\d+$", s)]
+    if len(ints) == len(seeds) and len(ints) > 2 and ints == list(range(ints[0], ints[0] + len(ints))):
+        return "%d..%d" % (ints[0], ints[-1])
+    return ", ".join(seeds)
+
+
+def source_path(path):
+    """A path inside the source tree relative to it (as the READMEs name files), else as given."""
+    root = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+    p = os.path.normpath(str(path))
+    return os.path.relpath(p, root) if p.startswith(root + os.sep) else p
+
+
+def scenario_text(record):
+    base = record.get("base")
+    if isinstance(base, dict):
+        return "; ".join("%s: %s" % (k, source_path(v["scenario"] if isinstance(v, dict) else v))
+                         for k, v in base.items())
+    if not base:
+        return "n/a"
+    text = source_path(base)
+    try:
+        with open(base) as f:
+            m = re.search(r"^description:\s*(.+)$", f.read(), re.M)
+        if m:
+            text += " (%s)" % m.group(1).strip().strip("\"'")
+    except OSError:
+        pass
+    return text
+
+
+def run_facts(b):
+    """What every run's summary.json says: detector, prediction (sets over the done runs)."""
+    facts = {"detector": [], "prediction": []}
+    for r in b.done:
+        try:
+            with open(os.path.join(b.out, "runs", r["run_id"], "summary.json")) as f:
+                s = json.load(f)
+        except (OSError, ValueError):
+            continue
+        for k in facts:
+            if k in s and s[k] not in facts[k]:
+                facts[k].append(s[k])
+    return facts
+
+
+def values_text(values, swept):
+    if not values:
+        return "n/a"
+    return ", ".join(str(v) for v in values) + (" (swept)" if swept else "")
+
+
+def write_header(f, b):
+    """report.md's header: what was run, so a reader can reproduce and cite it."""
+    rec = b.record
+    facts = run_facts(b)
+    sim = sorted({num(r.get("simulated_s")) for r in b.done if num(r.get("simulated_s")) is not None})
+    ticks = sorted({num(r.get("ticks")) for r in b.done if num(r.get("ticks")) is not None})
+    if len(sim) == 1 and len(ticks) == 1 and ticks[0]:
+        length = "%g s simulated, %d steps of %g s" % (sim[0], ticks[0], round(sim[0] / ticks[0], 6))
+    elif sim:
+        length = "%g to %g s simulated" % (sim[0], sim[-1])
+    else:
+        length = "n/a"
+    fixed = rec.get("fixed") or {}
+    swept = ", ".join("%s: %s" % (p, ", ".join(b.values[p])) for p in b.sweep) or "nothing"
+    n_done = len(b.done)
+    f.write("# Batch report: %s\n\n" % rec.get("name", os.path.basename(os.path.normpath(b.out))))
+    f.write("| | |\n|---|---|\n")
+    for k, v in [("scenario (base)", scenario_text(rec)),
+                 ("command", rec.get("command", "n/a")),
+                 ("detector", values_text(facts["detector"], "detector" in b.sweep)),
+                 ("prediction", values_text(facts["prediction"], "prediction" in b.sweep)),
+                 ("run length", length),
+                 ("seeds", "%d per combination (%s: %s), the same for every combination" % (
+                     len(b.seeds), b.seed_key, seeds_text(b.seeds))),
+                 ("swept", swept),
+                 ("fixed", ", ".join("%s: %s" % (k2, json.dumps(v2) if isinstance(v2, (dict, list)) else v2)
+                                     for k2, v2 in fixed.items()) or "nothing"),
+                 ("runs", "%d (%d done, %d not done)" % (len(b.runs), n_done, len(b.runs) - n_done))]:
+        f.write("| %s | %s |\n" % (k, str(v).replace("|", "\\|")))
+    f.write("\nEstimates are printed as estimate ± half-width (95 % CI, n=…): means over seeds with a Student "
+            "t interval, paired differences on the same seeds likewise; shares (confirmed, recall) pooled "
+            "over seeds with a Wilson 95 % interval and their counts.\n\n")
+    f.write("Tables: [runs.csv](runs.csv) (one row per run), [summary.csv](summary.csv) "
+            "(mean, standard deviation and 95%% confidence interval over seeds), [paired.csv](paired.csv) "
+            "(differences on the same seeds)%s.\n\n" % (
+                ", [hindsight.csv](hindsight.csv) (confirmed shares and recall, pooled over seeds)"
+                if os.path.exists(os.path.join(b.out, "hindsight.csv")) else ""))
+
+
+def write_hindsight(f, sweep, kinds, rows):
+    """report.md's hindsight table: warnings per vehicle-km by kind, confirmed share (confirmed /
+    judged) and recall (warned / events) with Wilson intervals, median lead time; n/a where
+    nothing was counted."""
+    def share(r, part, whole):
+        k, n = num(r.get(part)), num(r.get(whole))
+        return share_text(k or 0, n) if n else "n/a"
+    f.write("## Hindsight (pooled over seeds; [hindsight.csv](hindsight.csv))\n\n"
+            "Warnings per vehicle-km by kind; the confirmed share of each kind's warnings (what "
+            "followed confirmed the conflict); the near misses' recall (warned at least the lead "
+            "time before) and the median lead time; the same for the unsignalled line crossings and for SUMO's "
+            "collisions (the collider warned about the victim). Shares with their Wilson 95 % interval and "
+            "k/n; n/a: nothing to count.\n\n")
+    cols = sweep + ["%s /veh-km" % k for k in kinds] + ["%s confirmed" % k for k in kinds] + \
+        ["near-miss recall", "median lead (s)", "crossing recall", "median lead (s)",
+         "collision recall", "median lead (s)"]
+    per_km = {k: decimals([num(r.get(k + ".per_vehicle_km")) for r in rows]) for k in kinds}
+    f.write("| " + " | ".join(cols) + " |\n")
+    f.write("|" + "---|" * len(cols) + "\n")
+    for r in rows:
+        cells = [r[p] for p in sweep]
+        for k in kinds:
+            v = num(r.get(k + ".per_vehicle_km"))
+            cells.append("n/a" if v is None else "%.*f" % (per_km[k], v))
+        cells += [share(r, k + ".confirmed", k + ".judged") for k in kinds]
+        for part, whole, lead in [("near_misses_warned", "near_misses", "near_miss_lead_median_s"),
+                                  ("crossings_warned", "crossings", "crossing_lead_median_s"),
+                                  ("collisions_warned", "collisions", "collision_lead_median_s")]:
+            cells.append(share(r, part, whole))
+            v = num(r.get(lead))
+            cells.append("n/a" if v is None else "%.2f" % v)
+        f.write("| " + " | ".join(cells) + " |\n")
+    f.write("\n")
+
+
+def write_estimates(f, b):
+    """The headline metric per combination, the paired comparisons and the collisions by action,
+    each as estimate ± half-width (95 % CI, n=…), one precision per column."""
+    m = b.headline
+    if m:
+        f.write("## %s by parameters\n\n" % label(m))
+        f.write("Mean over seeds (`%s`).\n\n" % m)
+        d = decimals([num(r.get(m + ".mean")) for r in b.summary])
+        f.write("| " + " | ".join(b.sweep + [label(m)]) + " |\n")
+        f.write("|" + "---|" * (len(b.sweep) + 1) + "\n")
+        for r in b.summary:
+            f.write("| " + " | ".join([r[p] for p in b.sweep] + [estimate(
+                num(r.get(m + ".mean")), num(r.get(m + ".ci95")), b.n(b.key(r), m), d)]) + " |\n")
+    # paired comparisons (paired.csv): each swept value against the key's first value on the same seeds
+    metrics = [x for x in (m, b.collisions, find_col(b.metrics, r"^collisions_warned$")) if x]
+    if b.paired and metrics:
+        f.write("\n## Paired comparisons (same seeds; [paired.csv](paired.csv))\n\n")
+        f.write("Differences run by run against the key's first value, the other keys held: "
+                "the seeds' shared variation drops out. n: the pairs.\n\n")
+        f.write("| compared | " + " | ".join(b.sweep) + " | pairs | " +
+                " | ".join("difference in %s" % label(x) for x in metrics) + " |\n")
+        f.write("|" + "---|" * (len(b.sweep) + 2 + len(metrics)) + "\n")
+        ds = {x: decimals([num(r.get(x + ".diff_mean")) for r in b.paired]) for x in metrics}
+        for r in b.paired:
+            cells = ["%s vs %s" % (r["compared"], r["baseline"])] + [r[p] for p in b.sweep] + [r["pairs"]]
+            for x in metrics:
+                n = len(b.per_seed_differences(r, x))
+                cells.append(estimate(num(r.get(x + ".diff_mean")), num(r.get(x + ".diff_ci95")), n, ds[x]))
+            f.write("| " + " | ".join(cells) + " |\n")
+    rows = collision_rows(b) if "action" in b.sweep and b.collisions else []
+    if rows:
+        others = [p for p in b.sweep if p != "action"]
+        f.write("\n## %s by action\n\n" % label(b.collisions))
+        d = decimals([x[2] for x in rows])
+        f.write("| " + " | ".join(others + ["action", label(b.collisions)]) + " |\n")
+        f.write("|" + "---|" * (len(others) + 2) + "\n")
+        for g, action, mean, half, n in rows:
+            f.write("| " + " | ".join(list(g) + [action, estimate(mean, half, n, d)]) + " |\n")
+
+
+def save(fig, out, name):
+    fig.savefig(os.path.join(out, name), dpi=120)
+    plt.close(fig)
+
+
 def main(out):
-    runs_header, runs = read_csv(os.path.join(out, "runs.csv"))
-    sum_header, summary = read_csv(os.path.join(out, "summary.csv"))
-    # parameters sit between "status" and "wall_seconds"; the last of them is the seed key
-    params = runs_header[runs_header.index("status") + 1: runs_header.index("wall_seconds")]
-    sweep, seed_key = params[:-1], params[-1]
-    metrics = [c[: -len(".mean")] for c in sum_header if c.endswith(".mean")]
-    numeric_params = [p for p in sweep if all(num(r[p]) is not None for r in summary)]
-    series_param = "detector" if "detector" in sweep else None
+    b = Batch(out)
     plots = []
-
-    # 1. the headline metric against each numeric swept parameter, one line per detector
-    headline = find_col(metrics, r"per_vehicle_km.*total|total.*per_vehicle_km", r"per_vehicle_km",
-                        r"collision_checks$", r"warnings")
-    headline = headline or (metrics[0] if metrics else None)
-    for x in numeric_params:
-        if headline is None:
-            break
-        fig, ax = plt.subplots(figsize=(6, 4))
-        groups = {}
-        for r in summary:
-            key = r[series_param] if series_param else "all"
-            groups.setdefault(key, []).append(r)
-        for key, rows in sorted(groups.items()):
-            rows = [r for r in rows if num(r.get(headline + ".mean")) is not None]
-            # average over the other swept parameters is not meaningful: plot each combination
-            rows.sort(key=lambda r: num(r[x]))
-            xs = [num(r[x]) for r in rows]
-            ys = [num(r[headline + ".mean"]) for r in rows]
-            es = [num(r[headline + ".ci95"]) or 0.0 for r in rows]
-            ax.errorbar(xs, ys, yerr=es, marker="o", capsize=3, label=str(key))
-        ax.set_xlabel(x)
-        ax.set_ylabel(headline + " (mean, 95% CI)")
-        ax.grid(alpha=0.3)
-        if series_param:
-            ax.legend(title=series_param)
+    numeric_params = [p for p in b.sweep if all(num(r[p]) is not None for r in b.summary)]
+    for x in numeric_params if b.headline else []:
         name = "metric_vs_%s.png" % re.sub(r"[^A-Za-z0-9]+", "_", x)
-        fig.tight_layout()
-        fig.savefig(os.path.join(out, name), dpi=110)
-        plt.close(fig)
-        plots.append((name, "%s against %s" % (headline, x)))
-
-    # 2. distribution of the minimum TTC per warning episode, per detector
-    ttc_by = {}
-    for r in runs:
-        if r["status"] != "done":
-            continue
-        path = os.path.join(out, "runs", r["run_id"], "warnings.csv")
-        if not os.path.exists(path):
-            continue
-        with open(path, newline="") as f:
-            rd = csv.DictReader(f)
-            col = find_col(rd.fieldnames or [], r"^min_ttc", r"min_ttc")
-            if not col:
-                continue
-            key = r[series_param] if series_param else "all"
-            for w in rd:
-                v = num(w[col])
-                if v is not None:
-                    ttc_by.setdefault(key, []).append(v)
-    if ttc_by:
-        fig, ax = plt.subplots(figsize=(6, 4))
-        hi = max(max(v) for v in ttc_by.values())
-        bins = [hi * i / 30 for i in range(31)] if hi > 0 else 10
-        for key, vals in sorted(ttc_by.items()):
-            ax.hist(vals, bins=bins, histtype="step", linewidth=1.5, label="%s (%d)" % (key, len(vals)))
-        ax.set_xlabel("minimum TTC per episode (s)")
-        ax.set_ylabel("episodes")
-        ax.grid(alpha=0.3)
-        ax.legend(title=series_param or "")
-        fig.tight_layout()
-        fig.savefig(os.path.join(out, "min_ttc_distribution.png"), dpi=110)
-        plt.close(fig)
+        save(metric_figure(b, x), out, name)
+        plots.append((name, "%s against %s" % (label(b.headline), x)))
+    fig = min_ttc_figure(b)
+    if fig:
+        save(fig, out, "min_ttc_distribution.png")
         plots.append(("min_ttc_distribution.png", "distribution of the minimum TTC per warning episode"))
+    fig = collisions_figure(b)
+    if fig:
+        save(fig, out, "collisions_by_action.png")
+        plots.append(("collisions_by_action.png", "%s with and without the brake action" % label(b.collisions)))
+    fig = paired_figure(b)
+    if fig:
+        save(fig, out, "paired_differences.png")
+        plots.append(("paired_differences.png", "paired differences on the same seeds, per seed and their mean"))
+    maps = conflict_maps(out, b.runs, b.sweep)
+    kinds, hrows = hindsight_rows(out)
+    if hrows:
+        save(hindsight_figure(b, kinds, hrows), out, "hindsight.png")
+        plots.append(("hindsight.png", "confirmed share by warning kind and near-miss recall"))
 
-    # 3. SUMO collisions with and without the brake action, per combination of the other swept
-    #    parameters (mean and 95% CI over seeds from summary.csv, each run's count as a dot)
-    coll = find_col(metrics, r"^sumo_collisions$", r"sumo.*collisions", r"collisions$")
-    collision_rows = []
-    if "action" in sweep and coll:
-        others = [p for p in sweep if p != "action"]
-        actions = sorted({r["action"] for r in summary}, key=lambda a: (a != "none", a))
-        groups = sorted({tuple(r[p] for p in others) for r in summary},
-                        key=lambda g: [num(v) if num(v) is not None else v for v in g])
-        fig, ax = plt.subplots(figsize=(max(5, 1.6 * len(groups) + 2), 4))
-        width = 0.8 / max(1, len(actions))
-        for ai, action in enumerate(actions):
-            xs, ys, es = [], [], []
-            for gi, g in enumerate(groups):
-                row = next((r for r in summary if r["action"] == action and
-                            tuple(r[p] for p in others) == g), None)
-                if row is None:
-                    continue
-                m, e = num(row.get(coll + ".mean")), num(row.get(coll + ".ci95")) or 0.0
-                if m is None:
-                    continue
-                x = gi + (ai - (len(actions) - 1) / 2) * width
-                xs.append(x)
-                ys.append(m)
-                es.append(e)
-                collision_rows.append((g, action, m, e))
-                dots = [num(r[coll]) for r in runs if r["status"] == "done" and r["action"] == action and
-                        tuple(r[p] for p in others) == g and num(r[coll]) is not None]
-                ax.plot([x] * len(dots), dots, "k.", alpha=0.4)
-            ax.bar(xs, ys, width=width * 0.9, yerr=es, capsize=3, label=action,
-                   color="#999999" if action == "none" else "#cc3333" if ai == 1 else None)
-        ax.set_xticks(range(len(groups)))
-        ax.set_xticklabels([", ".join("%s=%s" % (p, v) for p, v in zip(others, g)) or "all" for g in groups])
-        ax.set_ylabel(coll + " per run (mean, 95% CI)")
-        ax.legend(title="action")
-        ax.grid(alpha=0.3, axis="y")
-        fig.tight_layout()
-        fig.savefig(os.path.join(out, "collisions_by_action.png"), dpi=110)
-        plt.close(fig)
-        plots.append(("collisions_by_action.png", "%s with and without the brake action" % coll))
-
-    maps = conflict_maps(out, runs, sweep)
-    hindsight = hindsight_plot(out, sweep)
-    if hindsight:
-        plots.append(hindsight[0])
-
-    done = sum(1 for r in runs if r["status"] == "done")
     with open(os.path.join(out, "report.md"), "w") as f:
-        f.write("# Batch report\n\n")
-        f.write("%d runs (%d done, %d not done); swept: %s; seeds per combination: %d.\n\n" % (
-            len(runs), done, len(runs) - done, ", ".join(sweep) or "nothing",
-            len({r[seed_key] for r in runs})))
-        f.write("Tables: [runs.csv](runs.csv) (one row per run), [summary.csv](summary.csv) "
-                "(mean, standard deviation and 95%% confidence interval over seeds), [paired.csv](paired.csv) "
-                "(differences on the same seeds)%s.\n\n" % (
-                    ", [hindsight.csv](hindsight.csv) (confirmed shares and recall, pooled over seeds)"
-                    if hindsight else ""))
+        write_header(f, b)
         for name, title in plots:
             f.write("## %s\n\n![%s](%s)\n\n" % (title, title, name))
-        if hindsight:
-            write_hindsight(f, sweep, hindsight[1], hindsight[2])
-            write_misses(f, out, runs, sweep)
-        write_ssm(f, sweep, summary, metrics)
+        if hrows:
+            write_hindsight(f, b.sweep, kinds, hrows)
+            write_misses(f, out, b.runs, b.sweep)
+        write_ssm(f, b.sweep, b.summary, b.metrics)
         if maps:
             f.write("## Conflict maps (one per parameter combination, all seeds)\n\n"
                     "Every warning at the ego's position at its minimum TTC, coloured by conflict type, "
                     "sized by severity.\n\n")
-            for name, label in maps:
-                f.write("### %s\n\n![conflict map, %s](%s.png) ([SVG](%s.svg))\n\n" % (label, label, name, name))
-        if headline:
-            f.write("## %s by parameters\n\n" % headline)
-            f.write("| " + " | ".join(sweep + ["mean", "95% CI"]) + " |\n")
-            f.write("|" + "---|" * (len(sweep) + 2) + "\n")
-            for r in summary:
-                f.write("| " + " | ".join([r[p] for p in sweep] + [fmt(r.get(headline + ".mean")),
-                                                                    fmt(r.get(headline + ".ci95"))]) + " |\n")
-        # paired comparisons (paired.csv): the headline metric and SUMO's collisions, each swept
-        # value against the key's first value on the same seeds
-        paired_path = os.path.join(out, "paired.csv")
-        paired_metrics = [m for m in (headline, coll, find_col(metrics, r"^collisions_warned$")) if m]
-        if os.path.exists(paired_path) and paired_metrics:
-            _, paired = read_csv(paired_path)
-            if paired:
-                f.write("\n## Paired comparisons (same seeds; [paired.csv](paired.csv))\n\n")
-                f.write("Differences run by run against the key's first value, the other keys held: "
-                        "the seeds' shared variation drops out.\n\n")
-                f.write("| compared | " + " | ".join(sweep) + " | pairs | " +
-                        " | ".join("%s difference (95%% CI)" % m for m in paired_metrics) + " |\n")
-                f.write("|" + "---|" * (len(sweep) + 2 + len(paired_metrics)) + "\n")
-                for r in paired:
-                    cells = ["%s vs %s" % (r["compared"], r["baseline"])] + [r[p] for p in sweep] + [r["pairs"]]
-                    for m in paired_metrics:
-                        cells.append("%s ± %s" % (fmt(r.get(m + ".diff_mean")), fmt(r.get(m + ".diff_ci95"))))
-                    f.write("| " + " | ".join(cells) + " |\n")
-        if collision_rows:
-            others = [p for p in sweep if p != "action"]
-            f.write("\n## %s by action\n\n" % coll)
-            f.write("| " + " | ".join(others + ["action", "mean", "95% CI"]) + " |\n")
-            f.write("|" + "---|" * (len(others) + 3) + "\n")
-            for g, action, m, e in collision_rows:
-                f.write("| " + " | ".join(list(g) + [action, fmt(m), fmt(e)]) + " |\n")
+            for name, lab in maps:
+                f.write("### %s\n\n![conflict map, %s](%s.png) ([SVG](%s.svg))\n\n" % (lab, lab, name, name))
+        write_estimates(f, b)
     return 0
 
 
