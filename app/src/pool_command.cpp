@@ -13,6 +13,7 @@
 #include <stpool/report.hpp>
 #include <stpool/scenario.hpp>
 #include <stpool/study.hpp>
+#include <stio/output.hpp>
 
 #include "stop_signals.hpp"
 #ifdef STSIM_HAVE_POOL_SERVE
@@ -26,14 +27,6 @@
 namespace st::cli {
 
 namespace {
-
-void writeFile(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write " + path.string());
-  write(out);
-  out.flush();
-  if (!out) throw std::runtime_error("failed writing " + path.string());
-}
 
 void printSummary(std::ostream& os, const pool::RunRecord& run, const pool::Game& game) {
   const auto& c = game.simulator().counters();
@@ -176,10 +169,23 @@ int runPool(int argc, const char* const* argv) {
   if (args.has("out")) {
     const std::filesystem::path dir = args.get("out");
     std::filesystem::create_directories(dir);
-    writeFile(dir / "events.csv", [&](std::ostream& os) { pool::writeEventsCsv(os, run, game); });
-    writeFile(dir / "summary.json", [&](std::ostream& os) { pool::writeSummaryJson(os, run, game); });
-    writeFile(dir / "table.svg", [&](std::ostream& os) { pool::writeTableSvg(os, game, run.scenario); });
-    writeFile(dir / "animation.html", [&](std::ostream& os) { pool::writeAnimationHtml(os, run, game); });
+    // on a full disk: events.csv trimmed to its whole rows, the summary saying so (or none, never
+    // a cut one), and the error names the first file that failed (st::io's writers)
+    std::string failed;
+    try {
+      io::writeRowsFile(dir / "events.csv", [&](std::ostream& os) { pool::writeEventsCsv(os, run, game); });
+    } catch (const std::runtime_error& e) {
+      failed = e.what();
+      run.error = run.error.empty() ? failed : run.error + "; " + failed;
+    }
+    try {
+      io::writeTextFile(dir / "summary.json", [&](std::ostream& os) { pool::writeSummaryJson(os, run, game); });
+    } catch (const std::runtime_error& e) {
+      if (failed.empty()) throw;
+    }
+    if (!failed.empty()) throw std::runtime_error(failed);
+    io::writeTextFile(dir / "table.svg", [&](std::ostream& os) { pool::writeTableSvg(os, game, run.scenario); });
+    io::writeTextFile(dir / "animation.html", [&](std::ostream& os) { pool::writeAnimationHtml(os, run, game); });
   }
   printSummary(std::cout, run, game);
   if (args.has("out")) std::cout << "  wrote events.csv, summary.json, table.svg, animation.html to " << args.get("out") << "\n";

@@ -59,9 +59,26 @@ void CsvRowWriter::flush() {
 }
 
 void writeTextFile(const std::filesystem::path& path, std::string_view text) {
+  writeTextFile(path, [&](std::ostream& os) { os << text; });
+}
+
+void writeRowsFile(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out) throw std::runtime_error("cannot write " + path.string());
-  out << text;
+  write(out);
+  out.flush();
+  if (!out) {
+    // what is still buffered cannot reach the file either; then the cut row goes
+    out.close();
+    trimToLastLine(path);
+    throw std::runtime_error("write failed: " + path.string());
+  }
+}
+
+void writeTextFile(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw std::runtime_error("cannot write " + path.string());
+  write(out);
   out.flush();
   if (!out) {
     // half a JSON document is no document: none is left rather than a cut one

@@ -105,13 +105,8 @@ for name in pool arm highway_replay highway_live batch; do
   else
     expect_named "$name full" "$code" "$work/err" "$out/"
   fi
-  # pool writes its files in one go with its own writer (app/src/pool_command.cpp): not trimmed
-  # yet; so are the batch's pool runs (its own tables are checked)
-  case $name in
-    pool) ;;
-    batch) whole "$out" "$name full" 1 ;;
-    *) whole "$out" "$name full" ;;
-  esac
+  # every file whole, the batch's run folders (stsim pool runs) too
+  whole "$out" "$name full"
   # read-only
   if [ -n "$ro" ]; then
     timeout 120 "$stsim" ${cmd[$name]//OUT/$ro/out} >/dev/null 2>"$work/err"

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <ostream>
 #include <string>
 #include <string_view>
 
@@ -35,5 +37,12 @@ class CsvRowWriter {
 // The whole file at once (summary.json): written, flushed and checked; throws naming the path
 // and removes what a failed write left (never a cut document).
 void writeTextFile(const std::filesystem::path& path, std::string_view text);
+// The same, the document streamed by WRITE (an SVG, an HTML page): removed if a write fails.
+void writeTextFile(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
+
+// A line-based file (a CSV) written in one go by WRITE, which may stop early once the stream
+// fails: checked as CsvRowWriter is, and on a failed write trimmed back to its last whole row;
+// throws "write failed: PATH".
+void writeRowsFile(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
 
 }  // namespace st::io

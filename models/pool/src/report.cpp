@@ -95,6 +95,7 @@ void writeEventsCsv(std::ostream& os, const RunRecord& run, const Game& game) {
   os << "shot,time,kind,ball,number,other,x,y,vx,vy,other_x,other_y,other_vx,other_vy\n";
   os << std::setprecision(17);
   for (const auto& e : run.events) {
+    if (!os) return;  // a failed write (a full disk): the rest cannot reach the file
     os << e.shot << ',' << e.t << ',' << toString(e.kind) << ',' << e.ball << ',' << game.specs()[e.ball].number << ','
        << e.other << ',' << e.p.x() << ',' << e.p.y() << ',' << e.v.x() << ',' << e.v.y();
     if (e.kind == PoolEventKind::Ball)
