@@ -12,9 +12,9 @@ long=""
 if [ "${1:-}" = "--long" ]; then long=${2:-3600}; fi
 # the targets that set up a service, a connection or a folder of files per input cost 1-2 ms an
 # input against 0.1-1 ms for the readers: a quarter of the inputs keeps the CI round about a minute
-heavy=" cosim_scenario arm_service stnet_server "
+heavy=" cosim_scenario arm_service stnet_server pool_session "
 build=$here/build-fuzz
-targets=(pool_yaml arm_yaml batch_yaml fcd net arm_csv cosim_scenario traci_relay arm_protocol arm_service stnet_server)
+targets=(pool_yaml pool_session arm_yaml batch_yaml fcd net arm_csv cosim_scenario traci_relay arm_protocol arm_service stnet_server)
 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
   -DCMAKE_CXX_COMPILER=clang++ \
   -DSTSIM_FUZZ=ON -DSTSIM_WITH_SUMO=ON -DSTSIM_BUILD_TESTS=OFF -DSTSIM_BUILD_BENCH=OFF >/dev/null

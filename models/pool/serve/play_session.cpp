@@ -24,8 +24,40 @@ struct FieldError {
   std::string field, message;
 };
 
+// The text as valid UTF-8: a byte that begins no well-formed sequence (overlong, a surrogate,
+// past U+10FFFF, cut short) becomes U+FFFD. The JSON library's errors quote the bytes it stopped
+// at, whatever they are; a text frame that is not UTF-8 is one a browser refuses.
+std::string validUtf8(std::string_view s) {
+  std::string out;
+  out.reserve(s.size());
+  for (std::size_t i = 0; i < s.size();) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    const std::size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+    bool ok = n > 0 && i + n <= s.size();
+    if (ok && n > 1) {
+      unsigned cp = c & (0x7Fu >> n);
+      for (std::size_t k = 1; ok && k < n; ++k) {
+        const auto b = static_cast<unsigned char>(s[i + k]);
+        ok = (b & 0xC0u) == 0x80u;
+        cp = (cp << 6) | (b & 0x3Fu);
+      }
+      static constexpr unsigned kLeast[] = {0, 0, 0x80, 0x800, 0x10000};
+      ok = ok && cp >= kLeast[n] && cp <= 0x10FFFF && !(cp >= 0xD800 && cp <= 0xDFFF);
+    }
+    if (ok) {
+      out.append(s.substr(i, n));
+      i += n;
+    } else {
+      out += "\xEF\xBF\xBD";
+      ++i;
+    }
+  }
+  return out;
+}
+
 std::string errorMessage(const std::string& field, const std::string& message) {
-  return "{\"type\":\"error\",\"field\":" + io::jsonString(field) + ",\"message\":" + io::jsonString(message) + "}";
+  return "{\"type\":\"error\",\"field\":" + io::jsonString(validUtf8(field)) +
+         ",\"message\":" + io::jsonString(validUtf8(message)) + "}";
 }
 
 // Shortest text that reads back to the same double in JavaScript too: the page shows the bits.
@@ -58,9 +90,11 @@ bool nestedDeeperThan(std::string_view text, int limit) {
 }
 
 void onlyFields(const json& j, std::initializer_list<const char*> allowed) {
-  for (const auto& [key, value] : j.items())
+  for (const auto& item : j.items()) {
+    const std::string& key = item.key();  // (clang before 16 cannot capture a structured binding)
     if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }))
       throw FieldError{key, "unknown field"};
+  }
 }
 
 double number(const json& j, const char* key) {

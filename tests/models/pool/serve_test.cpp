@@ -127,6 +127,24 @@ TEST(PlaySession, BadMessagesNameTheFieldAndTheGameGoesOn) {
   EXPECT_EQ(g.shotsTaken(), 1);
 }
 
+// fuzz_pool_session (fuzz/corpus/pool_session/invalid_utf8_in_error.txt): the JSON library's
+// error quotes the bytes it stopped at, and a byte that is not UTF-8 went out raw: a text frame a
+// browser refuses (it closes the socket), a reply no JSON reader takes. It is U+FFFD now.
+TEST(PlaySession, AnErrorQuotingBytesThatAreNotUtf8IsStillUtf8) {
+  PlaySession g(practice());
+  for (const std::string bad : {"\xec\"type\":\"state\"}", "{\"type\":\"shoot\",\xff", "\xc0\xaf", "\xed\xa0\x80"}) {
+    const auto r = g.handle(bad);
+    ASSERT_EQ(r.size(), 1u);
+    json e;
+    ASSERT_NO_THROW(e = json::parse(r.front())) << r.front();
+    EXPECT_EQ(e["type"], "error");
+    EXPECT_EQ(e["field"], "(message)");
+  }
+  // valid UTF-8 is quoted as it is
+  const json e = one(g, "{\"type\":\"tir\u00e9\"}");
+  EXPECT_NE(e["message"].get<std::string>().find("tir\u00e9"), std::string::npos) << e.dump();
+}
+
 TEST(PlaySession, EditsRestartSettingsAndDownloadReplayWithTheCli) {
   PlaySession g(practice());
   // move the cue ball, add a ball, remove one, switch to version I with more friction
