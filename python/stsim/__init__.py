@@ -21,9 +21,9 @@ if "SUMO_HOME" not in os.environ and os.path.isdir("/usr/share/sumo/data/xsd"):
     os.environ["SUMO_HOME"] = "/usr/share/sumo"
 
 from ._stsim import Alert, FcdReader, InputError, Monitor, WarningEpisode, __version__
-from .sumo import TraciMonitor, read_traci_lanes, read_traci_vehicles
+from .sumo import TraciMonitor, TraciVehicleReader, read_traci_lanes, read_traci_vehicles
 
-__all__ = ["Alert", "FcdReader", "InputError", "Monitor", "WarningEpisode", "TraciMonitor", "read_traci_lanes",
+__all__ = ["Alert", "FcdReader", "InputError", "Monitor", "WarningEpisode", "TraciMonitor", "TraciVehicleReader", "read_traci_lanes",
            "read_traci_vehicles", "warnings_table", "WARNING_COLUMNS", "__version__"]
 
 # the columns of stsim's warnings.csv, in its order: the episode, hindsight, the conflict record

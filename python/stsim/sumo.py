@@ -45,14 +45,139 @@ def _vehicle_type(conn, type_id):
     return info
 
 
+# TraCI's variable ids (traci.constants; libsumo has the same), so that this module needs neither
+_POSITION, _ANGLE, _SPEED, _LATERAL_SPEED = 0x42, 0x43, 0x40, 0x32
+_ACCELERATION, _SIGNALS, _TYPE, _ROUTE_ID, _ROUTE_INDEX = 0x72, 0x5b, 0x4f, 0x53, 0x69
+
+
+def _is_libsumo(conn):
+    return getattr(conn, "__name__", "").split(".")[0] == "libsumo"
+
+
+class TraciVehicleReader:
+    """Reads every vehicle's state after a step, as read_traci_vehicles does, with as few calls as
+    the connection needs.
+
+    With `subscribe`, each vehicle is subscribed once, when it first has no results, to the
+    variables the monitor takes; a step then costs two calls (the id list and every result) plus
+    one per newly departed vehicle, and the edges of a route are asked once per route id. Without
+    it, one getter per variable and vehicle. `subscribe=None` picks the faster per backend, as
+    measured in bench/python_monitor: getters for libsumo (a call is a C++ function call there),
+    subscriptions over a TraCI socket (a call is a round trip). Both read the same values, bit for
+    bit (tests/python/test_sumo.py)."""
+
+    def __init__(self, conn, acceleration=True, signals=True, route=True, subscribe=None):
+        self.conn = conn
+        self.acceleration, self.signals, self.route = acceleration, signals, route
+        self.subscribe = (not _is_libsumo(conn)) if subscribe is None else bool(subscribe)
+        self.types = {}
+        self._variables = [_POSITION, _ANGLE, _SPEED, _LATERAL_SPEED, _TYPE]
+        if acceleration:
+            self._variables.append(_ACCELERATION)
+        if signals:
+            self._variables.append(_SIGNALS)
+        if route:
+            self._variables += [_ROUTE_ID, _ROUTE_INDEX]
+        self._routes = {}  # vehicle id -> (route id, its edges)
+
+    def read(self):
+        """Every vehicle's state now, as read_traci_vehicles returns it."""
+        if not self.subscribe:
+            return read_traci_vehicles(self.conn, self.types, self.acceleration, self.signals, self.route)
+        v = self.conn.vehicle
+        ids = list(v.getIDList())
+        results = v.getAllSubscriptionResults()
+        for vid in ids:
+            if vid not in results:  # departed since the last read (a subscription ends with its vehicle)
+                v.subscribe(vid, self._variables)
+        results = v.getAllSubscriptionResults()
+        if len(self._routes) > 2 * len(ids) + 64:  # forget the routes of vehicles that left
+            self._routes = {vid: self._routes[vid] for vid in ids if vid in self._routes}
+
+        def route_of(vid, r):
+            route_id = r[_ROUTE_ID]
+            known = self._routes.get(vid)
+            if known is None or known[0] != route_id:  # a reroute gives the vehicle a new route id
+                known = self._routes[vid] = (route_id, list(v.getRoute(vid)))
+            return known[1][max(0, r[_ROUTE_INDEX]):]
+
+        return _columns(self.conn, ids, self.types, self.acceleration, self.signals, self.route,
+                        lambda vid: _Subscribed(results[vid], vid, route_of))
+
+
+class _Subscribed:
+    """One vehicle's subscription results behind the getters' names."""
+
+    def __init__(self, r, vid, route_of):
+        self.r, self.vid, self.route_of = r, vid, route_of
+
+    def position(self):
+        return self.r[_POSITION]
+
+    def angle(self):
+        return self.r[_ANGLE]
+
+    def speed(self):
+        return self.r[_SPEED]
+
+    def lateral_speed(self):
+        return self.r[_LATERAL_SPEED]
+
+    def acceleration(self):
+        return self.r[_ACCELERATION]
+
+    def signals(self):
+        return self.r[_SIGNALS]
+
+    def type_id(self):
+        return self.r[_TYPE]
+
+    def route(self):
+        return self.route_of(self.vid, self.r)
+
+
+class _Getters:
+    """One vehicle read by the getters, a call per variable."""
+
+    def __init__(self, v, vid):
+        self.v, self.vid = v, vid
+
+    def position(self):
+        return self.v.getPosition(self.vid)
+
+    def angle(self):
+        return self.v.getAngle(self.vid)
+
+    def speed(self):
+        return self.v.getSpeed(self.vid)
+
+    def lateral_speed(self):
+        return self.v.getLateralSpeed(self.vid)
+
+    def acceleration(self):
+        return self.v.getAcceleration(self.vid)
+
+    def signals(self):
+        return self.v.getSignals(self.vid)
+
+    def type_id(self):
+        return self.v.getTypeID(self.vid)
+
+    def route(self):
+        return list(self.v.getRoute(self.vid))[max(0, self.v.getRouteIndex(self.vid)):]
+
+
 def read_traci_vehicles(conn, types=None, acceleration=True, signals=True, route=True):
-    """Every vehicle's state now, as columns in SUMO's conventions (Monitor.step_sumo takes them).
+    """Every vehicle's state now, as columns in SUMO's conventions (Monitor.step_sumo takes them),
+    read by one getter per variable and vehicle (TraciVehicleReader reads the same by subscription).
     `types` caches the vTypes between calls (a dict, filled here). With `route`, each vehicle's
     route from its current edge on (what the road prediction follows through junctions)."""
-    if types is None:
-        types = {}
     v = conn.vehicle
-    ids = list(v.getIDList())
+    return _columns(conn, list(v.getIDList()), {} if types is None else types, acceleration, signals, route,
+                    lambda vid: _Getters(v, vid))
+
+
+def _columns(conn, ids, types, acceleration, signals, route, vehicle):
     cols = {k: [] for k in ("x", "y", "angle", "speed", "lateral_speed", "length", "width", "vehicle_class")}
     cols["id"] = ids
     if acceleration:
@@ -63,19 +188,20 @@ def read_traci_vehicles(conn, types=None, acceleration=True, signals=True, route
         cols["route"] = []
     masses = []
     for vid in ids:
-        x, y = v.getPosition(vid)
+        s = vehicle(vid)
+        x, y = s.position()
         cols["x"].append(x)
         cols["y"].append(y)
-        cols["angle"].append(v.getAngle(vid))
-        cols["speed"].append(v.getSpeed(vid))
-        cols["lateral_speed"].append(v.getLateralSpeed(vid))
+        cols["angle"].append(s.angle())
+        cols["speed"].append(s.speed())
+        cols["lateral_speed"].append(s.lateral_speed())
         if acceleration:
-            cols["acceleration"].append(v.getAcceleration(vid))
+            cols["acceleration"].append(s.acceleration())
         if signals:
-            cols["signals"].append(v.getSignals(vid))
+            cols["signals"].append(s.signals())
         if route:
-            cols["route"].append(list(v.getRoute(vid))[max(0, v.getRouteIndex(vid)):])
-        type_id = v.getTypeID(vid)
+            cols["route"].append(s.route())
+        type_id = s.type_id()
         t = types.get(type_id)
         if t is None:
             t = types[type_id] = _vehicle_type(conn, type_id)
@@ -105,22 +231,23 @@ def _rows(cols, masses):
 class TraciMonitor:
     """A Monitor fed from a TraCI connection: step() after each simulationStep().
 
-    TraciMonitor(conn, net=None, **settings): conn is `traci`, a `traci.Connection` or `libsumo`;
-    the road comes from `net` (a .net.xml) or, without it, from the lanes SUMO has loaded;
-    settings are Monitor's. take_finished(), take_events(), open_warnings(), alerts(), counters, finish() as
+    TraciMonitor(conn, net=None, subscribe=None, **settings): conn is `traci`, a `traci.Connection`
+    or `libsumo`; the road comes from `net` (a .net.xml) or, without it, from the lanes SUMO has
+    loaded; `subscribe` as TraciVehicleReader's (None: subscriptions over TraCI, getters with
+    libsumo); settings are Monitor's. take_finished(), take_events(), open_warnings(), alerts(), counters, finish() as
     Monitor's (finish() without a time closes at SUMO's current time)."""
 
-    def __init__(self, conn, net=None, **settings):
+    def __init__(self, conn, net=None, subscribe=None, **settings):
         self.conn = conn
         self.monitor = Monitor(net, **settings) if net is not None else Monitor(lanes=read_traci_lanes(conn), **settings)
-        self._acceleration = settings.get("motion", "velocity") == "acceleration"
-        self._signals = settings.get("check_road", True)
-        self._route = settings.get("prediction", "road") == "road"
-        self._types = {}
+        self.reader = TraciVehicleReader(conn, acceleration=settings.get("motion", "velocity") == "acceleration",
+                                         signals=settings.get("check_road", True),
+                                         route=settings.get("prediction", "road") == "road", subscribe=subscribe)
 
     def step(self):
-        states = read_traci_vehicles(self.conn, self._types, self._acceleration, self._signals, self._route)
-        self.monitor.step_sumo(self.conn.simulation.getTime(), states)
+        """Read every vehicle from SUMO and advance the monitor to SUMO's current time; call it
+        after each simulationStep()."""
+        self.monitor.step_sumo(self.conn.simulation.getTime(), self.reader.read())
 
     def finish(self, t=None):
         self.monitor.finish(self.conn.simulation.getTime() if t is None else t)

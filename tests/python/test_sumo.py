@@ -67,14 +67,40 @@ def libsumo_module():
     return libsumo
 
 
-# the motorway (trucks with a mass param, cars without), the sublane network (lateral speeds) and
-# SUMO's grid6 (junctions, lanes drawn longer than their length; its turns are signalled, so the
-# route changes no warning there: test_a_route_is_followed_through_a_junction checks the route)
-@pytest.mark.parametrize("network", ["motorway/motorway", "sublane/sublane", "experiments/real_networks/grid6"])
-def test_traci_monitor_equals_the_cxx_coupling(stsim_binary, tmp_path, network):
+def traci_module():
+    sys.path.append("/usr/share/sumo/tools")
+    try:
+        import traci
+    except ImportError:
+        pytest.skip("Python traci not installed (sumo-tools)")
+    if not pathlib.Path("/usr/bin/sumo").exists():
+        pytest.skip("sumo not installed")
+    return traci
+
+
+def sumo_args(cfg, end):
+    # plain `sumo -c`: stsim runs a .sumocfg with the config's own seed too (SUMO's default if none)
+    return ["sumo", "-c", str(cfg), "--collision.action", "warn", "--no-step-log", "true",
+            "--duration-log.disable", "true", "--duration-log.statistics", "false", "--no-warnings", "true",
+            "--end", str(end)]
+
+
+def network_config(network):
     cfg = SOURCE / f"networks/{network}.sumocfg"
     if not cfg.exists() or (network.endswith("grid6") and not pathlib.Path("/usr/share/sumo/tools/game/grid6").exists()):
         pytest.skip(f"{cfg} or SUMO's game networks missing")
+    return cfg
+
+
+# the motorway (trucks with a mass param, cars without), the sublane network (lateral speeds) and
+# SUMO's grid6 (junctions, lanes drawn longer than their length; its turns are signalled, so the
+# route changes no warning there: test_a_route_is_followed_through_a_junction checks the route);
+# over libsumo (getters) and, on the motorway, over a TraCI socket (subscriptions)
+@pytest.mark.parametrize("network,backend", [("motorway/motorway", "libsumo"), ("sublane/sublane", "libsumo"),
+                                             ("experiments/real_networks/grid6", "libsumo"),
+                                             ("motorway/motorway", "traci")])
+def test_traci_monitor_equals_the_cxx_coupling(stsim_binary, tmp_path, network, backend):
+    cfg = network_config(network)
     end = 200.0 if network.endswith("grid6") else 60.0  # grid6 fills slowly
     r = run_stsim(stsim_binary, "highway", cfg, "--end", end, "--action", "none", "--out", tmp_path / "cxx")
     if "built without SUMO support" in r.stderr:
@@ -86,24 +112,22 @@ def test_traci_monitor_equals_the_cxx_coupling(stsim_binary, tmp_path, network):
     assert len(want) > 10
     assert {"confirmed", "nuisance"} <= {w[10] for w in want}
 
-    libsumo = libsumo_module()
-    # plain `sumo -c`: stsim runs a .sumocfg with the config's own seed too (SUMO's default if none)
-    libsumo.start(["sumo", "-c", str(cfg), "--collision.action", "warn", "--no-step-log", "true",
-                   "--duration-log.disable", "true", "--duration-log.statistics", "false", "--no-warnings", "true",
-                   "--end", str(end)])
+    conn = libsumo_module() if backend == "libsumo" else traci_module()
+    conn.start(sumo_args(cfg, end))
     try:
-        monitor = stsim.TraciMonitor(libsumo)  # the road from SUMO's lanes, as the coupling reads it
-        dt = libsumo.simulation.getDeltaT()
+        monitor = stsim.TraciMonitor(conn)  # the road from SUMO's lanes, as the coupling reads it
+        assert monitor.reader.subscribe == (backend == "traci")  # the faster per backend
+        dt = conn.simulation.getDeltaT()
         events = []
-        while libsumo.simulation.getMinExpectedNumber() > 0 and libsumo.simulation.getTime() < end - 0.5 * dt:
-            libsumo.simulationStep()
+        while conn.simulation.getMinExpectedNumber() > 0 and conn.simulation.getTime() < end - 0.5 * dt:
+            conn.simulationStep()
             monitor.step()
             events += monitor.take_events()
         monitor.finish()
         got = sorted((tuple(getattr(w, c) for c in stsim.WARNING_COLUMNS) for w in monitor.take_finished()),
                      key=episode)
     finally:
-        libsumo.close()
+        conn.close()
     assert got == want  # bit for bit
     # the near misses and crossings that happened, as events.csv lists them
     with open(tmp_path / "cxx" / "events.csv", newline="") as f:
@@ -114,6 +138,43 @@ def test_traci_monitor_equals_the_cxx_coupling(stsim_binary, tmp_path, network):
         assert "crossing" in {e[1] for e in want_events}  # (its first 60 s have no near miss)
     table = stsim.warnings_table([])
     assert list(table.keys() if isinstance(table, dict) else table.columns) == list(stsim.WARNING_COLUMNS)
+
+
+# the subscription reader against the getters, step by step: the motorway (mass params, departures
+# every step) and grid6 (routes through junctions, route indices that advance); over a TraCI socket
+# every 8th step (a getter is a round trip there), the subscriptions live between the reads
+@pytest.mark.parametrize("backend", ["libsumo", "traci"])
+@pytest.mark.parametrize("network", ["motorway/motorway", "experiments/real_networks/grid6"])
+def test_the_subscription_reader_reads_what_the_getters_read(network, backend):
+    cfg = network_config(network)
+    conn = libsumo_module() if backend == "libsumo" else traci_module()
+    end = 80.0 if backend == "traci" else 200.0
+    conn.start(sumo_args(cfg, end))
+    try:
+        reader = stsim.TraciVehicleReader(conn, subscribe=True)
+        types = {}
+        reads = vehicles = route_moves = 0
+        last_route = {}
+        step = 0
+        while conn.simulation.getMinExpectedNumber() > 0 and conn.simulation.getTime() < end - 0.01:
+            conn.simulationStep()
+            step += 1
+            if backend == "traci" and step % 8:
+                continue
+            got = reader.read()
+            want = stsim.read_traci_vehicles(conn, types)
+            assert got == want, f"t = {conn.simulation.getTime()}"
+            rows = got if isinstance(got, list) else [dict(zip(got, v)) for v in zip(*got.values())]
+            reads += 1
+            vehicles += len(rows)
+            for row in rows:
+                route_moves += last_route.get(row["id"], row["route"]) != row["route"]
+                last_route[row["id"]] = row["route"]
+    finally:
+        conn.close()
+    assert reads >= 10 and vehicles >= 20 * reads
+    if network.endswith("grid6"):
+        assert route_moves > 10  # vehicles went from edge to edge along their routes
 
 
 def test_a_route_is_followed_through_a_junction():
