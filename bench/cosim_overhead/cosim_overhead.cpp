@@ -15,11 +15,22 @@
 // The scaled scenario: motorway's sources with the downstream section 20 km long, plus 1000 vehicles
 // inserted at t = 0 spread over it (departPos random_free), then the normal demand; 120 s simulated.
 //   usage: bench_cosim_overhead [SIMULATED_SECONDS=120] [WORK_DIR=/tmp/stsim_cosim_overhead]
+//
+// --scale: stsim's cost per vehicle-step at 1 000 and at 10 000 vehicles on the road at once, the
+// same motorway with the downstream section 20 km per 1 000 preloaded vehicles (the same density:
+// 200 km for 10 000). Each run is a child process (its own peak RSS): libsumo with the five-circle
+// run's reads (the floor) and stsim five (libsumo, road prediction, hindsight). stsim's time is the
+// CPU inside the plugin's update (conversions, the monitor, hindsight; SUMO's step and the reads
+// excluded), per vehicle-step; its memory the peak RSS of the second run less the first's, per
+// vehicle at once. Target (issue 36): stsim's time per vehicle-step at 10 000 within
+// 1.5x of its time at 1 000.
+//   usage: bench_cosim_overhead --scale [SIMULATED_SECONDS=60] [WORK_DIR=/tmp/stsim_cosim_scale]
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -58,11 +69,13 @@ void run(const std::string& cmd) {
 }
 
 // The motorway scaled up, written to `dir`; returns the sumocfg.
-fs::path makeScenario(const fs::path& dir, double seconds) {
+fs::path makeScenario(const fs::path& dir, double seconds, int preload = 1000, double downstreamKm = 20.0) {
   const fs::path src = fs::path(STSIM_SOURCE_DIR) / "networks/motorway";
   fs::create_directories(dir);
   std::string nodes = slurp(src / "motorway.nod.xml");
-  nodes = std::regex_replace(nodes, std::regex("id=\"east\"       x=\"3000.0\""), "id=\"east\"       x=\"21450.0\"");
+  // mergeEnd is at x = 1450 m
+  const std::string east = std::to_string(1450.0 + 1000.0 * downstreamKm);
+  nodes = std::regex_replace(nodes, std::regex("id=\"east\"       x=\"3000.0\""), "id=\"east\"       x=\"" + east + "\"");
   std::ofstream(dir / "m.nod.xml") << nodes;
   fs::copy_file(src / "motorway.edg.xml", dir / "m.edg.xml", fs::copy_options::overwrite_existing);
   fs::copy_file(src / "motorway.con.xml", dir / "m.con.xml", fs::copy_options::overwrite_existing);
@@ -76,6 +89,7 @@ fs::path makeScenario(const fs::path& dir, double seconds) {
       "    <route id=\"long\" edges=\"downstream\"/>\n"
       "    <flow id=\"preload\" type=\"mix\" route=\"long\" begin=\"0\" end=\"0.1\" number=\"1000\" "
       "departPos=\"random_free\" departLane=\"random\" departSpeed=\"desired\"/>\n</routes>");
+  routes = std::regex_replace(routes, std::regex("number=\"1000\""), "number=\"" + std::to_string(preload) + "\"");
   std::ofstream(dir / "m.rou.xml") << routes;
   std::string cfg = slurp(src / "motorway.sumocfg");
   cfg = std::regex_replace(cfg, std::regex("motorway\\.net\\.xml"), "m.net.xml");
@@ -133,9 +147,128 @@ Row inProcess(const std::string& name, const std::function<double()>& body) {
   return r;
 }
 
+// What a child run sends back to the bench.
+struct ChildResult {
+  double wall = 0.0, cpu = 0.0;
+  double vehicleSteps = 0.0, maxVehicles = 0.0;
+  double warnings = 0.0;
+  double updateCpu = 0.0;  // CPU seconds inside the plugin's update (stsim's own work)
+  long peakRssKb = 0;
+};
+
+double threadCpu() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// `body` in a child process (so that its peak RSS is its own); exits the bench if the child fails.
+ChildResult inChild(const std::function<ChildResult()>& body) {
+  int fds[2];
+  if (pipe(fds) != 0) {
+    std::perror("bench_cosim_overhead: pipe");
+    std::exit(1);
+  }
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fds[0]);
+    const auto t0 = Clock::now();
+    ChildResult r = body();
+    r.wall = std::chrono::duration<double>(Clock::now() - t0).count();
+    r.cpu = cpuSelf();
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    r.peakRssKb = u.ru_maxrss;
+    const bool ok = write(fds[1], &r, sizeof r) == static_cast<ssize_t>(sizeof r);
+    _exit(ok ? 0 : 1);
+  }
+  close(fds[1]);
+  ChildResult r;
+  const bool got = read(fds[0], &r, sizeof r) == static_cast<ssize_t>(sizeof r);
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (!got || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    std::fprintf(stderr, "bench_cosim_overhead: a child run failed\n");
+    std::exit(1);
+  }
+  return r;
+}
+
+int scaleMain(double seconds, const fs::path& dir) {
+  struct Level {
+    int vehicles;
+    ChildResult reads, stsim;
+  };
+  std::vector<Level> levels{{1000, {}, {}}, {10000, {}, {}}};
+  for (Level& l : levels) {
+    const fs::path cfg = makeScenario(dir / std::to_string(l.vehicles), seconds, l.vehicles, 20.0 * l.vehicles / 1000.0);
+    Scenario s = loadScenario(cfg);
+    s.plugin.actions.action = Action::None;
+    s.plugin.smart.penetration = 1.0;
+    const std::vector<std::string> args = sumoArguments(s);
+    l.reads = inChild([&] {
+      ChildResult r;
+      auto b = startLibsumo(SumoLaunch{args, false, "", ""});
+      b->setReads(VehicleReads{false, true});  // what the five-circle run with road prediction reads
+      while (b->running()) {
+        b->step();
+        r.vehicleSteps += static_cast<double>(b->vehicles().size());
+        r.maxVehicles = std::max(r.maxVehicles, static_cast<double>(b->vehicles().size()));
+      }
+      b->close();
+      return r;
+    });
+    l.stsim = inChild([&] {
+      ChildResult r;
+      auto b = startLibsumo(SumoLaunch{args, false, "", ""});
+      PluginConfig pc = s.plugin;
+      pc.monitor.detector.kind = st::highway::DetectorKind::FiveCircle;
+      HighwayPlugin p(*b, pc);
+      while (b->running()) {
+        b->step();
+        const double c0 = threadCpu();
+        p.update();
+        r.updateCpu += threadCpu() - c0;
+        r.warnings += static_cast<double>(p.takeFinished().size());
+        r.vehicleSteps += static_cast<double>(b->vehicles().size());
+        r.maxVehicles = std::max(r.maxVehicles, static_cast<double>(b->vehicles().size()));
+      }
+      p.finish();
+      r.warnings += static_cast<double>(p.takeFinished().size());
+      b->close();
+      return r;
+    });
+  }
+  std::printf("cosim_overhead --scale: motorway, downstream 20 km per 1000 vehicles preloaded, %.0f s simulated, "
+              "0.1 s steps, every vehicle equipped, five-circle, actions off; each run a child process\n",
+              seconds);
+  std::printf("%-9s %8s %12s %12s %11s %11s %14s %12s %12s %10s\n", "preload", "max veh", "veh-steps",
+              "reads CPU s", "run CPU s", "run / rd", "stsim us/v-st", "reads RSS MB", "stsim RSS MB",
+              "stsim kB/v");
+  std::vector<double> perStep;
+  for (const Level& l : levels) {
+    const double own = l.stsim.updateCpu / l.stsim.vehicleSteps * 1e6;
+    const double kbPerVehicle = static_cast<double>(l.stsim.peakRssKb - l.reads.peakRssKb) / l.stsim.maxVehicles;
+    perStep.push_back(own);
+    std::printf("%-9d %8.0f %12.0f %12.2f %11.2f %10.2fx %14.3f %12.1f %12.1f %10.2f\n", l.vehicles,
+                l.stsim.maxVehicles, l.stsim.vehicleSteps, l.reads.cpu, l.stsim.cpu, l.stsim.cpu / l.reads.cpu, own,
+                static_cast<double>(l.reads.peakRssKb) / 1024.0, static_cast<double>(l.stsim.peakRssKb) / 1024.0,
+                kbPerVehicle);
+  }
+  std::printf("target: stsim's time per vehicle-step at 10000 / at 1000 = %.2fx (target <= 1.5x)\n",
+              perStep[1] / perStep[0]);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc > 1 && std::string(argv[1]) == "--scale") {
+    ensureSumoHome();
+    return scaleMain(argc > 2 ? std::atof(argv[2]) : 60.0,
+                     argc > 3 ? fs::path(argv[3]) : fs::temp_directory_path() / "stsim_cosim_scale");
+  }
   const double seconds = argc > 1 ? std::atof(argv[1]) : 120.0;
   const fs::path dir = argc > 2 ? fs::path(argv[2]) : fs::temp_directory_path() / "stsim_cosim_overhead";
   ensureSumoHome();
