@@ -94,77 +94,19 @@ class TraciVehicleReader:
         if len(self._routes) > 2 * len(ids) + 64:  # forget the routes of vehicles that left
             self._routes = {vid: self._routes[vid] for vid in ids if vid in self._routes}
 
-        def route_of(vid, r):
-            route_id = r[_ROUTE_ID]
-            known = self._routes.get(vid)
-            if known is None or known[0] != route_id:  # a reroute gives the vehicle a new route id
-                known = self._routes[vid] = (route_id, list(v.getRoute(vid)))
-            return known[1][max(0, r[_ROUTE_INDEX]):]
+        def state(vid):
+            r = results[vid]
+            route = None
+            if self.route:
+                known = self._routes.get(vid)
+                if known is None or known[0] != r[_ROUTE_ID]:  # a reroute gives the vehicle a new route id
+                    known = self._routes[vid] = (r[_ROUTE_ID], list(v.getRoute(vid)))
+                route = known[1][max(0, r[_ROUTE_INDEX]):]
+            return (r[_POSITION], r[_ANGLE], r[_SPEED], r[_LATERAL_SPEED],
+                    r[_ACCELERATION] if self.acceleration else None, r[_SIGNALS] if self.signals else None,
+                    route, r[_TYPE])
 
-        return _columns(self.conn, ids, self.types, self.acceleration, self.signals, self.route,
-                        lambda vid: _Subscribed(results[vid], vid, route_of))
-
-
-class _Subscribed:
-    """One vehicle's subscription results behind the getters' names."""
-
-    def __init__(self, r, vid, route_of):
-        self.r, self.vid, self.route_of = r, vid, route_of
-
-    def position(self):
-        return self.r[_POSITION]
-
-    def angle(self):
-        return self.r[_ANGLE]
-
-    def speed(self):
-        return self.r[_SPEED]
-
-    def lateral_speed(self):
-        return self.r[_LATERAL_SPEED]
-
-    def acceleration(self):
-        return self.r[_ACCELERATION]
-
-    def signals(self):
-        return self.r[_SIGNALS]
-
-    def type_id(self):
-        return self.r[_TYPE]
-
-    def route(self):
-        return self.route_of(self.vid, self.r)
-
-
-class _Getters:
-    """One vehicle read by the getters, a call per variable."""
-
-    def __init__(self, v, vid):
-        self.v, self.vid = v, vid
-
-    def position(self):
-        return self.v.getPosition(self.vid)
-
-    def angle(self):
-        return self.v.getAngle(self.vid)
-
-    def speed(self):
-        return self.v.getSpeed(self.vid)
-
-    def lateral_speed(self):
-        return self.v.getLateralSpeed(self.vid)
-
-    def acceleration(self):
-        return self.v.getAcceleration(self.vid)
-
-    def signals(self):
-        return self.v.getSignals(self.vid)
-
-    def type_id(self):
-        return self.v.getTypeID(self.vid)
-
-    def route(self):
-        return list(self.v.getRoute(self.vid))[max(0, self.v.getRouteIndex(self.vid)):]
+        return _columns(self.conn, ids, self.types, self.acceleration, self.signals, self.route, state)
 
 
 def read_traci_vehicles(conn, types=None, acceleration=True, signals=True, route=True):
@@ -173,11 +115,18 @@ def read_traci_vehicles(conn, types=None, acceleration=True, signals=True, route
     `types` caches the vTypes between calls (a dict, filled here). With `route`, each vehicle's
     route from its current edge on (what the road prediction follows through junctions)."""
     v = conn.vehicle
-    return _columns(conn, list(v.getIDList()), {} if types is None else types, acceleration, signals, route,
-                    lambda vid: _Getters(v, vid))
+
+    def state(vid):
+        return (v.getPosition(vid), v.getAngle(vid), v.getSpeed(vid), v.getLateralSpeed(vid),
+                v.getAcceleration(vid) if acceleration else None, v.getSignals(vid) if signals else None,
+                list(v.getRoute(vid))[max(0, v.getRouteIndex(vid)):] if route else None, v.getTypeID(vid))
+
+    return _columns(conn, list(v.getIDList()), {} if types is None else types, acceleration, signals, route, state)
 
 
-def _columns(conn, ids, types, acceleration, signals, route, vehicle):
+# `state(vid)`: (position, angle, speed, lateral speed, acceleration, signals, route, type id), None
+# where not read
+def _columns(conn, ids, types, acceleration, signals, route, state):
     cols = {k: [] for k in ("x", "y", "angle", "speed", "lateral_speed", "length", "width", "vehicle_class")}
     cols["id"] = ids
     if acceleration:
@@ -188,20 +137,18 @@ def _columns(conn, ids, types, acceleration, signals, route, vehicle):
         cols["route"] = []
     masses = []
     for vid in ids:
-        s = vehicle(vid)
-        x, y = s.position()
+        (x, y), angle, speed, lateral, accel, sig, edges, type_id = state(vid)
         cols["x"].append(x)
         cols["y"].append(y)
-        cols["angle"].append(s.angle())
-        cols["speed"].append(s.speed())
-        cols["lateral_speed"].append(s.lateral_speed())
+        cols["angle"].append(angle)
+        cols["speed"].append(speed)
+        cols["lateral_speed"].append(lateral)
         if acceleration:
-            cols["acceleration"].append(s.acceleration())
+            cols["acceleration"].append(accel)
         if signals:
-            cols["signals"].append(s.signals())
+            cols["signals"].append(sig)
         if route:
-            cols["route"].append(s.route())
-        type_id = s.type_id()
+            cols["route"].append(edges)
         t = types.get(type_id)
         if t is None:
             t = types[type_id] = _vehicle_type(conn, type_id)
@@ -240,9 +187,10 @@ class TraciMonitor:
     def __init__(self, conn, net=None, subscribe=None, **settings):
         self.conn = conn
         self.monitor = Monitor(net, **settings) if net is not None else Monitor(lanes=read_traci_lanes(conn), **settings)
-        self.reader = TraciVehicleReader(conn, acceleration=settings.get("motion", "velocity") == "acceleration",
-                                         signals=settings.get("check_road", True),
-                                         route=settings.get("prediction", "road") == "road", subscribe=subscribe)
+        in_effect = self.monitor.settings  # whatever spelling the caller used, and the defaults
+        self.reader = TraciVehicleReader(conn, acceleration=in_effect["motion"] == "acceleration",
+                                         signals=in_effect["check_road"], route=in_effect["prediction"] == "road",
+                                         subscribe=subscribe)
 
     def step(self):
         """Read every vehicle from SUMO and advance the monitor to SUMO's current time; call it
