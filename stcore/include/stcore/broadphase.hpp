@@ -143,6 +143,16 @@ template <int D>
 inline Aabb<D> grownBox(const Aabb<D>& b, double margin) {
   return {b.min.array() - margin, b.max.array() + margin};
 }
+// f(a, b) once for every pair a < b sharing a leaf, from forEachNeighbor (which already reports
+// an object listed in several shared leaves once): the pair visit of the tree and the grid.
+template <class B, class F>
+void pairsFromNeighbors(const B& bp, int idEnd, F&& f) {
+  for (int a = 0; a < idEnd; ++a)
+    if (bp.contains(a))
+      bp.forEachNeighbor(a, [&](int b) {
+        if (a < b) f(a, b);
+      });
+}
 }  // namespace detail
 
 // What every implementation offers (checked where each is defined).

@@ -213,11 +213,7 @@ void UniformGrid<D>::forEachInBox(const Box& box, F&& f) const {
 template <int D>
 template <class F>
 void UniformGrid<D>::forEachPair(F&& f) const {
-  for (int a = 0; a < static_cast<int>(members_.size()); ++a)
-    if (members_[a].present)
-      forEachNeighbor(a, [&](int b) {
-        if (a < b) f(a, b);
-      });
+  detail::pairsFromNeighbors(*this, static_cast<int>(members_.size()), f);
 }
 
 extern template class UniformGrid<2>;
