@@ -406,7 +406,7 @@ void LanePrediction::update(double t) {
   const double tr = std::max(cfg_->safeTime.vehicleReactionTime, cfg_->safeTime.roadReactionTime);
   pieces_.clear();
   for (int s : c.active) {
-    horizon_[s] = (tr + kMax * (c.vel[s].norm() + vMax)) * (1.0 + 1e-9) + 1e-9;
+    horizon_[s] = SafeTimeConfig::safeTimeBound(tr, kMax, c.vel[s].norm() + vMax) * (1.0 + 1e-9) + 1e-9;
     predict(s, t);
   }
 }

@@ -43,7 +43,7 @@ struct Reach {
 inline Reach reachOf(double reactionTime, double k, const Vec2& up, const Vec2& down, const Vec2& extSum, double accelSum,
                      double slop) {
   const double dx = std::max(up.x(), down.x()), dy = std::max(up.y(), down.y());
-  const double h = reactionTime + k * std::sqrt(dx * dx + dy * dy);
+  const double h = SafeTimeConfig::safeTimeBound(reactionTime, k, std::sqrt(dx * dx + dy * dy));
   const Vec2 r0 = extSum + Vec2::Constant(0.5 * accelSum * h * h + slop);
   return {up * h + r0, down * h + r0};
 }
@@ -75,7 +75,7 @@ template <bool kAccel>
 inline int pairMayWarn(double tr, double k, const Vec2& p, const Vec2& v, const Vec2& extSum, double accel) {
   const double ax = std::abs(v.x()), ay = std::abs(v.y());
   const double closingBound = p.dot(v) > 0.0 ? 0.0 : (ax + ay) * (1.0 + tol::kBoundRelativeSlop);
-  const double safeBound = tr + k * closingBound;
+  const double safeBound = SafeTimeConfig::safeTimeBound(tr, k, closingBound);
   const double grow = kAccel ? 0.5 * accel * safeBound * safeBound + tol::kPruneSlop : tol::kPruneSlop;
   return static_cast<int>(std::abs(p.x()) <= extSum.x() + ax * safeBound + grow) &
          static_cast<int>(std::abs(p.y()) <= extSum.y() + ay * safeBound + grow);

@@ -136,7 +136,7 @@ void RoadSearch::prepare(std::span<const CarGroup> groups) {
     roadFound_.clear();
     const Vec2 va = ca.vmin.cwiseAbs().cwiseMax(ca.vmax.cwiseAbs());
     const double speed = va.norm();
-    const double h = cfg_->safeTime.roadReactionTime + ca.kMax * speed;
+    const double h = SafeTimeConfig::safeTimeBound(cfg_->safeTime.roadReactionTime, ca.kMax, speed);
     const double rr = ca.envMax + speed * h + 0.5 * (accel ? ca.amax : 0.0) * h * h + 2 * tol::kPruneSlop;
     const Aabb<2> rb{ca.centres.min.array() - rr, ca.centres.max.array() + rr};
     const double ah = 0.5 * (accel ? ca.amax : 0.0) * h * h + 2 * tol::kPruneSlop;
@@ -168,7 +168,8 @@ void RoadSearch::threatsOf(int e, int group, std::vector<Threat>& out) {
   // a bound on the ego's road safe times (the one at its full speed, grown by the relative slop
   // over the rounding), from the cached brake ratio without roadSafeTime's division: it only
   // prunes, and a larger one prunes less
-  const double hMax = (cfg_->safeTime.roadReactionTime + t.brakeRatio[e] * t.vel[e].norm()) * (1.0 + tol::kBoundRelativeSlop);
+  const double hMax =
+      SafeTimeConfig::safeTimeBound(cfg_->safeTime.roadReactionTime, t.brakeRatio[e], t.vel[e].norm()) * (1.0 + tol::kBoundRelativeSlop);
   const RoadList& list = group < 0 ? allRoad_ : roadNear_[group];
   counters_->featureChecks += list.size();
   // first every line against a bound on the shape's support towards it (no wider than the
@@ -199,7 +200,7 @@ void RoadSearch::threatsOf(int e, int group, std::vector<Threat>& out) {
       if (!(std::abs(offset) <= support + approach * hMax + grow)) continue;  // most lines
       const double tangent = g.n.y() * a.position.x() - g.n.x() * a.position.y();  // (n.y, -n.x) . centre
       if (tangent > l.lo + tol::kPruneSlop && tangent < l.hi - tol::kPruneSlop) {
-        const double h = (tr + brake * approach) * (1.0 + tol::kBoundRelativeSlop);
+        const double h = SafeTimeConfig::safeTimeBound(tr, brake, approach) * (1.0 + tol::kBoundRelativeSlop);
         if (!(std::abs(offset) <= support + approach * h + 0.5 * accel * h * h + tol::kPruneSlop)) continue;
       }
       featureNear_[near++] = l.feature;

@@ -148,7 +148,7 @@ void VehicleTable::take(int s, const VehicleState& v, double t) {
   env[s] = ownEnv[s];
   ext[s] = ownExt[s];
   const double twiceBrake = 2.0 * cfg->safeTime.brakeForce[static_cast<int>(v.vehicleClass)];
-  brakeRatio[s] = v.mass / twiceBrake;
+  brakeRatio[s] = cfg->safeTime.brakeRatio(v.mass, v.vehicleClass);
   wide[s] = static_cast<int>(!(brakeRatio[s] <= tol::kCompactBrakeRatio && ownExt[s].maxCoeff() <= tol::kCompactExtent &&
                                std::abs(v.lateralSpeed) <= tol::kCompactLateralSpeed));
   accelAbs[s] = std::abs(v.acceleration);

@@ -25,6 +25,15 @@ struct SafeTimeConfig {
   static double safeTimeOf(double reactionTime, double mass, double closingSpeed, double twiceBrakeForce) {
     return reactionTime + mass * std::max(0.0, closingSpeed) / twiceBrakeForce;
   }
+  // m / (2 F_brake) of a car (s per m/s): how much its safe time grows per m/s of closing speed
+  double brakeRatio(double mass, VehicleClass c) const { return mass / (2.0 * brakeForce[static_cast<int>(c)]); }
+  // The safe time at closing speed `closing` from a car's brake ratio: every prune's look-ahead
+  // (with the largest ratio and speed it must cover). Within rounding of safeTimeOf (m v / 2F
+  // against (m / 2F) v): a caller that must hold the exact safe time grows it by
+  // tol::kBoundRelativeSlop.
+  static double safeTimeBound(double reactionTime, double brakeRatio, double closing) {
+    return reactionTime + brakeRatio * closing;
+  }
   double vehicleSafeTime(double mass, double closingSpeed, VehicleClass c) const {
     return safeTime(vehicleReactionTime, mass, closingSpeed, c);
   }
