@@ -13,6 +13,7 @@
 #include <stpool/report.hpp>
 #include <stpool/scenario.hpp>
 #include <stpool/study.hpp>
+#include <stio/format.hpp>
 #include <stio/output.hpp>
 
 #include "stop_signals.hpp"
@@ -27,6 +28,10 @@
 namespace st::cli {
 
 namespace {
+
+// Events a run records unless --max-events says otherwise: 135 bytes a row, about 27 MB of
+// events.csv (and 7 MB of animation.html); box100's 10 s make 13 600.
+constexpr std::size_t kDefaultMaxEvents = 200'000;
 
 void printSummary(std::ostream& os, const pool::RunRecord& run, const pool::Game& game) {
   const auto& c = game.simulator().counters();
@@ -119,6 +124,8 @@ int runPool(int argc, const char* const* argv) {
       .option("space", "KIND", "override space.kind: none, single, quadtree or cells")
       .option("df", "N", "override space.decomposition_factor")
       .option("until", "T", "override every shot's time limit (s)")
+      .option("max-events", "N", "stop the run after N events, an error naming events.csv (default 200000, about\n"
+                                 "27 MB of events.csv; at most 2000000)")
       .option("study", "NAME", "run a study instead of a scenario: fig13")
       .option("counting", "HOW", "with --study fig13: events (the simulator's own checks, the default) or report\n"
                                  "(the report's per-step counting as well, side by side)");
@@ -158,11 +165,31 @@ int runPool(int argc, const char* const* argv) {
     if (!(until > 0.0)) throw UsageError("option --until needs a positive time");
   }
 
+  // events.csv (and animation.html) grow with the events: a runaway time limit (until 1e12 on
+  // box100) wrote 269 MB before the library's own bound stopped it
+  std::size_t maxEvents = kDefaultMaxEvents;
+  if (args.has("max-events")) {
+    const long n = args.getInt("max-events");
+    if (n < 1 || static_cast<std::size_t>(n) > pool::kMaxEvents)
+      throw UsageError("option --max-events: expected 1.." + std::to_string(pool::kMaxEvents) + ", got " +
+                       args.get("max-events"));
+    maxEvents = static_cast<std::size_t>(n);
+  }
+
   pool::Game game(scenario, pool::simulatorConfig(scenario));
   // Ctrl-C, SIGTERM, SIGHUP: stop at the next event and write what was played (never a cut row)
   const StopSignals stopSignals;
-  pool::RunRecord run = pool::playScenario(game, scenario, until, StopSignals::requested);
+  pool::RunRecord run = pool::playScenario(game, scenario, until, StopSignals::requested, maxEvents);
   const int stopSignal = StopSignals::signal();
+  if (run.eventLimitReached) {
+    // the file the limit protects, the limit and how to change it; the rows so far are written
+    const std::string where =
+        args.has("out") ? (std::filesystem::path(args.get("out")) / "events.csv").string() : *path;
+    run.error = where + ": stopped at the limit of " + std::to_string(maxEvents) + " events at t = " +
+                io::number(run.events.empty() ? 0.0 : run.events.back().t, 6) +
+                " s; raise --max-events (at most " + std::to_string(pool::kMaxEvents) +
+                ") or lower until (or --until)";
+  }
   if (run.error.empty() && stopSignal) run.error = "interrupted while writing";
 
   // the record is written even when the run stopped on an error

@@ -78,7 +78,7 @@ fcd="--fcd $src/tests/data/highway/motorway_merge.fcd.xml --net $src/networks/mo
 # stopped mid-way
 declare -A cmd long
 cmd[pool]="pool $src/models/pool/scenarios/break.yaml --out OUT"
-long[pool]="pool $src/models/pool/scenarios/box100.yaml --until 1e12 --out OUT"
+long[pool]="pool $src/models/pool/scenarios/box100.yaml --until 1e12 --max-events 2000000 --out OUT"
 cmd[arm]="arm $src/models/arm/scenarios/two_pandas.yaml --out OUT"
 long[arm]="arm $work/arm_long.yaml --out OUT"
 cmd[highway_replay]="highway $fcd --out OUT"

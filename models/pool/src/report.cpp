@@ -2,6 +2,7 @@
 
 #include <stio/format.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -57,16 +58,19 @@ std::string describe(const SpaceSpec& space) {
 }
 
 RunRecord playScenario(Game& game, const Scenario& scenario, double untilOverride,
-                       const std::function<bool()>& stopRequested) {
+                       const std::function<bool()>& stopRequested, std::size_t maxEvents) {
+  maxEvents = std::min(maxEvents, kMaxEvents);
   RunRecord run;
   run.scenario = scenario.name;
   run.spaceDescription = describe(scenario.space);
   run.initial = game.specs();
   auto record = [&](const PoolEvent& e) {
     if (stopRequested && stopRequested()) throw std::runtime_error("interrupted at t = " + io::number(e.t, 6) + " s");
-    if (run.events.size() >= kMaxEvents)
-      throw std::runtime_error("until: stopped after " + std::to_string(kMaxEvents) + " events at t = " +
+    if (run.events.size() >= maxEvents) {
+      run.eventLimitReached = true;
+      throw std::runtime_error("until: stopped after " + std::to_string(maxEvents) + " events at t = " +
                                io::number(e.t, 6) + " s; the time limit asks for more (lower until or --until)");
+    }
     run.events.push_back(e);
   };
   run.wallSeconds = wallSeconds([&] {

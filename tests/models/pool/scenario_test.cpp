@@ -295,6 +295,48 @@ TEST(PoolCommand, OverridesAndUsageErrors) {
   EXPECT_EQ(runStsim("pool").code, 2);
 }
 
+// box100 with --until 1e12 wrote a 269 MB events.csv (2 000 000 rows) before the library's bound
+// stopped it, with "until: stopped after ..." naming no file (issue 35). The run stops at
+// --max-events (200 000 unless raised): the error names events.csv and the option, exit 1, and
+// the rows written are whole.
+TEST(PoolCommand, ARunawayTimeLimitStopsAtTheEventLimitNamingTheFile) {
+  const std::string box = std::string(STSIM_SOURCE_DIR) + "/models/pool/scenarios/box100.yaml";
+  auto lastLine = [](const std::string& out) {
+    const auto end = out.find_last_not_of('\n');
+    return out.substr(out.rfind('\n', end) + 1, end - out.rfind('\n', end));
+  };
+  auto rows = [](const std::string& csv) { return std::count(csv.begin(), csv.end(), '\n') - 1; };
+  for (const auto& [limit, option] : {std::pair{200000L, std::string()}, std::pair{5000L, std::string(" --max-events 5000")}}) {
+    const auto dir = tempDir("runaway" + std::to_string(limit));
+    const Ran r = runStsim("pool " + box + " --until 1e12" + option + " --out " + dir.string());
+    EXPECT_EQ(r.code, 1) << r.out;
+    const std::string line = lastLine(r.out);
+    EXPECT_EQ(line.rfind("stsim pool: error: " + (dir / "events.csv").string() + ": stopped at the limit of " +
+                             std::to_string(limit) + " events at t = ",
+                         0),
+              0u)
+        << line;
+    EXPECT_NE(line.find("raise --max-events (at most 2000000) or lower until (or --until)"), std::string::npos) << line;
+    const std::string csv = slurp(dir / "events.csv");
+    EXPECT_EQ(rows(csv), limit);
+    ASSERT_FALSE(csv.empty());
+    EXPECT_EQ(csv.back(), '\n');  // whole rows
+    EXPECT_LT(std::filesystem::file_size(dir / "events.csv"), 40u << 20);
+    EXPECT_NE(slurp(dir / "summary.json").find("stopped at the limit of " + std::to_string(limit) + " events"),
+              std::string::npos);
+  }
+  // a limit out of range is a usage error naming the option
+  for (const char* bad : {"0", "-1", "2000001"}) {
+    const Ran r = runStsim("pool " + box + " --max-events " + bad);
+    EXPECT_EQ(r.code, 2) << bad;
+    EXPECT_NE(r.out.find("--max-events: expected 1..2000000, got " + std::string(bad)), std::string::npos) << r.out;
+  }
+  // without --out the error names the scenario
+  const Ran r = runStsim("pool " + box + " --until 1e12 --max-events 100");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(lastLine(r.out).rfind("stsim pool: error: " + box + ": stopped at the limit of 100 events", 0), 0u) << r.out;
+}
+
 TEST(PoolCommand, BadScenarioIsOneLineNonZero) {
   const auto dir = tempDir("bad");
   std::filesystem::create_directories(dir);

@@ -20,17 +20,19 @@ struct RunRecord {
   std::vector<ShotSummary> shots;
   double wallSeconds = 0.0;
   std::string error;                      // non-empty if the run stopped on an error
+  bool eventLimitReached = false;         // it stopped at playScenario's maxEvents
 };
 
 // Plays every shot of the scenario in order (or lets the balls coast if it has none), recording
 // events. A run-time failure (a shot at a pocketed ball) ends the run: it is kept in `error` and
 // what was computed before it stays in the record. `untilOverride` > 0 replaces every time limit.
-// The work a run may do is bounded: past kMaxEvents recorded events (hundreds of MB of record and
-// events.csv) the run stops with an error naming `until`. stopRequested, if given, is polled at
-// every event; true stops the run with error "interrupted at t = ... s" (results so far kept).
+// The work a run may do is bounded: past maxEvents recorded events (at most kMaxEvents: hundreds
+// of MB of record and events.csv) the run stops with an error naming `until` and
+// eventLimitReached set. stopRequested, if given, is polled at every event; true stops the run
+// with error "interrupted at t = ... s" (results so far kept).
 inline constexpr std::size_t kMaxEvents = 2'000'000;
 RunRecord playScenario(Game& game, const Scenario& scenario, double untilOverride = -1.0,
-                       const std::function<bool()>& stopRequested = {});
+                       const std::function<bool()>& stopRequested = {}, std::size_t maxEvents = kMaxEvents);
 
 // "tree df=5 divisions=4", "single", ...
 std::string describe(const SpaceSpec& space);
