@@ -151,6 +151,38 @@ TEST(Scenario, AConfigOrNetworkNamedAsRoutesIsRefused) {
                 "' is a SUMO network, not an additional file");
 }
 
+// The same with a configuration whose root is not <configuration>: SUMO's tools write
+// <sumoConfiguration> (and <duarouterConfiguration>, ...); `stsim highway c.sumocfg` ran 0
+// vehicles and exited 0, SUMO warning only "Found root element 'sumoConfiguration'" (issue 35)
+TEST(Scenario, AConfigOfAnyRootNamedAsRoutesIsRefused) {
+  const auto dir = freshDir("routes_other_config");
+  const auto ring = sourceDir() / "networks/ring";
+  std::filesystem::copy_file(ring / "ring.net.xml", dir / "ring.net.xml");
+  std::filesystem::copy_file(ring / "ring.rou.xml", dir / "ring.rou.xml");
+  auto config = [&](const std::string& name, const std::string& root, const std::string& routes) {
+    std::ofstream(dir / name) << "<?xml version=\"1.0\"?>\n<" << root << "><input><net-file value=\"ring.net.xml\"/>"
+                              << "<route-files value=\"" << routes << "\"/></input></" << root << ">\n";
+    return dir / name;
+  };
+  config("sumo.sumocfg", "sumoConfiguration", "ring.rou.xml");
+  config("dua.sumocfg", "duarouterConfiguration", "ring.rou.xml");
+  config("odd.sumocfg", "options", "ring.rou.xml");
+  for (const char* named : {"sumo.sumocfg", "dua.sumocfg", "odd.sumocfg"}) {
+    const auto cfg = config("c.sumocfg", "configuration", std::string("ring.rou.xml,") + named);
+    EXPECT_EQ(errorOf([&] { checkSumoConfig(cfg); }), cfg.string() + ": route-files '" + (dir / named).string() +
+                                                           "' is a SUMO configuration, not a route file");
+  }
+  // routes in a file named .sumocfg are routes still
+  std::filesystem::copy_file(dir / "ring.rou.xml", dir / "routes.sumocfg");
+  EXPECT_EQ(errorOf([&] { checkSumoConfig(config("r.sumocfg", "configuration", "routes.sumocfg")); }), "");
+  // the command: one line naming the file and the field, exit 1, before SUMO starts
+  const auto cfg = config("c.sumocfg", "configuration", "sumo.sumocfg");
+  const RunResult r = runStsim({"highway", cfg.string(), "--out", (dir / "out").string()}, dir);
+  EXPECT_EQ(r.code, 1) << r.out << r.err;
+  EXPECT_EQ(r.err, "stsim highway: error: " + cfg.string() + ": route-files '" + (dir / "sumo.sumocfg").string() +
+                       "' is a SUMO configuration, not a route file\n");
+}
+
 // A file name longer than the system allows threw std::filesystem_error ("status: File name too
 // long") naming no sumocfg (fuzz finding, fuzz/corpus/cosim_scenario/name_too_long.sumocfg)
 TEST(Scenario, AFileNameTooLongIsNamedWithItsConfig) {

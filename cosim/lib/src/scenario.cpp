@@ -416,11 +416,21 @@ SumoConfigFiles checkSumoConfig(const fs::path& sumocfg) {
     for (const auto& f : splitList(*r)) out.routes.push_back(resolve("route-files", f));
   if (auto a = value("additional-files"))
     for (const auto& f : splitList(*a)) out.additionals.push_back(resolve("additional-files", f));
-  // a configuration or a network named as routes: SUMO reads no vehicle from it and says nothing
+  // a configuration or a network named as routes: SUMO reads no vehicle from it and says nothing.
+  // A configuration is any <...configuration> root (SUMO's tools write <sumoConfiguration>,
+  // <duarouterConfiguration>, ...), and a .sumocfg that is neither routes nor additionals
+  auto isConfiguration = [](const fs::path& f, const std::string& root) {
+    std::string lower = root;
+    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const std::string config = "configuration";
+    if (lower.size() >= config.size() && lower.compare(lower.size() - config.size(), config.size(), config) == 0)
+      return true;
+    return f.extension() == ".sumocfg" && !root.empty() && root != "routes" && root != "additional";
+  };
   for (const auto& [key, files] : {std::pair{"route-files", &out.routes}, std::pair{"additional-files", &out.additionals}})
     for (const fs::path& f : *files) {
       const std::string root = rootElement(f);
-      if (root == "configuration" || root == "net")
+      if (root == "net" || isConfiguration(f, root))
         throw ScenarioError(sumocfg.string() + ": " + key + " '" + f.string() + "' is a SUMO " +
                             (root == "net" ? "network" : "configuration") + ", not " +
                             (std::string(key) == "route-files" ? "a route" : "an additional") + " file");
