@@ -71,17 +71,18 @@ TEST(SsmValidation, NothingToCountIsReportedAsSuchNotAsOne) {
   highway::MonitorConfig config;
   config.checkRoad = false;
   SsmValidator validator(highway::RoadGeometry{}, config, 0.1);
+  // the two cars made once, moved each tick
+  std::vector<highway::VehicleState> cars(2);
+  cars[0].id = "a";
+  cars[0].handle = 0;
+  cars[0].speed = 20.0;
+  cars[1].id = "b";
+  cars[1].handle = 1;
+  cars[1].speed = 20.0;
   for (int k = 0; k <= 20; ++k) {
     const double t = 0.1 * k;
-    std::vector<highway::VehicleState> cars(2);
-    cars[0].id = "a";
-    cars[0].handle = 0;
     cars[0].position = {20.0 * t, 0.0};
-    cars[0].speed = 20.0;
-    cars[1].id = "b";
-    cars[1].handle = 1;
     cars[1].position = {1000.0 + 20.0 * t, 0.0};
-    cars[1].speed = 20.0;
     validator.record(t, cars);
   }
   validator.finish(2.0);

@@ -10,7 +10,15 @@ namespace {
 
 // Shortest text that reads back to the same double: the replay starts from the same bits.
 std::string num(double x) { return io::number(x); }
-std::string pair(const Vec2& v) { return "[" + num(v.x()) + ", " + num(v.y()) + "]"; }
+// appended piece by piece: GCC 12 flags `"[" + std::string&&` with a false -Wrestrict (PR 105329)
+std::string pair(const Vec2& v) {
+  std::string s = "[";
+  s += num(v.x());
+  s += ", ";
+  s += num(v.y());
+  s += ']';
+  return s;
+}
 
 }  // namespace
 

@@ -234,7 +234,8 @@ TEST(Monitor, RoadPruneNeverChangesTheAnswerNearSegmentEnds) {
     std::vector<VehicleState> vs;
     for (int i = 0; i < 25; ++i) {
       VehicleState v;
-      v.id = "c" + std::to_string(i);
+      v.id = "c";  // appended: GCC 12 flags `"c" + std::string&&` with a false -Wrestrict (PR 105329)
+      v.id += std::to_string(i);
       const Vec2 corner = lanes[static_cast<std::size_t>(U(rng) * 2)][static_cast<std::size_t>(U(rng) * 12)];
       v.position = corner + Vec2(6.0 * (U(rng) - 0.5), 6.0 * (U(rng) - 0.5));
       v.heading = U(rng) < 0.5 ? 0.4 * (U(rng) - 0.5) : 2.0 * kPi * U(rng);
