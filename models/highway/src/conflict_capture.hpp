@@ -18,9 +18,10 @@ struct ConflictCapture {
   int feature = -1;  // road threats: the feature that fired
 };
 
-inline void capture(const VehicleTable& cars, int e, const Threat& th, ConflictCapture& c) {
+// lane: the ego's reported lane (LanePrediction::reportedLane)
+inline void capture(const VehicleTable& cars, int lane, int e, const Threat& th, ConflictCapture& c) {
   c.ego = cars.body[e];
-  c.lane = cars.lane[e];
+  c.lane = lane;
   if (th.kind == WarningKind::Vehicle) {
     c.foe = cars.body[th.foe];
     c.feature = -1;

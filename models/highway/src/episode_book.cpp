@@ -62,7 +62,7 @@ int EpisodeBook::newCapture(int e, const Threat& th) {
     c = freeCaptures_.back();
     freeCaptures_.pop_back();
   }
-  capture(*cars_, e, th, captures_[c]);
+  capture(*cars_, paths_->reportedLane(e), e, th, captures_[c]);
   return c;
 }
 
@@ -123,7 +123,7 @@ void EpisodeBook::merge(int e, double t, std::vector<Threat>& threats) {
         ep.minTtc = th.ttc;
         ep.minTtcTime = t;
         ep.safeTimeAtMin = th.safe;
-        capture(*cars_, e, th, captures_[ep.capture]);
+        capture(*cars_, paths_->reportedLane(e), e, th, captures_[ep.capture]);
       }
       continue;
     }

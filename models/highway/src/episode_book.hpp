@@ -17,9 +17,9 @@ namespace st::highway::detail {
 
 class EpisodeBook {
  public:
-  EpisodeBook(const VehicleTable& cars, const RoadSearch& road, Hindsight& hindsight, const MonitorConfig& config,
-              MonitorCounters& counters)
-      : cars_(&cars), road_(&road), hindsight_(&hindsight), cfg_(&config), counters_(&counters) {}
+  EpisodeBook(const VehicleTable& cars, const LanePrediction& paths, const RoadSearch& road, Hindsight& hindsight,
+              const MonitorConfig& config, MonitorCounters& counters)
+      : cars_(&cars), paths_(&paths), road_(&road), hindsight_(&hindsight), cfg_(&config), counters_(&counters) {}
 
   // Time exposed and integrated deficit over the interval dt that just ended, from the threats of
   // its first tick.
@@ -64,6 +64,7 @@ class EpisodeBook {
   void ensure(std::size_t n);
 
   const VehicleTable* cars_;
+  const LanePrediction* paths_;  // the lane a capture reports
   const RoadSearch* road_;
   Hindsight* hindsight_;
   const MonitorConfig* cfg_;

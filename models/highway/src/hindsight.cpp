@@ -151,7 +151,7 @@ void Hindsight::measure(Window& w, double t) {
   w.measured = true;
   if (w.crossed) return;
   const LanePrediction* lp = frames_;
-  if (lp && lp->frame(w.ego).lane >= 0 && w.kind != WarningKind::Hazard) {
+  if (lp->frame(w.ego).lane >= 0 && w.kind != WarningKind::Hazard) {
     if (!lp->alongside(w.ego)) return;
     // in the lane frame: the body reaches across the line on one side of the lane it is on (the
     // one it left, or the one it entered, after a crossing)
@@ -373,7 +373,7 @@ void Hindsight::record(HindsightEvent&& ev, int e, double t, const Lead& lead) {
   ev.ego = c.slots[e].id;
   ev.x = c.centre[e].x();
   ev.y = c.centre[e].y();
-  ev.lane = c.laneId(c.lane[e]);
+  ev.lane = c.laneId(frames_->reportedLane(e));
   ev.speed = c.body[e].velocity.norm();
   ev.warned = lead.warned;
   ev.lead = lead.lead;
@@ -385,7 +385,6 @@ void Hindsight::record(HindsightEvent&& ev, int e, double t, const Lead& lead) {
 // lane at this tick and the last: a body that comes out of a junction or onto a lane already
 // reaching across a line did not cross it). Was a warning about that line open `lead` before?
 void Hindsight::findCrossings(double t) {
-  if (!frames_) return;
   const VehicleTable& c = *cars_;
   if (touching_.size() < c.slots.size()) touching_.resize(c.slots.size(), {-1, -1});
   if (along_.size() < c.slots.size()) along_.resize(c.slots.size(), 0);

@@ -35,12 +35,13 @@ namespace st::highway::detail {
 
 class Hindsight {
  public:
-  Hindsight(const MonitorConfig& config, const VehicleTable& cars, const RoadSearch& road, MonitorCounters& counters)
-      : cfg_(&config), cars_(&cars), road_(&road), counters_(&counters) {}
+  // frames: the lane frames road warnings are judged in (a car on no lane: against the line's
+  // polyline)
+  Hindsight(const MonitorConfig& config, const VehicleTable& cars, const RoadSearch& road, const LanePrediction& frames,
+            MonitorCounters& counters)
+      : cfg_(&config), cars_(&cars), road_(&road), frames_(&frames), counters_(&counters) {}
 
   bool enabled() const { return cfg_->hindsight.enabled; }
-  // The lane frames road warnings are judged in (a car on no lane: against the line's polyline).
-  void useLaneFrames(const LanePrediction* frames) { frames_ = frames; }
   // A new episode of ego slot e against foe (slot or feature group) at time t: its window opens.
   // Returns the window's id (for finished()).
   int open(int e, int foe, WarningKind kind, double t, double safe);
@@ -124,7 +125,7 @@ class Hindsight {
   const MonitorConfig* cfg_;
   const VehicleTable* cars_;
   const RoadSearch* road_;
-  const LanePrediction* frames_ = nullptr;
+  const LanePrediction* frames_;
   MonitorCounters* counters_;
   std::vector<HindsightEvent> events_;
   std::vector<Window> windows_;

@@ -342,8 +342,8 @@ Body LanePrediction::bodyAt(std::span<const PathPiece> path, const Body& now, do
 Ttc LanePrediction::vehicleTtc(int e, int f, double horizon) const {
   const VehicleTable& c = *cars_;
   const DetectorConfig& dc = cfg_->detector;
-  const auto pe = path(e), pf = path(f);
   if (straight_[e] && straight_[f]) return st::highway::vehicleTtc(dc, c.body[e], c.shape[e], c.body[f], c.shape[f], horizon);
+  const auto pe = path(e), pf = path(f);
   const bool accelerate = dc.motion == MotionModel::ConstantAcceleration;
   std::size_t i = 0, j = 0;
   double t = 0.0;
@@ -394,6 +394,7 @@ void LanePrediction::update(double t) {
     pieceBegin_.resize(n);
     pieceEnd_.resize(n);
     straight_.resize(n);
+    matched_.resize(n, -1);
   }
   for (int s : c.arrived) frame_[s] = LaneFrame{};
   // the longest safe time any pair can ask of a car: tr + k (|v_e| + |v_f|) at the largest k and
@@ -419,7 +420,7 @@ void LanePrediction::predict(int slot, double t) {
   const bool wasHere = f.lane >= 0;
   Projection pr;
   const int lane = match(slot, b.position, b.axis, pr);
-  if (c.lane[slot] < 0) c.lane[slot] = lane;  // reported: the lane the source did not name
+  matched_[slot] = lane;
   // the car's own offset: less the chord's (a body whose front and rear follow the centre line
   // across a vertex sits inside the bend: a 12 m truck on a 14 degree joint 0.7 m off the line)
   const double chord = lane >= 0 ? chordOffset(lane, pr, 0.5 * b.length) : 0.0;

@@ -64,13 +64,16 @@ class LanePrediction {
  public:
   LanePrediction(const RoadGeometry& road, const MonitorConfig& config, VehicleTable& cars, MonitorCounters& counters);
 
-  // True when cars are predicted along their lanes (Prediction::Road); lane frames are kept in
-  // either model (hindsight judges road warnings in them).
+  // The stages ask it, whichever model is configured: with Prediction::Straight every path is
+  // the straight line (straight() is true for every car, vehicleTtc is the straight detector).
+  // Lane frames are kept in either model (hindsight judges road warnings in them).
   bool alongLanes() const { return alongLanes_; }
   // After the vehicle table's update: match lanes, predict paths, grow the envelopes.
   void update(double t);
 
   const LaneFrame& frame(int slot) const { return frame_[slot]; }
+  // The lane a car is reported on: the source's, else the one it was matched to (-1: none).
+  int reportedLane(int slot) const { return cars_->lane[slot] >= 0 ? cars_->lane[slot] : matched_[slot]; }
   std::span<const PathPiece> path(int slot) const {
     return {pieces_.data() + pieceBegin_[slot], static_cast<std::size_t>(pieceEnd_[slot] - pieceBegin_[slot])};
   }
@@ -142,6 +145,7 @@ class LanePrediction {
   std::vector<double> prevD_, prevT_, horizon_;
   std::vector<Vec2> prevPos_;
   std::vector<int> prevLane_, pieceBegin_, pieceEnd_;
+  std::vector<int> matched_;    // the lane match() found this tick (-1: none)
   std::vector<char> prevAlong_;  // alongside() at the last tick
   std::vector<char> straight_;  // the path is the straight line (no lane, or slow)
   std::vector<PathPiece> pieces_;

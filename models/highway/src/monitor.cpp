@@ -95,14 +95,11 @@ struct HighwayMonitor::Impl {
       : cfg((checkSettings(config), config)),
         cars(cfg, counters, laneIdsOf(geometry)),
         prediction(geometry, cfg, cars, counters),
-        road(geometry, cfg, cars, counters),
+        road(geometry, cfg, cars, prediction, counters),
         cells(geometry, cellBounds(road.features()), cfg.cells),
-        hindsight(cfg, cars, road, counters),
-        book(cars, road, hindsight, cfg, counters) {
-    const detail::LanePrediction* paths = prediction.alongLanes() ? &prediction : nullptr;
-    road.usePrediction(paths);
-    hindsight.useLaneFrames(&prediction);
-    const detail::PairTest test{&cfg, &cars, &counters, paths};
+        hindsight(cfg, cars, road, prediction, counters),
+        book(cars, prediction, road, hindsight, cfg, counters) {
+    const detail::PairTest test{&cfg, &cars, &counters, &prediction};
     pairs = cfg.broadphase == Broadphase::Cells ? detail::makeCellPairSearch(test, cells) : detail::makeAllPairsSearch(test);
   }
 };

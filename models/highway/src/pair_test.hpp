@@ -86,12 +86,9 @@ struct PairTest {
   const MonitorConfig* cfg;
   const VehicleTable* cars;
   MonitorCounters* counters;
-  const LanePrediction* paths = nullptr;  // road prediction: the TTC along the cars' paths
+  const LanePrediction* paths;  // the cars' predicted paths (straight lines, or along their lanes)
 
-  Ttc ttcOf(int a, int b, double horizon) const {
-    if (paths) return paths->vehicleTtc(a, b, horizon);
-    return vehicleTtc(cfg->detector, cars->body[a], cars->shape[a], cars->body[b], cars->shape[b], horizon);
-  }
+  Ttc ttcOf(int a, int b, double horizon) const { return paths->vehicleTtc(a, b, horizon); }
 
   double reactionTime() const { return cfg->safeTime.vehicleReactionTime; }
 
@@ -121,8 +118,9 @@ struct PairTest {
       // (along the paths: the same kernel piece by piece, symmetric too, to the larger safe time)
       for (int d = 0; d < 2; ++d)
         if (ask[d]) safe[d] = SafeTimeConfig::safeTimeOf(reactionTime(), state[d]->mass, closing, state[d]->twiceBrakeForce);
-      const double t = paths ? paths->vehicleTtc(e, f, std::max(ask[0] ? safe[0] : 0.0, ask[1] ? safe[1] : 0.0)).t
-                             : discEntry(Piece{p, v, Vec2::Zero(), 0.0, kInf}, Vec2::Zero(), state[0]->outer + state[1]->outer);
+      const double t = paths->straight(e) && paths->straight(f)
+                           ? discEntry(Piece{p, v, Vec2::Zero(), 0.0, kInf}, Vec2::Zero(), state[0]->outer + state[1]->outer)
+                           : paths->vehicleTtc(e, f, std::max(ask[0] ? safe[0] : 0.0, ask[1] ? safe[1] : 0.0)).t;
       for (int d = 0; d < 2; ++d) {
         if (!ask[d]) continue;
         ++counters->toiChecks;

@@ -65,8 +65,8 @@ void RoadSearch::RoadList::build(std::span<const int> features, const std::vecto
 }
 
 RoadSearch::RoadSearch(const RoadGeometry& road, const MonitorConfig& config, const VehicleTable& cars,
-                       MonitorCounters& counters)
-    : cfg_(&config), cars_(&cars), counters_(&counters), features_(deriveFeatures(road)) {
+                       const LanePrediction& prediction, MonitorCounters& counters)
+    : cfg_(&config), cars_(&cars), counters_(&counters), features_(deriveFeatures(road)), prediction_(&prediction) {
   std::map<std::string, int> groups;
   for (const RoadFeature& f : features_.features) {
     auto [it, inserted] = groups.emplace(std::string(toString(f.kind)) + "/" + f.name, static_cast<int>(groupName_.size()));
@@ -160,7 +160,7 @@ void RoadSearch::prepare(std::span<const CarGroup> groups) {
 
 void RoadSearch::threatsOf(int e, int group, std::vector<Threat>& out) {
   if (!featureIndex_) return;
-  if (prediction_ && !prediction_->straight(e)) {
+  if (!prediction_->straight(e)) {
     laneThreats(e, out);
     return;
   }

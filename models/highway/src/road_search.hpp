@@ -23,7 +23,10 @@ namespace st::highway::detail {
 
 class RoadSearch {
  public:
-  RoadSearch(const RoadGeometry& road, const MonitorConfig& config, const VehicleTable& cars, MonitorCounters& counters);
+  // prediction: a car on a lane, predicted along it, gets its curb and marker threats in the lane
+  // frame
+  RoadSearch(const RoadGeometry& road, const MonitorConfig& config, const VehicleTable& cars,
+             const LanePrediction& prediction, MonitorCounters& counters);
 
   const RoadFeatures& features() const { return features_; }
   // the name of a feature group (one polyline or hazard): a road threat's foe
@@ -31,8 +34,6 @@ class RoadSearch {
   // the features of a group (its polyline's segments, or the hazard)
   std::span<const int> groupFeatures(int group) const { return groupFeatures_[group]; }
 
-  // Road prediction: a car on a lane gets its curb and marker threats in the lane frame.
-  void usePrediction(const LanePrediction* prediction) { prediction_ = prediction; }
   // The line (feature group) on a lane's right (side 0) or left (side 1); -1: none (internal lanes).
   int lineOf(int lane, int side) const { return lane >= 0 && lane < static_cast<int>(laneLines_.size()) ? laneLines_[lane][side] : -1; }
 
@@ -93,7 +94,7 @@ class RoadSearch {
   std::vector<int> roadFound_;               // scratch: a group's features before grouping
   std::vector<std::pair<Vec2, RoadList::Line>> roadScratch_;
   std::vector<int> featureNear_;             // scratch: the features an ego may reach
-  const LanePrediction* prediction_ = nullptr;
+  const LanePrediction* prediction_;
   std::vector<std::array<int, 2>> laneLines_;  // per lane: the groups of its right and left lines
   std::vector<int> hazards_;                   // the hazard features
 };

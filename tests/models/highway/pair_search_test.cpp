@@ -7,6 +7,7 @@
 #include <random>
 #include <tuple>
 
+#include "lane_prediction.hpp"
 #include "pair_search.hpp"
 #include "scenes.hpp"
 #include "vehicle_table.hpp"
@@ -31,15 +32,18 @@ TEST(PairSearch, CellsFindExactlyTheThreatsOfAllPairs) {
     cfg.detector.motion = (scene / 3) % 2 ? MotionModel::ConstantAcceleration : MotionModel::ConstantVelocity;
     cfg.cells.cellLength = 60.0 + 10.0 * (scene % 7);
     cfg.cells.decompositionFactor = scene % 4 == 3 ? 4 : 32;  // divided cells beside undivided ones
+    cfg.prediction = Prediction::Straight;
     const auto ticks = randomScene(rng, cfg.cells.cellLength);
     MonitorCounters countersCells, countersAll;
     VehicleTable cars(cfg, countersCells);
     CellNetwork network(road, deriveFeatures(road), cfg.cells);
-    const auto cells = makeCellPairSearch(PairTest{&cfg, &cars, &countersCells}, network);
-    const auto all = makeAllPairsSearch(PairTest{&cfg, &cars, &countersAll});
+    LanePrediction paths(road, cfg, cars, countersCells);
+    const auto cells = makeCellPairSearch(PairTest{&cfg, &cars, &countersCells, &paths}, network);
+    const auto all = makeAllPairsSearch(PairTest{&cfg, &cars, &countersAll, &paths});
     bool anyDivided = false;
     for (std::size_t k = 0; k < ticks.size(); ++k) {
       cars.update(0.2 * static_cast<double>(k), ticks[k]);
+      paths.update(0.2 * static_cast<double>(k));
       cells->prepare();
       all->prepare();
       cars.release();
