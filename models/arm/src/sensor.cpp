@@ -29,6 +29,27 @@ bool same(const std::vector<double>& a, const std::vector<double>& b) {
                     [](double x, double y) { return x == y || (std::isnan(x) && std::isnan(y)); });
 }
 
+// One line of the trace, at most 64 KiB (a 7-joint reading is some 300 bytes). A NUL byte or a
+// longer line is no sensor trace: /dev/zero, a device of NULs without a newline, was read into one
+// line for ever (`arm stream /dev/zero` and `trace: /dev/zero` hung and grew).
+constexpr std::size_t kMaxLineBytes = 64 * 1024;
+bool readLine(std::istream& in, std::string& line, const std::string& where) {
+  line.clear();
+  std::streambuf* buf = in.rdbuf();
+  if (!in || buf == nullptr) return false;
+  while (true) {
+    const int c = buf->sbumpc();
+    if (c == std::char_traits<char>::eof()) {
+      in.setstate(std::ios::eofbit);
+      return !line.empty();
+    }
+    if (c == '\n') return true;
+    if (c == '\0') throw InputError(where + ": a NUL byte: not a sensor trace (CSV text)");
+    if (line.size() >= kMaxLineBytes) throw InputError(where + ": a line longer than 64 KiB: not a sensor trace");
+    line.push_back(static_cast<char>(c));
+  }
+}
+
 }  // namespace
 
 CsvSensor::CsvSensor(const std::string& path, std::vector<std::string> armNames, std::vector<int> dofs)
@@ -40,7 +61,7 @@ CsvSensor::CsvSensor(const std::string& path, std::vector<std::string> armNames,
 
 bool CsvSensor::next(Reading& r) {
   std::string line;
-  while (std::getline(in_, line)) {
+  while (readLine(in_, line, path_ + ":" + std::to_string(line_ + 1))) {
     ++line_;
     line = trim(line);
     if (line.empty() || line[0] == '#') continue;

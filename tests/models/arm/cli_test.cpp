@@ -138,6 +138,23 @@ TEST(ArmCli, ImplausibleJointRateNamesTheTraceLine) {
   expectBadInput("rate", "1.201,left,0,0,0,-1,0,1,0,0,0,0,0,0,0,1e300", "joint 7 rate 1e+300 rad/s is beyond its limit");
 }
 
+// A NUL byte in a trace line was read as the end of its number (the reading accepted); a device
+// of NULs without a newline (/dev/zero) was read into one line for ever: `stsim arm` with
+// `trace: /dev/zero` and `arm stream /dev/zero` hung and grew (issue 35)
+TEST(ArmCli, ANulByteOrAnEndlessLineInATraceNamesTheTraceLine) {
+  expectBadInput("nul", std::string("1.201,left,0,-0.7") + '\0' + ",0,-2.3,0,1.5,0.7,0,0,0,0,0,0,0",
+                 "a NUL byte: not a sensor trace");
+  expectBadInput("long", "1.201,left," + std::string(70000, '0'), "a line longer than 64 KiB: not a sensor trace");
+  const fs::path d = tempDir("devzero");
+  std::ofstream(d / "s.yaml") << "arms:\n  - {name: left, model: panda}\ntrace: /dev/zero\n";
+  const std::string cmd = "timeout 20 " + std::string(STSIM_BINARY) + " arm " + (d / "s.yaml").string() + " --out " +
+                          (d / "o").string() + " > /dev/null 2> " + (d / "stderr").string();
+  const int status = std::system(cmd.c_str());
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1);
+  EXPECT_EQ(slurp(d / "stderr"), "stsim arm: error: /dev/zero:1: a NUL byte: not a sensor trace (CSV text)\n");
+  fs::remove_all(d);
+}
+
 TEST(ArmCli, UnknownArmModelNamesTheYamlKey) {
   const fs::path d = tempDir("model");
   std::ofstream(d / "s.yaml") << "arms:\n  - {name: a, model: panda, waypoints: [{t: 0, q: [0, 0, 0, -1, 0, 1, 0]}]}\n"
