@@ -76,6 +76,15 @@ void HighwayPlugin::step() {
 }
 
 void HighwayPlugin::update() {
+  prepare();
+  detect();
+  act();
+}
+
+void HighwayPlugin::detect() { monitor_.step(time_, states_); }
+
+void HighwayPlugin::prepare() {
+  time_ = backend_.time();
   const StepEvents& ev = backend_.events();
   counters_.steps++;
   counters_.departed += ev.departed.size();
@@ -117,9 +126,8 @@ void HighwayPlugin::update() {
       route[k] = pv.route[at];
     }
   }
-  monitor_.step(backend_.time(), states_);
+  // incidents act on the states, not on the warnings: they need not wait for detect()
   runIncidents();
-  act();
 }
 
 bool HighwayPlugin::inIncident(std::uint32_t serial) const {

@@ -104,8 +104,14 @@ class HighwayPlugin {
 
   // Reads the state SUMO is in now (call after Simulation::step()) and updates.
   void step();
-  // Updates from the state the backend already holds (the runner steps the backend itself).
+  // Updates from the state the backend already holds (the runner steps the backend itself):
+  // prepare(), detect(), act().
   void update();
+  // update()'s stages, for a caller that runs detection beside SUMO's next step (DetectionStage):
+  // prepare and act talk to SUMO (its thread); detect touches only the monitor and reads states().
+  void prepare();  // convert the backend's vehicles into states(), count, run scripted incidents
+  void detect();   // the monitor's step on states()
+  void act();      // colour / brake on the monitor's alerts
   // Closes every open warning at the current time.
   void finish();
 
@@ -131,7 +137,6 @@ class HighwayPlugin {
  private:
   HighwayPlugin(std::unique_ptr<Backend>&& owned, Backend& backend, PluginConfig config,
                 const highway::RoadGeometry& road);
-  void act();
   void runIncidents();
   bool inIncident(std::uint32_t serial) const;  // braking or held by a scripted incident
 
@@ -141,6 +146,7 @@ class HighwayPlugin {
   highway::HighwayMonitor monitor_;
   std::unordered_map<std::string, int> edgeIndex_;  // SUMO edge id -> index into edgeIds(road)
   std::vector<highway::VehicleState> states_;
+  double time_ = 0.0;  // s, of states_
   // per vType (by the backend's type index): converted once, and whether it is a smart type
   struct TypeInfo {
     bool known = false;

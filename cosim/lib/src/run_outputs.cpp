@@ -1,0 +1,63 @@
+#include "run_parts.hpp"
+
+#include <stio/format.hpp>
+
+namespace st::cosim {
+
+namespace fs = std::filesystem;
+namespace hw = st::highway;
+
+namespace {
+fs::path prepared(const fs::path& out) {
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) throw std::runtime_error("cannot create output directory " + out.string() + ": " + ec.message());
+  // every file in out belongs to this run: what an earlier run wrote and this one may not goes first
+  hw::removeRunOutputs(out);
+  return out;
+}
+std::string fmt3(double v) { return io::fixed(v, 3); }
+}  // namespace
+
+RunOutputs::RunOutputs(const fs::path& out)
+    : warnings_(prepared(out) / "warnings.csv"), events_(out / "events.csv"), collisions_(out / "collisions.csv") {
+  if (!collisions_) throw std::runtime_error("cannot write " + (out / "collisions.csv").string());
+  collisions_ << "time,collider,victim,type,lane,pos,collider_speed,victim_speed\n";
+  collisions_.flush();
+}
+
+void RunOutputs::writeDetected(HighwayPlugin& plugin) {
+  const std::vector<hw::Warning> finished = plugin.takeFinished();
+  warnings_.write(finished);
+  for (const hw::Warning& w : finished)
+    if (w.kind == hw::WarningKind::Vehicle) vehicleWarnings_.push_back(w);
+  plugin.takeEvents(eventBuffer_);
+  events_.write(eventBuffer_);
+}
+
+void RunOutputs::writeCollisions(HighwayPlugin& plugin) {
+  for (const auto& c : plugin.takeCollisions()) writeCollision(c);
+}
+
+void RunOutputs::writeCollision(const SumoCollision& c) {
+  collisionReports_.push_back(c);
+  collisions_ << fmt3(c.time) << "," << io::csvField(c.collider) << "," << io::csvField(c.victim) << ","
+              << io::csvField(c.type) << "," << io::csvField(c.lane) << "," << fmt3(c.pos) << ","
+              << fmt3(c.colliderSpeed) << "," << fmt3(c.victimSpeed) << "\n";
+}
+
+void RunOutputs::flush() {
+  warnings_.flush();
+  events_.flush();
+  collisions_.flush();
+}
+
+void writeCollisionWarnings(const fs::path& path, const std::vector<CollisionWarning>& leads) {
+  std::ofstream lc(path);
+  lc << "time,collider,victim,collider_warned,lead_time_s\n";
+  for (const CollisionWarning& w : leads)
+    lc << fmt3(w.collision.time) << "," << io::csvField(w.collision.collider) << "," << io::csvField(w.collision.victim)
+       << "," << (w.leadTime ? 1 : 0) << "," << (w.leadTime ? fmt3(*w.leadTime) : std::string()) << "\n";
+}
+
+}  // namespace st::cosim
