@@ -8,7 +8,10 @@
 
 #include <stbatch/experiment.hpp>
 #include <stbatch/mpi.hpp>
+#include <stbatch/plots.hpp>
+#include <stbatch/record.hpp>
 #include <stbatch/runner.hpp>
+#include <stbatch/tables.hpp>
 #ifdef STSIM_HAVE_COSIM
 #include <stcosim/scenario.hpp>
 #endif

@@ -6,7 +6,7 @@
 #include <map>
 #include <set>
 #include <stbatch/experiment.hpp>
-#include <stbatch/runner.hpp>
+#include <stbatch/record.hpp>
 #include <yaml-cpp/yaml.h>
 
 namespace st::batch {

@@ -7,7 +7,8 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
-#include <stbatch/runner.hpp>
+#include <stbatch/run_result.hpp>
+#include <stbatch/tables.hpp>
 
 namespace st::batch {
 namespace {
