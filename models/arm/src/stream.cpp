@@ -21,14 +21,20 @@ using Clock = std::chrono::steady_clock;
 
 std::string num(double x) { return io::number(x, 9); }
 
-// The next message that is not an ERROR; an ERROR becomes an exception with its text.
-proto::Message expect(net::Client& c, std::chrono::milliseconds timeout, const char* what) {
+// The next message that is not an ERROR; an ERROR becomes an exception with its text. While a
+// cycle's verdict is awaited, an ERROR is the service refusing that cycle's readings (a joint
+// outside its limits, a time it will not take): an InputError named by the cycle's trace line.
+proto::Message expect(net::Client& c, std::chrono::milliseconds timeout, const char* what,
+                      const std::string* cycleWhere = nullptr) {
   const auto frame = c.receive(timeout);
   if (!frame) throw std::runtime_error(std::string(c.closed() ? "the service closed the connection" : "no answer") +
                                        " waiting for " + what);
   proto::Decoded d = proto::decode(*frame);
   if (!d.ok) throw std::runtime_error("bad message from the service: " + d.error);
-  if (const auto* e = std::get_if<proto::Error>(&d.message)) throw std::runtime_error("service: " + e->message);
+  if (const auto* e = std::get_if<proto::Error>(&d.message)) {
+    if (cycleWhere) throw InputError(*cycleWhere + ": the service refused this reading: " + e->message);
+    throw std::runtime_error("service: " + e->message);
+  }
   return std::move(d.message);
 }
 
@@ -81,7 +87,10 @@ void runStream(const StreamConfig& cfg, StreamResult& res) {
     const double t = r.t;
     msg.t = t;
     msg.arms.clear();
+    std::string cycleWhere = r.where;  // the cycle's first trace line; its count when several
+    int cycleLines = 0;
     while (have && r.t == t) {
+      ++cycleLines;
       // named by its trace line here; the service would name only its message
       for (std::size_t k = 0; k < r.q.size(); ++k) {
         const std::string joint = "joint " + std::to_string(k + 1);
@@ -91,6 +100,7 @@ void runStream(const StreamConfig& cfg, StreamResult& res) {
       msg.arms.push_back({static_cast<std::uint16_t>(r.arm), r.q, r.qdot});
       have = src->next(r);
     }
+    if (cycleLines > 1) cycleWhere += " (the first of the " + std::to_string(cycleLines) + " lines at t = " + num(t) + " s)";
     ++msg.seq;
     if (cfg.rate > 0.0)
       std::this_thread::sleep_until(wallStart + std::chrono::duration_cast<Clock::duration>(
@@ -104,7 +114,7 @@ void runStream(const StreamConfig& cfg, StreamResult& res) {
     while (true) {
       const auto left = cfg.verdictTimeout - std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - sent);
       if (left.count() <= 0) break;
-      got = expect(client, left, "a VERDICT");
+      got = expect(client, left, "a VERDICT", &cycleWhere);
       v = std::get_if<proto::Verdict>(&got);
       if (v && v->ack >= msg.seq) break;
       v = nullptr;

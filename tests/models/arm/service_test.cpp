@@ -864,18 +864,23 @@ TEST(ArmServeCli, StreamOnAFullDiskIsAnErrorNamingTheFile) {
 }
 
 TEST(ArmServeCli, StreamOfABadTraceNamesTheFileAndLine) {
-  // a folder or an empty trace was "0 cycles", exit 0; a NaN was named by the protocol message
+  // a folder or an empty trace was "0 cycles", exit 0; a NaN or a joint beyond its limits was
+  // named by the protocol message
   const fs::path d = tempDir("badtrace");
   const Scenario s = loadScenario(scenarioPath("two_pandas"));
   Service svc(s, {});
   std::ofstream(d / "empty.csv") << "t,arm,q...,qdot...\n";
   std::ofstream(d / "nan.csv") << "t,arm,q...,qdot...\n0,left,0,-0.785,0,-2.356,0,1.571,0.785,0,0,0,0,0,0,0\n"
                                   "0.001,left,0,nan,0,-2.356,0,1.571,0.785,0,0,0,0,0,0,0\n";
+  // Panda joint 4 is in [-3.07, -0.07]: the client knows no limits, the service refuses the reading
+  std::ofstream(d / "limit.csv") << "t,arm,q...,qdot...\n0,left,0,-0.785,0,-2.356,0,1.571,0.785,0,0,0,0,0,0,0\n"
+                                    "0.001,left,0,-0.785,0,0.5,0,1.571,0.785,0,0,0,0,0,0,0\n";
   fs::create_directories(d / "dir");
   const std::pair<std::string, std::string> cases[] = {
       {(d / "dir").string(), (d / "dir").string() + ": is a directory, not a sensor trace"},
       {(d / "empty.csv").string(), (d / "empty.csv").string() + ": holds no readings"},
       {(d / "nan.csv").string(), (d / "nan.csv").string() + ":3: joint 2 angle is not a finite number"},
+      {(d / "limit.csv").string(), (d / "limit.csv").string() + ":3: the service refused this reading: READINGS seq 2 arm 0: joint 4 angle 0.5 rad is beyond its limits"},
   };
   for (const auto& [trace, why] : cases) {
     const std::string cmd = std::string("timeout 60 ") + STSIM_BINARY + " arm stream --connect 127.0.0.1:" +
