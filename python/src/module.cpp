@@ -97,25 +97,15 @@ PYBIND11_MODULE(_stsim, m) {
       .def_property_readonly("zone", [](const PyAlert& a) { return hw::toString(a.zone); })
       .def_readonly("ttc", &PyAlert::ttc)
       .def_readonly("safe_time", &PyAlert::safeTime)
-      .def_readonly("foe", &PyAlert::foe, "the other vehicle's index (vehicle warnings), else -1")
-      .def_readonly("foe_id", &PyAlert::foeId)
+      .def_readonly("foe", &PyAlert::foe, "the other vehicle's id (vehicle warnings, as WarningEpisode.foe), else ''")
+      .def_readonly("foe_vehicle", &PyAlert::foeVehicle, "the other vehicle's index into the last step's vehicles, else -1")
       .def("__repr__", [](const PyAlert& a) {
-        return "<Alert " + a.ego + " " + hw::toString(a.kind) + (a.foeId.empty() ? "" : " " + a.foeId) + " ttc " +
+        return "<Alert " + a.ego + " " + hw::toString(a.kind) + (a.foe.empty() ? "" : " " + a.foe) + " ttc " +
                std::to_string(a.ttc) + " safe " + std::to_string(a.safeTime) + ">";
       });
 
-  py::class_<Monitor>(m, "Monitor",
-                      "Monitor(net=None, *, lanes=None, **settings): smart-car warnings, one step() per tick.\n"
-                      "net: a SUMO .net.xml (lane shapes and widths) or None (no road: car-car only);\n"
-                      "lanes: the same as a list of dicts {id, edge, index, shape, width, internal, length}.\n"
-                      "settings: detector (concentric|five|box), layout (a|b), motion (velocity|acceleration),\n"
-                      "prediction (road|straight: along the lanes, the default, or the report's straight line),\n"
-                      "broadphase (cells|all-pairs), check_road, vehicle_reaction_time, road_reaction_time,\n"
-                      "brake_force {class: N}, concentric_inner_margin, concentric_outer_margin, body_circles,\n"
-                      "cell_length, tx_power_dbm, path_loss_exponent, reference_distance, hysteresis_db,\n"
-                      "radio_range, fat_margin, fat_lookahead, decomposition_factor, max_depth;\n"
-                      "hindsight (bool), clearance (m), evasive_deceleration (m/s^2), hindsight_lead (s);\n"
-                      "rear_end_below, crossing_above (deg, the conflict types' angles).")
+  static const std::string monitorDocText = monitorDoc();  // pybind11 keeps the pointer
+  py::class_<Monitor>(m, "Monitor", monitorDocText.c_str())
       .def(py::init([](py::object net, py::object lanes, py::kwargs kw) {
              if (!net.is_none() && !lanes.is_none()) throw py::value_error("give net or lanes, not both");
              const hw::RoadGeometry road = lanes.is_none() ? roadOf(net) : roadOfLanes(lanes);
@@ -133,16 +123,19 @@ PYBIND11_MODULE(_stsim, m) {
            py::arg("vehicles"),
            "As step(), in SUMO's conventions: x, y of the front bumper, angle in navigational degrees,\n"
            "signals as SUMO's bits (1 right, 2 left), vehicle_class a SUMO vClass.")
-      .def("finish", &Monitor::finish, py::arg("t"), "Closes every open episode at time t.")
+      .def(
+          "finish",
+          [](Monitor& self, py::object t) { self.finish(t.is_none() ? self.lastTime() : toDouble(t, "t")); },
+          py::arg("t") = py::none(), "Closes every open episode at time t (s); None: the last step's time.")
       .def_property_readonly("settings", &Monitor::settings,
                              "Every setting in effect, by its scenario key (stsim highway --settings lists them).")
       .def("take_finished", &Monitor::takeFinished, "Episodes that ended since the last call, in order of ending.")
       .def("take_events", &Monitor::takeEvents,
            "Near misses and unsignalled crossings hindsight found since the last call (HindsightEvent).")
-      .def("open_warnings", &Monitor::openWarnings)
-      .def("alerts", &Monitor::alerts)
-      .def_property_readonly("counters", &Monitor::counters)
-      .def_property_readonly("last_time", &Monitor::lastTime)
+      .def("open_warnings", &Monitor::openWarnings, "Episodes still going on at the last step (WarningEpisode, open).")
+      .def("alerts", &Monitor::alerts, "Each warned car's worst current threat at the last step (Alert).")
+      .def_property_readonly("counters", &Monitor::counters, "The monitor's work counters (pair tests, cells, ...), by name.")
+      .def_property_readonly("last_time", &Monitor::lastTime, "The last step's time (s).")
       .def_property_readonly("feature_count", &Monitor::featureCount, "curbs, lane markers and hazards")
       .def_property_readonly("cell_count", &Monitor::cellCount);
 

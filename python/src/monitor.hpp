@@ -22,8 +22,8 @@ struct PyAlert {
   hw::WarningKind kind = hw::WarningKind::Vehicle;
   hw::Zone zone = hw::Zone::Body;
   double ttc = 0.0, safeTime = 0.0;
-  int foe = -1;
-  std::string foeId;
+  int foeVehicle = -1;  // the foe's index into the last step's vehicles; -1 for road warnings
+  std::string foe;       // its id, as WarningEpisode.foe
 };
 
 class Monitor {
@@ -70,7 +70,7 @@ class Monitor {
     std::vector<PyAlert> out;
     for (const hw::Alert& a : monitor_.alerts()) {
       PyAlert p{a.vehicle, states_.at(static_cast<std::size_t>(a.vehicle)).id, a.kind, a.zone, a.ttc, a.safeTime, a.foe, {}};
-      if (a.foe >= 0) p.foeId = states_.at(static_cast<std::size_t>(a.foe)).id;
+      if (a.foe >= 0) p.foe = states_.at(static_cast<std::size_t>(a.foe)).id;
       out.push_back(std::move(p));
     }
     return out;

@@ -67,4 +67,19 @@ hw::MonitorConfig configOf(const py::kwargs& kw) {
   return cfg;
 }
 
+std::string monitorDoc() {
+  std::string doc =
+      "Monitor(net=None, *, lanes=None, **settings): smart-car warnings, one step() per tick.\n"
+      "net: a SUMO .net.xml (lane shapes and widths) or None (no road: car-car only);\n"
+      "lanes: the same as a list of dicts {id, edge, index, shape, width, internal, length}.\n"
+      "settings: the scenario's keys (docs/settings.md), nested as in the YAML\n"
+      "(safe_time={'vehicle_reaction': 1.2}) or flat with '_' for '.' (safe_time_vehicle_reaction=1.2):\n";
+  const hw::MonitorConfig defaults;
+  for (const hw::Setting& s : hw::monitorSettings()) {
+    doc.append("  ").append(s.key).append(" = ").append(hw::settingText(s.get(defaults)));
+    doc.append("  (").append(hw::valuesText(s)).append("): ").append(s.doc).append("\n");
+  }
+  return doc;
+}
+
 }  // namespace stpy

@@ -10,4 +10,7 @@ namespace stpy {
 // A wrong type is a TypeError, a value the table refuses a ValueError, in the table's words.
 st::highway::MonitorConfig configOf(const pybind11::kwargs& kw);
 
+// Monitor's docstring: its signature and every setting from the table, with its values and default.
+std::string monitorDoc();
+
 }  // namespace stpy

@@ -198,20 +198,27 @@ class TraciMonitor:
         self.monitor.step_sumo(self.conn.simulation.getTime(), self.reader.read())
 
     def finish(self, t=None):
+        """Closes every open episode at time t (s); None: SUMO's current time."""
         self.monitor.finish(self.conn.simulation.getTime() if t is None else t)
 
     def take_finished(self):
+        """Episodes that ended since the last call (WarningEpisode), in order of ending."""
         return self.monitor.take_finished()
 
     def take_events(self):
+        """Near misses and unsignalled crossings hindsight found since the last call (HindsightEvent)."""
         return self.monitor.take_events()
 
     def open_warnings(self):
+        """Episodes still going on at the last step (WarningEpisode, open)."""
         return self.monitor.open_warnings()
 
     def alerts(self):
+        """Each warned car's worst current threat at the last step (Alert: ego, kind, zone, ttc,
+        safe_time, foe)."""
         return self.monitor.alerts()
 
     @property
     def counters(self):
+        """The monitor's work counters, by name."""
         return self.monitor.counters

@@ -287,17 +287,19 @@ void checkSettings(const MonitorConfig& cfg) {
 std::string settingsReferenceMarkdown(const MonitorConfig& values, const char* column) {
   std::ostringstream os;
   os << "| key | value | " << column << " | what it sets |\n| --- | --- | --- | --- |\n";
-  for (const Setting& s : monitorSettings()) {
-    std::string value;
-    switch (s.type) {
-      case SettingType::Number: value = "number in " + rangeText(s); break;
-      case SettingType::Integer: value = "whole number in " + rangeText(s); break;
-      case SettingType::Boolean: value = "true or false"; break;
-      case SettingType::Choice: value = expected(s); break;
-    }
-    os << "| `" << s.key << "` | " << value << " | " << settingText(s.get(values)) << " | " << s.doc << " |\n";
-  }
+  for (const Setting& s : monitorSettings())
+    os << "| `" << s.key << "` | " << valuesText(s) << " | " << settingText(s.get(values)) << " | " << s.doc << " |\n";
   return os.str();
+}
+
+std::string valuesText(const Setting& s) {
+  switch (s.type) {
+    case SettingType::Number: return "number in " + rangeText(s);
+    case SettingType::Integer: return "whole number in " + rangeText(s);
+    case SettingType::Boolean: return "true or false";
+    case SettingType::Choice: return expected(s);
+  }
+  return "";
 }
 
 }  // namespace st::highway

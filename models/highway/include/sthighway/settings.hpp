@@ -58,6 +58,8 @@ std::string expected(const Setting& s);
 void applySetting(MonitorConfig& cfg, const Setting& s, const SettingValue& v);
 // The same from text (a command-line value, a YAML scalar): a number, true/false or a choice.
 void applySettingText(MonitorConfig& cfg, const Setting& s, std::string_view text);
+// The values s takes, as the reference gives them: "number in [0, 60] s", "one of a, b".
+std::string valuesText(const Setting& s);
 // A value as the YAML would write it: 0.5, true, five.
 std::string settingText(const SettingValue& v);
 // Every value in its range, and what no single setting can check: conflict.rear_end_below <= conflict.crossing_above, a
