@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include <stbatch/conflicts.hpp>
 #include <stbatch/stats.hpp>
 
 #include "files.hpp"
@@ -219,6 +220,7 @@ void writeTables(const Experiment& e, std::vector<RunResult> results, const fs::
   writeFileAtomically(outDir / "paired.csv", pairedTable(e, results, metricCols));
   if (const std::string h = hindsightTable(e, order, groups, metricCols); !h.empty())
     writeFileAtomically(outDir / "hindsight.csv", h);
+  if (e.command == "highway") writeConflictTables(e, results, outDir);
 }
 
 }  // namespace st::batch

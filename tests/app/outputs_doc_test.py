@@ -52,9 +52,12 @@ FILES = {
     "batch/summary.csv": ["batch/summary.csv"],
     "batch/paired.csv": ["batch/paired.csv"],
     "batch/hindsight.csv": ["batch/hindsight.csv"],
+    "batch/conflicts.csv": ["batch/conflicts.csv"],
+    "batch/conflicts_compared.csv": ["batch/conflicts_compared.csv"],
 }
 LIVE = {"highway/collisions.csv", "highway/collision_warnings.csv", "highway/validation.json", "batch/runs.csv",
-        "batch/summary.csv", "batch/paired.csv", "batch/hindsight.csv"}
+        "batch/summary.csv", "batch/paired.csv", "batch/hindsight.csv", "batch/conflicts.csv",
+        "batch/conflicts_compared.csv"}
 SWEEP = ["detector"]  # the batch experiment below
 SEED = "seed"
 

@@ -4,9 +4,11 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <stbatch/conflicts.hpp>
 #include <stbatch/run_result.hpp>
 #include <stbatch/tables.hpp>
 
@@ -239,6 +241,73 @@ TEST(BatchTables, HindsightNullsStayEmptyAndSharesArePooledOverSeeds) {
   // no collision figures (an attached run counts none): empty, not 0
   EXPECT_EQ(h[2][column(h, "collisions")], "");
   EXPECT_EQ(h[2][column(h, "collision_recall")], "");
+  fs::remove_all(dir);
+}
+
+// Two designs' conflicts from hand-made warnings.csv files: only SSAM's types are pooled, over the
+// seeds; the comparison is Welch's interval worked by hand (equal n and sd: 2(n - 1) = 4 degrees
+// of freedom, t = 2.776445).
+TEST(BatchTables, ConflictTablesPoolSsamTypesAndCompareDesignsByWelch) {
+  Experiment e;
+  e.sweep = {{"design", {"base", "x"}}};
+  e.seeds = {1, 2};
+  const std::vector<RunSpec> specs = expandRuns(e);
+  ASSERT_EQ(specs.size(), 4u);
+  const fs::path dir = fs::temp_directory_path() / ("stsim_conflicts_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const std::string header = "ego,foe,kind,min_ttc,type,drac,max_delta_v\n";
+  // per (design, seed): the rows; a quoted id with a comma, a proximity and a road row that are no conflicts
+  auto rows = [](const RunSpec& s) -> std::string {
+    const bool x = s.params[0].second == "x";
+    if (s.seed == 1)
+      return x ? "\"a,1\",b,vehicle,1,rear_end,2,5\na,b,vehicle,0,proximity,,1\na,curb,curb,0.5,road,,\n"
+               : "a,b,vehicle,2,rear_end,inf,4\n";
+    return x ? "a,b,vehicle,2,lane_change,4,7\nc,d,vehicle,3,rear_end,,9\n"
+             : "a,b,vehicle,3,crossing,1,6\nc,d,vehicle,4,rear_end,3,8\n";
+  };
+  std::vector<RunResult> results;
+  for (const RunSpec& s : specs) {
+    fs::create_directories(dir / "runs" / s.id);
+    std::ofstream(dir / "runs" / s.id / "warnings.csv") << header << rows(s);
+    RunResult r;
+    r.spec = s;
+    r.status = RunStatus::Done;
+    results.push_back(r);
+  }
+  writeConflictTables(e, results, dir);
+  const auto c = readCsv(dir / "conflicts.csv");
+  ASSERT_EQ(c.size(), 3u);
+  auto at = [&](const std::vector<std::vector<std::string>>& t, int row, const std::string& name) {
+    for (std::size_t i = 0; i < t[0].size(); ++i)
+      if (t[0][i] == name) return t[row][i];
+    ADD_FAILURE() << "no column " << name;
+    return std::string();
+  };
+  EXPECT_EQ(at(c, 1, "design"), "base");
+  EXPECT_EQ(at(c, 1, "runs"), "2");
+  EXPECT_EQ(at(c, 1, "conflicts"), "3");
+  EXPECT_EQ(at(c, 1, "crossing"), "1");
+  EXPECT_EQ(at(c, 1, "min_ttc.mean"), "3");
+  EXPECT_EQ(at(c, 1, "drac.n"), "2");  // inf (touching) is no value to average
+  EXPECT_EQ(at(c, 1, "drac.mean"), "2");
+  EXPECT_EQ(at(c, 2, "conflicts"), "3");  // the proximity and the road rows are none
+  EXPECT_EQ(at(c, 2, "rear_end"), "2");
+  EXPECT_EQ(at(c, 2, "lane_change"), "1");
+  EXPECT_EQ(at(c, 2, "min_ttc.mean"), "2");
+  EXPECT_EQ(at(c, 2, "min_ttc.sd"), "1");
+  EXPECT_EQ(at(c, 2, "max_delta_v.mean"), "7");
+  // no pet column in these files: the measure is left out
+  EXPECT_EQ(std::count(c[0].begin(), c[0].end(), std::string("pet.n")), 0);
+  const auto d = readCsv(dir / "conflicts_compared.csv");
+  ASSERT_EQ(d.size(), 2u);
+  EXPECT_EQ(at(d, 1, "compared"), "design");
+  EXPECT_EQ(at(d, 1, "baseline"), "base");
+  EXPECT_EQ(at(d, 1, "design"), "x");
+  const double se = std::sqrt(1.0 / 3.0 + 1.0 / 3.0);
+  EXPECT_DOUBLE_EQ(std::stod(at(d, 1, "min_ttc.diff_mean")), -1.0);
+  EXPECT_NEAR(std::stod(at(d, 1, "min_ttc.diff_ci95")), 2.776445 * se, 1e-5);
+  EXPECT_NEAR(std::stod(at(d, 1, "min_ttc.t")), -1.0 / se, 1e-9);
+  EXPECT_DOUBLE_EQ(std::stod(at(d, 1, "max_delta_v.diff_mean")), 7.0 - 6.0);
   fs::remove_all(dir);
 }
 

@@ -1,0 +1,183 @@
+#include <stbatch/conflicts.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include <stbatch/stats.hpp>
+
+#include "files.hpp"
+
+namespace st::batch {
+
+namespace fs = std::filesystem;
+using namespace detail;
+
+namespace {
+
+const char* const kTypes[] = {"rear_end", "lane_change", "crossing"};
+
+// One row of a CSV file stsim wrote (io::csvField: quoted when it holds a comma or a quote).
+std::vector<std::string> splitCsvRow(const std::string& line) {
+  std::vector<std::string> cells(1);
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') cells.back() += '"', ++i;
+      else if (c == '"') quoted = false;
+      else cells.back() += c;
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      cells.emplace_back();
+    } else if (c != '\r') {
+      cells.back() += c;
+    }
+  }
+  return cells;
+}
+
+// A combination's conflicts, pooled over its done runs.
+struct Pool {
+  int runs = 0;
+  std::map<std::string, int> byType;
+  std::map<std::string, std::vector<double>> values;  // measure -> its finite values
+};
+
+// Adds the conflicts of one run's warnings.csv; false if the run wrote none.
+bool addRun(const fs::path& file, Pool& pool, std::set<std::string>& measures) {
+  std::ifstream in(file);
+  if (!in) return false;
+  std::string line;
+  if (!std::getline(in, line)) return false;
+  const std::vector<std::string> header = splitCsvRow(line);
+  std::map<std::string, std::size_t> col;
+  for (std::size_t i = 0; i < header.size(); ++i) col[header[i]] = i;
+  if (!col.count("type")) throw std::runtime_error(file.string() + ": no type column (not a highway warnings.csv)");
+  for (const char* m : kConflictMeasures)
+    if (col.count(m)) measures.insert(m);
+  ++pool.runs;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> row = splitCsvRow(line);
+    if (row.size() != header.size()) continue;  // a cut last row (the run was stopped)
+    const std::string& type = row[col["type"]];
+    bool conflict = false;
+    for (const char* t : kTypes) conflict = conflict || type == t;
+    if (!conflict) continue;
+    ++pool.byType[type];
+    for (const char* m : kConflictMeasures) {
+      if (!col.count(m)) continue;
+      const std::string& cell = row[col[m]];
+      char* end = nullptr;
+      const double v = std::strtod(cell.c_str(), &end);
+      if (!cell.empty() && end && *end == '\0' && std::isfinite(v)) pool.values[m].push_back(v);
+    }
+  }
+  return true;
+}
+
+struct Welch {
+  double diff = 0.0, ci95 = 0.0, t = 0.0;
+  bool ok = false;  // both sides have two values or more and a spread
+};
+
+// Difference of two means with Welch's interval; the degrees of freedom (Welch-Satterthwaite)
+// rounded down, so the interval errs wide.
+Welch welch(const std::vector<double>& x, const std::vector<double>& y) {
+  Welch w;
+  const Summary a = summarize(x), b = summarize(y);
+  w.diff = a.mean - b.mean;
+  if (a.n < 2 || b.n < 2) return w;
+  const double va = a.sd * a.sd / a.n, vb = b.sd * b.sd / b.n, se2 = va + vb;
+  if (!(se2 > 0.0)) return w;
+  const double dof = se2 * se2 / (va * va / (a.n - 1) + vb * vb / (b.n - 1));
+  const double se = std::sqrt(se2);
+  w.ci95 = studentT975(std::max(1, static_cast<int>(std::floor(dof)))) * se;
+  w.t = w.diff / se;
+  w.ok = true;
+  return w;
+}
+
+}  // namespace
+
+void writeConflictTables(const Experiment& e, const std::vector<RunResult>& results, const fs::path& outDir) {
+  std::map<std::vector<std::string>, Pool> pools;
+  std::vector<std::vector<std::string>> order;
+  std::set<std::string> present;
+  bool any = false;
+  for (const RunResult& r : results) {
+    std::vector<std::string> key;
+    for (const auto& [k, v] : r.spec.params) key.push_back(v);
+    if (!pools.count(key)) order.push_back(key);
+    Pool& p = pools[key];
+    if (r.status == RunStatus::Done) any = addRun(runDir(outDir, r.spec) / "warnings.csv", p, present) || any;
+  }
+  if (!any) return;
+  std::vector<std::string> measures;  // in kConflictMeasures' order
+  for (const char* m : kConflictMeasures)
+    if (present.count(m)) measures.emplace_back(m);
+
+  std::ostringstream t;
+  for (const auto& axis : e.sweep) t << csvField(axis.key) << ",";
+  t << "runs,conflicts";
+  for (const char* type : kTypes) t << "," << type;
+  for (const auto& m : measures) t << "," << m << ".n," << m << ".mean," << m << ".sd," << m << ".ci95";
+  t << "\n";
+  for (const auto& key : order) {
+    const Pool& p = pools[key];
+    for (const auto& v : key) t << csvField(v) << ",";
+    int total = 0;
+    for (const auto& [type, n] : p.byType) total += n;
+    t << p.runs << "," << total;
+    for (const char* type : kTypes) t << "," << (p.byType.count(type) ? p.byType.at(type) : 0);
+    for (const auto& m : measures) {
+      const auto at = p.values.find(m);
+      const Summary s = summarize(at == p.values.end() ? std::vector<double>{} : at->second);
+      t << "," << s.n;
+      if (s.n == 0) t << ",,,";
+      else t << "," << number(s.mean) << "," << (s.n > 1 ? number(s.sd) : "") << "," << (s.n > 1 ? number(s.ci95) : "");
+    }
+    t << "\n";
+  }
+  writeFileAtomically(outDir / "conflicts.csv", t.str());
+
+  std::ostringstream c;
+  c << "compared,baseline";
+  for (const auto& axis : e.sweep) c << "," << csvField(axis.key);
+  c << ",conflicts,baseline_conflicts";
+  for (const auto& m : measures) c << "," << m << ".diff_mean," << m << ".diff_ci95," << m << ".t";
+  c << "\n";
+  for (std::size_t a = 0; a < e.sweep.size(); ++a) {
+    const SweepAxis& axis = e.sweep[a];
+    for (const auto& key : order) {
+      if (key[a] == axis.values.front()) continue;
+      std::vector<std::string> baseKey = key;
+      baseKey[a] = axis.values.front();
+      const Pool& x = pools[key];
+      const Pool& y = pools[baseKey];
+      auto count = [](const Pool& p) {
+        int n = 0;
+        for (const auto& [type, k] : p.byType) n += k;
+        return n;
+      };
+      c << csvField(axis.key) << "," << csvField(axis.values.front());
+      for (const auto& v : key) c << "," << csvField(v);
+      c << "," << count(x) << "," << count(y);
+      static const std::vector<double> none;
+      for (const auto& m : measures) {
+        const auto xv = x.values.find(m), yv = y.values.find(m);
+        const Welch w = welch(xv == x.values.end() ? none : xv->second, yv == y.values.end() ? none : yv->second);
+        if (!w.ok) c << ",,,";
+        else c << "," << number(w.diff) << "," << number(w.ci95) << "," << number(w.t);
+      }
+      c << "\n";
+    }
+  }
+  writeFileAtomically(outDir / "conflicts_compared.csv", c.str());
+}
+
+}  // namespace st::batch
