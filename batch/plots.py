@@ -710,6 +710,58 @@ def write_hindsight(f, sweep, kinds, rows):
     f.write("\n")
 
 
+MEASURES = [("min_ttc", "min TTC (s)"), ("pet", "PET (s)"), ("drac", "DRAC (m/s²)"), ("max_s", "MaxS (m/s)"),
+            ("delta_s", "DeltaS (m/s)"), ("dr", "DR (m/s²)"), ("max_d", "MaxD (m/s²)"),
+            ("max_delta_v", "MaxDeltaV (m/s)")]
+
+
+def write_conflicts(f, out, sweep):
+    """report.md's SSAM section (conflicts.csv, conflicts_compared.csv): the conflicts by type and
+    each SSAM measure per combination, then each swept value against the first (Welch)."""
+    path = os.path.join(out, "conflicts.csv")
+    if not os.path.exists(path):
+        return
+    cols, rows = read_csv(path)
+    measures = [(m, lab) for m, lab in MEASURES if m + ".mean" in cols]
+    f.write("## SSAM measures of the conflicts ([conflicts.csv](conflicts.csv))\n\n"
+            "Conflicts: warnings of an SSAM type (rear-end, lane change, crossing) pooled over the seeds of "
+            "each combination; proximity and road warnings are none. Each measure as mean ± half-width "
+            "(95 % CI, n: the conflicts with a value).\n\n")
+    head = sweep + ["runs", "conflicts", "rear-end", "lane change", "crossing"] + [lab for _, lab in measures]
+    f.write("| " + " | ".join(head) + " |\n|" + "---|" * len(head) + "\n")
+    ds = {m: decimals([num(r.get(m + ".mean")) for r in rows]) for m, _ in measures}
+    for r in rows:
+        cells = [r[p] for p in sweep] + [r["runs"], r["conflicts"], r["rear_end"], r["lane_change"], r["crossing"]]
+        for m, _ in measures:
+            n = num(r.get(m + ".n"))
+            cells.append(estimate(num(r.get(m + ".mean")), num(r.get(m + ".ci95")), int(n) if n is not None else None,
+                                  ds[m]))
+        f.write("| " + " | ".join(cells) + " |\n")
+    path = os.path.join(out, "conflicts_compared.csv")
+    if not os.path.exists(path):
+        f.write("\n")
+        return
+    cols, comp = read_csv(path)
+    if comp:
+        f.write("\nTwo designs compared per measure ([conflicts_compared.csv](conflicts_compared.csv)), as "
+                "SSAM's t-test: the difference of the means (compared − baseline) with Welch's 95 % interval "
+                "and t. Conflicts of one run are not independent, so the interval is optimistic; for counts "
+                "and rates the paired comparisons below are the sounder test.\n\n")
+        head = ["compared"] + sweep + ["conflicts (vs baseline)"] + [lab for _, lab in measures]
+        f.write("| " + " | ".join(head) + " |\n|" + "---|" * len(head) + "\n")
+        for r in comp:
+            cells = ["%s vs %s" % (r["compared"], r["baseline"])] + [r[p] for p in sweep] + \
+                ["%s (%s)" % (r["conflicts"], r["baseline_conflicts"])]
+            for m, _ in measures:
+                diff, half, tv = num(r.get(m + ".diff_mean")), num(r.get(m + ".diff_ci95")), num(r.get(m + ".t"))
+                d = ds[m]
+                cells.append("n/a" if diff is None else "%+.*f ± %.*f (t=%.2f)" % (d, diff, d, half, tv)
+                             if half is not None and tv is not None else "%+.*f (no interval)" % (d, diff))
+            f.write("| " + " | ".join(cells) + " |\n")
+    f.write("\n")
+
+
+
 def write_estimates(f, b):
     """The headline metric per combination, the paired comparisons and the collisions by action,
     each as estimate ± half-width (95 % CI, n=…), one precision per column."""
@@ -789,6 +841,7 @@ def main(out):
             write_hindsight(f, b.sweep, kinds, hrows)
             write_misses(f, out, b.runs, b.sweep)
         write_ssm(f, b.sweep, b.summary, b.metrics)
+        write_conflicts(f, out, b.sweep)
         if maps:
             f.write("## Conflict maps (one per parameter combination, all seeds)\n\n"
                     "Every warning at the ego's position at its minimum TTC, coloured by conflict type, "
