@@ -43,7 +43,7 @@ PYBIND11_MODULE(_stsim, m) {
       .def_property_readonly("lead", [](const hw::HindsightEvent& e) { return conflictNumber(e.lead); },
                              "s since the earliest warning about it began; None: not warned");
 
-  py::class_<hw::Warning>(m, "WarningEpisode", "One warning episode: (ego, foe, kind) from its first tick to its end.")
+  auto episodeClass = py::class_<hw::Warning>(m, "WarningEpisode", "One warning episode: (ego, foe, kind) from its first tick to its end.")
       .def_readonly("ego", &hw::Warning::ego)
       .def_readonly("foe", &hw::Warning::foe)
       .def_property_readonly("kind", [](const hw::Warning& w) { return hw::toString(w.kind); })
@@ -89,6 +89,34 @@ PYBIND11_MODULE(_stsim, m) {
         return "<WarningEpisode " + w.ego + " -> " + w.foe + " " + hw::toString(w.kind) + " " + hw::toString(w.zone) + " [" +
                std::to_string(w.begin) + ", " + std::to_string(w.end) + "] min_ttc " + std::to_string(w.minTtc) + ">";
       });
+  // SSAM's measures of a vehicle warning: warnings.csv's columns of the same names, None where empty
+  struct SsamField {
+    const char* name;
+    double hw::Warning::*field;
+    const char* doc;
+  };
+  static constexpr SsamField kSsamFields[] = {
+      {"conflict_x", &hw::Warning::conflictX, "m, the predicted contact point (collision course only)"},
+      {"conflict_y", &hw::Warning::conflictY, "m"},
+      {"foe_x", &hw::Warning::foeX, "m, the foe's centre at the minimum TTC"},
+      {"foe_y", &hw::Warning::foeY, "m"},
+      {"max_s", &hw::Warning::maxSpeed, "m/s, SSAM's MaxS: either vehicle's largest speed over the episode"},
+      {"delta_s", &hw::Warning::deltaSpeed, "m/s, SSAM's DeltaS: |v_ego - v_foe| at the minimum TTC"},
+      {"dr", &hw::Warning::dr, "m/s^2, SSAM's DR: the ego's first negative acceleration after begin, else its lowest"},
+      {"max_d", &hw::Warning::maxDecel, "m/s^2, SSAM's MaxD: the ego's lowest acceleration over the episode"},
+      {"conflict_angle", &hw::Warning::conflictAngle, "deg, SSAM's conflict angle: the foe's heading relative to the ego's"},
+      {"clock_angle", &hw::Warning::clockAngle, "h, the conflict angle as a clock position 1..12"},
+      {"start_x", &hw::Warning::startX, "m, the ego's centre at begin"},
+      {"start_y", &hw::Warning::startY, "m"},
+      {"end_x", &hw::Warning::endX, "m, the ego's centre at end"},
+      {"end_y", &hw::Warning::endY, "m"},
+      {"post_crash_speed", &hw::Warning::postCrashSpeed, "m/s, the perfectly inelastic crash's common speed"},
+      {"post_crash_heading", &hw::Warning::postCrashHeading, "deg counter-clockwise from +x, its heading"},
+      {"pet", &hw::Warning::pet, "s, post-encroachment time of a lane_change or crossing conflict"}};
+  for (const SsamField& f : kSsamFields)
+    episodeClass.def_property_readonly(
+        f.name, [field = f.field](const hw::Warning& w) { return conflictNumber(w.*field); }, f.doc);
+
 
   py::class_<PyAlert>(m, "Alert", "An equipped car's worst current threat at the last step.")
       .def_readonly("vehicle", &PyAlert::vehicle, "index into the last step's vehicles")

@@ -30,6 +30,8 @@ __all__ = ["Alert", "FcdReader", "InputError", "Monitor", "WarningEpisode", "Tra
 # (models/highway/README.md); a WarningEpisode has each as an attribute
 WARNING_COLUMNS = ("ego", "foe", "kind", "zone", "begin", "end", "min_ttc", "min_ttc_time", "safe_time", "open",
                    "verdict", "clearance", "clearance_time", "deceleration", "crossed", "signalled",
+                   "conflict_x", "conflict_y", "foe_x", "foe_y", "max_s", "delta_s", "dr", "max_d", "conflict_angle",
+                   "clock_angle", "start_x", "start_y", "end_x", "end_y", "post_crash_speed", "post_crash_heading", "pet",
                    "x", "y", "lane", "ego_speed", "foe_speed", "heading_angle", "type", "drac", "max_delta_v", "line",
                    "lateral_speed")
 

@@ -1,8 +1,12 @@
 #include <sthighway/conflict.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <utility>
+
+#include <stcore/box2.hpp>
 
 namespace st::highway {
 
@@ -42,6 +46,51 @@ double deltaV(double massA, const Vec2& va, double massB, const Vec2& vb) {
 
 double maxDeltaV(double massA, const Vec2& va, double massB, const Vec2& vb) {
   return std::max(massA, massB) / (massA + massB) * (va - vb).norm();
+}
+
+Vec2 postCrashVelocity(double massA, const Vec2& va, double massB, const Vec2& vb) {
+  return (massA * va + massB * vb) / (massA + massB);
+}
+
+double conflictAngleDeg(const Vec2& egoAxis, const Vec2& foeAxis) {
+  constexpr double kPi = 3.14159265358979323846;
+  // atan2 of the sine and cosine: accurate near 0 and 180 as acos is not; -180 folds to 180
+  const double deg = std::atan2(cross(egoAxis, foeAxis), egoAxis.dot(foeAxis)) * (180.0 / kPi);
+  return deg <= -180.0 ? 180.0 : deg;
+}
+
+int clockPosition(double conflictAngleDeg) {
+  // 30 degrees an hour, clockwise from 12 (the angle is counter-clockwise from the right: +90 is 3)
+  const int h = static_cast<int>(std::lround(conflictAngleDeg / 30.0)) % 12;
+  return h <= 0 ? h + 12 : h;
+}
+
+namespace {
+// the point of box b closest to p (p itself when inside)
+Vec2 closestPoint(const Box2& b, const Vec2& p) {
+  const Vec2 d = p - b.center, n = b.normal();
+  const double u = std::clamp(d.dot(b.axis), -b.halfExtents.x(), b.halfExtents.x());
+  const double v = std::clamp(d.dot(n), -b.halfExtents.y(), b.halfExtents.y());
+  return b.center + u * b.axis + v * n;
+}
+}  // namespace
+
+Vec2 contactPoint(const Box2& a, const Box2& b, double tie) {
+  // each corner of one box with its closest point on the other: distance and midpoint
+  std::array<std::pair<double, Vec2>, 8> pairs;
+  int k = 0;
+  for (const auto& [from, to] : {std::pair<const Box2*, const Box2*>{&a, &b}, {&b, &a}})
+    for (const Vec2& c : corners(*from)) {
+      const Vec2 q = closestPoint(*to, c);
+      pairs[k++] = {(q - c).norm(), 0.5 * (q + c)};
+    }
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& pr : pairs) best = std::min(best, pr.first);
+  Vec2 sum = Vec2::Zero();
+  int n = 0;
+  for (const auto& pr : pairs)
+    if (pr.first <= best + tie) sum += pr.second, ++n;
+  return sum / n;
 }
 
 }  // namespace st::highway

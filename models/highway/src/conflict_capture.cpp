@@ -5,10 +5,33 @@
 #include <limits>
 
 #include <stcore/toi.hpp>
+#include <sthighway/tolerances.hpp>
 
 namespace st::highway::detail {
 
 namespace {
+// SSAM's measures of a vehicle warning but the conflict point (monitor.hpp, Warning)
+void describeSsam(const ConflictCapture& c, double egoMass, double foeMass, Warning& w) {
+  constexpr double kPi = 3.14159265358979323846;
+  const Body &a = c.ego, &b = c.foe;
+  w.foeX = b.position.x();
+  w.foeY = b.position.y();
+  w.deltaSpeed = (a.velocity - b.velocity).norm();
+  w.conflictAngle = conflictAngleDeg(a.axis, b.axis);
+  w.clockAngle = clockPosition(w.conflictAngle);
+  const Vec2 v = postCrashVelocity(egoMass, a.velocity, foeMass, b.velocity);
+  w.postCrashSpeed = v.norm();
+  w.postCrashHeading = v.squaredNorm() > 0.0 ? std::atan2(v.y(), v.x()) * (180.0 / kPi) : std::numeric_limits<double>::quiet_NaN();
+  const EpisodeTrack& k = c.track;
+  w.maxSpeed = k.maxSpeed;
+  w.dr = k.dr;
+  w.maxDecel = k.maxD;
+  w.startX = k.start.x();
+  w.startY = k.start.y();
+  w.endX = k.last.x();
+  w.endY = k.last.y();
+}
+
 // the angle between two unit vectors (deg, 0..180), accurate near 0 and 180 as acos is not
 double angleDeg(const Vec2& a, const Vec2& b) {
   constexpr double kPi = 3.14159265358979323846;
@@ -29,6 +52,7 @@ void describeConflict(const ConflictCapture& c, WarningKind kind, double egoMass
     w.headingAngle = angleDeg(a.axis, b.axis);
     w.maxDeltaV = maxDeltaV(egoMass, a.velocity, foeMass, b.velocity);
     w.lateralSpeed = kNaN;
+    describeSsam(c, egoMass, foeMass, w);
     if (!onCollisionCourse(detector, a, b, safeTime)) {
       // only the zones meet: no angle class, and no deceleration avoids a crash not coming
       w.type = ConflictType::Proximity;
@@ -36,6 +60,19 @@ void describeConflict(const ConflictCapture& c, WarningKind kind, double egoMass
       return;
     }
     w.type = conflictType(w.headingAngle, config);
+    // PET, of crossing and merging paths, once both have passed (else hindsight watches on)
+    if (w.type == ConflictType::LaneChange || w.type == ConflictType::Crossing) w.pet = c.pet.pet();
+    // the predicted contact: the rectangles moved on in straight lines until they touch (the box
+    // detector's TTC is theirs; the circles' zones reach beyond the bodies)
+    const double tc = detector.kind == DetectorKind::Box ? ttc : boxTtc(a, b, detector.motion, safeTime);
+    if (std::isfinite(tc)) {
+      Body at = a, bt = b;
+      at.position += tc * a.velocity;
+      bt.position += tc * b.velocity;
+      const Vec2 p = contactPoint(at.box(), bt.box(), tol::kContactPointTie);
+      w.conflictX = p.x();
+      w.conflictY = p.y();
+    }
     // the rate the centre distance shrinks, as the safe time has it
     const Vec2 p = b.position - a.position, v = b.velocity - a.velocity;
     const double dist = p.norm();

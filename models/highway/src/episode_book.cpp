@@ -1,6 +1,8 @@
 #include "episode_book.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace st::highway::detail {
 
@@ -63,14 +65,35 @@ int EpisodeBook::newCapture(int e, const Threat& th) {
     freeCaptures_.pop_back();
   }
   capture(*cars_, paths_->reportedLane(e), e, th, captures_[c]);
+  beginTrack(*cars_, e, th.kind == WarningKind::Vehicle ? th.foe : -1, captures_[c].track);
+  startPetAt(captures_[c], th.kind);
   return c;
+}
+
+void EpisodeBook::startPetAt(ConflictCapture& c, WarningKind kind) const {
+  if (kind == WarningKind::Vehicle) startPet(c.ego, c.foe, tNow_, cfg_->conflict.rearEndBelowDeg, c.pet);
+}
+
+void EpisodeBook::advance(int e, const Episode& ep, double t) {
+  ConflictCapture& c = captures_[ep.capture];
+  const bool vehicle = ep.kind == WarningKind::Vehicle;
+  advanceTrack(*cars_, e, vehicle ? ep.foe : -1, c.track);
+  if (vehicle) {
+    const bool foeHere = cars_->inputOf[ep.foe] >= 0;
+    observePet(cars_->centre[e], foeHere ? cars_->centre[ep.foe] : Vec2::Constant(std::numeric_limits<double>::quiet_NaN()), t,
+               c.pet);
+  }
 }
 
 void EpisodeBook::emit(int e, const Episode& ep) {
   Warning w = warningOf(e, ep, false);
   ++counters_->warningsByType[static_cast<int>(w.type)];
+  // a crossing or merging conflict whose PET is still to come: hindsight watches on
+  const PetWatch& pet = captures_[ep.capture].pet;
+  const bool petPending = pet.active && std::isnan(w.pet) &&
+                          (w.type == ConflictType::LaneChange || w.type == ConflictType::Crossing);
   freeCaptures_.push_back(ep.capture);
-  if (ep.window >= 0) hindsight_->finished(std::move(w), ep.window);
+  if (ep.window >= 0) hindsight_->finished(std::move(w), ep.window, petPending ? &pet : nullptr);
   else finished_.push_back(std::move(w));
 }
 
@@ -85,6 +108,7 @@ void EpisodeBook::close(int s, double endTime) {
 }
 
 void EpisodeBook::merge(int e, double t, std::vector<Threat>& threats) {
+  tNow_ = t;
   Episode* open = pool_.data() + openBegin_[e];
   const int nOpen = openCount_[e];
   openBegin_[e] = static_cast<int>(poolNext_.size());
@@ -110,6 +134,8 @@ void EpisodeBook::merge(int e, double t, std::vector<Threat>& threats) {
     if (j == nThreats || (i < nOpen && open[i].key < threats[j].key)) {
       Episode& ep = open[i++];
       ep.end = t;
+      // the ego is here at its end: the track's last tick (the foe counted if still here)
+      advance(e, ep, t);
       emit(e, ep);
       continue;
     }
@@ -119,11 +145,13 @@ void EpisodeBook::merge(int e, double t, std::vector<Threat>& threats) {
       // loads on the stores just made)
       Episode& ep = poolNext_.emplace_back(open[i++]);
       ep.end = t;
+      advance(e, ep, t);
       if (th.ttc < ep.minTtc) {
         ep.minTtc = th.ttc;
         ep.minTtcTime = t;
         ep.safeTimeAtMin = th.safe;
         capture(*cars_, paths_->reportedLane(e), e, th, captures_[ep.capture]);
+        startPetAt(captures_[ep.capture], th.kind);
       }
       continue;
     }

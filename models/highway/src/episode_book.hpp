@@ -61,6 +61,10 @@ class EpisodeBook {
   // an ended episode to hindsight, or straight to the finished warnings; its capture freed
   void emit(int e, const Episode& ep);
   int newCapture(int e, const Threat& th);
+  // a new minimum TTC of a vehicle episode: its PET watch starts over there
+  void startPetAt(ConflictCapture& c, WarningKind kind) const;
+  // a later tick of episode ep (its ego e here at t): the track and the PET watch
+  void advance(int e, const Episode& ep, double t);
   void ensure(std::size_t n);
 
   const VehicleTable* cars_;
@@ -79,6 +83,7 @@ class EpisodeBook {
   std::vector<int> freeCaptures_;
   std::vector<Warning> finished_;
   std::vector<Alert> alerts_;
+  double tNow_ = 0.0;  // the tick being merged
 };
 
 }  // namespace st::highway::detail

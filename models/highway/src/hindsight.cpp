@@ -41,8 +41,14 @@ int Hindsight::open(int e, int foe, WarningKind kind, double t, double safe) {
   return id;
 }
 
-void Hindsight::finished(Warning&& w, int window) {
-  const Window& win = windows_[window];
+void Hindsight::finished(Warning&& w, int window, const PetWatch* pet) {
+  Window& win = windows_[window];
+  if (pet) {
+    win.pet = *pet;
+    win.petLive = true;
+    win.petUntil = w.end + kPetHorizon;
+    livePets_.push_back(window);
+  }
   if (win.kind == WarningKind::Vehicle) {
     auto it = pairEpisodes_.find(pairKey(win.egoSerial, win.foeSerial));
     if (it != pairEpisodes_.end())
@@ -180,7 +186,24 @@ void Hindsight::measure(Window& w, double t) {
   }
 }
 
+// The PETs still to come: both vehicles' positions on their paths, until both are known, the
+// horizon passes or a vehicle leaves.
+void Hindsight::watchPets(double t) {
+  for (std::size_t i = 0; i < livePets_.size();) {
+    Window& w = windows_[livePets_[i]];
+    if (t <= w.petUntil && alive(w)) observePet(cars_->centre[w.ego], cars_->centre[w.foe], t, w.pet);
+    if (t > w.petUntil || !alive(w) || !std::isnan(w.pet.pet())) {
+      w.petLive = false;
+      livePets_[i] = livePets_.back();
+      livePets_.pop_back();
+      continue;
+    }
+    ++i;
+  }
+}
+
 void Hindsight::judge(Warning& w, const Window& win) {
+  if (win.pet.active && std::isnan(w.pet)) w.pet = win.pet.pet();
   const HindsightConfig& h = cfg_->hindsight;
   bool confirmed = false;
   if (win.kind == WarningKind::Vehicle) {
@@ -215,6 +238,7 @@ void Hindsight::observe(double t) {
     measure(w, t);
     ++i;
   }
+  watchPets(t);
   findNearMisses(t);
   findCrossings(t);
   if (t - lastPrune_ > 10.0) {
@@ -329,7 +353,7 @@ void Hindsight::release(std::vector<Warning>& out) {
     const std::uint64_t tick = pending_.front().tick;
     std::size_t n = 0;
     for (; n < pending_.size() && pending_[n].tick == tick; ++n)
-      if (!windows_[pending_[n].window].closed) return;
+      if (!windows_[pending_[n].window].closed || windows_[pending_[n].window].petLive) return;
     for (std::size_t i = 0; i < n; ++i) {
       Pending& p = pending_.front();
       judge(p.warning, windows_[p.window]);
@@ -344,6 +368,8 @@ void Hindsight::finishAll(std::vector<Warning>& out) {
   while (!liveVehicles_.empty()) closeVehicle(liveVehicles_.size() - 1);
   for (int id : live_) windows_[id].closed = true;
   live_.clear();
+  for (int id : livePets_) windows_[id].petLive = false;
+  livePets_.clear();
   release(out);
 }
 

@@ -27,6 +27,7 @@
 #include <stcore/box2.hpp>
 #include <sthighway/monitor.hpp>
 
+#include "conflict_capture.hpp"
 #include "lane_prediction.hpp"
 #include "road_search.hpp"
 #include "vehicle_table.hpp"
@@ -45,8 +46,10 @@ class Hindsight {
   // A new episode of ego slot e against foe (slot or feature group) at time t: its window opens.
   // Returns the window's id (for finished()).
   int open(int e, int foe, WarningKind kind, double t, double safe);
-  // An episode ended: its warning waits for its window's verdict.
-  void finished(Warning&& w, int window);
+  // An episode ended: its warning waits for its window's verdict, and for its PET if `pet` (a
+  // crossing or merging conflict whose vehicles have not both passed the conflict area yet: watched
+  // on for up to kPetHorizon s, from where the episode left it).
+  void finished(Warning&& w, int window, const PetWatch* pet = nullptr);
   // After a tick's detection: the windows measure this tick's states, near misses are found.
   void observe(double t);
   // Warnings whose windows have closed, in the order they finished, appended to out.
@@ -67,6 +70,9 @@ class Hindsight {
     double begin = 0.0, end = 0.0;  // s, measured while t <= end
     double clearance = 0.0, clearanceTime = 0.0, deceleration = 0.0;
     bool measured = false, crossed = false, signalled = false, closed = false;
+    bool petLive = false;  // its PET still watched (livePets_)
+    double petUntil = 0.0;
+    PetWatch pet;
   };
   struct Pending {
     Warning warning;
@@ -105,6 +111,7 @@ class Hindsight {
   void measureVehicles(double t);
   void closeVehicle(std::size_t i);
   void measure(Window& w, double t);
+  void watchPets(double t);
   void judge(Warning& w, const Window& win);
   void findNearMisses(double t);
   void findCrossings(double t);
@@ -131,6 +138,7 @@ class Hindsight {
   std::vector<Window> windows_;
   std::vector<int> freeWindows_;
   std::vector<int> live_;  // road windows still measuring
+  std::vector<int> livePets_;  // windows whose PET is still watched
   std::vector<LiveVehicle> liveVehicles_;  // vehicle windows still measuring
   std::vector<std::uint64_t> serialOf_;    // per slot: the serial of the car that holds it
   std::vector<Track> tracks_;

@@ -60,6 +60,8 @@ std::string eventRecallJson(std::uint64_t events, std::uint64_t warned, const st
 std::string warningsCsvHeader() {
   return "ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open,"
          "verdict,clearance,clearance_time,deceleration,crossed,signalled,"
+         "conflict_x,conflict_y,foe_x,foe_y,max_s,delta_s,dr,max_d,conflict_angle,clock_angle,"
+         "start_x,start_y,end_x,end_y,post_crash_speed,post_crash_heading,pet,"
          "x,y,lane,ego_speed,foe_speed,heading_angle,type,drac,max_delta_v,line,lateral_speed";
 }
 
@@ -75,6 +77,10 @@ std::string warningCsvRow(const Warning& w) {
   os << ',' << toString(w.verdict) << ',' << (judged && vehicle ? field(w.clearance) : "") << ','
      << (judged ? field(w.clearanceTime) : "") << ',' << (judged && vehicle ? num(w.deceleration) : "") << ','
      << (judged && !vehicle ? (w.crossed ? "1" : "0") : "") << ',' << (judged && !vehicle ? (w.signalled ? "1" : "0") : "");
+  // SSAM's measures (vehicle warnings)
+  for (double x : {w.conflictX, w.conflictY, w.foeX, w.foeY, w.maxSpeed, w.deltaSpeed, w.dr, w.maxDecel, w.conflictAngle,
+                   w.clockAngle, w.startX, w.startY, w.endX, w.endY, w.postCrashSpeed, w.postCrashHeading, w.pet})
+    os << ',' << conflictField(x);
   os << ',' << conflictField(w.x) << ',' << conflictField(w.y) << ',' << csvField(w.lane) << ',' << conflictField(w.egoSpeed) << ','
      << conflictField(w.foeSpeed) << ',' << conflictField(w.headingAngle) << ',' << toString(w.type) << ',' << conflictField(w.drac) << ','
      << conflictField(w.maxDeltaV) << ',' << csvField(w.line) << ',' << conflictField(w.lateralSpeed);

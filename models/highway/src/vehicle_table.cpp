@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <sthighway/tolerances.hpp>
@@ -50,6 +51,7 @@ void VehicleTable::ensure(std::size_t n) {
   lane.resize(n, -1);
   route.resize(n);
   braking.resize(n);
+  accel.resize(n);
 }
 
 int VehicleTable::newSlot(const VehicleState& v) {
@@ -160,6 +162,8 @@ void VehicleTable::take(int s, const VehicleState& v, double t) {
   route[s] = v.route;
   if (sl.present) counters->vehicleMeters += (v.position - sl.prev).norm();
   braking[s] = sl.present && t > sl.prevTime ? std::max(0.0, (sl.prevSpeed - v.speed) / (t - sl.prevTime)) : 0.0;
+  accel[s] = sl.present && t > sl.prevTime ? (v.speed - sl.prevSpeed) / (t - sl.prevTime)
+                                           : std::numeric_limits<double>::quiet_NaN();
   sl.prev = v.position;
   sl.prevSpeed = v.speed;
   sl.prevTime = t;

@@ -5,6 +5,7 @@
 // (SSAM's MaxDeltaV). Plain numbers, SI units; degrees only where SSAM states its thresholds.
 #include <cstdint>
 
+#include <stcore/shapes.hpp>
 #include <stcore/vec.hpp>
 
 namespace st::highway {
@@ -49,5 +50,22 @@ double decelerationToAvoid(double closingSpeed, double ttc);
 double maxDeltaV(double massA, const Vec2& va, double massB, const Vec2& vb);
 // The change of velocity of vehicle A alone in that impact (m/s).
 double deltaV(double massA, const Vec2& va, double massB, const Vec2& vb);
+// The common velocity after that impact (SSAM's PostCrashV and PostCrashHeading): momentum
+// conserved, (m_a v_a + m_b v_b) / (m_a + m_b) (m/s).
+Vec2 postCrashVelocity(double massA, const Vec2& va, double massB, const Vec2& vb);
+
+// SSAM's conflict angle (deg, in (-180, 180]): the foe's heading relative to the ego's,
+// counter-clockwise positive, so positive when the foe comes from the ego's right (heads to its
+// left), negative from its left; 0 the same heading (rear-end), 180 head-on. Unit headings.
+double conflictAngleDeg(const Vec2& egoAxis, const Vec2& foeAxis);
+// That angle as a clock position on the ego (SSAM's clock angle): the nearest hour 1..12, 12 the
+// same heading, 3 from the right, 6 head-on, 9 from the left.
+int clockPosition(double conflictAngleDeg);
+
+// The contact point of two touching (or overlapping) boxes: the midpoint of their closest points,
+// found from the corners (two convex polygons' closest pair has a corner of one of them), averaged
+// over the corners within `tie` of the closest (m) so that an edge against an edge gives the
+// middle of their common segment. For boxes apart: the midpoint of the closest pair.
+Vec2 contactPoint(const Box2& a, const Box2& b, double tie);
 
 }  // namespace st::highway

@@ -81,7 +81,37 @@ struct Warning {
   double maxDeltaV = 0.0;      // m/s, SSAM's MaxDeltaV; NaN for road warnings
   std::string line;            // road warnings: the curb, marker or hazard (RoadFeature::name)
   double lateralSpeed = 0.0;   // m/s, road warnings: the ego's speed towards the line; NaN for vehicles
+  // SSAM's and SUMO's SSM measures of a vehicle warning (NaN for road warnings; conflict.hpp). At
+  // the tick of the minimum TTC: the predicted contact point (the two bodies moved on in straight
+  // lines at their velocities until their rectangles touch; NaN when not on a collision course),
+  // the foe's centre, DeltaS (|v_ego - v_foe|), the conflict angle and its clock position, and the
+  // perfectly inelastic crash's common velocity (speed, and heading in degrees counter-clockwise
+  // from +x). Over the episode: MaxS (the larger speed of either vehicle, begin to end), the ego's
+  // DR (its first negative acceleration after begin, else its lowest) and MaxD (its lowest
+  // acceleration; negative: braking), measured from its speed tick to tick; the ego's centre at
+  // begin and at end (at its last tick if it left).
+  static constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+  double conflictX = kNone, conflictY = kNone;  // m
+  double foeX = kNone, foeY = kNone;            // m
+  double maxSpeed = kNone;                      // m/s, MaxS
+  double deltaSpeed = kNone;                    // m/s, DeltaS
+  double dr = kNone;                            // m/s^2, DR
+  double maxDecel = kNone;                      // m/s^2, MaxD
+  double conflictAngle = kNone;                 // deg, (-180, 180]
+  double clockAngle = kNone;                    // h, 1..12
+  double startX = kNone, startY = kNone;        // m
+  double endX = kNone, endY = kNone;            // m
+  double postCrashSpeed = kNone;                // m/s
+  double postCrashHeading = kNone;              // deg, (-180, 180]
+  // PET (post-encroachment time, s) of a lane_change or crossing conflict: from the first vehicle
+  // leaving the conflict area to the second entering it, measured on the vehicles' later positions
+  // (conflict_capture.hpp, PetWatch); NaN when one of them did not pass it within
+  // kPetHorizon s of the end (or left), or with hindsight off when not by the end. Negative: both
+  // were in the area at once.
+  double pet = kNone;
 };
+// How long after an episode's end its PET is waited for (s; SUMO's device.ssm.extratime default).
+inline constexpr double kPetHorizon = 5.0;
 
 // An actual event hindsight counts for recall (hindsight.cpp): a near miss (two bodies, one of
 // them equipped, closer than the clearance while on a collision course; one per approach) or an

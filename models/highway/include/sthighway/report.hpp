@@ -18,7 +18,9 @@ namespace st::highway {
 using CsvRowWriter = io::CsvRowWriter;
 
 // warnings.csv. Columns: ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open, then hindsight's:
-// verdict,clearance,clearance_time,deceleration,crossed,signalled, then the conflict at the minimum TTC: x,y,lane,ego_speed,foe_speed,heading_angle,type,drac,max_delta_v,line,
+// verdict,clearance,clearance_time,deceleration,crossed,signalled, then SSAM's measures of a vehicle warning:
+// conflict_x,conflict_y,foe_x,foe_y,max_s,delta_s,dr,max_d,conflict_angle,clock_angle,start_x,start_y,end_x,end_y,
+// post_crash_speed,post_crash_heading,pet, then the conflict at the minimum TTC: x,y,lane,ego_speed,foe_speed,heading_angle,type,drac,max_delta_v,line,
 // lateral_speed (models/highway/README.md; empty where a column does not apply).
 class WarningsCsvWriter : public CsvRowWriter {
  public:

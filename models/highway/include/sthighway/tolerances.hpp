@@ -10,6 +10,12 @@ namespace st::highway::tol {
 // roundoff of positions ~1e4 m.
 inline constexpr double kContactSlop = 1e-7;
 
+// Corners within this of the closest pair count alike when the conflict point of two touching
+// rectangles is placed (conflict.hpp contactPoint, m): an edge flat against an edge gives the
+// middle of their common part. Far above the roundoff of a predicted touch (1e-9 m at 1e4 m), far
+// below a car's size; a heading difference under about 0.03 degrees counts as flat.
+inline constexpr double kContactPointTie = 1e-3;
+
 // Consecutive polyline points closer than this are merged before offsetting (m); SUMO shapes
 // carry duplicate points at joints and their zero-length segments have no normal.
 inline constexpr double kMinSegmentLength = 1e-6;

@@ -1,0 +1,318 @@
+// SSAM's measures of a warning (FHWA's Surrogate Safety Assessment Model) against analytic
+// encounters: the contact point of two rectangles on a known collision course, DeltaS, the
+// conflict and clock angle, the post-crash velocity by conservation of momentum, MaxS, DR and MaxD
+// from a speed profile given tick by tick, the start and end points.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <sthighway/conflict.hpp>
+#include <sthighway/monitor.hpp>
+#include <sthighway/report.hpp>
+
+#include "conflict_capture.hpp"
+
+namespace st::highway {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+VehicleState car(const std::string& id, Vec2 p, double headingDeg, double speed) {
+  VehicleState v;
+  v.id = id;
+  v.position = p;
+  v.heading = headingDeg * kPi / 180.0;
+  v.speed = speed;
+  return v;
+}
+
+MonitorConfig boxStraight() {
+  MonitorConfig cfg;
+  cfg.detector.kind = DetectorKind::Box;  // the rectangles' own TTC
+  cfg.prediction = Prediction::Straight;  // straight lines: the analytic motion
+  cfg.broadphase = Broadphase::AllPairs;
+  cfg.checkRoad = false;
+  return cfg;
+}
+
+RoadGeometry plainRoad() {
+  RoadGeometry r;
+  r.lanes.push_back({"e_0", "e", 0, {Vec2(-100.0, 0.0), Vec2(1000.0, 0.0)}, 3.2, false});
+  return r;
+}
+
+const Warning* find(const std::vector<Warning>& ws, const std::string& ego) {
+  for (const auto& w : ws)
+    if (w.ego == ego && w.kind == WarningKind::Vehicle) return &w;
+  return nullptr;
+}
+
+TEST(SsamKernels, ContactPointOfTwoRectangles) {
+  const Vec2 x(1.0, 0.0);
+  // flat rear-end, equal widths: the middle of the common edge
+  Vec2 p = contactPoint({Vec2(0.0, 0.0), x, Vec2(2.5, 0.9)}, {Vec2(5.0, 0.0), x, Vec2(2.5, 0.9)}, 1e-3);
+  EXPECT_NEAR(p.x(), 2.5, 1e-12);
+  EXPECT_NEAR(p.y(), 0.0, 1e-12);
+  // a car (1.8 m) into a truck (2.55 m), offset 0.3 m sideways: the middle of the car's front
+  p = contactPoint({Vec2(0.0, 0.3), x, Vec2(2.5, 0.9)}, {Vec2(8.5, 0.0), x, Vec2(6.0, 1.275)}, 1e-3);
+  EXPECT_NEAR(p.x(), 2.5, 1e-12);
+  EXPECT_NEAR(p.y(), 0.3, 1e-12);
+  // a corner into a side: the corner; rotated 45 degrees, the corner at (0, 0) meets the edge y = 0
+  const Vec2 d = Vec2(1.0, 1.0).normalized();
+  p = contactPoint({Vec2(0.0, -1.0), x, Vec2(2.0, 1.0)}, {Vec2(0.0, std::sqrt(2.0)), d, Vec2(1.0, 1.0)}, 1e-3);
+  EXPECT_NEAR(p.x(), 0.0, 1e-12);
+  EXPECT_NEAR(p.y(), 0.0, 1e-12);
+  // symmetric in its two boxes
+  const Box2 a{Vec2(0.3, 0.1), Vec2(0.8, 0.6), Vec2(2.5, 0.9)}, b{Vec2(4.0, 1.7), Vec2(0.0, 1.0), Vec2(2.0, 0.8)};
+  EXPECT_NEAR((contactPoint(a, b, 1e-3) - contactPoint(b, a, 1e-3)).norm(), 0.0, 1e-12);
+}
+
+TEST(SsamKernels, ConflictAngleAndClock) {
+  const Vec2 east(1.0, 0.0), north(0.0, 1.0), west(-1.0, 0.0), south(0.0, -1.0);
+  EXPECT_NEAR(conflictAngleDeg(east, east), 0.0, 1e-12);
+  EXPECT_NEAR(conflictAngleDeg(east, north), 90.0, 1e-12);   // the foe heads to the ego's left: from its right
+  EXPECT_NEAR(conflictAngleDeg(east, south), -90.0, 1e-12);  // from its left
+  EXPECT_NEAR(conflictAngleDeg(east, west), 180.0, 1e-12);   // head-on, never -180
+  EXPECT_NEAR(conflictAngleDeg(north, east), -90.0, 1e-12);
+  EXPECT_EQ(clockPosition(0.0), 12);
+  EXPECT_EQ(clockPosition(14.9), 12);
+  EXPECT_EQ(clockPosition(-14.9), 12);
+  EXPECT_EQ(clockPosition(15.1), 1);
+  EXPECT_EQ(clockPosition(90.0), 3);
+  EXPECT_EQ(clockPosition(180.0), 6);
+  EXPECT_EQ(clockPosition(-90.0), 9);
+  EXPECT_EQ(clockPosition(-30.0), 11);
+}
+
+TEST(SsamKernels, PostCrashVelocityConservesMomentum) {
+  const Vec2 va(30.0, 0.0), vb(0.0, -12.0);
+  const Vec2 v = postCrashVelocity(1500.0, va, 15000.0, vb);
+  EXPECT_NEAR((16500.0 * v - (1500.0 * va + 15000.0 * vb)).norm(), 0.0, 1e-9);
+  // each vehicle's change of velocity is its deltaV (SSAM's MaxDeltaV the larger)
+  EXPECT_NEAR((v - va).norm(), deltaV(1500.0, va, 15000.0, vb), 1e-12);
+  EXPECT_NEAR((v - vb).norm(), deltaV(15000.0, vb, 1500.0, va), 1e-12);
+}
+
+// Two cars at right angles, each 10 m/s: "east" (5 x 1.8 m, 1500 kg) with its front 5 m short of
+// the other's left side, "north" (3000 kg) whose rear reaches east's path as east arrives. They
+// touch at t = 0.5 s along x = -0.9 over y in [0, 0.9]: the conflict point is its middle.
+TEST(SsamMeasures, RightAngleCollisionCourseByHand) {
+  VehicleState a = car("east", Vec2(-8.4, 0.0), 0.0, 10.0);
+  VehicleState b = car("north", Vec2(0.0, -2.5), 90.0, 10.0);
+  a.mass = 1500.0;
+  b.mass = 3000.0;
+  HighwayMonitor m(plainRoad(), boxStraight());
+  m.step(0.0, std::vector<VehicleState>{a, b});
+  m.finish(0.1);
+  const auto ws = m.takeFinished();
+  const Vec2 va(10.0, 0.0), vb(0.0, 10.0);
+  const Vec2 vc = (1500.0 * va + 3000.0 * vb) / 4500.0;  // momentum conserved
+  for (const char* ego : {"east", "north"}) {
+    const Warning* w = find(ws, ego);
+    ASSERT_NE(w, nullptr) << ego;
+    const bool east = std::string(ego) == "east";
+    EXPECT_NEAR(w->minTtc, 0.5, 1e-9) << ego;
+    EXPECT_EQ(w->type, ConflictType::Crossing) << ego;
+    EXPECT_NEAR(w->conflictX, -0.9, 1e-9) << ego;
+    EXPECT_NEAR(w->conflictY, 0.45, 1e-9) << ego;
+    // both vehicles at the tick of the minimum TTC
+    EXPECT_NEAR(w->x, east ? -8.4 : 0.0, 1e-12);
+    EXPECT_NEAR(w->foeX, east ? 0.0 : -8.4, 1e-12);
+    EXPECT_NEAR(w->foeY, east ? -2.5 : 0.0, 1e-12);
+    EXPECT_NEAR(w->deltaSpeed, 10.0 * std::sqrt(2.0), 1e-9);
+    EXPECT_NEAR(w->conflictAngle, east ? 90.0 : -90.0, 1e-9);  // north comes from east's right
+    EXPECT_EQ(w->clockAngle, east ? 3.0 : 9.0);
+    EXPECT_NEAR(w->postCrashSpeed, vc.norm(), 1e-9);
+    EXPECT_NEAR(w->postCrashHeading, std::atan2(vc.y(), vc.x()) * 180.0 / kPi, 1e-9);
+    EXPECT_NEAR(w->maxSpeed, 10.0, 1e-12);
+    // one tick: no acceleration seen after begin
+    EXPECT_TRUE(std::isnan(w->dr));
+    EXPECT_TRUE(std::isnan(w->maxDecel));
+    EXPECT_NEAR(w->startX, east ? -8.4 : 0.0, 1e-12);
+    EXPECT_NEAR(w->endX, w->startX, 1e-12);
+  }
+}
+
+// A rear-end: the conflict point is where the follower's front meets the truck's rear.
+TEST(SsamMeasures, RearEndConflictPointIsTheLeadersRearThen) {
+  // follower at 30 m/s, a 12 m truck at 20 m/s, 15 m bumper to bumper: contact after 1.5 s at the
+  // truck's rear, 23.5 + 20 * 1.5 - 6 = 47.5
+  VehicleState f = car("follower", Vec2(0.0, 0.0), 0.0, 30.0);
+  VehicleState l = car("truck", Vec2(23.5, 0.0), 0.0, 20.0);
+  l.length = 12.0;
+  l.width = 2.55;
+  l.mass = 15000.0;
+  l.equipped = false;
+  HighwayMonitor m(plainRoad(), boxStraight());
+  m.step(0.0, std::vector<VehicleState>{f, l});
+  m.finish(0.1);
+  const Warning* w = find(m.takeFinished(), "follower");
+  ASSERT_NE(w, nullptr);
+  EXPECT_NEAR(w->minTtc, 1.5, 1e-9);
+  EXPECT_NEAR(w->conflictX, 47.5, 1e-9);
+  EXPECT_NEAR(w->conflictY, 0.0, 1e-9);
+  EXPECT_NEAR(w->deltaSpeed, 10.0, 1e-12);
+  EXPECT_EQ(w->clockAngle, 12.0);
+  EXPECT_NEAR(w->postCrashSpeed, (1500.0 * 30.0 + 15000.0 * 20.0) / 16500.0, 1e-9);
+  EXPECT_NEAR(w->postCrashHeading, 0.0, 1e-12);
+}
+
+// MaxS, DR and MaxD from a speed profile given tick by tick (0.1 s): the follower speeds up, then
+// brakes at 5, 7 and 2 m/s^2, closing on a leader at 20 m/s throughout the episode.
+TEST(SsamMeasures, MaxSDrAndMaxDFromTheSpeedProfile) {
+  struct Profile {
+    std::vector<double> speeds;
+    double maxS, dr, maxD;
+  };
+  const Profile cases[] = {
+      // SSAM's DR: the first negative acceleration after begin (-5), MaxD the lowest (-7)
+      {{30.0, 30.2, 29.7, 29.0, 28.8}, 30.2, -5.0, -7.0},
+      // no braking: DR is the lowest acceleration, MaxD positive
+      {{30.0, 30.5, 30.7, 30.8}, 30.8, 1.0, 1.0}};
+  for (const Profile& pr : cases) {
+    HighwayMonitor m(plainRoad(), boxStraight());
+    double xf = 0.0, t = 0.0;
+    std::vector<Vec2> centres;
+    for (std::size_t k = 0; k < pr.speeds.size(); ++k) {
+      t = 0.1 * static_cast<double>(k);
+      if (k > 0) xf += 0.1 * pr.speeds[k];
+      VehicleState f = car("follower", Vec2(xf, 0.0), 0.0, pr.speeds[k]);
+      VehicleState l = car("leader", Vec2(13.0 + 20.0 * t, 0.0), 0.0, 20.0);  // 8 m ahead at first
+      l.equipped = false;
+      centres.push_back(f.position);
+      m.step(t, std::vector<VehicleState>{f, l});
+    }
+    m.finish(t + 0.1);
+    const auto ws = m.takeFinished();
+    ASSERT_EQ(ws.size(), 1u);
+    const Warning& w = ws.front();
+    EXPECT_NEAR(w.begin, 0.0, 1e-12);
+    EXPECT_NEAR(w.maxSpeed, pr.maxS, 1e-12);
+    EXPECT_NEAR(w.dr, pr.dr, 1e-9);
+    EXPECT_NEAR(w.maxDecel, pr.maxD, 1e-9);
+    EXPECT_NEAR(w.startX, centres.front().x(), 1e-12);
+    EXPECT_NEAR(w.endX, centres.back().x(), 1e-12);  // closed by finish: its last tick
+    EXPECT_NEAR(w.endY, 0.0, 1e-12);
+  }
+}
+
+// An episode that ends at a tick without the threat: its end point is the ego there.
+TEST(SsamMeasures, EndPointIsTheEgoAtTheFirstTickWithout) {
+  HighwayMonitor m(plainRoad(), boxStraight());
+  VehicleState f = car("follower", Vec2(0.0, 0.0), 0.0, 30.0);
+  VehicleState l = car("leader", Vec2(13.0, 0.0), 0.0, 20.0);
+  l.equipped = false;
+  m.step(0.0, std::vector<VehicleState>{f, l});
+  // the follower slowed to the leader's speed: no collision course
+  f.position = Vec2(2.5, 0.0);
+  f.speed = 20.0;
+  l.position = Vec2(15.0, 0.0);
+  m.step(0.1, std::vector<VehicleState>{f, l});
+  m.finish(0.2);
+  const Warning* w = find(m.takeFinished(), "follower");
+  ASSERT_NE(w, nullptr);
+  EXPECT_NEAR(w->end, 0.1, 1e-12);
+  EXPECT_NEAR(w->startX, 0.0, 1e-12);
+  EXPECT_NEAR(w->endX, 2.5, 1e-12);
+  EXPECT_NEAR(w->dr, -100.0, 1e-9);  // 30 -> 20 m/s in 0.1 s
+  EXPECT_NEAR(w->maxSpeed, 30.0, 1e-12);
+}
+
+// Road warnings leave SSAM's columns empty.
+TEST(SsamMeasures, RoadWarningsLeaveTheColumnsEmpty) {
+  MonitorConfig cfg = boxStraight();
+  cfg.checkRoad = true;
+  cfg.prediction = Prediction::Road;
+  VehicleState d = car("drifter", Vec2(0.0, 0.0), 0.0, 25.0);
+  d.lateralSpeed = -2.0;
+  HighwayMonitor m(plainRoad(), cfg);
+  m.step(0.0, std::vector<VehicleState>{d});
+  m.finish(0.1);
+  const auto ws = m.takeFinished();
+  ASSERT_FALSE(ws.empty());
+  const std::string row = warningCsvRow(ws.front());
+  EXPECT_NE(row.find(std::string(",") + std::string(17, ',')), std::string::npos) << row;  // 17 empty cells in a row
+  const std::string h = warningsCsvHeader();
+  EXPECT_NE(h.find(",signalled,conflict_x,conflict_y,foe_x,foe_y,max_s,delta_s,dr,max_d,conflict_angle,clock_angle,"
+                   "start_x,start_y,end_x,end_y,post_crash_speed,post_crash_heading,pet,x,y,"),
+            std::string::npos)
+      << h;
+}
+
+
+// The PET watch's conflict area against the rectangles themselves: at 60 degrees, the ego's body
+// touches the other's swept strip exactly while its centre is within r of the crossing.
+TEST(SsamKernels, PetAreaIsWhereTheBodyMeetsTheOthersStrip) {
+  for (double deg : {40.0, 60.0, 90.0, 135.0}) {
+    const double th = deg * kPi / 180.0;
+    Body a, b;
+    a.position = Vec2(-30.0, 0.0);
+    a.axis = Vec2(1.0, 0.0);
+    a.length = 5.0;
+    a.width = 1.8;
+    b.axis = Vec2(std::cos(th), std::sin(th));
+    b.position = -20.0 * b.axis;
+    b.length = 12.0;
+    b.width = 2.55;
+    detail::PetWatch w;
+    detail::startPet(a, b, 0.0, 30.0, w);
+    ASSERT_TRUE(w.active) << deg;
+    EXPECT_NEAR(w.x.norm(), 0.0, 1e-9) << deg;
+    // b's strip: a long rectangle of its width along its line through the crossing
+    const Box2 strip{Vec2::Zero(), b.axis, Vec2(1e3, 0.5 * b.width)};
+    for (double sgn : {-1.0, 1.0}) {
+      const Box2 in{sgn * (w.r[0] - 1e-6) * a.axis, a.axis, Vec2(0.5 * a.length, 0.5 * a.width)};
+      const Box2 out{sgn * (w.r[0] + 1e-6) * a.axis, a.axis, Vec2(0.5 * a.length, 0.5 * a.width)};
+      EXPECT_TRUE(overlaps(in, strip)) << deg;
+      EXPECT_FALSE(overlaps(out, strip)) << deg;
+    }
+  }
+  // nearly parallel paths (a rear-end by SSAM's angle) have no crossing to time
+  Body a, b;
+  b.axis = Vec2(std::cos(0.2), std::sin(0.2));
+  detail::PetWatch w;
+  detail::startPet(a, b, 0.0, 30.0, w);
+  EXPECT_FALSE(w.active);
+}
+
+// Two cars at right angles on a collision course until t = 0.3 s, when "east" speeds up to 20 m/s
+// and "north" slows to 5 m/s: east leaves the crossing square (its half length 2.5 m plus north's
+// half width 0.9 m past the crossing) at 0.3 + 15.4 / 20 = 1.07 s, north enters it (3.4 m before)
+// at 0.3 + 8.6 / 5 = 2.02 s: PET 0.95 s, for the episode of either.
+TEST(SsamMeasures, PetOfAnAnalyticCrossing) {
+  auto xEast = [](double t) { return t <= 0.3 ? -15.0 + 10.0 * t : -12.0 + 20.0 * (t - 0.3); };
+  auto yNorth = [](double t) { return t <= 0.3 ? -15.0 + 10.0 * t : -12.0 + 5.0 * (t - 0.3); };
+  HighwayMonitor m(plainRoad(), boxStraight());
+  std::vector<Warning> ws;
+  double t = 0.0;
+  for (int k = 0; k <= 30; ++k) {
+    t = 0.1 * k;
+    const bool late = t > 0.3 + 1e-9;
+    VehicleState a = car("east", Vec2(xEast(t), 0.0), 0.0, late ? 20.0 : 10.0);
+    VehicleState b = car("north", Vec2(0.0, yNorth(t)), 90.0, late ? 5.0 : 10.0);
+    m.step(t, std::vector<VehicleState>{a, b});
+    for (auto& w : m.takeFinished()) ws.push_back(w);
+  }
+  m.finish(t + 0.1);
+  for (auto& w : m.takeFinished()) ws.push_back(w);
+  for (const char* ego : {"east", "north"}) {
+    const Warning* w = find(ws, ego);
+    ASSERT_NE(w, nullptr) << ego;
+    EXPECT_EQ(w->type, ConflictType::Crossing) << ego;
+    EXPECT_NEAR(w->end, 0.4, 1e-9) << ego;  // no collision course once the speeds changed
+    EXPECT_NEAR(w->pet, 2.02 - 1.07, 1e-9) << ego;
+  }
+  // a rear-end has none
+  VehicleState f = car("follower", Vec2(0.0, 0.0), 0.0, 30.0), l = car("leader", Vec2(13.0, 0.0), 0.0, 20.0);
+  HighwayMonitor r(plainRoad(), boxStraight());
+  r.step(0.0, std::vector<VehicleState>{f, l});
+  r.finish(0.1);
+  const Warning* re = find(r.takeFinished(), "follower");
+  ASSERT_NE(re, nullptr);
+  EXPECT_TRUE(std::isnan(re->pet));
+}
+
+}  // namespace
+}  // namespace st::highway
