@@ -1,6 +1,9 @@
 #!/usr/bin/python3
 """A conflict map: the network's lanes and every warning at its position, coloured by conflict type,
-sized by severity (vehicle warnings: MaxDeltaV; road warnings: the lateral speed towards the line).
+sized by severity (vehicle warnings: MaxDeltaV; road warnings: the lateral speed towards the line),
+a ring where hindsight called the warning a nuisance. A long thin network (a motorway) is cut
+into segments along its length, one panel each, the lateral scale stretched (said in the title)
+so that its lanes show apart.
 
 Uses Debian's python3-matplotlib. Called by `stsim highway` and `stsim batch`; by hand:
     /usr/bin/python3 models/highway/conflict_map.py --out PREFIX [--net NET.net.xml] [--title T] \
@@ -72,8 +75,49 @@ def read_warnings(paths):
                     continue
                 t = w.get("type") or "road"
                 sev = num(w.get("max_delta_v")) if t != "road" else num(w.get("lateral_speed"))
-                out.append((x, y, t, max(0.0, sev or 0.0)))
+                out.append((x, y, t, max(0.0, sev or 0.0), w.get("verdict") == "nuisance"))
     return out
+
+
+# a network longer than this many times its width is cut into segments
+SEGMENT_ASPECT = 6.0
+SEGMENT_LENGTH = 800.0  # m, about; at most MAX_SEGMENTS
+MAX_SEGMENTS = 6
+PANEL_RATIO = 0.14  # a segment's panel: height over width, before the lateral stretch is capped
+
+
+def layout(lanes, warnings):
+    """The panels: [(long range, cross range)] along the network's long axis, the axis ('x' or
+    'y') and the lateral stretch (1: equal scales, a single panel)."""
+    xs = [p[0] for pts, _ in lanes for p in pts] + [w[0] for w in warnings]
+    ys = [p[1] for pts, _ in lanes for p in pts] + [w[1] for w in warnings]
+    if not xs:
+        return [((0.0, 1.0), (0.0, 1.0))], "x", 1.0, [math.inf]
+    span_x, span_y = max(xs) - min(xs), max(ys) - min(ys)
+    axis = "x" if span_x >= span_y else "y"
+    along, across = (xs, ys) if axis == "x" else (ys, xs)
+    lo, hi = min(along), max(along)
+    long_span, short_span = hi - lo, max(min(span_x, span_y), 1.0)
+    if long_span / short_span < SEGMENT_ASPECT:
+        pad = 0.03 * max(span_x, span_y, 1.0)
+        # one panel, never turned: x across, y up
+        return [((min(xs) - pad, max(xs) + pad), (min(ys) - pad, max(ys) + pad))], "x", 1.0, [math.inf]
+    k = int(min(MAX_SEGMENTS, max(2, math.ceil(long_span / SEGMENT_LENGTH))))
+    step = long_span / k
+    lane_pts = [(p[0], p[1]) if axis == "x" else (p[1], p[0]) for pts, _ in lanes for p in pts]
+    pts = [(w[0], w[1]) if axis == "x" else (w[1], w[0]) for w in warnings]
+    panels, cuts = [], []  # cuts: each panel's upper end along the axis; a warning is in the first it is below
+    for i in range(k):
+        a, b = lo + i * step, lo + (i + 1) * step
+        inside = [c for (l, c) in pts if a <= l <= b] or [c for (l, c) in lane_pts if a <= l <= b] or across
+        # the warnings' lateral extent, or the lanes' where there are none, with a lane or two beside
+        c0, c1 = min(inside) - 10.0, max(inside) + 10.0
+        pad = 0.01 * step
+        panels.append(((a - pad, b + pad), (c0, c1)))
+        cuts.append(b)
+    stretch = max(1.0, min(PANEL_RATIO * step / (c1 - c0) for _, (c0, c1) in panels))
+    return panels, axis, stretch, cuts
+
 
 
 def size_of(sev):
@@ -90,57 +134,98 @@ def main(argv):
 
     warnings = read_warnings(a.csv)
     lanes = read_lanes(a.net) if a.net else []
-    xs = [p[0] for pts, _ in lanes for p in pts] + [w[0] for w in warnings]
-    ys = [p[1] for pts, _ in lanes for p in pts] + [w[1] for w in warnings]
-    # the figure takes the network's shape (a motorway is a wide strip), the legend to its right
-    span_x = max(xs) - min(xs) if xs else 1.0
-    span_y = max(ys) - min(ys) if ys else 1.0
-    aspect = max(span_y, 1.0) / max(span_x, 1.0)
-    width = 7.0
-    fig, ax = plt.subplots(figsize=(width + 2.2, max(2.6, min(7.0, width * aspect + 1.0))))
-    if lanes:
-        normal = [pts for pts, internal in lanes if not internal]
-        inner = [pts for pts, internal in lanes if internal]
-        ax.add_collection(LineCollection(normal, colors="#b0b0b0", linewidths=1.2, zorder=1))
-        ax.add_collection(LineCollection(inner, colors="#d0d0d0", linewidths=0.6, zorder=1))
-    counts = {}
-    for key, label, colour in TYPES:
-        pts = [w for w in warnings if w[2] == key]
-        counts[key] = len(pts)
-        if not pts:
-            continue
-        # the most severe drawn last (on top)
-        pts.sort(key=lambda w: w[3])
-        # road and proximity warnings (often the most) underneath and fainter, so the conflicts show
-        faint = key in FAINT
-        sc = ax.scatter([w[0] for w in pts], [w[1] for w in pts], s=[size_of(w[3]) for w in pts],
-                        c=colour, alpha=0.3 if faint else 0.65, linewidths=0.3, edgecolors="black",
-                        zorder=2 if faint else 3)
-        sc.set_gid("warnings_" + key)
-    # the legend: types (with counts) and three sizes, from proxy handles (not counted as warnings)
+    panels, axis, stretch, cuts = layout(lanes, warnings)
+    flip = axis == "y"  # a north-south network: its length along the panels' horizontal axis
+    if len(panels) == 1:
+        # one panel at the network's own shape, the legend to its right
+        (l0, l1), (c0, c1) = panels[0]
+        fig, ax = plt.subplots(figsize=(9.2, max(2.6, min(7.0, 7.0 * (c1 - c0) / max(l1 - l0, 1.0) + 1.0))))
+        axes = [ax]
+    else:
+        # segments stacked, each exactly as tall as its stretched lateral range (placed by hand:
+        # an aspect-locked panel in a grid leaves gaps)
+        left, aw, top, gap, bottom = 0.7, 6.2, 0.6, 0.45, 0.5
+        hs = [aw * (c1 - c0) * stretch / (l1 - l0) for (l0, l1), (c0, c1) in panels]
+        fw, fh = 9.4, top + sum(hs) + gap * (len(hs) - 1) + bottom
+        fig = plt.figure(figsize=(fw, fh))
+        axes, y = [], fh - top
+        for h in hs:
+            y -= h
+            axes.append(fig.add_axes([left / fw, y / fh, aw / fw, h / fh]))
+            y -= gap
+
+    def xy(x, y):
+        return (y, x) if flip else (x, y)
+
+    def panel_of(along):
+        for j, cut in enumerate(cuts):
+            if along < cut:
+                return j
+        return len(cuts) - 1
+
+    counts = {key: sum(1 for w in warnings if w[2] == key) for key, _, _ in TYPES}
+    for i, (ax, ((l0, l1), (c0, c1))) in enumerate(zip(axes, panels)):
+        if lanes:
+            normal = [[xy(*p) for p in pts] for pts, internal in lanes if not internal]
+            inner = [[xy(*p) for p in pts] for pts, internal in lanes if internal]
+            ax.add_collection(LineCollection(normal, colors="#b0b0b0", linewidths=1.2, zorder=1))
+            ax.add_collection(LineCollection(inner, colors="#d0d0d0", linewidths=0.6, zorder=1))
+        last = i == len(panels) - 1
+        for key, label, colour in TYPES:
+            # each warning in one panel: the last takes its upper end
+            pts = [w for w in warnings if w[2] == key and panel_of(xy(w[0], w[1])[0]) == i]
+            if not pts:
+                continue
+            # the most severe drawn last (on top)
+            pts.sort(key=lambda w: w[3])
+            # road and proximity warnings (often the most) underneath and fainter, so the conflicts show
+            faint = key in FAINT
+            for nuisance in (False, True):
+                group = [w for w in pts if w[4] == nuisance]
+                if not group:
+                    continue
+                p = [xy(w[0], w[1]) for w in group]
+                sc = ax.scatter([q[0] for q in p], [q[1] for q in p], s=[size_of(w[3]) for w in group],
+                                facecolors="none" if nuisance else colour,
+                                edgecolors=colour if nuisance else "black",
+                                alpha=0.3 if faint else 0.65, linewidths=0.9 if nuisance else 0.3,
+                                zorder=2 if faint else 3)
+                sc.set_gid("warnings_%s%s_%d" % (key, "_nuisance" if nuisance else "", i + 1))
+        ax.set_xlim(l0, l1)
+        ax.set_ylim(c0, c1)
+        ax.set_aspect(stretch if len(panels) > 1 else "equal", adjustable="box" if len(panels) > 1 else "datalim")
+        ax.grid(alpha=0.2)
+        ax.tick_params(labelsize=7)
+        ax.set_ylabel("%s (m)" % ("x" if flip else "y"), fontsize=8)
+        if last:
+            ax.set_xlabel("%s (m)" % ("y" if flip else "x"), fontsize=8)
+    # the legend: types (with counts), hindsight's nuisances and three sizes, from proxy handles
+    # (not counted as warnings)
     handles = [Line2D([], [], linestyle="none", marker="o", markersize=7, markerfacecolor=colour,
                       markeredgecolor="black", markeredgewidth=0.3, alpha=0.8,
                       label="%s (%d)" % (label, counts[key])) for key, label, colour in TYPES if counts[key]]
+    nuisances = sum(1 for w in warnings if w[4])
+    if nuisances:
+        handles.append(Line2D([], [], linestyle="none", marker="o", markersize=7, markerfacecolor="none",
+                              markeredgecolor="#555555", markeredgewidth=0.9,
+                              label="ring: nuisance, hindsight (%d)" % nuisances))
     for sev in (2.0, 10.0, 20.0):
         handles.append(Line2D([], [], linestyle="none", marker="o", markersize=math.sqrt(size_of(sev)),
                               markerfacecolor="white", markeredgecolor="black", markeredgewidth=0.5,
                               label="%g m/s" % sev))
     if handles:
-        leg = ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, framealpha=0.85,
-                        title="type; size: ΔV\n(road: lateral speed)", title_fontsize=7)
+        leg = axes[0].legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7,
+                             framealpha=0.85, title="type; size: ΔV\n(road: lateral speed)", title_fontsize=7)
         leg.set_gid("legend")
-    if xs:
-        pad = 0.03 * max(max(xs) - min(xs), max(ys) - min(ys), 1.0)
-        ax.set_xlim(min(xs) - pad, max(xs) + pad)
-        ax.set_ylim(min(ys) - pad, max(ys) + pad)
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
     conflicts = sum(counts[k] for k in ("rear_end", "lane_change", "crossing"))
-    ax.set_title((a.title + ": " if a.title else "") + "%d warnings: %d conflicts, %d proximity, %d road"
-                 % (len(warnings), conflicts, counts["proximity"], counts["road"]), fontsize=9)
-    ax.grid(alpha=0.2)
-    fig.tight_layout()
+    title = (a.title + ": " if a.title else "") + "%d warnings: %d conflicts, %d proximity, %d road" % (
+        len(warnings), conflicts, counts["proximity"], counts["road"])
+    if len(panels) > 1:
+        title += "\nin %d segments along %s; lateral scale stretched %.0f×" % (len(panels), axis, stretch) \
+            if stretch > 1.0 else "\nin %d segments along %s" % (len(panels), axis)
+    axes[0].set_title(title, fontsize=9)
+    if len(panels) == 1:
+        fig.tight_layout()
     fig.savefig(a.out + ".png", dpi=100)
     fig.savefig(a.out + ".svg")
     plt.close(fig)
