@@ -58,6 +58,7 @@ Args makeArgs() {
       .option("traci", "HOST:PORT", "attach to a running SUMO through TraCI instead of embedding libsumo")
       .flag("gui", "run sumo-gui and draw the cells (SUMO runs)")
       .option("end", "SECONDS", "stop at this simulated time")
+      .option("threads", "1|2", "2: detection beside SUMO's next step (--action none); default 2 when it can, else 1")
       .option("scale", "FACTOR", "multiply the routes' demand (SUMO --scale; SUMO runs)")
       .option("seed", "N", "seed for the equipped-vehicle draw and SUMO (default: the scenario's seed: 42, a .sumocfg's own)")
       .flag("validate-ssm", "compare with SUMO's SSM device, writes validation.json (SUMO runs)")
@@ -68,7 +69,7 @@ Args makeArgs() {
 }
 
 int runTrace(const Args& a) {
-  for (const char* opt : {"traci", "gui", "validate-ssm", "scale"})
+  for (const char* opt : {"traci", "gui", "validate-ssm", "scale", "threads"})
     if (a.has(opt)) throw UsageError(std::string("--") + opt + " applies to SUMO runs (SCENARIO), not to --fcd");
   if (a.has("action")) throw UsageError("--action applies to SUMO runs (SCENARIO), not to --fcd");
   if (!a.has("net")) throw UsageError("--fcd needs --net NET.net.xml for the lane geometry");

@@ -79,6 +79,13 @@ int runHighwayCommand(const st::cli::Args& a) {
   setup.out = a.has("out") || !s.out ? fs::path(a.get("out")) : *s.out;
   setup.gui = a.has("gui");
   setup.map = !a.has("no-map");
+  if (a.has("threads")) {
+    const long n = a.getInt("threads");
+    if (n != 1 && n != 2)
+      throw st::cli::UsageError("--threads must be 1 (detection after each SUMO step) or 2 (beside it), got " +
+                                a.get("threads"));
+    setup.threads = static_cast<int>(n);
+  }
   if (a.has("traci")) setup.attach = parseTraci(a.get("traci"));
 
   // a peer closing the TraCI socket must give an error, not kill the run

@@ -7,6 +7,8 @@
 //                       every variable, and with those the five-circle run needs (VehicleReads)
 //   stsim <detector>    libsumo + plugin, for concentric, five, box (actions off: detection cost)
 //   stsim via libtraci  launched sumo + TraCI subscriptions + plugin (five)
+//   ..., 2 threads      five with its detection beside SUMO's next step (DetectionStage), against
+//                       the same run in line: wall is the figure (CPU adds both threads)
 //   sumo + SSM          `sumo` with the SSM device on every vehicle (SUMO's own conflict detection)
 // Wall and CPU seconds (CPU: this process's user+sys for in-process runs, the child's for sumo
 // processes; the machine may be shared, CPU time is the fairer figure) and the ratio to plain sumo.
@@ -44,6 +46,7 @@
 #include <libsumo/libsumo.h>
 
 #include <stcosim/backend.hpp>
+#include <stcosim/detection.hpp>
 #include <stcosim/plugin.hpp>
 #include <stcosim/scenario.hpp>
 #include <stcosim/sumo_home.hpp>
@@ -303,20 +306,21 @@ int main(int argc, char** argv) {
   rows.push_back(inProcess("libsumo backend, five's reads", readsOnly(VehicleReads{false, true})));
   rows.back().note = "position, angle, speed, signals: 4 getters";
 
-  auto stsim = [&](st::highway::DetectorKind k, bool traci) {
-    return [&, k, traci] {
+  auto stsim = [&](st::highway::DetectorKind k, bool traci, bool overlap = false) {
+    return [&, k, traci, overlap] {
       auto b = traci ? launchTraci(SumoLaunch{args, false, "", ""}) : startLibsumo(SumoLaunch{args, false, "", ""});
       PluginConfig pc = s.plugin;
       pc.monitor.detector.kind = k;
       HighwayPlugin p(*b, pc);
       double maxV = 0.0;
       std::size_t warnings = 0;
+      DetectionStage detection(p, overlap, [&] { warnings += p.takeFinished().size(); });
       while (b->running()) {
         b->step();
-        p.update();
-        warnings += p.takeFinished().size();
+        detection.afterStep();
         maxV = std::max(maxV, static_cast<double>(b->vehicles().size()));
       }
+      detection.drain();
       p.finish();
       b->close();
       return maxV;
@@ -324,9 +328,13 @@ int main(int argc, char** argv) {
   };
   rows.push_back(inProcess("stsim concentric (libsumo)", stsim(st::highway::DetectorKind::Concentric, false)));
   rows.push_back(inProcess("stsim five (libsumo)", stsim(st::highway::DetectorKind::FiveCircle, false)));
+  rows.push_back(inProcess("stsim five (libsumo), 2 threads", stsim(st::highway::DetectorKind::FiveCircle, false, true)));
+  rows.back().note = "detection beside SUMO's next step";
   rows.push_back(inProcess("stsim box (libsumo)", stsim(st::highway::DetectorKind::Box, false)));
   rows.push_back(inProcess("stsim five (libtraci)", stsim(st::highway::DetectorKind::FiveCircle, true)));
   rows.back().note = "CPU: stsim's side only; SUMO child not counted";
+  rows.push_back(inProcess("stsim five (libtraci), 2 threads", stsim(st::highway::DetectorKind::FiveCircle, true, true)));
+  rows.back().note = "detection beside SUMO's next step; SUMO child not counted";
   {
     std::vector<std::string> ssm = args;
     for (const char* a : {"--device.ssm.probability", "1", "--device.ssm.deterministic", "true",
@@ -354,5 +362,12 @@ int main(int argc, char** argv) {
   std::printf("targets: five-circle CPU %.2fx plain sumo (target <= 1.3x); sumo+SSM / five-circle CPU = %.2fx "
               "(target >= 4x)\n",
               five.cpu / ref.cpu, ssm.cpu / five.cpu);
+  const Row& fiveThreads = rows[6];
+  const Row& traci = rows[8];
+  const Row& traciThreads = rows[9];
+  std::printf("detection beside the step: five libsumo wall %.2fx plain sumo in line, %.2fx with 2 threads "
+              "(%.2f of the in-line wall); five libtraci %.2fx, %.2fx (%.2f)\n",
+              five.wall / ref.wall, fiveThreads.wall / ref.wall, fiveThreads.wall / five.wall, traci.wall / ref.wall,
+              traciThreads.wall / ref.wall, traciThreads.wall / traci.wall);
   return 0;
 }

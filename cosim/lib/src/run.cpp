@@ -1,6 +1,9 @@
 #include <stcosim/run.hpp>
 
+#include <thread>
+
 #include <sthighway/conflict_map.hpp>
+#include <stcosim/detection.hpp>
 #include <stcosim/conversions.hpp>
 
 #include "run_parts.hpp"
@@ -11,11 +14,12 @@ namespace fs = std::filesystem;
 namespace hw = st::highway;
 
 namespace {
-void checkOptions(const Scenario& s, const RunSetup& setup) {
+int checkOptions(const Scenario& s, const RunSetup& setup) {
   const bool attach = setup.attach.has_value();
   if (attach && setup.gui) throw RunSetupError("--gui starts sumo-gui; with --traci the running SUMO decides");
   if (attach && s.validateSsm)
     throw RunSetupError("--validate-ssm needs stsim to start SUMO (the SSM device is a SUMO option)");
+  return resolveThreads(s, setup);
 }
 
 // SUMO's collisions from its --collision-output file, when the plugin saw none of them
@@ -31,9 +35,26 @@ void readCollisionFile(const SumoStart& start, RunOutputs& outputs, LoopOutcome&
 }
 }  // namespace
 
+int resolveThreads(const Scenario& s, const RunSetup& setup) {
+  const bool canOverlap = detectionCanOverlap(s.plugin);
+  switch (setup.threads) {
+    case 0: return canOverlap && std::thread::hardware_concurrency() >= 2 ? 2 : 1;
+    case 1: return 1;
+    case 2:
+      if (!canOverlap)
+        throw RunSetupError(std::string("--threads 2 runs detection beside SUMO's next step; --action ") +
+                            toString(s.plugin.actions.action) +
+                            " must reach SUMO before that step: use --action none or --threads 1");
+      return 2;
+    default:
+      throw RunSetupError("--threads must be 1 (detection after each SUMO step) or 2 (beside it), got " +
+                          std::to_string(setup.threads));
+  }
+}
+
 RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserver& observer) {
   const SumoConfigFiles files = checkSumoConfig(s.sumocfg);
-  checkOptions(s, setup);
+  const int threads = checkOptions(s, setup);
   const bool attach = setup.attach.has_value();
   const fs::path& out = setup.out;
 
@@ -50,7 +71,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
     validator = std::make_unique<SsmValidator>(toRoadGeometry(backend.lanes()), s.plugin.monitor, backend.deltaT());
 
   const double endTime = s.end ? *s.end : (files.end ? *files.end : -1.0);
-  LoopOutcome loop = stepLoop(backend, plugin, validator.get(), outputs, endTime, observer);
+  LoopOutcome loop = stepLoop(backend, plugin, validator.get(), outputs, endTime, threads == 2, observer);
 
   const std::string backendName = backend.describe();
   const double simEnd = closeRun(backend, plugin, validator.get(), outputs);
@@ -76,6 +97,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
 
   RunResult result;
   result.attached = attach;
+  result.threads = threads;
   result.stopReason = loop.stopReason;
   if (validator && loop.error.empty()) {
     result.validation = validator->evaluate(readSsmOutput(start.ssmFile));

@@ -57,9 +57,9 @@ struct LoopOutcome {
   std::string stopReason = "end";  // end | interrupted | error
   std::string error;               // the error that ended the run, if any
 };
-// Steps SUMO with the plugin until the end time, a stop request or an error (caught into the outcome).
+// Steps SUMO with the plugin (detection in line, or overlapped beside the next step: DetectionStage) until the end time, a stop request or an error (caught into the outcome).
 LoopOutcome stepLoop(Backend& backend, HighwayPlugin& plugin, SsmValidator* validator, RunOutputs& outputs,
-                     double endTime, const RunObserver& observer);
+                     double endTime, bool overlap, const RunObserver& observer);
 
 // Closes the open episodes at the current time, writes everything, then closes SUMO (which writes
 // the SSM file). Returns the simulated end time.

@@ -27,6 +27,10 @@ struct RunSetup {
   std::optional<TraciEndpoint> attach;  // attach to this running SUMO instead of starting one
   bool gui = false;                     // start sumo-gui and draw the cells
   bool map = true;                      // draw the conflict map
+  // Where detection runs (stcosim/detection.hpp): 1 in line after each SUMO step; 2 on a worker
+  // beside SUMO's next step, for an action that allows it (detectionCanOverlap: none); 0 picks 2
+  // when the machine has a second core and the action allows it, else 1. Same results either way.
+  int threads = 0;
   // summary.json's wall_s counts from here (the front end's start, so reading counts too)
   std::chrono::steady_clock::time_point wallStart = std::chrono::steady_clock::now();
 };
@@ -56,6 +60,7 @@ struct RunResult {
   std::string detector;  // the detector's name
   std::string stopReason = "end";  // end | interrupted
   bool attached = false;
+  int threads = 1;  // 2: detection ran beside SUMO's step
   double simulatedSeconds = 0.0, sumoSeconds = 0.0, stsimSeconds = 0.0, wallSeconds = 0.0;
   highway::MonitorCounters monitor;
   PluginCounters plugin;
@@ -63,6 +68,10 @@ struct RunResult {
   std::vector<std::filesystem::path> written;  // the files written, in the order a closing line names them
   std::string mapProblem;  // why no conflict map was drawn (python3-matplotlib missing, ...), if so
 };
+
+// The thread count a run uses: setup.threads with 0 resolved. Throws RunSetupError for a count
+// other than 0, 1, 2, or 2 with an action that must reach SUMO before the next step.
+int resolveThreads(const Scenario& s, const RunSetup& setup);
 
 // Runs the scenario. Throws ScenarioError for a bad SUMO configuration, RunSetupError for
 // contradicting options, std::runtime_error when the outputs cannot be written or SUMO cannot be
