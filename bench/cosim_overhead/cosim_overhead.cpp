@@ -327,9 +327,22 @@ int main(int argc, char** argv) {
     };
   };
   rows.push_back(inProcess("stsim concentric (libsumo)", stsim(st::highway::DetectorKind::Concentric, false)));
-  rows.push_back(inProcess("stsim five (libsumo)", stsim(st::highway::DetectorKind::FiveCircle, false)));
-  rows.push_back(inProcess("stsim five (libsumo), 2 threads", stsim(st::highway::DetectorKind::FiveCircle, false, true)));
-  rows.back().note = "detection beside SUMO's next step";
+  {
+    // in line and with 2 threads alternated, each its least wall of three: on a shared machine a
+    // neighbour's burst can land on either, and the overlap needs the second core free
+    Row inLine, threads;
+    for (int k = 0; k < 3; ++k) {
+      const Row a = inProcess("stsim five (libsumo)", stsim(st::highway::DetectorKind::FiveCircle, false));
+      const Row b =
+          inProcess("stsim five (libsumo), 2 threads", stsim(st::highway::DetectorKind::FiveCircle, false, true));
+      if (k == 0 || a.wall < inLine.wall) inLine = a;
+      if (k == 0 || b.wall < threads.wall) threads = b;
+    }
+    inLine.note = "least wall of 3, alternated with the next";
+    threads.note = "detection beside SUMO's next step; least wall of 3";
+    rows.push_back(inLine);
+    rows.push_back(threads);
+  }
   rows.push_back(inProcess("stsim box (libsumo)", stsim(st::highway::DetectorKind::Box, false)));
   rows.push_back(inProcess("stsim five (libtraci)", stsim(st::highway::DetectorKind::FiveCircle, true)));
   rows.back().note = "CPU: stsim's side only; SUMO child not counted";
