@@ -6,11 +6,14 @@ itself names). The test runs each command once, fills the templates with the val
 checks that every README holds the filled text verbatim: a change that moves a figure fails here,
 naming the file, the text it should now read and the command that makes it.
 
-  usage: doc_figures_test.py STSIM SOURCE_DIR [--keep DIR] [--print]
+  usage: doc_figures_test.py STSIM SOURCE_DIR [--long] [--keep DIR] [--print]
   --print prints the filled texts instead of checking (to update a README by hand).
+  --long  the experiments' figures instead (networks/experiments/README.md: the incident study, two
+          batches of 40 runs, about 3 minutes on 2 cores)
 
 Needs SUMO (the commands are live highway runs, about 15 s each).
 """
+import math
 import csv
 import json
 import os
@@ -44,6 +47,75 @@ COMMANDS = {
     "main_concentric": ["highway", "networks/motorway/scenario.yaml", "--detector", "concentric", "--no-map"],
     "main_box": ["highway", "networks/motorway/scenario.yaml", "--detector", "box", "--no-map"],
 }
+
+
+# the long figures: batches, by name (the experiment file, fixed keys added to its own)
+BATCHES = {
+    "incident": ("networks/experiments/incident_study.yaml", {}),
+    "incident_contacts": ("networks/experiments/incident_study.yaml", {"collision_mingap_factor": 0}),
+}
+
+
+def run_batch(stsim, src, work, name):
+    """summary.csv and paired.csv of an experiment, as {action: {column: value}}."""
+    exp, extra = BATCHES[name]
+    path = os.path.join(src, exp)
+    if extra:
+        # the same experiment with more fixed keys: a copy beside the original's base
+        with open(path) as f:
+            text = f.read()
+        text = text.replace("base: ../", "base: %s/" % os.path.dirname(os.path.dirname(path)))
+        text = text.replace("fixed:\n", "fixed:\n" + "".join("  %s: %s\n" % kv for kv in extra.items()))
+        path = os.path.join(work, name + ".yaml")
+        with open(path, "w") as f:
+            f.write(text)
+    out = os.path.join(work, name)
+    p = subprocess.run([stsim, "batch", path, "--jobs", str(os.cpu_count() or 1), "--no-plots", "--out", out],
+                       cwd=work, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=1800)
+    if p.returncode != 0:
+        sys.exit("FAIL stsim batch %s: exit %d\n%s" % (exp, p.returncode, p.stderr))
+    res = {}
+    with open(os.path.join(out, "summary.csv"), newline="") as f:
+        for r in csv.DictReader(f):
+            res[r["action"]] = {k: float(v) for k, v in r.items() if v and k != "action"}
+    with open(os.path.join(out, "paired.csv"), newline="") as f:
+        for r in csv.DictReader(f):
+            res["diff"] = {k: float(v) for k, v in r.items() if v and k not in ("compared", "baseline", "action")}
+    return res
+
+
+def rnd(x):
+    """Half up, as the READMEs round counts (Python's round is half to even)."""
+    return int(math.floor(x + 0.5))
+
+
+def long_figures(r):
+    inc, con = r["incident"], r["incident_contacts"]
+    none, brake, diff = inc["none"], inc["brake"], inc["diff"]
+
+    def pm(row, key, d, diff=False):
+        return "%.*f ± %.*f" % (d, row[key + (".diff_mean" if diff else ".mean")], d,
+                                row[key + (".diff_ci95" if diff else ".ci95")])
+
+    readme = "networks/experiments/README.md"
+    c_none, c_brake, c_diff = con["none"], con["brake"], con["diff"]
+    return [
+        (readme, "| SUMO collisions (gap below minGap) | %s | %s | **%s** |"
+         % (pm(none, "sumo_collisions", 1), pm(brake, "sumo_collisions", 1), pm(diff, "sumo_collisions", 1, True))),
+        (readme, "| physical contacts (`collision_mingap_factor: 0`, same seeds) | %s | %s | **%s** |"
+         % (pm(c_none, "sumo_collisions", 2), pm(c_brake, "sumo_collisions", 2), pm(c_diff, "sumo_collisions", 2, True))),
+        (readme, "| contact reports (steps touching) | %d | %d | %d ± %d |"
+         % (rnd(none["sumo_collision_steps.mean"]), rnd(brake["sumo_collision_steps.mean"]),
+            rnd(diff["sumo_collision_steps.diff_mean"]), rnd(diff["sumo_collision_steps.diff_ci95"]))),
+        (readme, "| collisions whose collider was warning about the victim | %.1f (%d %%) | %.1f (%d %%) | |"
+         % (none["collisions_warned.mean"], rnd(100 * none["collisions_warned.mean"] / none["sumo_collisions.mean"]),
+            brake["collisions_warned.mean"], rnd(100 * brake["collisions_warned.mean"] / brake["sumo_collisions.mean"]))),
+        (readme, "| mean warning lead time of those (s) | %.2f | %.2f | |"
+         % (none["collision_lead_time_mean_s.mean"], brake["collision_lead_time_mean_s.mean"])),
+        (readme, "| brake commands | %d | %d | |" % (rnd(none["brake_commands.mean"]), rnd(brake["brake_commands.mean"]))),
+        (readme, "the same 40 runs give %s contacts per run without braking and %s with it, paired %s,"
+         % (pm(c_none, "sumo_collisions", 2), pm(c_brake, "sumo_collisions", 2), pm(c_diff, "sumo_collisions", 2, True))),
+    ]
 
 
 def run(stsim, src, work, name):
@@ -133,9 +205,10 @@ def figures(r):
 
 def main():
     args = sys.argv[1:]
-    keep, show = None, "--print" in args
-    if show:
-        args.remove("--print")
+    keep, show, long = None, "--print" in args, "--long" in args
+    for flag in ("--print", "--long"):
+        if flag in args:
+            args.remove(flag)
     if "--keep" in args:
         i = args.index("--keep")
         keep = args[i + 1]
@@ -144,9 +217,12 @@ def main():
     work = keep or tempfile.mkdtemp(prefix="stsim_doc_figures_")
     os.makedirs(work, exist_ok=True)
     try:
-        results = {name: run(stsim, src, work, name) for name in COMMANDS}
+        if long:
+            checks = long_figures({name: run_batch(stsim, src, work, name) for name in BATCHES})
+        else:
+            checks = figures({name: run(stsim, src, work, name) for name in COMMANDS})
         fails = []
-        for readme, text in figures(results):
+        for readme, text in checks:
             if show:
                 print("%s: %s" % (readme, text))
                 continue
@@ -158,7 +234,9 @@ def main():
         for msg in fails:
             print("FAIL " + msg)
         if fails:
-            print("(the figures come from: %s)" % "; ".join("stsim " + " ".join(c) for c in COMMANDS.values()))
+            print("(the figures come from: %s)" % "; ".join(
+                ["stsim batch %s with fixed %s" % b for b in BATCHES.values()] if long else
+                ["stsim " + " ".join(c) for c in COMMANDS.values()]))
         return 1 if fails else 0
     finally:
         if not keep:
