@@ -256,13 +256,15 @@ TEST(HighwayCli, SumoStartErrorsAreOneLine) {
   }
 }
 
-TEST(HighwayCli, CtrlCStopsCleanlyWithResultsFlushed) {
-  const auto dir = freshDir("cli_sigint");
+void expectCtrlCStopsCleanly(const std::string& name, const std::vector<std::string>& extra) {
+  const auto dir = freshDir(name);
   // the ring's vehicles circle for hours of simulated time, so the run cannot end on its own
   // before the signal, however fast the machine
   const auto ring = sourceDir() / "networks/ring/scenario.yaml";
   constexpr double kEnd = 36000.0;
-  StsimProcess p({"highway", ring.string(), "--end", "36000", "--out", (dir / "out").string()}, dir);
+  std::vector<std::string> args{"highway", ring.string(), "--end", "36000", "--out", (dir / "out").string()};
+  args.insert(args.end(), extra.begin(), extra.end());
+  StsimProcess p(args, dir);
   // signal once the run has stepped and written a warning (the ring has its first ones within
   // 11 s of simulated time): not before the handler is installed, not before t > 0; no sleeps
   ASSERT_TRUE(waitForWarningRows(dir / "out/warnings.csv", p)) << p.err();
@@ -278,6 +280,13 @@ TEST(HighwayCli, CtrlCStopsCleanlyWithResultsFlushed) {
   EXPECT_GT(simulated, 0.0);
   EXPECT_LT(simulated, kEnd);
   EXPECT_DOUBLE_EQ(jsonNumber(summary, "total"), static_cast<double>(rows));
+}
+
+TEST(HighwayCli, CtrlCStopsCleanlyWithResultsFlushed) { expectCtrlCStopsCleanly("cli_sigint", {}); }
+
+// with detection on the worker (which blocks signals): the signal lands on SUMO's thread
+TEST(HighwayCli, CtrlCStopsTheThreadedRunCleanlyToo) {
+  expectCtrlCStopsCleanly("cli_sigint_threads", {"--action", "none", "--threads", "2"});
 }
 
 }  // namespace

@@ -87,6 +87,38 @@ TEST(DetectionOverlap, StopRequestEndsBothPathsAtTheSameStepWithTheSameFiles) {
   expectSameFiles(dir / "1", dir / "2");
 }
 
+// An error on the worker reaches the caller's thread, the same error the in-line path throws: a
+// tick detected twice (no SUMO step between) breaks the monitor's strictly increasing time.
+TEST(DetectionOverlap, AnErrorOnTheWorkerIsRethrownOnTheCallersThread) {
+  Scenario s = loadScenario(sourceDir() / "networks/ring/scenario.yaml");
+  s.plugin.actions.action = Action::None;
+  auto errorOf = [&](bool overlap) {
+    auto sumo = startLibsumo(SumoLaunch{sumoArguments(s), false, "", ""});
+    HighwayPlugin plugin(*sumo, s.plugin);
+    int collected = 0;
+    std::string what;
+    {
+      DetectionStage detection(plugin, overlap, [&] { ++collected; });
+      EXPECT_EQ(detection.overlapped(), overlap);
+      sumo->step();
+      detection.afterStep();
+      try {
+        detection.afterStep();  // the same tick again: in line it throws here
+        detection.drain();      // overlapped: the worker's error comes back here
+      } catch (const std::invalid_argument& e) {
+        what = e.what();
+      }
+      detection.drain();  // nothing left running: no second throw
+    }
+    EXPECT_EQ(collected, 1);  // the failed tick is not collected
+    sumo->close();
+    return what;
+  };
+  const std::string serial = errorOf(false);
+  EXPECT_NE(serial.find("strictly"), std::string::npos) << serial;
+  EXPECT_EQ(errorOf(true), serial);
+}
+
 // colour and brake act in SUMO on a tick's alerts before its next step: they keep the serial order
 TEST(DetectionOverlap, ActionsThatMustReachSumoFirstKeepTheSerialOrder) {
   PluginConfig c;
