@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <ranges>
 #include <string>
 #include <utility>
@@ -62,6 +63,7 @@ Args makeArgs() {
       .option("scale", "FACTOR", "multiply the routes' demand (SUMO --scale; SUMO runs)")
       .option("seed", "N", "seed for the equipped-vehicle draw and SUMO (default: the scenario's seed: 42, a .sumocfg's own)")
       .flag("validate-ssm", "compare with SUMO's SSM device, writes validation.json (SUMO runs)")
+      .flag("trajectories", "also write trajectories.csv: each episode's TTC and DRAC at every tick (as SSM's trajectories)")
       .option("rear-end-below", "DEG", "conflict type: rear-end below this heading angle (scenario conflict.rear_end_below)", settingDefault("conflict.rear_end_below"))
       .option("crossing-above", "DEG", "conflict type: crossing above this angle, lane change between (conflict.crossing_above)", settingDefault("conflict.crossing_above"))
       .flag("no-map", "do not draw the conflict map (conflict_map.png / .svg)");
@@ -103,6 +105,11 @@ int runTrace(const Args& a) {
   hw::removeRunOutputs(out);  // an earlier SUMO run's collisions.csv etc. are not this replay's
   hw::WarningsCsvWriter csv(out / "warnings.csv");
   hw::EventsCsvWriter eventsCsv(out / "events.csv");
+  std::optional<hw::TrajectoriesCsvWriter> seriesCsv;
+  if (a.has("trajectories")) {
+    seriesCsv.emplace(out / "trajectories.csv");
+    monitor.recordTrajectories(true);
+  }
 
   hw::RunInfo info;
   info.source = a.get("fcd");
@@ -114,11 +121,16 @@ int runTrace(const Args& a) {
   bool any = false;
   std::vector<hw::Warning> ended;  // buffers for every frame
   std::vector<hw::HindsightEvent> events;
+  std::vector<hw::TrajectoryPoint> series;
   auto writeOutputs = [&] {
     monitor.takeFinished(ended);
     csv.write(ended);
     monitor.takeEvents(events);
     eventsCsv.write(events);
+    if (seriesCsv) {
+      monitor.takeTrajectories(series);
+      seriesCsv->write(series);
+    }
   };
   // on any error: close what is open, write everything so far, then report the error
   auto flushAll = [&](const std::string& error) {
@@ -126,6 +138,7 @@ int runTrace(const Args& a) {
     writeOutputs();
     csv.flush();
     eventsCsv.flush();
+    if (seriesCsv) seriesCsv->flush();
     info.simulatedSeconds = any ? last - first : 0.0;
     info.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
     if (!error.empty()) info.strings.emplace_back("error", error);

@@ -86,6 +86,7 @@ int runHighwayCommand(const st::cli::Args& a) {
                                 a.get("threads"));
     setup.threads = static_cast<int>(n);
   }
+  setup.trajectories = a.has("trajectories");
   if (a.has("traci")) setup.attach = parseTraci(a.get("traci"));
 
   // a peer closing the TraCI socket must give an error, not kill the run

@@ -44,6 +44,7 @@ FILES = {
     "arm stream/stream_verdicts.csv": ["stream/stream_verdicts.csv"],
     "highway/warnings.csv": ["replay/warnings.csv", "live/warnings.csv"],
     "highway/events.csv": ["replay/events.csv", "live/events.csv"],
+    "highway/trajectories.csv": ["replay/trajectories.csv"],
     "highway/summary.json": ["replay/summary.json", "live/summary.json"],
     "highway/collisions.csv": ["live/collisions.csv"],
     "highway/collision_warnings.csv": ["live/collision_warnings.csv"],
@@ -96,7 +97,7 @@ def run_all(stsim, src, work, have_sumo):
         serve.wait(timeout=30)
     fcd = os.path.join(src, "tests/data/highway/motorway_merge.fcd.xml")
     net = os.path.join(src, "networks/motorway/motorway.net.xml")
-    run([stsim, "highway", "--fcd", fcd, "--net", net, "--out", "replay"], work)
+    run([stsim, "highway", "--fcd", fcd, "--net", net, "--out", "replay", "--trajectories"], work)
     if not have_sumo:
         return
     run([stsim, "highway", os.path.join(src, "networks/motorway/scenario.yaml"), "--end", "30", "--no-map",

@@ -59,11 +59,12 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
   const fs::path& out = setup.out;
 
   // outputs first, so whatever happens later leaves valid files
-  RunOutputs outputs(out);
+  RunOutputs outputs(out, setup.trajectories);
   SumoStart start = startSumo(s, setup);
   Backend& backend = *start.backend;
 
   HighwayPlugin plugin(backend, s.plugin);
+  plugin.recordTrajectories(setup.trajectories);
   int cellPolygons = 0;
   if (setup.gui || backend.hasGui()) cellPolygons = plugin.drawCells();
   std::unique_ptr<SsmValidator> validator;

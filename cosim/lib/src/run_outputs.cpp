@@ -19,8 +19,9 @@ fs::path prepared(const fs::path& out) {
 std::string fmt3(double v) { return io::fixed(v, 3); }
 }  // namespace
 
-RunOutputs::RunOutputs(const fs::path& out)
+RunOutputs::RunOutputs(const fs::path& out, bool trajectories)
     : warnings_(prepared(out) / "warnings.csv"), events_(out / "events.csv"), collisions_(out / "collisions.csv") {
+  if (trajectories) series_.emplace(out / "trajectories.csv");
   if (!collisions_) throw std::runtime_error("cannot write " + (out / "collisions.csv").string());
   collisions_ << "time,collider,victim,type,lane,pos,collider_speed,victim_speed\n";
   collisions_.flush();
@@ -33,6 +34,10 @@ void RunOutputs::writeDetected(HighwayPlugin& plugin) {
     if (w.kind == hw::WarningKind::Vehicle) vehicleWarnings_.push_back(w);
   plugin.takeEvents(eventBuffer_);
   events_.write(eventBuffer_);
+  if (series_) {
+    plugin.takeTrajectories(seriesBuffer_);
+    series_->write(seriesBuffer_);
+  }
 }
 
 void RunOutputs::writeCollisions(HighwayPlugin& plugin) {
@@ -50,6 +55,7 @@ void RunOutputs::flush() {
   warnings_.flush();
   events_.flush();
   collisions_.flush();
+  if (series_) series_->flush();
 }
 
 void writeCollisionWarnings(const fs::path& path, const std::vector<CollisionWarning>& leads) {

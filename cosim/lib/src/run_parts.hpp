@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,7 +23,8 @@ namespace st::cosim {
 class RunOutputs {
  public:
   // Creates `out` and removes what an earlier run wrote there: every file in it belongs to this run.
-  explicit RunOutputs(const std::filesystem::path& out);
+  // With trajectories, trajectories.csv too (the plugin records them).
+  explicit RunOutputs(const std::filesystem::path& out, bool trajectories = false);
   // The finished warnings and hindsight's events since the last call.
   void writeDetected(HighwayPlugin& plugin);
   void writeCollisions(HighwayPlugin& plugin);
@@ -38,6 +40,8 @@ class RunOutputs {
   std::vector<SumoCollision> collisionReports_;
   std::vector<highway::Warning> vehicleWarnings_;
   std::vector<highway::HindsightEvent> eventBuffer_;  // one buffer for every step
+  std::optional<highway::TrajectoriesCsvWriter> series_;
+  std::vector<highway::TrajectoryPoint> seriesBuffer_;
 };
 
 // collision_warnings.csv: one row per collision, whether and how long before its collider warned.

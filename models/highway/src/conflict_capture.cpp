@@ -39,6 +39,19 @@ double angleDeg(const Vec2& a, const Vec2& b) {
 }
 }  // namespace
 
+double tickDrac(const VehicleTable& cars, const RoadFeatures& road, int e, const Threat& th) {
+  const Vec2 a = cars.centre[e];
+  if (th.kind == WarningKind::Vehicle) {
+    const Vec2 p = cars.centre[th.foe] - a, v = cars.vel[th.foe] - cars.vel[e];
+    const double dist = p.norm();
+    return decelerationToAvoid(dist > 0.0 ? -p.dot(v) / dist : v.norm(), th.ttc);
+  }
+  const RoadFeature& f = road.features[th.feature];
+  const Vec2 d = (f.kind == FeatureKind::Hazard ? f.segment.a : closestPointOnSegment(f.segment, a)) - a;
+  const double dist = d.norm();
+  return decelerationToAvoid(dist > 0.0 ? cars.vel[e].dot(d) / dist : cars.vel[e].norm(), th.ttc);
+}
+
 void describeConflict(const ConflictCapture& c, WarningKind kind, double egoMass, double foeMass, double ttc,
                       double safeTime, const DetectorConfig& detector, const RoadFeatures& road, const ConflictConfig& config,
                       Warning& w) {

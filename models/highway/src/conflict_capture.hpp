@@ -98,6 +98,10 @@ struct ConflictCapture {
   PetWatch pet;  // from the tick of the minimum TTC on
 };
 
+// The DRAC of ego e's threat th at this tick, as describeConflict has it at the minimum TTC: the
+// closing speed of the centres (vehicles), or the speed towards the feature's closest point.
+double tickDrac(const VehicleTable& cars, const RoadFeatures& road, int e, const Threat& th);
+
 // A new episode of ego e (against slot foe, or -1 for a road feature): the track starts.
 inline void beginTrack(const VehicleTable& cars, int e, int foe, EpisodeTrack& k) {
   k = EpisodeTrack{};

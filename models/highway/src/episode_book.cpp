@@ -85,6 +85,12 @@ void EpisodeBook::advance(int e, const Episode& ep, double t) {
   }
 }
 
+void EpisodeBook::record(int e, const Threat& th, double begin, double t) {
+  const auto& slots = cars_->slots;
+  series_.push_back({slots[e].id, th.kind == WarningKind::Vehicle ? slots[th.foe].id : road_->groupName(th.foe), th.kind, begin,
+                     t, th.ttc, tickDrac(*cars_, road_->features(), e, th)});
+}
+
 void EpisodeBook::emit(int e, const Episode& ep) {
   Warning w = warningOf(e, ep, false);
   ++counters_->warningsByType[static_cast<int>(w.type)];
@@ -153,11 +159,13 @@ void EpisodeBook::merge(int e, double t, std::vector<Threat>& threats) {
         capture(*cars_, paths_->reportedLane(e), e, th, captures_[ep.capture]);
         startPetAt(captures_[ep.capture], th.kind);
       }
+      if (recordSeries_) record(e, th, ep.begin, t);
       continue;
     }
     const int window = hindsight_->enabled() ? hindsight_->open(e, th.foe, th.kind, t, th.safe) : -1;
     poolNext_.push_back({th.key, th.foe, th.kind, th.zone, newCapture(e, th), t, t, th.ttc, t, th.safe, window});
     ++counters_->warningsBegun;
+    if (recordSeries_) record(e, th, t, t);
     ++counters_->warningsByKind[static_cast<int>(th.kind)];
     ++counters_->warningsByZone[static_cast<int>(th.zone)];
   }

@@ -36,6 +36,11 @@ class EpisodeBook {
   std::vector<Warning>& finished() { return finished_; }
   std::vector<Warning> openWarnings() const;
   std::span<const Alert> alerts() const { return alerts_; }
+  void recordTrajectories(bool on) { recordSeries_ = on; }
+  void takeTrajectories(std::vector<TrajectoryPoint>& out) {
+    out.clear();
+    std::swap(out, series_);
+  }
   void clearAlerts() { alerts_.clear(); }
 
  private:
@@ -65,6 +70,8 @@ class EpisodeBook {
   void startPetAt(ConflictCapture& c, WarningKind kind) const;
   // a later tick of episode ep (its ego e here at t): the track and the PET watch
   void advance(int e, const Episode& ep, double t);
+  // the tick t of ego e's episode begun at `begin` against threat th, into the series
+  void record(int e, const Threat& th, double begin, double t);
   void ensure(std::size_t n);
 
   const VehicleTable* cars_;
@@ -84,6 +91,8 @@ class EpisodeBook {
   std::vector<Warning> finished_;
   std::vector<Alert> alerts_;
   double tNow_ = 0.0;  // the tick being merged
+  bool recordSeries_ = false;
+  std::vector<TrajectoryPoint> series_;  // recorded ticks not yet taken
 };
 
 }  // namespace st::highway::detail

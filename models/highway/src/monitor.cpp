@@ -165,6 +165,8 @@ void HighwayMonitor::takeFinished(std::vector<Warning>& out) {
 }
 
 void HighwayMonitor::takeEvents(std::vector<HindsightEvent>& out) { impl_->hindsight.takeEvents(out); }
+void HighwayMonitor::recordTrajectories(bool on) { impl_->book.recordTrajectories(on); }
+void HighwayMonitor::takeTrajectories(std::vector<TrajectoryPoint>& out) { impl_->book.takeTrajectories(out); }
 
 std::vector<Warning> HighwayMonitor::openWarnings() const { return impl_->book.openWarnings(); }
 std::span<const Alert> HighwayMonitor::alerts() const { return impl_->book.alerts(); }

@@ -92,6 +92,14 @@ void WarningsCsvWriter::write(std::span<const Warning> warnings) {
   for (const Warning& w : warnings) row(warningCsvRow(w));
 }
 
+TrajectoriesCsvWriter::TrajectoriesCsvWriter(const std::filesystem::path& path)
+    : CsvRowWriter(path, "ego,foe,kind,begin,time,ttc,drac") {}
+void TrajectoriesCsvWriter::write(std::span<const TrajectoryPoint> points) {
+  for (const TrajectoryPoint& p : points)
+    row(csvField(p.ego) + ',' + csvField(p.foe) + ',' + toString(p.kind) + ',' + num(p.begin) + ',' + num(p.time) + ',' +
+        conflictField(p.ttc) + ',' + conflictField(p.drac));
+}
+
 std::string eventCsvRow(const HindsightEvent& e) {
   auto field = [](double x) { return std::isfinite(x) ? num(x) : std::string(); };
   std::ostringstream os;
@@ -188,7 +196,7 @@ void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& 
 }
 
 void removeRunOutputs(const std::filesystem::path& out) {
-  for (const char* f : {"warnings.csv", "events.csv", "summary.json", "collisions.csv", "collision_warnings.csv", "validation.json",
+  for (const char* f : {"warnings.csv", "events.csv", "trajectories.csv", "summary.json", "collisions.csv", "collision_warnings.csv", "validation.json",
                         "ssm.xml", "sumo_collisions.xml", "sumo.log", "conflict_map.png", "conflict_map.svg",
                         "conflict_map.log"}) {
     std::error_code ec;

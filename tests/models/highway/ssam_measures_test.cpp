@@ -4,13 +4,24 @@
 // from a speed profile given tick by tick, the start and end points.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <sthighway/conflict.hpp>
 #include <sthighway/monitor.hpp>
 #include <sthighway/report.hpp>
+#include <sthighway/sumo_files.hpp>
 
 #include "conflict_capture.hpp"
 
@@ -18,6 +29,8 @@ namespace st::highway {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+namespace fs = std::filesystem;
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 VehicleState car(const std::string& id, Vec2 p, double headingDeg, double speed) {
   VehicleState v;
@@ -312,6 +325,125 @@ TEST(SsamMeasures, PetOfAnAnalyticCrossing) {
   const Warning* re = find(r.takeFinished(), "follower");
   ASSERT_NE(re, nullptr);
   EXPECT_TRUE(std::isnan(re->pet));
+}
+
+
+// --trajectories: each episode's TTC and DRAC at every tick it holds. On the shipped motorway
+// trace, every detector: an episode's series runs from its begin to its last tick before end, one
+// point a frame, and its smallest TTC is the episode's min_ttc, at min_ttc_time.
+TEST(Trajectories, SeriesMinimumIsTheEpisodesMinTtc) {
+  const fs::path data = fs::path(STSIM_SOURCE_DIR) / "tests/data/highway";
+  const fs::path net = fs::path(STSIM_SOURCE_DIR) / "networks/motorway";
+  const RoadGeometry road = readSumoNet(net / "motorway.net.xml");
+  const VehicleTypes types = readSumoVehicleTypes(net / "motorway.rou.xml");
+  for (DetectorKind kind : {DetectorKind::FiveCircle, DetectorKind::Box}) {
+    MonitorConfig cfg;
+    cfg.detector.kind = kind;
+    HighwayMonitor m(road, cfg);
+    m.recordTrajectories(true);
+    FcdReader r(data / "motorway_merge.fcd.xml", types, {}, &road);
+    FcdFrame f;
+    std::vector<double> frames;
+    std::vector<Warning> ws;
+    std::vector<TrajectoryPoint> pts, tick;
+    while (r.next(f)) {
+      m.step(f.time, f.vehicles);
+      frames.push_back(f.time);
+      for (auto& w : m.takeFinished()) ws.push_back(w);
+      m.takeTrajectories(tick);
+      pts.insert(pts.end(), tick.begin(), tick.end());
+    }
+    m.finish(frames.back());
+    for (auto& w : m.takeFinished()) ws.push_back(w);
+    m.takeTrajectories(tick);
+    EXPECT_TRUE(tick.empty());  // finish() records no tick
+    ASSERT_GT(ws.size(), 5u);
+    // an episode: its ego, foe, kind and begin
+    using Key = std::tuple<std::string, std::string, WarningKind, double>;
+    std::map<Key, std::vector<TrajectoryPoint>> by;
+    for (const auto& p : pts) by[Key{p.ego, p.foe, p.kind, p.begin}].push_back(p);
+    EXPECT_EQ(by.size(), ws.size());  // every episode has its series, and only those
+    for (const Warning& w : ws) {
+      const Key key{w.ego, w.foe, w.kind, w.begin};
+      ASSERT_TRUE(by.count(key)) << w.ego << " " << w.foe;
+      const auto& series = by[key];
+      const auto lowest = std::min_element(series.begin(), series.end(),
+                                           [](const TrajectoryPoint& a, const TrajectoryPoint& b) { return a.ttc < b.ttc; });
+      EXPECT_EQ(lowest->ttc, w.minTtc) << w.ego << " " << w.foe;
+      EXPECT_EQ(lowest->time, w.minTtcTime);
+      EXPECT_EQ(series.front().time, w.begin);
+      // one point a frame from begin on, through the frame before end (or end itself: the episode
+      // closed at its vehicle's last tick, or at the end of the run)
+      const auto first = std::find(frames.begin(), frames.end(), w.begin);
+      ASSERT_NE(first, frames.end());
+      ASSERT_LE(series.size(), static_cast<std::size_t>(frames.end() - first));
+      for (std::size_t k = 0; k < series.size(); ++k) EXPECT_EQ(series[k].time, first[static_cast<long>(k)]);
+      const double after = series.size() < static_cast<std::size_t>(frames.end() - first) ? first[static_cast<long>(series.size())] : kInf;
+      EXPECT_TRUE(after == w.end || series.back().time == w.end) << w.ego << " " << w.foe << " " << w.end;
+      // the DRAC at the minimum is the warning's (where it has one)
+      if (w.kind == WarningKind::Vehicle && w.type != ConflictType::Proximity) {
+        if (std::isinf(w.drac)) EXPECT_TRUE(std::isinf(lowest->drac));
+        else EXPECT_NEAR(lowest->drac, w.drac, 1e-9 * std::max(1.0, w.drac));
+      }
+    }
+  }
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::vector<std::vector<std::string>> readCsv(const fs::path& p) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(slurp(p));
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> row;
+    std::istringstream ls(line);
+    for (std::string cell; std::getline(ls, cell, ',');) row.push_back(cell);
+    if (!line.empty() && line.back() == ',') row.emplace_back();
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// The front end: trajectories.csv only with --trajectories; its episodes join warnings.csv's.
+TEST(Trajectories, FrontEndWritesTheFileOnlyWhenAsked) {
+  const fs::path out = fs::temp_directory_path() / ("sthighway_traj_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const std::string input = "highway --fcd " + (fs::path(STSIM_SOURCE_DIR) / "tests/data/highway/motorway_merge.fcd.xml").string() +
+                            " --net " + (fs::path(STSIM_SOURCE_DIR) / "networks/motorway/motorway.net.xml").string() +
+                            " --detector box --no-map --out " + out.string();
+  ASSERT_EQ(std::system((std::string(STSIM_BINARY) + " " + input + " > /dev/null").c_str()), 0);
+  EXPECT_FALSE(fs::exists(out / "trajectories.csv"));  // the default run writes no new file
+  ASSERT_EQ(std::system((std::string(STSIM_BINARY) + " " + input + " --trajectories > /dev/null").c_str()), 0);
+  ASSERT_TRUE(fs::exists(out / "trajectories.csv"));
+  const auto series = readCsv(out / "trajectories.csv");
+  const auto warnings = readCsv(out / "warnings.csv");
+  ASSERT_FALSE(series.empty());
+  EXPECT_EQ(series[0], (std::vector<std::string>{"ego", "foe", "kind", "begin", "time", "ttc", "drac"}));
+  const auto& h = warnings[0];
+  const auto col = [&](const char* name) { return static_cast<std::size_t>(std::find(h.begin(), h.end(), name) - h.begin()); };
+  const std::size_t ego = col("ego"), foe = col("foe"), kind = col("kind"), begin = col("begin"), minTtc = col("min_ttc");
+  ASSERT_LT(minTtc, h.size());
+  auto key = [](const std::vector<std::string>& r, std::size_t a, std::size_t b, std::size_t c, std::size_t d) {
+    return r[a] + "|" + r[b] + "|" + r[c] + "|" + r[d];
+  };
+  std::map<std::string, double> lowest;
+  for (std::size_t i = 1; i < series.size(); ++i) {
+    const double ttc = std::stod(series[i][5]);
+    auto [it, fresh] = lowest.try_emplace(key(series[i], 0, 1, 2, 3), ttc);
+    if (!fresh) it->second = std::min(it->second, ttc);
+  }
+  ASSERT_EQ(lowest.size(), warnings.size() - 1);
+  for (std::size_t i = 1; i < warnings.size(); ++i) {
+    const std::string k = key(warnings[i], ego, foe, kind, begin);
+    ASSERT_TRUE(lowest.count(k)) << k;
+    EXPECT_EQ(lowest[k], std::stod(warnings[i][minTtc]));  // both printed the same way
+  }
+  fs::remove_all(out);
 }
 
 }  // namespace

@@ -118,6 +118,9 @@ class HighwayPlugin {
   std::vector<highway::Warning> takeFinished() { return monitor_.takeFinished(); }
   // Hindsight's near misses and unsignalled crossings since the last call (HighwayMonitor::takeEvents).
   void takeEvents(std::vector<highway::HindsightEvent>& out) { monitor_.takeEvents(out); }
+  // Each episode's TTC and DRAC per tick (HighwayMonitor::recordTrajectories, takeTrajectories).
+  void recordTrajectories(bool on) { monitor_.recordTrajectories(on); }
+  void takeTrajectories(std::vector<highway::TrajectoryPoint>& out) { monitor_.takeTrajectories(out); }
   std::vector<highway::Warning> openWarnings() const { return monitor_.openWarnings(); }
   std::span<const highway::Alert> alerts() const { return monitor_.alerts(); }
   // SUMO collisions since the last call.

@@ -31,6 +31,7 @@ struct RunSetup {
   // beside SUMO's next step, for an action that allows it (detectionCanOverlap: none); 0 picks 2
   // when the machine has a second core and the action allows it, else 1. Same results either way.
   int threads = 0;
+  bool trajectories = false;            // write trajectories.csv (each episode's TTC and DRAC per tick)
   // summary.json's wall_s counts from here (the front end's start, so reading counts too)
   std::chrono::steady_clock::time_point wallStart = std::chrono::steady_clock::now();
 };

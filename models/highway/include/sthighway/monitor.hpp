@@ -110,6 +110,18 @@ struct Warning {
   // were in the area at once.
   double pet = kNone;
 };
+
+// One tick of a warning episode (HighwayMonitor::recordTrajectories; SUMO's SSM device writes the
+// same with --device.ssm.trajectories): from its first tick to its last with the threat. The
+// episode is named as its Warning names it, by ego, foe, kind and begin (whatever the input order).
+struct TrajectoryPoint {
+  std::string ego, foe;
+  WarningKind kind = WarningKind::Vehicle;
+  double begin = 0.0;         // s, the episode's
+  double time = 0.0;          // s
+  double ttc = 0.0;           // s, the episode's TTC at that tick
+  double drac = 0.0;          // m/s^2, DRAC then (conflict.hpp: closing speed / (2 TTC); inf touching while closing)
+};
 // How long after an episode's end its PET is waited for (s; SUMO's device.ssm.extratime default).
 inline constexpr double kPetHorizon = 5.0;
 
@@ -236,6 +248,10 @@ class HighwayMonitor {
   // The near misses and unsignalled crossings hindsight found since the last call, in order
   // (into `out`, replacing its contents); none with hindsight off.
   void takeEvents(std::vector<HindsightEvent>& out);
+  // Records each episode's TTC and DRAC at every tick it holds (off by default: no cost).
+  void recordTrajectories(bool on);
+  // The points recorded since the last call, in tick order (into out, replacing its contents).
+  void takeTrajectories(std::vector<TrajectoryPoint>& out);
   // Episodes still open now (end == time of the last tick).
   std::vector<Warning> openWarnings() const;
   // Worst threat of each equipped car with an active warning at the last tick.

@@ -28,6 +28,14 @@ class WarningsCsvWriter : public CsvRowWriter {
   void write(std::span<const Warning> warnings);
 };
 
+// trajectories.csv (--trajectories): each episode's TTC and DRAC at every tick it holds, one a row.
+// Columns: ego,foe,kind,begin (the episode, as warnings.csv names it),time,ttc,drac (`inf` touching while closing).
+class TrajectoriesCsvWriter : public CsvRowWriter {
+ public:
+  explicit TrajectoriesCsvWriter(const std::filesystem::path& path);
+  void write(std::span<const TrajectoryPoint> points);
+};
+
 // events.csv: hindsight's near misses and unsignalled crossings (HindsightEvent), one a row.
 // Columns: time,kind,ego,foe,x,y,lane,speed,gap,lateral_speed,warned,lead (empty where a column
 // does not apply or, lead, no warning about it began by then).
@@ -72,7 +80,7 @@ std::string summaryJson(const MonitorCounters& counters, const RunInfo& info);
 void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& counters,
                       const RunInfo& info);
 
-// Removes from out every file a highway run may write (warnings.csv, events.csv, summary.json and, from SUMO
+// Removes from out every file a highway run may write (warnings.csv, events.csv, trajectories.csv, summary.json and, from SUMO
 // runs, collisions.csv, collision_warnings.csv, validation.json, ssm.xml, sumo_collisions.xml,
 // sumo.log; the conflict map), so that what is there after a run belongs to it. Throws std::runtime_error.
 void removeRunOutputs(const std::filesystem::path& out);
