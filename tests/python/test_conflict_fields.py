@@ -1,7 +1,8 @@
 """Every column of warnings.csv and summary.json's hindsight counters come back through Python
 equal to `stsim highway --fcd ... --net` on the same trace: hindsight's verdict and realized
 columns, the conflict record (position, lane, speeds, angle, type, DRAC, MaxDeltaV, line, lateral
-speed). warnings.csv writes every double so that it reads back exactly, and leaves a cell empty
+speed). warnings.csv writes every input-derived double so that it reads back exactly and every
+measure worked out from them to 0.001 (Python's to the same 0.001 here), and leaves a cell empty
 where the column does not apply: Python's None."""
 import csv
 import json
@@ -15,6 +16,9 @@ from conftest import run_stsim
 from test_fcd_bit_for_bit import TRACES, as_columns
 
 BOOLEAN = ("open", "crossed", "signalled")
+# worked out from the inputs: written to 0.001 of their unit (docs/outputs.md), Python's in full
+DERIVED = ("conflict_x", "conflict_y", "delta_s", "dr", "max_d", "conflict_angle", "post_crash_speed",
+           "post_crash_heading", "pet", "heading_angle", "drac", "max_delta_v")
 TEXT = ("ego", "foe", "kind", "zone", "verdict", "lane", "type", "line")
 
 
@@ -28,6 +32,11 @@ def cell(column, text):
         assert text in ("0", "1"), (column, text)
         return text == "1"
     return float(text)  # "inf" too (an infinite DRAC)
+
+
+def as_written(column, value):
+    """A WarningEpisode field as warnings.csv writes it: a derived measure to 0.001."""
+    return float("%.3f" % value) if column in DERIVED and value is not None and math.isfinite(value) else value
 
 
 def cli_run(binary, tmp_path, fcd, net, vtypes, detector, motion, prediction):
@@ -55,7 +64,7 @@ def python_run(fcd, net, vtypes, detector, motion, prediction, columns):
         last = t
     m.finish(last)
     finished += m.take_finished()
-    return [tuple(getattr(w, c) for c in stsim.WARNING_COLUMNS) for w in finished], m.counters
+    return [tuple(as_written(c, getattr(w, c)) for c in stsim.WARNING_COLUMNS) for w in finished], m.counters
 
 
 def lead_quantiles(leads):

@@ -10,7 +10,7 @@ import pytest
 
 import stsim
 from conftest import SOURCE, run_stsim
-from test_conflict_fields import cell
+from test_conflict_fields import as_written, cell
 
 
 def test_step_sumo_is_the_documented_conversion():
@@ -124,8 +124,8 @@ def test_traci_monitor_equals_the_cxx_coupling(stsim_binary, tmp_path, network, 
             monitor.step()
             events += monitor.take_events()
         monitor.finish()
-        got = sorted((tuple(getattr(w, c) for c in stsim.WARNING_COLUMNS) for w in monitor.take_finished()),
-                     key=episode)
+        got = sorted((tuple(as_written(c, getattr(w, c)) for c in stsim.WARNING_COLUMNS)
+                      for w in monitor.take_finished()), key=episode)
     finally:
         conn.close()
     assert got == want  # bit for bit

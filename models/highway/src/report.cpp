@@ -37,6 +37,17 @@ std::string conflictField(double x) {
   return num(x);
 }
 
+// A measure derived from the inputs (an angle, a deceleration rate, a speed change, a point
+// worked out, PET) to 0.001 of its unit: the shortest text that reads back exactly would print
+// its rounding noise (a heading angle of 5.79e-13 deg). Trailing zeros dropped; -0 is 0.
+std::string derivedField(double x) {
+  if (!std::isfinite(x)) return conflictField(x);
+  std::string s = io::fixed(x, 3);
+  s.erase(s.find_last_not_of('0') + 1);
+  if (s.back() == '.') s.pop_back();
+  return s == "-0" ? "0" : s;
+}
+
 }  // namespace
 
 std::string hindsightJson(const MonitorCounters& c, const HindsightConfig& h) {
@@ -78,12 +89,16 @@ std::string warningCsvRow(const Warning& w) {
      << (judged ? field(w.clearanceTime) : "") << ',' << (judged && vehicle ? num(w.deceleration) : "") << ','
      << (judged && !vehicle ? (w.crossed ? "1" : "0") : "") << ',' << (judged && !vehicle ? (w.signalled ? "1" : "0") : "");
   // SSAM's measures (vehicle warnings)
-  for (double x : {w.conflictX, w.conflictY, w.foeX, w.foeY, w.maxSpeed, w.deltaSpeed, w.dr, w.maxDecel, w.conflictAngle,
-                   w.clockAngle, w.startX, w.startY, w.endX, w.endY, w.postCrashSpeed, w.postCrashHeading, w.pet})
-    os << ',' << conflictField(x);
+  // (what is read or copied from the inputs in full; what is worked out from them to 0.001)
+  os << ',' << derivedField(w.conflictX) << ',' << derivedField(w.conflictY) << ',' << conflictField(w.foeX) << ','
+     << conflictField(w.foeY) << ',' << conflictField(w.maxSpeed) << ',' << derivedField(w.deltaSpeed) << ','
+     << derivedField(w.dr) << ',' << derivedField(w.maxDecel) << ',' << derivedField(w.conflictAngle) << ','
+     << conflictField(w.clockAngle) << ',' << conflictField(w.startX) << ',' << conflictField(w.startY) << ','
+     << conflictField(w.endX) << ',' << conflictField(w.endY) << ',' << derivedField(w.postCrashSpeed) << ','
+     << derivedField(w.postCrashHeading) << ',' << derivedField(w.pet);
   os << ',' << conflictField(w.x) << ',' << conflictField(w.y) << ',' << csvField(w.lane) << ',' << conflictField(w.egoSpeed) << ','
-     << conflictField(w.foeSpeed) << ',' << conflictField(w.headingAngle) << ',' << toString(w.type) << ',' << conflictField(w.drac) << ','
-     << conflictField(w.maxDeltaV) << ',' << csvField(w.line) << ',' << conflictField(w.lateralSpeed);
+     << conflictField(w.foeSpeed) << ',' << derivedField(w.headingAngle) << ',' << toString(w.type) << ',' << derivedField(w.drac) << ','
+     << derivedField(w.maxDeltaV) << ',' << csvField(w.line) << ',' << conflictField(w.lateralSpeed);
   return os.str();
 }
 
@@ -97,7 +112,7 @@ TrajectoriesCsvWriter::TrajectoriesCsvWriter(const std::filesystem::path& path)
 void TrajectoriesCsvWriter::write(std::span<const TrajectoryPoint> points) {
   for (const TrajectoryPoint& p : points)
     row(csvField(p.ego) + ',' + csvField(p.foe) + ',' + toString(p.kind) + ',' + num(p.begin) + ',' + num(p.time) + ',' +
-        conflictField(p.ttc) + ',' + conflictField(p.drac));
+        conflictField(p.ttc) + ',' + derivedField(p.drac));
 }
 
 std::string eventCsvRow(const HindsightEvent& e) {
