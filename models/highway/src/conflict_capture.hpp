@@ -51,12 +51,21 @@ struct PetWatch {
   }
 };
 
+// The paths a PET is measured for: at least the rear-end angle from parallel and from head-on,
+// as sine and cosine (worked out once: a watch starts at every new minimum TTC).
+struct PetAngles {
+  double minSine = 0.0, maxNegCosine = 0.0;
+  static PetAngles of(double minAngleDeg) {
+    constexpr double kPi = 3.14159265358979323846;
+    return {std::sin(minAngleDeg * kPi / 180.0), std::cos(minAngleDeg * kPi / 180.0)};
+  }
+};
+
 // A PET watch on the two bodies at time t (the tick of a new minimum TTC).
-inline void startPet(const Body& a, const Body& b, double t, double minAngleDeg, PetWatch& w) {
-  constexpr double kPi = 3.14159265358979323846;
+inline void startPet(const Body& a, const Body& b, double t, const PetAngles& angles, PetWatch& w) {
   w = PetWatch{};
   const double sine = cross(a.axis, b.axis), cosine = a.axis.dot(b.axis);
-  if (std::abs(sine) < std::sin(minAngleDeg * kPi / 180.0) || cosine < -std::cos(minAngleDeg * kPi / 180.0)) return;
+  if (std::abs(sine) < angles.minSine || cosine < -angles.maxNegCosine) return;
   w.active = true;
   // the crossing: a + s a_axis = b + u b_axis
   const double sa = cross(b.position - a.position, b.axis) / sine;
@@ -72,6 +81,9 @@ inline void startPet(const Body& a, const Body& b, double t, double minAngleDeg,
     w.exit[i] = w.s[i] > w.r[i] ? t : std::numeric_limits<double>::quiet_NaN();
   }
   w.lastT = t;
+}
+inline void startPet(const Body& a, const Body& b, double t, double minAngleDeg, PetWatch& w) {
+  startPet(a, b, t, PetAngles::of(minAngleDeg), w);
 }
 
 // The vehicles' centres at a later tick t (NaN: that one is gone): the area's ends each has passed.

@@ -71,7 +71,7 @@ int EpisodeBook::newCapture(int e, const Threat& th) {
 }
 
 void EpisodeBook::startPetAt(ConflictCapture& c, WarningKind kind) const {
-  if (kind == WarningKind::Vehicle) startPet(c.ego, c.foe, tNow_, cfg_->conflict.rearEndBelowDeg, c.pet);
+  if (kind == WarningKind::Vehicle) startPet(c.ego, c.foe, tNow_, petAngles_, c.pet);
 }
 
 void EpisodeBook::advance(int e, const Episode& ep, double t) {

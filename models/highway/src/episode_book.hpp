@@ -19,7 +19,8 @@ class EpisodeBook {
  public:
   EpisodeBook(const VehicleTable& cars, const LanePrediction& paths, const RoadSearch& road, Hindsight& hindsight,
               const MonitorConfig& config, MonitorCounters& counters)
-      : cars_(&cars), paths_(&paths), road_(&road), hindsight_(&hindsight), cfg_(&config), counters_(&counters) {}
+      : cars_(&cars), paths_(&paths), road_(&road), hindsight_(&hindsight), cfg_(&config), counters_(&counters),
+        petAngles_(PetAngles::of(config.conflict.rearEndBelowDeg)) {}
 
   // Time exposed and integrated deficit over the interval dt that just ended, from the threats of
   // its first tick.
@@ -91,6 +92,7 @@ class EpisodeBook {
   std::vector<Warning> finished_;
   std::vector<Alert> alerts_;
   double tNow_ = 0.0;  // the tick being merged
+  PetAngles petAngles_;
   bool recordSeries_ = false;
   std::vector<TrajectoryPoint> series_;  // recorded ticks not yet taken
 };
