@@ -135,7 +135,7 @@ def main(argv):
     warnings = read_warnings(a.csv)
     lanes = read_lanes(a.net) if a.net else []
     panels, axis, stretch, cuts = layout(lanes, warnings)
-    flip = axis == "y"  # a north-south network: its length along the panels' horizontal axis
+    flip = axis == "y"  # a north-south network: its length along the panels' horizontal axis (turned)
     if len(panels) == 1:
         # one panel at the network's own shape, the legend to its right
         (l0, l1), (c0, c1) = panels[0]
@@ -192,7 +192,9 @@ def main(argv):
                                 zorder=2 if faint else 3)
                 sc.set_gid("warnings_%s%s_%d" % (key, "_nuisance" if nuisance else "", i + 1))
         ax.set_xlim(l0, l1)
-        ax.set_ylim(c0, c1)
+        # a north-south network turned a quarter clockwise (north to the right, east down), not
+        # mirrored: left and right of the traffic stay where they are
+        ax.set_ylim((c1, c0) if flip else (c0, c1))
         ax.set_aspect(stretch if len(panels) > 1 else "equal", adjustable="box" if len(panels) > 1 else "datalim")
         ax.grid(alpha=0.2)
         ax.tick_params(labelsize=7)
