@@ -61,6 +61,8 @@ const Warning* find(const std::vector<Warning>& ws, const std::string& ego) {
     if (w.ego == ego && w.kind == WarningKind::Vehicle) return &w;
   return nullptr;
 }
+// the warnings must outlive the pointer: a temporary would be gone before the pointer is read
+const Warning* find(std::vector<Warning>&& ws, const std::string& ego) = delete;
 
 TEST(SsamKernels, ContactPointOfTwoRectangles) {
   const Vec2 x(1.0, 0.0);
@@ -161,7 +163,8 @@ TEST(SsamMeasures, RearEndConflictPointIsTheLeadersRearThen) {
   HighwayMonitor m(plainRoad(), boxStraight());
   m.step(0.0, std::vector<VehicleState>{f, l});
   m.finish(0.1);
-  const Warning* w = find(m.takeFinished(), "follower");
+  const std::vector<Warning> finished = m.takeFinished();
+  const Warning* w = find(finished, "follower");
   ASSERT_NE(w, nullptr);
   EXPECT_NEAR(w->minTtc, 1.5, 1e-9);
   EXPECT_NEAR(w->conflictX, 47.5, 1e-9);
@@ -224,7 +227,8 @@ TEST(SsamMeasures, EndPointIsTheEgoAtTheFirstTickWithout) {
   l.position = Vec2(15.0, 0.0);
   m.step(0.1, std::vector<VehicleState>{f, l});
   m.finish(0.2);
-  const Warning* w = find(m.takeFinished(), "follower");
+  const std::vector<Warning> finished = m.takeFinished();
+  const Warning* w = find(finished, "follower");
   ASSERT_NE(w, nullptr);
   EXPECT_NEAR(w->end, 0.1, 1e-12);
   EXPECT_NEAR(w->startX, 0.0, 1e-12);
@@ -322,7 +326,8 @@ TEST(SsamMeasures, PetOfAnAnalyticCrossing) {
   HighwayMonitor r(plainRoad(), boxStraight());
   r.step(0.0, std::vector<VehicleState>{f, l});
   r.finish(0.1);
-  const Warning* re = find(r.takeFinished(), "follower");
+  const std::vector<Warning> finished = r.takeFinished();
+  const Warning* re = find(finished, "follower");
   ASSERT_NE(re, nullptr);
   EXPECT_TRUE(std::isnan(re->pet));
 }
