@@ -22,10 +22,9 @@ const char* toString(ConflictType t) {
 }
 
 double relativeHeadingDeg(double headingA, double headingB) {
-  constexpr double kPi = 3.14159265358979323846;
   // the difference folded into [0, pi] (remainder keeps it exact for large headings)
-  const double d = std::fabs(std::remainder(headingA - headingB, 2.0 * kPi));
-  return std::min(d, kPi) * (180.0 / kPi);
+  const double d = std::fabs(std::remainder(headingA - headingB, 2.0 * std::numbers::pi));
+  return toDegrees(std::min(d, std::numbers::pi));
 }
 
 ConflictType conflictType(double deg, const ConflictConfig& config) {
@@ -53,9 +52,8 @@ Vec2 postCrashVelocity(double massA, const Vec2& va, double massB, const Vec2& v
 }
 
 double conflictAngleDeg(const Vec2& egoAxis, const Vec2& foeAxis) {
-  constexpr double kPi = 3.14159265358979323846;
   // atan2 of the sine and cosine: accurate near 0 and 180 as acos is not; -180 folds to 180
-  const double deg = std::atan2(cross(egoAxis, foeAxis), egoAxis.dot(foeAxis)) * (180.0 / kPi);
+  const double deg = toDegrees(std::atan2(cross(egoAxis, foeAxis), egoAxis.dot(foeAxis)));
   return deg <= -180.0 ? 180.0 : deg;
 }
 

@@ -12,7 +12,6 @@ namespace st::highway::detail {
 namespace {
 // SSAM's measures of a vehicle warning but the conflict point (monitor.hpp, Warning)
 void describeSsam(const ConflictCapture& c, double egoMass, double foeMass, Warning& w) {
-  constexpr double kPi = 3.14159265358979323846;
   const Body &a = c.ego, &b = c.foe;
   w.foeX = b.position.x();
   w.foeY = b.position.y();
@@ -21,7 +20,7 @@ void describeSsam(const ConflictCapture& c, double egoMass, double foeMass, Warn
   w.clockAngle = clockPosition(w.conflictAngle);
   const Vec2 v = postCrashVelocity(egoMass, a.velocity, foeMass, b.velocity);
   w.postCrashSpeed = v.norm();
-  w.postCrashHeading = v.squaredNorm() > 0.0 ? std::atan2(v.y(), v.x()) * (180.0 / kPi) : std::numeric_limits<double>::quiet_NaN();
+  w.postCrashHeading = v.squaredNorm() > 0.0 ? toDegrees(std::atan2(v.y(), v.x())) : std::numeric_limits<double>::quiet_NaN();
   const EpisodeTrack& k = c.track;
   w.maxSpeed = k.maxSpeed;
   w.dr = k.dr;
@@ -34,8 +33,7 @@ void describeSsam(const ConflictCapture& c, double egoMass, double foeMass, Warn
 
 // the angle between two unit vectors (deg, 0..180), accurate near 0 and 180 as acos is not
 double angleDeg(const Vec2& a, const Vec2& b) {
-  constexpr double kPi = 3.14159265358979323846;
-  return std::atan2(std::abs(cross(a, b)), a.dot(b)) * (180.0 / kPi);
+  return toDegrees(std::atan2(std::abs(cross(a, b)), a.dot(b)));
 }
 }  // namespace
 

@@ -56,8 +56,7 @@ struct PetWatch {
 struct PetAngles {
   double minSine = 0.0, maxNegCosine = 0.0;
   static PetAngles of(double minAngleDeg) {
-    constexpr double kPi = 3.14159265358979323846;
-    return {std::sin(minAngleDeg * kPi / 180.0), std::cos(minAngleDeg * kPi / 180.0)};
+    return {std::sin(toRadians(minAngleDeg)), std::cos(toRadians(minAngleDeg))};
   }
 };
 

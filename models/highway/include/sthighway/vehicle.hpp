@@ -73,8 +73,7 @@ ClassDefaults classDefaults(VehicleClass c);
 // SUMO (and most traffic tools) report the front-bumper centre and a navigational angle in
 // degrees (0 = north, clockwise). These turn that into our centre + math heading.
 inline double headingFromNavigationDegrees(double degrees) {
-  constexpr double kPi = 3.14159265358979323846;
-  return (90.0 - degrees) * kPi / 180.0;
+  return toRadians(90.0 - degrees);
 }
 inline Vec2 centreFromFrontBumper(const Vec2& front, double heading, double length) {
   return front - 0.5 * length * Vec2(std::cos(heading), std::sin(heading));
