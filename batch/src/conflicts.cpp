@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include <stbatch/stats.hpp>
+#include <stio/format.hpp>
 
 #include "files.hpp"
 
@@ -20,30 +21,10 @@ namespace {
 
 const char* const kTypes[] = {"rear_end", "lane_change", "crossing"};
 
-// One row of a CSV file stsim wrote (io::csvField: quoted when it holds a comma or a quote).
-std::vector<std::string> splitCsvRow(const std::string& line) {
-  std::vector<std::string> cells(1);
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') cells.back() += '"', ++i;
-      else if (c == '"') quoted = false;
-      else cells.back() += c;
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      cells.emplace_back();
-    } else if (c != '\r') {
-      cells.back() += c;
-    }
-  }
-  return cells;
-}
-
 // A combination's conflicts, pooled over its done runs.
 struct Pool {
   int runs = 0;
+  int conflicts = 0;  // all three types
   std::map<std::string, int> byType;
   std::map<std::string, std::vector<double>> values;  // measure -> its finite values
 };
@@ -54,7 +35,7 @@ bool addRun(const fs::path& file, Pool& pool, std::set<std::string>& measures) {
   if (!in) return false;
   std::string line;
   if (!std::getline(in, line)) return false;
-  const std::vector<std::string> header = splitCsvRow(line);
+  const std::vector<std::string> header = io::csvFields(line);
   std::map<std::string, std::size_t> col;
   for (std::size_t i = 0; i < header.size(); ++i) col[header[i]] = i;
   if (!col.count("type")) throw std::runtime_error(file.string() + ": no type column (not a highway warnings.csv)");
@@ -62,13 +43,14 @@ bool addRun(const fs::path& file, Pool& pool, std::set<std::string>& measures) {
     if (col.count(m)) measures.insert(m);
   ++pool.runs;
   while (std::getline(in, line)) {
-    const std::vector<std::string> row = splitCsvRow(line);
+    const std::vector<std::string> row = io::csvFields(line);
     if (row.size() != header.size()) continue;  // a cut last row (the run was stopped)
     const std::string& type = row[col["type"]];
     bool conflict = false;
     for (const char* t : kTypes) conflict = conflict || type == t;
     if (!conflict) continue;
     ++pool.byType[type];
+    ++pool.conflicts;
     for (const char* m : kConflictMeasures) {
       if (!col.count(m)) continue;
       const std::string& cell = row[col[m]];
@@ -130,9 +112,7 @@ void writeConflictTables(const Experiment& e, const std::vector<RunResult>& resu
   for (const auto& key : order) {
     const Pool& p = pools[key];
     for (const auto& v : key) t << csvField(v) << ",";
-    int total = 0;
-    for (const auto& [type, n] : p.byType) total += n;
-    t << p.runs << "," << total;
+    t << p.runs << "," << p.conflicts;
     for (const char* type : kTypes) t << "," << (p.byType.count(type) ? p.byType.at(type) : 0);
     for (const auto& m : measures) {
       const auto at = p.values.find(m);
@@ -159,14 +139,9 @@ void writeConflictTables(const Experiment& e, const std::vector<RunResult>& resu
       baseKey[a] = axis.values.front();
       const Pool& x = pools[key];
       const Pool& y = pools[baseKey];
-      auto count = [](const Pool& p) {
-        int n = 0;
-        for (const auto& [type, k] : p.byType) n += k;
-        return n;
-      };
       c << csvField(axis.key) << "," << csvField(axis.values.front());
       for (const auto& v : key) c << "," << csvField(v);
-      c << "," << count(x) << "," << count(y);
+      c << "," << x.conflicts << "," << y.conflicts;
       static const std::vector<double> none;
       for (const auto& m : measures) {
         const auto xv = x.values.find(m), yv = y.values.find(m);

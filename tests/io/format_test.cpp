@@ -122,4 +122,26 @@ TEST(IoCsv, FieldsReadBackAndOnlyNeededOnesAreQuoted) {
   EXPECT_EQ(oneLine("a\r\nb\nc"), "a  b c");
 }
 
+// csvFields, the reader's half: a row of csvField's fields splits back into them, as the
+// independent field reader above reads them.
+TEST(IoCsv, RowsSplitBackIntoTheirFields) {
+  const std::vector<std::string> values = {"plain", "", "a,b", "say \"hi\"", "cr\rhere", "\"", ",", "x y", ",,\"\","};
+  for (std::size_t n = 1; n <= values.size(); ++n) {
+    std::vector<std::string> row(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(n));
+    std::string line;
+    for (std::size_t k = 0; k < row.size(); ++k) {
+      if (k) line += ',';
+      line += csvField(row[k]);
+    }
+    EXPECT_EQ(csvFields(line), row) << line;
+    std::size_t at = 0;
+    for (const std::string& v : row) {
+      std::size_t used = 0;
+      EXPECT_EQ(readCsvField(line.substr(at), used), v) << line;
+      at += used + 1;
+    }
+  }
+  EXPECT_EQ(csvFields("a,b\r"), (std::vector<std::string>{"a", "b"}));  // a CRLF file's line
+}
+
 }  // namespace

@@ -3,6 +3,7 @@
 // job, so two files never disagree on how a value is written.
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace st::io {
 
@@ -29,6 +30,10 @@ std::string jsonForScript(std::string_view json);
 // A CSV field as RFC 4180 writes it: quoted when it holds a comma, a quote, CR or LF, inner quotes
 // doubled; otherwise unchanged.
 std::string csvField(std::string_view s);
+
+// The fields of one CSV line as csvField wrote them: quoted fields unquoted, inner quotes undoubled
+// (the reader's half of csvField; a line holds no line break outside quotes).
+std::vector<std::string> csvFields(std::string_view line);
 
 // The text on one line: CR and LF become spaces (a message in a table cell that is read line by line).
 std::string oneLine(std::string_view s);
