@@ -44,10 +44,8 @@ int Hindsight::open(int e, int foe, WarningKind kind, double t, double safe) {
 void Hindsight::finished(Warning&& w, int window, const PetWatch* pet) {
   Window& win = windows_[window];
   if (pet) {
-    win.pet = *pet;
     win.petLive = true;
-    win.petUntil = w.end + kPetHorizon;
-    livePets_.push_back(window);
+    livePets_.push_back({window, w.end + kPetHorizon, *pet});
   }
   if (win.kind == WarningKind::Vehicle) {
     auto it = pairEpisodes_.find(pairKey(win.egoSerial, win.foeSerial));
@@ -190,9 +188,11 @@ void Hindsight::measure(Window& w, double t) {
 // horizon passes or a vehicle leaves.
 void Hindsight::watchPets(double t) {
   for (std::size_t i = 0; i < livePets_.size();) {
-    Window& w = windows_[livePets_[i]];
-    if (t <= w.petUntil && alive(w)) observePet(cars_->centre[w.ego], cars_->centre[w.foe], t, w.pet);
-    if (t > w.petUntil || !alive(w) || !std::isnan(w.pet.pet())) {
+    LivePet& p = livePets_[i];
+    Window& w = windows_[p.window];
+    if (t <= p.until && alive(w)) observePet(cars_->centre[w.ego], cars_->centre[w.foe], t, p.watch);
+    if (t > p.until || !alive(w) || !std::isnan(p.watch.pet())) {
+      w.pet = p.watch.pet();
       w.petLive = false;
       livePets_[i] = livePets_.back();
       livePets_.pop_back();
@@ -203,7 +203,7 @@ void Hindsight::watchPets(double t) {
 }
 
 void Hindsight::judge(Warning& w, const Window& win) {
-  if (win.pet.active && std::isnan(w.pet)) w.pet = win.pet.pet();
+  if (std::isnan(w.pet)) w.pet = win.pet;
   const HindsightConfig& h = cfg_->hindsight;
   bool confirmed = false;
   if (win.kind == WarningKind::Vehicle) {
@@ -368,7 +368,10 @@ void Hindsight::finishAll(std::vector<Warning>& out) {
   while (!liveVehicles_.empty()) closeVehicle(liveVehicles_.size() - 1);
   for (int id : live_) windows_[id].closed = true;
   live_.clear();
-  for (int id : livePets_) windows_[id].petLive = false;
+  for (const LivePet& p : livePets_) {
+    windows_[p.window].pet = p.watch.pet();
+    windows_[p.window].petLive = false;
+  }
   livePets_.clear();
   release(out);
 }

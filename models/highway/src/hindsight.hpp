@@ -71,8 +71,14 @@ class Hindsight {
     double clearance = 0.0, clearanceTime = 0.0, deceleration = 0.0;
     bool measured = false, crossed = false, signalled = false, closed = false;
     bool petLive = false;  // its PET still watched (livePets_)
-    double petUntil = 0.0;
-    PetWatch pet;
+    double pet = std::numeric_limits<double>::quiet_NaN();  // the PET watching found (s)
+  };
+  // A PET still to come, watched after its episode ended (apart from the windows, which most
+  // warnings use without one)
+  struct LivePet {
+    int window = -1;
+    double until = 0.0;
+    PetWatch watch;
   };
   struct Pending {
     Warning warning;
@@ -138,7 +144,7 @@ class Hindsight {
   std::vector<Window> windows_;
   std::vector<int> freeWindows_;
   std::vector<int> live_;  // road windows still measuring
-  std::vector<int> livePets_;  // windows whose PET is still watched
+  std::vector<LivePet> livePets_;
   std::vector<LiveVehicle> liveVehicles_;  // vehicle windows still measuring
   std::vector<std::uint64_t> serialOf_;    // per slot: the serial of the car that holds it
   std::vector<Track> tracks_;
