@@ -186,6 +186,43 @@ TEST(Backends, LibsumoAndLibtraciAgreeThroughTeleports) {
   EXPECT_EQ(viaLibsumo.warnings, viaTraci.warnings);
 }
 
+// Over TraCI each vehicle is subscribed to just the variables the reads ask for; when the reads
+// change mid-run every vehicle is subscribed again. The states must stay libsumo's through the
+// changes: what is read has the same value, what is not is 0.
+TEST(Backends, LibtraciFollowsReadsChangedMidRun) {
+  const Scenario s = shortMotorway(60.0);
+  const SumoLaunch launch{sumoArguments(s), false, "", ""};
+  auto runSwitching = [&](Backend& b) {
+    Recorded r;
+    for (int k = 0; b.running(); ++k) {
+      if (k == 200) b.setReads(VehicleReads{false, false, false});
+      if (k == 400) b.setReads(VehicleReads{true, true, true});
+      b.step();
+      r.steps.push_back(b.vehicles());
+    }
+    b.close();
+    return r;
+  };
+  auto a = startLibsumo(launch);
+  const Recorded viaLibsumo = runSwitching(*a);
+  auto b = launchTraci(launch);
+  const Recorded viaTraci = runSwitching(*b);
+  ASSERT_EQ(viaLibsumo.steps.size(), 600u);
+  expectSameStates(viaLibsumo, viaTraci);
+  // the narrowed stretch read nothing optional; the widened one read everything again
+  std::size_t narrowedRead = 0, widenedAccelerating = 0, widenedRouted = 0;
+  for (std::size_t k = 201; k < 400; ++k)
+    for (const auto& v : viaTraci.steps[k]) narrowedRead += v.acceleration != 0.0 || v.routeIndex >= 0;
+  for (std::size_t k = 401; k < 600; ++k)
+    for (const auto& v : viaTraci.steps[k]) {
+      widenedAccelerating += v.acceleration != 0.0;
+      widenedRouted += !v.route.empty();
+    }
+  EXPECT_EQ(narrowedRead, 0u);
+  EXPECT_GT(widenedAccelerating, 100u);
+  EXPECT_GT(widenedRouted, 1000u);
+}
+
 // The brake action's slowDown must get the deceleration it asks for: SUMO's default speed mode
 // caps a commanded slowdown at the vType's comfortable decel (4.5 m/s^2 for the motorway's cars).
 TEST(Backends, SlowDownBrakesAtTheCommandedRateBeyondTheTypesDecel) {

@@ -11,6 +11,8 @@
 #include <thread>
 #include <memory>
 #include <optional>
+#include <stdexcept>
+#include <unordered_set>
 
 #include "backend_common.hpp"
 #include "sumo_process.hpp"
@@ -22,12 +24,21 @@ namespace {
 
 using libsumo::TraCIResults;
 
-// Every variable is subscribed whatever VehicleReads says (a vehicle teleporting when the reads
-// change would otherwise come back without one); only the asked ones are copied out. The type is
-// needed once per vehicle, but as a getter it would cost a round trip: it rides along.
-const std::vector<int> kVehicleVars{libsumo::VAR_TYPE,      libsumo::VAR_POSITION,     libsumo::VAR_ANGLE,
-                                    libsumo::VAR_SPEED,     libsumo::VAR_SPEED_LAT,    libsumo::VAR_ACCELERATION,
-                                    libsumo::VAR_SIGNALS,   libsumo::VAR_ROUTE_INDEX,  libsumo::VAR_ROUTE_ID};
+// The per-step variables, as VehicleReads asks: SUMO's server answers each subscribed variable
+// of each vehicle with a full getter of its own (about 0.8 us per variable and vehicle in SUMO
+// 1.15, bench/RESULTS.md), so a variable not needed is not subscribed. The type, needed once per
+// vehicle, is a getter at its first appearance rather than a variable sent every step.
+std::vector<int> vehicleVars(const VehicleReads& reads, bool lateral) {
+  std::vector<int> vars{libsumo::VAR_POSITION, libsumo::VAR_ANGLE, libsumo::VAR_SPEED};
+  if (lateral) vars.push_back(libsumo::VAR_SPEED_LAT);
+  if (reads.acceleration) vars.push_back(libsumo::VAR_ACCELERATION);
+  if (reads.signals) vars.push_back(libsumo::VAR_SIGNALS);
+  if (reads.route) {
+    vars.push_back(libsumo::VAR_ROUTE_INDEX);
+    vars.push_back(libsumo::VAR_ROUTE_ID);
+  }
+  return vars;
+}
 const std::vector<int> kSimulationVars{libsumo::VAR_TIME,
                                        libsumo::VAR_DEPARTED_VEHICLES_IDS,
                                        libsumo::VAR_ARRIVED_VEHICLES_IDS,
@@ -95,10 +106,14 @@ class TraciBackend final : public Backend {
       deltaT_ = libtraci::Simulation::getDeltaT();
       gui_ = libtraci::Simulation::hasGUI();
       endTime_ = libtraci::Simulation::getEndTime();
+      // lateral speed is identically 0 unless the sublane model or lane-change durations are on
+      lateral_ = optionPositive("lateral-resolution") || optionPositive("lanechange.duration");
+      subscribedWith_ = reads_;
+      vars_ = vehicleVars(reads_, lateral_);
       libtraci::Simulation::subscribe(kSimulationVars);
       // vehicles already on the road when we attach
       const auto ids = libtraci::Vehicle::getIDList();
-      for (const auto& id : ids) libtraci::Vehicle::subscribe(id, kVehicleVars);
+      for (const auto& id : ids) subscribe(id);
       StepEvents initial;
       initial.departed = ids;
       const auto results = libtraci::Vehicle::getAllSubscriptionResults();  // a const copy: not moved
@@ -125,8 +140,17 @@ class TraciBackend final : public Backend {
       events_.teleportEnded =
           resultAs<libsumo::TraCIStringList>(sim, libsumo::VAR_TELEPORT_ENDING_VEHICLES_IDS, "teleports").value;
       minExpected_ = resultAs<libsumo::TraCIInt>(sim, libsumo::VAR_MIN_EXPECTED_VEHICLES, "expected").value;
+      for (const auto& id : events_.arrived) subscribed_.erase(id);
       // a subscription's answer carries the current values, so departing vehicles are read this step
-      for (const auto& id : events_.departed) libtraci::Vehicle::subscribe(id, kVehicleVars);
+      if (reads_ == subscribedWith_) {
+        for (const auto& id : events_.departed) subscribe(id);
+      } else {
+        // the reads changed: every vehicle SUMO still holds (teleporting ones too) is subscribed again
+        subscribedWith_ = reads_;
+        vars_ = vehicleVars(reads_, lateral_);
+        for (const auto& id : events_.departed) subscribed_.insert(id);
+        for (const auto& id : subscribed_) libtraci::Vehicle::subscribe(id, vars_);
+      }
       const auto results = libtraci::Vehicle::getAllSubscriptionResults();
       results_ = &results;
       applyEvents(events_);
@@ -201,13 +225,28 @@ class TraciBackend final : public Backend {
     guard([&] { t = detail::readVehicleType<libtraci::VehicleType>(typeId); });
     return t;
   }
-  // from the subscription results of the step (called within read())
-  std::string readTypeId(const std::string& vehicleId) override {
-    return resultAs<libsumo::TraCIString>(vehicleResults(vehicleId), libsumo::VAR_TYPE, "type").value;
-  }
+  // once per vehicle, at its first appearance (called within read())
+  std::string readTypeId(const std::string& vehicleId) override { return libtraci::Vehicle::getTypeID(vehicleId); }
 
  private:
   std::string where() const { return host_ + ":" + std::to_string(port_); }
+
+  void subscribe(const std::string& id) {
+    libtraci::Vehicle::subscribe(id, vars_);
+    subscribed_.insert(id);
+  }
+
+  static bool optionPositive(const std::string& name) {
+    try {
+      return std::stod(libtraci::Simulation::getOption(name)) > 0.0;
+    } catch (const libsumo::TraCIException&) {
+      return true;  // SUMO does not know the option: read it
+    } catch (const std::invalid_argument&) {
+      return true;  // not a number: read it
+    } catch (const std::out_of_range&) {
+      return true;
+    }
+  }
 
   // Runs a TraCI exchange on our connection; turns libtraci's errors into one-line SumoErrors.
   template <class F>
@@ -263,7 +302,7 @@ class TraciBackend final : public Backend {
       v.y = p.y;
       v.angle = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_ANGLE, "angle").value;
       v.speed = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_SPEED, "speed").value;
-      v.lateralSpeed = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_SPEED_LAT, "lateral speed").value;
+      if (lateral_) v.lateralSpeed = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_SPEED_LAT, "lateral speed").value;
       if (reads_.acceleration)
         v.acceleration = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_ACCELERATION, "acceleration").value;
       if (reads_.signals) v.signals = resultAs<libsumo::TraCIInt>(r, libsumo::VAR_SIGNALS, "signals").value;
@@ -292,6 +331,10 @@ class TraciBackend final : public Backend {
   double endTime_ = -1.0;
   int minExpected_ = 1;
   const libsumo::SubscriptionResults* results_ = nullptr;  // the step's, while read() runs
+  bool lateral_ = true;       // SUMO moves vehicles sideways at finite speed
+  VehicleReads subscribedWith_;  // the reads vars_ was made for
+  std::vector<int> vars_;        // each vehicle's subscribed variables
+  std::unordered_set<std::string> subscribed_;  // the vehicles SUMO holds a subscription of ours for
 };
 
 }  // namespace
