@@ -19,8 +19,9 @@ double distanceSq(const Vec2& p, const Box2& b) {
   return u * u + w * w;
 }
 
-double distance(const Box2& a, const Box2& b) {
-  if (separation(a, b) <= 0.0) return 0.0;
+double distance(const Box2& a, const Box2& b) { return separation(a, b) <= 0.0 ? 0.0 : distanceApart(a, b); }
+
+double distanceApart(const Box2& a, const Box2& b) {
   // apart: the distance is reached at a corner of one against the other
   double best = std::numeric_limits<double>::infinity();
   for (const Vec2& c : corners(a)) best = std::min(best, distanceSq(c, b));

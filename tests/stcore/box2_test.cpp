@@ -155,6 +155,7 @@ TEST(Box2, DistanceAndOverlapMatchClippingAndOutlines) {
       ++apart;
       EXPECT_NEAR(d, ref, tol);
       EXPECT_NEAR(distance(b, a), ref, tol);
+      EXPECT_EQ(distanceApart(a, b), d);  // bit for bit, for a caller that has the separation
       // the projection gap bounds the distance from below
       EXPECT_GT(separation(a, b), 0.0);
       EXPECT_LE(separation(a, b), d + tol);

@@ -114,7 +114,7 @@ void Hindsight::measureVehicles(double t) {
       continue;
     }
     if (!v.measured || tr.sep < v.clearance) {
-      if (!tr.hasDist) tr.dist = distance(tr.boxA, tr.boxB), tr.hasDist = true;
+      if (!tr.hasDist) tr.dist = tr.sep <= 0.0 ? 0.0 : distanceApart(tr.boxA, tr.boxB), tr.hasDist = true;
       if (!v.measured || tr.dist < v.clearance) {
         v.clearance = tr.dist;
         v.clearanceTime = t;
@@ -421,10 +421,11 @@ void Hindsight::findCrossings(double t) {
   for (int s : c.active) {
     std::array<int, 2> now = {-1, -1};
     const int lane = frames_->frame(s).lane;
-    const bool along = lane >= 0 && frames_->alongside(s);
+    const bool along = lane >= 0 && frames_->along(s);
     const bool was = along_[s] != 0;
     along_[s] = along;
-    if (along)
+    // most bodies reach across neither line (the nearer side's is the larger reach)
+    if (along && !(frames_->beyondNearerLine(s) < 0.0))
       for (int side = 0; side < 2; ++side) {
         const int g = road_->lineOf(lane, side);
         if (g < 0 || frames_->beyondLine(s, side, false) < 0.0) continue;

@@ -19,6 +19,7 @@
 // distance the straight line covers at the same speed) unless a lane's shape is longer than the
 // source's length of it (Lane::length: SUMO moves a car shape / length times its speed there);
 // the deviation holds that too.
+#include <cmath>
 #include <limits>
 #include <span>
 #include <vector>
@@ -84,10 +85,18 @@ class LanePrediction {
   // lane: a rigid body's corners on a polyline's joints (a truck's 12 m on a curve) reach out by
   // its yaw against the joint's segment, which is no lane departure. On a lane only.
   double beyondLine(int slot, int side, bool shape) const;
+  // beyondLine(slot, side, false) of the side its centre is off to (the larger of the two, bit for
+  // bit), for a caller that skips the bodies reaching across neither line.
+  double beyondNearerLine(int slot) const {
+    const LaneFrame& f = frame_[slot];
+    return std::abs(f.d) + f.halfBody - halfWidth(f.lane);
+  }
   // True when the car's body lies along its lane, its rear past the lane's start and its front
   // short of its end: only then do the lane's lines apply (a body straddling a junction, half on
   // the lane it leaves, cuts across where no line is drawn).
   bool alongside(int slot) const;
+  // alongside(slot) as update() found it this tick (a car it predicted)
+  bool along(int slot) const { return prevAlong_[slot] != 0; }
   double halfWidth(int lane) const { return 0.5 * lanes_[lane].width; }
   // Metres along a lane's shape per metre of the source's length of it (Lane::length).
   double scale(int lane) const { return lanes_[lane].scale; }
@@ -146,7 +155,7 @@ class LanePrediction {
   std::vector<Vec2> prevPos_;
   std::vector<int> prevLane_, pieceBegin_, pieceEnd_;
   std::vector<int> matched_;    // the lane match() found this tick (-1: none)
-  std::vector<char> prevAlong_;  // alongside() at the last tick
+  std::vector<char> prevAlong_;  // alongside() at the last tick (after update(): at this one)
   std::vector<char> straight_;  // the path is the straight line (no lane, or slow)
   std::vector<PathPiece> pieces_;
 };

@@ -6,6 +6,7 @@
 //   separation      the largest gap between the projections: > 0 when apart, never above the distance;
 //   overlaps        closed: touching boxes overlap;
 //   distance        separation distance, 0 when touching or overlapping;
+//   distanceApart   the same for two boxes whose separation is > 0 (a caller that has it);
 //   timeOfEntry     the first time two boxes overlap under straight relative motion.
 #include <algorithm>
 #include <array>
@@ -56,6 +57,9 @@ bool overlaps(const Segment& s, const Box2& b);
 
 double distanceSq(const Vec2& p, const Box2& b);
 inline double distance(const Vec2& p, const Box2& b) { return std::sqrt(distanceSq(p, b)); }
+// Two boxes whose separation is > 0: the distance, corner to box (what distance() returns for
+// them, bit for bit, without taking the separation again).
+double distanceApart(const Box2& a, const Box2& b);
 double distance(const Box2& a, const Box2& b);
 
 // Time of entry is an overlap query, not a contact: Overlapping (t = 0) when the shapes overlap
