@@ -31,12 +31,12 @@ int Hindsight::open(int e, int foe, WarningKind kind, double t, double safe) {
   w.end = t + safe + (kind == WarningKind::Vehicle ? 1.0 : 0.0);
   if (kind == WarningKind::Vehicle) {
     w.foeSerial = cars_->slots[foe].serial;
-    const std::uint64_t key = pairKey(w.egoSerial, w.foeSerial);
-    liveVehicles_.push_back({id, trackFor(e, foe, key), e, foe, w.end});
-    pairEpisodes_[key].push_back({w.egoSerial, t, kInf});
+    const int track = trackFor(e, foe, pairKey(w.egoSerial, w.foeSerial));
+    liveVehicles_.push_back({id, track, e, foe, w.end});
+    addEpisode(e, w.foeSerial, t, track);
     return id;
   }
-  if (kind != WarningKind::Hazard) lineEpisodes_[lineKey(w.egoSerial, foe)].push_back({w.egoSerial, t, kInf});
+  if (kind != WarningKind::Hazard) addEpisode(e, kLineBit | static_cast<std::uint32_t>(foe), t, -1);
   live_.push_back(id);
   return id;
 }
@@ -47,40 +47,102 @@ void Hindsight::finished(Warning&& w, int window, const PetWatch* pet) {
     win.petLive = true;
     livePets_.push_back({window, w.end + kPetHorizon, *pet});
   }
-  if (win.kind == WarningKind::Vehicle) {
-    auto it = pairEpisodes_.find(pairKey(win.egoSerial, win.foeSerial));
-    if (it != pairEpisodes_.end())
-      for (PairEpisode& pe : it->second)
-        if (pe.ego == win.egoSerial && pe.end == kInf) pe.end = w.end;
-  } else if (win.kind != WarningKind::Hazard) {
-    if (auto it = lineEpisodes_.find(lineKey(win.egoSerial, win.foe)); it != lineEpisodes_.end())
-      for (PairEpisode& pe : it->second)
-        if (pe.end == kInf) pe.end = w.end;
-  }
+  if (win.kind == WarningKind::Vehicle) endEpisodes(win.ego, win.egoSerial, win.foeSerial, w.end);
+  else if (win.kind != WarningKind::Hazard)
+    endEpisodes(win.ego, win.egoSerial, kLineBit | static_cast<std::uint32_t>(win.foe), w.end);
   pending_.push_back({std::move(w), window, tick_});
 }
 
-// The track of the pair (slots e and foe, serials' key), shared by every live window on it.
+// The track of the pair (slots e and foe, serials' key), shared by every live window on it: the
+// live track an episode of either car against the other names, else a new one.
 int Hindsight::trackFor(int e, int foe, std::uint64_t key) {
-  auto [it, fresh] = trackOf_.try_emplace(key, -1);
-  if (fresh) {
+  const std::uint64_t serialE = cars_->slots[e].serial, serialF = cars_->slots[foe].serial;
+  auto find = [&](int head, std::uint64_t other) {
+    for (int i = head; i >= 0; i = episodes_[i].next) {
+      const PastEpisode& pe = episodes_[i];
+      if (pe.foe == other && pe.track >= 0 && tracks_[pe.track].windows > 0 && tracks_[pe.track].key == key) return pe.track;
+    }
+    return -1;
+  };
+  int id = find(firstOf(e), serialF);
+  if (id < 0) id = find(firstOf(foe), serialE);
+  if (id < 0) {
     if (!freeTracks_.empty()) {
-      it->second = freeTracks_.back();
+      id = freeTracks_.back();
       freeTracks_.pop_back();
     } else {
-      it->second = static_cast<int>(tracks_.size());
+      id = static_cast<int>(tracks_.size());
       tracks_.emplace_back();
     }
-    Track& tr = tracks_[it->second];
+    Track& tr = tracks_[id];
     tr = Track{};
     tr.key = key;
     tr.a = e;
     tr.b = foe;
-    tr.serialA = cars_->slots[e].serial;
-    tr.serialB = cars_->slots[foe].serial;
+    tr.serialA = serialE;
+    tr.serialB = serialF;
   }
-  ++tracks_[it->second].windows;
-  return it->second;
+  ++tracks_[id].windows;
+  return id;
+}
+
+int& Hindsight::listOf(int s) {
+  if (listHead_.size() <= static_cast<std::size_t>(s)) {
+    listHead_.resize(cars_->slots.size(), -1);
+    listOwner_.resize(cars_->slots.size(), 0);
+  }
+  const std::uint64_t serial = cars_->slots[s].serial;
+  if (listOwner_[s] != serial) {
+    while (listHead_[s] >= 0) listHead_[s] = freeEpisode(listHead_[s]);
+    listOwner_[s] = serial;
+  }
+  return listHead_[s];
+}
+
+// Frees episode i; returns the one after it in its list.
+int Hindsight::freeEpisode(int i) {
+  const int next = episodes_[i].next;
+  episodes_[i].next = freeEpisode_;
+  freeEpisode_ = i;
+  return next;
+}
+
+void Hindsight::addEpisode(int e, std::uint64_t foe, double t, int track) {
+  int& head = listOf(e);
+  // on the way: the car's episodes over before the earliest time a lead can reach back to (an
+  // event at t or later asks of none of them), so its list stays as short as its recent past
+  const double before = t - cfg_->hindsight.lead;
+  for (int* link = &head; *link >= 0;) {
+    if (episodes_[*link].end < before) *link = freeEpisode(*link);
+    else link = &episodes_[*link].next;
+  }
+  int i = freeEpisode_;
+  if (i >= 0) {
+    freeEpisode_ = episodes_[i].next;
+  } else {
+    i = static_cast<int>(episodes_.size());
+    episodes_.emplace_back();
+  }
+  episodes_[i] = {foe, t, kInf, track, head};
+  head = i;
+}
+
+void Hindsight::endEpisodes(int e, std::uint64_t egoSerial, std::uint64_t foe, double end) {
+  if (e >= static_cast<int>(listHead_.size()) || listOwner_[e] != egoSerial) return;
+  for (int i = listHead_[e]; i >= 0; i = episodes_[i].next)
+    if (episodes_[i].foe == foe && episodes_[i].end == kInf) episodes_[i].end = end;
+}
+
+void Hindsight::pruneEpisodes(double before) {
+  const auto& slots = cars_->slots;
+  for (std::size_t s = 0; s < listHead_.size(); ++s) {
+    // a list of a car gone is of no use: no event can name it again
+    const bool gone = !slots[s].present || listOwner_[s] != slots[s].serial;
+    for (int* link = &listHead_[s]; *link >= 0;) {
+      if (gone || episodes_[*link].end < before) *link = freeEpisode(*link);
+      else link = &episodes_[*link].next;
+    }
+  }
 }
 
 // Each track's state at this tick, in one pass over the tracks: both cars here (the slot still
@@ -136,10 +198,7 @@ void Hindsight::closeVehicle(std::size_t i) {
   w.measured = v.measured;
   w.closed = true;
   Track& tr = tracks_[v.track];
-  if (--tr.windows == 0) {
-    trackOf_.erase(tr.key);
-    freeTracks_.push_back(v.track);
-  }
+  if (--tr.windows == 0) freeTracks_.push_back(v.track);
   liveVehicles_[i] = liveVehicles_.back();
   liveVehicles_.pop_back();
 }
@@ -242,17 +301,8 @@ void Hindsight::observe(double t) {
   findNearMisses(t);
   findCrossings(t);
   if (t - lastPrune_ > 10.0) {
-    for (auto it = lineEpisodes_.begin(); it != lineEpisodes_.end();) {
-      auto& v = it->second;
-      v.erase(std::remove_if(v.begin(), v.end(), [&](const PairEpisode& pe) { return pe.end < t - 10.0; }), v.end());
-      it = v.empty() ? lineEpisodes_.erase(it) : std::next(it);
-    }
-    // episodes long over no longer decide a near miss's recall
-    for (auto it = pairEpisodes_.begin(); it != pairEpisodes_.end();) {
-      auto& v = it->second;
-      v.erase(std::remove_if(v.begin(), v.end(), [&](const PairEpisode& pe) { return pe.end < t - 10.0; }), v.end());
-      it = v.empty() ? pairEpisodes_.erase(it) : std::next(it);
-    }
+    // episodes long over no longer decide an event's recall
+    pruneEpisodes(t - 10.0);
     lastPrune_ = t;
   }
 }
@@ -341,7 +391,7 @@ void Hindsight::findNearMisses(double t) {
       ev.kind = EventKind::NearMiss;
       ev.foe = c.slots[f].id;
       ev.gap = gap;
-      record(std::move(ev), e, t, leadOf(pairEpisodes_, key, t));
+      record(std::move(ev), e, t, leadOf(a, c.slots[b].serial, b, c.slots[a].serial, t));
     }
   }
   std::swap(nearBefore_, nearNow_);
@@ -376,17 +426,23 @@ void Hindsight::finishAll(std::vector<Warning>& out) {
   release(out);
 }
 
-Hindsight::Lead Hindsight::leadOf(const std::unordered_map<std::uint64_t, std::vector<PairEpisode>>& episodes,
-                                  std::uint64_t key, double t) const {
-  const double at = t - cfg_->hindsight.lead;
+Hindsight::Lead Hindsight::leadOf(int a, std::uint64_t foe, int b, std::uint64_t fromB, double t) const {
   Lead out{std::numeric_limits<double>::quiet_NaN(), false};
-  if (auto it = episodes.find(key); it != episodes.end())
-    for (const PairEpisode& pe : it->second)
-      if (pe.end >= at && pe.begin <= t) {
-        if (!(t - pe.begin <= out.lead)) out.lead = t - pe.begin;
-        out.warned = out.warned || pe.begin <= at;
-      }
+  leadIn(firstOf(a), foe, t, out);
+  if (b >= 0) leadIn(firstOf(b), fromB, t, out);
   return out;
+}
+
+// the earliest begin is taken whatever the order the episodes come in
+void Hindsight::leadIn(int head, std::uint64_t foe, double t, Lead& out) const {
+  const double at = t - cfg_->hindsight.lead;
+  for (int i = head; i >= 0; i = episodes_[i].next) {
+    const PastEpisode& pe = episodes_[i];
+    if (pe.foe == foe && pe.end >= at && pe.begin <= t) {
+      if (!(t - pe.begin <= out.lead)) out.lead = t - pe.begin;
+      out.warned = out.warned || pe.begin <= at;
+    }
+  }
 }
 
 void Hindsight::record(HindsightEvent&& ev, int e, double t, const Lead& lead) {
@@ -437,7 +493,7 @@ void Hindsight::findCrossings(double t) {
         ev.kind = EventKind::Crossing;
         ev.foe = road_->features().features[road_->groupFeatures(g).front()].name;
         ev.lateralSpeed = (side == 1 ? 1.0 : -1.0) * frames_->frame(s).lateral;
-        record(std::move(ev), s, t, leadOf(lineEpisodes_, lineKey(c.slots[s].serial, g), t));
+        record(std::move(ev), s, t, leadOf(s, kLineBit | static_cast<std::uint32_t>(g), -1, 0, t));
       }
     touching_[s] = now;
   }

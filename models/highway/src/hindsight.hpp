@@ -19,7 +19,6 @@
 #include <cstdint>
 #include <array>
 #include <deque>
-#include <unordered_map>
 #include <unordered_set>
 #include <utility>
 #include <vector>
@@ -85,9 +84,9 @@ class Hindsight {
     int window;
     std::uint64_t tick;  // the tick it ended in: a tick's warnings are released together
   };
-  // The two vehicles one or more vehicle windows watch (either direction, episodes in a row): both
-  // still here, their boxes and the gap bound taken once a tick for all of them, the clearance on
-  // demand. distance() and separation() of two boxes are symmetric bit for bit, so a window reads
+  // The two vehicles one or more vehicle windows watch (either direction, episodes in a row; found
+  // through the two cars' episode lists when a window opens): both still here, their boxes and the
+  // gap bound taken once a tick for all of them, the clearance on demand. distance() and separation() of two boxes are symmetric bit for bit, so a window reads
   // the numbers it would compute itself.
   struct Track {
     std::uint64_t key = 0;  // pairKey of the serials
@@ -105,14 +104,32 @@ class Hindsight {
     double clearance = 0.0, clearanceTime = 0.0, deceleration = 0.0;
     bool measured = false;
   };
-  // an episode between two vehicles, for recall (direction-blind)
-  struct PairEpisode {
-    std::uint64_t ego;
+  // An episode, for recall: of its ego (the car whose list holds it) against a vehicle (foe: its
+  // serial) or a line group (foe: kLineBit | group). The episodes of a pair are the two cars'
+  // lists' against each other (direction-blind), so no map of pairs is kept.
+  struct PastEpisode {
+    std::uint64_t foe;
     double begin, end;  // end: +inf while open
+    int track;          // its window's track (-1: none; a track is valid while it has windows and the pair's key)
+    int next;           // the next older in its ego's list (-1: none); the next free one when free
   };
+  static constexpr std::uint64_t kLineBit = std::uint64_t{1} << 63;
 
   bool alive(const Window& w) const;
   int trackFor(int e, int foe, std::uint64_t key);
+  // The episode list of slot s's car, its head: the slot's earlier car's episodes freed first.
+  int& listOf(int s);
+  // The head of slot s's episode list for reading (-1: none, or the list of the slot's earlier car).
+  int firstOf(int s) const {
+    return s < static_cast<int>(listHead_.size()) && listOwner_[s] == cars_->slots[s].serial ? listHead_[s] : -1;
+  }
+  // A new episode of ego slot e at t, at the head of its list (what is over for good dropped).
+  void addEpisode(int e, std::uint64_t foe, double t, int track);
+  int freeEpisode(int i);
+  // The open episodes of ego slot e against foe end at `end`.
+  void endEpisodes(int e, std::uint64_t egoSerial, std::uint64_t foe, double end);
+  // Drops the episodes that ended before `before` (freed lists of cars gone).
+  void pruneEpisodes(double before);
   void measureTracks();
   void measureVehicles(double t);
   void closeVehicle(std::size_t i);
@@ -121,14 +138,15 @@ class Hindsight {
   void judge(Warning& w, const Window& win);
   void findNearMisses(double t);
   void findCrossings(double t);
-  static std::uint64_t lineKey(std::uint64_t serial, int group) { return (serial << 32) | static_cast<std::uint32_t>(group); }
-  // Of the episodes of key still open `lead` s before t or later, begun by t: how long before t
-  // the earliest began (NaN: none), and whether one was open `lead` s before t (recall's test).
+  // Of the episodes of slot a against foe (and of slot b against fromB, if b >= 0) still open
+  // `lead` s before t or later, begun by t: how long before t the earliest began (NaN: none), and
+  // whether one was open `lead` s before t (recall's test).
   struct Lead {
     double lead;
     bool warned;
   };
-  Lead leadOf(const std::unordered_map<std::uint64_t, std::vector<PairEpisode>>& episodes, std::uint64_t key, double t) const;
+  Lead leadOf(int a, std::uint64_t foe, int b, std::uint64_t fromB, double t) const;
+  void leadIn(int head, std::uint64_t foe, double t, Lead& out) const;
   // An event of ego slot e at t: counted by its kind, its lead time kept if warned, listed.
   void record(HindsightEvent&& ev, int e, double t, const Lead& lead);
   static std::uint64_t pairKey(std::uint64_t a, std::uint64_t b) {
@@ -149,10 +167,12 @@ class Hindsight {
   std::vector<std::uint64_t> serialOf_;    // per slot: the serial of the car that holds it
   std::vector<Track> tracks_;
   std::vector<int> freeTracks_;
-  std::unordered_map<std::uint64_t, int> trackOf_;  // pairKey -> track (looked up when a window opens)
   std::deque<Pending> pending_;
-  std::unordered_map<std::uint64_t, std::vector<PairEpisode>> pairEpisodes_;
-  std::unordered_map<std::uint64_t, std::vector<PairEpisode>> lineEpisodes_;  // (ego serial, line group)
+  // the episodes, newest first in a list per slot (of the car listOwner_ names), in one pool
+  std::vector<PastEpisode> episodes_;
+  int freeEpisode_ = -1;
+  std::vector<int> listHead_;
+  std::vector<std::uint64_t> listOwner_;
   std::vector<std::array<int, 2>> touching_;  // per slot: the lines (groups) its body touched last tick
   std::vector<char> along_;                    // per slot: alongside its lane last tick (its lines applied)
   std::unordered_set<std::uint64_t> nearBefore_, nearNow_;
