@@ -46,6 +46,10 @@ COMMANDS = {
     "main": ["highway", "networks/motorway/scenario.yaml", "--validate-ssm", "--no-map"],
     "main_concentric": ["highway", "networks/motorway/scenario.yaml", "--detector", "concentric", "--no-map"],
     "main_box": ["highway", "networks/motorway/scenario.yaml", "--detector", "box", "--no-map"],
+    # cosim/README.md's lane drop (the shipped merge) against SSM
+    "lanedrop": ["highway", "networks/sublane/scenario.yaml", "--validate-ssm", "--no-map"],
+    # ... and its right-angle crossing, where SSM has PETs
+    "crossing": ["highway", "tests/data/crossing/crossing.sumocfg", "--validate-ssm", "--no-map"],
 }
 
 
@@ -120,7 +124,7 @@ def long_figures(r):
 
 def run(stsim, src, work, name):
     out = os.path.join(work, name)
-    args = [a if not a.endswith((".yaml", ".xml")) else os.path.join(src, a) for a in COMMANDS[name]]
+    args = [a if not a.endswith((".yaml", ".xml", ".sumocfg")) else os.path.join(src, a) for a in COMMANDS[name]]
     p = subprocess.run([stsim] + args + ["--out", out], cwd=work, stdout=subprocess.PIPE,
                        stderr=subprocess.PIPE, text=True, timeout=600)
     if p.returncode != 0:
@@ -144,6 +148,8 @@ def figures(r):
     """[(README, text)]: each quoted figure filled with what the commands wrote."""
     main, conc, box = r["main"], r["main_concentric"], r["main_box"]
     v = main["validation"]
+    ld = r["lanedrop"]["validation"]
+    xpet = r["crossing"]["validation"]["pet"]
     fol = v["following"]
     det = {d["detector"]: d for d in v["detectors"]}
     n_ssm = det["box"]["ssm_conflicts_below_safe_time"]
@@ -169,7 +175,39 @@ def figures(r):
     c_re, c_lc, c_px, c_veh = detector_row(conc)
     b_re, b_lc, _, _ = detector_row(box)
     vehicles = main["summary"]["vehicles"]
+
+    def points(cp):
+        return "%d, %d, %d" % (cp["box_episodes"], cp["ssm_following"], cp["matched"])
+
+    def agreement(a, unit="m"):
+        return "%.2f %%** (max %.3f %s, mean %.3f %s)" % (100.0 * a["within_fraction"], a["max_abs_error_" + unit], unit,
+                                                        a["mean_abs_error_" + unit], unit)
+
+    cp, lcp, lfol = v["conflict_point"], ld["conflict_point"], ld["following"]
+    raw = cp["without_moving_on"]
     return [
+        ("cosim/README.md", "| PET on the pairs both have (SSM: merging and crossing encounters; ours: `lane_change`, `crossing`) | SSM %d, box %d: %s |"
+         % (v["pet"]["ssm_pets"], v["pet"]["stsim_pets"], "none on both sides" if v["pet"]["matched"] == 0 else "%d on both" % v["pet"]["matched"])),
+        ("cosim/README.md", "| conflict point: box episodes with one, `rear_end` ones SSM has as following at their minimum-TTC tick, with the same TTC | %s |"
+         % points(cp)),
+        ("cosim/README.md", "| conflict point within 0.5 m of SSM's (moved on to the contact) | **%s |" % agreement(cp)),
+        ("cosim/README.md", "| same with SSM's point as it is | %.1f %% (%d of %d) |"
+         % (100.0 * raw["within_tolerance"] / raw["matched"], raw["within_tolerance"], raw["matched"])),
+        ("cosim/README.md", "| following samples matched by a box TTC, within 0.02 s of SSM's | %s of %s, %.2f %% |"
+         % (thousands(lfol["matched_samples"]), thousands(lfol["ssm_samples"]), 100.0 * lfol["within_fraction"])),
+        ("cosim/README.md", "| PET | SSM %d, box %d: %s |"
+         % (ld["pet"]["ssm_pets"], ld["pet"]["stsim_pets"], "none on both sides" if ld["pet"]["matched"] == 0 else "%d on both" % ld["pet"]["matched"])),
+        ("cosim/README.md", "| conflict point: box episodes with one, `rear_end` ones SSM has as following, with the same TTC | %s |" % points(lcp)),
+        ("cosim/README.md", "| same TTC: the distance along the leader's path within 0.5 m | **%s |" % agreement(lcp["along_leader_path"])),
+        ("cosim/README.md", "| same TTC: the distance within 0.5 m | %s |" % agreement(lcp).replace("**", "")),
+        ("cosim/README.md", "| whatever the TTC: the distance within 0.5 m | %s |" % agreement(lcp["whatever_the_ttc"]).replace("**", "")),
+        ("cosim/README.md", "so only %d of its %d following samples at our minimum-TTC ticks see the approach we see"
+         % (lcp["matched"], lcp["ssm_following"])),
+        ("cosim/README.md", "| PETs: SSM's (crossing encounters), the box detector's (its `crossing` episodes), on both | %d, %d, %d |"
+         % (xpet["ssm_pets"], xpet["stsim_pets"], xpet["matched"])),
+        ("cosim/README.md", "| PET within 0.1 s of SSM's | **%.2f %%** (max %s s, mean %s s) |"
+         % (100.0 * xpet["within_fraction"], sci(xpet["max_abs_error_s"]), sci(xpet["mean_abs_error_s"]))),
+        ("cosim/README.md", "episode (TTC below the safe time), hence %d of %d." % (xpet["stsim_pets"], xpet["ssm_pets"])),
         ("README.md", "(about %d vehicles," % (round(vehicles / 10.0) * 10)),
         ("cosim/README.md", "| following samples (SSM FOLLOWING_FOLLOWER with a TTC) | %s, of which %s matched by a box TTC |"
          % (thin(fol["ssm_samples"]), thin(fol["matched_samples"]))),

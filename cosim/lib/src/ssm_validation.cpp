@@ -36,6 +36,15 @@ double parseNumber(const std::string& w, const std::filesystem::path& file) {
   throw ScenarioError(file.string() + ": SSM output has a malformed number '" + w + "'");
 }
 
+// "x,y" or "NA" (SSM writes a position or a velocity so)
+Vec2 parsePoint(const std::string& w, const std::filesystem::path& file) {
+  if (w == "NA") return SsmConflict::kNoPoint;
+  const auto comma = w.find(',');
+  if (comma == std::string::npos || w.find(',', comma + 1) != std::string::npos)
+    throw ScenarioError(file.string() + ": SSM output has a malformed position '" + w + "'");
+  return {parseNumber(w.substr(0, comma), file), parseNumber(w.substr(comma + 1), file)};
+}
+
 // Horizon for the box TTC of SSM's pairs (s): well beyond any TTC SSM logs as a conflict.
 constexpr double kValidationHorizon = 1.0e4;
 
@@ -44,8 +53,8 @@ constexpr double kValidationHorizon = 1.0e4;
 std::vector<std::string> ssmArguments(const std::filesystem::path& file, double threshold) {
   std::ostringstream th;
   th << threshold;
-  return {"--device.ssm.probability", "1", "--device.ssm.deterministic", "true", "--device.ssm.measures", "TTC",
-          "--device.ssm.thresholds", th.str(), "--device.ssm.trajectories", "true", "--device.ssm.file",
+  return {"--device.ssm.probability", "1", "--device.ssm.deterministic", "true", "--device.ssm.measures", "TTC PET",
+          "--device.ssm.thresholds", th.str() + " " + th.str(), "--device.ssm.trajectories", "true", "--device.ssm.file",
           std::filesystem::absolute(file).string(), "--precision", "6"};
 }
 
@@ -72,9 +81,16 @@ std::vector<SsmConflict> readSsmOutput(const std::filesystem::path& path) {
       c.types.push_back(static_cast<int>(parseNumber(w, path)));
     for (const auto& w : words(node.get<std::string>("TTCSpan.<xmlattr>.values", "")))
       c.ttc.push_back(parseNumber(w, path));
-    if (c.types.size() != c.times.size() || c.ttc.size() != c.times.size())
+    const std::pair<const char*, std::vector<Vec2>*> series[] = {
+        {"conflictPoint", &c.conflictPoints}, {"egoVelocity", &c.egoVelocities}, {"foeVelocity", &c.foeVelocities}};
+    for (const auto& [name, into] : series)
+      for (const auto& w : words(node.get<std::string>(std::string(name) + ".<xmlattr>.values", "")))
+        into->push_back(parsePoint(w, path));
+    bool sameLengths = c.types.size() == c.times.size() && c.ttc.size() == c.times.size();
+    for (const auto& [name, into] : series) sameLengths = sameLengths && into->size() == c.times.size();
+    if (!sameLengths)
       throw ScenarioError(path.string() + ": SSM conflict " + c.ego + "/" + c.foe +
-                          " has time, type and TTC series of different lengths (trajectories off?)");
+                          " has time, type, TTC, conflict point and velocity series of different lengths (trajectories off?)");
     if (auto m = node.get_child_optional("minTTC")) {
       const std::string v = m->get<std::string>("<xmlattr>.value", "NA");
       if (v != "NA") {
@@ -82,6 +98,20 @@ std::vector<SsmConflict> readSsmOutput(const std::filesystem::path& path) {
         c.minTtc = parseNumber(v, path);
         c.minTtcTime = m->get<double>("<xmlattr>.time", 0.0);
         c.minTtcType = m->get<int>("<xmlattr>.type", -1);
+        c.minTtcPosition = parsePoint(m->get<std::string>("<xmlattr>.position", "NA"), path);
+      }
+    }
+    if (auto p = node.get_child_optional("PET")) {
+      const std::string v = p->get<std::string>("<xmlattr>.value", "NA");
+      if (v != "NA") {
+        c.hasPet = true;
+        c.pet = parseNumber(v, path);
+        c.petTime = parseNumber(p->get<std::string>("<xmlattr>.time", "NA"), path);
+        const double type = parseNumber(p->get<std::string>("<xmlattr>.type", "NA"), path);
+        c.petType = std::isfinite(type) ? static_cast<int>(type) : -1;
+        c.petPosition = parsePoint(p->get<std::string>("<xmlattr>.position", "NA"), path);
+        if (!std::isfinite(c.pet) || !std::isfinite(c.petTime))
+          throw ScenarioError(path.string() + ": SSM conflict " + c.ego + "/" + c.foe + " has a PET without a time");
       }
     }
     out.push_back(std::move(c));
@@ -265,8 +295,99 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
     }
     r.detectors.push_back(std::move(dv));
   }
+
+  // SSM's conflicts by ordered pair, and the box detector's car-car episodes
+  std::map<std::pair<std::string, std::string>, std::vector<const SsmConflict*>> byPair;
+  for (const auto& c : conflicts) byPair[{c.ego, c.foe}].push_back(&c);
+  const auto& boxWarnings = m.warnings.back();
+  auto label = [](const std::string& ego, const std::string& foe, double t) {
+    std::ostringstream os;
+    os << ego << ">" << foe << "@" << t;
+    return os.str();
+  };
+
+  // 4. PET: each SSM PET against the box episode of the same ordered pair with a PET, overlapping
+  // in time (its PET horizon included), the one beginning nearest
+  std::map<std::pair<std::string, std::string>, std::vector<const hw::Warning*>> boxPets;
+  for (const auto& w : boxWarnings)
+    if (w.kind == hw::WarningKind::Vehicle && std::isfinite(w.pet)) boxPets[{w.ego, w.foe}].push_back(&w), r.stsimPets++;
+  for (const auto& c : conflicts) {
+    if (!c.hasPet) continue;
+    r.ssmPets++;
+    const auto it = boxPets.find({c.ego, c.foe});
+    if (it == boxPets.end()) continue;
+    const double begin = c.begin + m.dt, end = c.end + m.dt;
+    const hw::Warning* best = nullptr;
+    for (const hw::Warning* w : it->second) {
+      if (w->begin > end + 1e-6 || w->end + hw::kPetHorizon < begin - 1e-6) continue;
+      if (!best || std::abs(w->begin - begin) < std::abs(best->begin - begin)) best = w;
+    }
+    if (best) r.pet.add(std::abs(best->pet - c.pet), label(c.ego, c.foe, c.petTime + m.dt));
+  }
+
+  // 5. the conflict point at each box episode's minimum-TTC tick, SSM's moved on to the contact
+  for (const auto& w : boxWarnings) {
+    if (w.kind != hw::WarningKind::Vehicle || !std::isfinite(w.conflictX)) continue;
+    r.pointEpisodes++;
+    // SSM's following point is a rear-end geometry: the leader's back (a lane change's contact is
+    // a corner on a side)
+    if (w.type != hw::ConflictType::RearEnd) continue;
+    const auto it = byPair.find({w.ego, w.foe});
+    if (it == byPair.end()) continue;
+    const double t = w.minTtcTime - m.dt;
+    for (const SsmConflict* c : it->second) {
+      const auto at = std::find_if(c->times.begin(), c->times.end(), [&](double x) { return std::abs(x - t) < 0.25 * m.dt; });
+      if (at == c->times.end()) continue;
+      const auto i = static_cast<std::size_t>(at - c->times.begin());
+      const bool egoLeads = c->types[i] == kSsmFollowingLeader;
+      if ((c->types[i] != kSsmFollowingFollower && !egoLeads) || !std::isfinite(c->ttc[i]) ||
+          !std::isfinite(c->conflictPoints[i].x()))
+        break;
+      const Vec2 v = egoLeads ? c->egoVelocities[i] : c->foeVelocities[i];
+      if (!std::isfinite(v.x())) break;
+      const Vec2 ssm = c->conflictPoints[i] + c->ttc[i] * v;
+      const Vec2 d = Vec2(w.conflictX, w.conflictY) - ssm;
+      const std::string what = label(w.ego, w.foe, w.minTtcTime);
+      r.pointAnyTtc.add(d.norm(), what);
+      if (std::abs(c->ttc[i] - w.minTtc) > r.tolerance) break;
+      r.point.add(d.norm(), what);
+      r.pointUnconverted.add((Vec2(w.conflictX, w.conflictY) - c->conflictPoints[i]).norm(), what);
+      // along the leader's path: its velocity's direction (its body's axis when it stands)
+      const auto* leader = m.find(egoLeads ? w.ego : w.foe, w.minTtcTime);
+      const Vec2 axis = v.norm() > 0.0 ? Vec2(v.normalized()) : leader ? leader->body.axis : Vec2(1.0, 0.0);
+      r.pointAlong.add(std::abs(d.dot(axis)), what);
+      break;
+    }
+  }
   return r;
 }
+
+void Agreement::add(double absError, const std::string& what) {
+  if (matched == 0 || absError > maxAbsError) {
+    maxAbsError = absError;
+    worst = what;
+  }
+  // the running mean
+  matched++;
+  meanAbsError = matched == 1 ? absError : meanAbsError + (absError - meanAbsError) / static_cast<double>(matched);
+  if (absError <= tolerance) within++;
+}
+
+double Agreement::withinFraction() const { return DetectorValidation::share(within, matched); }
+
+namespace {
+// matched, tolerance, within, share, max and mean error (in `unit`), the worst case
+std::string agreementJson(const Agreement& a, const char* unit) {
+  auto num = [](double x) { return io::jsonNumber(x, 10); };
+  const std::string u = unit;
+  std::ostringstream os;
+  os << "\"matched\": " << a.matched << ", \"tolerance_" << u << "\": " << num(a.tolerance) << ", \"within_tolerance\": "
+     << a.within << ", \"within_fraction\": " << num(a.withinFraction()) << ", \"max_abs_error_" << u
+     << "\": " << num(a.maxAbsError) << ", \"mean_abs_error_" << u << "\": " << num(a.meanAbsError)
+     << ", \"worst\": " << io::jsonString(a.worst);
+  return os.str();
+}
+}  // namespace
 
 std::string toJson(const ValidationReport& r) {
   auto num = [](double x) { return io::jsonNumber(x, 10); };
@@ -277,7 +398,13 @@ std::string toJson(const ValidationReport& r) {
      << ",\n    \"within_fraction\": " << num(r.withinFraction()) << ",\n    \"max_abs_error_s\": " << num(r.maxAbsError)
      << ",\n    \"mean_abs_error_s\": " << num(r.meanAbsError)
      << ",\n    \"without_time_shift\": {\"matched_samples\": " << r.matchedUnshifted
-     << ", \"within_tolerance\": " << r.withinUnshifted << "}\n  },\n  \"detectors\": [";
+     << ", \"within_tolerance\": " << r.withinUnshifted << "}\n  },\n  \"pet\": {\"ssm_pets\": " << r.ssmPets
+     << ", \"stsim_pets\": " << r.stsimPets << ", " << agreementJson(r.pet, "s")
+     << "},\n  \"conflict_point\": {\"box_episodes\": " << r.pointEpisodes << ", \"ssm_following\": "
+     << r.pointAnyTtc.matched << ", " << agreementJson(r.point, "m") << ",\n    \"along_leader_path\": {"
+     << agreementJson(r.pointAlong, "m") << "},\n    \"whatever_the_ttc\": {" << agreementJson(r.pointAnyTtc, "m")
+     << "},\n    \"without_moving_on\": {\"matched\": " << r.pointUnconverted.matched << ", \"within_tolerance\": "
+     << r.pointUnconverted.within << "}},\n  \"detectors\": [";
   for (std::size_t i = 0; i < r.detectors.size(); ++i) {
     const auto& d = r.detectors[i];
     os << (i ? "," : "") << "\n    {\"detector\": " << io::jsonString(d.detector)
@@ -308,6 +435,16 @@ std::string summaryLine(const ValidationReport& r) {
   os << r.matchedSamples << " following samples, ";
   if (r.matchedSamples == 0) os << "none matched by a box TTC;";
   else os << io::fixed(100.0 * r.withinFraction(), 2) << " % within " << r.tolerance << " s of SSM's TTC;";
+  auto agreement = [&](const Agreement& a, const char* what, const char* unit) {
+    os << " " << a.matched << " " << what << ", ";
+    if (a.matched == 0) os << "none on both sides";
+    else os << io::fixed(100.0 * a.withinFraction(), 2) << " % within " << a.tolerance << " " << unit << " of SSM's";
+  };
+  agreement(r.pet, "PETs", "s");
+  os << ";";
+  agreement(r.point, "conflict points", "m");
+  if (r.point.matched > 0) os << " (along the leader's path " << io::fixed(100.0 * r.pointAlong.withinFraction(), 2) << " %)";
+  os << ";";
   for (const auto& d : r.detectors)
     os << " " << d.detector << " recall " << figure(d.recall(), 3, "n/a (no SSM conflict below the safe time)")
        << " precision " << figure(d.precision(), 3, "n/a (no car-car warning)") << " (conflicts alone: recall "

@@ -16,6 +16,19 @@
 //    of the same pair overlapping in time with a TTC; the rest are broken down by zone: warnings
 //    SSM cannot see (lateral and lane-change conflicts, which SSM's following/merging/crossing
 //    geometry does not cover).
+// 4. PET: on the pairs both see one (SSM on merging and crossing encounters, stsim on lane_change
+//    and crossing conflicts), the box detector's episode's PET against SSM's. A PET is a duration,
+//    so the time-stamp shift cancels in it.
+// 5. The conflict point, on the box detector's rear_end episodes on a collision course whose
+//    minimum-TTC tick SSM has as a following sample of the same pair with a TTC (SSM's following
+//    point is the leader's back, a rear-end geometry). The conventions differ and SSM's is
+//    converted to ours: SSM's point is the leader's back now; ours is where the bodies, moved on in
+//    straight lines, touch. So SSM's point is moved on by the leader's velocity times SSM's TTC
+//    (both from SSM's own output at that sample). Across the leader's path ours is the middle of
+//    the touching part, SSM's the leader's centre line: they coincide for vehicles on their lane's
+//    centre (not in the sublane model), so the distance along the leader's path is kept apart.
+//    Both see the same approach when SSM's TTC at that sample is within the TTC tolerance of ours
+//    (in the sublane model SSM takes vehicles beside each other in a lane as following, gap 0).
 #include <array>
 #include <filesystem>
 #include <map>
@@ -26,6 +39,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include <stcore/vec.hpp>
 #include <sthighway/detector.hpp>
 #include <sthighway/monitor.hpp>
 
@@ -42,9 +56,20 @@ struct SsmConflict {
   std::vector<double> times;
   std::vector<int> types;
   std::vector<double> ttc;   // NaN where SSM has none ("NA")
+  // per sample (trajectories), network x/y; NaN where "NA": the conflict point (the leader's back
+  // on following types, the lanes' meeting point on merging and crossing) and the velocities
+  std::vector<Vec2> conflictPoints, egoVelocities, foeVelocities;
   double minTtc = 0.0, minTtcTime = 0.0;
   int minTtcType = -1;
+  Vec2 minTtcPosition = kNoPoint;
   bool hasMin = false;
+  // the PET, SSM's time being the later vehicle's entry into the conflict area (interpolated
+  // between steps)
+  double pet = 0.0, petTime = 0.0;
+  int petType = -1;
+  Vec2 petPosition = kNoPoint;
+  bool hasPet = false;
+  static inline const Vec2 kNoPoint{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
 };
 
 // Reads an SSM output file. Throws ScenarioError naming the file on malformed content.
@@ -79,6 +104,19 @@ struct DetectorValidation {
   }
 };
 
+// The agreement of one measure on the cases both sides have: |ours - SSM's| against a tolerance.
+struct Agreement {
+  explicit Agreement(double tol) : tolerance(tol) {}
+  double tolerance;
+  std::uint64_t matched = 0;   // cases both have
+  std::uint64_t within = 0;    // ... |error| <= tolerance
+  double maxAbsError = std::numeric_limits<double>::quiet_NaN();   // NaN without a matched case
+  double meanAbsError = std::numeric_limits<double>::quiet_NaN();
+  std::string worst;           // "ego>foe@t" of the largest error
+  void add(double absError, const std::string& what);
+  double withinFraction() const;  // NaN: none matched
+};
+
 struct ValidationReport {
   double deltaT = 0.0;
   std::uint64_t ssmConflicts = 0;
@@ -91,6 +129,18 @@ struct ValidationReport {
   // The same statistic without the time-stamp shift (for the record: shows why it is needed).
   std::uint64_t withinUnshifted = 0, matchedUnshifted = 0;
   std::vector<DetectorValidation> detectors;
+  // 4. PET (s): SSM's conflicts with a PET, the box detector's episodes with one, and on the pairs
+  // both have (same ordered pair, overlapping in time, the episode's PET horizon included)
+  std::uint64_t ssmPets = 0, stsimPets = 0;
+  Agreement pet{0.1};
+  // 5. the conflict point (m): the box detector's episodes with a contact point; of those, the
+  // rear_end ones SSM has as a following sample with a TTC at the minimum-TTC tick (the distance between
+  // the points, whatever the TTCs), and of these the ones where both see the same approach, SSM's
+  // TTC within `tolerance` of ours: the distance, and its part along the leader's path
+  std::uint64_t pointEpisodes = 0;
+  Agreement pointAnyTtc{0.5}, point{0.5}, pointAlong{0.5};
+  // the same episodes with SSM's point as it is, not moved on (for the record: shows why it is needed)
+  Agreement pointUnconverted{0.5};
   double withinFraction() const { return DetectorValidation::share(within, matchedSamples); }  // NaN: none matched
 };
 std::string toJson(const ValidationReport& r);
