@@ -59,7 +59,7 @@ Args makeArgs() {
       .option("traci", "HOST:PORT", "attach to a running SUMO through TraCI instead of embedding libsumo")
       .flag("gui", "run sumo-gui and draw the cells (SUMO runs)")
       .option("end", "SECONDS", "stop at this simulated time")
-      .option("threads", "1|2", "2: detection beside SUMO's next step (--action none); default 2 when it can, else 1")
+      .option("threads", "1|2", "2: detection beside SUMO's next step (--action none or color); default 2 when it can, else 1")
       .option("scale", "FACTOR", "multiply the routes' demand (SUMO --scale; SUMO runs)")
       .option("seed", "N", "seed for the equipped-vehicle draw and SUMO (default: the scenario's seed: 42, a .sumocfg's own)")
       .flag("validate-ssm", "compare with SUMO's SSM device, writes validation.json (SUMO runs)")

@@ -8,9 +8,10 @@
 namespace st::cosim {
 
 bool detectionCanOverlap(const PluginConfig& config) {
-  // colour and brake act in SUMO on the tick's alerts before its next step; incidents need only
-  // the states and stay on SUMO's thread in prepare()
-  return config.actions.action == Action::None;
+  // brake acts in SUMO on the tick's alerts and must do so before its next step; colour only
+  // paints, so it may reach SUMO a step late; incidents need only the states and stay on SUMO's
+  // thread in prepare()
+  return config.actions.action != Action::Brake;
 }
 
 DetectionStage::DetectionStage(HighwayPlugin& plugin, bool overlap, std::function<void()> collect)
@@ -76,7 +77,9 @@ void DetectionStage::wait() {
   pending_ = false;
   // a failed detection is not collected, as in line (the exception leaves update() before)
   if (error) std::rethrow_exception(error);
+  // collected before the colours go to SUMO, so a connection lost on them loses no warning
   collect_();
+  plugin_.act();
 }
 
 void DetectionStage::afterStep() {

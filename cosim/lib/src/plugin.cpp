@@ -98,10 +98,12 @@ void HighwayPlugin::prepare() {
   // convert in place; decide each vehicle's equipment once, on first sight
   const auto& vehicles = backend_.vehicles();
   states_.resize(vehicles.size());
+  serials_.resize(vehicles.size());
   for (std::size_t i = 0; i < vehicles.size(); ++i) {
     const SumoVehicle& v = vehicles[i];
     const TypeInfo& t = typeInfo(v.typeIndex);
     toVehicleState(v, t.info, states_[i]);
+    serials_[i] = v.serial;
     if (v.serial >= perVehicle_.size()) perVehicle_.resize(v.serial + 1);
     PerVehicle& pv = perVehicle_[v.serial];
     if (pv.equipped < 0) {
@@ -184,14 +186,21 @@ void HighwayPlugin::runIncidents() {
 void HighwayPlugin::act() {
   const ActionConfig& a = config_.actions;
   if (a.action == Action::None) return;
+  // The alerts are of states_, whose vehicles are named by their serials: with colour beside the
+  // step (DetectionStage) the backend is a step ahead of them, and a vehicle that has left since
+  // is not painted. In line the two are the same vehicles.
   const auto& vehicles = backend_.vehicles();
-  alerted_.assign(states_.size(), 0);
+  mark_.assign(perVehicle_.size(), kOffRoad);
+  for (const SumoVehicle& v : vehicles)
+    if (v.serial < mark_.size()) mark_[v.serial] = kOnRoad;
   for (const highway::Alert& al : monitor_.alerts()) {
     const auto i = static_cast<std::size_t>(al.vehicle);
     const highway::VehicleState& s = states_.at(i);
-    alerted_[i] = 1;
+    const std::uint32_t serial = serials_[i];
+    if (mark_[serial] == kOffRoad) continue;
+    mark_[serial] = kAlerted;
     const int level = al.ttc < a.redFraction * al.safeTime ? 2 : 1;
-    PerVehicle& pv = perVehicle_[vehicles[i].serial];
+    PerVehicle& pv = perVehicle_[serial];
     if (!pv.painted) {
       pv.original = backend_.color(s.id);
       pv.painted = true;
@@ -202,7 +211,7 @@ void HighwayPlugin::act() {
       counters_.colorChanges++;
     }
     if (a.action == Action::Brake && al.kind == highway::WarningKind::Vehicle && al.foe >= 0 &&
-        !inIncident(vehicles[i].serial)) {
+        !inIncident(serial)) {
       // Brake for a foe ahead in our path that is slower along our heading, once avoiding it
       // within the remaining gap needs at least the configured deceleration (gentler cases are the
       // driver's), and only down to its speed: braking for a foe behind or alongside, or to a
@@ -228,10 +237,11 @@ void HighwayPlugin::act() {
   }
   // warnings over: give the vehicle its own colour back (only vehicles on the road: a teleporting
   // one keeps its level until it is back)
-  for (std::size_t i = 0; i < vehicles.size(); ++i) {
-    PerVehicle& pv = perVehicle_[vehicles[i].serial];
-    if (pv.level == 0 || alerted_[i]) continue;
-    backend_.setColor(vehicles[i].id, pv.original);
+  for (const SumoVehicle& v : vehicles) {
+    if (v.serial >= mark_.size()) continue;  // appeared after the alerts' tick: never painted
+    PerVehicle& pv = perVehicle_[v.serial];
+    if (pv.level == 0 || mark_[v.serial] == kAlerted) continue;
+    backend_.setColor(v.id, pv.original);
     pv.level = 0;
     counters_.colorChanges++;
   }

@@ -44,7 +44,7 @@ int resolveThreads(const Scenario& s, const RunSetup& setup) {
       if (!canOverlap)
         throw RunSetupError(std::string("--threads 2 runs detection beside SUMO's next step; --action ") +
                             toString(s.plugin.actions.action) +
-                            " must reach SUMO before that step: use --action none or --threads 1");
+                            " must reach SUMO before that step: use --action none or color, or --threads 1");
       return 2;
     default:
       throw RunSetupError("--threads must be 1 (detection after each SUMO step) or 2 (beside it), got " +

@@ -12,7 +12,8 @@
 // reads the converted states and writes only the monitor; the caller touches neither the monitor
 // nor states() (beyond reading it) until the detection is done. Results are those of the serial
 // run, bit for bit (tests/cosim/detection_test.cpp). Overlap needs an action that does not have to
-// reach SUMO before its next step: `none` (colour and brake act on the tick's alerts in SUMO).
+// reach SUMO before its next step: `none`, or `color`, whose colours for tick t then reach SUMO
+// after its step to t+1 (one step late on screen); `brake` changes what SUMO does next.
 #include <condition_variable>
 #include <exception>
 #include <functional>
@@ -37,11 +38,11 @@ class DetectionStage {
   DetectionStage& operator=(const DetectionStage&) = delete;
 
   // After SUMO's step to t. In line: prepare, detect, act on tick t, collect. Overlapped: wait
-  // for tick t-1's detection (rethrowing its error here) and collect it, prepare tick t and start
-  // its detection.
+  // for tick t-1's detection (rethrowing its error here), collect it and act on it (colour),
+  // prepare tick t and start its detection.
   void afterStep();
-  // Waits for the running detection, if any, and collects it; rethrows its error. Call before
-  // plugin.finish() and before reading the monitor.
+  // Waits for the running detection, if any, collects it and acts on it; rethrows its error. Call
+  // before plugin.finish() and before reading the monitor.
   void drain();
   bool overlapped() const { return worker_.joinable(); }
 

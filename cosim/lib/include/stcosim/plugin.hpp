@@ -111,7 +111,7 @@ class HighwayPlugin {
   // prepare and act talk to SUMO (its thread); detect touches only the monitor and reads states().
   void prepare();  // convert the backend's vehicles into states(), count, run scripted incidents
   void detect();   // the monitor's step on states()
-  void act();      // colour / brake on the monitor's alerts
+  void act();      // colour / brake on the monitor's alerts (colour also a step late: DetectionStage)
   // Closes every open warning at the current time.
   void finish();
 
@@ -168,7 +168,9 @@ class HighwayPlugin {
     std::vector<int> route;          // its edges as indices (-1: not in the network's lanes)
   };
   std::vector<PerVehicle> perVehicle_;
-  std::vector<char> alerted_;  // per state index, act()'s scratch
+  std::vector<std::uint32_t> serials_;  // per state index: its vehicle's serial
+  enum : char { kOffRoad, kOnRoad, kAlerted };
+  std::vector<char> mark_;  // per serial, act()'s scratch
   std::vector<SumoCollision> collisions_;
   CollisionCounter collisionCounter_;
   // config_.incidents' progress, by index
