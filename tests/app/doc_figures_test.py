@@ -150,6 +150,7 @@ def figures(r):
     v = main["validation"]
     ld = r["lanedrop"]["validation"]
     xpet = r["crossing"]["validation"]["pet"]
+    xcp = r["crossing"]["validation"]["conflict_point"]["crossing"]
     fol = v["following"]
     det = {d["detector"]: d for d in v["detectors"]}
     n_ssm = det["box"]["ssm_conflicts_below_safe_time"]
@@ -208,6 +209,11 @@ def figures(r):
         ("cosim/README.md", "| PET within 0.1 s of SSM's | **%.2f %%** (max %s s, mean %s s) |"
          % (100.0 * xpet["within_fraction"], sci(xpet["max_abs_error_s"]), sci(xpet["mean_abs_error_s"]))),
         ("cosim/README.md", "episode (TTC below the safe time), hence %d of %d." % (xpet["stsim_pets"], xpet["ssm_pets"])),
+        ("cosim/README.md", "| conflict points: box `lane_change`/`crossing` episodes with one, SSM crossing samples with a leader at their minimum-TTC tick | %d, %d |"
+         % (xcp["box_episodes"], xcp["matched"])),
+        ("cosim/README.md", "| along the follower's path within 0.5 m of SSM's (where the follower enters the conflict area) | **%s |"
+         % agreement(xcp)),
+        ("cosim/README.md", "| the distance within 0.5 m | %s |" % agreement(xcp["distance"]).replace("**", "")),
         ("README.md", "(about %d vehicles," % (round(vehicles / 10.0) * 10)),
         ("cosim/README.md", "| following samples (SSM FOLLOWING_FOLLOWER with a TTC) | %s, of which %s matched by a box TTC |"
          % (thin(fol["ssm_samples"]), thin(fol["matched_samples"]))),

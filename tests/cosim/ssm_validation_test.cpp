@@ -279,8 +279,8 @@ using namespace st::cosim::test;
 
 // PET where SSM computes one: a right-angle crossing at a junction (tests/data/crossing). Every
 // box episode with a PET has SSM's PET of the same pair, within 0.1 s (a duration: the time-stamp
-// shift cancels).
-TEST(SsmValidation, PetAgreesWithSsmOnACrossing) {
+// shift cancels). And the crossings' conflict points.
+TEST(SsmValidation, PetAndCrossingPointsAgreeWithSsmOnACrossing) {
   const auto dir = freshDir("ssm_crossing");
   const auto crossing = sourceDir() / "tests/data/crossing/crossing.sumocfg";
   const auto r = runStsim({"highway", crossing.string(), "--validate-ssm", "--no-map", "--out", dir.string()}, dir);
@@ -295,6 +295,22 @@ TEST(SsmValidation, PetAgreesWithSsmOnACrossing) {
   EXPECT_GE(jsonNumber(v, "within_fraction", pet), 0.99) << v;
   EXPECT_LT(jsonNumber(v, "max_abs_error_s", pet), 0.1) << v;
   EXPECT_NE(r.out.find(" PETs, 100.00 % within 0.1 s of SSM's;"), std::string::npos) << r.out;
+
+  // the conflict point of the crossings: SSM's is where the follower enters the conflict area (the
+  // leader's near side on its lane), ours the bodies' contact, on that side: the same place along
+  // the follower's path; across it ours is the middle of the touching part, within half the
+  // follower's width (0.9 m) of SSM's on its centre line
+  const auto cross = v.find("\"crossing\": {", v.find("\"conflict_point\""));
+  ASSERT_NE(cross, std::string::npos) << v;
+  const double points = jsonNumber(v, "matched", cross);
+  EXPECT_GE(points, 20.0) << v;
+  EXPECT_GE(points, 0.75 * jsonNumber(v, "box_episodes", cross)) << v;
+  EXPECT_GE(jsonNumber(v, "within_fraction", cross), 0.99) << v;
+  EXPECT_LT(jsonNumber(v, "max_abs_error_m", cross), 0.5) << v;
+  const auto dist = v.find("\"distance\"", cross);
+  ASSERT_NE(dist, std::string::npos) << v;
+  EXPECT_EQ(jsonNumber(v, "matched", dist), points);
+  EXPECT_LT(jsonNumber(v, "max_abs_error_m", dist), 0.9 + 0.5) << v;
 }
 
 }  // namespace

@@ -325,6 +325,18 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
     if (best) r.pet.add(std::abs(best->pet - c.pet), label(c.ego, c.foe, c.petTime + m.dt));
   }
 
+  // the sample of SSM's conflict of the ordered pair at our tick t (SSM's clock t - dt)
+  auto sampleAt = [&](const hw::Warning& w, double t) -> std::pair<const SsmConflict*, std::size_t> {
+    const auto it = byPair.find({w.ego, w.foe});
+    if (it != byPair.end())
+      for (const SsmConflict* c : it->second) {
+        const auto at = std::find_if(c->times.begin(), c->times.end(),
+                                     [&](double x) { return std::abs(x + m.dt - t) < 0.25 * m.dt; });
+        if (at != c->times.end()) return {c, static_cast<std::size_t>(at - c->times.begin())};
+      }
+    return {nullptr, 0};
+  };
+
   // 5. the conflict point at each box episode's minimum-TTC tick, SSM's moved on to the contact
   for (const auto& w : boxWarnings) {
     if (w.kind != hw::WarningKind::Vehicle || !std::isfinite(w.conflictX)) continue;
@@ -332,32 +344,44 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
     // SSM's following point is a rear-end geometry: the leader's back (a lane change's contact is
     // a corner on a side)
     if (w.type != hw::ConflictType::RearEnd) continue;
-    const auto it = byPair.find({w.ego, w.foe});
-    if (it == byPair.end()) continue;
-    const double t = w.minTtcTime - m.dt;
-    for (const SsmConflict* c : it->second) {
-      const auto at = std::find_if(c->times.begin(), c->times.end(), [&](double x) { return std::abs(x - t) < 0.25 * m.dt; });
-      if (at == c->times.end()) continue;
-      const auto i = static_cast<std::size_t>(at - c->times.begin());
-      const bool egoLeads = c->types[i] == kSsmFollowingLeader;
-      if ((c->types[i] != kSsmFollowingFollower && !egoLeads) || !std::isfinite(c->ttc[i]) ||
-          !std::isfinite(c->conflictPoints[i].x()))
-        break;
-      const Vec2 v = egoLeads ? c->egoVelocities[i] : c->foeVelocities[i];
-      if (!std::isfinite(v.x())) break;
-      const Vec2 ssm = c->conflictPoints[i] + c->ttc[i] * v;
-      const Vec2 d = Vec2(w.conflictX, w.conflictY) - ssm;
-      const std::string what = label(w.ego, w.foe, w.minTtcTime);
-      r.pointAnyTtc.add(d.norm(), what);
-      if (std::abs(c->ttc[i] - w.minTtc) > r.tolerance) break;
-      r.point.add(d.norm(), what);
-      r.pointUnconverted.add((Vec2(w.conflictX, w.conflictY) - c->conflictPoints[i]).norm(), what);
-      // along the leader's path: its velocity's direction (its body's axis when it stands)
-      const auto* leader = m.find(egoLeads ? w.ego : w.foe, w.minTtcTime);
-      const Vec2 axis = v.norm() > 0.0 ? Vec2(v.normalized()) : leader ? leader->body.axis : Vec2(1.0, 0.0);
-      r.pointAlong.add(std::abs(d.dot(axis)), what);
-      break;
-    }
+    const auto [c, i] = sampleAt(w, w.minTtcTime);
+    if (!c) continue;
+    const bool egoLeads = c->types[i] == kSsmFollowingLeader;
+    if ((c->types[i] != kSsmFollowingFollower && !egoLeads) || !std::isfinite(c->ttc[i]) ||
+        !std::isfinite(c->conflictPoints[i].x()))
+      continue;
+    const Vec2 v = egoLeads ? c->egoVelocities[i] : c->foeVelocities[i];
+    if (!std::isfinite(v.x())) continue;
+    const Vec2 ssm = c->conflictPoints[i] + c->ttc[i] * v;
+    const Vec2 d = Vec2(w.conflictX, w.conflictY) - ssm;
+    const std::string what = label(w.ego, w.foe, w.minTtcTime);
+    r.pointAnyTtc.add(d.norm(), what);
+    if (std::abs(c->ttc[i] - w.minTtc) > r.tolerance) continue;
+    r.point.add(d.norm(), what);
+    r.pointUnconverted.add((Vec2(w.conflictX, w.conflictY) - c->conflictPoints[i]).norm(), what);
+    // along the leader's path: its velocity's direction (its body's axis when it stands)
+    const auto* leader = m.find(egoLeads ? w.ego : w.foe, w.minTtcTime);
+    const Vec2 axis = v.norm() > 0.0 ? Vec2(v.normalized()) : leader ? leader->body.axis : Vec2(1.0, 0.0);
+    r.pointAlong.add(std::abs(d.dot(axis)), what);
+  }
+
+  // 6. where paths cross or merge: SSM's point (the follower's entry) along the follower's path
+  for (const auto& w : boxWarnings) {
+    if (w.kind != hw::WarningKind::Vehicle || !std::isfinite(w.conflictX) ||
+        (w.type != hw::ConflictType::LaneChange && w.type != hw::ConflictType::Crossing))
+      continue;
+    r.crossingEpisodes++;
+    const auto [c, i] = sampleAt(w, w.minTtcTime);
+    if (!c || !std::isfinite(c->conflictPoints[i].x())) continue;
+    const int type = c->types[i];
+    const bool egoLeads = type == kSsmCrossingLeader || type == kSsmMergingLeader;
+    if (!egoLeads && type != kSsmCrossingFollower && type != kSsmMergingFollower) continue;
+    const Vec2 v = egoLeads ? c->foeVelocities[i] : c->egoVelocities[i];
+    if (!std::isfinite(v.x()) || v.norm() == 0.0) continue;
+    const Vec2 d = Vec2(w.conflictX, w.conflictY) - c->conflictPoints[i];
+    const std::string what = label(w.ego, w.foe, w.minTtcTime);
+    r.crossingAlong.add(std::abs(d.dot(v.normalized())), what);
+    r.crossingPoint.add(d.norm(), what);
   }
   return r;
 }
@@ -404,7 +428,9 @@ std::string toJson(const ValidationReport& r) {
      << r.pointAnyTtc.matched << ", " << agreementJson(r.point, "m") << ",\n    \"along_leader_path\": {"
      << agreementJson(r.pointAlong, "m") << "},\n    \"whatever_the_ttc\": {" << agreementJson(r.pointAnyTtc, "m")
      << "},\n    \"without_moving_on\": {\"matched\": " << r.pointUnconverted.matched << ", \"within_tolerance\": "
-     << r.pointUnconverted.within << "}},\n  \"detectors\": [";
+     << r.pointUnconverted.within << "},\n    \"crossing\": {\"box_episodes\": " << r.crossingEpisodes << ", "
+     << agreementJson(r.crossingAlong, "m") << ",\n      \"distance\": {" << agreementJson(r.crossingPoint, "m")
+     << "}}},\n  \"detectors\": [";
   for (std::size_t i = 0; i < r.detectors.size(); ++i) {
     const auto& d = r.detectors[i];
     os << (i ? "," : "") << "\n    {\"detector\": " << io::jsonString(d.detector)
@@ -444,6 +470,9 @@ std::string summaryLine(const ValidationReport& r) {
   os << ";";
   agreement(r.point, "conflict points", "m");
   if (r.point.matched > 0) os << " (along the leader's path " << io::fixed(100.0 * r.pointAlong.withinFraction(), 2) << " %)";
+  os << ";";
+  agreement(r.crossingAlong, "crossing points", "m");
+  if (r.crossingAlong.matched > 0) os << " along the follower's path";
   os << ";";
   for (const auto& d : r.detectors)
     os << " " << d.detector << " recall " << figure(d.recall(), 3, "n/a (no SSM conflict below the safe time)")

@@ -29,6 +29,11 @@
 //    centre (not in the sublane model), so the distance along the leader's path is kept apart.
 //    Both see the same approach when SSM's TTC at that sample is within the TTC tolerance of ours
 //    (in the sublane model SSM takes vehicles beside each other in a lane as following, gap 0).
+// 6. The conflict point where paths cross or merge: SSM's is where the follower (the later into
+//    the conflict area) enters it, a fixed place on its lane at the leader's near side; ours, the
+//    bodies' contact, lies on that side too when the follower's front meets the leader's side,
+//    so the two are compared along the follower's path (its velocity in SSM's output); across it
+//    ours is the middle of the touching part, SSM's the follower's centre line.
 #include <array>
 #include <filesystem>
 #include <map>
@@ -49,6 +54,10 @@ namespace st::cosim {
 inline constexpr int kSsmFollowing = 1;
 inline constexpr int kSsmFollowingFollower = 2;
 inline constexpr int kSsmFollowingLeader = 3;
+inline constexpr int kSsmMergingLeader = 6;
+inline constexpr int kSsmMergingFollower = 7;
+inline constexpr int kSsmCrossingLeader = 10;
+inline constexpr int kSsmCrossingFollower = 11;
 
 struct SsmConflict {
   std::string ego, foe;
@@ -141,6 +150,12 @@ struct ValidationReport {
   Agreement pointAnyTtc{0.5}, point{0.5}, pointAlong{0.5};
   // the same episodes with SSM's point as it is, not moved on (for the record: shows why it is needed)
   Agreement pointUnconverted{0.5};
+  // 6. the conflict point where paths cross or merge (m): the box detector's lane_change and
+  // crossing episodes with a contact point that SSM has as a crossing or merging sample with a
+  // leader at the minimum-TTC tick: SSM's point (where the later vehicle, the follower, enters the
+  // conflict area) against ours along the follower's path, and the distance
+  std::uint64_t crossingEpisodes = 0;
+  Agreement crossingAlong{0.5}, crossingPoint{0.5};
   double withinFraction() const { return DetectorValidation::share(within, matchedSamples); }  // NaN: none matched
 };
 std::string toJson(const ValidationReport& r);
