@@ -6,10 +6,11 @@ itself names). The test runs each command once, fills the templates with the val
 checks that every README holds the filled text verbatim: a change that moves a figure fails here,
 naming the file, the text it should now read and the command that makes it.
 
-  usage: doc_figures_test.py STSIM SOURCE_DIR [--long] [--keep DIR] [--print]
+  usage: doc_figures_test.py STSIM SOURCE_DIR [--long | --slow] [--keep DIR] [--print]
   --print prints the filled texts instead of checking (to update a README by hand).
   --long  the experiments' figures instead (networks/experiments/README.md: the incident study, two
-          batches of 40 runs, about 3 minutes on 2 cores)
+          batches of 40 runs, and the demand sweep, 75 runs: about 5 minutes on 2 cores)
+  --slow  the brake study's (two batches of 180 runs, about 8 minutes on 2 cores; not in the suite)
 
 Needs SUMO (the commands are live highway runs, about 15 s each).
 """
@@ -53,16 +54,26 @@ COMMANDS = {
 }
 
 
-# the long figures: batches, by name (the experiment file, fixed keys added to its own)
+# the long figures: batches, by name (the experiment file, fixed keys added to its own, the
+# swept keys that name a row of its summary.csv); --long runs the first group (about 5 minutes on
+# 2 cores), --slow the second (about 12 minutes, not in the test suite)
 BATCHES = {
-    "incident": ("networks/experiments/incident_study.yaml", {}),
-    "incident_contacts": ("networks/experiments/incident_study.yaml", {"collision_mingap_factor": 0}),
+    "incident": ("networks/experiments/incident_study.yaml", {}, ("action",)),
+    "incident_contacts": ("networks/experiments/incident_study.yaml", {"collision_mingap_factor": 0}, ("action",)),
+    "demand_sweep": ("networks/experiments/demand_sweep.yaml", {}, ("demand_scale", "detector")),
+}
+SLOW_BATCHES = {
+    "brake": ("networks/experiments/brake_study.yaml", {}, ("penetration", "action")),
+    "brake_contacts": ("networks/experiments/brake_study.yaml", {"collision_mingap_factor": 0},
+                       ("penetration", "action")),
 }
 
 
 def run_batch(stsim, src, work, name):
-    """summary.csv and paired.csv of an experiment, as {action: {column: value}}."""
-    exp, extra = BATCHES[name]
+    """summary.csv and paired.csv of an experiment: {"row key": {column: value}}, the row key its
+    swept values joined by "/" ("none", "1.0/five"); "diff" (a one-action study's paired
+    difference) or "diff/<other keys>"; "runs": runs.csv's rows as read."""
+    exp, extra, keys = {**BATCHES, **SLOW_BATCHES}[name]
     path = os.path.join(src, exp)
     if extra:
         # the same experiment with more fixed keys: a copy beside the original's base
@@ -78,13 +89,27 @@ def run_batch(stsim, src, work, name):
                        cwd=work, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=1800)
     if p.returncode != 0:
         sys.exit("FAIL stsim batch %s: exit %d\n%s" % (exp, p.returncode, p.stderr))
+    def numbers(r):
+        out = {}
+        for k, v in r.items():
+            try:
+                out[k] = float(v)
+            except (TypeError, ValueError):
+                pass
+        return out
+
     res = {}
     with open(os.path.join(out, "summary.csv"), newline="") as f:
         for r in csv.DictReader(f):
-            res[r["action"]] = {k: float(v) for k, v in r.items() if v and k != "action"}
+            res["/".join(r[k] for k in keys)] = numbers(r)
     with open(os.path.join(out, "paired.csv"), newline="") as f:
         for r in csv.DictReader(f):
-            res["diff"] = {k: float(v) for k, v in r.items() if v and k not in ("compared", "baseline", "action")}
+            if r["compared"] != "action":
+                continue
+            rest = [r[k] for k in keys if k != "action"]
+            res["/".join(["diff"] + rest)] = numbers(r)
+    with open(os.path.join(out, "runs.csv"), newline="") as f:
+        res["runs"] = list(csv.DictReader(f))
     return res
 
 
@@ -119,6 +144,86 @@ def long_figures(r):
         (readme, "| brake commands | %d | %d | |" % (rnd(none["brake_commands.mean"]), rnd(brake["brake_commands.mean"]))),
         (readme, "the same 40 runs give %s contacts per run without braking and %s with it, paired %s,"
          % (pm(c_none, "sumo_collisions", 2), pm(c_brake, "sumo_collisions", 2), pm(c_diff, "sumo_collisions", 2, True))),
+    ]
+
+
+def demand_figures(r):
+    d = r["demand_sweep"]
+    scales = ["0.5", "0.75", "1.0", "1.25", "1.5"]
+    dets = ["concentric", "five", "box"]
+    readme = "networks/experiments/README.md"
+
+    def pm(row, key, digits):
+        return "%.*f ± %.*f" % (digits, row[key + ".mean"], digits, row[key + ".ci95"])
+
+    def span(det, digits):
+        v = [d[s + "/" + det]["warnings.per_vehicle_km_by_type.proximity.mean"] for s in scales]
+        return "none" if max(v) == 0 else "%.*f to %.*f" % (digits, min(v), digits, max(v))
+
+    rows = [(readme, "| %s | %s | %s |" % (
+        s, " | ".join(pm(d[s + "/" + k], "warnings.per_vehicle_km", 2) for k in dets),
+        " | ".join(pm(d[s + "/" + k], "warnings.per_vehicle_km_by_type.rear_end", 3) for k in dets)))
+        for s in scales]
+    rear = lambda s: "%.3f" % d[s + "/five"]["warnings.per_vehicle_km_by_type.rear_end.mean"]
+    veh = lambda s: "%d" % rnd(d[s + "/five"]["vehicles.mean"])
+    return rows + [
+        (readme, "the concentric circles, whose whole-car circles span the next lane, raise %s per vehicle-km, "
+         "the five-circle side zones %s, the box %s." % (span("concentric", 1), span("five", 2), span("box", 2))),
+        (readme, "(five-circle: %s rear-end conflicts per vehicle-km at 1.0, %s at 1.25)" % (rear("1.0"), rear("1.25"))),
+        (readme, "(scale 1.5 inserts %s vehicles against %s at 1.25 and %s at 1.0)" % (veh("1.5"), veh("1.25"),
+                                                                                        veh("1.0"))),
+    ]
+
+
+def brake_figures(r):
+    b, c = r["brake"], r["brake_contacts"]
+    levels = ["0.5", "0.75", "1.0"]
+    readme = "networks/experiments/README.md"
+
+    def pm(row, key, digits, diff=False):
+        sfx = (".diff_mean", ".diff_ci95") if diff else (".mean", ".ci95")
+        return "%.*f ± %.*f" % (digits, row[key + sfx[0]], digits, row[key + sfx[1]])
+
+    def fewer_more(level):
+        by = {}
+        for run in b["runs"]:
+            if run["penetration"] == level and run["status"] == "done":
+                by.setdefault(run["seed"], {})[run["action"]] = float(run["sumo_collisions"])
+        pairs = [v for v in by.values() if len(v) == 2]
+        if len(pairs) != 30:
+            sys.exit("FAIL brake study: %d paired seeds at %s equipped, 30 expected" % (len(pairs), level))
+        return (sum(v["brake"] < v["none"] for v in pairs), sum(v["brake"] > v["none"] for v in pairs))
+
+    rows = []
+    for lv in levels:
+        none, brake, diff = b[lv + "/none"], b[lv + "/brake"], b["diff/" + lv]
+        f, m = fewer_more(lv)
+        rows.append((readme, "| %d %% | %s | %s | %s | %d / %d | %.1f / %.1f |" % (
+            rnd(100 * float(lv)), pm(none, "sumo_collisions", 2), pm(brake, "sumo_collisions", 2),
+            pm(diff, "sumo_collisions", 2, True), f, m, none["sumo_collision_steps.mean"],
+            brake["sumo_collision_steps.mean"])))
+
+    def drop(key):
+        v = [100 * (1 - b[lv + "/brake"][key + ".mean"] / b[lv + "/none"][key + ".mean"]) for lv in levels]
+        return "%d to %d %%" % (rnd(min(v)), rnd(max(v)))
+
+    zero_in_all = all(b["diff/" + lv]["sumo_collisions.diff_mean"] - b["diff/" + lv]["sumo_collisions.diff_ci95"]
+                      <= 0 <= b["diff/" + lv]["sumo_collisions.diff_mean"] + b["diff/" + lv]["sumo_collisions.diff_ci95"]
+                      for lv in levels)
+    cb = [c[lv + "/brake"]["sumo_collisions.mean"] for lv in levels]
+    cd = [c["diff/" + lv]["sumo_collisions.diff_mean"] for lv in levels]
+    ch = [c["diff/" + lv]["sumo_collisions.diff_ci95"] for lv in levels]
+    half = "%.2f" % ch[0] if len({"%.2f" % h for h in ch}) == 1 else "%.2f to %.2f" % (min(ch), max(ch))
+    return rows + [
+        (readme, "Braking lowers the collision count by %s and the contact time by %s" % (
+            drop("sumo_collisions"), drop("sumo_collision_steps"))),
+        (readme, "at 30 seeds the difference is %s" % (
+            "not significant** (every paired CI contains 0)" if zero_in_all else "significant at some rate**")),
+        (readme, "the same 180 runs then give %s contacts per run without braking and %.2f to %.2f with it "
+         "(paired differences %.2f to %.2f, each ± %s)" % (
+             pm(c["1.0/none"], "sumo_collisions", 2), min(cb), max(cb), max(cd), min(cd), half)),
+        (readme, "(the mean warning lead time before a collision, without braking, is %.1f s)" % (
+            b["1.0/none"]["collision_lead_time_mean_s.mean"])),
     ]
 
 
@@ -249,8 +354,8 @@ def figures(r):
 
 def main():
     args = sys.argv[1:]
-    keep, show, long = None, "--print" in args, "--long" in args
-    for flag in ("--print", "--long"):
+    keep, show, long, slow = None, "--print" in args, "--long" in args, "--slow" in args
+    for flag in ("--print", "--long", "--slow"):
         if flag in args:
             args.remove(flag)
     if "--keep" in args:
@@ -261,8 +366,12 @@ def main():
     work = keep or tempfile.mkdtemp(prefix="stsim_doc_figures_")
     os.makedirs(work, exist_ok=True)
     try:
-        if long:
-            checks = long_figures({name: run_batch(stsim, src, work, name) for name in BATCHES})
+        if slow:
+            batches = {name: run_batch(stsim, src, work, name) for name in SLOW_BATCHES}
+            checks = brake_figures(batches)
+        elif long:
+            batches = {name: run_batch(stsim, src, work, name) for name in BATCHES}
+            checks = long_figures(batches) + demand_figures(batches)
         else:
             checks = figures({name: run(stsim, src, work, name) for name in COMMANDS})
         fails = []
@@ -279,7 +388,8 @@ def main():
             print("FAIL " + msg)
         if fails:
             print("(the figures come from: %s)" % "; ".join(
-                ["stsim batch %s with fixed %s" % b for b in BATCHES.values()] if long else
+                ["stsim batch %s with fixed %s" % b[:2] for b in (SLOW_BATCHES if slow else BATCHES).values()]
+                if long or slow else
                 ["stsim " + " ".join(c) for c in COMMANDS.values()]))
         return 1 if fails else 0
     finally:
