@@ -107,6 +107,7 @@ struct Row {
   std::string name;
   double wall = 0.0, cpu = 0.0;
   double childCpu = 0.0;  // CPU of the sumo children the run waited for (a libtraci run's SUMO)
+  double stepWall = 0.0;  // wall inside SUMO's step and its reads (backend.step()), stsim runs
   double maxVehicles = 0.0;
   long peakRssKb = -1;
   std::string note;
@@ -142,7 +143,10 @@ Row sumoProcess(const std::string& name, const std::vector<std::string>& args) {
   return r;
 }
 
+double lastStepWall = 0.0;  // set by the stsim runs' bodies
+
 Row inProcess(const std::string& name, const std::function<double()>& body) {
+  lastStepWall = 0.0;
   const double c0 = cpuSelf();
   const double k0 = cpuOf(RUSAGE_CHILDREN);
   const auto t0 = Clock::now();
@@ -152,6 +156,7 @@ Row inProcess(const std::string& name, const std::function<double()>& body) {
   r.wall = std::chrono::duration<double>(Clock::now() - t0).count();
   r.cpu = cpuSelf() - c0;
   r.childCpu = cpuOf(RUSAGE_CHILDREN) - k0;
+  r.stepWall = lastStepWall;
   return r;
 }
 
@@ -320,11 +325,15 @@ int main(int argc, char** argv) {
       double maxV = 0.0;
       std::size_t warnings = 0;
       DetectionStage detection(p, overlap, [&] { warnings += p.takeFinished().size(); });
+      double stepWall = 0.0;
       while (b->running()) {
+        const auto t0 = Clock::now();
         b->step();
+        stepWall += std::chrono::duration<double>(Clock::now() - t0).count();
         detection.afterStep();
         maxV = std::max(maxV, static_cast<double>(b->vehicles().size()));
       }
+      lastStepWall = stepWall;
       detection.drain();
       p.finish();
       b->close();
@@ -402,6 +411,12 @@ int main(int argc, char** argv) {
               "(%.2f of the in-line wall); five libtraci %.2fx, %.2fx (%.2f)\n",
               five.wall / ref.wall, fiveThreads.wall / ref.wall, fiveThreads.wall / five.wall, traci.wall / ref.wall,
               traciThreads.wall / ref.wall, traciThreads.wall / traci.wall);
+  // what the overlap leaves on SUMO's thread: its step and reads (slower if the worker slows the
+  // shared caches) and stsim's conversion and handoff
+  std::printf("five libsumo, 2 threads: SUMO's step and reads %.2f s of the %.2f s wall (in line %.2f s), "
+              "stsim on SUMO's thread %.2f s = %.2fx plain sumo\n",
+              fiveThreads.stepWall, fiveThreads.wall, five.stepWall, fiveThreads.wall - fiveThreads.stepWall,
+              (fiveThreads.wall - fiveThreads.stepWall) / ref.wall);
   std::printf("libtraci: five %.2fx plain sumo wall (target <= 3x), its read floor %.2fx, of which the SUMO "
               "child's CPU alone %.2fx\n",
               std::min(traci.wall, traciThreads.wall) / ref.wall, traciFloor.wall / ref.wall,
