@@ -83,14 +83,6 @@ TEST(SsmValidation, BoxTtcMatchesSsmAndDetectorsRecallEveryConflict) {
   }
 }
 
-}  // namespace
-}  // namespace st::cosim
-
-namespace st::cosim {
-namespace {
-
-using namespace st::cosim::test;
-
 // A figure with nothing to count says so: two cars far apart give SSM nothing, so there is no
 // recall (null, "n/a"), not a perfect one; the same for precision and the TTC agreement.
 TEST(SsmValidation, NothingToCountIsReportedAsSuchNotAsOne) {
@@ -155,14 +147,6 @@ TEST(SsmValidation, NothingToCountIsReportedAsSuchNotAsOne) {
   EXPECT_DOUBLE_EQ(d.recall(), 0.75);
   EXPECT_DOUBLE_EQ(d.precision(), 0.5);
 }
-
-}  // namespace
-}  // namespace st::cosim
-
-namespace st::cosim {
-namespace {
-
-using namespace st::cosim::test;
 
 // SSM's output as SUMO 1.15 writes it with "TTC PET" and trajectories: the minimum TTC's and the
 // PET's position and time are read, "NA" as NaN, and a malformed position is a one-line error
@@ -234,14 +218,6 @@ TEST(SsmValidation, ReadsPetAndConflictPoints) {
   }
 }
 
-}  // namespace
-}  // namespace st::cosim
-
-namespace st::cosim {
-namespace {
-
-using namespace st::cosim::test;
-
 // The lane drop (the shipped merge, sublane model): where SSM sees the approach we see (the same
 // TTC at our minimum-TTC tick), its conflict point moved on to the contact is ours along the
 // leader's path. Across it the conventions differ (ours the middle of the touching part, SSM's
@@ -268,14 +244,6 @@ TEST(SsmValidation, LaneDropConflictPointsAgreeAlongTheLeadersPath) {
   EXPECT_EQ(jsonNumber(v, "ssm_pets", pet), 0.0) << v;
   EXPECT_GT(jsonNumber(v, "stsim_pets", pet), 0.0) << v;
 }
-
-}  // namespace
-}  // namespace st::cosim
-
-namespace st::cosim {
-namespace {
-
-using namespace st::cosim::test;
 
 // PET where SSM computes one: a right-angle crossing at a junction (tests/data/crossing). Every
 // box episode with a PET has SSM's PET of the same pair, within 0.1 s (a duration: the time-stamp
