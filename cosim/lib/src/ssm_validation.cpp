@@ -195,7 +195,6 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
   ValidationReport r;
   r.deltaT = m.dt;
   r.ssmConflicts = conflicts.size();
-  double sumErr = 0.0;
 
   // 1. following samples: box TTC at T + dt against SSM's TTC at T
   for (const auto& c : conflicts) {
@@ -211,18 +210,14 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
         if (!std::isfinite(box)) continue;
         const double err = std::abs(box - c.ttc[i]);
         if (shifted) {
-          r.matchedSamples++;
-          if (err <= r.tolerance) r.within++;
-          r.maxAbsError = r.matchedSamples == 1 ? err : std::max(r.maxAbsError, err);
-          sumErr += err;
+          r.ttc.add(err);
         } else {
           r.matchedUnshifted++;
-          if (err <= r.tolerance) r.withinUnshifted++;
+          if (err <= r.ttc.tolerance) r.withinUnshifted++;
         }
       }
     }
   }
-  if (r.matchedSamples > 0) r.meanAbsError = sumErr / static_cast<double>(r.matchedSamples);
 
   // SSM's finite-TTC sample times (our clock) per unordered pair, for precision
   std::map<std::pair<std::string, std::string>, std::vector<double>> seen;
@@ -356,7 +351,7 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
     const Vec2 d = Vec2(w.conflictX, w.conflictY) - ssm;
     const std::string what = label(w.ego, w.foe, w.minTtcTime);
     r.pointAnyTtc.add(d.norm(), what);
-    if (std::abs(c->ttc[i] - w.minTtc) > r.tolerance) continue;
+    if (std::abs(c->ttc[i] - w.minTtc) > r.ttc.tolerance) continue;
     r.point.add(d.norm(), what);
     r.pointUnconverted.add((Vec2(w.conflictX, w.conflictY) - c->conflictPoints[i]).norm(), what);
     // along the leader's path: its velocity's direction (its body's axis when it stands)
@@ -391,10 +386,13 @@ void Agreement::add(double absError, const std::string& what) {
     maxAbsError = absError;
     worst = what;
   }
-  // the running mean
   matched++;
-  meanAbsError = matched == 1 ? absError : meanAbsError + (absError - meanAbsError) / static_cast<double>(matched);
+  sumAbsError += absError;
   if (absError <= tolerance) within++;
+}
+
+double Agreement::meanAbsError() const {
+  return matched == 0 ? std::numeric_limits<double>::quiet_NaN() : sumAbsError / static_cast<double>(matched);
 }
 
 double Agreement::withinFraction() const { return DetectorValidation::share(within, matched); }
@@ -407,7 +405,7 @@ std::string agreementJson(const Agreement& a, const char* unit) {
   std::ostringstream os;
   os << "\"matched\": " << a.matched << ", \"tolerance_" << u << "\": " << num(a.tolerance) << ", \"within_tolerance\": "
      << a.within << ", \"within_fraction\": " << num(a.withinFraction()) << ", \"max_abs_error_" << u
-     << "\": " << num(a.maxAbsError) << ", \"mean_abs_error_" << u << "\": " << num(a.meanAbsError)
+     << "\": " << num(a.maxAbsError) << ", \"mean_abs_error_" << u << "\": " << num(a.meanAbsError())
      << ", \"worst\": " << io::jsonString(a.worst);
   return os.str();
 }
@@ -418,9 +416,9 @@ std::string toJson(const ValidationReport& r) {
   std::ostringstream os;
   os << "{\n  \"delta_t_s\": " << num(r.deltaT) << ",\n  \"ssm_conflicts\": " << r.ssmConflicts
      << ",\n  \"following\": {\n    \"ssm_samples\": " << r.followingSamples << ",\n    \"matched_samples\": "
-     << r.matchedSamples << ",\n    \"tolerance_s\": " << num(r.tolerance) << ",\n    \"within_tolerance\": " << r.within
-     << ",\n    \"within_fraction\": " << num(r.withinFraction()) << ",\n    \"max_abs_error_s\": " << num(r.maxAbsError)
-     << ",\n    \"mean_abs_error_s\": " << num(r.meanAbsError)
+     << r.ttc.matched << ",\n    \"tolerance_s\": " << num(r.ttc.tolerance) << ",\n    \"within_tolerance\": " << r.ttc.within
+     << ",\n    \"within_fraction\": " << num(r.ttc.withinFraction()) << ",\n    \"max_abs_error_s\": " << num(r.ttc.maxAbsError)
+     << ",\n    \"mean_abs_error_s\": " << num(r.ttc.meanAbsError())
      << ",\n    \"without_time_shift\": {\"matched_samples\": " << r.matchedUnshifted
      << ", \"within_tolerance\": " << r.withinUnshifted << "}\n  },\n  \"pet\": {\"ssm_pets\": " << r.ssmPets
      << ", \"stsim_pets\": " << r.stsimPets << ", " << agreementJson(r.pet, "s")
@@ -458,9 +456,9 @@ std::string toJson(const ValidationReport& r) {
 std::string summaryLine(const ValidationReport& r) {
   auto figure = [](double x, int decimals, const char* none) { return std::isnan(x) ? std::string(none) : io::fixed(x, decimals); };
   std::ostringstream os;
-  os << r.matchedSamples << " following samples, ";
-  if (r.matchedSamples == 0) os << "none matched by a box TTC;";
-  else os << io::fixed(100.0 * r.withinFraction(), 2) << " % within " << r.tolerance << " s of SSM's TTC;";
+  os << r.ttc.matched << " following samples, ";
+  if (r.ttc.matched == 0) os << "none matched by a box TTC;";
+  else os << io::fixed(100.0 * r.ttc.withinFraction(), 2) << " % within " << r.ttc.tolerance << " s of SSM's TTC;";
   auto agreement = [&](const Agreement& a, const char* what, const char* unit) {
     os << " " << a.matched << " " << what << ", ";
     if (a.matched == 0) os << "none on both sides";

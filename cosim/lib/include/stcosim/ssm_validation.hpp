@@ -120,9 +120,10 @@ struct Agreement {
   std::uint64_t matched = 0;   // cases both have
   std::uint64_t within = 0;    // ... |error| <= tolerance
   double maxAbsError = std::numeric_limits<double>::quiet_NaN();   // NaN without a matched case
-  double meanAbsError = std::numeric_limits<double>::quiet_NaN();
-  std::string worst;           // "ego>foe@t" of the largest error
-  void add(double absError, const std::string& what);
+  double sumAbsError = 0.0;
+  std::string worst;           // "ego>foe@t" of the largest error (when add() is told)
+  void add(double absError, const std::string& what = {});
+  double meanAbsError() const;    // NaN: none matched
   double withinFraction() const;  // NaN: none matched
 };
 
@@ -130,11 +131,8 @@ struct ValidationReport {
   double deltaT = 0.0;
   std::uint64_t ssmConflicts = 0;
   std::uint64_t followingSamples = 0;   // SSM following-follower samples with a TTC
-  std::uint64_t matchedSamples = 0;     // ... where the box detector has a TTC too
-  std::uint64_t within = 0;             // ... |box - ssm| <= tolerance
-  double tolerance = 0.02;
-  double maxAbsError = std::numeric_limits<double>::quiet_NaN();   // s; NaN without a matched sample
-  double meanAbsError = std::numeric_limits<double>::quiet_NaN();
+  // 1. of those, the samples where the box detector has a TTC too: |box - ssm| (s)
+  Agreement ttc{0.02};
   // The same statistic without the time-stamp shift (for the record: shows why it is needed).
   std::uint64_t withinUnshifted = 0, matchedUnshifted = 0;
   std::vector<DetectorValidation> detectors;
@@ -156,7 +154,6 @@ struct ValidationReport {
   // conflict area) against ours along the follower's path, and the distance
   std::uint64_t crossingEpisodes = 0;
   Agreement crossingAlong{0.5}, crossingPoint{0.5};
-  double withinFraction() const { return DetectorValidation::share(within, matchedSamples); }  // NaN: none matched
 };
 std::string toJson(const ValidationReport& r);
 // The printed line: samples within tolerance and each detector's recall and precision, a figure
