@@ -17,14 +17,27 @@ namespace {
 
 using namespace st::cosim::test;
 
+// `stsim highway SCENARIO OPTIONS --validate-ssm` into a fresh folder `name`: the run and the
+// validation.json it wrote
+struct Validated {
+  test::RunResult run;
+  std::string json;
+};
+Validated validated(const std::string& name, const std::filesystem::path& scenario, std::vector<std::string> options) {
+  const auto dir = freshDir(name);
+  std::vector<std::string> args{"highway", scenario.string()};
+  args.insert(args.end(), options.begin(), options.end());
+  args.insert(args.end(), {"--validate-ssm", "--out", dir.string()});
+  Validated v{runStsim(args, dir), ""};
+  v.json = slurp(dir / "validation.json");
+  return v;
+}
+
 TEST(SsmValidation, BoxTtcMatchesSsmAndDetectorsRecallEveryConflict) {
-  const auto dir = freshDir("ssm");
   // 240 s of the motorway include SSM conflicts below the safe time (rear-end near misses
   // around t = 210-230 s)
-  const auto r = runStsim({"highway", motorway().string(), "--end", "240", "--validate-ssm", "--out", dir.string()},
-                          dir);
+  const auto [r, v] = validated("ssm", motorway(), {"--end", "240"});
   ASSERT_EQ(r.code, 0) << r.err;
-  const std::string v = slurp(dir / "validation.json");
   ASSERT_FALSE(v.empty());
 
   // following encounters: >= 99 % of matched samples within 0.02 s
@@ -106,7 +119,7 @@ TEST(SsmValidation, NothingToCountIsReportedAsSuchNotAsOne) {
   validator.finish(2.0);
   const ValidationReport r = validator.evaluate({});
   ASSERT_EQ(r.detectors.size(), 3u);
-  EXPECT_TRUE(std::isnan(r.withinFraction()));
+  EXPECT_TRUE(std::isnan(r.ttc.withinFraction()));
   for (const auto& d : r.detectors) {
     EXPECT_EQ(d.conflicts, 0u) << d.detector;
     EXPECT_EQ(d.warnings, 0u) << d.detector;
@@ -128,13 +141,10 @@ TEST(SsmValidation, NothingToCountIsReportedAsSuchNotAsOne) {
                       "\"within_tolerance\": 0, \"within_fraction\": null"), std::string::npos) << json;
 
   // the same through stsim: the motorway's first 10 s hold no SSM conflict below the safe time
-  const auto dir = freshDir("ssm_none");
-  const auto run = runStsim({"highway", motorway().string(), "--end", "10", "--validate-ssm", "--no-map", "--out",
-                             dir.string()}, dir);
+  const auto [run, v] = validated("ssm_none", motorway(), {"--end", "10", "--no-map"});
   ASSERT_EQ(run.code, 0) << run.err;
   EXPECT_EQ(run.out.find("recall 1.000"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("five recall n/a (no SSM conflict below the safe time)"), std::string::npos) << run.out;
-  const std::string v = slurp(dir / "validation.json");
   EXPECT_EQ(jsonNumber(v, "ssm_conflicts_below_safe_time", v.find("\"five\"")), 0.0) << v;
   EXPECT_NE(v.find("\"recall\": null"), std::string::npos) << v;
 
@@ -223,11 +233,8 @@ TEST(SsmValidation, ReadsPetAndConflictPoints) {
 // leader's path. Across it the conventions differ (ours the middle of the touching part, SSM's
 // the leader's centre line), which the full distance shows.
 TEST(SsmValidation, LaneDropConflictPointsAgreeAlongTheLeadersPath) {
-  const auto dir = freshDir("ssm_lanedrop");
-  const auto sublane = sourceDir() / "networks/sublane/scenario.yaml";
-  const auto r = runStsim({"highway", sublane.string(), "--validate-ssm", "--no-map", "--out", dir.string()}, dir);
+  const auto [r, v] = validated("ssm_lanedrop", sourceDir() / "networks/sublane/scenario.yaml", {"--no-map"});
   ASSERT_EQ(r.code, 0) << r.err;
-  const std::string v = slurp(dir / "validation.json");
   const auto cp = v.find("\"conflict_point\"");
   ASSERT_NE(cp, std::string::npos) << v;
   const double matched = jsonNumber(v, "matched", cp);
@@ -249,11 +256,8 @@ TEST(SsmValidation, LaneDropConflictPointsAgreeAlongTheLeadersPath) {
 // box episode with a PET has SSM's PET of the same pair, within 0.1 s (a duration: the time-stamp
 // shift cancels). And the crossings' conflict points.
 TEST(SsmValidation, PetAndCrossingPointsAgreeWithSsmOnACrossing) {
-  const auto dir = freshDir("ssm_crossing");
-  const auto crossing = sourceDir() / "tests/data/crossing/crossing.sumocfg";
-  const auto r = runStsim({"highway", crossing.string(), "--validate-ssm", "--no-map", "--out", dir.string()}, dir);
+  const auto [r, v] = validated("ssm_crossing", sourceDir() / "tests/data/crossing/crossing.sumocfg", {"--no-map"});
   ASSERT_EQ(r.code, 0) << r.err;
-  const std::string v = slurp(dir / "validation.json");
   const auto pet = v.find("\"pet\"");
   ASSERT_NE(pet, std::string::npos) << v;
   const double matched = jsonNumber(v, "matched", pet);
