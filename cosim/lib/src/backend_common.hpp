@@ -3,8 +3,11 @@
 // same vehicles in the same order): the reads that are the same call in libsumo and libtraci (the two libraries
 // expose one API in two namespaces; the templates take the namespace's classes, e.g.
 // readLanes<libsumo::Lane>(), and are instantiated where that library's header is included).
+#include <libsumo/TraCIDefs.h>
+
 #include <algorithm>
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -91,6 +94,23 @@ void slowDownAtCommandedRate(const std::string& id, double speed, double duratio
   const int mode = Vehicle::getSpeedMode(id);
   if (mode & kRegardMaxDecel) Vehicle::setSpeedMode(id, mode & ~kRegardMaxDecel);
   Vehicle::slowDown(id, speed, duration);
+}
+
+// Whether SUMO moves vehicles sideways at finite speed (the sublane model or lane-change
+// durations); else lateral speed is identically 0 and need not be read. An option SUMO does not
+// know, or not as a number, counts as on.
+template <class Simulation>
+bool movesSideways() {
+  auto positive = [](const char* name) {
+    try {
+      return std::stod(Simulation::getOption(name)) > 0.0;
+    } catch (const libsumo::TraCIException&) {
+      return true;
+    } catch (const std::logic_error&) {  // std::stod: not a number, out of range
+      return true;
+    }
+  };
+  return positive("lateral-resolution") || positive("lanechange.duration");
 }
 
 }  // namespace st::cosim::detail

@@ -19,9 +19,7 @@ class LibsumoBackend final : public Backend {
   explicit LibsumoBackend(bool owns) : owns_(owns) {
     deltaT_ = libsumo::Simulation::getDeltaT();
     time_ = libsumo::Simulation::getTime();
-    // lateral speed is identically 0 unless the sublane model or lane-change durations are on:
-    // then one getter per vehicle and step can be saved
-    lateral_ = optionPositive("lateral-resolution") || optionPositive("lanechange.duration");
+    lateral_ = detail::movesSideways<libsumo::Simulation>();  // else one getter per vehicle and step saved
     // vehicles already on the road when we attach
     StepEvents initial;
     initial.departed = libsumo::Vehicle::getIDList();
@@ -101,13 +99,6 @@ class LibsumoBackend final : public Backend {
   }
 
  private:
-  static bool optionPositive(const std::string& name) {
-    try {
-      return std::stod(libsumo::Simulation::getOption(name)) > 0.0;
-    } catch (...) {
-      return true;  // unknown: read it
-    }
-  }
   // the per-step values, in place
   void readVehicles() {
     for (SumoVehicle& v : vehicles_) {

@@ -11,7 +11,6 @@
 #include <thread>
 #include <memory>
 #include <optional>
-#include <stdexcept>
 #include <unordered_set>
 
 #include "backend_common.hpp"
@@ -106,8 +105,7 @@ class TraciBackend final : public Backend {
       deltaT_ = libtraci::Simulation::getDeltaT();
       gui_ = libtraci::Simulation::hasGUI();
       endTime_ = libtraci::Simulation::getEndTime();
-      // lateral speed is identically 0 unless the sublane model or lane-change durations are on
-      lateral_ = optionPositive("lateral-resolution") || optionPositive("lanechange.duration");
+      lateral_ = detail::movesSideways<libtraci::Simulation>();
       subscribedWith_ = reads_;
       vars_ = vehicleVars(reads_, lateral_);
       libtraci::Simulation::subscribe(kSimulationVars);
@@ -236,17 +234,6 @@ class TraciBackend final : public Backend {
     subscribed_.insert(id);
   }
 
-  static bool optionPositive(const std::string& name) {
-    try {
-      return std::stod(libtraci::Simulation::getOption(name)) > 0.0;
-    } catch (const libsumo::TraCIException&) {
-      return true;  // SUMO does not know the option: read it
-    } catch (const std::invalid_argument&) {
-      return true;  // not a number: read it
-    } catch (const std::out_of_range&) {
-      return true;
-    }
-  }
 
   // Runs a TraCI exchange on our connection; turns libtraci's errors into one-line SumoErrors.
   template <class F>
