@@ -189,18 +189,19 @@ void HighwayPlugin::act() {
   // The alerts are of states_, whose vehicles are named by their serials: with colour beside the
   // step (DetectionStage) the backend is a step ahead of them, and a vehicle that has left since
   // is not painted. In line the two are the same vehicles.
+  // Marks are act()'s number, so nothing is cleared per call.
   const auto& vehicles = backend_.vehicles();
-  mark_.assign(perVehicle_.size(), kOffRoad);
+  const std::uint64_t now = ++acts_;
   for (const SumoVehicle& v : vehicles)
-    if (v.serial < mark_.size()) mark_[v.serial] = kOnRoad;
+    if (v.serial < perVehicle_.size()) perVehicle_[v.serial].onRoadAt = now;
   for (const highway::Alert& al : monitor_.alerts()) {
     const auto i = static_cast<std::size_t>(al.vehicle);
     const highway::VehicleState& s = states_.at(i);
     const std::uint32_t serial = serials_[i];
-    if (mark_[serial] == kOffRoad) continue;
-    mark_[serial] = kAlerted;
-    const int level = al.ttc < a.redFraction * al.safeTime ? 2 : 1;
     PerVehicle& pv = perVehicle_[serial];
+    if (pv.onRoadAt != now) continue;
+    pv.alertedAt = now;
+    const int level = al.ttc < a.redFraction * al.safeTime ? 2 : 1;
     if (!pv.painted) {
       pv.original = backend_.color(s.id);
       pv.painted = true;
@@ -238,9 +239,9 @@ void HighwayPlugin::act() {
   // warnings over: give the vehicle its own colour back (only vehicles on the road: a teleporting
   // one keeps its level until it is back)
   for (const SumoVehicle& v : vehicles) {
-    if (v.serial >= mark_.size()) continue;  // appeared after the alerts' tick: never painted
+    if (v.serial >= perVehicle_.size()) continue;  // appeared after the alerts' tick: never painted
     PerVehicle& pv = perVehicle_[v.serial];
-    if (pv.level == 0 || mark_[v.serial] == kAlerted) continue;
+    if (pv.level == 0 || pv.alertedAt == now) continue;
     backend_.setColor(v.id, pv.original);
     pv.level = 0;
     counters_.colorChanges++;

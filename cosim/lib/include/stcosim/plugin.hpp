@@ -164,13 +164,13 @@ class HighwayPlugin {
     std::uint8_t level = 0;     // 0 own colour, 1 warning, 2 danger
     bool painted = false;       // `original` read (at its first warning)
     Rgba original;
+    std::uint64_t onRoadAt = 0, alertedAt = 0;  // the act() that found it on the road, alerted
     std::uint64_t routeVersion = 0;  // of SumoVehicle::route, converted into
     std::vector<int> route;          // its edges as indices (-1: not in the network's lanes)
   };
   std::vector<PerVehicle> perVehicle_;
   std::vector<std::uint32_t> serials_;  // per state index: its vehicle's serial
-  enum : char { kOffRoad, kOnRoad, kAlerted };
-  std::vector<char> mark_;  // per serial, act()'s scratch
+  std::uint64_t acts_ = 0;  // act() calls so far
   std::vector<SumoCollision> collisions_;
   CollisionCounter collisionCounter_;
   // config_.incidents' progress, by index
