@@ -18,6 +18,7 @@
 #include <sthighway/report.hpp>
 #include <sthighway/sumo_files.hpp>
 
+#include "roads.hpp"
 #include "svg_markers.hpp"
 
 namespace st::highway {
@@ -44,12 +45,6 @@ MonitorConfig boxConfig(bool road) {
   return cfg;
 }
 
-RoadGeometry straightRoad() {
-  RoadGeometry r;
-  r.lanes.push_back({"e_0", "e", 0, {Vec2(-100.0, 0.0), Vec2(1000.0, 0.0)}, 3.2, false});
-  return r;
-}
-
 // One tick, then finish: the minimum is that tick's.
 std::vector<Warning> oneTick(const RoadGeometry& road, const MonitorConfig& cfg, std::vector<VehicleState> cars) {
   HighwayMonitor m(road, cfg);
@@ -73,7 +68,7 @@ TEST(ConflictRecord, RearEndWithDracAndDeltaVByHand) {
   l.mass = 15000.0;
   l.vehicleClass = VehicleClass::Truck;
   l.equipped = false;
-  const auto ws = oneTick(straightRoad(), boxConfig(false), {f, l});
+  const auto ws = oneTick(oneLaneRoad(), boxConfig(false), {f, l});
   const Warning* w = find(ws, "follower", WarningKind::Vehicle);
   ASSERT_NE(w, nullptr);
   EXPECT_NEAR(w->minTtc, 1.5, 1e-9);  // 15 m at 10 m/s
@@ -98,7 +93,7 @@ TEST(ConflictRecord, LaneChangeBetweenTheThresholds) {
   const Vec2 rel = e.velocity() - Vec2(10.0, 0.0);
   VehicleState o = car("other", rel, 0.0, 10.0);
   o.equipped = false;
-  const auto ws = oneTick(straightRoad(), boxConfig(false), {e, o});
+  const auto ws = oneTick(oneLaneRoad(), boxConfig(false), {e, o});
   const Warning* w = find(ws, "ego", WarningKind::Vehicle);
   ASSERT_NE(w, nullptr);
   EXPECT_NEAR(w->headingAngle, 40.0, 1e-9);
@@ -106,18 +101,18 @@ TEST(ConflictRecord, LaneChangeBetweenTheThresholds) {
   // the same encounter with the lane-change band closed below 40 degrees is a crossing
   MonitorConfig narrow = boxConfig(false);
   narrow.conflict.crossingAboveDeg = 35.0;
-  const auto ws2 = oneTick(straightRoad(), narrow, {e, o});
+  const auto ws2 = oneTick(oneLaneRoad(), narrow, {e, o});
   ASSERT_NE(find(ws2, "ego", WarningKind::Vehicle), nullptr);
   EXPECT_EQ(find(ws2, "ego", WarningKind::Vehicle)->type, ConflictType::Crossing);
   // and with the rear-end band opened above it, a rear-end
   MonitorConfig wide = boxConfig(false);
   wide.conflict.rearEndBelowDeg = 45.0;
-  EXPECT_EQ(find(oneTick(straightRoad(), wide, {e, o}), "ego", WarningKind::Vehicle)->type, ConflictType::RearEnd);
+  EXPECT_EQ(find(oneTick(oneLaneRoad(), wide, {e, o}), "ego", WarningKind::Vehicle)->type, ConflictType::RearEnd);
 }
 
 TEST(ConflictRecord, CurbWarningCarriesTheLineAndTheLateralSpeed) {
   // drifting right at 2 m/s, 0.7 m from the curb (lane 3.2 m, car 1.8 m): TTC 0.35 s
-  const auto ws = oneTick(straightRoad(), boxConfig(true), {car("drifter", Vec2(0.0, 0.0), 0.0, 25.0, -2.0)});
+  const auto ws = oneTick(oneLaneRoad(), boxConfig(true), {car("drifter", Vec2(0.0, 0.0), 0.0, 25.0, -2.0)});
   const Warning* w = find(ws, "drifter", WarningKind::Curb);
   ASSERT_NE(w, nullptr);
   EXPECT_NEAR(w->minTtc, 0.35, 1e-9);
@@ -346,7 +341,7 @@ TEST(ConflictRecord, CsvColumnsAppendedInAFixedOrder) {
   const std::string tail = ",x,y,lane,ego_speed,foe_speed,heading_angle,type,drac,max_delta_v,line,lateral_speed";
   ASSERT_GE(h.size(), tail.size());
   EXPECT_EQ(h.substr(h.size() - tail.size()), tail) << h;
-  const auto ws = oneTick(straightRoad(), boxConfig(true), {car("drifter", Vec2(0.0, 0.0), 0.0, 25.0, -2.0)});
+  const auto ws = oneTick(oneLaneRoad(), boxConfig(true), {car("drifter", Vec2(0.0, 0.0), 0.0, 25.0, -2.0)});
   ASSERT_FALSE(ws.empty());
   const std::string row = warningCsvRow(ws.front());
   EXPECT_EQ(std::count(row.begin(), row.end(), ','), std::count(h.begin(), h.end(), ',')) << row;

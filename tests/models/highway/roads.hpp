@@ -18,4 +18,12 @@ inline Lane laneOf(const std::string& edge, int index, std::vector<Vec2> shape) 
   return l;
 }
 
+// One straight lane along x from -100 to 1000 m, 3.2 m wide (edge "e"): a road for scenes whose
+// geometry is worked out by hand.
+inline RoadGeometry oneLaneRoad() {
+  RoadGeometry r;
+  r.lanes.push_back({"e_0", "e", 0, {Vec2(-100.0, 0.0), Vec2(1000.0, 0.0)}, 3.2, false});
+  return r;
+}
+
 }  // namespace st::highway

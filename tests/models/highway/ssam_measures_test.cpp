@@ -24,6 +24,7 @@
 #include <sthighway/sumo_files.hpp>
 
 #include "conflict_capture.hpp"
+#include "roads.hpp"
 
 namespace st::highway {
 namespace {
@@ -48,12 +49,6 @@ MonitorConfig boxStraight() {
   cfg.broadphase = Broadphase::AllPairs;
   cfg.checkRoad = false;
   return cfg;
-}
-
-RoadGeometry plainRoad() {
-  RoadGeometry r;
-  r.lanes.push_back({"e_0", "e", 0, {Vec2(-100.0, 0.0), Vec2(1000.0, 0.0)}, 3.2, false});
-  return r;
 }
 
 const Warning* find(const std::vector<Warning>& ws, const std::string& ego) {
@@ -118,7 +113,7 @@ TEST(SsamMeasures, RightAngleCollisionCourseByHand) {
   VehicleState b = car("north", Vec2(0.0, -2.5), 90.0, 10.0);
   a.mass = 1500.0;
   b.mass = 3000.0;
-  HighwayMonitor m(plainRoad(), boxStraight());
+  HighwayMonitor m(oneLaneRoad(), boxStraight());
   m.step(0.0, std::vector<VehicleState>{a, b});
   m.finish(0.1);
   const auto ws = m.takeFinished();
@@ -160,7 +155,7 @@ TEST(SsamMeasures, RearEndConflictPointIsTheLeadersRearThen) {
   l.width = 2.55;
   l.mass = 15000.0;
   l.equipped = false;
-  HighwayMonitor m(plainRoad(), boxStraight());
+  HighwayMonitor m(oneLaneRoad(), boxStraight());
   m.step(0.0, std::vector<VehicleState>{f, l});
   m.finish(0.1);
   const std::vector<Warning> finished = m.takeFinished();
@@ -188,7 +183,7 @@ TEST(SsamMeasures, MaxSDrAndMaxDFromTheSpeedProfile) {
       // no braking: DR is the lowest acceleration, MaxD positive
       {{30.0, 30.5, 30.7, 30.8}, 30.8, 1.0, 1.0}};
   for (const Profile& pr : cases) {
-    HighwayMonitor m(plainRoad(), boxStraight());
+    HighwayMonitor m(oneLaneRoad(), boxStraight());
     double xf = 0.0, t = 0.0;
     std::vector<Vec2> centres;
     for (std::size_t k = 0; k < pr.speeds.size(); ++k) {
@@ -216,7 +211,7 @@ TEST(SsamMeasures, MaxSDrAndMaxDFromTheSpeedProfile) {
 
 // An episode that ends at a tick without the threat: its end point is the ego there.
 TEST(SsamMeasures, EndPointIsTheEgoAtTheFirstTickWithout) {
-  HighwayMonitor m(plainRoad(), boxStraight());
+  HighwayMonitor m(oneLaneRoad(), boxStraight());
   VehicleState f = car("follower", Vec2(0.0, 0.0), 0.0, 30.0);
   VehicleState l = car("leader", Vec2(13.0, 0.0), 0.0, 20.0);
   l.equipped = false;
@@ -244,7 +239,7 @@ TEST(SsamMeasures, RoadWarningsLeaveTheColumnsEmpty) {
   cfg.prediction = Prediction::Road;
   VehicleState d = car("drifter", Vec2(0.0, 0.0), 0.0, 25.0);
   d.lateralSpeed = -2.0;
-  HighwayMonitor m(plainRoad(), cfg);
+  HighwayMonitor m(oneLaneRoad(), cfg);
   m.step(0.0, std::vector<VehicleState>{d});
   m.finish(0.1);
   const auto ws = m.takeFinished();
@@ -301,7 +296,7 @@ TEST(SsamKernels, PetAreaIsWhereTheBodyMeetsTheOthersStrip) {
 TEST(SsamMeasures, PetOfAnAnalyticCrossing) {
   auto xEast = [](double t) { return t <= 0.3 ? -15.0 + 10.0 * t : -12.0 + 20.0 * (t - 0.3); };
   auto yNorth = [](double t) { return t <= 0.3 ? -15.0 + 10.0 * t : -12.0 + 5.0 * (t - 0.3); };
-  HighwayMonitor m(plainRoad(), boxStraight());
+  HighwayMonitor m(oneLaneRoad(), boxStraight());
   std::vector<Warning> ws;
   double t = 0.0;
   for (int k = 0; k <= 30; ++k) {
@@ -323,7 +318,7 @@ TEST(SsamMeasures, PetOfAnAnalyticCrossing) {
   }
   // a rear-end has none
   VehicleState f = car("follower", Vec2(0.0, 0.0), 0.0, 30.0), l = car("leader", Vec2(13.0, 0.0), 0.0, 20.0);
-  HighwayMonitor r(plainRoad(), boxStraight());
+  HighwayMonitor r(oneLaneRoad(), boxStraight());
   r.step(0.0, std::vector<VehicleState>{f, l});
   r.finish(0.1);
   const std::vector<Warning> finished = r.takeFinished();
