@@ -170,11 +170,20 @@ def demand_figures(r):
         s, " | ".join(pm(d[s + "/" + k], "warnings.per_vehicle_km", 2) for k in dets),
         " | ".join(pm(d[s + "/" + k], "warnings.per_vehicle_km_by_type.rear_end", 3) for k in dets)))
         for s in scales]
+    def overlap(s):
+        key = "warnings.per_vehicle_km_by_type.rear_end"
+        lo = [d[s + "/" + k][key + ".mean"] - d[s + "/" + k][key + ".ci95"] for k in dets]
+        hi = [d[s + "/" + k][key + ".mean"] + d[s + "/" + k][key + ".ci95"] for k in dets]
+        return max(lo) <= min(hi)
+
+    agree = all(overlap(s) for s in scales)
     rear = lambda s: "%.3f" % d[s + "/five"]["warnings.per_vehicle_km_by_type.rear_end.mean"]
     veh = lambda s: "%d" % rnd(d[s + "/five"]["vehicles.mean"])
     return rows + [
         (readme, "the concentric circles, whose whole-car circles span the next lane, raise %s per vehicle-km, "
          "the five-circle side zones %s, the box %s." % (span("concentric", 1), span("five", 2), span("box", 2))),
+        (readme, "On the conflicts they agree within their intervals at every demand." if agree else
+         "On the conflicts their intervals part at some demand."),
         (readme, "(five-circle: %s rear-end conflicts per vehicle-km at 1.0, %s at 1.25)" % (rear("1.0"), rear("1.25"))),
         (readme, "(scale 1.5 inserts %s vehicles against %s at 1.25 and %s at 1.0)" % (veh("1.5"), veh("1.25"),
                                                                                         veh("1.0"))),
