@@ -4,9 +4,10 @@
 // 30 ms per cycle (the report's [Shaf90]) as the historic anchor.
 //
 // The service runs on its own thread (as `stsim arm serve` does); the clients share one thread
-// driving every socket with Asio, each sending the two Pandas' readings of one trace cycle per
-// millisecond (bench: models/arm/scenarios/two_pandas.yaml, 3001 cycles) and subscribing to
-// the verdicts of its own readings. Both threads' CPU time is reported beside the figures: the
+// driving every socket with Asio, one per millisecond each: the first the two Pandas' readings
+// of one trace cycle (bench: models/arm/scenarios/two_pandas.yaml, 3001 cycles), the others a
+// READINGS of no arm at the same time (an arm has one reporting connection); each subscribes to
+// the verdicts of its own messages. Both threads' CPU time is reported beside the figures: the
 // two cores are shared by the service, the clients and whatever else runs on the machine.
 // A last row replays the trace at real time with `stsim arm stream`'s client (runStream).
 // Two more pairs of rows say where the time goes: the service with a cycle per message instead
@@ -250,12 +251,15 @@ NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& 
     c->read();
     cs.push_back(std::move(c));
   }
-  // the messages, encoded before the clock starts
-  std::vector<std::string> msgs;
+  // the messages, encoded before the clock starts: client 0 reports the arms (each arm has one
+  // reporting connection); the others send a READINGS holding no arm at the same time (a sensor
+  // of something else, heard and answered each cycle)
+  std::vector<std::string> msgs, others;
   for (std::size_t k = 0; k < cycles.size(); ++k) {
     proto::Readings m;
     m.seq = static_cast<std::uint32_t>(k + 1);
     m.t = cycles[k].front().t;
+    others.push_back(proto::encode(m));
     for (const Reading& r : cycles[k]) m.arms.push_back({static_cast<std::uint16_t>(r.arm), r.q, r.qdot});
     msgs.push_back(proto::encode(m));
   }
@@ -268,9 +272,9 @@ NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& 
     tick.expires_at(start + std::chrono::microseconds(1000 * k));
     tick.async_wait([&](const boost::system::error_code& ec) {
       if (ec) return;
-      for (auto& c : cs) {
-        c->sentAt.push_back(Clock::now());
-        c->send(msgs[k]);
+      for (std::size_t i = 0; i < cs.size(); ++i) {
+        cs[i]->sentAt.push_back(Clock::now());
+        cs[i]->send(i == 0 ? msgs[k] : others[k]);
       }
       ++row.sent;
       if (++k < msgs.size()) next();

@@ -107,6 +107,7 @@ const char* typeName(Type t) {
     case Type::Readings: return "READINGS";
     case Type::Obstacles: return "OBSTACLES";
     case Type::Subscribe: return "SUBSCRIBE";
+    case Type::Claim: return "CLAIM";
     case Type::Welcome: return "WELCOME";
     case Type::Verdict: return "VERDICT";
     case Type::Error: return "ERROR";
@@ -120,6 +121,7 @@ bool knownType(std::uint8_t b) {
     case Type::Readings:
     case Type::Obstacles:
     case Type::Subscribe:
+    case Type::Claim:
     case Type::Welcome:
     case Type::Verdict:
     case Type::Error: return true;
@@ -222,6 +224,12 @@ std::string encode(const Message& m) {
         } else if constexpr (std::is_same_v<T, Subscribe>) {
           w.head(Type::Subscribe);
           w.u8(x.flags);
+        } else if constexpr (std::is_same_v<T, Claim>) {
+          w.head(Type::Claim);
+          w.u16(static_cast<std::uint16_t>(x.arms.size()));
+          for (std::uint16_t a : x.arms) w.u16(a);
+          w.u16(static_cast<std::uint16_t>(x.obstacles.size()));
+          for (std::uint16_t o : x.obstacles) w.u16(o);
         } else if constexpr (std::is_same_v<T, Welcome>) {
           w.head(Type::Welcome);
           w.u16(x.version);
@@ -321,6 +329,22 @@ Decoded decode(std::string_view payload) {
       r.what = "flags";
       s.flags = r.u8();
       if (r.done()) d.message = s;
+      break;
+    }
+    case Type::Claim: {
+      Claim x;
+      r.what = "arm count";
+      const std::uint16_t n = r.u16();
+      if (r.error.empty() && n > kMaxArms) r.fail(std::to_string(n) + " arms claimed (at most " + std::to_string(kMaxArms) + ")");
+      r.what = "arm";
+      for (std::uint16_t k = 0; k < n && r.error.empty(); ++k) x.arms.push_back(r.u16());
+      r.what = "obstacle count";
+      const std::uint16_t m = r.u16();
+      if (r.error.empty() && m > kMaxObstacles)
+        r.fail(std::to_string(m) + " obstacles claimed (at most " + std::to_string(kMaxObstacles) + ")");
+      r.what = "obstacle";
+      for (std::uint16_t k = 0; k < m && r.error.empty(); ++k) x.obstacles.push_back(r.u16());
+      if (r.done()) d.message = std::move(x);
       break;
     }
     case Type::Welcome: {

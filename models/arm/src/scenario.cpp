@@ -39,6 +39,12 @@ struct Yaml {
     if (!std::isfinite(v)) fail(n, key, "not a finite number");
     return v;
   }
+  bool boolean(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(n, key, "expected true or false");
+    if (n.Scalar() == "true") return true;
+    if (n.Scalar() == "false") return false;
+    fail(n, key, "expected true or false, got '" + n.Scalar() + "'");
+  }
   std::string text(const YAML::Node& n, const std::string& key) const {
     if (!n.IsDefined() || !n.IsScalar()) fail(n, key, "expected a name");
     return n.Scalar();
@@ -143,7 +149,7 @@ ArmModel parseModel(const Yaml& y, const YAML::Node& n, const std::string& key, 
 }
 
 Obstacle parseObstacle(const Yaml& y, const YAML::Node& n, const std::string& key, int index) {
-  y.knownKeys(n, key, {"name", "sphere", "capsule", "box", "velocity"});
+  y.knownKeys(n, key, {"name", "sphere", "capsule", "box", "velocity", "tracked"});
   Obstacle o;
   o.name = n["name"] ? y.text(n["name"], key + ".name") : "o" + std::to_string(index);
   if ((n["sphere"] ? 1 : 0) + (n["capsule"] ? 1 : 0) + (n["box"] ? 1 : 0) > 1)
@@ -168,6 +174,7 @@ Obstacle parseObstacle(const Yaml& y, const YAML::Node& n, const std::string& ke
     y.fail(n, key, "expected one of sphere, capsule, box");
   }
   if (n["velocity"]) o.velocity = y.vec3(n["velocity"], key + ".velocity");
+  if (n["tracked"]) o.tracked = y.boolean(n["tracked"], key + ".tracked");
   return o;
 }
 

@@ -57,8 +57,10 @@ net::ServerConfig checked(const ServiceConfig& c) {
 ArmService::ArmService(boost::asio::io_context& io, const Scenario& scenario, ServiceConfig cfg)
     : cfg_(std::move(cfg)), monitor_(makeMonitor(scenario)), server_(io, checked(cfg_), *this), helloTimer_(io) {
   const int arms = monitor_.armCount();
-  lastReading_.assign(arms, -std::numeric_limits<double>::infinity());
-  readingFrom_.assign(arms, 0);
+  armOwner_.assign(arms, kNobody);
+  armDisputed_.assign(arms, 0);
+  obstacleOwner_.assign(monitor_.obstacles().size(), kNobody);
+  obstacleDisputed_.assign(monitor_.obstacles().size(), 0);
   appliedT_.assign(arms, -std::numeric_limits<double>::infinity());
   poseT_.assign(monitor_.obstacles().size(), std::numeric_limits<double>::quiet_NaN());
   pendingArm_.resize(arms);
@@ -150,26 +152,46 @@ void ArmService::onClose(net::Server&, net::ConnectionId id, net::CloseReason wh
     if (it->second.stage == Stage::Client) --clients_;
     peers_.erase(it);
   }
-  // a sensor that leaves takes its time with it: the arms it read are free for any newer
-  // reading, and the service's time is the newest of those still connected
-  for (int a = 0; a < monitor_.armCount(); ++a)
-    if (readingFrom_[a] == id) lastReading_[a] = -std::numeric_limits<double>::infinity();
+  release(id);
+  // it takes its time with it: the service's time is the newest of those still connected
   lastCycleT_ = -1e300;
   for (const auto& [pid, p] : peers_) lastCycleT_ = std::max(lastCycleT_, p.newestT);
   logConnection(id, net::toString(why), detail);
 }
 
-std::string ArmService::checkTime(net::ConnectionId id, const std::string& what, double t) const {
+void ArmService::release(net::ConnectionId id) {
+  // what it reported is free, and its disputes are over: the next claimant owns it alone
+  for (std::size_t a = 0; a < armOwner_.size(); ++a)
+    if (armOwner_[a] == id) armOwner_[a] = kNobody, armDisputed_[a] = 0;
+  for (std::size_t o = 0; o < obstacleOwner_.size(); ++o)
+    if (obstacleOwner_[o] == id) obstacleOwner_[o] = kNobody, obstacleDisputed_[o] = 0;
+}
+
+std::string ArmService::checkTime(net::ConnectionId id, const Peer& p, const std::string& what, double t) const {
   if (!std::isfinite(t)) return what + ": time is not a finite number";
   if (std::abs(t) > kMaxClock) return what + ": time " + num(t) + " s is beyond any clock (at most 1e12 s either way)";
-  // the newest time among the other sensors that are talking: this one may not lead or trail it by much
+  // A connection with a clock of its own, or one that owns what it reports (CLAIM), is held to
+  // its own clock alone: no other client's time may get a sensor refused (it would lose its arms
+  // to whoever claims them next). A clock jumping ahead is a fault of this connection.
+  bool owns = false;
+  for (const net::ConnectionId o : armOwner_) owns = owns || o == id;
+  for (const net::ConnectionId o : obstacleOwner_) owns = owns || o == id;
+  if (std::isfinite(p.newestT) || owns) {
+    if (!std::isfinite(p.newestT)) return "";
+    if (t - p.newestT > cfg_.maxLead)
+      return what + ": time " + num(t) + " s jumps more than " + num(cfg_.maxLead) + " s ahead of this connection's last (" +
+             num(p.newestT) + " s)";
+    return "";
+  }
+  // its first time: within maxLead of the newest of the sensors that are talking
   const auto now = Clock::now();
-  double others = -std::numeric_limits<double>::infinity();
-  for (const auto& [pid, p] : peers_)
-    if (pid != id && std::isfinite(p.newestT) && now - p.lastHeard <= kTalking) others = std::max(others, p.newestT);
-  if (std::isfinite(others) && std::abs(t - others) > cfg_.maxLead)
-    return what + ": time " + num(t) + " s is more than " + num(cfg_.maxLead) + " s " + (t > others ? "ahead of" : "behind") +
-           " the other sensors (newest " + num(others) + " s)";
+  double fastest = -std::numeric_limits<double>::infinity();
+  for (const auto& [pid, q] : peers_)
+    if (pid != id && q.stage != Stage::Leaving && std::isfinite(q.newestT) && now - q.lastHeard <= kTalking)
+      fastest = std::max(fastest, q.newestT);
+  if (std::isfinite(fastest) && std::abs(t - fastest) > cfg_.maxLead)
+    return what + ": time " + num(t) + " s is more than " + num(cfg_.maxLead) + " s " + (t > fastest ? "ahead of" : "behind") +
+           " a sensor that is talking (at " + num(fastest) + " s)";
   return "";
 }
 
@@ -184,6 +206,7 @@ void ArmService::onFrame(net::Server& s, net::ConnectionId id, std::string_view 
   const auto it = peers_.find(id);
   if (it == peers_.end()) return;
   Peer& p = it->second;
+  if (p.stage == Stage::Leaving) return;  // refused or shed: nothing more it sends counts
   proto::Type type;
   std::string err;
   if (proto::peekType(payload, type, err)) {
@@ -194,6 +217,7 @@ void ArmService::onFrame(net::Server& s, net::ConnectionId id, std::string_view 
         case proto::Type::Hello: err = onHello(id, p, payload); break;
         case proto::Type::Readings: err = onReadings(id, p, payload); break;
         case proto::Type::Obstacles: err = onObstacles(id, p, payload); break;
+        case proto::Type::Claim: err = onClaim(id, p, payload); break;
         case proto::Type::Subscribe: {
           const proto::Decoded d = proto::decode(payload);
           if (!d.ok) {
@@ -210,6 +234,11 @@ void ArmService::onFrame(net::Server& s, net::ConnectionId id, std::string_view 
   }
   if (!err.empty()) {
     ++counters_.rejected;
+    // it leaves now (the server closes it once the ERROR is out): what it owned is free at once
+    if (p.stage == Stage::Pending) --awaitingHello_;
+    if (p.stage == Stage::Client) --clients_;
+    p.stage = Stage::Leaving;
+    release(id);
     s.fail(id, err);
     return;
   }
@@ -249,13 +278,73 @@ std::string ArmService::onHello(net::ConnectionId id, Peer& p, std::string_view 
   return "";
 }
 
+std::string ArmService::mayReportArm(net::ConnectionId id, const Peer& p, int a, const std::string& where) {
+  const net::ConnectionId owner = armOwner_[a];
+  if (owner == id) return "";
+  const std::string name = "arm " + std::to_string(a) + " (" + monitor_.arm(a).name + ")";
+  if (owner == kNobody)
+    return p.claimed ? where + ": " + name + " is not in this connection's CLAIM" : "";
+  // two accounts of one arm: neither can be trusted, the arm stops until its owner leaves
+  armDisputed_[a] = 1;
+  ++counters_.disputes;
+  return where + ": " + name + " is reported by connection " + std::to_string(owner) +
+         " (one connection per arm; the arm is stopped until that connection leaves)";
+}
+
+std::string ArmService::mayReportObstacle(net::ConnectionId id, const Peer& p, int o, const std::string& where) {
+  const Obstacle& ob = monitor_.obstacles()[o];
+  const std::string name = "obstacle " + std::to_string(o) + " (" + ob.name + ")";
+  if (!ob.tracked) return where + ": " + name + " is not tracked (the scenario puts it; obstacles[i].tracked)";
+  const net::ConnectionId owner = obstacleOwner_[o];
+  if (owner == id) return "";
+  if (owner == kNobody)
+    return p.claimed ? where + ": " + name + " is not in this connection's CLAIM" : "";
+  obstacleDisputed_[o] = 1;
+  ++counters_.disputes;
+  return where + ": " + name + " is reported by connection " + std::to_string(owner) +
+         " (one connection per obstacle; every arm is stopped until that connection leaves)";
+}
+
+std::string ArmService::onClaim(net::ConnectionId id, Peer& p, std::string_view payload) {
+  if (p.claimed) return "CLAIM twice";
+  if (p.reported) return "CLAIM after this connection's first READINGS or OBSTACLES";
+  const proto::Decoded d = proto::decode(payload);
+  if (!d.ok) return d.error;
+  const auto& c = std::get<proto::Claim>(d.message);
+  // every claim checked before any is taken: a refused CLAIM owns nothing; each item another
+  // connection owns is disputed, not just the first
+  for (const std::uint16_t a : c.arms)
+    if (a >= monitor_.armCount())
+      return "CLAIM: unknown arm id " + std::to_string(a) + " (the scenario has " + std::to_string(monitor_.armCount()) + " arms)";
+  for (const std::uint16_t o : c.obstacles)
+    if (o >= monitor_.obstacles().size())
+      return "CLAIM: unknown obstacle id " + std::to_string(o) + " (the scenario has " +
+             std::to_string(monitor_.obstacles().size()) + ")";
+  std::string owned;
+  for (const std::uint16_t a : c.arms)
+    if (std::string e = mayReportArm(id, p, a, "CLAIM"); !e.empty() && owned.empty()) owned = std::move(e);
+  for (const std::uint16_t o : c.obstacles)
+    if (std::string e = mayReportObstacle(id, p, o, "CLAIM"); !e.empty() && owned.empty()) owned = std::move(e);
+  if (!owned.empty()) return owned;
+  for (const std::uint16_t a : c.arms) armOwner_[a] = id;
+  for (const std::uint16_t o : c.obstacles) obstacleOwner_[o] = id;
+  p.claimed = true;
+  return "";
+}
+
 std::string ArmService::onReadings(net::ConnectionId id, Peer& p, std::string_view payload) {
   if (std::string e = proto::decodeReadings(payload, readings_); !e.empty()) return e;
   const proto::Readings& r = readings_;
   const std::string seq = "READINGS seq " + std::to_string(r.seq);
-  if (std::string e = checkTime(id, seq, r.t); !e.empty()) return e;
+  if (std::string e = checkTime(id, p, seq, r.t); !e.empty()) return e;
   if (r.t < p.lastT)
     return seq + ": time " + num(r.t) + " s goes backwards (this connection's last was " + num(p.lastT) + " s)";
+  // whose arms: every one named that another connection owns is disputed, not just the first
+  std::string owned;
+  for (const proto::ArmReading& a : r.arms)
+    if (a.arm < monitor_.armCount())
+      if (std::string e = mayReportArm(id, p, a.arm, seq); !e.empty() && owned.empty()) owned = std::move(e);
+  if (!owned.empty()) return owned;
   // every reading checked before any is applied: a refused message leaves the monitor as it was
   for (std::size_t k = 0; k < r.arms.size(); ++k) {
     const proto::ArmReading& a = r.arms[k];
@@ -278,20 +367,16 @@ std::string ArmService::onReadings(net::ConnectionId id, Peer& p, std::string_vi
     }
   }
   for (const proto::ArmReading& a : r.arms) {
-    // another sensor of the same arm was newer: the model keeps the newest reading
-    if (r.t < lastReading_[a.arm]) {
-      ++counters_.stale;
-      continue;
-    }
-    // kept until the cycle: of several readings of one arm in a cycle only the newest is worked on
+    armOwner_[a.arm] = id;  // claimed by its first report, if not by CLAIM
+    // kept until the cycle: of several readings of one arm in a cycle only the newest (its
+    // owner's times never go back) is worked on
     Pending& pa = pendingArm_[a.arm];
     pa.q = a.q;
     pa.qdot = a.qdot;
     pa.t = r.t;
     pa.fresh = true;
-    lastReading_[a.arm] = r.t;
-    readingFrom_[a.arm] = id;
   }
+  p.reported = true;
   p.lastT = r.t;
   heard(p, r.t);
   counters_.readings += r.arms.size();
@@ -310,7 +395,7 @@ std::string ArmService::onObstacles(net::ConnectionId id, Peer& p, std::string_v
   if (!d.ok) return d.error;
   const auto& m = std::get<proto::Obstacles>(d.message);
   const std::string seq = "OBSTACLES seq " + std::to_string(m.seq);
-  if (std::string e = checkTime(id, seq, m.t); !e.empty()) return e;
+  if (std::string e = checkTime(id, p, seq, m.t); !e.empty()) return e;
   for (const proto::ObstaclePose& o : m.obstacles) {
     if (o.obstacle >= monitor_.obstacles().size())
       return seq + ": unknown obstacle id " + std::to_string(o.obstacle) + " (the scenario has " +
@@ -319,7 +404,13 @@ std::string ArmService::onObstacles(net::ConnectionId id, Peer& p, std::string_v
       return seq + ": obstacle " + std::to_string(o.obstacle) + " pose is not finite";
     if (o.velocity.norm() > 100.0) return seq + ": obstacle " + std::to_string(o.obstacle) + " faster than 100 m/s";
   }
+  std::string owned;
+  for (const proto::ObstaclePose& o : m.obstacles)
+    if (std::string e = mayReportObstacle(id, p, o.obstacle, seq); !e.empty() && owned.empty()) owned = std::move(e);
+  if (!owned.empty()) return owned;
+  p.reported = true;
   for (const proto::ObstaclePose& o : m.obstacles) {
+    obstacleOwner_[o.obstacle] = id;
     monitor_.setObstaclePose(o.obstacle, m.t, o.position, o.velocity);
     poseT_[o.obstacle] = m.t;
   }
@@ -358,14 +449,21 @@ void ArmService::runCycle() {
   // a tracked obstacle whose tracker fell silent may be anywhere near any arm: every arm stops
   bool obstacleLost = false;
   for (const double pt : poseT_) obstacleLost = obstacleLost || (!std::isnan(pt) && !(std::abs(t - pt) <= staleAfter_));
+  // a disputed obstacle may be where either account puts it: every arm stops
+  bool obstacleDisputed = false;
+  for (const char d : obstacleDisputed_) obstacleDisputed = obstacleDisputed || d;
   for (int a = 0; a < monitor_.armCount(); ++a) {
     proto::ArmVerdict& v = verdict_.arms[a];
     v.minTtc = monitor_.minTtc(a);
     v.level = monitor_.stopped(a) ? proto::Level::Stop : std::isfinite(v.minTtc) ? proto::Level::Warn : proto::Level::Ok;
+    if (v.level == proto::Level::Stop) continue;
     // fail safe: a verdict on a reading that is not current (or none) is no verdict: STOP
-    if ((obstacleLost || !(std::abs(t - appliedT_[a]) <= staleAfter_)) && v.level != proto::Level::Stop) {
+    if (obstacleLost || !(std::abs(t - appliedT_[a]) <= staleAfter_)) {
       v.level = proto::Level::Stop;
       ++counters_.staleStops;
+    } else if (armDisputed_[a] || obstacleDisputed) {
+      v.level = proto::Level::Stop;
+      ++counters_.disputeStops;
     }
   }
   const Warning& n = monitor_.nearest();

@@ -30,10 +30,23 @@ std::vector<Message> samples() {
   v.t = 1.071;
   v.arms = {{Level::Stop, 0.2}, {Level::Warn, 0.29}};
   v.nearest = {0, 8, 1, 8, -1, 0.031, 0.2};
-  return {Hello{kVersion, "s3cret"}, r, o, Subscribe{Subscribe::kOwnOnly}, w, v, Error{"bad token"}};
+  return {Hello{kVersion, "s3cret"}, r, o, Subscribe{Subscribe::kOwnOnly}, w, v, Error{"bad token"}, Claim{{0, 1}, {3}}};
 }
 
 bool same(const Message& a, const Message& b) { return encode(a) == encode(b); }
+
+TEST(Protocol, AClaimIsBoundedAndNamesItsArmsAndObstacles) {
+  const Decoded d = decode(encode(Claim{{1, 0}, {7}}));
+  ASSERT_TRUE(d.ok) << d.error;
+  EXPECT_EQ(std::get<Claim>(d.message).arms, (std::vector<std::uint16_t>{1, 0}));
+  EXPECT_EQ(std::get<Claim>(d.message).obstacles, (std::vector<std::uint16_t>{7}));
+  const Decoded big = decode(encode(Claim{std::vector<std::uint16_t>(65, 0), {}}));
+  EXPECT_FALSE(big.ok);
+  EXPECT_EQ(big.error, "CLAIM: 65 arms claimed (at most 64)");
+  std::string cut = encode(Claim{{1, 2}, {}});
+  cut.pop_back();
+  EXPECT_FALSE(decode(cut).ok);
+}
 
 TEST(Protocol, EveryMessageRoundTrips) {
   for (const Message& m : samples()) {

@@ -143,6 +143,8 @@ TEST(Scenario, MisshapenYamlNamesFileLineAndKey) {
   expectError("models_list.yaml", "models: [1, 2]\narms:\n  - {name: a, model: m, waypoints: [{t: 0, q: [0]}]}\n",
               ":1: models: expected a mapping");
   expectError("obstacles_map.yaml", arm + "obstacles: {name: x}\n", ":3: obstacles: expected a list");
+  expectError("tracked_yes.yaml", arm + "obstacles: [{sphere: {center: [1, 1, 1], radius: 0.1}, tracked: yes}]\n",
+              ":3: obstacles[0].tracked: expected true or false, got 'yes'");
   expectError("allow_scalar.yaml", "arms:\n  - {name: a, model: panda, allow: 3, " + wp + "}\n",
               ":2: arms[0].allow: expected a list");
   expectError("allow_fraction.yaml", "arms:\n  - {name: a, model: panda, allow: [[1, 2.5]], " + wp + "}\n",

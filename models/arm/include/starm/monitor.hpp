@@ -42,6 +42,9 @@ struct Obstacle {
   Capsule capsule;
   Box box;
   Vec3 velocity = Vec3::Zero();  // m/s, constant; zero for stationary objects
+  // a tracker reports its pose (the service's OBSTACLES); an untracked one is where the scenario
+  // puts it, and no client may move it
+  bool tracked = false;
   bool moving() const { return velocity.squaredNorm() > 0.0; }
 };
 

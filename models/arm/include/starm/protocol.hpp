@@ -10,6 +10,9 @@
 //   0x02 READINGS   u32 seq, f64 t, u16 n, n x {u16 arm, u8 dof, dof x f64 q, dof x f64 qdot}
 //   0x03 OBSTACLES  u32 seq, f64 t, u16 n, n x {u16 obstacle, 3 x f64 position, 3 x f64 velocity}
 //   0x04 SUBSCRIBE  u8 flags (bit 0: only the cycles holding this client's own readings)
+//   0x05 CLAIM      u16 n, n x u16 arm, u16 m, m x u16 obstacle: what this client reports (once,
+//                   before its first READINGS or OBSTACLES; without it a client claims each arm or
+//                   obstacle by its first report of it)
 //   service -> client
 //   0x81 WELCOME    u16 version, f64 cycle time, f64 safe time, u16 arms, arms x {string name, u8 dof},
 //                   u16 obstacles, obstacles x {string name}
@@ -42,6 +45,7 @@ enum class Type : std::uint8_t {
   Readings = 0x02,
   Obstacles = 0x03,
   Subscribe = 0x04,
+  Claim = 0x05,
   Welcome = 0x81,
   Verdict = 0x82,
   Error = 0xFF,
@@ -77,6 +81,9 @@ struct Subscribe {
   std::uint8_t flags = 0;
   static constexpr std::uint8_t kOwnOnly = 1;
 };
+struct Claim {
+  std::vector<std::uint16_t> arms, obstacles;
+};
 struct Welcome {
   std::uint16_t version = kVersion;
   double cycleTime = 0.0, safeTime = 0.0;
@@ -104,7 +111,7 @@ struct Error {
   std::string message;
 };
 
-using Message = std::variant<Hello, Readings, Obstacles, Subscribe, Welcome, Verdict, Error>;
+using Message = std::variant<Hello, Readings, Obstacles, Subscribe, Claim, Welcome, Verdict, Error>;
 
 std::string encode(const Message& m);
 // Appends to out (no allocation once out has grown; the service's hot path).

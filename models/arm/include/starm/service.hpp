@@ -7,11 +7,18 @@
 // naming the file). A connection that breaks the protocol gets one ERROR and is closed; the
 // monitor state and the other clients are not touched by a rejected message.
 //
-// Fail safe: an arm whose last reading is not within `staleAfter` of the cycle's time (a sensor
-// fallen silent, a clock far behind, no reading yet) gets STOP, whatever the geometry says; so
-// does every arm while an obstacle that has been tracked (OBSTACLES) has no current pose. No
-// one sensor sets the others' time: a time beyond any clock, or more than `maxLead` ahead of or
-// behind the other sensors that are talking, is refused; a sensor that leaves takes its time
+// The sensor model (models/arm/README.md): each arm and each tracked obstacle is reported by
+// one connection, its owner, which claims it (CLAIM, or its first report of it) and holds it
+// until it leaves. A report of it from any other connection is refused, and the dispute is
+// itself a reason to STOP: a monitor that hears two accounts of one arm cannot know which is
+// true, so the arm (for an obstacle: every arm) stays STOP until the owner it was disputed with
+// has left. No client can make the monitor hold a reading its owner did not give.
+//
+// Fail safe on time: an arm whose last reading is not within `staleAfter` of the cycle's time (a
+// sensor fallen silent, a clock far behind, no reading yet) gets STOP, whatever the geometry
+// says; so does every arm while a tracked obstacle that has been reported has no current pose.
+// No one sensor sets the others' time: a time beyond any clock, or more than `maxLead` ahead of
+// or behind the other sensors that are talking, is refused; a sensor that leaves takes its time
 // with it. Sensors that said HELLO have their own slots (`maxClients`), apart from connections
 // that have not yet (`maxPending`, each with `helloTimeout` to do so; the oldest is shed when
 // more arrive), so a flood of silent connections cannot lock a sensor out.
@@ -51,7 +58,8 @@ struct ServiceConfig {
 
 struct ServiceCounters {
   std::uint64_t cycles = 0, readings = 0, obstaclePoses = 0, verdictsSent = 0, rejected = 0, connections = 0;
-  std::uint64_t stale = 0;  // readings older than the arm's newest (from another client): not applied
+  std::uint64_t disputes = 0;     // reports refused because another connection owns the arm or obstacle
+  std::uint64_t disputeStops = 0;  // arm verdicts forced to STOP: its (or a tracked obstacle's) report disputed
   std::uint64_t staleStops = 0;  // arm verdicts forced to STOP: no current reading of the arm
   std::uint64_t helloTimeouts = 0, shed = 0, refusedFull = 0;  // pending closed late / shed; HELLO past maxClients
 };
@@ -68,6 +76,8 @@ class ArmService final : public net::Handler {
   void stop();  // from the service's thread; from another: post it to the io_context
   const ServiceCounters& counters() const { return counters_; }
   const Monitor& monitor() const { return monitor_; }
+  // The verdict of the last cycle (as sent to the subscribers); cycle 0: none yet.
+  const proto::Verdict& lastVerdict() const { return verdict_; }
 
   void onOpen(net::Server&, net::ConnectionId) override;
   void onFrame(net::Server&, net::ConnectionId, std::string_view payload) override;
@@ -84,6 +94,8 @@ class ArmService final : public net::Handler {
     bool subscribed = false;
     bool ownOnly = false;
     bool inCycle = false;
+    bool claimed = false;   // sent CLAIM: reports only what it claimed
+    bool reported = false;  // sent READINGS or OBSTACLES
     std::uint32_t ack = 0;
     double lastT = -std::numeric_limits<double>::infinity();  // of its last READINGS
     double newestT = -std::numeric_limits<double>::infinity();  // of its READINGS and OBSTACLES
@@ -93,9 +105,16 @@ class ArmService final : public net::Handler {
   std::string onHello(net::ConnectionId id, Peer& p, std::string_view payload);
   std::string onReadings(net::ConnectionId id, Peer& p, std::string_view payload);
   std::string onObstacles(net::ConnectionId id, Peer& p, std::string_view payload);
-  // "" or why a message at time t from `id` cannot be taken (beyond any clock, too far from the others)
-  std::string checkTime(net::ConnectionId id, const std::string& what, double t) const;
+  std::string onClaim(net::ConnectionId id, Peer& p, std::string_view payload);
+  // "" if `id` may report arm a (or obstacle o): it owns it, or it is free and `id` claims by
+  // reporting; otherwise the reason, and another owner's arm is marked disputed
+  std::string mayReportArm(net::ConnectionId id, const Peer& p, int a, const std::string& where);
+  std::string mayReportObstacle(net::ConnectionId id, const Peer& p, int o, const std::string& where);
+  // "" or why a message at time t from `id` cannot be taken: beyond any clock, a jump ahead of
+  // its own last time, or (its first time) too far from the sensors that are talking
+  std::string checkTime(net::ConnectionId id, const Peer& p, const std::string& what, double t) const;
   void heard(Peer& p, double t);
+  void release(net::ConnectionId id);  // frees the arms and obstacles `id` owns
   void armHelloTimer();
   void onHelloTimer();
   void runCycle();
@@ -106,8 +125,9 @@ class ArmService final : public net::Handler {
   net::Server server_;
   std::unordered_map<net::ConnectionId, Peer> peers_;
   std::vector<net::ConnectionId> inCycle_;
-  std::vector<double> lastReading_;  // per arm, time of its newest reading taken (-inf: free for any)
-  std::vector<net::ConnectionId> readingFrom_;  // per arm, the connection that gave it
+  static constexpr net::ConnectionId kNobody = 0;  // st::net numbers connections from 1
+  std::vector<net::ConnectionId> armOwner_, obstacleOwner_;  // per arm / obstacle, the connection reporting it
+  std::vector<char> armDisputed_, obstacleDisputed_;         // reported by another too: STOP until its owner leaves
   std::vector<double> appliedT_;     // per arm, time of the reading the monitor holds (-inf: none)
   std::vector<double> poseT_;        // per obstacle, time of its last pose report (NaN: never, it stands where the scenario put it)
   // connections before HELLO, oldest first, with their deadlines (entries of closed or greeted
