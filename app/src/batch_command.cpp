@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <thread>
 
 #include <stbatch/experiment.hpp>
@@ -82,6 +83,7 @@ int runMerge(int argc, const char* const* argv) {
   if (!args.has("out")) throw UsageError("merge needs --out DIR");
   std::vector<fs::path> paths(dirs.begin(), dirs.end());
   const fs::path out = args.get("out");
+  const batch::FolderLock lock(out);
   const auto results = batch::mergeShards(paths, out);
   summarizeResults(results, out);
   std::string why;
@@ -116,15 +118,7 @@ int runBatch(int argc, const char* const* argv) {
   const long maxRuns = args.getInt("max-runs");
   if (maxRuns < 1) throw UsageError("--max-runs: expected a count >= 1, got " + args.get("max-runs"));
   std::vector<batch::RunSpec> runs = batch::expandRuns(e, static_cast<std::uint64_t>(maxRuns));
-  if (args.has("list")) {
-    for (const auto& r : runs) {
-      std::cout << r.index << " " << r.id;
-      for (const auto& [k, v] : r.params) std::cout << " " << k << "=" << v;
-      std::cout << " " << e.seedKey << "=" << r.seed << "\n";
-    }
-    return 0;
-  }
-  const fs::path out = args.has("out") ? fs::path(args.get("out")) : fs::path("out") / e.name;
+  // the options are checked before --list too: a list is what the same command would run
   const long jobs = args.getInt("jobs");
   if (jobs < 1 || jobs > 1024) throw UsageError("--jobs must be between 1 and 1024");
   if (args.has("shard")) {
@@ -135,6 +129,15 @@ int runBatch(int argc, const char* const* argv) {
       throw UsageError("--shard wants I/N with 1 <= I <= N, got '" + s + "'");
     runs = batch::shardRuns(runs, i, n);
   }
+  if (args.has("list")) {
+    for (const auto& r : runs) {
+      std::cout << r.index << " " << r.id;
+      for (const auto& [k, v] : r.params) std::cout << " " << k << "=" << v;
+      std::cout << " " << e.seedKey << "=" << r.seed << "\n";
+    }
+    return 0;
+  }
+  const fs::path out = args.has("out") ? fs::path(args.get("out")) : fs::path("out") / e.name;
 
   batch::BatchOptions o;
   o.outDir = out;
@@ -159,6 +162,10 @@ int runBatch(int argc, const char* const* argv) {
   const StopSignals stopSignals;
   o.stopRequested = StopSignals::requested;
 
+  // one batch per folder, locked before anything in it is read or written (MPI's ranks share
+  // theirs: its launcher owns them all)
+  std::optional<batch::FolderLock> lock;
+  if (!args.has("mpi")) lock.emplace(out);
   batch::checkResumable(e, out);  // before any run: a folder of another experiment is left alone
   std::vector<batch::RunResult> results;
   bool root = true;

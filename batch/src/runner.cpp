@@ -2,7 +2,8 @@
 
 #include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
+#include <sys/file.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
@@ -12,6 +13,7 @@
 #include <chrono>
 #include <cstring>
 #include <map>
+#include <thread>
 
 #include "files.hpp"
 
@@ -21,6 +23,107 @@ namespace st::batch {
 
 namespace fs = std::filesystem;
 using namespace detail;
+
+namespace {
+
+// Starts one run: stdout and stderr into `log`, stdin from /dev/null. The run dies with the batch:
+// the child asks the kernel for SIGTERM when its parent goes (a batch killed by SIGKILL, or one
+// that exits on an error before it could stop its runs), and checks that the parent it asked about
+// is still the batch (it may have gone between fork and prctl). PR_SET_PDEATHSIG outlives execve.
+// posix_spawn cannot do this, hence fork; after fork the child makes only async-signal-safe calls.
+pid_t spawnRun(const std::string& exe, const std::vector<char*>& argv, const std::string& log) {
+  int pipeFd[2];  // the exec's errno, if it fails; closed unread (CLOEXEC) when it succeeds
+  if (::pipe2(pipeFd, O_CLOEXEC) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    const int err = errno;
+    ::close(pipeFd[0]);
+    ::close(pipeFd[1]);
+    throw std::runtime_error("cannot start " + exe + ": " + std::strerror(err));
+  }
+  if (pid == 0) {
+    ::close(pipeFd[0]);
+    int err = 0;
+    if (::prctl(PR_SET_PDEATHSIG, SIGTERM) != 0) err = errno;
+    if (err == 0 && ::getppid() != parent) ::_exit(128 + SIGTERM);  // the batch is already gone
+    const int out = err ? -1 : ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (err == 0 && out < 0) err = errno;
+    const int in = err ? -1 : ::open("/dev/null", O_RDONLY);
+    if (err == 0 && in < 0) err = errno;
+    if (err == 0 && (::dup2(out, 1) < 0 || ::dup2(out, 2) < 0 || ::dup2(in, 0) < 0)) err = errno;
+    if (err == 0) {
+      if (out > 2) ::close(out);
+      if (in > 2) ::close(in);
+      ::execve(exe.c_str(), argv.data(), environ);
+      err = errno;
+    }
+    [[maybe_unused]] const ssize_t w = ::write(pipeFd[1], &err, sizeof err);
+    ::_exit(127);
+  }
+  ::close(pipeFd[1]);
+  int err = 0;
+  ssize_t n;
+  while ((n = ::read(pipeFd[0], &err, sizeof err)) < 0 && errno == EINTR) {
+  }
+  ::close(pipeFd[0]);
+  if (n == static_cast<ssize_t>(sizeof err)) {
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    throw std::runtime_error("cannot start " + exe + ": " + std::strerror(err));
+  }
+  return pid;
+}
+
+// Stops the runs still going when the batch leaves executeRuns on an error: SIGTERM (each writes
+// what it has and exits), reaped; after 10 s, SIGKILL.
+void stopRuns(const std::vector<pid_t>& pids) {
+  for (const pid_t pid : pids) ::kill(pid, SIGTERM);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  for (const pid_t pid : pids) {
+    int status = 0;
+    while (::waitpid(pid, &status, WNOHANG) == 0) {
+      if (std::chrono::steady_clock::now() > until) {
+        ::kill(pid, SIGKILL);
+        ::waitpid(pid, &status, 0);
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+}
+
+}  // namespace
+
+FolderLock::FolderLock(const fs::path& dir) {
+  fs::create_directories(dir);
+  const fs::path file = dir / ".batch.lock";
+  fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw std::runtime_error(file.string() + ": cannot open: " + std::strerror(errno));
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    const int err = errno;
+    char buf[32] = {};
+    const ssize_t n = ::pread(fd_, buf, sizeof buf - 1, 0);
+    ::close(fd_);
+    fd_ = -1;
+    if (err != EWOULDBLOCK) throw std::runtime_error(file.string() + ": cannot lock: " + std::strerror(err));
+    std::string holder = n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : std::string();
+    while (!holder.empty() && (holder.back() == '\n' || holder.back() == ' ')) holder.pop_back();
+    throw std::runtime_error(dir.string() + ": folder in use by pid " + (holder.empty() ? "?" : holder) +
+                             " (another stsim batch writes it)");
+  }
+  const std::string pid = std::to_string(::getpid()) + "\n";
+  if (::ftruncate(fd_, 0) != 0 || ::pwrite(fd_, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size())) {
+    const int err = errno;
+    ::close(fd_);
+    throw std::runtime_error(file.string() + ": cannot write: " + std::strerror(err));
+  }
+}
+
+FolderLock::~FolderLock() {
+  if (fd_ >= 0) ::close(fd_);
+}
 
 std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpec>& runs, const BatchOptions& o) {
   fs::create_directories(o.outDir / "runs");
@@ -66,16 +169,7 @@ std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpe
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    const std::string log = (tmp / "log.txt").string();
-    posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&fa, 1, 2);
-    posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
-    pid_t pid = 0;
-    const int rc = posix_spawn(&pid, exe.c_str(), &fa, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&fa);
-    if (rc != 0) throw std::runtime_error("cannot start " + exe + ": " + std::strerror(rc));
+    const pid_t pid = spawnRun(exe, argv, (tmp / "log.txt").string());
     running[pid] = Running{i, tmp, std::chrono::steady_clock::now()};
   };
 
@@ -122,6 +216,17 @@ std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpe
     if (o.log) o.log(r.spec.id + " " + toString(r.status) + (r.error.empty() ? "" : " (" + r.error + ")"));
     if (o.progress) o.progress(finished, total, elapsed());
   };
+
+  // an error below (a file that cannot be written, a callback that throws) leaves with the runs stopped
+  struct StopOnError {
+    std::map<pid_t, Running>& running;
+    ~StopOnError() {
+      if (running.empty()) return;
+      std::vector<pid_t> pids;
+      for (const auto& [pid, run] : running) pids.push_back(pid);
+      stopRuns(pids);
+    }
+  } stopOnError{running};
 
   bool forwarded = false;
   while (next < todo.size() || !running.empty()) {

@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -453,6 +454,47 @@ TEST(BatchEndToEnd, ARunawaySweepIsRefusedListToo) {
   EXPECT_EQ(std::count(listed.begin(), listed.end(), '\n'), 6) << listed;
   EXPECT_EQ(runStsim({"batch", exp.string(), "--list", "--max-runs", "0"}, dir, &err), 2);
   EXPECT_NE(err.find("--max-runs: expected a count >= 1, got 0"), std::string::npos) << err;
+}
+
+TEST(BatchEndToEnd, ListChecksJobsAndShardAsARunWould) {
+  const auto dir = freshDir("list_options");
+  const fs::path exp = dir / "exp.yaml";
+  std::ofstream(exp) << "name: listopts\ncommand: pool\nbase: " << STSIM_SOURCE_DIR
+                     << "/models/pool/scenarios/break.yaml\nsweep:\n  until: [1.0, 2.0]\nseeds: 2\n";
+  std::string err;
+  for (const char* jobs : {"0", "-3"}) {
+    EXPECT_EQ(runStsim({"batch", exp.string(), "--list", "--jobs", jobs}, dir, &err), 2) << jobs;
+    EXPECT_NE(err.find("--jobs must be between 1 and 1024"), std::string::npos) << err;
+  }
+  for (const char* shard : {"5/4", "0/0"}) {
+    EXPECT_EQ(runStsim({"batch", exp.string(), "--list", "--shard", shard}, dir, &err), 2) << shard;
+    EXPECT_NE(err.find("--shard wants I/N with 1 <= I <= N, got '" + std::string(shard) + "'"), std::string::npos) << err;
+  }
+  // a shard lists its own runs
+  EXPECT_EQ(runStsim({"batch", exp.string(), "--list", "--shard", "1/2"}, dir, &err), 0) << err;
+  const std::string listed = slurp(dir / "stdout.txt");
+  EXPECT_EQ(std::count(listed.begin(), listed.end(), '\n'), 2) << listed;
+}
+
+TEST(BatchEndToEnd, AFolderInUseIsRefusedNamingItsBatch) {
+  const auto dir = freshDir("folder_lock");
+  const fs::path exp = dir / "exp.yaml", out = dir / "out";
+  std::ofstream(exp) << "name: lock\ncommand: pool\nbase: " << STSIM_SOURCE_DIR
+                     << "/models/pool/scenarios/break.yaml\nsweep:\n  until: [1.0]\nseeds: 1\n";
+  // this test holds the folder as a running batch does
+  fs::create_directories(out);
+  const int fd = ::open((out / ".batch.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  const std::string pid = std::to_string(::getpid()) + "\n";
+  ASSERT_EQ(::write(fd, pid.data(), pid.size()), static_cast<ssize_t>(pid.size()));
+  std::string err;
+  EXPECT_EQ(runStsim({"batch", exp.string(), "--out", out.string(), "--no-plots"}, dir, &err), 1);
+  EXPECT_NE(err.find(out.string() + ": folder in use by pid " + std::to_string(::getpid())), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(out / "experiment.yaml")) << "the second batch wrote into the folder";
+  EXPECT_FALSE(fs::exists(out / "runs")) << "the second batch wrote into the folder";
+  ::close(fd);
+  EXPECT_EQ(runStsim({"batch", exp.string(), "--out", out.string(), "--no-plots"}, dir, &err), 0) << err;
 }
 
 TEST(BatchEndToEnd, SigtermToTheBatchAloneStopsItsRuns) {
