@@ -245,7 +245,7 @@ int runStreamCommand(int argc, const char* const* argv) {
               << " STOP cycles, round trip p50 " << num(arm::percentile(r.rttUs, 50)) << " us p99 "
               << num(arm::percentile(r.rttUs, 99)) << " us max " << num(mx) << " us";
     for (std::size_t a = 0; a < r.armNames.size(); ++a)
-      std::cout << ", " << r.armNames[a] << ": first STOP " << num(r.firstStop[a]) << " s, "
+      std::cout << ", " << io::printable(r.armNames[a]) << ": first STOP " << num(r.firstStop[a]) << " s, "
                 << (r.finalSpeed[a] == 0.0 ? "stopped" : "moving");
     std::cout << ", min distance " << num(r.minDistance) << " m -> "
               << (fs::path(cfg.outDir) / "stream_verdicts.csv").string() << std::endl;

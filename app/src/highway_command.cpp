@@ -6,6 +6,7 @@
 #include <iostream>
 #include <optional>
 #include <ranges>
+#include <set>
 #include <string>
 #include <utility>
 
@@ -172,11 +173,13 @@ int runTrace(const Args& a) {
             << c.handoffs << " handoffs, " << info.wallSeconds << " s wall; wrote " << (out / "warnings.csv").string()
             << " and " << (out / "summary.json").string() << "\n";
   if (!a.has("no-map")) {
-    std::string why;
-    if (hw::writeConflictMap({out / "conflict_map", a.get("net"), {out / "warnings.csv"}, "stsim highway"}, why))
-      std::cout << "  conflict map: " << (out / "conflict_map.png").string() << " (and .svg)\n";
-    else
-      std::cerr << "stsim highway: no conflict map: " << why << "\n";
+    const hw::ConflictMapOutcome map =
+        hw::drawConflictMap({out / "conflict_map", a.get("net"), {out / "warnings.csv"}, "stsim highway"});
+    using State = hw::ConflictMapOutcome::State;
+    if (map.state == State::Drawn) std::cout << "  conflict map: " << (out / "conflict_map.png").string() << " (and .svg)\n";
+    // a map that could not be written (a full disk) fails the run as any output does; a missing tool does not
+    if (map.state == State::Failed) throw std::runtime_error((out / "conflict_map.png").string() + ": " + map.why);
+    if (map.state == State::Unavailable) std::cerr << "stsim highway: no conflict map: " << map.why << "\n";
   }
   return 0;
 }
@@ -235,6 +238,9 @@ void applyMonitorOptions(const Args& a, hw::MonitorConfig& cfg, bool givenOnly) 
   for (const auto& [opt, key] : kShort)
     if (!givenOnly || a.has(opt)) apply(*hw::findSetting(key), a.get(opt), std::string("--") + opt);
   if (a.has("set")) {
+    // nothing, or one key twice, is a mistake to name, not to pass over: which value would count?
+    if (a.get("set").empty()) throw UsageError("--set needs KEY=VALUE[,...], got nothing");
+    std::set<std::string> given;
     for (const auto part : std::views::split(a.get("set"), ',')) {
       const std::string item(part.begin(), part.end());
       const auto eq = item.find('=');
@@ -242,6 +248,7 @@ void applyMonitorOptions(const Args& a, hw::MonitorConfig& cfg, bool givenOnly) 
       const std::string key = item.substr(0, eq);
       const hw::Setting* s = hw::findSetting(key);
       if (!s) throw UsageError("--set: unknown setting '" + key + "' (stsim highway --settings lists them)");
+      if (!given.insert(std::string(s->key)).second) throw UsageError("--set " + std::string(s->key) + ": given twice");
       apply(*s, item.substr(eq + 1), "--set " + std::string(s->key));
     }
   }

@@ -134,11 +134,14 @@ int runHighwayCommand(const st::cli::Args& a) {
   std::cout << "  wrote ";
   for (std::size_t i = 0; i < r.written.size(); ++i) std::cout << (i ? ", " : "") << r.written[i].string();
   std::cout << "\n";
-  if (!r.mapProblem.empty()) std::cerr << "stsim highway: no conflict map: " << r.mapProblem << "\n";
+  if (!r.mapProblem.empty() && !r.mapFailed) std::cerr << "stsim highway: no conflict map: " << r.mapProblem << "\n";
   if (r.stopReason == "interrupted") {
+    if (r.mapFailed) std::cerr << "stsim highway: no conflict map: " << r.mapProblem << "\n";
     std::cerr << "stsim highway: interrupted at t = " << fmt(r.simulatedSeconds, 1) << " s; results so far written\n";
     return st::cli::StopSignals::exitCode();  // 130 on Ctrl-C, 143 on SIGTERM, 129 on SIGHUP
   }
+  // a map that could not be written (a full disk) fails the run as any output does
+  if (r.mapFailed) throw std::runtime_error((setup.out / "conflict_map.png").string() + ": " + r.mapProblem);
   return 0;
 }
 

@@ -14,6 +14,7 @@
 #include <stpool/scenario.hpp>
 #include <stpool/study.hpp>
 #include <stio/format.hpp>
+#include <stio/input.hpp>
 #include <stio/output.hpp>
 
 #include "stop_signals.hpp"
@@ -32,10 +33,11 @@ namespace {
 // Events a run records unless --max-events says otherwise: 135 bytes a row, about 27 MB of
 // events.csv (and 7 MB of animation.html); box100's 10 s make 13 600.
 constexpr std::size_t kDefaultMaxEvents = 200'000;
+constexpr std::size_t kMaxPage = 16u << 20;  // bytes: the shipped page is 60 KB
 
 void printSummary(std::ostream& os, const pool::RunRecord& run, const pool::Game& game) {
   const auto& c = game.simulator().counters();
-  os << "stsim pool: " << run.scenario << ": " << game.specs().size() << " balls, space " << run.spaceDescription
+  os << "stsim pool: " << io::printable(run.scenario) << ": " << game.specs().size() << " balls, space " << run.spaceDescription
      << "\n";
   os << std::setprecision(4);
   for (const auto& s : run.shots) {
@@ -93,14 +95,14 @@ int runServe(int argc, const char* const* argv) {
   cfg.web.net.maxConnections = static_cast<std::size_t>(maxGames);
   const std::filesystem::path page =
       args.has("page") ? std::filesystem::path(args.get("page")) : io::dataFile("pool/index.html", STSIM_POOL_PAGE);
-  std::ifstream in(page);
-  if (!in) throw std::runtime_error(page.string() + ": cannot read the page");
-  std::stringstream html;
-  html << in.rdbuf();
-  cfg.page = html.str();
+  // bounded (--page /dev/zero read 2.4 GB in 5 s); an empty page is a mistake, not a game
+  std::string why;
+  if (!io::readTextFile(page, cfg.page, why, kMaxPage)) throw std::runtime_error(why);
+  if (cfg.page.find_first_not_of(" \t\r\n") == std::string::npos)
+    throw std::runtime_error(page.string() + ": the page is empty");
   boost::asio::io_context io;
   pool::PoolServer server(io, scenario, cfg);
-  std::cout << "pool serve: http://" << cfg.web.net.address << ":" << server.port() << "/ (" << scenario.name
+  std::cout << "pool serve: http://" << cfg.web.net.address << ":" << server.port() << "/ (" << io::printable(scenario.name)
             << ", at most " << maxGames << " games; Ctrl-C stops)" << std::endl;
   const int sig = server.run();
   const auto& c = server.counters();
@@ -120,7 +122,7 @@ int runPool(int argc, const char* const* argv) {
             "prints the report's Fig. 13 collision-check study and its extension to large boxes.\n"
             "  stsim pool serve [SCENARIO.yaml] --listen 127.0.0.1:8080   play it in the browser (pool serve --help)");
   args.positional("SCENARIO.yaml", "the scenario (models/pool/README.md documents its keys)", false)
-      .option("out", "DIR", "write the run's files to this directory (created if missing)")
+      .option("out", "DIR", "write the run's files to this directory (created if missing); with --study, fig13.txt")
       .option("space", "KIND", "override space.kind: none, single, quadtree or cells")
       .option("df", "N", "override space.decomposition_factor")
       .option("until", "T", "override every shot's time limit (s)")
@@ -143,7 +145,19 @@ int runPool(int argc, const char* const* argv) {
       else if (args.get("counting") != "events")
         throw UsageError("option --counting: unknown counting '" + args.get("counting") + "' (events, report)");
     }
-    pool::printFig13Study(std::cout, counting);
+    if (!args.has("out")) {
+      pool::printFig13Study(std::cout, counting);
+      return 0;
+    }
+    // the folder first: a minute of study is not run for a folder that cannot be made
+    const std::filesystem::path dir = args.get("out");
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) throw std::runtime_error(dir.string() + ": cannot create the folder: " + ec.message());
+    std::ostringstream study;
+    pool::printFig13Study(study, counting);
+    io::writeTextFile(dir / "fig13.txt", study.str());
+    std::cout << study.str() << "  wrote fig13.txt to " << dir.string() << "\n";
     return 0;
   }
   const auto path = args.positionalValue(0);

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include <stio/format.hpp>
+#include <stio/input.hpp>
 
 namespace st::batch::detail {
 
@@ -22,10 +23,10 @@ void writeFileAtomically(const fs::path& path, const std::string& text) {
 }
 
 std::string readFile(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream os;
-  os << in.rdbuf();
-  return os.str();
+  // bounded: a run's log or a record is kilobytes; whatever else sits there is not read whole
+  std::string text, error;
+  io::readFile(p, text, error);
+  return text;
 }
 
 std::string lastLine(const std::string& text) {

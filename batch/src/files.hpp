@@ -10,6 +10,7 @@ namespace st::batch::detail {
 
 // Writes path.tmp and renames it over path: a reader sees the old file or the whole new one.
 void writeFileAtomically(const std::filesystem::path& path, const std::string& text);
+// The file's bytes (bounded by st::io), "" when it cannot be read (missing, not a file, too long).
 std::string readFile(const std::filesystem::path& p);
 // The last non-blank line of a log, cut at 300 characters (a failed run's error).
 std::string lastLine(const std::string& text);

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <vector>
 
 namespace st::io {
 
@@ -60,10 +61,18 @@ KeyProblem checkKeys(const YAML::Node& map, std::string_view where,
   return {};
 }
 
+YAML::Node loadOneDocument(const std::string& text) {
+  std::vector<YAML::Node> docs = YAML::LoadAll(text);
+  for (std::size_t i = 1; i < docs.size(); ++i)
+    if (!docs[i].IsNull())
+      throw YAML::ParserException(docs[i].Mark(), "a second YAML document (after ---): the file must hold one");
+  return docs.empty() ? YAML::Node() : docs.front();
+}
+
 YAML::Node loadText(const std::string& text, std::string_view file, std::string& error, bool column) {
   error.clear();
   try {
-    return YAML::Load(text);
+    return loadOneDocument(text);
   } catch (const YAML::Exception& e) {
     error = place(file, e.mark, column) + ": malformed YAML: " + e.msg;
   }

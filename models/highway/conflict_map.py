@@ -17,7 +17,12 @@ import math
 import sys
 import xml.etree.ElementTree as ET
 
-import matplotlib
+try:
+    import matplotlib
+except ImportError:
+    # stsim tells a missing tool (no map, the run is fine) from a failed map (exit 1) by this code
+    print("python3-matplotlib is not installed (apt-get install python3-matplotlib)")
+    sys.exit(3)
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

@@ -11,6 +11,8 @@
 
 #include <sthighway/monitor.hpp>
 #include <sthighway/settings.hpp>
+#include <sthighway/sumo_files.hpp>
+#include <stio/format.hpp>
 
 #include "states.hpp"
 
@@ -28,7 +30,8 @@ struct PyAlert {
 
 class Monitor {
  public:
-  Monitor(const hw::RoadGeometry& road, const hw::MonitorConfig& cfg) : monitor_(road, cfg), hindsight_(cfg.hindsight) {
+  Monitor(const hw::RoadGeometry& road, const hw::MonitorConfig& cfg)
+      : monitor_(road, cfg), hindsight_(cfg.hindsight), bounds_(hw::fcdChecksFor(road, {}, "the road")) {
     for (std::size_t i = 0; i < road.lanes.size(); ++i) lanes_.emplace(road.lanes[i].id, static_cast<int>(i));
     const std::vector<std::string> edges = hw::edgeIds(road);
     for (std::size_t e = 0; e < edges.size(); ++e) edges_.emplace(edges[e], static_cast<int>(e));
@@ -37,12 +40,18 @@ class Monitor {
   void step(double t, py::handle vehicles, Convention c) {
     if (!std::isfinite(t)) throw py::value_error("step time must be finite, got " + std::to_string(t));
     readStates(vehicles, c, lanes_, edges_, states_);
+    for (std::size_t i = 0; i < states_.size(); ++i)
+      if (const std::string why = implausible(states_[i]); !why.empty())
+        throw py::value_error("vehicle " + std::to_string(i) + " ('" + states_[i].id + "'): " + why);
     {
       py::gil_scoped_release free;
       monitor_.step(t, states_);
     }
   }
-  void finish(double t) { monitor_.finish(t); }
+  void finish(double t) {
+    if (!std::isfinite(t)) throw py::value_error("finish time must be finite, got " + st::io::number(t));
+    monitor_.finish(t);
+  }
   // every setting in effect, by its key (sthighway/settings.hpp)
   py::dict settings() const {
     py::dict out;
@@ -147,6 +156,34 @@ class Monitor {
   LaneIndex lanes_;                       // lane id -> index into the road's lanes
   EdgeIndex edges_;                       // edge id -> index into edgeIds(road)
   std::vector<hw::VehicleState> states_;  // the last step's, for the alerts' ids
+  hw::FcdChecks bounds_;                  // the road's box (bounded when it has lanes)
+
+  // What no vehicle has, refused as the CLI refuses it in a trace (sthighway/sumo_files.hpp's
+  // bounds): "" when the state is plausible. The monitor itself only asks for finite values.
+  std::string implausible(const hw::VehicleState& v) const {
+    const double x = v.position.x(), y = v.position.y();
+    if (bounds_.bounded) {
+      const double g = hw::FcdChecks::kOutsideMargin;
+      if (!(x >= bounds_.lo.x() - g && x <= bounds_.hi.x() + g && y >= bounds_.lo.y() - g && y <= bounds_.hi.y() + g))
+        return "position (" + st::io::number(x) + ", " + st::io::number(y) + ") is more than " + st::io::number(g) +
+               " m outside the road's lanes";
+    } else if (!(std::abs(x) <= hw::kNetMaxCoordinate && std::abs(y) <= hw::kNetMaxCoordinate)) {
+      return "position (" + st::io::number(x) + ", " + st::io::number(y) + ") is farther than " +
+             st::io::number(hw::kNetMaxCoordinate) + " m from the origin";
+    }
+    if (!(std::abs(v.heading) <= hw::kMaxHeading))
+      return "heading " + st::io::number(v.heading) + " rad is not a heading (at most " + st::io::number(hw::kMaxHeading) +
+             " either way)";
+    if (v.speed < 0.0) return "speed " + st::io::number(v.speed) + " m/s is negative";
+    if (v.speed > hw::kFcdMaxSpeed)
+      return "speed " + st::io::number(v.speed) + " m/s is beyond any vehicle's (at most " + st::io::number(hw::kFcdMaxSpeed) + ")";
+    if (!(std::abs(v.acceleration) <= hw::kFcdMaxAcceleration))
+      return "acceleration " + st::io::number(v.acceleration) + " m/s^2 is beyond any vehicle's (at most " +
+             st::io::number(hw::kFcdMaxAcceleration) + ")";
+    if (v.length > hw::kFcdMaxSize || v.width > hw::kFcdMaxSize)
+      return "length and width must be at most " + st::io::number(hw::kFcdMaxSize) + " m";
+    return "";
+  }
 };
 
 

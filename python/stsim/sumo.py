@@ -185,6 +185,10 @@ class TraciMonitor:
     Monitor's (finish() without a time closes at SUMO's current time)."""
 
     def __init__(self, conn, net=None, subscribe=None, **settings):
+        # a clear word for a connection that is not one (None raised a raw AttributeError later)
+        if conn is None or not hasattr(conn, "simulation") or not hasattr(conn, "vehicle"):
+            raise TypeError("TraciMonitor needs a TraCI connection (traci, a traci.Connection or libsumo), got "
+                            + type(conn).__name__)
         self.conn = conn
         self.monitor = Monitor(net, **settings) if net is not None else Monitor(lanes=read_traci_lanes(conn), **settings)
         in_effect = self.monitor.settings  # whatever spelling the caller used, and the defaults

@@ -3,6 +3,9 @@
 
 #include <algorithm>
 
+#include <sys/stat.h>
+
+#include "bounded.hpp"
 #include "test_util.hpp"
 #include <stcosim/scenario.hpp>
 
@@ -359,6 +362,47 @@ TEST(Scenario, UnknownSmartTypeFractionalIntegersAndEmptyFileAreNamed) {
   e = errorOf([&] { loadScenario(dir / "e.yaml"); });
   EXPECT_NE(e.find("e.yaml"), std::string::npos) << e;
   EXPECT_NE(e.find("scenario: must be a mapping"), std::string::npos) << e;
+}
+
+}  // namespace
+}  // namespace st::cosim
+
+namespace st::cosim {
+namespace {
+
+// issue 49: `sumocfg: /dev/zero` was read for ever (2.4 GB in 5 s, SIGINT ignored); a FIFO waited
+// for a writer. Each is one line naming the file, at once.
+TEST(Scenario, ASumocfgThatIsNoFileIsRefusedAtOnce) {
+  const auto dir = freshDir("sumocfg_device");
+  ASSERT_EQ(::mkfifo((dir / "fifo.sumocfg").c_str(), 0644), 0);
+  EXPECT_EQ(st::test::errorWithin([] { checkSumoConfig("/dev/zero"); }), "/dev/zero: holds a NUL byte: not a text file");
+  std::ofstream(dir / "zero.yaml") << "sumocfg: /dev/zero\n";
+  EXPECT_EQ(st::test::errorWithin([&] { checkSumoConfig(loadScenario(dir / "zero.yaml").sumocfg); }),
+            "/dev/zero: holds a NUL byte: not a text file");
+  std::ofstream(dir / "fifo.yaml") << "sumocfg: fifo.sumocfg\n";
+  EXPECT_EQ(st::test::errorWithin([&] { loadScenario(dir / "fifo.yaml"); }),
+            (dir / "fifo.yaml").string() + ":1: sumocfg: " + (dir / "fifo.sumocfg").string() + ": is a FIFO, not a file");
+  // a route file that is a FIFO: named with its configuration
+  std::ofstream(dir / "r.sumocfg") << "<configuration><input><net-file value=\"" << (sourceDir() / "networks/ring/ring.net.xml").string()
+                                   << "\"/><route-files value=\"fifo.sumocfg\"/></input></configuration>\n";
+  EXPECT_EQ(st::test::errorWithin([&] { checkSumoConfig(dir / "r.sumocfg"); }),
+            (dir / "r.sumocfg").string() + ": route-files: " + (dir / "fifo.sumocfg").string() + ": is a FIFO, not a file");
+}
+
+// issue 49: `sumo_args: ["--remote-port", "47555"]` made embedded SUMO wait for a client for ever
+TEST(Scenario, SumoArgsThatCannotWorkInARunAreNamed) {
+  const auto dir = freshDir("sumo_args_refused");
+  const std::string cfg = (sourceDir() / "networks/ring/ring.sumocfg").string();
+  for (const std::string arg : {"--remote-port", "--remote-port=47555", "--num-clients", "-c", "--configuration-file",
+                                "--save-configuration", "--version", "--help", "--start", "--quit-on-end", "--game",
+                                "--demo"}) {
+    std::ofstream(dir / "s.yaml") << "sumocfg: " << cfg << "\nsumo_args: [--end, \"20\", \"" << arg << "\", \"1\"]\n";
+    const std::string e = errorOf([&] { loadScenario(dir / "s.yaml"); });
+    EXPECT_EQ(e.rfind((dir / "s.yaml").string() + ":2: sumo_args: " + arg + " cannot work in a run stsim drives: it ", 0), 0u)
+        << arg << ": " << e;
+  }
+  std::ofstream(dir / "ok.yaml") << "sumocfg: " << cfg << "\nsumo_args: [--end, \"20\", --fcd-output, fcd.xml, --delay, \"5\"]\n";
+  EXPECT_EQ(errorOf([&] { loadScenario(dir / "ok.yaml"); }), "");
 }
 
 }  // namespace

@@ -145,3 +145,53 @@ TEST(IoCsv, RowsSplitBackIntoTheirFields) {
 }
 
 }  // namespace
+
+namespace {
+
+using namespace st::io;
+
+// issue 49: one UTF-8 policy for every output: invalid bytes become U+FFFD, valid UTF-8 stays
+TEST(IoUtf8, InvalidBytesBecomeTheReplacementCharacterEverywhere) {
+  const std::string fffd = "\xEF\xBF\xBD";
+  EXPECT_TRUE(validUtf8("caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x8E\xB1"));
+  for (const std::string bad : {"caf\xE9", "\xC0\xAF", "\xED\xA0\x80", "\xF4\x90\x80\x80", "\xE2\x82", "\xFF"})
+    EXPECT_FALSE(validUtf8(bad)) << bad;
+  EXPECT_EQ(utf8("caf\xE9!"), "caf" + fffd + "!");
+  EXPECT_EQ(utf8("\xE2\x82"), fffd + fffd);           // a cut sequence: each byte
+  EXPECT_EQ(utf8("caf\xC3\xA9"), "caf\xC3\xA9");      // valid: unchanged
+  // JSON: the literal is valid UTF-8 and a JSON parser reads the replacement back
+  std::string all;
+  for (int c = 1; c < 256; ++c) all += static_cast<char>(c);
+  EXPECT_TRUE(validUtf8(jsonString(all)));
+  EXPECT_EQ(parseJsonString(jsonString("caf\xE9")), "caf" + fffd);
+  // XML: entities, and no character XML 1.0 forbids
+  EXPECT_EQ(xmlText("a<b>&\"c\x01\xE9"), "a&lt;b&gt;&amp;&quot;c" + fffd + fffd);
+  EXPECT_TRUE(validUtf8(xmlText(all)));
+  // CSV
+  EXPECT_EQ(csvField("caf\xE9"), "caf" + fffd);
+  // a terminal line: no escape sequence reaches the terminal
+  EXPECT_EQ(printable("red\x1b[31m\x07\x7f name"), "red\\x1b[31m\\x07\\x7f name");
+}
+
+// issue 49: ids beginning =, +, -, @ were written raw (spreadsheet formula injection)
+TEST(IoCsv, FormulaLikeFieldsAreNeutralisedAndReadBack) {
+  EXPECT_EQ(csvField("=HYPERLINK(\"http://x\")"), "\"'=HYPERLINK(\"\"http://x\"\")\"");
+  EXPECT_EQ(csvField("+cmd"), "'+cmd");
+  EXPECT_EQ(csvField("-1+1"), "'-1+1");
+  EXPECT_EQ(csvField("@SUM(A1)"), "'@SUM(A1)");
+  EXPECT_EQ(csvField("\tx"), "'\tx");
+  // numbers stay numbers
+  EXPECT_EQ(csvField("-3.5"), "-3.5");
+  EXPECT_EQ(csvField("+1e-3"), "+1e-3");
+  EXPECT_EQ(csvField("-"), "'-");
+  // every field reads back as it was, an apostrophe of its own included
+  for (const std::string s : {"=1+1", "+a", "-b", "@c", "-3.5", "'=x", "''=y", "'plain", "'-5", "-", "=", "\tt", "a=b"}) {
+    EXPECT_EQ(csvFields(csvField(s) + "," + csvField(s)), (std::vector<std::string>{s, s})) << s;
+    const std::string f = csvField(s);
+    EXPECT_TRUE(f.empty() || std::string("=+-@\t").find(f[0]) == std::string::npos ||
+                f == csvField("-3.5") || f == "+1e-3" || s == "-3.5")
+        << s << " -> " << f;
+  }
+}
+
+}  // namespace

@@ -100,3 +100,30 @@ def test_bad_network():
         stsim.Monitor(lanes=[{"id": "e_0", "edge": "e", "shape": [(0.0, 0.0, 1.0)]}])
     with pytest.raises(ValueError, match="give net or lanes, not both"):
         stsim.Monitor("x.net.xml", lanes=[])
+
+
+# issue 49: the CLI refuses these in a trace; Monitor.step took them
+@pytest.mark.parametrize("key,value,message", [
+    ("x", 1e300, r"vehicle 0 \('a'\): position \(1e\+300, 0\) is farther than 1e\+07 m from the origin"),
+    ("speed", -5.0, r"vehicle 0 \('a'\): speed -5 m/s is negative"),
+    ("speed", 1e300, r"speed 1e\+300 m/s is beyond any vehicle's"),
+    ("heading", 1e300, r"vehicle 0 \('a'\): heading 1e\+300 rad is not a heading"),
+    ("acceleration", 1e300, r"acceleration 1e\+300 m/s\^2 is beyond any vehicle's"),
+    ("length", 1e300, r"length and width must be at most 1000 m"),
+])
+def test_implausible_vehicle_values(key, value, message):
+    m = stsim.Monitor()
+    with pytest.raises(ValueError, match=message):
+        m.step(0.0, [car(**{key: value})])
+    m.step(0.1, [car()])  # still usable
+    assert m.counters["ticks"] == 1
+
+
+def test_finish_time_must_be_finite_and_traci_monitor_needs_a_connection():
+    m = stsim.Monitor()
+    m.step(0.0, [car()])
+    with pytest.raises(ValueError, match="finish time must be finite, got nan"):
+        m.finish(math.nan)
+    m.finish(1.0)
+    with pytest.raises(TypeError, match=r"TraciMonitor needs a TraCI connection .* got NoneType"):
+        stsim.TraciMonitor(None)

@@ -117,9 +117,14 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
   facts.leads = attach ? nullptr : &leads;
   const hw::RunInfo info = writeSummary(s, setup, facts, plugin.monitor().counters());
   // the map of whatever was written, an error or not
-  const bool mapped = setup.map && hw::writeConflictMap({out / "conflict_map", files.net, {out / "warnings.csv"},
-                                                         (s.source.parent_path().filename() / s.source.filename()).string()},
-                                                        result.mapProblem);
+  bool mapped = false;
+  if (setup.map) {
+    const hw::ConflictMapOutcome map = hw::drawConflictMap(
+        {out / "conflict_map", files.net, {out / "warnings.csv"}, (s.source.parent_path().filename() / s.source.filename()).string()});
+    mapped = map.state == hw::ConflictMapOutcome::State::Drawn;
+    result.mapProblem = map.why;
+    result.mapFailed = map.state == hw::ConflictMapOutcome::State::Failed;
+  }
 
   if (!loop.error.empty()) throw std::runtime_error(loop.error + " (results so far in " + out.string() + ")");
 

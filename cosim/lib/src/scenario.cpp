@@ -4,6 +4,7 @@
 
 #include <sthighway/settings.hpp>
 #include <sthighway/sumo_files.hpp>
+#include <stio/input.hpp>
 #include <stio/yaml.hpp>
 
 #include <boost/property_tree/ptree.hpp>
@@ -22,6 +23,9 @@ namespace {
 
 namespace fs = std::filesystem;
 namespace hw = st::highway;
+
+// the largest SUMO input (route, additional file) read whole: bytes
+constexpr std::size_t kMaxSumoInput = std::size_t{1} << 30;
 
 std::vector<std::string> splitList(const std::string& s) {
   std::vector<std::string> out;
@@ -47,8 +51,10 @@ std::vector<std::string> splitList(const std::string& s) {
 class RepeatedIds {
  public:
   void scan(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // bounded (a route file of a large demand runs to hundreds of MB, not for ever); a NUL byte is
+    // left to the XML reader that follows, which names its line
+    std::string text, error;
+    if (!io::readFile(file, text, error, kMaxSumoInput)) throw ScenarioError(error);
     int line = 1;
     std::size_t counted = 0;
     for (std::size_t at = text.find('<'); at != std::string::npos; at = text.find('<', at + 1)) {
@@ -173,6 +179,32 @@ class Reader {
  private:
   io::Yaml<ScenarioError> y_;
 };
+
+// SUMO 1.15's options that cannot work in a run stsim drives (embedded, or sumo-gui over TraCI):
+// each with why, "" for any other argument. --remote-port made embedded SUMO wait for a client
+// for ever, saying nothing.
+std::string sumoArgumentProblem(const std::string& arg) {
+  struct Refused {
+    std::initializer_list<const char*> names;
+    const char* why;
+  };
+  static const Refused refused[] = {
+      {{"--remote-port", "--num-clients"},
+       "makes SUMO wait for TraCI clients that never come (stsim drives SUMO itself; to attach to a SUMO you "
+       "started, use --traci HOST:PORT)"},
+      {{"-c", "--configuration-file"}, "is stsim's to give (the scenario's sumocfg)"},
+      {{"-C", "--save-configuration", "--save-template", "-?", "--help", "-V", "--version"},
+       "makes SUMO write or print and exit without running"},
+      {{"-S", "--start", "-Q", "--quit-on-end"}, "is stsim's to give (with --gui it starts and ends sumo-gui)"},
+      {{"-G", "--game", "--game.mode", "-D", "--demo"},
+       "takes sumo-gui over (a game, or a demo that restarts for ever)"},
+  };
+  const std::string name = arg.substr(0, arg.find('='));
+  for (const auto& r : refused)
+    for (const char* n : r.names)
+      if (name == n) return std::string("cannot work in a run stsim drives: it ") + r.why;
+  return "";
+}
 
 constexpr double kBig = 1e12;
 constexpr std::uint64_t kSumoDefaultSeed = 23423;  // SUMO's --seed default
@@ -299,7 +331,12 @@ void readYaml(const fs::path& path, Scenario& s) {
       s.plugin.incidents.push_back(inc);
     }
   }
-  if (auto n = root["sumo_args"]) s.sumoArgs = r.list(n, "sumo_args");
+  if (auto n = root["sumo_args"]) {
+    s.sumoArgs = r.list(n, "sumo_args");
+    for (std::size_t i = 0; i < s.sumoArgs.size(); ++i)
+      if (const std::string why = sumoArgumentProblem(s.sumoArgs[i]); !why.empty())
+        r.fail(n[i], "sumo_args", s.sumoArgs[i] + " " + why);
+  }
   if (auto n = root["out"]) s.out = fs::path(r.text(n, "out"));
   s.plugin.smart.seed = s.seed;
   // last, so a scenario's other mistakes are named first: the file it runs must be there
@@ -308,6 +345,7 @@ void readYaml(const fs::path& path, Scenario& s) {
     const auto st = fs::status(s.sumocfg, ec);
     if (!fs::exists(st)) r.fail(root["sumocfg"], "sumocfg", "no such file: " + s.sumocfg.string());
     if (fs::is_directory(st)) r.fail(root["sumocfg"], "sumocfg", "is a directory, not a .sumocfg: " + s.sumocfg.string());
+    if (const std::string why = io::notReadableReason(s.sumocfg); !why.empty()) r.fail(root["sumocfg"], "sumocfg", why);
   }
   if (auto n = root["smart_types"]) checkSmartTypes(r, n, s);
 }
@@ -384,9 +422,13 @@ SumoConfigFiles checkSumoConfig(const fs::path& sumocfg) {
   if (ec && ec != std::errc::no_such_file_or_directory) throw ScenarioError(sumocfg.string() + ": " + ec.message());
   if (!fs::exists(st)) throw ScenarioError(sumocfg.string() + ": no such SUMO configuration file");
   if (fs::is_directory(st)) throw ScenarioError(sumocfg.string() + ": is a directory, not a SUMO configuration file");
+  // read bounded first: /dev/zero read for ever (2.4 GB in 5 s) in Boost's reader
+  std::string text, error;
+  if (!io::readTextFile(sumocfg, text, error)) throw ScenarioError(error);
   boost::property_tree::ptree pt;
   try {
-    boost::property_tree::read_xml(sumocfg.string(), pt);
+    std::istringstream in(text);
+    boost::property_tree::read_xml(in, pt);
   } catch (const boost::property_tree::xml_parser_error& e) {
     throw ScenarioError(sumocfg.string() + ":" + std::to_string(e.line()) + ": malformed XML: " + e.message());
   }
@@ -407,6 +449,8 @@ SumoConfigFiles checkSumoConfig(const fs::path& sumocfg) {
     if (why)  // a name too long, a folder we may not enter: not "does not exist", and no filesystem_error
       throw ScenarioError(sumocfg.string() + ": " + key + " '" + p.string() + "': " + why.message());
     if (!there) throw ScenarioError(sumocfg.string() + ": " + key + " '" + p.string() + "' does not exist");
+    if (const std::string bad = io::notReadableReason(p); !bad.empty())
+      throw ScenarioError(sumocfg.string() + ": " + key + ": " + bad);
     return p;
   };
   const auto net = value("net-file");

@@ -32,6 +32,11 @@ struct KeyProblem {
 KeyProblem checkKeys(const YAML::Node& map, std::string_view where,
                      const std::function<bool(const std::string&)>& allowed, std::string_view unknownHint = {});
 
+// Parses text holding one YAML document. A second document (after a "---") would be ignored
+// without a word: it throws YAML::ParserException at its start instead ("a second YAML document
+// ..."), as a syntax error does. An empty document after "---" is no document.
+YAML::Node loadOneDocument(const std::string& text);
+
 // Reads and parses a YAML file. Problems come back as one line in `error` (an empty Node):
 // "file: no such file", "file: is a directory, not a YAML file", "file: cannot read the file",
 // "file:line: malformed YAML: msg".

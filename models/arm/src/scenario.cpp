@@ -20,6 +20,7 @@ namespace {
 constexpr double kMaxLookAhead = 60.0;
 constexpr double kMaxCycles = 1e7;
 constexpr double kMaxSeparation = 10.0;  // m
+constexpr double kMaxBaseOffset = 100.0;  // m: an arm's base from the workcell's origin, per axis
 
 // Error helpers: every message is "file:line: key: what".
 struct Yaml {
@@ -251,6 +252,14 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
     if (s.safety.minSeparation > kMaxSeparation)
       y.fail(n["min_separation"], "safety.min_separation",
              io::number(s.safety.minSeparation) + " m is more than " + io::number(kMaxSeparation) + " m (a workcell's size)");
+    // each term of the safe time within the look-ahead bound on its own, so the one too long is
+    // the one named (stopping_time: 1e300 was blamed on the look-ahead or the horizon)
+    for (const auto& [name, value] : {std::pair{"cycle_time", s.safety.cycleTime}, std::pair{"reaction_time", s.safety.reactionTime},
+                                      std::pair{"stopping_time", s.safety.stoppingTime}})
+      if (value > kMaxLookAhead)
+        y.fail(n[name], std::string("safety.") + name,
+               io::number(value) + " s is more than the " + std::to_string(static_cast<int>(kMaxLookAhead)) +
+                   " s look-ahead limit");
     if (s.safety.horizon != 0.0 && s.safety.horizon < s.safety.safeTime())
       y.fail(n["horizon"], "safety.horizon", "must be at least the safe time (cycle + reaction + stopping)");
     // the work of a cycle grows with the look-ahead: 1e300 ran for minutes and wrote nothing
@@ -333,6 +342,11 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
       y.fail(a["model"], key + ".model", "unknown arm model '" + model + "' (built in: panda, iiwa14)");
     }
     inst.base = y.pose(a["base"], key + ".base");
+    // a base kilometres away is no workcell: 1e300 was accepted ("first contact at 0 s")
+    if (const Vec3 at = inst.base.translation(); !(at.cwiseAbs().maxCoeff() <= kMaxBaseOffset))
+      y.fail(a["base"]["xyz"], key + ".base.xyz",
+             "[" + io::number(at.x()) + ", " + io::number(at.y()) + ", " + io::number(at.z()) + "] is farther than " +
+                 io::number(kMaxBaseOffset) + " m from the workcell's origin");
     for (const char* which : {"allow", "check"}) {
       const YAML::Node pairs = y.list(a[which], key + "." + which);
       if (!pairs) continue;

@@ -1,5 +1,7 @@
 #include <sthighway/sumo_files.hpp>
 
+#include <stio/input.hpp>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -34,8 +36,9 @@ class XmlScanner {
 
   explicit XmlScanner(const std::filesystem::path& path) : path_(path.string()) {
     std::error_code ec;
-    // an ifstream opens a directory and reads it as an empty file
-    if (std::filesystem::is_directory(path, ec)) throw InputError(path_ + ": is a directory, not a file");
+    // an ifstream opens a directory and reads it as an empty file, and waits for ever on a FIFO
+    if (std::filesystem::exists(path, ec))
+      if (const std::string why = io::notReadableReason(path); !why.empty()) throw InputError(why);
     in_.open(path, std::ios::binary);
     if (!in_) throw InputError(path_ + ": cannot open file");
   }
@@ -102,6 +105,8 @@ class XmlScanner {
           if (c == EOF) fail(start, "unexpected end of file in attribute '" + key + "'");
           value += static_cast<char>(c);
         }
+        // XML allows an attribute once; which of two would count is a guess
+        if (tag.attr(key.c_str())) fail(line_, "attribute '" + key + "' of <" + tag.name + "> given twice");
         tag.attrs.emplace_back(std::move(key), decode(value));
         c = get();
       }
@@ -156,17 +161,14 @@ class XmlScanner {
   long line_ = 1;
 };
 
-std::string fmtNumber(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 double number(const XmlScanner& x, const XmlScanner::Tag& t, const char* key, const std::string& text) {
   const char* b = text.c_str();
   char* e = nullptr;
-  const double v = std::strtod(b, &e);
-  if (e == b || *e != '\0' || !std::isfinite(v))
+  // decimal only: strtod also reads hex floats ("0x1p3"), inf and nan, which SUMO never writes
+  const bool decimal = text.find_first_not_of("0123456789+-.eE") == std::string::npos;
+  const double v = decimal ? std::strtod(b, &e) : 0.0;
+  if (!decimal || e == b || *e != '\0' || !std::isfinite(v))
     x.fail(t.line, "<" + t.name + "> attribute '" + key + "' is not a finite number: '" + text + "'");
   return v;
 }
@@ -208,6 +210,12 @@ bool contains(const std::string& hay, const char* needle) {
   return h.find(needle) != std::string::npos;
 }
 
+std::string fmtNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
 }  // namespace
 
 RoadGeometry readSumoNet(const std::filesystem::path& path, std::vector<std::string>* leftOut) {
@@ -216,6 +224,7 @@ RoadGeometry readSumoNet(const std::filesystem::path& path, std::vector<std::str
   XmlScanner::Tag t;
   std::string edge;
   bool internal = false, sawNet = false;
+  std::unordered_map<std::string, long> laneLines;  // lane id -> its line (an id given twice is an error)
   while (x.next(t)) {
     if (t.name == "net" && !t.closing) sawNet = true;
     if (t.name == "edge") {
@@ -237,14 +246,27 @@ RoadGeometry readSumoNet(const std::filesystem::path& path, std::vector<std::str
       l.id = *id;
       l.edge = edge;
       l.index = static_cast<int>(required(x, t, "index"));
+      if (l.id.empty()) x.fail(t.line, "<lane> attribute 'id' is empty");
+      if (auto [at, fresh] = laneLines.emplace(l.id, t.line); !fresh)
+        x.fail(t.line, "<lane id=\"" + l.id + "\"> given twice (first at line " + std::to_string(at->second) + ")");
       l.width = optionalNumber(x, t, "width", 3.2);
       l.length = optionalNumber(x, t, "length", 0.0);
       if (!(l.length >= 0.0)) x.fail(t.line, "<lane id=\"" + l.id + "\"> length must not be negative");
       if (!(l.width > 0.0)) x.fail(t.line, "<lane id=\"" + l.id + "\"> width must be positive");
+      if (l.width > kNetMaxLaneWidth)
+        x.fail(t.line, "<lane id=\"" + l.id + "\"> width " + fmtNumber(l.width) + " m is beyond any lane's (at most " +
+                           fmtNumber(kNetMaxLaneWidth) + ")");
+      if (l.length > kNetMaxCoordinate)
+        x.fail(t.line, "<lane id=\"" + l.id + "\"> length " + fmtNumber(l.length) + " m is beyond any lane's (at most " +
+                           fmtNumber(kNetMaxCoordinate) + ")");
       const std::string* shape = t.attr("shape");
       if (!shape) x.fail(t.line, "<lane id=\"" + l.id + "\"> lacks attribute 'shape'");
       l.shape = parseShape(x, t, *shape);
       if (l.shape.size() < 2) x.fail(t.line, "<lane id=\"" + l.id + "\"> shape needs at least two points");
+      for (const Vec2& p : l.shape)
+        if (!(std::abs(p.x()) <= kNetMaxCoordinate && std::abs(p.y()) <= kNetMaxCoordinate))
+          x.fail(t.line, "<lane id=\"" + l.id + "\"> shape point (" + fmtNumber(p.x()) + ", " + fmtNumber(p.y()) +
+                             ") is farther than " + fmtNumber(kNetMaxCoordinate) + " m from the network's origin");
       l.internal = internal;
       // pedestrian-only lanes (sidewalks) are not part of the carriageway
       const std::string* allow = t.attr("allow");
@@ -329,6 +351,7 @@ FcdChecks fcdChecksFor(const RoadGeometry& road, const std::vector<std::string>&
   }
   c.lanes.insert(c.lanes.end(), leftOut.begin(), leftOut.end());
   std::sort(c.lanes.begin(), c.lanes.end());
+  c.lanesChecked = true;
   return c;
 }
 
@@ -344,6 +367,8 @@ struct FcdReader::Impl {
   double lastTime = -std::numeric_limits<double>::infinity();
   FcdChecks checks;
   bool anyStep = false;
+  long rootLine = 0;        // line of <fcd-export>, 0 if none
+  bool rootClosed = false;  // </fcd-export> seen
   std::unordered_map<std::string, int> laneIndex;  // lane id -> index into the network's lanes
   Impl(const std::filesystem::path& p, VehicleTypes t, FcdChecks c) : x(p), types(std::move(t)), checks(std::move(c)) {}
 };
@@ -370,6 +395,11 @@ bool FcdReader::next(FcdFrame& frame) {
       openVehicle = 0;
       continue;
     }
+    if (t.name == "fcd-export") {
+      if (t.closing) m.rootClosed = true;
+      else if (!t.selfClosing) m.rootLine = t.line;
+      continue;
+    }
     if (t.name == "timestep") {
       if (t.closing) {
         if (!inStep) x.fail(t.line, "</timestep> without <timestep>");
@@ -378,6 +408,9 @@ bool FcdReader::next(FcdFrame& frame) {
       if (inStep) x.fail(t.line, "<timestep> inside <timestep>");
       m.anyStep = true;
       frame.time = required(x, t, "time");
+      if (!(std::abs(frame.time) <= kFcdMaxTime))
+        x.fail(t.line, "<timestep> time " + fmtNumber(frame.time) + " s is beyond any run's (at most " +
+                           fmtNumber(kFcdMaxTime) + " s either side of 0)");
       if (!(frame.time > m.lastTime)) x.fail(t.line, "timestep times must increase");
       m.lastTime = frame.time;
       frame.vehicles.clear();
@@ -392,6 +425,7 @@ bool FcdReader::next(FcdFrame& frame) {
     VehicleState v;
     const std::string* id = t.attr("id");
     if (!id) x.fail(t.line, "<vehicle> lacks attribute 'id'");
+    if (id->empty()) x.fail(t.line, "<vehicle> attribute 'id' is empty");
     v.id = *id;
     const std::string* type = t.attr("type");
     VehicleTypeInfo info;
@@ -401,7 +435,7 @@ bool FcdReader::next(FcdFrame& frame) {
         x.fail(t.line, "<vehicle id=\"" + v.id + "\"> type '" + *type + "' is not defined in " + m.checks.typesFile);
       info = it != m.types.end() ? it->second : guessVehicleType(*type);
     }
-    if (const std::string* lane = t.attr("lane"); lane && !m.checks.lanes.empty() &&
+    if (const std::string* lane = t.attr("lane"); lane && m.checks.lanesChecked &&
         !std::binary_search(m.checks.lanes.begin(), m.checks.lanes.end(), *lane))
       x.fail(t.line, "<vehicle id=\"" + v.id + "\"> lane '" + *lane + "' is not in " + m.checks.netFile);
     v.vehicleClass = info.vehicleClass;
@@ -420,9 +454,10 @@ bool FcdReader::next(FcdFrame& frame) {
                            ") is more than " + fmtNumber(g) + " m outside " + c.netFile + " (x " + fmtNumber(c.lo.x()) +
                            ".." + fmtNumber(c.hi.x()) + ", y " + fmtNumber(c.lo.y()) + ".." + fmtNumber(c.hi.y()) + ")");
     }
-    // SUMO writes [0, 360); 1e300 was taken and changed the warnings
+    // SUMO writes [0, 360) (360.00 where its rounding reaches it); 1e300 was taken and changed the
+    // warnings, -90 was taken as 270
     const double angle = required(x, t, "angle");
-    if (!(std::abs(angle) <= 360.0))
+    if (!(angle >= 0.0 && angle <= 360.0))
       x.fail(t.line, "<vehicle id=\"" + v.id + "\"> angle " + fmtNumber(angle) + " is not a heading (degrees, 0..360)");
     v.heading = headingFromNavigationDegrees(angle);
     v.position = centreFromFrontBumper(front, v.heading, v.length);
@@ -463,6 +498,9 @@ bool FcdReader::next(FcdFrame& frame) {
   if (openVehicle) x.fail(openVehicle, "<vehicle> is not closed (expected \"/>\" or </vehicle>)");
   if (inStep) x.fail(stepLine, "unterminated <timestep>");
   if (!m.anyStep) throw InputError(x.path() + ": holds no <timestep> (not a SUMO FCD trace, sumo --fcd-output?)");
+  // a trace cut short (a SUMO that was killed, a copy that stopped) ends without its root's close
+  if (m.rootLine && !m.rootClosed)
+    x.fail(m.rootLine, "<fcd-export> is not closed (no </fcd-export>: the trace is cut short)");
   return false;
 }
 

@@ -23,7 +23,14 @@ const char* toString(PoolEventKind k) {
   return "?";
 }
 
-const char* toString(ShotEnd e) { return e == ShotEnd::Rest ? "rest" : "time-limit"; }
+const char* toString(ShotEnd e) {
+  switch (e) {
+    case ShotEnd::Rest: return "rest";
+    case ShotEnd::TimeLimit: return "time-limit";
+    case ShotEnd::Stopped: return "stopped";
+  }
+  return "?";
+}
 
 SimulatorConfig simulatorConfig(const SpaceSpec& space, const TableSpec& table, const std::vector<BallSpec>& balls) {
   SimulatorConfig c;

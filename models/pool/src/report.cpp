@@ -13,17 +13,8 @@ namespace {
 
 using io::jsonString;
 
-std::string xmlEscape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else if (c == '"') out += "&quot;";
-    else out += c;
-  }
-  return out;
-}
+// one XML escaping for every output (st::io: UTF-8 and XML's forbidden characters too)
+std::string xmlEscape(const std::string& s) { return io::xmlText(s); }
 
 // JSON has no infinities or NaNs: null stands for them.
 std::string num(double x) { return io::jsonNumber(x, 17); }
@@ -84,6 +75,8 @@ RunRecord playScenario(Game& game, const Scenario& scenario, double untilOverrid
       }
     } catch (const std::runtime_error& e) {
       run.error = e.what();
+      // the shot the limit stopped is recorded too: its initial energy and momentum are real
+      if (game.stoppedShot()) run.shots.push_back(*game.stoppedShot());
     }
   });
   return run;

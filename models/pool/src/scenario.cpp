@@ -346,6 +346,8 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
         const double speed = rd.number(n["speed"], key + ".speed");
         if (speed < 0.0) fail(rd.at(n["speed"], key + ".speed"), "must be zero or positive");
         const double deg = rd.number(n["angle"], key + ".angle");
+        // 1e308 made the direction NaN, blamed on the speed
+        if (!(std::abs(deg) <= 360.0)) fail(rd.at(n["angle"], key + ".angle"), "must be between -360 and 360 degrees");
         const double rad = deg * std::numbers::pi / 180.0;
         shot.velocity = speed * Vec2(std::cos(rad), std::sin(rad));
       }
@@ -409,7 +411,7 @@ void validateScenario(const Scenario& s, const std::string& source) {
 Scenario parseScenario(const std::string& yamlText, const std::string& source) {
   YAML::Node root;
   try {
-    root = YAML::Load(yamlText);
+    root = io::loadOneDocument(yamlText);
   } catch (const YAML::ParserException& e) {
     fail(Where{source, "(syntax)", e.mark}, e.msg);
   }

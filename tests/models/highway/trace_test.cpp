@@ -139,6 +139,80 @@ TEST(SumoFiles, BadInputNamesFileAndLine) {
   fs::remove(dup);
 }
 
+// The error a whole trace of `body` (inside <fcd-export>) gives, read to its end ("" if none).
+std::string traceError(const std::string& name, const std::string& text, const FcdChecks& checks = {}) {
+  const fs::path p = writeTemp(name + ".fcd.xml", text);
+  std::string what;
+  try {
+    FcdReader r(p, {}, checks);
+    FcdFrame f;
+    while (r.next(f)) {
+    }
+  } catch (const InputError& e) {
+    what = e.what();
+  }
+  fs::remove(p);
+  const auto colon = what.find(".fcd.xml:");
+  return colon == std::string::npos ? what : what.substr(colon + 9);  // "LINE: message"
+}
+
+std::string oneVehicle(const std::string& attrs, const std::string& time = "0") {
+  return "<fcd-export>\n<timestep time=\"" + time + "\">\n<vehicle " + attrs + "/>\n</timestep>\n</fcd-export>\n";
+}
+
+// issue 49: each of these was accepted
+TEST(SumoFiles, TraceValuesSumoNeverWritesAreRefused) {
+  const std::string rest = "x=\"1\" y=\"0\" angle=\"90\" speed=\"1\"";
+  EXPECT_EQ(traceError("ok", oneVehicle("id=\"a\" " + rest)), "");
+  EXPECT_EQ(traceError("ok360", oneVehicle("id=\"a\" x=\"1\" y=\"0\" angle=\"360.00\" speed=\"1\"")), "");
+  for (const char* time : {"1e300", "-1e300", "1e10"})
+    EXPECT_EQ(traceError("time", oneVehicle("id=\"a\" " + rest, time)),
+              "2: <timestep> time " + std::string(time[0] == '-' ? "-1e+300" : time[2] == '3' ? "1e+300" : "1e+10") +
+                  " s is beyond any run's (at most 1e+09 s either side of 0)");
+  EXPECT_EQ(traceError("inf", oneVehicle("id=\"a\" " + rest, "inf")),
+            "2: <timestep> attribute 'time' is not a finite number: 'inf'");
+  EXPECT_EQ(traceError("angle", oneVehicle("id=\"a\" x=\"1\" y=\"0\" angle=\"-90\" speed=\"1\"")),
+            "3: <vehicle id=\"a\"> angle -90 is not a heading (degrees, 0..360)");
+  EXPECT_EQ(traceError("id", oneVehicle("id=\"\" " + rest)), "3: <vehicle> attribute 'id' is empty");
+  EXPECT_EQ(traceError("twice", oneVehicle("id=\"a\" " + rest + " x=\"5\"")),
+            "3: attribute 'x' of <vehicle> given twice");
+  EXPECT_EQ(traceError("hex", oneVehicle("id=\"a\" x=\"0x1p3\" y=\"0\" angle=\"90\" speed=\"1\"")),
+            "3: <vehicle> attribute 'x' is not a finite number: '0x1p3'");
+  const std::string cut = oneVehicle("id=\"a\" " + rest);
+  EXPECT_EQ(traceError("cut", cut.substr(0, cut.find("</fcd-export>"))),
+            "1: <fcd-export> is not closed (no </fcd-export>: the trace is cut short)");
+}
+
+// The lanes a trace names are checked against its network even when the network has none left
+TEST(SumoFiles, ATraceLaneMissingFromItsNetworkIsRefused) {
+  const FcdChecks none = fcdChecksFor(RoadGeometry{}, {}, "empty.net.xml");
+  EXPECT_EQ(traceError("lane", oneVehicle("id=\"a\" x=\"1\" y=\"0\" angle=\"90\" speed=\"1\" lane=\"e_0\""), none),
+            "3: <vehicle id=\"a\"> lane 'e_0' is not in empty.net.xml");
+}
+
+// issue 49: a network's lanes at 1e300, given twice or 1e9 m wide were accepted
+TEST(SumoFiles, NetworkValuesNoNetworkHasAreRefused) {
+  auto netError = [](const std::string& name, const std::string& lanes) {
+    const fs::path p = writeTemp(name + ".net.xml", "<net>\n<edge id=\"e\">\n" + lanes + "</edge>\n</net>\n");
+    std::string what;
+    try {
+      readSumoNet(p);
+    } catch (const InputError& e) {
+      what = e.what();
+    }
+    fs::remove(p);
+    const auto colon = what.find(".net.xml:");
+    return colon == std::string::npos ? what : what.substr(colon + 9);
+  };
+  const std::string lane0 = "<lane id=\"e_0\" index=\"0\" length=\"100\" shape=\"0,0 100,0\"/>\n";
+  EXPECT_EQ(netError("ok", lane0), "");
+  EXPECT_EQ(netError("far", "<lane id=\"e_0\" index=\"0\" length=\"100\" shape=\"0,0 1e300,0\"/>\n"),
+            "3: <lane id=\"e_0\"> shape point (1e+300, 0) is farther than 1e+07 m from the network's origin");
+  EXPECT_EQ(netError("dup", lane0 + lane0), "4: <lane id=\"e_0\"> given twice (first at line 3)");
+  EXPECT_EQ(netError("wide", "<lane id=\"e_0\" index=\"0\" width=\"1e9\" length=\"100\" shape=\"0,0 100,0\"/>\n"),
+            "3: <lane id=\"e_0\"> width 1e+09 m is beyond any lane's (at most 100)");
+}
+
 TEST(SumoFiles, NetworkLanes) {
   const RoadGeometry road = readSumoNet(kData / "lanedrop.net.xml");
   std::map<std::string, int> lanesOf;

@@ -368,3 +368,21 @@ shots:
 
 }  // namespace
 }  // namespace st::pool
+
+namespace st::pool {
+namespace {
+
+// issue 49: angle 1e308 was blamed on the speed; a second document after --- was ignored
+TEST(Scenario, AnAbsurdAngleAndASecondDocumentAreNamed) {
+  std::string shot = kGood;
+  shot.replace(shot.find("angle: 0"), 8, "angle: 1e308");
+  EXPECT_EQ(errorOf(shot), "s.yaml:6:34: shots[0].angle: must be between -360 and 360 degrees");
+  EXPECT_EQ(errorOf(std::string(kGood) + "---\nuntil: 3\n"),
+            "s.yaml:8:1: (syntax): a second YAML document (after ---): the file must hold one");
+  // a document end marker or an empty document after --- is still one document
+  EXPECT_EQ(errorOf(std::string(kGood) + "...\n"), "(accepted)");
+  EXPECT_EQ(errorOf(std::string(kGood) + "---\n"), "(accepted)");
+}
+
+}  // namespace
+}  // namespace st::pool

@@ -68,6 +68,7 @@ struct RunResult {
   std::optional<ValidationReport> validation;
   std::vector<std::filesystem::path> written;  // the files written, in the order a closing line names them
   std::string mapProblem;  // why no conflict map was drawn (python3-matplotlib missing, ...), if so
+  bool mapFailed = false;  // the map was tried and could not be written (a full disk): the run fails
 };
 
 // The thread count a run uses: setup.threads with 0 resolved. Throws RunSetupError for a count

@@ -15,8 +15,18 @@ struct ConflictMapRequest {
   std::string title;
 };
 
-// Runs the plot script (its log in out.log). False, with why, when python3 or matplotlib is
-// missing or the script fails; the caller reports it (a missing map is not a failed run).
+// What drawing the map came to: drawn; not drawn because python3, matplotlib or the script is
+// missing (a tool the run can do without: the caller says so and the run succeeds); or failed
+// (the script ran and could not write the map: a full disk, a folder in the way), which fails the
+// run as any output that cannot be written does.
+struct ConflictMapOutcome {
+  enum class State { Drawn, Unavailable, Failed } state = State::Drawn;
+  std::string why;  // for Unavailable and Failed
+};
+
+// Runs the plot script (its log in out.log).
+ConflictMapOutcome drawConflictMap(const ConflictMapRequest& request);
+// drawConflictMap, true when drawn (else why).
 bool writeConflictMap(const ConflictMapRequest& request, std::string& why);
 
 }  // namespace st::highway

@@ -53,7 +53,8 @@ struct FcdChecks {
   static constexpr double kOutsideMargin = 1000.0;  // m around the lanes' bounding box
   bool bounded = false;
   Vec2 lo = Vec2::Zero(), hi = Vec2::Zero();  // the lanes' bounding box
-  std::vector<std::string> lanes;             // sorted lane ids; empty: not checked
+  std::vector<std::string> lanes;             // sorted lane ids
+  bool lanesChecked = false;                  // a lane outside `lanes` is an error (even when it is empty)
   bool typesComplete = false;                 // a type outside the given VehicleTypes is an error
   std::string typesFile;                      // named in that error
   std::string netFile;                        // named in the bounds and lane errors
@@ -64,6 +65,14 @@ FcdChecks fcdChecksFor(const RoadGeometry& road, const std::vector<std::string>&
 inline constexpr double kFcdMaxSpeed = 200.0;
 inline constexpr double kFcdMaxAcceleration = 1000.0;
 inline constexpr double kFcdMaxSize = 1000.0;
+// A heading (rad) beyond +-this is no heading (1e300 was taken; sin and cos lose their digits).
+inline constexpr double kMaxHeading = 1000.0;
+// A timestep's time beyond +-this (s, 31 years) is an input error (1e300 was a run of 1e300 s).
+inline constexpr double kFcdMaxTime = 1e9;
+// A network's coordinates beyond +-this (m: SUMO moves a network's origin near its lanes), lane
+// widths beyond kNetMaxLaneWidth (m) and lengths beyond kNetMaxCoordinate are input errors.
+inline constexpr double kNetMaxCoordinate = 1e7;
+inline constexpr double kNetMaxLaneWidth = 100.0;
 
 // Streams <timestep time=".."><vehicle id x y angle speed [type acceleration signals length
 // width lane] .../></timestep> frames. Lateral speed is not in FCD: it is estimated from the change of

@@ -3,6 +3,8 @@
 // played one after another (§2.1: "impart force again and continue").
 #include <chrono>
 #include <cstdint>
+#include <exception>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,7 +41,8 @@ struct PoolEvent {
   Vec2 otherV = Vec2::Zero();
 };
 
-enum class ShotEnd { Rest, TimeLimit };
+// Stopped: the observer stopped the shot (an event limit, Ctrl-C) before rest or its time limit.
+enum class ShotEnd { Rest, TimeLimit, Stopped };
 const char* toString(ShotEnd e);
 
 struct ShotSummary {
@@ -92,6 +95,9 @@ class Game {
   const std::vector<Pocketing>& pocketed() const { return pocketed_; }
   double friction() const { return friction_; }  // m/s^2
   int shotsPlayed() const { return shots_; }
+  // The shot the observer stopped by throwing (ending Stopped, its energies and momenta at the
+  // stop), if the last shot ended that way; a run's record keeps it like any other shot.
+  const std::optional<ShotSummary>& stoppedShot() const { return stopped_; }
   // Handle of the ball with this number, or -1.
   int handleOf(int number) const;
   // True when nothing moves: every ball pocketed or still.
@@ -114,6 +120,7 @@ class Game {
   std::vector<Pocketing> pocketed_;
   double friction_ = 0.0;
   int shots_ = 0;
+  std::optional<ShotSummary> stopped_;
 };
 
 // Wall-clock seconds of a callable; for summaries, never for results.
@@ -146,6 +153,22 @@ ShotSummary Game::runShot(const Shot* shot, double limit, Observer&& observer) {
   }
   s.keStart = sim_.kineticEnergy();
   s.momentumStart = sim_.momentum();
+  stopped_.reset();
+  // the observer may stop the shot by throwing: its summary so far is kept for the record
+  struct KeepIfStopped {
+    Game& game;
+    ShotSummary& s;
+    int uncaught = std::uncaught_exceptions();
+    ~KeepIfStopped() {
+      if (std::uncaught_exceptions() <= uncaught) return;
+      s.ending = ShotEnd::Stopped;
+      s.end = game.sim_.now();
+      s.keEnd = game.sim_.kineticEnergy();
+      s.momentumEnd = game.sim_.momentum();
+      game.stopped_ = s;
+      ++game.shots_;
+    }
+  } keep{*this, s};
   const StopReason why = sim_.run(s.start + limit, [&](const EventRecord& r) {
     const PoolEvent e = translate(r);
     if (e.kind != PoolEventKind::Pocket) checkOnTable(e.ball, e.t);
