@@ -30,7 +30,11 @@ LABELS = {
     "sumo_collision_steps": ("SUMO collision reports (steps touching)", "per run"),
     "collisions_warned": ("collisions the collider warned of", "per run"),
     "warnings.total": ("warnings", "per run"),
-    "warnings.conflicts": ("conflict warnings", "per run"),
+    "warnings.conflicts": ("conflict warnings (per ego)", "per run"),
+    "conflicts.count": ("conflicts (one per pair and encounter)", "per run"),
+    "conflicts.per_vehicle_km": ("conflicts", "per vehicle-km"),
+    "conflicts.tet_s": ("time exposed below TTC*", "s per run"),
+    "conflicts.tit_s2": ("time-integrated TTC below TTC*", "s² per run"),
     "warnings.per_vehicle_km": ("warnings", "per vehicle-km"),
     "vehicle_km": ("distance driven", "vehicle-km per run"),
     "vehicles": ("vehicles", "per run"),
@@ -41,6 +45,8 @@ LABELS = {
 }
 # patterns for the families of keys: (regex, what, unit), \1 the kind, zone or type
 LABEL_PATTERNS = [
+    (r"^conflicts\.per_vehicle_km_by_type\.(\w+)$", r"\1 conflicts", "per vehicle-km"),
+    (r"^conflicts\.by_type\.(\w+)$", r"\1 conflicts", "per run"),
     (r"^warnings\.per_vehicle_km_by_(?:type|kind)\.(\w+)$", r"\1 warnings", "per vehicle-km"),
     (r"^warnings\.by_(?:type|kind|zone)\.(\w+)$", r"\1 warnings", "per run"),
     (r"^tet_s\.(\w+)$", r"time exposed below the safe time, \1", "s per run"),

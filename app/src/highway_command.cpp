@@ -105,6 +105,7 @@ int runTrace(const Args& a) {
   if (ec) throw std::runtime_error("cannot create output directory " + out.string() + ": " + ec.message());
   hw::removeRunOutputs(out);  // an earlier SUMO run's collisions.csv etc. are not this replay's
   hw::WarningsCsvWriter csv(out / "warnings.csv");
+  hw::ConflictsCsvWriter conflictsCsv(out / "conflicts.csv");
   hw::EventsCsvWriter eventsCsv(out / "events.csv");
   std::optional<hw::TrajectoriesCsvWriter> seriesCsv;
   if (a.has("trajectories")) {
@@ -118,14 +119,18 @@ int runTrace(const Args& a) {
   info.broadphase = hw::toString(cfg.broadphase);
   info.prediction = hw::toString(cfg.prediction);
   info.hindsight = cfg.hindsight;
+  info.conflict = cfg.conflict;
   double first = 0.0, last = 0.0;
   bool any = false;
   std::vector<hw::Warning> ended;  // buffers for every frame
   std::vector<hw::HindsightEvent> events;
+  std::vector<hw::Conflict> conflicts;
   std::vector<hw::TrajectoryPoint> series;
   auto writeOutputs = [&] {
     monitor.takeFinished(ended);
     csv.write(ended);
+    monitor.takeConflicts(conflicts);
+    conflictsCsv.write(conflicts);
     monitor.takeEvents(events);
     eventsCsv.write(events);
     if (seriesCsv) {
@@ -138,6 +143,7 @@ int runTrace(const Args& a) {
     monitor.finish(any ? last : 0.0);
     writeOutputs();
     csv.flush();
+    conflictsCsv.flush();
     eventsCsv.flush();
     if (seriesCsv) seriesCsv->flush();
     info.simulatedSeconds = any ? last - first : 0.0;
@@ -170,8 +176,9 @@ int runTrace(const Args& a) {
   std::cout << "highway: " << c.vehiclesSeen << " vehicles, " << c.vehicleMeters / 1000.0 << " vehicle-km, " << total
             << " warnings (vehicle " << c.warningsByKind[0] << ", curb " << c.warningsByKind[1] << ", lane_marker "
             << c.warningsByKind[2] << ", hazard " << c.warningsByKind[3] << "; " << hw::conflictTypeBreakdown(c) << "), "
-            << c.handoffs << " handoffs, " << info.wallSeconds << " s wall; wrote " << (out / "warnings.csv").string()
-            << " and " << (out / "summary.json").string() << "\n";
+            << hw::conflictCountText(c) << " conflicts (one per pair and encounter, TTC <= " << cfg.conflict.maxTtc
+            << " s: conflicts.csv), " << c.handoffs << " handoffs, " << info.wallSeconds << " s wall; wrote "
+            << (out / "warnings.csv").string() << ", " << (out / "conflicts.csv").string() << " and " << (out / "summary.json").string() << "\n";
   if (!a.has("no-map")) {
     const hw::ConflictMapOutcome map =
         hw::drawConflictMap({out / "conflict_map", a.get("net"), {out / "warnings.csv"}, "stsim highway"});

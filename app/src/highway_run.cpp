@@ -125,7 +125,9 @@ int runHighwayCommand(const st::cli::Args& a) {
             << c.warningsByKind[0] << ", curb " << c.warningsByKind[1] << ", lane_marker " << c.warningsByKind[2]
             << ", hazard " << c.warningsByKind[3] << " ("
             << fmt(c.vehicleMeters > 0 ? static_cast<double>(total) / (c.vehicleMeters / 1000.0) : 0.0, 2)
-            << " per vehicle-km); by type: " << hw::conflictTypeBreakdown(c) << "; SUMO collisions " << (r.attached ? std::string("unknown") : std::to_string(pc.collisions))
+            << " per vehicle-km); by type: " << hw::conflictTypeBreakdown(c) << "\n  conflicts "
+            << hw::conflictCountText(c) << ": one per pair and encounter, TTC <= " << fmt(s.plugin.monitor.conflict.maxTtc, 1)
+            << " s (conflicts.csv); SUMO collisions " << (r.attached ? std::string("unknown") : std::to_string(pc.collisions))
             << "; handoffs " << c.handoffs << "\n  time: SUMO " << fmt(r.sumoSeconds) << " s, stsim "
             << fmt(r.stsimSeconds) << " s, wall " << fmt(r.wallSeconds) << " s\n";
   if (const auto& v = r.validation) {

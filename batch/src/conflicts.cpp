@@ -29,7 +29,8 @@ struct Pool {
   std::map<std::string, std::vector<double>> values;  // measure -> its finite values
 };
 
-// Adds the conflicts of one run's warnings.csv; false if the run wrote none.
+// Adds the conflicts of one run's conflicts.csv (one row per conflict: a pair and an encounter,
+// counted once); false if the run wrote none.
 bool addRun(const fs::path& file, Pool& pool, std::set<std::string>& measures) {
   std::ifstream in(file);
   if (!in) return false;
@@ -38,7 +39,7 @@ bool addRun(const fs::path& file, Pool& pool, std::set<std::string>& measures) {
   const std::vector<std::string> header = io::csvFields(line);
   std::map<std::string, std::size_t> col;
   for (std::size_t i = 0; i < header.size(); ++i) col[header[i]] = i;
-  if (!col.count("type")) throw std::runtime_error(file.string() + ": no type column (not a highway warnings.csv)");
+  if (!col.count("type")) throw std::runtime_error(file.string() + ": no type column (not a highway conflicts.csv)");
   for (const char* m : kConflictMeasures)
     if (col.count(m)) measures.insert(m);
   ++pool.runs;
@@ -96,7 +97,7 @@ void writeConflictTables(const Experiment& e, const std::vector<RunResult>& resu
     for (const auto& [k, v] : r.spec.params) key.push_back(v);
     if (!pools.count(key)) order.push_back(key);
     Pool& p = pools[key];
-    if (r.status == RunStatus::Done) any = addRun(runDir(outDir, r.spec) / "warnings.csv", p, present) || any;
+    if (r.status == RunStatus::Done) any = addRun(runDir(outDir, r.spec) / "conflicts.csv", p, present) || any;
   }
   if (!any) return;
   std::vector<std::string> measures;  // in kConflictMeasures' order

@@ -43,6 +43,7 @@ FILES = {
     "arm serve/connections.csv": ["serve/connections.csv"],
     "arm stream/stream_verdicts.csv": ["stream/stream_verdicts.csv"],
     "highway/warnings.csv": ["replay/warnings.csv", "live/warnings.csv"],
+    "highway/conflicts.csv": ["replay/conflicts.csv", "live/conflicts.csv"],
     "highway/events.csv": ["replay/events.csv", "live/events.csv"],
     "highway/trajectories.csv": ["replay/trajectories.csv"],
     "highway/summary.json": ["replay/summary.json", "live/summary.json"],

@@ -244,7 +244,8 @@ TEST(BatchTables, HindsightNullsStayEmptyAndSharesArePooledOverSeeds) {
   fs::remove_all(dir);
 }
 
-// Two designs' conflicts from hand-made warnings.csv files: only SSAM's types are pooled, over the
+// Two designs' conflicts from hand-made conflicts.csv files (the warnings.csv beside them, per ego,
+// is not what is counted): only SSAM's types are pooled, over the
 // seeds; the comparison is Welch's interval worked by hand (equal n and sd: 2(n - 1) = 4 degrees
 // of freedom, t = 2.776445).
 TEST(BatchTables, ConflictTablesPoolSsamTypesAndCompareDesignsByWelch) {
@@ -255,20 +256,22 @@ TEST(BatchTables, ConflictTablesPoolSsamTypesAndCompareDesignsByWelch) {
   ASSERT_EQ(specs.size(), 4u);
   const fs::path dir = fs::temp_directory_path() / ("stsim_conflicts_test_" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  const std::string header = "ego,foe,kind,min_ttc,type,drac,max_delta_v\n";
+  const std::string header = "first,second,type,min_ttc,drac,max_delta_v\n";
   // per (design, seed): the rows; a quoted id with a comma, a proximity and a road row that are no conflicts
   auto rows = [](const RunSpec& s) -> std::string {
     const bool x = s.params[0].second == "x";
     if (s.seed == 1)
-      return x ? "\"a,1\",b,vehicle,1,rear_end,2,5\na,b,vehicle,0,proximity,,1\na,curb,curb,0.5,road,,\n"
-               : "a,b,vehicle,2,rear_end,inf,4\n";
-    return x ? "a,b,vehicle,2,lane_change,4,7\nc,d,vehicle,3,rear_end,,9\n"
-             : "a,b,vehicle,3,crossing,1,6\nc,d,vehicle,4,rear_end,3,8\n";
+      return x ? "\"a,1\",b,rear_end,1,2,5\na,b,proximity,0,,1\na,curb,road,0.5,,\n"
+               : "a,b,rear_end,2,inf,4\n";
+    return x ? "a,b,lane_change,2,4,7\nc,d,rear_end,3,,9\n"
+             : "a,b,crossing,3,1,6\nc,d,rear_end,4,3,8\n";
   };
   std::vector<RunResult> results;
   for (const RunSpec& s : specs) {
     fs::create_directories(dir / "runs" / s.id);
-    std::ofstream(dir / "runs" / s.id / "warnings.csv") << header << rows(s);
+    std::ofstream(dir / "runs" / s.id / "conflicts.csv") << header << rows(s);
+    // each conflict twice, once per ego: not counted
+    std::ofstream(dir / "runs" / s.id / "warnings.csv") << "ego,foe,kind,min_ttc,type\na,b,vehicle,0.1,rear_end\nb,a,vehicle,0.1,rear_end\n";
     RunResult r;
     r.spec = s;
     r.status = RunStatus::Done;

@@ -63,7 +63,7 @@ TEST(HighwayReliability, EveryFileInOutBelongsToThisRun) {
   EXPECT_EQ(r.code, 0) << r.err;
   std::set<std::string> files;
   for (const auto& f : fs::directory_iterator(out)) files.insert(f.path().filename().string());
-  EXPECT_EQ(files, (std::set<std::string>{"events.csv", "summary.json", "warnings.csv"}));
+  EXPECT_EQ(files, (std::set<std::string>{"conflicts.csv", "events.csv", "summary.json", "warnings.csv"}));
 }
 
 TEST(HighwayReliability, SumocfgAndTraciMistakesAreNamed) {

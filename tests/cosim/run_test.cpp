@@ -1,6 +1,7 @@
 // cosim::runScenario, the run loop the stsim front end drives: it stops when asked, writes the files
 // it lists, reports progress, and rejects contradicting options before touching SUMO.
 #include <stcosim/run.hpp>
+#include <sthighway/report.hpp>
 
 #include <gtest/gtest.h>
 
@@ -31,7 +32,7 @@ TEST(CosimRun, StopsWhenAskedAndWritesWhatItLists) {
   EXPECT_EQ(r.plugin.steps, 20u);
   EXPECT_EQ(reports, 20);
   EXPECT_EQ(r.backend.rfind("libsumo", 0), 0u) << r.backend;
-  ASSERT_EQ(r.written.size(), 5u);  // the map is off (setup.map): drawing is tested with the CLI
+  ASSERT_EQ(r.written.size(), 6u);  // with conflicts.csv; the map is off (setup.map): drawing is tested with the CLI
   for (const auto& f : r.written) EXPECT_TRUE(std::filesystem::is_regular_file(f)) << f;
   const std::string summary = slurp(setup.out / "summary.json");
   EXPECT_EQ(jsonString(summary, "stop_reason"), "interrupted");
@@ -40,6 +41,8 @@ TEST(CosimRun, StopsWhenAskedAndWritesWhatItLists) {
   std::uint64_t total = 0;
   for (auto n : r.monitor.warningsByKind) total += n;
   EXPECT_EQ(lines(slurp(setup.out / "warnings.csv")).size(), total + 1);
+  // and the conflicts it counted are the rows of conflicts.csv, one per pair and encounter
+  EXPECT_EQ(lines(slurp(setup.out / "conflicts.csv")).size(), st::highway::conflictCount(r.monitor) + 1);
 }
 
 TEST(CosimRun, ContradictingOptionsAreRejectedBeforeAnythingIsWritten) {

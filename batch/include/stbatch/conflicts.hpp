@@ -1,7 +1,8 @@
 #pragma once
-// SSAM's comparison of designs over an experiment's highway runs: each run's warnings.csv, the
-// conflicts of an SSAM type (rear_end, lane_change, crossing; proximity and road warnings are
-// none), pooled per parameter combination over its seeds.
+// SSAM's comparison of designs over an experiment's highway runs: each run's conflicts.csv (one
+// row per conflict, a pair and one encounter below TTC*, counted once; not the warnings, which are
+// per ego), of an SSAM type (rear_end, lane_change, crossing), pooled per parameter combination
+// over its seeds.
 #include <filesystem>
 #include <vector>
 
@@ -10,15 +11,15 @@
 
 namespace st::batch {
 
-// The SSAM measures compared, as warnings.csv names them; a column a run's file lacks is skipped.
+// The SSAM measures compared, as conflicts.csv names them; a column a run's file lacks is skipped.
 inline constexpr const char* kConflictMeasures[] = {"min_ttc", "pet", "drac", "max_s", "delta_s",
                                                     "dr", "max_d", "max_delta_v"};
 
 // Writes conflicts.csv (per combination: the conflicts by type, and per measure its n, mean, sd and
 // 95 % CI over the pooled conflicts) and conflicts_compared.csv (each swept key's values against
 // its first, the other keys held: per measure the difference of the means with its Welch 95 % CI
-// and t, SSAM's t-test of two designs). Nothing is written when no done run has a warnings.csv.
-// Throws std::runtime_error naming a warnings.csv whose header lacks `type`.
+// and t, SSAM's t-test of two designs). Nothing is written when no done run has a conflicts.csv.
+// Throws std::runtime_error naming a conflicts.csv whose header lacks `type`.
 void writeConflictTables(const Experiment& e, const std::vector<RunResult>& results,
                          const std::filesystem::path& outDir);
 

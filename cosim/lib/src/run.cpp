@@ -136,7 +136,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
   result.wallSeconds = info.wallSeconds;
   result.monitor = plugin.monitor().counters();
   result.plugin = pc;
-  result.written = {out / "warnings.csv", out / "events.csv", out / "collisions.csv"};
+  result.written = {out / "warnings.csv", out / "conflicts.csv", out / "events.csv", out / "collisions.csv"};
   if (!attach) result.written.push_back(out / "collision_warnings.csv");
   result.written.push_back(out / "summary.json");
   if (result.validation) result.written.push_back(out / "validation.json");

@@ -20,7 +20,7 @@ std::string fmt3(double v) { return io::fixed(v, 3); }
 }  // namespace
 
 RunOutputs::RunOutputs(const fs::path& out, bool trajectories)
-    : warnings_(prepared(out) / "warnings.csv"), events_(out / "events.csv"), collisions_(out / "collisions.csv") {
+    : warnings_(prepared(out) / "warnings.csv"), conflicts_(out / "conflicts.csv"), events_(out / "events.csv"), collisions_(out / "collisions.csv") {
   if (trajectories) series_.emplace(out / "trajectories.csv");
   if (!collisions_) throw std::runtime_error("cannot write " + (out / "collisions.csv").string());
   collisions_ << "time,collider,victim,type,lane,pos,collider_speed,victim_speed\n";
@@ -32,6 +32,8 @@ void RunOutputs::writeDetected(HighwayPlugin& plugin) {
   warnings_.write(finished);
   for (const hw::Warning& w : finished)
     if (w.kind == hw::WarningKind::Vehicle) vehicleWarnings_.push_back(w);
+  plugin.takeConflicts(conflictBuffer_);
+  conflicts_.write(conflictBuffer_);
   plugin.takeEvents(eventBuffer_);
   events_.write(eventBuffer_);
   if (series_) {
@@ -53,6 +55,7 @@ void RunOutputs::writeCollision(const SumoCollision& c) {
 
 void RunOutputs::flush() {
   warnings_.flush();
+  conflicts_.flush();
   events_.flush();
   collisions_.flush();
   if (series_) series_->flush();

@@ -18,7 +18,7 @@
 
 namespace st::cosim {
 
-// warnings.csv, events.csv, collisions.csv, written as the run goes, and what the end needs of
+// warnings.csv, conflicts.csv, events.csv, collisions.csv, written as the run goes, and what the end needs of
 // them (the vehicle warnings and collision reports, for the collisions' warning lead times).
 class RunOutputs {
  public:
@@ -35,11 +35,13 @@ class RunOutputs {
 
  private:
   highway::WarningsCsvWriter warnings_;
+  highway::ConflictsCsvWriter conflicts_;
   highway::EventsCsvWriter events_;
   std::ofstream collisions_;
   std::vector<SumoCollision> collisionReports_;
   std::vector<highway::Warning> vehicleWarnings_;
   std::vector<highway::HindsightEvent> eventBuffer_;  // one buffer for every step
+  std::vector<highway::Conflict> conflictBuffer_;
   std::optional<highway::TrajectoriesCsvWriter> series_;
   std::vector<highway::TrajectoryPoint> seriesBuffer_;
 };

@@ -56,6 +56,7 @@ hw::RunInfo writeSummary(const Scenario& s, const RunSetup& setup, const Summary
   const LoopOutcome& loop = *f.loop;
   hw::RunInfo info = baseInfo(s, setup);
   info.hindsight = s.plugin.monitor.hindsight;
+  info.conflict = s.plugin.monitor.conflict;
   info.simulatedSeconds = f.simEnd;
   info.numbers = {{"sumo_seconds", loop.sumoSeconds},
                   {"stsim_seconds", loop.stsimSeconds},

@@ -7,6 +7,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "conflict_book.hpp"
 #include "episode_book.hpp"
 #include "hindsight.hpp"
 #include "lane_prediction.hpp"
@@ -77,6 +78,7 @@ std::vector<std::string> laneIdsOf(const RoadGeometry& road) {
 //   road    which road features an ego may reach, and their threats (road_search.cpp)
 //   book    threats into episodes, exposure, alerts, warnings      (episode_book.cpp)
 //   judge   what happened next: each warning's verdict, near misses (hindsight.cpp)
+//   conflicts  SSAM's conflicts, one per pair and encounter below TTC*, whatever the detector (conflict_book.cpp)
 struct HighwayMonitor::Impl {
   MonitorConfig cfg;
   MonitorCounters counters;
@@ -87,6 +89,7 @@ struct HighwayMonitor::Impl {
   std::unique_ptr<detail::PairSearch> pairs;
   detail::Hindsight hindsight;
   detail::EpisodeBook book;
+  detail::ConflictBook conflicts;
   std::vector<detail::Threat> threats;  // scratch: one ego's
   double lastT = -std::numeric_limits<double>::infinity();
   bool started = false;
@@ -98,7 +101,8 @@ struct HighwayMonitor::Impl {
         road(geometry, cfg, cars, prediction, counters),
         cells(geometry, cellBounds(road.features()), cfg.cells),
         hindsight(cfg, cars, road, prediction, counters),
-        book(cars, prediction, road, hindsight, cfg, counters) {
+        book(cars, prediction, road, hindsight, cfg, counters),
+        conflicts(cars, prediction, cfg, counters) {
     const detail::PairTest test{&cfg, &cars, &counters, &prediction};
     pairs = cfg.broadphase == Broadphase::Cells ? detail::makeCellPairSearch(test, cells) : detail::makeAllPairsSearch(test);
   }
@@ -122,6 +126,8 @@ void HighwayMonitor::step(double t, std::span<const VehicleState> vehicles) {
   m.book.beginTick();
   for (int s : m.cars.departed) m.book.close(s, m.lastT);
   ++m.counters.ticks;
+  // the analyst's conflicts, apart from the warnings (before the departed slots are freed)
+  m.conflicts.observe(t, m.lastT);
   // who is near whom, and which road features
   m.pairs->prepare();
   if (m.cfg.checkRoad) m.road.prepare(m.pairs->groups());
@@ -152,6 +158,7 @@ void HighwayMonitor::finish(double t) {
   for (int s : m.cars.active) m.book.close(s, std::max(t, m.lastT));
   m.hindsight.finishAll(m.book.finished());
   m.book.clearAlerts();
+  m.conflicts.finish(std::max(t, m.lastT));
 }
 
 std::vector<Warning> HighwayMonitor::takeFinished() {
@@ -164,6 +171,7 @@ void HighwayMonitor::takeFinished(std::vector<Warning>& out) {
   out.swap(impl_->book.finished());
 }
 
+void HighwayMonitor::takeConflicts(std::vector<Conflict>& out) { impl_->conflicts.take(out); }
 void HighwayMonitor::takeEvents(std::vector<HindsightEvent>& out) { impl_->hindsight.takeEvents(out); }
 void HighwayMonitor::recordTrajectories(bool on) { impl_->book.recordTrajectories(on); }
 void HighwayMonitor::takeTrajectories(std::vector<TrajectoryPoint>& out) { impl_->book.takeTrajectories(out); }

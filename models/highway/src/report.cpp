@@ -68,6 +68,77 @@ std::string eventRecallJson(std::uint64_t events, std::uint64_t warned, const st
          ", \"recall\": " + share(warned, events) + ", \"lead_s\": " + leadJson(leads) + "}";
 }
 
+std::string conflictsCsvHeader() {
+  return "first,second,type,begin,end,min_ttc,min_ttc_time,pet,drac,max_s,delta_s,dr,max_d,max_delta_v,"
+         "first_delta_v,second_delta_v,conflict_angle,clock_angle,post_crash_speed,post_crash_heading,conflict_x,conflict_y,"
+         "first_x,first_y,second_x,second_y,first_speed,second_speed,first_start_x,first_start_y,first_end_x,first_end_y,"
+         "second_start_x,second_start_y,second_end_x,second_end_y,first_lane,second_lane,first_class,second_class,"
+         "first_length,second_length,first_width,second_width,tet,tit,open";
+}
+
+std::string conflictCsvRow(const Conflict& c) {
+  // as warnings.csv: what is read or copied from the inputs in full, what is worked out to 0.001
+  std::ostringstream os;
+  os << csvField(c.first) << ',' << csvField(c.second) << ',' << toString(c.type) << ',' << num(c.begin) << ','
+     << num(c.end) << ',' << conflictField(c.minTtc) << ',' << num(c.minTtcTime) << ',' << derivedField(c.pet) << ','
+     << derivedField(c.drac) << ',' << conflictField(c.maxSpeed) << ',' << derivedField(c.deltaSpeed) << ','
+     << derivedField(c.dr) << ',' << derivedField(c.maxD) << ',' << derivedField(c.maxDeltaV) << ','
+     << derivedField(c.firstDeltaV) << ',' << derivedField(c.secondDeltaV) << ',' << derivedField(c.conflictAngle) << ','
+     << conflictField(c.clockAngle) << ',' << derivedField(c.postCrashSpeed) << ',' << derivedField(c.postCrashHeading)
+     << ',' << derivedField(c.conflictX) << ',' << derivedField(c.conflictY) << ',' << conflictField(c.firstX) << ','
+     << conflictField(c.firstY) << ',' << conflictField(c.secondX) << ',' << conflictField(c.secondY) << ','
+     << conflictField(c.firstSpeed) << ',' << conflictField(c.secondSpeed) << ',' << conflictField(c.firstStartX) << ','
+     << conflictField(c.firstStartY) << ',' << conflictField(c.firstEndX) << ',' << conflictField(c.firstEndY) << ','
+     << conflictField(c.secondStartX) << ',' << conflictField(c.secondStartY) << ',' << conflictField(c.secondEndX) << ','
+     << conflictField(c.secondEndY) << ',' << csvField(c.firstLane) << ',' << csvField(c.secondLane) << ','
+     << toString(c.firstClass) << ',' << toString(c.secondClass) << ',' << num(c.firstLength) << ','
+     << num(c.secondLength) << ',' << num(c.firstWidth) << ',' << num(c.secondWidth) << ',' << derivedField(c.tet)
+     << ',' << derivedField(c.tit) << ',' << (c.open ? 1 : 0);
+  return os.str();
+}
+
+ConflictsCsvWriter::ConflictsCsvWriter(const std::filesystem::path& path) : CsvRowWriter(path, conflictsCsvHeader()) {}
+void ConflictsCsvWriter::write(std::span<const Conflict> conflicts) {
+  for (const Conflict& c : conflicts) row(conflictCsvRow(c));
+}
+
+std::uint64_t conflictCount(const MonitorCounters& c) {
+  std::uint64_t n = 0;
+  for (auto k : c.conflictsByType) n += k;
+  return n;
+}
+
+std::string conflictCountText(const MonitorCounters& c) {
+  std::string s = std::to_string(conflictCount(c)) + " (";
+  for (ConflictType t : {ConflictType::RearEnd, ConflictType::LaneChange, ConflictType::Crossing})
+    s += std::string(t == ConflictType::RearEnd ? "" : ", ") + toString(t) + " " +
+         std::to_string(c.conflictsByType[static_cast<int>(t)]);
+  return s + ")";
+}
+
+std::string conflictsJson(const MonitorCounters& c, const ConflictConfig& config) {
+  const double km = c.vehicleMeters / 1000.0;
+  const std::uint64_t n = conflictCount(c);
+  std::ostringstream os;
+  os << "{\"count\": " << n << ", \"per_vehicle_km\": " << num(km > 0 ? static_cast<double>(n) / km : 0.0)
+     << ", \"max_ttc_s\": " << num(config.maxTtc) << ", \"max_pet_s\": " << num(config.maxPet) << ",\n    \"by_type\": {";
+  bool firstType = true;
+  for (ConflictType t : {ConflictType::RearEnd, ConflictType::LaneChange, ConflictType::Crossing}) {
+    os << (firstType ? "" : ", ") << jsonString(toString(t)) << ": " << c.conflictsByType[static_cast<int>(t)];
+    firstType = false;
+  }
+  os << "},\n    \"per_vehicle_km_by_type\": {";
+  firstType = true;
+  for (ConflictType t : {ConflictType::RearEnd, ConflictType::LaneChange, ConflictType::Crossing}) {
+    os << (firstType ? "" : ", ") << jsonString(toString(t)) << ": "
+       << num(km > 0 ? static_cast<double>(c.conflictsByType[static_cast<int>(t)]) / km : 0.0);
+    firstType = false;
+  }
+  os << "},\n    \"tet_s\": " << num(c.conflictTet) << ", \"tit_s2\": " << num(c.conflictTit)
+     << ", \"over_max_pet\": " << c.conflictsOverMaxPet << "}";
+  return os.str();
+}
+
 std::string warningsCsvHeader() {
   return "ego,foe,kind,zone,begin,end,min_ttc,min_ttc_time,safe_time,open,"
          "verdict,clearance,clearance_time,deceleration,crossed,signalled,"
@@ -164,6 +235,7 @@ std::string summaryJson(const MonitorCounters& c, const RunInfo& info) {
     os << (k ? ", " : "") << jsonString(toString(static_cast<WarningKind>(k))) << ": "
        << num(km > 0 ? static_cast<double>(c.warningsByKind[k]) / km : 0.0);
   os << "}\n  },\n";
+  os << "  \"conflicts\": " << conflictsJson(c, info.conflict) << ",\n";
   os << "  \"tet_s\": {";
   for (int k = 0; k < kWarningKindCount; ++k)
     os << (k ? ", " : "") << jsonString(toString(static_cast<WarningKind>(k))) << ": " << num(c.tet[k]);
@@ -211,7 +283,7 @@ void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& 
 }
 
 void removeRunOutputs(const std::filesystem::path& out) {
-  for (const char* f : {"warnings.csv", "events.csv", "trajectories.csv", "summary.json", "collisions.csv", "collision_warnings.csv", "validation.json",
+  for (const char* f : {"warnings.csv", "conflicts.csv", "events.csv", "trajectories.csv", "summary.json", "collisions.csv", "collision_warnings.csv", "validation.json",
                         "ssm.xml", "sumo_collisions.xml", "sumo.log", "conflict_map.png", "conflict_map.svg",
                         "conflict_map.log"}) {
     std::error_code ec;

@@ -116,6 +116,8 @@ class HighwayPlugin {
   void finish();
 
   std::vector<highway::Warning> takeFinished() { return monitor_.takeFinished(); }
+  // The conflicts settled since the last call (HighwayMonitor::takeConflicts).
+  void takeConflicts(std::vector<highway::Conflict>& out) { monitor_.takeConflicts(out); }
   // Hindsight's near misses and unsignalled crossings since the last call (HighwayMonitor::takeEvents).
   void takeEvents(std::vector<highway::HindsightEvent>& out) { monitor_.takeEvents(out); }
   // Each episode's TTC and DRAC per tick (HighwayMonitor::recordTrajectories, takeTrajectories).

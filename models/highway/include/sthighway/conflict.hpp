@@ -29,6 +29,11 @@ struct ConflictConfig {
   // lane change between. Scenario keys conflict.rear_end_below / conflict.crossing_above.
   double rearEndBelowDeg = 30.0;
   double crossingAboveDeg = 85.0;
+  // SSAM's thresholds of a conflict (conflicts.csv): its minimum TTC at most maxTtc (TTC*, SSAM's
+  // default 1.5 s; also what TET and TIT are measured against) and its PET, where one is
+  // measured, at most maxPet (PET*, SSAM's 5 s). Scenario keys conflict.max_ttc / conflict.max_pet.
+  double maxTtc = 1.5;
+  double maxPet = 5.0;
 };
 
 // The angle between two headings (rad, counter-clockwise from +x), in degrees in [0, 180].

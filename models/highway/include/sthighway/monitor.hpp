@@ -122,6 +122,47 @@ struct TrajectoryPoint {
   double ttc = 0.0;           // s, the episode's TTC at that tick
   double drac = 0.0;          // m/s^2, DRAC then (conflict.hpp: closing speed / (2 TTC); inf touching while closing)
 };
+// One conflict for the analyst (conflicts.csv; conflict_book.cpp): an unordered pair of vehicles,
+// at least one of them equipped, and one continuous encounter: the ticks on which the two bodies'
+// exact rectangles, moved on in straight lines at their velocities (SUMO's SSM and SSAM's model),
+// would touch within ConflictConfig::maxTtc (TTC*), from the first such tick (`begin`) to the
+// first without (`end`; the last tick of a vehicle that left, or the run's end). Found for every
+// pair whatever the detector, and counted once: kept when its minimum TTC is at most TTC* and its
+// PET, where one is measured, at most ConflictConfig::maxPet (PET*). First and second vehicle as
+// SSAM names them: the first is the one whose front reaches the predicted contact point first
+// (the leader of a rear-end). Measures at the tick of the minimum TTC unless said otherwise.
+struct Conflict {
+  static constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+  std::string first, second;          // vehicle ids
+  ConflictType type = ConflictType::RearEnd;  // SSAM's angle class (never proximity or road)
+  double begin = 0.0, end = 0.0;      // s
+  double minTtc = 0.0;                // s, smallest TTC of the encounter (0: touching)
+  double minTtcTime = 0.0;            // s, its first tick
+  double pet = kNone;                 // s, PET of a lane_change or crossing (PetWatch); NaN: none measured
+  double drac = kNone;                // m/s^2, closing speed of the centres / (2 min TTC); inf touching
+  double maxSpeed = kNone;            // m/s, SSAM's MaxS: either vehicle's largest speed, begin to end
+  double deltaSpeed = kNone;          // m/s, SSAM's DeltaS: |v_first - v_second|
+  double dr = kNone;                  // m/s^2, SSAM's DR: the second vehicle's first negative acceleration after begin, else its lowest
+  double maxD = kNone;                // m/s^2, SSAM's MaxD: the second vehicle's lowest acceleration, begin to end
+  double maxDeltaV = kNone;           // m/s, SSAM's MaxDeltaV (the larger of the two below)
+  double firstDeltaV = kNone, secondDeltaV = kNone;  // m/s, each vehicle's velocity change in a perfectly inelastic crash
+  double conflictAngle = kNone;       // deg, (-180, 180]: the second's heading relative to the first's
+  double clockAngle = kNone;          // h, 1..12
+  double postCrashSpeed = kNone;      // m/s
+  double postCrashHeading = kNone;    // deg, counter-clockwise from +x; NaN when the speed is 0
+  double conflictX = kNone, conflictY = kNone;  // m, the predicted contact point (contactPoint)
+  double firstX = kNone, firstY = kNone, secondX = kNone, secondY = kNone;  // m, the centres
+  double firstSpeed = kNone, secondSpeed = kNone;                           // m/s
+  double firstStartX = kNone, firstStartY = kNone, firstEndX = kNone, firstEndY = kNone;    // m, at begin and at end (its last tick)
+  double secondStartX = kNone, secondStartY = kNone, secondEndX = kNone, secondEndY = kNone;
+  std::string firstLane, secondLane;  // lane ids, empty if unknown
+  VehicleClass firstClass = VehicleClass::Passenger, secondClass = VehicleClass::Passenger;
+  double firstLength = 0.0, secondLength = 0.0, firstWidth = 0.0, secondWidth = 0.0;  // m
+  double tet = 0.0;                   // s, time exposed: the ticks with TTC <= TTC*, each the time since the previous tick
+  double tit = 0.0;                   // s^2, time integrated: the same ticks' (TTC* - TTC) times that time
+  bool open = false;                  // still going on when the run ended
+};
+
 // How long after an episode's end its PET is waited for (s; SUMO's device.ssm.extratime default).
 inline constexpr double kPetHorizon = 5.0;
 
@@ -221,6 +262,12 @@ struct MonitorCounters {
   // Finished episodes by conflict type at their minimum TTC (equal in total to the above once
   // finish() has closed every episode).
   std::array<std::uint64_t, kConflictTypeCount> warningsByType{};
+  // Conflicts (Conflict, conflicts.csv) counted by type, their TET and TIT against TTC* summed,
+  // and the encounters below TTC* left out because their PET exceeded PET*.
+  std::array<std::uint64_t, kConflictTypeCount> conflictsByType{};
+  double conflictTet = 0.0;
+  double conflictTit = 0.0;
+  std::uint64_t conflictsOverMaxPet = 0;
 };
 
 class HighwayMonitor {
@@ -252,6 +299,9 @@ class HighwayMonitor {
   void recordTrajectories(bool on);
   // The points recorded since the last call, in tick order (into out, replacing its contents).
   void takeTrajectories(std::vector<TrajectoryPoint>& out);
+  // Conflicts (Conflict) that ended since the last call, into out (replacing its contents), in
+  // the order they were settled (a crossing's waits for its PET up to kPetHorizon s).
+  void takeConflicts(std::vector<Conflict>& out);
   // Episodes still open now (end == time of the last tick).
   std::vector<Warning> openWarnings() const;
   // Worst threat of each equipped car with an active warning at the last tick.

@@ -46,6 +46,16 @@ class EventsCsvWriter : public CsvRowWriter {
 };
 std::string eventCsvRow(const HindsightEvent& e);
 
+// conflicts.csv: one row per conflict (Conflict: an unordered pair and one encounter below TTC*),
+// first and second vehicle as SSAM names them, with SSAM's measures (docs/outputs.md).
+class ConflictsCsvWriter : public CsvRowWriter {
+ public:
+  explicit ConflictsCsvWriter(const std::filesystem::path& path);
+  void write(std::span<const Conflict> conflicts);
+};
+std::string conflictsCsvHeader();
+std::string conflictCsvRow(const Conflict& c);
+
 std::string warningsCsvHeader();
 std::string warningCsvRow(const Warning& w);
 
@@ -63,6 +73,7 @@ struct RunInfo {
   std::vector<std::pair<std::string, std::string>> strings;
   std::vector<std::pair<std::string, std::string>> rawJson;
   HindsightConfig hindsight;     // the thresholds the run judged with
+  ConflictConfig conflict;       // the thresholds its conflicts were counted against
 };
 
 // summary.json's "hindsight": thresholds, per kind judged / confirmed / precision, near misses
@@ -73,6 +84,14 @@ std::string hindsightJson(const MonitorCounters& counters, const HindsightConfig
 // p90 (null for none)}.
 std::string eventRecallJson(std::uint64_t events, std::uint64_t warned, const std::vector<double>& leads);
 
+// summary.json's "conflicts": the conflicts of conflicts.csv (count, by type, per vehicle-km), the
+// thresholds TTC* and PET*, TET and TIT against TTC*, those left out by PET*.
+std::string conflictsJson(const MonitorCounters& counters, const ConflictConfig& config);
+// The conflicts counted (every type).
+std::uint64_t conflictCount(const MonitorCounters& counters);
+// "N (rear_end N, lane_change N, crossing N)" for a printed summary.
+std::string conflictCountText(const MonitorCounters& counters);
+
 // summary.json: vehicles, vehicle_km, warnings (total, by kind, by zone, conflicts (SSAM's types), by conflict
 // type, per vehicle-km),
 // tet_s / tit_s2 by kind, handoffs, subdivisions, candidate_pairs, toi_checks, wall time.
@@ -80,7 +99,7 @@ std::string summaryJson(const MonitorCounters& counters, const RunInfo& info);
 void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& counters,
                       const RunInfo& info);
 
-// Removes from out every file a highway run may write (warnings.csv, events.csv, trajectories.csv, summary.json and, from SUMO
+// Removes from out every file a highway run may write (warnings.csv, conflicts.csv, events.csv, trajectories.csv, summary.json and, from SUMO
 // runs, collisions.csv, collision_warnings.csv, validation.json, ssm.xml, sumo_collisions.xml,
 // sumo.log; the conflict map), so that what is there after a run belongs to it. Throws std::runtime_error.
 void removeRunOutputs(const std::filesystem::path& out);

@@ -1,0 +1,208 @@
+#include "conflict_book.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <sthighway/tolerances.hpp>
+
+namespace st::highway::detail {
+
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// added to the sweep's reach (m): the reach bounds a pair that touches within TTC* up to the
+// contact slop; this keeps rounding from dropping one at the bound
+constexpr double kReachMargin = 1.0;
+
+double halfDiagonal(const Body& b) { return 0.5 * std::hypot(b.length, b.width); }
+
+// The order in which the two fronts reach the contact point p: at or past it now first (the
+// further past the earlier), then by time to get there at the speed along the axis.
+std::pair<int, double> arrival(const Body& b, const Vec2& p) {
+  const double d = (p - b.position).dot(b.axis) - 0.5 * b.length;
+  if (d <= 0.0) return {0, d};
+  const double s = b.velocity.dot(b.axis);
+  return {1, s > 0.0 ? d / s : kInfinity};
+}
+}  // namespace
+
+void ConflictBook::observe(double t, double lastT) {
+  ++tick_;
+  const double dt = std::isfinite(lastT) ? t - lastT : 0.0;
+  // the pairs below TTC* into their encounters
+  const double maxTtc = cfg_->conflict.maxTtc;
+  const VehicleTable& c = *cars_;
+  sweep_.clear();
+  double vmax = 0.0, hmax = 0.0;
+  for (int s : c.active) {
+    sweep_.emplace_back(c.centre[s].x(), s);
+    vmax = std::max(vmax, c.vel[s].norm());
+    hmax = std::max(hmax, halfDiagonal(c.body[s]));
+  }
+  std::sort(sweep_.begin(), sweep_.end());
+  // two bodies touching within TTC* are at most their half diagonals plus the way both cover apart
+  const double reachX = 2.0 * hmax + 2.0 * vmax * maxTtc + kReachMargin;
+  for (std::size_t i = 0; i < sweep_.size(); ++i) {
+    const int a = sweep_[i].second;
+    for (std::size_t j = i + 1; j < sweep_.size() && sweep_[j].first - sweep_[i].first <= reachX; ++j) {
+      const int b = sweep_[j].second;
+      if (!c.equipped[a] && !c.equipped[b]) continue;
+      const double reach =
+          halfDiagonal(c.body[a]) + halfDiagonal(c.body[b]) + (c.vel[a].norm() + c.vel[b].norm()) * maxTtc + kReachMargin;
+      if ((c.centre[b] - c.centre[a]).squaredNorm() > reach * reach) continue;
+      // in the order of first appearance, whatever the input order
+      const bool ab = c.slots[a].serial < c.slots[b].serial;
+      const int lo = ab ? a : b, hi = ab ? b : a;
+      const double ttc = boxTtc(c.body[lo], c.body[hi], MotionModel::ConstantVelocity, maxTtc);
+      if (ttc <= maxTtc) touch(lo, hi, ttc, t, dt);
+    }
+  }
+  // the encounters not below TTC* this tick end: now, or at the last tick of a car that left
+  for (auto it = open_.begin(); it != open_.end();) {
+    Encounter& en = it->second;
+    if (en.seen == tick_) {
+      ++it;
+      continue;
+    }
+    const bool left = c.inputOf[en.a] < 0 || c.inputOf[en.b] < 0;
+    close(en, left ? lastT : t, false);
+    it = open_.erase(it);
+  }
+  // the PETs still to come, in the order their encounters ended
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < waiting_.size(); ++i) {
+    Waiting& w = waiting_[i];
+    const bool here = c.inputOf[w.a] >= 0 && c.slots[w.a].serial == w.serialA && c.inputOf[w.b] >= 0 &&
+                      c.slots[w.b].serial == w.serialB;
+    if (here && t <= w.until) observePet(c.centre[w.a], c.centre[w.b], t, w.pet);
+    if (!here || t > w.until || !std::isnan(w.pet.pet())) settle(std::move(w.conflict), w.pet.pet());
+    else if (kept != i) waiting_[kept++] = std::move(w);
+    else ++kept;
+  }
+  waiting_.resize(kept);
+}
+
+void ConflictBook::touch(int a, int b, double ttc, double t, double dt) {
+  const VehicleTable& c = *cars_;
+  auto [it, fresh] = open_.try_emplace(Key{c.slots[a].serial, c.slots[b].serial});
+  Encounter& en = it->second;
+  if (fresh) {
+    en.a = a;
+    en.b = b;
+    en.begin = t;
+    en.minTtc = kInfinity;
+    beginTrack(c, a, b, en.trackA);
+    beginTrack(c, b, a, en.trackB);
+  } else {
+    advanceTrack(c, a, b, en.trackA);
+    advanceTrack(c, b, a, en.trackB);
+  }
+  en.seen = tick_;
+  const double maxTtc = cfg_->conflict.maxTtc;
+  en.tet += dt;
+  en.tit += dt * (maxTtc - ttc);
+  if (ttc < en.minTtc) {
+    en.minTtc = ttc;
+    en.minTtcTime = t;
+    en.bodyA = c.body[a];
+    en.bodyB = c.body[b];
+    en.laneA = paths_->reportedLane(a);
+    en.laneB = paths_->reportedLane(b);
+    startPet(en.bodyA, en.bodyB, t, petAngles_, en.pet);
+  } else {
+    observePet(c.centre[a], c.centre[b], t, en.pet);
+  }
+}
+
+void ConflictBook::close(Encounter& en, double end, bool open) {
+  const VehicleTable& c = *cars_;
+  // the predicted contact: the rectangles moved on to the minimum TTC
+  Body at = en.bodyA, bt = en.bodyB;
+  at.position += en.minTtc * at.velocity;
+  bt.position += en.minTtc * bt.velocity;
+  const Vec2 p = contactPoint(at.box(), bt.box(), tol::kContactPointTie);
+  // SSAM's first vehicle: its front at the contact point first (ties: the earlier seen)
+  const bool aFirst = arrival(en.bodyA, p) <= arrival(en.bodyB, p);
+  const int f = aFirst ? en.a : en.b, s = aFirst ? en.b : en.a;
+  const Body &bf = aFirst ? en.bodyA : en.bodyB, &bs = aFirst ? en.bodyB : en.bodyA;
+  const EpisodeTrack &tf = aFirst ? en.trackA : en.trackB, &ts = aFirst ? en.trackB : en.trackA;
+  const double mf = c.mass[f], ms = c.mass[s];
+
+  Conflict k;
+  k.first = c.slots[f].id;
+  k.second = c.slots[s].id;
+  k.type = conflictType(toDegrees(std::atan2(std::abs(cross(bf.axis, bs.axis)), bf.axis.dot(bs.axis))), cfg_->conflict);
+  k.begin = en.begin;
+  k.end = end;
+  k.minTtc = en.minTtc;
+  k.minTtcTime = en.minTtcTime;
+  // the rate the centre distance shrinks, as the warnings' DRAC has it
+  const Vec2 rel = bs.position - bf.position, vrel = bs.velocity - bf.velocity;
+  const double dist = rel.norm();
+  k.drac = decelerationToAvoid(dist > 0.0 ? -rel.dot(vrel) / dist : vrel.norm(), en.minTtc);
+  k.maxSpeed = std::max(en.trackA.maxSpeed, en.trackB.maxSpeed);
+  k.deltaSpeed = (bf.velocity - bs.velocity).norm();
+  k.dr = ts.dr;
+  k.maxD = ts.maxD;
+  k.maxDeltaV = maxDeltaV(mf, bf.velocity, ms, bs.velocity);
+  k.firstDeltaV = deltaV(mf, bf.velocity, ms, bs.velocity);
+  k.secondDeltaV = deltaV(ms, bs.velocity, mf, bf.velocity);
+  k.conflictAngle = conflictAngleDeg(bf.axis, bs.axis);
+  k.clockAngle = clockPosition(k.conflictAngle);
+  const Vec2 v = postCrashVelocity(mf, bf.velocity, ms, bs.velocity);
+  k.postCrashSpeed = v.norm();
+  k.postCrashHeading = v.squaredNorm() > 0.0 ? toDegrees(std::atan2(v.y(), v.x())) : kNaN;
+  k.conflictX = p.x();
+  k.conflictY = p.y();
+  k.firstX = bf.position.x();
+  k.firstY = bf.position.y();
+  k.secondX = bs.position.x();
+  k.secondY = bs.position.y();
+  k.firstSpeed = bf.velocity.norm();
+  k.secondSpeed = bs.velocity.norm();
+  k.firstStartX = tf.start.x();
+  k.firstStartY = tf.start.y();
+  k.firstEndX = tf.last.x();
+  k.firstEndY = tf.last.y();
+  k.secondStartX = ts.start.x();
+  k.secondStartY = ts.start.y();
+  k.secondEndX = ts.last.x();
+  k.secondEndY = ts.last.y();
+  k.firstLane = c.laneId(aFirst ? en.laneA : en.laneB);
+  k.secondLane = c.laneId(aFirst ? en.laneB : en.laneA);
+  k.firstClass = c.vclass[f];
+  k.secondClass = c.vclass[s];
+  k.firstLength = bf.length;
+  k.secondLength = bs.length;
+  k.firstWidth = bf.width;
+  k.secondWidth = bs.width;
+  k.tet = en.tet;
+  k.tit = en.tit;
+  k.open = open;
+  // PET: of crossing and merging paths only; once both have passed, or watched on for a while
+  if (k.type == ConflictType::RearEnd) return settle(std::move(k), kNaN);
+  if (open || !en.pet.active || !std::isnan(en.pet.pet())) return settle(std::move(k), en.pet.pet());
+  waiting_.push_back({std::move(k), en.a, en.b, c.slots[en.a].serial, c.slots[en.b].serial, end + kPetHorizon, en.pet});
+}
+
+void ConflictBook::settle(Conflict&& k, double pet) {
+  k.pet = pet;
+  if (!std::isnan(pet) && pet > cfg_->conflict.maxPet) {
+    ++counters_->conflictsOverMaxPet;
+    return;
+  }
+  ++counters_->conflictsByType[static_cast<int>(k.type)];
+  counters_->conflictTet += k.tet;
+  counters_->conflictTit += k.tit;
+  settled_.push_back(std::move(k));
+}
+
+void ConflictBook::finish(double t) {
+  for (auto& [key, en] : open_) close(en, t, true);
+  open_.clear();
+  for (Waiting& w : waiting_) settle(std::move(w.conflict), w.pet.pet());
+  waiting_.clear();
+}
+
+}  // namespace st::highway::detail

@@ -1,0 +1,75 @@
+#pragma once
+// The conflict book: SSAM's conflicts, one per unordered pair and continuous encounter, for the
+// analyst (sthighway/monitor.hpp, Conflict). Apart from the warnings (what each driver gets,
+// against its own safe time) and from the detector: every pair with an equipped car whose exact
+// rectangles, moved on in straight lines at their velocities, touch within TTC*, found by a sweep
+// along x whose reach bounds any such pair (so it finds what all pairs would), tick by tick.
+#include <cstdint>
+#include <map>
+#include <utility>
+#include <vector>
+
+#include <sthighway/monitor.hpp>
+
+#include "conflict_capture.hpp"
+#include "lane_prediction.hpp"
+#include "vehicle_table.hpp"
+
+namespace st::highway::detail {
+
+class ConflictBook {
+ public:
+  ConflictBook(const VehicleTable& cars, const LanePrediction& paths, const MonitorConfig& config, MonitorCounters& counters)
+      : cars_(&cars), paths_(&paths), cfg_(&config), counters_(&counters),
+        petAngles_(PetAngles::of(config.conflict.rearEndBelowDeg)) {}
+
+  // This tick (t; the previous tick at lastT, -inf at the first), after the table's update and
+  // before its release: the pairs below TTC* into their encounters, the encounters not seen again
+  // closed (at t; at lastT when one of the two left), the waiting PETs observed.
+  void observe(double t, double lastT);
+  // Closes every encounter at t and settles every waiting PET with what it has.
+  void finish(double t);
+  void take(std::vector<Conflict>& out) {
+    out.clear();
+    std::swap(out, settled_);
+  }
+
+ private:
+  // An encounter going on: the pair's slots (a has the lower serial), its state at the minimum TTC.
+  struct Encounter {
+    int a = -1, b = -1;
+    std::uint64_t seen = 0;  // the tick it was last below TTC*
+    double begin = 0.0, minTtc = 0.0, minTtcTime = 0.0, tet = 0.0, tit = 0.0;
+    Body bodyA, bodyB;       // at the minimum TTC
+    int laneA = -1, laneB = -1;
+    EpisodeTrack trackA, trackB;  // each vehicle's as ego (start, end, MaxS, DR, MaxD)
+    PetWatch pet;
+  };
+  // A conflict whose encounter ended, its PET still to come (until `until`).
+  struct Waiting {
+    Conflict conflict;
+    int a = -1, b = -1;
+    std::uint64_t serialA = 0, serialB = 0;
+    double until = 0.0;
+    PetWatch pet;
+  };
+  using Key = std::pair<std::uint64_t, std::uint64_t>;
+
+  void candidates();
+  void touch(int a, int b, double ttc, double t, double dt);
+  void close(Encounter& en, double end, bool open);
+  void settle(Conflict&& c, double pet);
+
+  const VehicleTable* cars_;
+  const LanePrediction* paths_;
+  const MonitorConfig* cfg_;
+  MonitorCounters* counters_;
+  PetAngles petAngles_;
+  std::uint64_t tick_ = 0;
+  std::map<Key, Encounter> open_;  // ordered: closing order is the serials', deterministic
+  std::vector<Waiting> waiting_;
+  std::vector<Conflict> settled_;
+  std::vector<std::pair<double, int>> sweep_;  // scratch: (x, slot)
+};
+
+}  // namespace st::highway::detail
