@@ -13,6 +13,7 @@
 #include <stbatch/record.hpp>
 #include <stbatch/runner.hpp>
 #include <stbatch/tables.hpp>
+#include <stio/format.hpp>
 #ifdef STSIM_HAVE_COSIM
 #include <stcosim/scenario.hpp>
 #endif
@@ -59,7 +60,7 @@ void summarizeResults(const std::vector<batch::RunResult>& results, const fs::pa
   if (missing) std::cout << ", " << missing << " not run";
   std::cout << " -> " << (out / "runs.csv").string() << ", " << (out / "summary.csv").string() << "\n";
   for (const auto& r : results)
-    if (r.status == batch::RunStatus::Failed) std::cout << "  failed " << r.spec.id << ": " << r.error << "\n";
+    if (r.status == batch::RunStatus::Failed) std::cout << "  failed " << io::printable(r.spec.id) << ": " << io::printable(r.error) << "\n";
 }
 
 int runMerge(int argc, const char* const* argv) {
@@ -155,7 +156,8 @@ int runBatch(int argc, const char* const* argv) {
       if (done == total) std::fprintf(stderr, "\n");
     };
   } else {
-    o.log = [](const std::string& line) { std::cerr << "batch: " << line << "\n"; };
+    // a run's error line may quote anything (a scenario name with escape sequences)
+    o.log = [](const std::string& line) { std::cerr << "batch: " << io::printable(line) << "\n"; };
   }
   // the guard installs its handlers without SA_RESTART: a signal wakes the runner's waitpid and
   // the runs are told to stop at once
