@@ -230,6 +230,8 @@ void Monitor::cycle(double t) {
   nearest_.outcome = Approach::Clear;
   minTtc_ = std::numeric_limits<double>::infinity();
   armMinTtc_.assign(arms_.size(), std::numeric_limits<double>::infinity());
+  armWorst_.assign(arms_.size(), Warning{});
+  for (Warning& w : armWorst_) w.t = t, w.distance = w.ttc = std::numeric_limits<double>::infinity(), w.outcome = Approach::Clear;
   for (ArmState& a : arms_) a.warned = false;
   const int no = static_cast<int>(obstacles_.size());
   if (space_) {
@@ -274,6 +276,22 @@ void Monitor::noteNearest(int i, int j, int obstacle, const TimeToCollision& r) 
   minTtc_ = std::min(minTtc_, r.t);
   armMinTtc_[capArm_[i]] = std::min(armMinTtc_[capArm_[i]], r.t);
   if (j >= 0) armMinTtc_[capArm_[j]] = std::min(armMinTtc_[capArm_[j]], r.t);
+  // each side's worst pair, from its own side
+  for (const auto& [me, other] : {std::pair{i, j}, std::pair{j, i}}) {
+    if (me < 0) continue;
+    Warning& w = armWorst_[capArm_[me]];
+    if (!(r.t < w.ttc || (r.t == w.ttc && r.distance < w.distance))) continue;
+    w.arm = capArm_[me];
+    w.body = capBody_[me];
+    w.capsule = capLocal_[me];
+    w.otherArm = other >= 0 ? capArm_[other] : -1;
+    w.otherBody = other >= 0 ? capBody_[other] : -1;
+    w.otherCapsule = other >= 0 ? capLocal_[other] : -1;
+    w.obstacle = obstacle;
+    w.distance = r.distance;
+    w.ttc = r.t;
+    w.outcome = r.outcome;
+  }
   if (!(r.distance < nearest_.distance)) return;
   nearest_.t = now_;
   nearest_.arm = capArm_[i];

@@ -9,6 +9,7 @@ namespace {
 // Little-endian writer.
 struct Writer {
   std::string& out;
+  std::uint8_t version = kVersion;
   void u8(std::uint8_t v) { out.push_back(static_cast<char>(v)); }
   void u16(std::uint16_t v) {
     u8(static_cast<std::uint8_t>(v));
@@ -32,7 +33,7 @@ struct Writer {
     out.append(s.data(), n);
   }
   void head(Type t) {
-    u8(kVersion);
+    u8(version);
     u8(static_cast<std::uint8_t>(t));
   }
 };
@@ -169,8 +170,21 @@ const char* toString(Level l) {
   return "?";
 }
 
-void encodeInto(std::string& out, const Verdict& v) {
-  Writer w{out};
+const char* toString(Cause c) {
+  switch (c) {
+    case Cause::None: return "none";
+    case Cause::Collision: return "collision";
+    case Cause::Separation: return "separation";
+    case Cause::Lookahead: return "lookahead";
+    case Cause::Stale: return "stale";
+    case Cause::ObstacleLost: return "obstacle_lost";
+    case Cause::Disputed: return "disputed";
+  }
+  return "?";
+}
+
+void encodeInto(std::string& out, const Verdict& v, std::uint8_t version) {
+  Writer w{out, version};
   w.head(Type::Verdict);
   w.u32(v.ack);
   w.u64(v.cycle);
@@ -179,6 +193,14 @@ void encodeInto(std::string& out, const Verdict& v) {
   for (const ArmVerdict& a : v.arms) {
     w.u8(static_cast<std::uint8_t>(a.level));
     w.f64(a.minTtc);
+    if (version < 2) continue;
+    w.u8(static_cast<std::uint8_t>(a.cause));
+    w.i16(a.pair.body);
+    w.i16(a.pair.otherArm);
+    w.i16(a.pair.otherBody);
+    w.i16(a.pair.obstacle);
+    w.f64(a.pair.distance);
+    w.f64(a.pair.ttc);
   }
   const Nearest& n = v.nearest;
   w.i16(n.arm);
@@ -190,9 +212,9 @@ void encodeInto(std::string& out, const Verdict& v) {
   w.f64(n.ttc);
 }
 
-std::string encode(const Message& m) {
+std::string encode(const Message& m, std::uint8_t version) {
   std::string out;
-  Writer w{out};
+  Writer w{out, version};
   std::visit(
       [&](const auto& x) {
         using T = std::decay_t<decltype(x)>;
@@ -243,7 +265,7 @@ std::string encode(const Message& m) {
           w.u16(static_cast<std::uint16_t>(x.obstacleNames.size()));
           for (const std::string& n : x.obstacleNames) w.str(n);
         } else if constexpr (std::is_same_v<T, Verdict>) {
-          encodeInto(out, x);
+          encodeInto(out, x, version);
         } else if constexpr (std::is_same_v<T, Error>) {
           w.head(Type::Error);
           w.str(x.message);
@@ -259,9 +281,9 @@ bool peekType(std::string_view payload, Type& type, std::string& error) {
     return false;
   }
   const auto version = static_cast<std::uint8_t>(payload[0]);
-  if (version != kVersion) {
+  if (version < kOldestVersion || version > kVersion) {
     error = "protocol version " + std::to_string(version) + " not supported (this service speaks " +
-            std::to_string(kVersion) + ")";
+            std::to_string(kOldestVersion) + " to " + std::to_string(kVersion) + ")";
     return false;
   }
   const auto t = static_cast<std::uint8_t>(payload[1]);
@@ -370,13 +392,26 @@ Decoded decode(std::string_view payload) {
       v.cycle = r.u64();
       v.t = r.f64();
       const std::uint16_t n = r.u16();
-      if (r.error.empty() && r.need(static_cast<std::size_t>(n) * 9)) {
+      const bool causes = static_cast<std::uint8_t>(payload[0]) >= 2;
+      if (r.error.empty() && r.need(static_cast<std::size_t>(n) * (causes ? 34 : 9))) {
         v.arms.resize(n);
-        for (ArmVerdict& a : v.arms) {
+        for (std::size_t k = 0; k < v.arms.size(); ++k) {
+          ArmVerdict& a = v.arms[k];
           const std::uint8_t l = r.u8();
           if (l > 2) r.fail("verdict level " + std::to_string(l));
           a.level = static_cast<Level>(l);
           a.minTtc = r.f64();
+          if (!causes) continue;
+          const std::uint8_t c = r.u8();
+          if (c > kLastCause) r.fail("verdict cause " + std::to_string(c));
+          a.cause = static_cast<Cause>(c);
+          a.pair.arm = static_cast<std::int16_t>(k);
+          a.pair.body = r.i16();
+          a.pair.otherArm = r.i16();
+          a.pair.otherBody = r.i16();
+          a.pair.obstacle = r.i16();
+          a.pair.distance = r.f64();
+          a.pair.ttc = r.f64();
         }
       }
       r.what = "nearest";

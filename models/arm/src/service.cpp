@@ -71,7 +71,8 @@ ArmService::ArmService(boost::asio::io_context& io, const Scenario& scenario, Se
     fs::create_directories(cfg_.logDir);
     std::string header = "cycle,t_s,readings_from";
     for (int a = 0; a < arms; ++a)
-      header += ',' + io::csvField(monitor_.arm(a).name + "_level") + ',' + io::csvField(monitor_.arm(a).name + "_min_ttc_s");
+      for (const char* column : {"_level", "_min_ttc_s", "_cause", "_cause_body", "_cause_other", "_cause_distance_m", "_cause_ttc_s"})
+        header += ',' + io::csvField(monitor_.arm(a).name + column);
     verdictLog_.emplace(fs::path(cfg_.logDir) / "verdicts.csv", header + ",nearest,nearest_other,distance_m,ttc_s");
     connLog_.emplace(fs::path(cfg_.logDir) / "connections.csv", "wall_s,connection,event,detail");
   }
@@ -251,9 +252,10 @@ std::string ArmService::onHello(net::ConnectionId id, Peer& p, std::string_view 
   const proto::Decoded d = proto::decode(payload);
   if (!d.ok) return d.error;
   const auto& h = std::get<proto::Hello>(d.message);
-  if (h.version != proto::kVersion)
+  if (h.version < proto::kOldestVersion || h.version > proto::kVersion)
     return "protocol version " + std::to_string(h.version) + " not supported (this service speaks " +
-           std::to_string(proto::kVersion) + ")";
+           std::to_string(proto::kOldestVersion) + " to " + std::to_string(proto::kVersion) + ")";
+  p.version = static_cast<std::uint8_t>(h.version);
   if (!cfg_.token.empty() && !sameToken(h.token, cfg_.token)) return "bad token";
   // a client slot: those are apart from the pending ones, so a flood of pending connections never takes them
   p.stage = Stage::Leaving;
@@ -267,6 +269,7 @@ std::string ArmService::onHello(net::ConnectionId id, Peer& p, std::string_view 
   ++clients_;
   p.hello = true;
   proto::Welcome w;
+  w.version = p.version;
   w.cycleTime = monitor_.safety().cycleTime;
   w.safeTime = monitor_.safety().safeTime();
   for (int a = 0; a < monitor_.armCount(); ++a) {
@@ -274,7 +277,7 @@ std::string ArmService::onHello(net::ConnectionId id, Peer& p, std::string_view 
     w.armDofs.push_back(static_cast<std::uint8_t>(monitor_.arm(a).model.dof()));
   }
   for (const Obstacle& o : monitor_.obstacles()) w.obstacleNames.push_back(o.name);
-  server_.send(id, proto::encode(w));
+  server_.send(id, proto::encode(w, p.version));
   return "";
 }
 
@@ -456,13 +459,29 @@ void ArmService::runCycle() {
     proto::ArmVerdict& v = verdict_.arms[a];
     v.minTtc = monitor_.minTtc(a);
     v.level = monitor_.stopped(a) ? proto::Level::Stop : std::isfinite(v.minTtc) ? proto::Level::Warn : proto::Level::Ok;
+    // the cause: the pair with the arm's smallest time to collision (not the nearest pair: a
+    // close pair at rest may be nearer than the fast one that decides)
+    const Warning& w = monitor_.worst(a);
+    v.pair = {static_cast<std::int16_t>(a), static_cast<std::int16_t>(w.body), static_cast<std::int16_t>(w.otherArm),
+              static_cast<std::int16_t>(w.otherBody), static_cast<std::int16_t>(w.obstacle), w.distance, w.ttc};
+    proto::Nearest none;
+    none.arm = static_cast<std::int16_t>(a);
+    if (v.level == proto::Level::Ok) v.pair = none;
+    v.cause = v.level == proto::Level::Ok     ? proto::Cause::None
+              : v.level == proto::Level::Warn ? proto::Cause::Lookahead
+              : w.outcome == Approach::Touching ? proto::Cause::Separation
+                                                : proto::Cause::Collision;
     if (v.level == proto::Level::Stop) continue;
     // fail safe: a verdict on a reading that is not current (or none) is no verdict: STOP
     if (obstacleLost || !(std::abs(t - appliedT_[a]) <= staleAfter_)) {
       v.level = proto::Level::Stop;
+      v.cause = obstacleLost ? proto::Cause::ObstacleLost : proto::Cause::Stale;
+      v.pair = none;
       ++counters_.staleStops;
     } else if (armDisputed_[a] || obstacleDisputed) {
       v.level = proto::Level::Stop;
+      v.cause = proto::Cause::Disputed;
+      v.pair = none;
       ++counters_.disputeStops;
     }
   }
@@ -474,7 +493,7 @@ void ArmService::runCycle() {
     if (!p.subscribed || (p.ownOnly && !p.inCycle)) continue;
     verdict_.ack = p.inCycle ? p.ack : 0;
     out_.clear();
-    proto::encodeInto(out_, verdict_);
+    proto::encodeInto(out_, verdict_, p.version);
     if (server_.send(id, out_)) ++counters_.verdictsSent;
   }
   // the log row after the verdicts are on their way (the write is off the latency path)
@@ -482,8 +501,14 @@ void ArmService::runCycle() {
     std::string& row = logRow_;
     row = std::to_string(counters_.cycles) + ',' + num(t) + ',';
     for (std::size_t k = 0; k < inCycle_.size(); ++k) (row += k ? " " : "") += std::to_string(inCycle_[k]);
-    for (int a = 0; a < monitor_.armCount(); ++a)
-      row += ',' + std::string(proto::toString(verdict_.arms[a].level)) + ',' + num(verdict_.arms[a].minTtc);
+    for (int a = 0; a < monitor_.armCount(); ++a) {
+      const proto::ArmVerdict& v = verdict_.arms[a];
+      row += ',' + std::string(proto::toString(v.level)) + ',' + num(v.minTtc) + ',' + proto::toString(v.cause);
+      const Warning& w = monitor_.worst(a);
+      const bool pair = v.pair.body >= 0;
+      row += ',' + (pair ? io::csvField(monitor_.arm(a).name + "/" + bodyName(monitor_.arm(a).model, w.body)) : "") + ',' +
+             (pair ? io::csvField(otherName(monitor_, w)) : "") + ',' + num(v.pair.distance) + ',' + num(v.pair.ttc);
+    }
     if (n.arm >= 0)
       row += ',' + io::csvField(monitor_.arm(n.arm).name + "/" + bodyName(monitor_.arm(n.arm).model, n.body)) + ',' +
              io::csvField(otherName(monitor_, n)) + ',' + num(n.distance) + ',' + num(n.ttc);

@@ -28,7 +28,8 @@ std::vector<Message> samples() {
   v.ack = 9;
   v.cycle = 123456789012ull;
   v.t = 1.071;
-  v.arms = {{Level::Stop, 0.2}, {Level::Warn, 0.29}};
+  v.arms = {{Level::Stop, 0.2, Cause::Collision, {0, 8, 1, 8, -1, 0.031, 0.2}},
+            {Level::Warn, 0.29, Cause::Lookahead, {1, 3, -1, -1, 1, 0.12, 0.29}}};
   v.nearest = {0, 8, 1, 8, -1, 0.031, 0.2};
   return {Hello{kVersion, "s3cret"}, r, o, Subscribe{Subscribe::kOwnOnly}, w, v, Error{"bad token"}, Claim{{0, 1}, {3}}};
 }
@@ -75,9 +76,41 @@ TEST(Protocol, EveryMessageRoundTrips) {
   EXPECT_TRUE(same(into, samples()[1]));
 }
 
+TEST(Protocol, VersionOneVerdictsKeepTheirLayoutAndVersionTwoNamesTheCause) {
+  const Verdict v = std::get<Verdict>(samples()[5]);
+  const std::string one = encode(v, 1), two = encode(v, 2);
+  EXPECT_EQ(one[0], 1);
+  EXPECT_EQ(two[0], 2);
+  // version 1: u32 ack, u64 cycle, f64 t, u16 n, n x 9 bytes, the nearest (5 x i16, 2 x f64)
+  EXPECT_EQ(one.size(), 2u + 4 + 8 + 8 + 2 + 2 * 9 + 10 + 16);
+  EXPECT_EQ(two.size(), one.size() + 2 * 25);
+  const Decoded d1 = decode(one), d2 = decode(two);
+  ASSERT_TRUE(d1.ok && d2.ok) << d1.error << d2.error;
+  const auto& v1 = std::get<Verdict>(d1.message);
+  const auto& v2 = std::get<Verdict>(d2.message);
+  EXPECT_EQ(v1.arms[0].level, Level::Stop);
+  EXPECT_EQ(v1.arms[0].cause, Cause::None) << "version 1 carries no cause";
+  EXPECT_EQ(v2.arms[0].cause, Cause::Collision);
+  EXPECT_EQ(v2.arms[0].pair.otherArm, 1);
+  EXPECT_EQ(v2.arms[0].pair.distance, 0.031);
+  EXPECT_EQ(v2.arms[1].pair.arm, 1);
+  EXPECT_EQ(v2.arms[1].pair.obstacle, 1);
+  EXPECT_EQ(v2.arms[1].cause, Cause::Lookahead);
+  // a cause beyond the last is refused
+  std::string bad = two;
+  bad[2 + 4 + 8 + 8 + 2 + 9] = 7;
+  EXPECT_EQ(decode(bad).error, "VERDICT: verdict cause 7");
+  // versions 0 and 3 are not served
+  for (const char version : {'\0', '\3'}) {
+    std::string m = two;
+    m[0] = version;
+    EXPECT_NE(decode(m).error.find("not supported (this service speaks 1 to 2)"), std::string::npos) << decode(m).error;
+  }
+}
+
 TEST(Protocol, InfinityAndNanSurviveTheWire) {
   Verdict v;
-  v.arms = {{Level::Ok, std::numeric_limits<double>::infinity()}};
+  v.arms = {{Level::Ok, std::numeric_limits<double>::infinity(), Cause::None, {}}};
   v.nearest.distance = std::numeric_limits<double>::infinity();
   const Decoded dd = decode(encode(v));
   const auto& d = std::get<Verdict>(dd.message);
@@ -108,8 +141,8 @@ TEST(Protocol, EveryTruncationAndTrailingByteIsNamed) {
 
 TEST(Protocol, VersionAndTypeAreChecked) {
   std::string m = encode(Subscribe{});
-  m[0] = 2;
-  EXPECT_NE(decode(m).error.find("protocol version 2 not supported"), std::string::npos);
+  m[0] = 3;
+  EXPECT_NE(decode(m).error.find("protocol version 3 not supported"), std::string::npos);
   m[0] = static_cast<char>(kVersion);
   m[1] = 0x42;
   EXPECT_NE(decode(m).error.find("unknown message type 0x42"), std::string::npos) << decode(m).error;
@@ -155,7 +188,7 @@ TEST(Protocol, FuzzedInputNeverCrashes) {
     if (d.ok) {
       ++ok;
       // what decodes re-encodes to the same bytes
-      EXPECT_EQ(encode(d.message), p);
+      EXPECT_EQ(encode(d.message, static_cast<std::uint8_t>(p[0])), p);
     } else {
       ++errors;
       ASSERT_FALSE(d.error.empty());

@@ -451,6 +451,107 @@ TEST(ArmService, AClaimNamesWhatAConnectionReports) {
   expectError(e.c, "CLAIM after this connection's first READINGS or OBSTACLES");
 }
 
+bool samePair(const proto::Nearest& a, const Warning& w) {
+  return a.arm == w.arm && a.body == w.body && a.otherArm == w.otherArm && a.otherBody == w.otherBody &&
+         a.obstacle == w.obstacle;
+}
+
+TEST(ArmService, AStopNamesItsCauseNotTheNearestPair) {
+  // in process: the first open-loop cycle of two_pandas where an arm is STOPped by a pair that is
+  // not the nearest one (a close pair that is not closing in is nearer than the one that decides)
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  Monitor m = makeMonitor(s);
+  auto src = makeSensor(s);
+  std::vector<Reading> cycle;
+  Reading r;
+  bool more = src->next(r);
+  proto::Readings found;
+  int arm = -1;
+  Warning cause;
+  while (more && arm < 0) {
+    cycle.clear();
+    const double t = r.t;
+    while (more && r.t == t) cycle.push_back(r), more = src->next(r);
+    for (const Reading& c : cycle) m.setJointState(c.arm, c.t, c.q.data(), c.qdot.data());
+    m.cycle(t);
+    for (int a = 0; a < m.armCount() && arm < 0; ++a) {
+      const Warning& w = m.worst(a);
+      const Warning& n = m.nearest();
+      const bool nearest = (n.arm == a && n.body == w.body && n.otherArm == w.otherArm && n.otherBody == w.otherBody &&
+                            n.obstacle == w.obstacle) ||
+                           (n.otherArm == a && n.otherBody == w.body && n.arm == w.otherArm && n.body == w.otherBody);
+      if (!m.stopped(a) || nearest) continue;
+      arm = a;
+      cause = w;
+      found.t = t;
+      found.seq = 1;
+      for (const Reading& c : cycle) found.arms.push_back({static_cast<std::uint16_t>(c.arm), c.q, c.qdot});
+      // the cause is the arm's worst warning: no warning of the arm has a smaller time to collision
+      for (const Warning& x : m.warnings()) {
+        if (x.arm == a) {
+          EXPECT_GE(x.ttc, w.ttc);
+        }
+      }
+    }
+  }
+  ASSERT_GE(arm, 0) << "no cycle where the nearest pair is not the cause";
+  ASSERT_LE(cause.ttc, s.safety.safeTime());
+  // the service, told that cycle's readings, names the cause in the VERDICT and in verdicts.csv
+  const fs::path d = tempDir("cause");
+  ServiceConfig cfg;
+  cfg.logDir = (d / "log").string();
+  Service svc(s, cfg);
+  Peer p(svc.service.port());
+  p.c.send(proto::encode(found));
+  const auto m1 = p.next();
+  ASSERT_TRUE(m1 && std::holds_alternative<proto::Verdict>(*m1));
+  const auto* v = &std::get<proto::Verdict>(*m1);
+  const proto::ArmVerdict& av = v->arms[arm];
+  EXPECT_EQ(av.level, proto::Level::Stop);
+  EXPECT_EQ(av.cause, cause.outcome == Approach::Touching ? proto::Cause::Separation : proto::Cause::Collision);
+  EXPECT_TRUE(samePair(av.pair, cause)) << av.pair.body << " " << av.pair.otherArm << " " << av.pair.otherBody;
+  EXPECT_EQ(av.pair.ttc, av.minTtc);
+  EXPECT_EQ(av.pair.distance, cause.distance);
+  EXPECT_FALSE(av.pair.body == v->nearest.body && av.pair.otherBody == v->nearest.otherBody &&
+               av.pair.otherArm == v->nearest.otherArm)
+      << "the nearest pair is the cause after all";
+  svc.stop();
+  const std::string log = slurp(d / "log" / "verdicts.csv");
+  const std::string name = s.arms[arm].name;
+  EXPECT_NE(log.find(name + "_cause," + name + "_cause_body"), std::string::npos) << log;
+  EXPECT_NE(log.find(cause.outcome == Approach::Touching ? ",separation," : ",collision,"), std::string::npos) << log;
+  const Monitor& sm = svc.service.monitor();
+  EXPECT_NE(log.find(name + "/" + bodyName(sm.arm(arm).model, cause.body) + "," + otherName(sm, cause)), std::string::npos)
+      << log;
+  fs::remove_all(d);
+}
+
+TEST(ArmService, AVersionOneClientIsStillServed) {
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  Service svc(s, {});
+  net::Client c;
+  c.connect("127.0.0.1", svc.service.port(), 2s);
+  c.send(proto::encode(proto::Hello{1, ""}, 1));
+  auto f = c.receive(2s);
+  ASSERT_TRUE(f);
+  EXPECT_EQ((*f)[0], 1) << "not answered in version 1";
+  ASSERT_TRUE(std::holds_alternative<proto::Welcome>(proto::decode(*f).message));
+  EXPECT_EQ(std::get<proto::Welcome>(proto::decode(*f).message).version, 1);
+  c.send(proto::encode(proto::Subscribe{proto::Subscribe::kOwnOnly}, 1));
+  c.send(proto::encode(bothArmsAt(1, 0.0), 1));
+  f = c.receive(2s);
+  ASSERT_TRUE(f);
+  EXPECT_EQ((*f)[0], 1);
+  const proto::Decoded d = proto::decode(*f);
+  ASSERT_TRUE(d.ok) << d.error;
+  EXPECT_EQ(std::get<proto::Verdict>(d.message).arms[0].level, proto::Level::Ok);
+  // a version 3 HELLO is refused naming what is spoken
+  net::Client three;
+  three.connect("127.0.0.1", svc.service.port(), 2s);
+  three.send(proto::encode(proto::Hello{3, ""}));
+  expectError(three, "protocol version 3 not supported (this service speaks 1 to 2)");
+}
+
 TEST(ArmService, TokenIsRequiredOffLoopbackAndChecked) {
   const Scenario s = loadScenario(scenarioPath("two_pandas"));
   boost::asio::io_context io;

@@ -107,6 +107,9 @@ class Monitor {
   // overall and per arm (either side of a pair).
   double minTtc() const { return minTtc_; }
   double minTtc(int arm) const { return armMinTtc_[arm]; }
+  // The pair behind minTtc(arm), seen from the arm (`arm` is it; ties: the closer pair): what
+  // decided its STOP or WARN, which need not be the nearest pair. arm < 0: none tested.
+  const Warning& worst(int arm) const { return armWorst_[arm]; }
   // A pose report for obstacle o (a sensor, the network): its reference point (sphere centre,
   // capsule midpoint, box centre) at `position` at time t, moving at `velocity` from then on.
   void setObstaclePose(int o, double t, const Vec3& position, const Vec3& velocity);
@@ -174,6 +177,7 @@ class Monitor {
   Warning nearest_;
   double minTtc_ = 0.0;
   std::vector<double> armMinTtc_;
+  std::vector<Warning> armWorst_;
   MonitorCounters counters_;
 };
 

@@ -1,9 +1,12 @@
 #pragma once
-// The arm service's wire protocol, version 1: pure encode / decode of frame payloads (the
-// length prefix is st::net's). No sockets here, so every message can be tested and fuzzed.
+// The arm service's wire protocol, version 2 (version 1 still served): pure encode / decode of
+// frame payloads (the length prefix is st::net's). No sockets here, so every message can be
+// tested and fuzzed.
 //
-// Every payload starts with two bytes: the protocol version (1) and the message type. Numbers
-// are little-endian: u8/u16/u32/u64, f64 IEEE 754; a string is u16 length + bytes.
+// Every payload starts with two bytes: the protocol version (1 or 2) and the message type. A
+// client's HELLO names its version; the service answers in it. The versions differ only in
+// VERDICT: version 2 gives each arm the cause of its level. Numbers are little-endian:
+// u8/u16/u32/u64, f64 IEEE 754; a string is u16 length + bytes.
 //
 //   client -> service
 //   0x01 HELLO      u16 version, string token (empty unless the service requires one)
@@ -17,8 +20,10 @@
 //   0x81 WELCOME    u16 version, f64 cycle time, f64 safe time, u16 arms, arms x {string name, u8 dof},
 //                   u16 obstacles, obstacles x {string name}
 //   0x82 VERDICT    u32 ack (last seq of this client's in the cycle, 0: none), u64 cycle, f64 t,
-//                   u16 arms, arms x {u8 level, f64 min ttc}, nearest {i16 arm, i16 body,
-//                   i16 other arm, i16 other body, i16 obstacle, f64 distance, f64 ttc}
+//                   u16 arms, arms x {u8 level, f64 min ttc[, v2: u8 cause, i16 body,
+//                   i16 other arm, i16 other body, i16 obstacle, f64 distance, f64 ttc]},
+//                   nearest {i16 arm, i16 body, i16 other arm, i16 other body, i16 obstacle,
+//                   f64 distance, f64 ttc}
 //   0xFF ERROR      string message (one line); the service closes the connection after it
 //
 // Positions are the obstacle's reference point (sphere centre, capsule midpoint, box centre).
@@ -35,7 +40,8 @@
 
 namespace st::arm::proto {
 
-inline constexpr std::uint8_t kVersion = 1;
+inline constexpr std::uint8_t kVersion = 2;     // what this build speaks by default
+inline constexpr std::uint8_t kOldestVersion = 1;  // the oldest still served
 inline constexpr std::size_t kMaxArms = 64;        // per message
 inline constexpr std::size_t kMaxDof = 32;
 inline constexpr std::size_t kMaxObstacles = 4096;
@@ -53,6 +59,18 @@ enum class Type : std::uint8_t {
 
 enum class Level : std::uint8_t { Ok = 0, Warn = 1, Stop = 2 };
 const char* toString(Level l);
+// Why an arm's verdict is what it is (version 2): the rule that decided it.
+enum class Cause : std::uint8_t {
+  None = 0,          // OK: no pair hits within the look-ahead
+  Collision = 1,     // STOP: a pair hits within the safe time
+  Separation = 2,    // STOP: a pair is already within the minimum separation
+  Lookahead = 3,     // WARN: a pair hits within the look-ahead, beyond the safe time
+  Stale = 4,         // STOP: no current reading of the arm
+  ObstacleLost = 5,  // STOP: a tracked obstacle has no current pose
+  Disputed = 6,      // STOP: the arm, or a tracked obstacle, is reported by two connections
+};
+inline constexpr std::uint8_t kLastCause = 6;
+const char* toString(Cause c);
 
 struct Hello {
   std::uint16_t version = kVersion;
@@ -91,14 +109,19 @@ struct Welcome {
   std::vector<std::uint8_t> armDofs;
   std::vector<std::string> obstacleNames;
 };
-struct ArmVerdict {
-  Level level = Level::Ok;
-  double minTtc = std::numeric_limits<double>::infinity();
-};
+// A pair of bodies: an arm's body and another arm's body or an obstacle (-1: none).
 struct Nearest {
   std::int16_t arm = -1, body = -1, otherArm = -1, otherBody = -1, obstacle = -1;
   double distance = std::numeric_limits<double>::infinity();
   double ttc = std::numeric_limits<double>::infinity();
+};
+struct ArmVerdict {
+  Level level = Level::Ok;
+  double minTtc = std::numeric_limits<double>::infinity();
+  // version 2: the rule, and for Collision / Separation / Lookahead the pair that decided it
+  // (the arm's smallest time to collision; `arm` is this arm); on the wire `arm` is implied
+  Cause cause = Cause::None;
+  Nearest pair;
 };
 struct Verdict {
   std::uint32_t ack = 0;
@@ -113,9 +136,10 @@ struct Error {
 
 using Message = std::variant<Hello, Readings, Obstacles, Subscribe, Claim, Welcome, Verdict, Error>;
 
-std::string encode(const Message& m);
+// In protocol `version` (kOldestVersion..kVersion).
+std::string encode(const Message& m, std::uint8_t version = kVersion);
 // Appends to out (no allocation once out has grown; the service's hot path).
-void encodeInto(std::string& out, const Verdict& v);
+void encodeInto(std::string& out, const Verdict& v, std::uint8_t version = kVersion);
 
 // A decoded message or why not (one line, e.g. "READINGS: truncated at byte 23 (arm 1 q)").
 struct Decoded {
@@ -126,7 +150,7 @@ struct Decoded {
 Decoded decode(std::string_view payload);
 // Decodes READINGS into `out`, reusing its storage (the service's hot path). Error text or "".
 std::string decodeReadings(std::string_view payload, Readings& out);
-// The type byte of a payload with the right version, or an error.
+// The type byte of a payload of a version served, or an error.
 bool peekType(std::string_view payload, Type& type, std::string& error);
 
 }  // namespace st::arm::proto

@@ -96,6 +96,7 @@ class ArmService final : public net::Handler {
     bool inCycle = false;
     bool claimed = false;   // sent CLAIM: reports only what it claimed
     bool reported = false;  // sent READINGS or OBSTACLES
+    std::uint8_t version = proto::kVersion;  // its HELLO's: what it is answered in
     std::uint32_t ack = 0;
     double lastT = -std::numeric_limits<double>::infinity();  // of its last READINGS
     double newestT = -std::numeric_limits<double>::infinity();  // of its READINGS and OBSTACLES
