@@ -268,7 +268,9 @@ void Server::accept() {
       conns_.emplace(id, c);
       if (full) {
         ++counters_.refusedFull;
-        c->fail("server full (" + std::to_string(cfg_.maxConnections) + " connections)", CloseReason::ServerFull);
+        c->fail(cfg_.fullMessage.empty() ? "server full (" + std::to_string(cfg_.maxConnections) + " connections)"
+                                         : cfg_.fullMessage,
+                CloseReason::ServerFull);
       } else {
         ++counters_.accepted;
         handler_.onOpen(*this, id);

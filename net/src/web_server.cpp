@@ -1,5 +1,6 @@
 #include <stnet/web_server.hpp>
 
+#include <cctype>
 #include <deque>
 #include <optional>
 #include <stdexcept>
@@ -35,6 +36,32 @@ bool sameOrigin(std::string_view origin, std::string_view host) {
   const auto scheme = origin.find("://");
   if (scheme != std::string_view::npos) origin.remove_prefix(scheme + 3);
   return origin == host;
+}
+
+// A Host header naming this server: an IP literal ("127.0.0.1", "[::1]") or "localhost", with
+// our port (or none only on port 80). A browser sends the name it resolved: a foreign name that
+// resolves to us (DNS rebinding) is refused, whatever Origin says, since Origin then matches it.
+bool ourHost(std::string_view host, std::uint16_t port) {
+  std::string_view name = host, portText;
+  if (!host.empty() && host.front() == '[') {
+    const auto close = host.find(']');
+    if (close == std::string_view::npos) return false;
+    name = host.substr(1, close - 1);
+    if (close + 1 < host.size()) {
+      if (host[close + 1] != ':') return false;
+      portText = host.substr(close + 2);
+    }
+  } else if (const auto colon = host.rfind(':'); colon != std::string_view::npos) {
+    name = host.substr(0, colon);
+    portText = host.substr(colon + 1);
+  }
+  if (portText.empty() ? port != 80 : portText != std::to_string(port)) return false;
+  std::string lower(name);
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (lower == "localhost") return true;
+  boost::system::error_code ec;
+  asio::ip::make_address(lower, ec);
+  return !ec;
 }
 
 }  // namespace
@@ -214,6 +241,9 @@ struct WebServer::HttpSession : std::enable_shared_from_this<HttpSession> {
     ++server.counters_.requests;
     http::request<http::string_body>& req = parser->get();
     const std::string target(req.target().data(), req.target().size());
+    const auto hostField = req[http::field::host];
+    if (!ourHost(std::string_view(hostField.data(), hostField.size()), server.port()))
+      return reply(421, "not this server: Host must be its address or localhost with its port\n");
     if (websocket::is_upgrade(req)) {
       if (target != server.cfg_.wsPath) return reply(404, "no WebSocket at " + target + "\n");
       const auto origin = req[http::field::origin];

@@ -196,6 +196,34 @@ TEST(WebServer, OtherOriginsCannotOpenASocket) {
   EXPECT_TRUE(ec);
 }
 
+TEST(WebServer, AForeignHostIsRefusedEvenWhenOriginAgrees) {
+  // DNS rebinding: a page at evil.example whose name now resolves to 127.0.0.1 sends Host and
+  // Origin both evil.example; the server's own names pass
+  Running r(small());
+  const std::string port = std::to_string(r.server.port());
+  const auto handshake = [&](const std::string& host, const std::string& origin) {
+    boost::asio::io_context io;
+    boost::beast::websocket::stream<boost::beast::tcp_stream> ws(io);
+    boost::beast::get_lowest_layer(ws).expires_after(3s);
+    boost::beast::get_lowest_layer(ws).connect(
+        boost::asio::ip::tcp::endpoint(boost::asio::ip::make_address("127.0.0.1"), r.server.port()));
+    ws.set_option(boost::beast::websocket::stream_base::decorator(
+        [origin](boost::beast::websocket::request_type& q) { q.set(boost::beast::http::field::origin, origin); }));
+    boost::system::error_code ec;
+    ws.handshake(host, "/ws", ec);
+    return !ec;
+  };
+  EXPECT_FALSE(handshake("evil.example:" + port, "http://evil.example:" + port));
+  EXPECT_FALSE(handshake("127.0.0.1:" + std::to_string(r.server.port() + 1), "http://127.0.0.1:" + port));
+  EXPECT_TRUE(handshake("127.0.0.1:" + port, "http://127.0.0.1:" + port));
+  EXPECT_TRUE(handshake("localhost:" + port, "http://localhost:" + port));
+  EXPECT_TRUE(handshake("LOCALHOST:" + port, "http://LOCALHOST:" + port));
+  // plain pages too: the page would be read by the foreign site's script
+  EXPECT_EQ(test::httpGet(r.server.port(), "/").first, 200u);
+  EXPECT_EQ(test::httpGet(r.server.port(), "/", 3000ms, "evil.example:" + port).first, 421u);
+  EXPECT_EQ(test::httpGet(r.server.port(), "/", 3000ms, "[::1]:" + port).first, 200u);
+}
+
 TEST(WebServer, SigintStopsRun) {
   boost::asio::io_context io;
   Echo echo;

@@ -126,14 +126,15 @@ class WsClient {
 
 // One HTTP GET on a fresh connection: status and body ("" and 0 on failure).
 inline std::pair<unsigned, std::string> httpGet(std::uint16_t port, const std::string& target,
-                                                std::chrono::milliseconds timeout = std::chrono::milliseconds(3000)) {
+                                                std::chrono::milliseconds timeout = std::chrono::milliseconds(3000),
+                                                const std::string& host = "") {
   namespace beast = boost::beast;
   namespace http = beast::http;
   boost::asio::io_context io;
   beast::tcp_stream stream(io);
   beast::flat_buffer buffer;
   http::request<http::empty_body> req(http::verb::get, target, 11);
-  req.set(http::field::host, "127.0.0.1:" + std::to_string(port));
+  req.set(http::field::host, host.empty() ? "127.0.0.1:" + std::to_string(port) : host);
   http::response<http::string_body> res;
   bool ok = false;
   stream.expires_after(timeout);

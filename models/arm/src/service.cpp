@@ -49,6 +49,9 @@ net::ServerConfig checked(const ServiceConfig& c) {
   net::ServerConfig n = c.net;
   // the sockets: every client slot and every pending one (the service sheds pending ones itself)
   n.maxConnections = c.maxClients + c.maxPending;
+  // the sockets are the service's two kinds of slot: a connection past both is told both limits
+  n.fullMessage = "server full (" + std::to_string(c.maxClients) + " clients and " + std::to_string(c.maxPending) +
+                  " connections waiting for their HELLO)";
   return n;
 }
 

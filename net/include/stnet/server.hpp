@@ -24,6 +24,9 @@ struct ServerConfig {
   std::size_t maxFrame = 64 * 1024;   // bytes of payload; a longer announced frame is refused
   std::size_t maxOutput = 1 << 20;    // bytes queued to one connection; a client not reading is dropped
   std::size_t maxConnections = 128;   // beyond: accepted, told, closed
+  // what a connection beyond maxConnections is told ("": "server full (N connections)"); a
+  // handler that counts its own slots names them here
+  std::string fullMessage;
   std::chrono::milliseconds frameTimeout{2000};  // first byte of a frame to its last
   std::chrono::milliseconds idleTimeout{0};      // no byte for this long closes (0: never)
   bool handleSignals = true;                     // SIGINT / SIGTERM stop the server

@@ -552,6 +552,23 @@ TEST(ArmService, AVersionOneClientIsStillServed) {
   expectError(three, "protocol version 3 not supported (this service speaks 1 to 2)");
 }
 
+TEST(ArmService, ASocketPastEverySlotIsToldTheServicesLimits) {
+  // 2 clients past HELLO and 2 pending fill the sockets: one more is told both limits, not the
+  // sum of them (it said "server full (4 connections)" past a limit of 2)
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  ServiceConfig cfg;
+  cfg.maxClients = 2;
+  cfg.maxPending = 2;
+  Service svc(s, cfg);
+  Peer a(svc.service.port()), b(svc.service.port());
+  net::Client p1, p2, extra;
+  p1.connect("127.0.0.1", svc.service.port(), 2s);
+  p2.connect("127.0.0.1", svc.service.port(), 2s);
+  std::this_thread::sleep_for(100ms);  // the service has counted both
+  extra.connect("127.0.0.1", svc.service.port(), 2s);
+  expectError(extra, "server full (2 clients and 2 connections waiting for their HELLO)");
+}
+
 TEST(ArmService, TokenIsRequiredOffLoopbackAndChecked) {
   const Scenario s = loadScenario(scenarioPath("two_pandas"));
   boost::asio::io_context io;
