@@ -6,6 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include <starm/sensor.hpp>
+
 namespace st::arm {
 
 namespace {
@@ -99,6 +101,7 @@ Monitor::Monitor(std::vector<ArmInstance> arms, std::vector<Obstacle> obstacles,
     std::vector<double> q(m.dof()), qd(m.dof(), 0.0);
     for (int k = 0; k < m.dof(); ++k) q[k] = std::clamp(0.0, m.joints[k].lower, m.joints[k].upper);
     setJointState(i, 0.0, q.data(), qd.data());
+    arms_[i].read = false;  // a pose to file, not a reading: the arm is stale until its sensor reports
   }
   obstaclesNow_ = obstacles_;
   for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o)
@@ -147,9 +150,19 @@ Monitor::Monitor(std::vector<ArmInstance> arms, std::vector<Obstacle> obstacles,
   }
 }
 
+double Monitor::staleAfter(int arm) const {
+  const ArmInstance& a = arms_[arm].inst;
+  return a.sensorPeriod > 0.0 ? a.sensorPeriod + a.sensorJitter : safety_.reactionTime + safety_.cycleTime;
+}
+
 void Monitor::setJointState(int arm, double t, const double* q, const double* qdot) {
+  if (arm < 0 || arm >= armCount()) throw InputError("arm " + std::to_string(arm) + ": no such arm");
   ArmState& a = arms_[arm];
   const ArmModel& m = a.inst.model;
+  // what the service refuses, the library refuses: a NaN joint gave no warning and an infinite TTC
+  if (!std::isfinite(t) || (a.read && t < a.t))
+    throw InputError("arm " + a.inst.name + ": reading time " + std::to_string(t) + " s is not finite or goes back");
+  validateJointState(m, q, qdot, a.inst.name);
   forwardKinematics(m, a.inst.base, q, a.frames.data());
   bodyRates(m, a.frames.data(), qdot, a.rates);
   // capsule end points and their velocities (the geometric Jacobian applied to qdot)
@@ -163,6 +176,7 @@ void Monitor::setJointState(int arm, double t, const double* q, const double* qd
     capVb_[i] = a.rates.velocity(lc.body, capB_[i]);
   }
   a.t = t;
+  a.read = true;
   a.fresh = true;
 }
 
@@ -256,7 +270,10 @@ void Monitor::cycle(double t) {
   // STOP: issued on an arm's first warned cycle, held while warnings continue
   for (int ai = 0; ai < armCount(); ++ai) {
     ArmState& a = arms_[ai];
-    if (a.warned && !a.stopped) {
+    // the watchdog: a verdict on a reading that is not current (or none yet) is no verdict
+    a.stale = !a.read || !(std::abs(t - a.t) <= staleAfter(ai));
+    if (a.stale) ++counters_.staleStops;
+    if ((a.warned || a.stale) && !a.stopped) {
       a.stopped = true;
       ++counters_.stops;
       for (Warning& w : warnings_)
@@ -264,7 +281,7 @@ void Monitor::cycle(double t) {
           w.stop = true;
           break;
         }
-    } else if (!a.warned) {
+    } else if (!a.warned && !a.stale) {
       a.stopped = false;
     }
   }

@@ -327,7 +327,7 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
   for (std::size_t i = 0; i < arms.size(); ++i) {
     const std::string key = "arms[" + std::to_string(i) + "]";
     const YAML::Node a = arms[i];
-    y.knownKeys(a, key, {"name", "model", "base", "allow", "check", "waypoints"});
+    y.knownKeys(a, key, {"name", "model", "base", "allow", "check", "waypoints", "sensor"});
     ArmInstance inst;
     inst.name = a["name"] ? y.text(a["name"], key + ".name") : "arm" + std::to_string(i);
     for (const ArmInstance& other : s.arms)
@@ -342,6 +342,16 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
       y.fail(a["model"], key + ".model", "unknown arm model '" + model + "' (built in: panda, iiwa14)");
     }
     inst.base = y.pose(a["base"], key + ".base");
+    if (const YAML::Node sn = a["sensor"]) {
+      // its joint sensor's rate: a reading older than period + jitter is stale (STOP)
+      y.knownKeys(sn, key + ".sensor", {"period", "jitter"});
+      if (!sn["period"]) y.fail(sn, key + ".sensor.period", "missing: the sensor's period (s)");
+      inst.sensorPeriod = y.positive(sn, "period", key + ".sensor", 0.0);
+      inst.sensorJitter = y.number(sn, "jitter", key + ".sensor", 0.0);
+      if (!(inst.sensorJitter >= 0.0 && inst.sensorJitter < inst.sensorPeriod))
+        y.fail(sn["jitter"], key + ".sensor.jitter", "must be at least 0 and less than the period");
+      if (inst.sensorPeriod > kMaxLookAhead) y.fail(sn["period"], key + ".sensor.period", "must be at most 60 s");
+    }
     // a base kilometres away is no workcell: 1e300 was accepted ("first contact at 0 s")
     if (const Vec3 at = inst.base.translation(); !(at.cwiseAbs().maxCoeff() <= kMaxBaseOffset))
       y.fail(a["base"]["xyz"], key + ".base.xyz",
@@ -492,8 +502,8 @@ void run(Monitor& m, SensorSource& src, RunStats& stats, const std::function<voi
     const auto stop = Clock::now();
     stats.latencyUs.push_back(std::chrono::duration<double, std::micro>(stop - start).count());
     ++stats.cycles;
-    for (const Warning& w : m.warnings())
-      if (w.stop && std::isnan(stats.firstStop[w.arm])) stats.firstStop[w.arm] = t;
+    for (int a = 0; a < m.armCount(); ++a)
+      if (m.stopped(a) && std::isnan(stats.firstStop[a])) stats.firstStop[a] = t;
     onCycle(m);
     last = t;
     if (bad) std::rethrow_exception(bad);

@@ -155,16 +155,20 @@ void validateReading(const ArmModel& m, const Reading& r) {
   if (static_cast<int>(r.q.size()) != m.dof() || static_cast<int>(r.qdot.size()) != m.dof())
     throw InputError(r.where + ": expected " + std::to_string(m.dof()) + " joint angles and rates, got " +
                      std::to_string(r.q.size()) + " and " + std::to_string(r.qdot.size()));
+  validateJointState(m, r.q.data(), r.qdot.data(), r.where);
+}
+
+void validateJointState(const ArmModel& m, const double* q, const double* qdot, std::string_view where) {
   for (int k = 0; k < m.dof(); ++k) {
-    const std::string joint = "joint " + std::to_string(k + 1);
-    if (!std::isfinite(r.q[k])) throw InputError(r.where + ": " + joint + " angle is not a finite number");
-    if (!std::isfinite(r.qdot[k])) throw InputError(r.where + ": " + joint + " rate is not a finite number");
-    if (std::abs(r.qdot[k]) > m.joints[k].maxRate)
-      throw InputError(r.where + ": " + joint + " rate " + fmt(r.qdot[k]) + " rad/s is beyond its limit " +
-                       fmt(m.joints[k].maxRate) + " rad/s");
-    if (r.q[k] < m.joints[k].lower || r.q[k] > m.joints[k].upper)
-      throw InputError(r.where + ": " + joint + " angle " + fmt(r.q[k]) + " rad is beyond its limits [" +
-                       fmt(m.joints[k].lower) + ", " + fmt(m.joints[k].upper) + "]");
+    const Joint& j = m.joints[k];
+    if (std::isfinite(q[k]) && std::isfinite(qdot[k]) && std::abs(qdot[k]) <= j.maxRate && q[k] >= j.lower && q[k] <= j.upper)
+      continue;
+    const std::string at = std::string(where) + ": joint " + std::to_string(k + 1);
+    if (!std::isfinite(q[k])) throw InputError(at + " angle is not a finite number");
+    if (!std::isfinite(qdot[k])) throw InputError(at + " rate is not a finite number");
+    if (std::abs(qdot[k]) > j.maxRate)
+      throw InputError(at + " rate " + fmt(qdot[k]) + " rad/s is beyond its limit " + fmt(j.maxRate) + " rad/s");
+    throw InputError(at + " angle " + fmt(q[k]) + " rad is beyond its limits [" + fmt(j.lower) + ", " + fmt(j.upper) + "]");
   }
 }
 

@@ -64,7 +64,6 @@ ArmService::ArmService(boost::asio::io_context& io, const Scenario& scenario, Se
   armDisputed_.assign(arms, 0);
   obstacleOwner_.assign(monitor_.obstacles().size(), kNobody);
   obstacleDisputed_.assign(monitor_.obstacles().size(), 0);
-  appliedT_.assign(arms, -std::numeric_limits<double>::infinity());
   poseT_.assign(monitor_.obstacles().size(), std::numeric_limits<double>::quiet_NaN());
   pendingArm_.resize(arms);
   // a reading older than this could not start the braking in time
@@ -166,7 +165,13 @@ void ArmService::onClose(net::Server&, net::ConnectionId id, net::CloseReason wh
 void ArmService::release(net::ConnectionId id) {
   // what it reported is free, and its disputes are over: the next claimant owns it alone
   for (std::size_t a = 0; a < armOwner_.size(); ++a)
-    if (armOwner_[a] == id) armOwner_[a] = kNobody, armDisputed_[a] = 0;
+    if (armOwner_[a] == id) {
+      armOwner_[a] = kNobody, armDisputed_[a] = 0;
+      // its readings leave with it: the next owner's clock starts afresh (and until it reports,
+      // the arm has no reading: STOP)
+      monitor_.forget(static_cast<int>(a));
+      pendingArm_[a].fresh = false;
+    }
   for (std::size_t o = 0; o < obstacleOwner_.size(); ++o)
     if (obstacleOwner_[o] == id) obstacleOwner_[o] = kNobody, obstacleDisputed_[o] = 0;
 }
@@ -443,9 +448,14 @@ void ArmService::runCycle() {
   for (int a = 0; a < monitor_.armCount(); ++a) {
     Pending& pa = pendingArm_[a];
     if (!pa.fresh) continue;
-    monitor_.setJointState(a, pa.t, pa.q.data(), pa.qdot.data());
-    appliedT_[a] = pa.t;
     pa.fresh = false;
+    try {
+      monitor_.setJointState(a, pa.t, pa.q.data(), pa.qdot.data());
+    } catch (const InputError&) {
+      // checked when it arrived; should the monitor still refuse it, the arm has no reading
+      // (STOP) rather than the service stopping for every client
+      monitor_.forget(a);
+    }
   }
   monitor_.cycle(t);
   ++counters_.cycles;
@@ -461,7 +471,8 @@ void ArmService::runCycle() {
   for (int a = 0; a < monitor_.armCount(); ++a) {
     proto::ArmVerdict& v = verdict_.arms[a];
     v.minTtc = monitor_.minTtc(a);
-    v.level = monitor_.stopped(a) ? proto::Level::Stop : std::isfinite(v.minTtc) ? proto::Level::Warn : proto::Level::Ok;
+    // the geometry's level (the monitor's STOP also holds its watchdog's, below)
+    v.level = monitor_.warned(a) ? proto::Level::Stop : std::isfinite(v.minTtc) ? proto::Level::Warn : proto::Level::Ok;
     // the cause: the pair with the arm's smallest time to collision (not the nearest pair: a
     // close pair at rest may be nearer than the fast one that decides)
     const Warning& w = monitor_.worst(a);
@@ -474,11 +485,20 @@ void ArmService::runCycle() {
               : v.level == proto::Level::Warn ? proto::Cause::Lookahead
               : w.outcome == Approach::Touching ? proto::Cause::Separation
                                                 : proto::Cause::Collision;
-    if (v.level == proto::Level::Stop) continue;
-    // fail safe: a verdict on a reading that is not current (or none) is no verdict: STOP
-    if (obstacleLost || !(std::abs(t - appliedT_[a]) <= staleAfter_)) {
+    // fail safe: a verdict on a reading that is not current (or none: the monitor's watchdog, by
+    // the arm's declared sensor period) is no verdict: STOP, and the geometry (of a pose no sensor
+    // gave now) is not its cause
+    if (monitor_.stale(a)) {
+      if (v.level != proto::Level::Stop) ++counters_.staleStops;
       v.level = proto::Level::Stop;
-      v.cause = obstacleLost ? proto::Cause::ObstacleLost : proto::Cause::Stale;
+      v.cause = proto::Cause::Stale;
+      v.pair = none;
+      continue;
+    }
+    if (v.level == proto::Level::Stop) continue;
+    if (obstacleLost) {
+      v.level = proto::Level::Stop;
+      v.cause = proto::Cause::ObstacleLost;
       v.pair = none;
       ++counters_.staleStops;
     } else if (armDisputed_[a] || obstacleDisputed) {

@@ -220,5 +220,99 @@ TEST(Monitor, SelfCollisionFollowsTheAllowedCollisionMatrix) {
   EXPECT_EQ(selfWarnings(edited), 0);
 }
 
+// ---- the library checks its input and watches its sensors as the service does ----
+
+const std::vector<double> kHome = {0, -0.785, 0, -2.356, 0, 1.571, 0.785};
+
+TEST(Monitor, ARefusedReadingChangesNothing) {
+  Monitor m = makeMonitor(loadScenario(scenarioPath("two_pandas")));
+  const std::vector<double> still(7, 0.0);
+  for (int a = 0; a < 2; ++a) m.setJointState(a, 0.0, kHome.data(), still.data());
+  m.cycle(0.0);
+  ASSERT_FALSE(m.stopped(0));
+  const MovingCapsule before = m.movingCapsule(0);
+  std::vector<double> bad = kHome;
+  bad[2] = std::nan("");
+  // a NaN joint gave no warning and an infinite TTC in process; the service refused it
+  EXPECT_THROW(m.setJointState(0, 0.001, bad.data(), still.data()), InputError);
+  bad = kHome;
+  bad[3] = 4.0;  // beyond the Panda's joint 4 limits
+  try {
+    m.setJointState(0, 0.001, bad.data(), still.data());
+    FAIL() << "an angle beyond its limits was taken";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("left: joint 4 angle 4 rad is beyond its limits"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(m.setJointState(0, -0.5, kHome.data(), still.data()), InputError) << "time went back";
+  EXPECT_THROW(m.setJointState(7, 0.001, kHome.data(), still.data()), InputError) << "no arm 7";
+  const MovingCapsule after = m.movingCapsule(0);
+  EXPECT_EQ(before.c.a, after.c.a);
+  EXPECT_EQ(before.va, after.va);
+}
+
+// Both Pandas at rest at home (no pair within the look-ahead); arm 0's sensor reports every
+// `period` +- `jitter` (uniform) until `silentAt`; arm 1 every cycle. Cycles at
+// 1 kHz until 2 s: the cycles arm 0 is STOPped, and the first STOP after it falls silent.
+struct Watch {
+  int stopped = 0, cycles = 0;
+  double lastReading = 0.0, firstStopAfterSilence = -1.0;
+};
+Watch watch(double period, double jitter, double declaredPeriod, double declaredJitter, double silentAt) {
+  Scenario s = loadScenario(scenarioPath("two_pandas"));
+  s.arms[0].sensorPeriod = declaredPeriod;
+  s.arms[0].sensorJitter = declaredJitter;
+  Monitor m = makeMonitor(s);
+  std::mt19937_64 g(5);
+  const std::vector<double> still(7, 0.0);
+  Watch w;
+  double next = 0.0;
+  for (int k = 0; k <= 2000; ++k) {
+    const double t = 0.001 * k;
+    // readings arrive at the cycle after their stamp (the stamp itself jittered)
+    while (next <= t && next < silentAt) {
+      m.setJointState(0, std::max(next, w.lastReading), kHome.data(), still.data());
+      w.lastReading = std::max(next, w.lastReading);
+      const double u = static_cast<double>(g() >> 11) * 0x1.0p-53;
+      next += period + (2.0 * u - 1.0) * jitter;
+    }
+    m.setJointState(1, t, kHome.data(), still.data());
+    m.cycle(t);
+    ++w.cycles;
+    if (m.stopped(0)) {
+      ++w.stopped;
+      if (t >= silentAt && w.firstStopAfterSilence < 0) w.firstStopAfterSilence = t;
+    }
+    EXPECT_EQ(m.stale(0), m.stopped(0)) << "at rest, only the watchdog stops arm 0 (t = " << t << ")";
+  }
+  return w;
+}
+
+TEST(Monitor, DeclaredSensorRatesMeanNoSpuriousStopAndASilentSensorStillStops) {
+  // 50 Hz joint states with +-3 ms jitter: undeclared (stale after reaction + cycle, 11 ms) the
+  // arm is STOPped on about half the cycles; declared, never while the sensor talks
+  const Watch undeclared = watch(0.02, 0.003, 0.0, 0.0, 10.0);
+  EXPECT_GT(undeclared.stopped, undeclared.cycles / 3);
+  const Watch declared = watch(0.02, 0.003, 0.02, 0.003, 1.5);
+  EXPECT_GT(declared.firstStopAfterSilence, 0.0) << "the silent sensor was never stopped";
+  // ... and once it falls silent, STOP within period + jitter + one cycle of its last reading,
+  // and no earlier than period + jitter
+  const double age = declared.firstStopAfterSilence - declared.lastReading;
+  EXPECT_GT(age, 0.02 + 0.003 - 1e-9);
+  EXPECT_LE(age, 0.02 + 0.003 + 0.001 + 1e-9);
+  EXPECT_EQ(declared.stopped, static_cast<int>(std::lround((2.0 - declared.firstStopAfterSilence) / 0.001)) + 1)
+      << "STOPs before the sensor fell silent";
+}
+
+TEST(Monitor, AnArmNeverReadIsStopped) {
+  Monitor m = makeMonitor(loadScenario(scenarioPath("two_pandas")));
+  const std::vector<double> still(7, 0.0);
+  m.setJointState(1, 0.0, kHome.data(), still.data());
+  m.cycle(0.0);
+  EXPECT_TRUE(m.stopped(0));
+  EXPECT_TRUE(m.stale(0));
+  EXPECT_FALSE(m.stopped(1));
+  EXPECT_EQ(m.counters().staleStops, 1u);
+}
+
 }  // namespace
 }  // namespace st::arm

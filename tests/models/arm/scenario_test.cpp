@@ -143,6 +143,11 @@ TEST(Scenario, MisshapenYamlNamesFileLineAndKey) {
   expectError("models_list.yaml", "models: [1, 2]\narms:\n  - {name: a, model: m, waypoints: [{t: 0, q: [0]}]}\n",
               ":1: models: expected a mapping");
   expectError("obstacles_map.yaml", arm + "obstacles: {name: x}\n", ":3: obstacles: expected a list");
+  expectError("sensor_no_period.yaml", "arms:\n  - {name: a, model: panda, sensor: {jitter: 0.001}}\n",
+              ":2: arms[0].sensor.period: missing");
+  expectError("sensor_jitter.yaml", "arms:\n  - {name: a, model: panda, sensor: {period: 0.02, jitter: 0.02}}\n",
+              ":2: arms[0].sensor.jitter: must be at least 0 and less than the period");
+  expectError("sensor_key.yaml", "arms:\n  - {name: a, model: panda, sensor: {rate: 50}}\n", "arms[0].sensor.rate: unknown key");
   expectError("tracked_yes.yaml", arm + "obstacles: [{sphere: {center: [1, 1, 1], radius: 0.1}, tracked: yes}]\n",
               ":3: obstacles[0].tracked: expected true or false, got 'yes'");
   expectError("allow_scalar.yaml", "arms:\n  - {name: a, model: panda, allow: 3, " + wp + "}\n",

@@ -526,6 +526,22 @@ TEST(ArmService, AStopNamesItsCauseNotTheNearestPair) {
   fs::remove_all(d);
 }
 
+TEST(ArmService, AnArmNotYetReportedIsStoppedAsStale) {
+  // the monitor's resting pose before any reading is no reading: at t = 0 too
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  Service svc(s, {});
+  Peer p(svc.service.port());
+  p.c.send(proto::encode(pandaReading(1, 0.0, 1)));
+  const auto m = p.next();
+  ASSERT_TRUE(m && std::holds_alternative<proto::Verdict>(*m));
+  const auto& v = std::get<proto::Verdict>(*m);
+  EXPECT_EQ(v.arms[0].level, proto::Level::Stop);
+  EXPECT_EQ(v.arms[0].cause, proto::Cause::Stale);
+  EXPECT_EQ(v.arms[0].pair.body, -1);
+  EXPECT_EQ(v.arms[1].level, proto::Level::Ok);
+  EXPECT_EQ(v.arms[1].cause, proto::Cause::None);
+}
+
 TEST(ArmService, AVersionOneClientIsStillServed) {
   const Scenario s = loadScenario(scenarioPath("two_pandas"));
   Service svc(s, {});

@@ -52,6 +52,10 @@ struct ArmInstance {
   std::string name;
   ArmModel model;
   Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
+  // Its joint sensor's period and jitter (s): readings come at most period + jitter apart; one
+  // older than that is stale and the arm STOPs. Period 0 (undeclared): stale after reaction +
+  // cycle time.
+  double sensorPeriod = 0.0, sensorJitter = 0.0;
 };
 
 struct Warning {
@@ -77,6 +81,7 @@ struct MonitorCounters {
   std::uint64_t cappedAdvances = 0;  // advancement step budget exhausted (reported early, never late)
   std::uint64_t warnings = 0;
   std::uint64_t stops = 0;
+  std::uint64_t staleStops = 0;      // arm cycles STOPped for want of a current reading
   std::uint64_t refiled = 0;         // space updates (a capsule left its fat box)
 };
 
@@ -90,13 +95,22 @@ class Monitor {
   const std::vector<Obstacle>& obstacles() const { return obstacles_; }
   const SafetyConfig& safety() const { return safety_; }
 
-  // A sensor reading: joint angles and rates of one arm at time t (already validated).
+  // A sensor reading: joint angles and rates of one arm at time t. Checked as the service checks
+  // it (validateJointState: counts, finite, limits, rates) and never older than the arm's last;
+  // throws InputError naming the arm and time, and a refused reading changes nothing.
   void setJointState(int arm, double t, const double* q, const double* qdot);
   // One detection cycle at time t; the warnings of this cycle replace the previous ones.
   void cycle(double t);
 
   const std::vector<Warning>& warnings() const { return warnings_; }
+  // STOP: a pair within the safe time or the minimum separation, or no current reading.
   bool stopped(int arm) const { return arms_[arm].stopped; }
+  // The watchdog: no reading of the arm within staleAfter(arm) of the cycle's time (or none yet).
+  bool stale(int arm) const { return arms_[arm].stale; }
+  // The arm has no reading from now on (its sensor left): stale, STOP, until the next one, whose
+  // time may be any.
+  void forget(int arm) { arms_[arm].read = false; }
+  double staleAfter(int arm) const;
   bool warned(int arm) const { return arms_[arm].warned; }
   double time() const { return now_; }  // of the last cycle
   // The closest pair of this cycle among those tested exactly (swept boxes overlapping; any
@@ -134,6 +148,8 @@ class Monitor {
     std::vector<Eigen::Isometry3d> frames;
     BodyRates rates;
     double t = 0.0;  // time of the last reading
+    bool read = false;   // any reading yet
+    bool stale = false;  // this cycle: no current reading
     bool fresh = false;
     bool stopped = false;
     bool warned = false;

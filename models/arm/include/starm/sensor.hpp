@@ -6,6 +6,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <starm/arm.hpp>
@@ -82,5 +83,8 @@ class WaypointSensor final : public SensorSource {
 
 // Checks a reading against its arm: joint count, finite values, joint limits.
 void validateReading(const ArmModel& m, const Reading& r);
+// The same on raw joint values (dof each), allocation-free unless it throws; `where` names the
+// reading in the message.
+void validateJointState(const ArmModel& m, const double* q, const double* qdot, std::string_view where);
 
 }  // namespace st::arm

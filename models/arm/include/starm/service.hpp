@@ -14,9 +14,10 @@
 // true, so the arm (for an obstacle: every arm) stays STOP until the owner it was disputed with
 // has left. No client can make the monitor hold a reading its owner did not give.
 //
-// Fail safe on time: an arm whose last reading is not within `staleAfter` of the cycle's time (a
-// sensor fallen silent, a clock far behind, no reading yet) gets STOP, whatever the geometry
-// says; so does every arm while a tracked obstacle that has been reported has no current pose.
+// Fail safe on time: an arm whose last reading is not current at the cycle's time (the
+// monitor's watchdog, by the arm's declared sensor period: a sensor fallen silent, a clock far
+// behind, no reading yet) gets STOP, whatever the geometry says; so does every arm while a
+// tracked obstacle that has been reported has no pose within `staleAfter`.
 // No one sensor sets the others' time: a time beyond any clock, or more than `maxLead` ahead of
 // or behind the other sensors that are talking, is refused; a sensor that leaves takes its time
 // with it. Sensors that said HELLO have their own slots (`maxClients`), apart from connections
@@ -46,7 +47,9 @@ struct ServiceConfig {
   std::size_t maxClients = 128;  // connections past HELLO served at once (more are told "server full")
   std::size_t maxPending = 16;   // connections before HELLO; one more sheds the oldest of them
   std::chrono::milliseconds helloTimeout{2000};  // from connect to HELLO
-  double staleAfter = 0.0;  // s; an arm's reading older (or newer) than this at the cycle: STOP. 0: reaction + cycle time
+  // s; a tracked obstacle's pose older (or newer) than this at the cycle: every arm STOPs. 0:
+  // reaction + cycle time. (An arm's reading: its declared sensor period, Monitor::staleAfter.)
+  double staleAfter = 0.0;
   double maxLead = 1.0;     // s; a message's time this far from the other talking sensors' is refused
   std::string token;   // required from every client when set; required to set for a non-loopback address
   std::string logDir;  // verdicts.csv, connections.csv ("" : no logs)
@@ -129,7 +132,6 @@ class ArmService final : public net::Handler {
   static constexpr net::ConnectionId kNobody = 0;  // st::net numbers connections from 1
   std::vector<net::ConnectionId> armOwner_, obstacleOwner_;  // per arm / obstacle, the connection reporting it
   std::vector<char> armDisputed_, obstacleDisputed_;         // reported by another too: STOP until its owner leaves
-  std::vector<double> appliedT_;     // per arm, time of the reading the monitor holds (-inf: none)
   std::vector<double> poseT_;        // per obstacle, time of its last pose report (NaN: never, it stands where the scenario put it)
   // connections before HELLO, oldest first, with their deadlines (entries of closed or greeted
   // connections are skipped when they come up)
