@@ -440,6 +440,28 @@ void RegionTree<D>::collapseUpFrom(int n) {
   if (target >= 0) collapse(target);
 }
 
+template <int D>
+void RegionTree<D>::setDecompositionFactor(int df) {
+  if (df < 1) throw std::invalid_argument("decomposition factor must be >= 1");
+  const int before = rule_.decompositionFactor;
+  if (df == before) return;
+  rule_.decompositionFactor = df;
+  if (df > before) {
+    // coarser: the top-most divided regions that no longer hold more than df reunite
+    std::vector<int> stack{0};
+    while (!stack.empty()) {
+      const int n = stack.back();
+      stack.pop_back();
+      if (nodes_[n].firstChild < 0) continue;
+      if (shouldCollapse(n)) collapse(n);
+      else for (int c = 0; c < childCount_; ++c) stack.push_back(nodes_[n].firstChild + c);
+    }
+  } else if (rule_.subdivide) {
+    // finer: leaves holding more than df divide (a divided region holds more than the old df)
+    for (int leaf : leaves()) maybeSplit(leaf);
+  }
+}
+
 // ---- region events ------------------------------------------------------------------------------
 
 template <int D>

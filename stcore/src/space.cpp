@@ -28,7 +28,11 @@ template <int D>
 typename Space<D>::Impl Space<D>::make(SpaceKind kind, const Box& bounds, const SpaceRule& rule) {
   switch (kind) {
     case SpaceKind::Single: return Impl(std::in_place_type<SingleList<D>>, bounds);
-    case SpaceKind::Tree: return Impl(std::in_place_type<RegionTree<D>>, bounds, rule);
+    case SpaceKind::Tree: {
+      SpaceRule r = rule;
+      if (r.autoFactor) r.decompositionFactor = FactorTuner::kStart;
+      return Impl(std::in_place_type<RegionTree<D>>, bounds, r);
+    }
     case SpaceKind::Cells: return Impl(std::in_place_type<UniformGrid<D>>, bounds, rule.cellSize);
     case SpaceKind::None: break;
   }
@@ -40,6 +44,26 @@ Space<D>::Space(SpaceKind kind, const Box& bounds, const SpaceRule& rule)
     : kind_(kind), bounds_(bounds), rule_(rule), impl_(make(kind, bounds, rule)) {
   if (const auto* t = std::get_if<RegionTree<D>>(&impl_)) rule_ = t->rule();  // divisions resolved
   if (kind_ == SpaceKind::Single) rule_.subdivide = false;
+  tuning_ = kind_ == SpaceKind::Tree && rule_.autoFactor && rule_.subdivide;
+  if (rule_.autoFactor && !(rule_.autoRegionCost > 0.0))
+    throw std::invalid_argument("the auto decomposition factor needs a positive region cost");
+}
+
+// auto: one update measured; at the end of a window, the factor for the next (true if it changed).
+template <int D>
+bool Space<D>::tune(int id, const Box& box, bool changed) {
+  // the walls of one division lie half the bounds apart along each axis
+  const Vec<D> c = box.center();
+  const Vec<D> half = 0.5 * bounds_.extent();
+  tuner_.noteUpdate(changed, ((c - centre_[id]).cwiseAbs().array() / half.array()).sum());
+  centre_[id] = c;
+  if (!tuner_.windowFull(objects_)) return false;
+  RegionTree<D>& t = std::get<RegionTree<D>>(impl_);
+  const int df = tuner_.decide(rule_.decompositionFactor, t.leafCount() > 1, objects_, D, rule_.autoRegionCost);
+  if (df == rule_.decompositionFactor) return false;
+  t.setDecompositionFactor(df);
+  rule_.decompositionFactor = df;
+  return true;
 }
 
 template <int D>
@@ -53,7 +77,11 @@ bool Space<D>::update(int id, const Box& box, double margin) {
     return true;
   }
   ++revision_;
-  if (auto* t = std::get_if<RegionTree<D>>(&impl_)) return t->update(id, box, margin);
+  if (auto* t = std::get_if<RegionTree<D>>(&impl_)) {
+    const bool changed = t->update(id, box, margin);
+    // a new factor re-lists objects, this one perhaps among them
+    return tuning_ && tune(id, box, changed) ? true : changed;
+  }
   std::get<SingleList<D>>(impl_).update(id, box, margin);
   return false;
 }

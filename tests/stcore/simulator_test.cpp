@@ -11,6 +11,7 @@
 #include <map>
 #include <optional>
 #include <random>
+#include <set>
 #include <sstream>
 #include <string>
 #include <tuple>
@@ -327,6 +328,8 @@ std::vector<std::pair<std::string, SimulatorConfig>> allConfigs() {
   add("tree df4 wide margin", SpaceKind::Tree, 4, 0, 0, 2.0);
   add("tree df2 two divisions", SpaceKind::Tree, 2, 2, 0, 0.5);
   if (D == 3) add("tree df3 four divisions", SpaceKind::Tree, 3, 4, 0, 0.5);
+  add("tree df auto", SpaceKind::Tree, 5, 0, 0, 0.5);
+  out.back().second.rule.autoFactor = true;
   add("cells 2.5", SpaceKind::Cells, 5, 0, 2.5, 0.5);
   add("cells 5 thin margin", SpaceKind::Cells, 5, 0, 5.0, 0.01);
   // cells narrower than most balls: every ball spans several, collisions straddle faces
@@ -796,6 +799,70 @@ TEST(Simulator, StopReasonsAndClock) {
   sim.synchronize(40.0);
   EXPECT_NEAR(sim.ball(0).p.x(), 5.0, 1e-12);  // at x = 9 at t = 36, moving -x
   EXPECT_THROW(sim.synchronize(39.0), std::invalid_argument);
+}
+
+
+// ---- decomposition_factor: auto ----------------------------------------------------------------
+
+// A gas of balls on a tree that picks its own factor: the same physical history as a fixed
+// factor, bit for bit; the factor did change; and at every checkpoint the space's candidate
+// pairs hold every pair of balls whose boxes touch (all pairs, brute force).
+template <int D>
+void autoFactorAgainstFixed(unsigned seed, int n, double size, int events) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  System<D> sys;
+  sys.size = size;
+  const double r = 0.2;
+  while (static_cast<int>(sys.balls.size()) < n) {
+    Vec<D> p, v;
+    for (int i = 0; i < D; ++i) p[i] = r + 0.01 + (size - 2 * r - 0.02) * u(rng), v[i] = 4 * u(rng) - 2;
+    bool ok = true;
+    for (const auto& b : sys.balls) ok &= (b.p - p).norm() > 2 * r + 0.01;
+    if (ok) sys.balls.push_back({p, v, r, 1.0});
+  }
+  auto config = [](bool automatic) {
+    SimulatorConfig c;
+    c.spaceKind = SpaceKind::Tree;
+    c.rule.decompositionFactor = 5;
+    c.rule.autoFactor = automatic;
+    return c;
+  };
+  Simulator<D> fixed = makeSimulator(sys, config(false));
+  Simulator<D> tuned = makeSimulator(sys, config(true));
+  const std::vector<EventRecord> want = runPhysical(fixed, events);
+  std::vector<EventRecord> got;
+  int checkpoints = 0;
+  std::set<int> factors;
+  while (static_cast<int>(got.size()) < events) {
+    const std::vector<EventRecord> part = runPhysical(tuned, std::min(events - static_cast<int>(got.size()), 997));
+    ASSERT_FALSE(part.empty());
+    got.insert(got.end(), part.begin(), part.end());
+    const Space<D>& space = *tuned.space();
+    factors.insert(space.rule().decompositionFactor);
+    std::set<std::pair<int, int>> candidates;
+    space.forEachPair([&](int a, int b) { candidates.insert({a, b}); });
+    for (int a = 0; a < n; ++a)
+      for (int b = a + 1; b < n; ++b) {
+        const Aabb<D> ba = boundsOf<D>(tuned.ball(a).positionAt(tuned.now()), r - 1e-9);
+        const Aabb<D> bb = boundsOf<D>(tuned.ball(b).positionAt(tuned.now()), r - 1e-9);
+        if (ba.overlaps(bb)) {
+          ASSERT_TRUE(candidates.count({a, b})) << "touching pair " << a << ", " << b << " not a candidate";
+        }
+      }
+    ++checkpoints;
+  }
+  ASSERT_TRUE(sameHistory(got, want, events, 0.0)) << "auto differs from df 5";
+  EXPECT_GT(tuned.space()->tuner()->factorChanges(), 0u);
+  ::testing::Test::RecordProperty("factors seen", static_cast<int>(factors.size()));
+  ::testing::Test::RecordProperty("checkpoints", checkpoints);
+}
+
+TEST(SimulatorAutoFactor, SameHistoryAsFixedAndCandidatesHoldTouchingPairs2D) {
+  autoFactorAgainstFixed<2>(5001, 600, 40.0, 20000);
+}
+TEST(SimulatorAutoFactor, SameHistoryAsFixedAndCandidatesHoldTouchingPairs3D) {
+  autoFactorAgainstFixed<3>(5002, 400, 12.0, 12000);
 }
 
 }  // namespace

@@ -150,7 +150,9 @@ template <int D>
       return ::testing::AssertionFailure() << "subdivisions " << s.counters().subdivisions << " - reunions "
                                            << s.counters().reunions << " != divided regions " << divided;
     // canonical: a fresh space holding the same boxes has the same leaves and membership
-    Space<D> fresh(s.kind(), bounds, s.rule());
+    SpaceRule rule = s.rule();
+    rule.autoFactor = false;  // the factor in force, fixed
+    Space<D> fresh(s.kind(), bounds, rule);
     for (int id = 0; id < static_cast<int>(objs.size()); ++id)
       if (objs[id].present) fresh.insert(id, objs[id].box, objs[id].margin);
     if (!(snapshot(fresh, objs) == snapshot(s, objs)))
@@ -210,6 +212,8 @@ struct OpsConfig {
   int objects = 150;
   int steps = 2000;
   int checkEvery = 50;
+  bool autoFactor = false;
+  double regionCost = 100.0;  // auto: the cost of a region event, in pair checks
 };
 
 template <int D>
@@ -222,6 +226,8 @@ void randomOps(const OpsConfig& cfg, unsigned seed) {
   rule.divisions = cfg.divisions;
   rule.cellSize = 10;
   rule.maxDepth = 8;
+  rule.autoFactor = cfg.autoFactor;
+  rule.autoRegionCost = cfg.regionCost;
   Space<D> s(cfg.kind, world, rule);
   std::vector<Obj<D>> objs(cfg.objects);
   auto randomBox = [&](const Aabb<D>* near) {
@@ -295,6 +301,10 @@ void randomOps(const OpsConfig& cfg, unsigned seed) {
     }
   }
   ASSERT_TRUE(checkInvariants(s, objs, rng));
+  if (cfg.autoFactor) {
+    ASSERT_NE(s.tuner(), nullptr);
+    EXPECT_GT(s.tuner()->factorChanges(), 0u);  // it did move the factor
+  }
   if (cfg.kind == SpaceKind::Tree) {
     EXPECT_GT(s.counters().subdivisions, 10u);
     EXPECT_GT(s.counters().reunions, 10u);
@@ -322,6 +332,12 @@ TEST(Space, OctreeTwoAndFourDivisions) {
   randomOps<3>({SpaceKind::Tree, 2, 3, 100, 1000}, 5);
   randomOps<3>({SpaceKind::Tree, 4, 3, 100, 1000}, 6);
 }
+// decomposition_factor: auto: the factor changes while objects move; every invariant above holds
+// (neighbours and pairs against brute force, the tree against a fresh build at the factor in force)
+// (region events cheap here, so it divides finer; dear, so it reunites)
+TEST(Space, QuadtreeAutoFactor) { randomOps<2>({SpaceKind::Tree, 4, 3, 150, 3000, 50, true, 5.0}, 31); }
+TEST(Space, OctreeAutoFactor) { randomOps<3>({SpaceKind::Tree, 8, 4, 150, 2000, 50, true, 5.0}, 32); }
+TEST(Space, QuadtreeAutoFactorCoarsens) { randomOps<2>({SpaceKind::Tree, 4, 3, 150, 3000, 50, true, 5000.0}, 33); }
 TEST(Space, Cells2D) { randomOps<2>({SpaceKind::Cells}, 7); }
 TEST(Space, Cells3D) { randomOps<3>({SpaceKind::Cells, 0, 3, 100, 1000}, 8); }
 TEST(Space, Single) { randomOps<2>({SpaceKind::Single, 0, 3, 60, 600}, 9); }

@@ -302,9 +302,14 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
       const std::string k = y.text(n["kind"], "octree.kind");
       if (!parseSpaceKind(k, s.broad.kind)) y.fail(n["kind"], "octree.kind", "unknown space kind '" + k + "'");
     }
-    const double df = y.number(n, "decomposition_factor", "octree", s.broad.rule.decompositionFactor);
-    if (df < 1 || df != std::floor(df)) y.fail(n["decomposition_factor"], "octree.decomposition_factor", "expected an integer >= 1");
-    s.broad.rule.decompositionFactor = static_cast<int>(df);
+    const YAML::Node dfNode = n["decomposition_factor"];
+    if (dfNode && dfNode.IsScalar() && dfNode.Scalar() == "auto") {
+      s.broad.rule.autoFactor = true;  // the space picks it as it runs (stcore/factor_tuner.hpp)
+    } else {
+      const double df = y.number(n, "decomposition_factor", "octree", s.broad.rule.decompositionFactor);
+      if (df < 1 || df != std::floor(df)) y.fail(n["decomposition_factor"], "octree.decomposition_factor", "expected an integer >= 1 or auto");
+      s.broad.rule.decompositionFactor = static_cast<int>(df);
+    }
     const double md = y.number(n, "max_depth", "octree", s.broad.rule.maxDepth);
     if (md < 0 || md > 20 || md != std::floor(md)) y.fail(n["max_depth"], "octree.max_depth", "expected an integer 0..20");
     s.broad.rule.maxDepth = static_cast<int>(md);

@@ -36,6 +36,7 @@ SimulatorConfig simulatorConfig(const SpaceSpec& space, const TableSpec& table, 
   SimulatorConfig c;
   c.spaceKind = space.kind;
   c.rule.decompositionFactor = space.decompositionFactor;
+  c.rule.autoFactor = space.autoFactor;
   c.rule.divisions = space.divisions;
   c.rule.cellSize = space.cellSize;
   c.marginFactor = space.marginFactor();

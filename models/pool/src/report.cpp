@@ -41,7 +41,7 @@ std::string describe(const SpaceSpec& space) {
   std::ostringstream os;
   os << toString(space.kind);
   if (space.kind == SpaceKind::Tree)
-    os << " df=" << space.decompositionFactor << " divisions=" << space.divisions << " max_depth="
+    os << " df=" << (space.autoFactor ? std::string("auto") : std::to_string(space.decompositionFactor)) << " divisions=" << space.divisions << " max_depth="
        << (space.maxDepth < 0 ? std::string("auto") : std::to_string(space.maxDepth));
   if (space.kind == SpaceKind::Cells)
     os << " cell_size=" << space.cellSize << " margin=" << space.marginFactor() << (space.margin > 0.0 ? "" : "(auto)");

@@ -380,7 +380,12 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
       mark(key, sp[k]);
       out = static_cast<int>(std::clamp(rd.integer(sp[k], key), -1L, 1000000000L));
     };
-    intKey("decomposition_factor", s.space.decompositionFactor);
+    if (sp["decomposition_factor"] && sp["decomposition_factor"].IsScalar() && sp["decomposition_factor"].Scalar() == "auto") {
+      mark("space.decomposition_factor", sp["decomposition_factor"]);
+      s.space.autoFactor = true;  // the space picks it as it runs (stcore/factor_tuner.hpp)
+    } else {
+      intKey("decomposition_factor", s.space.decompositionFactor);
+    }
     intKey("divisions", s.space.divisions);
     intKey("max_depth", s.space.maxDepth);
     if (sp["cell_size"]) {

@@ -44,7 +44,8 @@ void writeScenarioYaml(std::ostream& os, const Scenario& s) {
   os << "  kind: " << (s.space.kind == SpaceKind::Tree ? "quadtree" : toString(s.space.kind)) << "\n";
   // only the keys of its kind (the reader refuses the others)
   if (s.space.kind == SpaceKind::Tree) {
-    os << "  decomposition_factor: " << s.space.decompositionFactor << "\n";
+    if (s.space.autoFactor) os << "  decomposition_factor: auto\n";
+    else os << "  decomposition_factor: " << s.space.decompositionFactor << "\n";
     os << "  divisions: " << s.space.divisions << "\n";
     os << "  max_depth: " << s.space.maxDepth << "\n";
   } else if (s.space.kind == SpaceKind::Cells) {

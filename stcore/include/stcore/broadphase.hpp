@@ -48,6 +48,13 @@ struct SpaceRule {
   // (fat) object box it holds: children that small cannot separate objects that overlap,
   // and dense clusters of more than df objects would split down to maxDepth. 0: only maxDepth.
   double minChildSizeRatio = 0.0;
+  // Tree only, decomposition_factor: auto. The space picks the factor itself as it runs and keeps
+  // picking it as the scene changes (factor_tuner.hpp: what it measures, how it decides);
+  // decompositionFactor is then the factor in force (Space::rule()).
+  bool autoFactor = false;
+  // auto: the cost of one region event (an object entering or leaving a leaf) in candidate pair
+  // checks; the pool's event-driven simulator measured 8 (bench/pool_break, bench/RESULTS.md).
+  double autoRegionCost = 100.0;
 };
 
 struct SpaceCounters {

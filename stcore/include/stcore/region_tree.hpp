@@ -36,6 +36,10 @@ class RegionTree {
 
   const Box& bounds() const { return bounds_; }
   const SpaceRule& rule() const { return rule_; }
+  // Puts a new decomposition factor (>= 1) in force: regions now holding df or fewer reunite,
+  // leaves holding more divide; the objects re-listed are reported as after any restructure
+  // (takeRelisted, takeWidened).
+  void setDecompositionFactor(int df);
 
   void insert(int id, const Box& box, double margin = 0.0);
   // True if the object's leaves changed (it moved between leaves, or leaves it is in divided or

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <stcore/broadphase.hpp>
+#include <stcore/factor_tuner.hpp>
 #include <stcore/region_tree.hpp>
 #include <stcore/single_list.hpp>
 #include <stcore/uniform_grid.hpp>
@@ -31,6 +32,11 @@ class Space {
   void insert(int id, const Box& box, double margin = 0.0) {
     visit([&](auto& s) { s.insert(id, box, margin); });
     ++revision_;
+    if (tuning_) {
+      if (id >= static_cast<int>(centre_.size())) centre_.resize(id + 1, Vec<D>::Zero());
+      centre_[id] = box.center();
+      ++objects_;
+    }
   }
   // True if the object's leaves (cells: its block) may have changed.
   bool update(int id, const Box& box, double margin = 0.0);
@@ -38,6 +44,7 @@ class Space {
     if (!contains(id)) return;
     visit([&](auto& s) { s.remove(id); });
     ++revision_;
+    if (tuning_) --objects_;
   }
   bool contains(int id) const {
     return visit([&](const auto& s) { return s.contains(id); });
@@ -46,6 +53,15 @@ class Space {
   // Calls f(other) once for every other object sharing a leaf with id.
   template <class F>
   void forEachNeighbor(int id, F&& f) const {
+    if (tuning_) {
+      std::uint64_t visits = 0;
+      std::get<RegionTree<D>>(impl_).forEachNeighbor(id, [&](int j) {
+        ++visits;
+        f(j);
+      });
+      tuner_.noteQuery(visits);
+      return;
+    }
     visit([&](const auto& s) { s.forEachNeighbor(id, f); });
   }
   // Cells: the objects forEachNeighbor would visit, written to out in its order; how many, or -1
@@ -141,6 +157,10 @@ class Space {
     return t && t->hasWidened();
   }
 
+  // decomposition_factor: auto (SpaceRule::autoFactor, a tree): the tuner choosing the factor in
+  // force (rule().decompositionFactor); null otherwise.
+  const FactorTuner* tuner() const { return tuning_ ? &tuner_ : nullptr; }
+
   const SpaceCounters& counters() const {
     return visit([&](const auto& s) -> const SpaceCounters& { return s.counters(); });
   }
@@ -161,11 +181,18 @@ class Space {
     return std::visit(f, impl_);
   }
 
+  bool tune(int id, const Box& box, bool changed);
+
   SpaceKind kind_;
   Box bounds_;
   SpaceRule rule_;
   Impl impl_;
   std::uint64_t revision_ = 0;
+  // auto: the tuner and what it reads that the implementation does not keep
+  bool tuning_ = false;
+  mutable FactorTuner tuner_;  // counts the const queries' visits
+  std::vector<Vec<D>> centre_;  // each object's box centre at its last insert or update
+  int objects_ = 0;
 };
 
 extern template class Space<2>;

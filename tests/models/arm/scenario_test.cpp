@@ -76,6 +76,14 @@ void expectError(const std::string& name, const std::string& yaml, const std::st
   fs::remove(p);
 }
 
+TEST(Scenario, AutoDecompositionFactor) {
+  const std::string arm = "arms:\n  - {name: a, model: panda, waypoints: [{t: 0, q: [0, 0, 0, -1, 0, 1, 0]}]}\n";
+  const fs::path p = write("auto_df.yaml", arm + "octree: {kind: octree, decomposition_factor: auto}\n");
+  EXPECT_TRUE(loadScenario(p.string()).broad.rule.autoFactor);
+  fs::remove(p);
+  expectError("bad_df.yaml", arm + "octree: {decomposition_factor: often}\n", "octree.decomposition_factor");
+}
+
 TEST(Scenario, ErrorsNameFileLineAndKey) {
   const std::string arm = "arms:\n  - {name: a, model: panda, waypoints: [{t: 0, q: [0, 0, 0, -1, 0, 1, 0]}]}\n";
   expectError("repeated_key.yaml", arm + "safety: {cycle_time: 0.001, cycle_time: 0.01}\n",

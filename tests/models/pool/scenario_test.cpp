@@ -12,6 +12,7 @@
 #include <stpool/game.hpp>
 #include <stpool/report.hpp>
 #include <stpool/scenario.hpp>
+#include <stpool/scenario_writer.hpp>
 
 #include "pool_test_util.hpp"
 
@@ -42,6 +43,17 @@ TEST(Scenario, GoodScenarioLoads) {
   ASSERT_EQ(s.shots.size(), 1u);
   EXPECT_DOUBLE_EQ(s.shots[0].velocity.x(), 2.0);
   EXPECT_EQ(s.space.kind, SpaceKind::Tree);
+}
+
+// decomposition_factor: auto reaches the simulator's rule, and the writer gives it back
+TEST(Scenario, AutoDecompositionFactor) {
+  const Scenario s = parseScenario(std::string(kGood) + "space: {kind: quadtree, decomposition_factor: auto}\n", "s.yaml");
+  EXPECT_TRUE(s.space.autoFactor);
+  EXPECT_TRUE(simulatorConfig(s).rule.autoFactor);
+  std::ostringstream os;
+  writeScenarioYaml(os, s);
+  EXPECT_TRUE(parseScenario(os.str(), "w.yaml").space.autoFactor) << os.str();
+  EXPECT_FALSE(parseScenario(kGood, "s.yaml").space.autoFactor);
 }
 
 TEST(Scenario, CueVectorGivesProportionalVelocity) {

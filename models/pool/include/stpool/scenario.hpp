@@ -23,6 +23,7 @@ struct Shot {
 struct SpaceSpec {
   SpaceKind kind = SpaceKind::Tree;
   int decompositionFactor = 5;
+  bool autoFactor = false;  // decomposition_factor: auto (SpaceRule::autoFactor)
   int divisions = 4;
   int maxDepth = -1;      // -1: deepest level whose regions are still at least one ball across
   double cellSize = 0.1;  // m, Cells kind only
