@@ -47,6 +47,15 @@ void CsvRowWriter::check() {
   throw std::runtime_error("write failed: " + path_.string());
 }
 
+CsvRowWriter::~CsvRowWriter() {
+  if (!out_.is_open()) return;
+  out_.flush();
+  if (out_) return;
+  // the buffer went out in pieces: the cut row goes (a destructor does not throw)
+  out_.close();
+  trimToLastLine(path_);
+}
+
 void CsvRowWriter::row(std::string_view line) {
   out_ << line << '\n';
   ++rows_;

@@ -22,6 +22,13 @@ class CsvRowWriter {
   // Creates (truncates) the file and writes the header line (none if empty); throws
   // std::runtime_error naming the path.
   CsvRowWriter(const std::filesystem::path& path, const std::string& header);
+  // Flushes what is buffered; a flush that fails (the run is ending on another file's error, the
+  // disk full) trims the file back to its last whole row, without throwing.
+  ~CsvRowWriter();
+  CsvRowWriter(const CsvRowWriter&) = delete;
+  CsvRowWriter& operator=(const CsvRowWriter&) = delete;
+  CsvRowWriter(CsvRowWriter&&) = default;
+  CsvRowWriter& operator=(CsvRowWriter&&) = default;
   void row(std::string_view line);  // one line, '\n' added
   void flush();
   std::uint64_t rows() const { return rows_; }
