@@ -30,7 +30,13 @@ function(stsim_install_library target name include_dir)
   if(NOT TARGET stsim::${name})
     add_library(stsim::${name} ALIAS ${target})
   endif()
-  install(TARGETS ${target} EXPORT stsimTargets
+  # the SUMO plugin in an export set of its own: find_package(stsim COMPONENTS arm) loads
+  # neither it nor SUMO
+  set(export_set stsimTargets)
+  if(name STREQUAL "cosim")
+    set(export_set stsimCosimTargets)
+  endif()
+  install(TARGETS ${target} EXPORT ${export_set}
           ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
           LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
           INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
@@ -65,6 +71,7 @@ endfunction()
 # The experiment runner (batch/, st::batch) is the tool's, not a library for plugins: not
 # installed, so a consumer needs no MPI.
 stsim_install_library(stsim_cosim cosim cosim/lib/include)
+stsim_install_library(starm_service arm_service models/arm/include)
 stsim_install_library(starm arm models/arm/include)
 stsim_install_library(stpool pool models/pool/include)
 stsim_install_library(sthighway highway models/highway/include)
@@ -97,9 +104,14 @@ install(FILES ${PROJECT_SOURCE_DIR}/batch/plots.py ${PROJECT_SOURCE_DIR}/models/
         DESTINATION ${CMAKE_INSTALL_DATADIR}/stsim)
 # the page of stsim pool serve (one self-contained file: nothing fetched from elsewhere)
 install(FILES ${PROJECT_SOURCE_DIR}/models/pool/serve/web/index.html DESTINATION ${CMAKE_INSTALL_DATADIR}/stsim/pool)
+# the arm scenarios (examples/arm_loop runs one)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/models/arm/scenarios/ DESTINATION ${CMAKE_INSTALL_DATADIR}/stsim/arm)
 
 # CMake package
 install(EXPORT stsimTargets NAMESPACE stsim:: DESTINATION ${STSIM_INSTALL_CMAKEDIR})
+if(TARGET stsim_cosim)
+  install(EXPORT stsimCosimTargets NAMESPACE stsim:: DESTINATION ${STSIM_INSTALL_CMAKEDIR})
+endif()
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/stsimConfig.cmake.in
   ${PROJECT_BINARY_DIR}/stsimConfig.cmake
   INSTALL_DESTINATION ${STSIM_INSTALL_CMAKEDIR}

@@ -4,7 +4,9 @@
 # unpacked with dpkg-deb). In each: `stsim --version`, a replay with its conflict map and a batch
 # with its plots by the installed tool with the source tree hidden (unshare -m), a tiny
 # program built with pkg-config, examples/own_loop built with find_package(stsim) and run on the
-# installed copy of a shipped network (it must warn), and `import stsim` when the module was built.
+# installed copy of a shipped network (it must warn), examples/arm_loop built with
+# find_package(stsim COMPONENTS arm) where SUMO cannot be found, and `import stsim` when the
+# module was built.
 # usage: tests/package/check_install.sh [BUILD_DIR]   (run from anywhere; about a minute)
 set -euo pipefail
 src=$(cd "$(dirname "$0")/../.." && pwd)
@@ -78,6 +80,16 @@ EOF
   [ -n "$n" ] && [ "$n" -gt 0 ] || fail "$2: own_loop gave no warnings: $line"
   [ "$(grep -c ' min TTC ' "$out/own_loop.txt")" -eq "$n" ] || fail "$2: own_loop: warning lines and count differ"
 
+  # examples/arm_loop: the arm monitor in a program's own loop, with find_package(stsim COMPONENTS
+  # arm) where CMake cannot find SUMO (an arm-only user's machine); two_pandas STOPs both at 1.071 s
+  cmake -S "$src/examples/arm_loop" -B "$out/arm_loop" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" \
+    -DCMAKE_DISABLE_FIND_PACKAGE_SUMO=ON >/dev/null || fail "$2: examples/arm_loop does not configure without SUMO"
+  cmake --build "$out/arm_loop" >/dev/null || fail "$2: examples/arm_loop does not build against the installed tree"
+  "$out/arm_loop/arm_loop" "$prefix/share/stsim/arm/two_pandas.yaml" > "$out/arm_loop.txt" \
+    || fail "$2: arm_loop failed: $(tail -1 "$out/arm_loop.txt")"
+  grep -q '^1.071 s: STOP left' "$out/arm_loop.txt" && grep -q '^1.071 s: STOP right' "$out/arm_loop.txt" \
+    || fail "$2: arm_loop did not STOP both arms at 1.071 s: $(head -3 "$out/arm_loop.txt")"
+
   # the Python module, if this build has it
   local pydir pyver
   pydir=$(find "$prefix" -type d -path '*-packages/stsim' -print -quit)
@@ -104,7 +116,8 @@ done
 contents=$(dpkg-deb -c "$deb")
 for f in ./usr/bin/stsim ./usr/lib/cmake/stsim/stsimConfig.cmake ./usr/include/sthighway/monitor.hpp \
          ./usr/include/stsim/version.hpp ./usr/share/stsim/networks/motorway/motorway.sumocfg \
-         ./usr/share/stsim/plots.py ./usr/share/stsim/conflict_map.py; do
+         ./usr/share/stsim/plots.py ./usr/share/stsim/conflict_map.py ./usr/share/stsim/arm/two_pandas.yaml \
+         ./usr/lib/cmake/stsim/stsimCosimTargets.cmake ./usr/include/starm/service.hpp; do
   grep -q " $f\$" <<< "$contents" || fail "$(basename "$deb") lacks $f"
 done
 grep -q 'pkgconfig/stsim.pc$' <<< "$contents" || fail "$(basename "$deb") lacks stsim.pc"
