@@ -27,6 +27,8 @@ Z95 = 1.959963984540054  # the normal 0.975 quantile (Wilson intervals)
 # metric key -> (what it counts, unit): "SUMO collisions" + "per run" reads "SUMO collisions per run"
 LABELS = {
     "sumo_collisions": ("SUMO collisions", "per run"),
+    "contacts": ("collisions (bodies touching)", "per run"),
+    "mingap_violations": ("SUMO minGap violations (bodies apart)", "per run"),
     "sumo_collision_steps": ("SUMO collision reports (steps touching)", "per run"),
     "collisions_warned": ("collisions the collider warned of", "per run"),
     "warnings.total": ("warnings", "per run"),
@@ -201,7 +203,8 @@ class Batch:
         self.record = read_record(os.path.join(out, "experiment.yaml"))
         self.headline = find_col(self.metrics, r"per_vehicle_km.*total|total.*per_vehicle_km", r"per_vehicle_km",
                                  r"collision_checks$", r"warnings") or (self.metrics[0] if self.metrics else None)
-        self.collisions = find_col(self.metrics, r"^sumo_collisions$", r"sumo.*collisions", r"collisions$")
+        # collisions are contacts (the bodies touch); SUMO's count holds its minGap violations too
+        self.collisions = find_col(self.metrics, r"^contacts$", r"^sumo_collisions$", r"sumo.*collisions", r"collisions$")
 
     def key(self, r):
         return tuple(r[p] for p in self.sweep)
@@ -376,7 +379,7 @@ def collision_rows(b):
 
 
 def collisions_figure(b):
-    """SUMO's collisions per action (the brake action against none), per combination of the other
+    """Collisions (contacts: the bodies touch) per action (the brake action against none), per combination of the other
     swept parameters: mean and 95 % t-interval over seeds (summary.csv), each run as a dot."""
     coll = b.collisions
     if "action" not in b.sweep or not coll:
@@ -691,8 +694,9 @@ def write_hindsight(f, sweep, kinds, rows):
     f.write("## Hindsight (pooled over seeds; [hindsight.csv](hindsight.csv))\n\n"
             "Warnings per vehicle-km by kind; the confirmed share of each kind's warnings (what "
             "followed confirmed the conflict); the near misses' recall (warned at least the lead "
-            "time before) and the median lead time; the same for the unsignalled line crossings and for SUMO's "
-            "collisions (the collider warned about the victim). Shares with their Wilson 95 % interval and "
+            "time before) and the median lead time; the same for the unsignalled line crossings and for the "
+            "collisions, contacts with the bodies touching (the collider warned about the victim; SUMO's minGap "
+            "violations are none). Shares with their Wilson 95 % interval and "
             "k/n; n/a: nothing to count.\n\n")
     cols = sweep + ["%s /veh-km" % k for k in kinds] + ["%s confirmed" % k for k in kinds] + \
         ["near-miss recall", "median lead (s)", "crossing recall", "median lead (s)",
@@ -730,8 +734,9 @@ def write_conflicts(f, out, sweep):
     cols, rows = read_csv(path)
     measures = [(m, lab) for m, lab in MEASURES if m + ".mean" in cols]
     f.write("## SSAM measures of the conflicts ([conflicts.csv](conflicts.csv))\n\n"
-            "Conflicts: warnings of an SSAM type (rear-end, lane change, crossing) pooled over the seeds of "
-            "each combination; proximity and road warnings are none. Each measure as mean ± half-width "
+            "Conflicts: the runs' conflicts.csv pooled over the seeds of each combination, each conflict "
+            "counted once (an unordered pair and one encounter whose box TTC fell to TTC*, whatever the "
+            "detector; not the per-ego warnings). Each measure as mean ± half-width "
             "(95 % CI, n: the conflicts with a value).\n\n")
     head = sweep + ["runs", "conflicts", "rear-end", "lane change", "crossing"] + [lab for _, lab in measures]
     f.write("| " + " | ".join(head) + " |\n|" + "---|" * len(head) + "\n")

@@ -127,7 +127,10 @@ int runHighwayCommand(const st::cli::Args& a) {
             << fmt(c.vehicleMeters > 0 ? static_cast<double>(total) / (c.vehicleMeters / 1000.0) : 0.0, 2)
             << " per vehicle-km); by type: " << hw::conflictTypeBreakdown(c) << "\n  conflicts "
             << hw::conflictCountText(c) << ": one per pair and encounter, TTC <= " << fmt(s.plugin.monitor.conflict.maxTtc, 1)
-            << " s (conflicts.csv); SUMO collisions " << (r.attached ? std::string("unknown") : std::to_string(pc.collisions))
+            << " s (conflicts.csv)\n  collisions (bodies touching) "
+            << (r.attached ? std::string("unknown")
+                           : std::to_string(pc.contacts) + "; SUMO's collisions " + std::to_string(pc.collisions) + ", of which " +
+                                 std::to_string(pc.mingapViolations) + " minGap violations with the bodies apart")
             << "; handoffs " << c.handoffs << "\n  time: SUMO " << fmt(r.sumoSeconds) << " s, stsim "
             << fmt(r.stsimSeconds) << " s, wall " << fmt(r.wallSeconds) << " s\n";
   if (const auto& v = r.validation) {

@@ -144,7 +144,7 @@ PYBIND11_MODULE(_stsim, m) {
            py::arg("vehicles"),
            "Every vehicle's state at time t (s, increasing): a list of dicts or a dict of columns with keys\n"
            "id, x, y (centre, m), heading (rad from +x), speed (m/s); optional lateral_speed, acceleration,\n"
-           "length, width, mass (default: the class's), vehicle_class, signals (1 left, 2 right), equipped,\n"
+           "length, width, mass (default: the class's), decel (the vType's, m/s^2; default unknown), vehicle_class, signals (1 left, 2 right), equipped,\n"
            "lane (its lane id in the net: reported in the warnings' lane column; None: unknown).\n"
            "Vehicles absent have left.")
       .def("step_sumo", [](Monitor& self, double t, py::handle v) { self.step(t, v, Convention::Sumo); }, py::arg("t"),

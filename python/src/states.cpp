@@ -12,10 +12,10 @@ namespace stpy {
 namespace {
 
 // The keys a vehicle may have; which ones depend on the convention.
-enum Key { kId, kX, kY, kHeading, kAngle, kSpeed, kLateralSpeed, kAcceleration, kLength, kWidth, kMass, kClass,
+enum Key { kId, kX, kY, kHeading, kAngle, kSpeed, kLateralSpeed, kAcceleration, kLength, kWidth, kMass, kDecel, kClass,
            kSignals, kEquipped, kLane, kRoute, kKeyCount };
 const char* const kKeyNames[kKeyCount] = {"id", "x", "y", "heading", "angle", "speed", "lateral_speed", "acceleration",
-                                          "length", "width", "mass", "vehicle_class", "signals", "equipped", "lane", "route"};
+                                          "length", "width", "mass", "decel", "vehicle_class", "signals", "equipped", "lane", "route"};
 
 
 std::string knownKeys(Convention c) {
@@ -100,6 +100,7 @@ void toState(const Raw& r, Convention c, std::size_t i, const LaneIndex& lanes, 
   s.length = r.has[kLength] ? r.v[kLength] : d.length;
   s.width = r.has[kWidth] ? r.v[kWidth] : d.width;
   s.mass = r.has[kMass] ? r.v[kMass] : d.mass;
+  if (r.has[kDecel]) s.decel = r.v[kDecel];  // else unknown (hindsight.evasive_deceleration)
   s.acceleration = r.has[kAcceleration] ? r.v[kAcceleration] : 0.0;
   s.equipped = r.equipped;
   if (!r.lane.empty()) {
@@ -215,6 +216,7 @@ py::dict stateDict(const hw::VehicleState& s, const hw::RoadGeometry* road) {
   d["length"] = s.length;
   d["width"] = s.width;
   d["mass"] = s.mass;
+  if (!std::isnan(s.decel)) d["decel"] = s.decel;
   d["vehicle_class"] = hw::toString(s.vehicleClass);
   d["signals"] = static_cast<int>(s.signals);
   d["equipped"] = s.equipped;

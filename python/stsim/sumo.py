@@ -33,6 +33,7 @@ def _vehicle_type(conn, type_id):
         "vehicle_class": conn.vehicletype.getVehicleClass(type_id),
         "length": conn.vehicletype.getLength(type_id),
         "width": conn.vehicletype.getWidth(type_id),
+        "decel": conn.vehicletype.getDecel(type_id),
     }
     if mass:
         try:
@@ -127,7 +128,7 @@ def read_traci_vehicles(conn, types=None, acceleration=True, signals=True, route
 # `state(vid)`: (position, angle, speed, lateral speed, acceleration, signals, route, type id), None
 # where not read
 def _columns(conn, ids, types, acceleration, signals, route, state):
-    cols = {k: [] for k in ("x", "y", "angle", "speed", "lateral_speed", "length", "width", "vehicle_class")}
+    cols = {k: [] for k in ("x", "y", "angle", "speed", "lateral_speed", "length", "width", "decel", "vehicle_class")}
     cols["id"] = ids
     if acceleration:
         cols["acceleration"] = []
@@ -154,6 +155,7 @@ def _columns(conn, ids, types, acceleration, signals, route, state):
             t = types[type_id] = _vehicle_type(conn, type_id)
         cols["length"].append(t["length"])
         cols["width"].append(t["width"])
+        cols["decel"].append(t["decel"])
         cols["vehicle_class"].append(t["vehicle_class"])
         masses.append(t.get("mass"))
     if any(m is not None for m in masses):

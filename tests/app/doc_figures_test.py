@@ -142,9 +142,11 @@ def long_figures(r):
         (readme, "| contact reports (steps touching) | %d | %d | %d ± %d |"
          % (rnd(none["sumo_collision_steps.mean"]), rnd(brake["sumo_collision_steps.mean"]),
             rnd(diff["sumo_collision_steps.diff_mean"]), rnd(diff["sumo_collision_steps.diff_ci95"]))),
-        (readme, "| collisions whose collider was warning about the victim | %.1f (%d %%) | %.1f (%d %%) | |"
-         % (none["collisions_warned.mean"], rnd(100 * none["collisions_warned.mean"] / none["sumo_collisions.mean"]),
-            brake["collisions_warned.mean"], rnd(100 * brake["collisions_warned.mean"] / brake["sumo_collisions.mean"]))),
+        (readme, "| contacts stsim sees (the bodies touching, same runs) | %.2f | %.2f | |"
+         % (none["contacts.mean"], brake["contacts.mean"])),
+        (readme, "| contacts whose collider was warning about the victim | %.1f (%d %%) | %.1f (%d %%) | |"
+         % (none["collisions_warned.mean"], rnd(100 * none["collisions_warned.mean"] / none["contacts.mean"]),
+            brake["collisions_warned.mean"], rnd(100 * brake["collisions_warned.mean"] / brake["contacts.mean"]))),
         (readme, "| mean warning lead time of those (s) | %.2f | %.2f | |"
          % (none["collision_lead_time_mean_s.mean"], brake["collision_lead_time_mean_s.mean"])),
         (readme, "| brake commands | %d | %d | |" % (rnd(none["brake_commands.mean"]), rnd(brake["brake_commands.mean"]))),
@@ -335,7 +337,9 @@ def run(stsim, src, work, name):
             validation = json.load(f)
     with open(os.path.join(out, "warnings.csv"), newline="") as f:
         warnings = list(csv.DictReader(f))
-    return {"summary": summary, "validation": validation, "warnings": warnings}
+    with open(os.path.join(out, "conflicts.csv"), newline="") as f:
+        conflicts = list(csv.DictReader(f))
+    return {"summary": summary, "validation": validation, "warnings": warnings, "conflicts": conflicts}
 
 
 def by_type(run, t):
@@ -369,6 +373,14 @@ def figures(r):
         s = run["summary"]["warnings"]
         return (by_type(run, "rear_end"), by_type(run, "lane_change"), by_type(run, "proximity"),
                 s["by_kind"]["vehicle"])
+
+    # the main job's conflicts: one row per pair and encounter, and summary.json counts the rows
+    rows = main["conflicts"]
+    distinct = {(min(c["first"], c["second"]), max(c["first"], c["second"]), c["begin"]) for c in rows}
+    cs = main["summary"]["conflicts"]
+    if len(distinct) != len(rows) or cs["count"] != len(rows):
+        sys.exit("FAIL main job: conflicts.count %d, %d rows of conflicts.csv, %d distinct" % (cs["count"], len(rows), len(distinct)))
+    ms = main["summary"]
 
     f_re, f_lc, f_px, f_veh = detector_row(main)
     c_re, c_lc, c_px, c_veh = detector_row(conc)
@@ -413,6 +425,13 @@ def figures(r):
          % agreement(xcp)),
         ("cosim/README.md", "| the distance within 0.5 m | %s |" % agreement(xcp["distance"]).replace("**", "")),
         ("README.md", "(about %d vehicles," % (round(vehicles / 10.0) * 10)),
+        ("networks/motorway/README.md", "%d emergency brakings and %d rear-end collision%s in 420 s (the bodies touching; SUMO's "
+         "default rule reports %d, the other %d are minGap violations with the bodies apart)"
+         % (359, ms["contacts"], "" if ms["contacts"] == 1 else "s", ms["sumo_collisions"], ms["mingap_violations"])),
+        ("networks/motorway/README.md", "stsim counts %d conflicts in it (SSAM's TTC* %s s, one per pair and encounter: "
+         "%d rear-end, %d lane change, %d crossing; `conflicts.csv`)"
+         % (cs["count"], "%g" % cs["max_ttc_s"], cs["by_type"]["rear_end"], cs["by_type"]["lane_change"],
+            cs["by_type"]["crossing"])),
         ("cosim/README.md", "| following samples (SSM FOLLOWING_FOLLOWER with a TTC) | %s, of which %s matched by a box TTC |"
          % (thin(fol["ssm_samples"]), thin(fol["matched_samples"]))),
         ("cosim/README.md", "| box TTC within 0.02 s of SSM's | **%.2f %%** (max error %.3f s, mean %s s) |"

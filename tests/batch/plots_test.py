@@ -124,14 +124,15 @@ class IncidentBatch(unittest.TestCase):
         return diffs, mean, T975[len(diffs) - 1] * sd / math.sqrt(len(diffs))
 
     def test_paired_difference_matches_an_independent_computation(self):
-        diffs, mean, half = self.independent_differences("sumo_collisions")
+        # collisions are contacts (the bodies touch), what the report shows
+        diffs, mean, half = self.independent_differences("contacts")
         paired = rows_of(os.path.join(self.out, "paired.csv"))
         self.assertEqual(len(paired), 1)
-        self.assertAlmostEqual(float(paired[0]["sumo_collisions.diff_mean"]), mean, places=9)
-        self.assertAlmostEqual(float(paired[0]["sumo_collisions.diff_ci95"]), half, delta=1e-5 * max(1.0, half))
+        self.assertAlmostEqual(float(paired[0]["contacts.diff_mean"]), mean, places=9)
+        self.assertAlmostEqual(float(paired[0]["contacts.diff_ci95"]), half, delta=1e-5 * max(1.0, half))
         d = plots.decimals([mean])
         self.assertIn(" | %.*f ± %.*f (95 %% CI, n=3) |" % (d, mean, d, half), self.report)
-        fig = plots.paired_figure(self.b, ["sumo_collisions"])
+        fig = plots.paired_figure(self.b, ["contacts"])
         ax = fig.axes[0]
         self.assertEqual(sorted(ax.lines[0].get_ydata()), sorted(diffs))  # the seeds' dots
         bars = [c for c in ax.containers if isinstance(c, ErrorbarContainer)]
@@ -141,8 +142,8 @@ class IncidentBatch(unittest.TestCase):
         self.assertAlmostEqual(seg[0][1], mean - half, delta=1e-5 * max(1.0, half))
         self.assertAlmostEqual(seg[1][1], mean + half, delta=1e-5 * max(1.0, half))
         t = texts(fig)
-        self.assertIn("SUMO collisions (n=3 pairs)", t)
-        self.assertIn("difference in SUMO collisions per run", t)
+        self.assertIn("collisions (bodies touching) (n=3 pairs)", t)
+        self.assertIn("difference in collisions (bodies touching) per run", t)
         self.assertIn("brake − none", t)
         self.assertTrue(fig._suptitle.get_text())
 
@@ -168,23 +169,28 @@ class IncidentBatch(unittest.TestCase):
     def test_collisions_labelled_and_split(self):
         fig = plots.collisions_figure(self.b)
         ax = fig.axes[0]
-        self.assertEqual(ax.get_ylabel(), "SUMO collisions per run")
+        self.assertEqual(ax.get_ylabel(), "collisions (bodies touching) per run")
         self.assertEqual(ax.get_xlabel(), "action")
         self.assertEqual([t.get_text() for t in ax.get_xticklabels()], ["none", "brake"])
         self.assertIn("n=3 seeds", ax.get_title())
-        self.assertNotIn("sumo_collisions", " ".join(texts(fig)))
+        self.assertNotIn("contacts", " ".join(texts(fig)))
         self.assertNotIn("all", [t.get_text() for t in ax.get_xticklabels()])
 
     def test_hindsight_shares_carry_wilson_intervals_and_n(self):
         kinds, rows = plots.hindsight_rows(self.out)
         fig = plots.hindsight_figure(self.b, kinds, rows)
         recall = next(ax for ax in fig.axes if ax.get_title() == "collision recall")
-        for y, r in enumerate(rows):
+        drawn = 0  # the rows with a share draw an interval, in order
+        for r in rows:
             k, n = int(r["collisions_warned"]), int(r["collisions"])
+            if n == 0:  # no contact in the combination: nothing to share
+                self.assertIn("n/a (n=0)", [t.get_text() for t in recall.texts])
+                continue
             self.assertIn("%d/%d" % (k, n), [t.get_text() for t in recall.texts])
             lo, hi = plots.wilson(k, n)
             bars = [c for c in recall.containers if isinstance(c, ErrorbarContainer)]
-            (seg,) = bars[y].lines[2][0].get_segments()
+            (seg,) = bars[drawn].lines[2][0].get_segments()
+            drawn += 1
             self.assertAlmostEqual(seg[0][0], lo, places=12)
             self.assertAlmostEqual(seg[1][0], hi, places=12)
             self.assertIn(plots.share_text(k, n), self.report)

@@ -30,7 +30,7 @@ TEST(HighwayCli, MotorwayRunWritesWarningsSummaryAndCollisions) {
   EXPECT_GT(jsonNumber(summary, "color_changes"), 0.0);
   // the warnings counted in the summary are the rows of the CSV
   EXPECT_DOUBLE_EQ(jsonNumber(summary, "total"), static_cast<double>(rows));
-  EXPECT_EQ(lines(slurp(dir / "collisions.csv"))[0], "time,collider,victim,type,lane,pos,collider_speed,victim_speed");
+  EXPECT_EQ(lines(slurp(dir / "collisions.csv"))[0], "time,collider,victim,type,lane,pos,collider_speed,victim_speed,gap,contact");
 }
 
 // The main job (five-circle): cars side by side in adjacent lanes inside each other's side circles
@@ -115,6 +115,18 @@ TEST(HighwayCli, PhysicalCollisionsAreFewerAndEveryOneWarned) {
   for (std::size_t i = 1; i < rows.size(); ++i) EXPECT_EQ(splitCsv(rows[i])[3], "1") << rows[i];
   // the warnings themselves do not depend on how SUMO counts collisions
   EXPECT_EQ(slurp(dir / "p/warnings.csv"), slurp(dir / "d/warnings.csv"));
+  // stsim's contacts (the bodies touching in the step's states) are SUMO's physical collisions,
+  // whichever rule SUMO counts by; the default rule's others are minGap violations, apart
+  const std::string ps = slurp(dir / "p/summary.json"), ds = slurp(dir / "d/summary.json");
+  EXPECT_EQ(jsonNumber(ps, "contacts"), physical);
+  EXPECT_EQ(jsonNumber(ps, "mingap_violations"), 0.0);
+  EXPECT_EQ(jsonNumber(ds, "contacts"), physical);
+  EXPECT_EQ(jsonNumber(ds, "mingap_violations"), byMinGap - physical);
+  EXPECT_EQ(slurp(dir / "d/collision_warnings.csv"), slurp(dir / "p/collision_warnings.csv"));
+  for (const auto& row : lines(slurp(dir / "p/collisions.csv"))) {
+    if (row.rfind("time,", 0) == 0) continue;
+    EXPECT_EQ(splitCsv(row).back(), "1") << row;  // each physical report touches
+  }
 }
 
 // The sublane network exists to produce lane-marker and curb warnings (lateral drift, filtering).

@@ -55,8 +55,8 @@ TEST(HighwayGui, SumoGuiRunsUnattendedWithTheEmbeddedRunsWarningsAndDrawsEveryCe
   ASSERT_GT(gc.size(), 5u);
   for (std::size_t i = 1; i < gc.size(); ++i) {
     const auto gf = splitCsv(gc[i]), ef = splitCsv(ec[i]);
-    ASSERT_EQ(gf.size(), 8u) << gc[i];
-    ASSERT_EQ(ef.size(), 8u) << ec[i];
+    ASSERT_EQ(gf.size(), 10u) << gc[i];
+    ASSERT_EQ(ef.size(), 10u) << ec[i];
     for (int k : {0, 1, 2, 3, 4}) EXPECT_EQ(gf[k], ef[k]) << "row " << i << ": " << gc[i] << " vs " << ec[i];
     for (int k : {5, 6, 7}) EXPECT_NEAR(std::stod(gf[k]), std::stod(ef[k]), 0.0051) << "row " << i;
   }
@@ -65,7 +65,10 @@ TEST(HighwayGui, SumoGuiRunsUnattendedWithTheEmbeddedRunsWarningsAndDrawsEveryCe
   const std::string leads = slurp(dir / "embedded/collision_warnings.csv");
   EXPECT_EQ(slurp(dir / "gui/collision_warnings.csv"), leads);
   const auto leadRows = lines(leads);
-  ASSERT_EQ(leadRows.size(), 1 + static_cast<std::size_t>(jsonNumber(es, "sumo_collisions")));
+  // one row per collision, a contact (SUMO's minGap violations are not collisions)
+  ASSERT_EQ(leadRows.size(), 1 + static_cast<std::size_t>(jsonNumber(es, "contacts")));
+  EXPECT_DOUBLE_EQ(jsonNumber(gs, "contacts"), jsonNumber(es, "contacts"));
+  EXPECT_DOUBLE_EQ(jsonNumber(gs, "mingap_violations"), jsonNumber(es, "mingap_violations"));
   const auto warningRows = lines(slurp(dir / "embedded/warnings.csv"));
   for (std::size_t i = 1; i < leadRows.size(); ++i) {
     const auto f = splitCsv(leadRows[i]);

@@ -46,6 +46,7 @@ SumoVehicleType readVehicleType(const std::string& typeId) {
   t.vClass = VehicleType::getVehicleClass(typeId);
   t.length = VehicleType::getLength(typeId);
   t.width = VehicleType::getWidth(typeId);
+  t.decel = VehicleType::getDecel(typeId);
   const std::string mass = VehicleType::getParameter(typeId, "mass");
   if (!mass.empty()) {
     std::size_t used = 0;

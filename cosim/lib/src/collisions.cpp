@@ -9,6 +9,8 @@
 
 namespace st::cosim {
 
+bool SumoCollision::contact() const { return !(gap > kContactGap); }
+
 std::vector<std::size_t> CollisionCounter::step(const std::vector<SumoCollision>& reported) {
   reports_ += reported.size();
   std::vector<std::size_t> begun;

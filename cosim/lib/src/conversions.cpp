@@ -10,6 +10,7 @@ VehicleTypeInfo toVehicleTypeInfo(const SumoVehicleType& type) {
   t.length = type.length;
   t.width = type.width;
   t.mass = type.mass ? *type.mass : highway::classDefaults(t.vehicleClass).mass;
+  if (type.decel > 0.0) t.decel = type.decel;
   return t;
 }
 
@@ -20,6 +21,7 @@ void toVehicleState(const SumoVehicle& v, const VehicleTypeInfo& type, highway::
   s.length = type.length;
   s.width = type.width;
   s.mass = type.mass;
+  s.decel = type.decel;
   s.heading = highway::headingFromNavigationDegrees(v.angle);
   s.position = highway::centreFromFrontBumper(Vec2(v.x, v.y), s.heading, s.length);
   s.speed = v.lateralSpeed == 0.0 ? v.speed : std::copysign(std::hypot(v.speed, v.lateralSpeed), v.speed);

@@ -1,6 +1,10 @@
 #include <stcosim/plugin.hpp>
 
 #include <algorithm>
+#include <limits>
+
+#include <stcore/box2.hpp>
+#include <sthighway/detector.hpp>
 
 #include <stcosim/conversions.hpp>
 
@@ -70,6 +74,26 @@ const HighwayPlugin::TypeInfo& HighwayPlugin::typeInfo(int typeIndex) {
   return t;
 }
 
+double HighwayPlugin::bodyGap(const SumoCollision& c) const {
+  const highway::VehicleState *a = nullptr, *b = nullptr;
+  for (const highway::VehicleState& v : states_) {
+    if (v.id == c.collider) a = &v;
+    if (v.id == c.victim) b = &v;
+  }
+  if (!a || !b) return std::numeric_limits<double>::quiet_NaN();
+  return distance(highway::bodyOf(*a).box(), highway::bodyOf(*b).box());
+}
+
+double HighwayPlugin::collidingGap(const SumoCollision& c, double stepLength) const {
+  const Box2 *a = nullptr, *b = nullptr;
+  for (const CollidingBody& k : collidingBodies_) {
+    if (std::abs(k.time - c.time) > 0.5 * stepLength) continue;
+    if (k.id == c.collider) a = &k.box;
+    if (k.id == c.victim) b = &k.box;
+  }
+  return a && b ? distance(*a, *b) : std::numeric_limits<double>::quiet_NaN();
+}
+
 void HighwayPlugin::step() {
   backend_.read();
   update();
@@ -93,6 +117,7 @@ void HighwayPlugin::prepare() {
   collisionCounter_.step(ev.collisions);
   counters_.collisions = collisionCounter_.distinct();
   counters_.collisionSteps = collisionCounter_.reports();
+  const std::size_t newCollisions = collisions_.size();
   collisions_.insert(collisions_.end(), ev.collisions.begin(), ev.collisions.end());
 
   // convert in place; decide each vehicle's equipment once, on first sight
@@ -127,6 +152,19 @@ void HighwayPlugin::prepare() {
       if (at >= pv.route.size() || pv.route[at] < 0) break;
       route[k] = pv.route[at];
     }
+  }
+  // each collision's bodies at this step: touching, or apart (SUMO's minGap rule)
+  for (std::size_t k = newCollisions; k < collisions_.size(); ++k) collisions_[k].gap = bodyGap(collisions_[k]);
+  // the bodies of the vehicles SUMO named colliding, from then on for kCollidingWatch s (SUMO names
+  // a pair once, then reports it in its file at every step it still counts as a collision)
+  for (const std::string& id : ev.colliding) collidingSince_[id] = time_;
+  if (!collidingSince_.empty()) {
+    for (const highway::VehicleState& v : states_) {
+      const auto it = collidingSince_.find(v.id);
+      if (it != collidingSince_.end() && time_ - it->second <= kCollidingWatch)
+        collidingBodies_.push_back({time_, v.id, highway::bodyOf(v).box()});
+    }
+    std::erase_if(collidingSince_, [&](const auto& kv) { return time_ - kv.second > kCollidingWatch; });
   }
   // incidents act on the states, not on the warnings: they need not wait for detect()
   runIncidents();

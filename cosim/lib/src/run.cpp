@@ -1,5 +1,7 @@
 #include <stcosim/run.hpp>
 
+#include <algorithm>
+#include <limits>
 #include <thread>
 
 #include <sthighway/conflict_map.hpp>
@@ -22,11 +24,37 @@ int checkOptions(const Scenario& s, const RunSetup& setup) {
   return resolveThreads(s, setup);
 }
 
+// Of SUMO's distinct collisions (their first reports), those whose bodies never touched: no
+// touching report of the pair from its first report to the pair's next collision.
+std::uint64_t minGapOnly(const std::vector<SumoCollision>& firstReports, const std::vector<SumoCollision>& touching) {
+  auto pairOf = [](const SumoCollision& c) { return std::minmax(c.collider, c.victim); };
+  std::uint64_t n = 0;
+  for (std::size_t i = 0; i < firstReports.size(); ++i) {
+    const auto pair = pairOf(firstReports[i]);
+    double until = std::numeric_limits<double>::infinity();
+    for (std::size_t j = i + 1; j < firstReports.size(); ++j)
+      if (pairOf(firstReports[j]) == pair) {
+        until = firstReports[j].time;
+        break;
+      }
+    const bool touched = std::any_of(touching.begin(), touching.end(), [&](const SumoCollision& c) {
+      return pairOf(c) == pair && c.time >= firstReports[i].time && c.time < until;
+    });
+    if (!touched) ++n;
+  }
+  return n;
+}
+
 // SUMO's collisions from its --collision-output file, when the plugin saw none of them
-void readCollisionFile(const SumoStart& start, RunOutputs& outputs, LoopOutcome& loop, bool& fileRead) {
+// (each told a contact or a minGap violation from the bodies the plugin kept of that step)
+void readCollisionFile(const SumoStart& start, const HighwayPlugin& plugin, RunOutputs& outputs, LoopOutcome& loop,
+                       bool& fileRead) {
   try {
-    for (const SumoCollision& c : readCollisionOutput(start.collisionFile, start.backend->deltaT()))
+    const double dt = start.backend->deltaT();
+    for (SumoCollision c : readCollisionOutput(start.collisionFile, dt)) {
+      c.gap = plugin.collidingGap(c, dt);
       outputs.writeCollision(c);
+    }
     outputs.flush();
     fileRead = true;
   } catch (const std::exception& e) {
@@ -79,7 +107,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
 
   PluginCounters pc = plugin.counters();
   bool fileRead = false;
-  if (start.collisionsFromFile) readCollisionFile(start, outputs, loop, fileRead);
+  if (start.collisionsFromFile) readCollisionFile(start, plugin, outputs, loop, fileRead);
   // each collision's first report, counted once whichever way the reports came
   CollisionCounter counter;
   const std::vector<SumoCollision> firstReports =
@@ -88,11 +116,18 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
     pc.collisions = counter.distinct();
     pc.collisionSteps = counter.reports();
   }
+  // the contacts (bodies touching) and, apart, SUMO's minGap violations (bodies apart)
+  std::vector<SumoCollision> touching, apart;
+  for (const SumoCollision& c : outputs.collisionReports()) (c.contact() ? touching : apart).push_back(c);
+  CollisionCounter contactCounter;
+  const std::vector<SumoCollision> firstContacts = countCollisions(contactCounter, touching, backend.deltaT());
+  pc.contacts = contactCounter.distinct();
+  pc.mingapViolations = minGapOnly(firstReports, touching);
 
-  // how long before each collision its collider was warning about the victim
+  // how long before each contact its collider was warning about the victim
   std::vector<CollisionWarning> leads;
   if (!attach) {
-    leads = collisionWarnings(firstReports, backend.deltaT(), outputs.vehicleWarnings());
+    leads = collisionWarnings(firstContacts, backend.deltaT(), outputs.vehicleWarnings());
     writeCollisionWarnings(out / "collision_warnings.csv", leads);
   }
 

@@ -1,5 +1,7 @@
 #include "run_parts.hpp"
 
+#include <cmath>
+
 #include <stio/format.hpp>
 
 namespace st::cosim {
@@ -23,7 +25,7 @@ RunOutputs::RunOutputs(const fs::path& out, bool trajectories)
     : warnings_(prepared(out) / "warnings.csv"), conflicts_(out / "conflicts.csv"), events_(out / "events.csv"), collisions_(out / "collisions.csv") {
   if (trajectories) series_.emplace(out / "trajectories.csv");
   if (!collisions_) throw std::runtime_error("cannot write " + (out / "collisions.csv").string());
-  collisions_ << "time,collider,victim,type,lane,pos,collider_speed,victim_speed\n";
+  collisions_ << "time,collider,victim,type,lane,pos,collider_speed,victim_speed,gap,contact\n";
   collisions_.flush();
 }
 
@@ -50,7 +52,8 @@ void RunOutputs::writeCollision(const SumoCollision& c) {
   collisionReports_.push_back(c);
   collisions_ << fmt3(c.time) << "," << io::csvField(c.collider) << "," << io::csvField(c.victim) << ","
               << io::csvField(c.type) << "," << io::csvField(c.lane) << "," << fmt3(c.pos) << ","
-              << fmt3(c.colliderSpeed) << "," << fmt3(c.victimSpeed) << "\n";
+              << fmt3(c.colliderSpeed) << "," << fmt3(c.victimSpeed) << ","
+              << (std::isnan(c.gap) ? std::string() : io::fixed(c.gap, 3)) << "," << (c.contact() ? 1 : 0) << "\n";
 }
 
 void RunOutputs::flush() {

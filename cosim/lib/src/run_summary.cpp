@@ -19,11 +19,13 @@ hw::RunInfo baseInfo(const Scenario& s, const RunSetup& setup) {
   return info;
 }
 
-// the collisions' warning lead times: counts, mean and least, recall as hindsight counts it
+// the collisions (contacts: the bodies touch; leads holds one per contact) and their warning lead times: counts, mean and least, recall as hindsight counts it
 void addCollisionFigures(hw::RunInfo& info, const Scenario& s, const PluginCounters& pc,
                          const std::vector<CollisionWarning>& leads) {
   info.numbers.push_back({"sumo_collisions", static_cast<double>(pc.collisions)});
   info.numbers.push_back({"sumo_collision_steps", static_cast<double>(pc.collisionSteps)});
+  info.numbers.push_back({"contacts", static_cast<double>(pc.contacts)});
+  info.numbers.push_back({"mingap_violations", static_cast<double>(pc.mingapViolations)});
   double warned = 0.0, sum = 0.0, least = 0.0;
   for (const CollisionWarning& w : leads)
     if (w.leadTime) {

@@ -43,7 +43,8 @@ const std::vector<int> kSimulationVars{libsumo::VAR_TIME,
                                        libsumo::VAR_ARRIVED_VEHICLES_IDS,
                                        libsumo::VAR_TELEPORT_STARTING_VEHICLES_IDS,
                                        libsumo::VAR_TELEPORT_ENDING_VEHICLES_IDS,
-                                       libsumo::VAR_MIN_EXPECTED_VEHICLES};
+                                       libsumo::VAR_MIN_EXPECTED_VEHICLES,
+                                       libsumo::VAR_COLLIDING_VEHICLES_IDS};
 
 template <class T>
 const T& resultAs(const TraCIResults& r, int var, const std::string& what) {
@@ -138,6 +139,7 @@ class TraciBackend final : public Backend {
       events_.teleportEnded =
           resultAs<libsumo::TraCIStringList>(sim, libsumo::VAR_TELEPORT_ENDING_VEHICLES_IDS, "teleports").value;
       minExpected_ = resultAs<libsumo::TraCIInt>(sim, libsumo::VAR_MIN_EXPECTED_VEHICLES, "expected").value;
+      events_.colliding = resultAs<libsumo::TraCIStringList>(sim, libsumo::VAR_COLLIDING_VEHICLES_IDS, "colliding").value;
       for (const auto& id : events_.arrived) subscribed_.erase(id);
       // a subscription's answer carries the current values, so departing vehicles are read this step
       if (reads_ == subscribedWith_) {

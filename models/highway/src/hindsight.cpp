@@ -183,6 +183,7 @@ void Hindsight::measureVehicles(double t) {
       }
     }
     v.deceleration = std::max({v.deceleration, braking[v.ego], braking[v.foe]});
+    v.evasive = v.evasive || braking[v.ego] > evasiveThreshold(v.ego) || braking[v.foe] > evasiveThreshold(v.foe);
     v.measured = true;
     ++i;
   }
@@ -195,6 +196,7 @@ void Hindsight::closeVehicle(std::size_t i) {
   w.clearance = v.clearance;
   w.clearanceTime = v.clearanceTime;
   w.deceleration = v.deceleration;
+  w.evasive = v.evasive;
   w.measured = v.measured;
   w.closed = true;
   Track& tr = tracks_[v.track];
@@ -269,7 +271,7 @@ void Hindsight::judge(Warning& w, const Window& win) {
     w.clearance = win.measured ? win.clearance : std::numeric_limits<double>::quiet_NaN();
     w.clearanceTime = win.measured ? win.clearanceTime : std::numeric_limits<double>::quiet_NaN();
     w.deceleration = win.deceleration;
-    confirmed = (win.measured && win.clearance < h.clearance) || win.deceleration > h.evasiveDeceleration;
+    confirmed = (win.measured && win.clearance < h.clearance) || win.evasive;
   } else {
     w.crossed = win.crossed;
     w.signalled = win.signalled;

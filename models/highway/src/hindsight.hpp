@@ -7,7 +7,7 @@
 //   curb, lane-marker and hazard warnings: whether the body touched that line (or hazard) within
 //     the safe time, and whether the turn signal of that side was on when it first did.
 // A warning is confirmed when the clearance fell below HindsightConfig::clearance (a collision
-// included), a vehicle braked harder than the evasive deceleration, a curb or hazard was touched,
+// included), a vehicle braked beyond its own decel (SUMO's vType decel; hindsight.evasive_deceleration when unknown), a curb or hazard was touched,
 // or a lane marker was crossed unsignalled; a nuisance otherwise. Finished warnings are held until
 // their window closes (or a vehicle leaves) and handed on in the order they finished, a tick's
 // together once all of them are judged (so what is handed on does not depend on the input order).
@@ -16,6 +16,7 @@
 // closing; one event per approach), found by a sweep of its own along the traffic's long axis, and
 // whether an episode between the two was open `lead` seconds before (its lead time: how long
 // before the event it began).
+#include <cmath>
 #include <cstdint>
 #include <array>
 #include <deque>
@@ -69,6 +70,7 @@ class Hindsight {
     double begin = 0.0, end = 0.0;  // s, measured while t <= end
     double clearance = 0.0, clearanceTime = 0.0, deceleration = 0.0;
     bool measured = false, crossed = false, signalled = false, closed = false;
+    bool evasive = false;  // either vehicle braked beyond its own decel (evasiveThreshold)
     bool petLive = false;  // its PET still watched (livePets_)
     double pet = std::numeric_limits<double>::quiet_NaN();  // the PET watching found (s)
   };
@@ -102,7 +104,7 @@ class Hindsight {
     int id, track, ego, foe;
     double end;
     double clearance = 0.0, clearanceTime = 0.0, deceleration = 0.0;
-    bool measured = false;
+    bool measured = false, evasive = false;
   };
   // An episode, for recall: of its ego (the car whose list holds it) against a vehicle (foe: its
   // serial) or a line group (foe: kLineBit | group). The episodes of a pair are the two cars'
@@ -132,6 +134,14 @@ class Hindsight {
   void pruneEpisodes(double before);
   void measureTracks();
   void measureVehicles(double t);
+  // The braking (m/s^2) beyond which slot s's braking is evasive: its own decel (SUMO's vType
+  // decel: beyond it SUMO brakes in an emergency) when known, with kDecelSlack for the speed
+  // differences' rounding; else hindsight.evasive_deceleration.
+  double evasiveThreshold(int s) const {
+    const double d = cars_->decel[s];
+    return std::isnan(d) ? cfg_->hindsight.evasiveDeceleration : d + kDecelSlack;
+  }
+  static constexpr double kDecelSlack = 0.01;  // m/s^2
   void closeVehicle(std::size_t i);
   void measure(Window& w, double t);
   void watchPets(double t);

@@ -146,7 +146,7 @@ std::vector<Setting> makeTable() {
       {"hindsight.clearance", T::Number, "m", 0, 100, "", "a realized clearance below this confirms a vehicle warning",
        [](MonitorConfig& c, const SettingValue& v) { c.hindsight.clearance = number(v); },
        [](const MonitorConfig& c) { return SettingValue(c.hindsight.clearance); }},
-      {"hindsight.evasive_deceleration", T::Number, "m/s^2", 0.1, 100, "", "braking harder than this confirms it too",
+      {"hindsight.evasive_deceleration", T::Number, "m/s^2", 0.1, 100, "", "a vehicle of unknown decel braking harder than this confirms it too (else: beyond its own vType decel)",
        [](MonitorConfig& c, const SettingValue& v) { c.hindsight.evasiveDeceleration = number(v); },
        [](const MonitorConfig& c) { return SettingValue(c.hindsight.evasiveDeceleration); }},
       {"hindsight.lead", T::Number, "s", 0, 60, "", "a near miss counts as warned if an episode was open this long before",

@@ -317,6 +317,9 @@ VehicleTypes readSumoVehicleTypes(const std::filesystem::path& path) {
       info.length = optionalNumber(x, t, "length", info.length);
       info.width = optionalNumber(x, t, "width", info.width);
       info.mass = optionalNumber(x, t, "mass", info.mass);
+      info.decel = optionalNumber(x, t, "decel", info.decel);
+      if (!std::isnan(info.decel) && !(info.decel > 0))
+        x.fail(t.line, "<vType id=\"" + *id + "\"> decel must be positive");
       if (!(info.length > 0) || !(info.width > 0) || !(info.mass > 0))
         x.fail(t.line, "<vType id=\"" + *id + "\"> length, width and mass must be positive");
       out[*id] = info;
@@ -442,6 +445,7 @@ bool FcdReader::next(FcdFrame& frame) {
     v.length = optionalNumber(x, t, "length", info.length);
     v.width = optionalNumber(x, t, "width", info.width);
     v.mass = info.mass;
+    v.decel = info.decel;
     if (!(v.length > 0) || !(v.width > 0)) x.fail(t.line, "<vehicle id=\"" + v.id + "\"> length and width must be positive");
     if (v.length > kFcdMaxSize || v.width > kFcdMaxSize)
       x.fail(t.line, "<vehicle id=\"" + v.id + "\"> length and width must be at most " + fmtNumber(kFcdMaxSize) + " m");

@@ -25,6 +25,7 @@ void checkFinite(const VehicleState& v) {
   if (!(v.length > 0.0) || !std::isfinite(v.length)) throw bad("length");
   if (!(v.width > 0.0) || !std::isfinite(v.width)) throw bad("width");
   if (!(v.mass > 0.0) || !std::isfinite(v.mass)) throw bad("mass");
+  if (!std::isnan(v.decel) && !(v.decel > 0.0 && std::isfinite(v.decel))) throw bad("decel");
 }
 
 }  // namespace
@@ -35,6 +36,7 @@ void VehicleTable::ensure(std::size_t n) {
   centre.resize(n);
   vel.resize(n);
   mass.resize(n);
+  decel.resize(n);
   env.resize(n);
   ext.resize(n);
   ownEnv.resize(n);
@@ -139,6 +141,7 @@ void VehicleTable::take(int s, const VehicleState& v, double t) {
   centre[s] = v.position;
   vel[s] = body[s].velocity;
   mass[s] = v.mass;
+  decel[s] = v.decel;
   if (reshaped) {
     ownEnv[s] = envelopeRadius(dc, v.length, v.width);
     ownExt[s] = envelopeExtent(dc, body[s]);

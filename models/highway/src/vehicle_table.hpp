@@ -96,6 +96,8 @@ struct VehicleTable {
   // how hard the car braked since its last tick (m/s^2, >= 0), from its speeds: what it actually
   // did, whether or not the source reports accelerations
   std::vector<double> braking;
+  // VehicleState::decel (m/s^2; NaN unknown): braking beyond it is an emergency (hindsight)
+  std::vector<double> decel;
   // the same signed (m/s^2, negative: braking), NaN at the car's first tick (SSAM's DR and MaxD)
   std::vector<double> accel;
 

@@ -11,6 +11,7 @@
 #include <deque>
 #include <memory>
 #include <optional>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -61,6 +62,7 @@ struct SumoVehicleType {
   double length = 0.0;           // m
   double width = 0.0;            // m
   std::optional<double> mass;    // from a <param key="mass"> (kg), if present
+  double decel = std::numeric_limits<double>::quiet_NaN();  // m/s^2, SUMO's decel (normal maximum braking)
 };
 
 // A lane of the network (SUMO's centre-line shape, in driving direction).
@@ -79,6 +81,13 @@ struct SumoCollision {
   double colliderSpeed = 0.0, victimSpeed = 0.0;  // m/s
   double pos = 0.0;                               // on the lane (m)
   double time = 0.0;                              // s
+  // The two bodies' distance at the report (m; 0 touching or overlapping), from the vehicles'
+  // states of that step (HighwayPlugin); NaN when unknown (collisions read from SUMO's file after
+  // the run). SUMO's default rule (--collision.mingap-factor 1) also reports a follower closer
+  // than its minGap with the bodies apart: contact() tells the two apart.
+  double gap = std::numeric_limits<double>::quiet_NaN();
+  // The bodies touch (within kContactGap); an unknown gap counts as SUMO reported it, a contact.
+  bool contact() const;
 };
 
 // What happened in the last step.
@@ -88,6 +97,9 @@ struct StepEvents {
   std::vector<std::string> teleportStarted;
   std::vector<std::string> teleportEnded;
   std::vector<SumoCollision> collisions;
+  // The vehicles SUMO found in a collision this step (TraCI runs, whose collision reports come
+  // from SUMO's file after the run: their bodies are kept to tell contacts from minGap violations).
+  std::vector<std::string> colliding;
 };
 
 // The per-step variables read besides position, angle and speed (and lateral speed, which is

@@ -15,6 +15,11 @@
 
 namespace st::cosim {
 
+// A SUMO collision is a contact when the two bodies (their rectangles from the step's states) are
+// at most this far apart (m): SUMO's front positions and our rectangles agree to well under it;
+// a minGap violation (collision.mingap-factor 1) leaves the bodies apart by up to the minGap (2.5 m).
+inline constexpr double kContactGap = 0.05;
+
 // With --collision.action warn SUMO reports a touching pair again at every step, so a pair counts
 // as a new collision only after a step in which it was not reported.
 class CollisionCounter {

@@ -13,6 +13,8 @@
 //             default of st::highway::classDefaults (passenger 1500 kg, truck 15 t, bus 12 t,
 //             motorcycle 250 kg, emergency 3.5 t, other 1500 kg).
 //   size      the vType's length and width (SUMO's length includes no minGap).
+#include <limits>
+
 #include <sthighway/road.hpp>
 #include <sthighway/vehicle.hpp>
 
@@ -24,6 +26,7 @@ namespace st::cosim {
 struct VehicleTypeInfo {
   highway::VehicleClass vehicleClass = highway::VehicleClass::Other;
   double length = 0.0, width = 0.0, mass = 0.0;
+  double decel = std::numeric_limits<double>::quiet_NaN();  // m/s^2, SUMO's vType decel; NaN unknown
 };
 VehicleTypeInfo toVehicleTypeInfo(const SumoVehicleType& type);
 

@@ -21,6 +21,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include <stcore/box2.hpp>
 #include <sthighway/monitor.hpp>
 #include <stcosim/backend.hpp>
 #include <stcosim/collisions.hpp>
@@ -90,6 +91,12 @@ struct PluginCounters {
   // distinct collisions: a pair counts again only after a step without contact.
   std::uint64_t collisions = 0;
   std::uint64_t collisionSteps = 0;
+  // Of SUMO's collisions, the contacts (the bodies touch: SumoCollision::contact, counted as
+  // `collisions` over the touching reports only) and the minGap violations (the distinct runs of
+  // reports with the bodies apart; one that went on to touch is a contact too). Set by the run
+  // once every report is in (runScenario).
+  std::uint64_t contacts = 0;
+  std::uint64_t mingapViolations = 0;
 };
 
 class HighwayPlugin {
@@ -127,6 +134,15 @@ class HighwayPlugin {
   std::span<const highway::Alert> alerts() const { return monitor_.alerts(); }
   // SUMO collisions since the last call.
   std::vector<SumoCollision> takeCollisions();
+  // The bodies of the vehicles SUMO named colliding (StepEvents::colliding), step by step, and a
+  // collision report's gap from them (NaN when one is not among them): how a report read from
+  // SUMO's file after the run is told a contact or a minGap violation.
+  struct CollidingBody {
+    double time;
+    std::string id;
+    Box2 box;
+  };
+  double collidingGap(const SumoCollision& c, double stepLength) const;
 
   // The converted states of the last update (same order as the backend's vehicles).
   const std::vector<highway::VehicleState>& states() const { return states_; }
@@ -174,6 +190,11 @@ class HighwayPlugin {
   std::vector<std::uint32_t> serials_;  // per state index: its vehicle's serial
   std::uint64_t acts_ = 0;  // act() calls so far
   std::vector<SumoCollision> collisions_;
+  // the distance of a collision's two bodies in states_ (m); NaN if one is not there
+  double bodyGap(const SumoCollision& c) const;
+  std::vector<CollidingBody> collidingBodies_;
+  std::unordered_map<std::string, double> collidingSince_;  // id -> when SUMO last named it colliding
+  static constexpr double kCollidingWatch = 30.0;            // s its body is kept after
   CollisionCounter collisionCounter_;
   // config_.incidents' progress, by index
   struct IncidentRun {

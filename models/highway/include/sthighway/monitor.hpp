@@ -203,7 +203,7 @@ struct Alert {
 struct HindsightConfig {
   bool enabled = true;
   double clearance = 0.5;            // m: a realized clearance below it confirms a vehicle warning
-  double evasiveDeceleration = 4.0;  // m/s^2: braking harder than this in the window confirms it too
+  double evasiveDeceleration = 4.0;  // m/s^2: a vehicle of unknown decel (VehicleState::decel) braking harder than this in the window confirms it too; one with a decel, braking beyond it
   double lead = 0.5;                 // s: a near miss is warned if an episode was open this long before
   double nearMissTtc = 1.5;          // s: a near miss is on a collision course: its box TTC then at most this (SSAM's 1.5 s)
 };

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <istream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -34,6 +35,7 @@ struct VehicleTypeInfo {
   double length = 5.0;
   double width = 1.8;
   double mass = 1500.0;
+  double decel = std::numeric_limits<double>::quiet_NaN();  // m/s^2, the vType's `decel`; NaN: not given
 };
 using VehicleTypes = std::map<std::string, VehicleTypeInfo>;
 // Reads <vType id length width vClass mass|param key="mass"> from a route/additional file.

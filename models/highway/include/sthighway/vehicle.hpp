@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
 
@@ -41,6 +42,9 @@ struct VehicleState {
   double length = 5.0;           // m
   double width = 1.8;            // m
   double mass = 1500.0;          // kg
+  // Its normal maximum braking (m/s^2, SUMO's vType `decel`; beyond it SUMO calls braking an
+  // emergency), or NaN: unknown. Hindsight confirms a warning by braking beyond it.
+  double decel = std::numeric_limits<double>::quiet_NaN();
   VehicleClass vehicleClass = VehicleClass::Passenger;
   std::uint8_t signals = kSignalNone;  // TurnSignal bits
   bool equipped = true;          // a smart car raises warnings; every vehicle is a potential foe
