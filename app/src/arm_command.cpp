@@ -269,14 +269,40 @@ int runStreamCommand(int argc, const char* const* argv) {
   return 0;
 }
 
+int runResetCommand(int argc, const char* const* argv) {
+  Args args("arm reset",
+            "Releases the STOPs an arm service holds since an arm's sensor fell silent (a deliberate restart; "
+            "an arm whose sensor is not current again stays held, and its verdicts say 'latched').");
+  args.option("connect", "HOST:PORT", "the service", "");
+  args.option("token", "TEXT", "shared token of the service", "");
+  args.option("arms", "A,B", "the arms to reset, by name (default: all)", "");
+  if (!args.parse(argc, argv)) {
+    std::cout << args.help();
+    return 0;
+  }
+  if (args.get("connect").empty()) throw UsageError("--connect HOST:PORT is required");
+  const net::HostPort hp = hostPort("connect", args.get("connect"));
+  std::vector<std::string> arms;
+  std::stringstream list(args.get("arms"));
+  for (std::string a; std::getline(list, a, ',');)
+    if (!a.empty()) arms.push_back(a);
+  const std::vector<std::string> named = arm::resetLatches(hp.host, hp.port, args.get("token"), arms);
+  std::cout << "arm reset:";
+  for (const std::string& a : named) std::cout << ' ' << io::printable(a);
+  std::cout << std::endl;
+  return 0;
+}
+
 int runArm(int argc, const char* const* argv) {
   if (argc > 0 && std::string(argv[0]) == "serve") return runServe(argc - 1, argv + 1);
+  if (argc > 0 && std::string(argv[0]) == "reset") return runResetCommand(argc - 1, argv + 1);
   if (argc > 0 && std::string(argv[0]) == "stream") return runStreamCommand(argc - 1, argv + 1);
   Args args("arm",
             "Robot-arm collision monitor: forward kinematics, capsules in a dynamic octree, time to collision by "
             "conservative advancement, warnings and STOP per arm (closed loop: STOP brakes the arm). Writes "
             "warnings.csv and summary.json.\n  stsim arm serve SCENARIO --listen 127.0.0.1:PORT   the service "
-            "(stsim arm serve --help)\n  stsim arm stream --connect HOST:PORT SENSORS.csv     its sensor client");
+            "(stsim arm serve --help)\n  stsim arm stream --connect HOST:PORT SENSORS.csv     its sensor client\n  stsim arm "
+            "reset --connect HOST:PORT [--arms A,B]  release STOPs held since a sensor fell silent");
   args.positional("SCENARIO", "scenario YAML (arms, obstacles, octree rule, safety terms, sensor trace or waypoints)",
                   false);
   args.option("out", "DIR", "output folder", "arm-out");

@@ -155,6 +155,19 @@ double Monitor::staleAfter(int arm) const {
   return a.sensorPeriod > 0.0 ? a.sensorPeriod + a.sensorJitter : safety_.reactionTime + safety_.cycleTime;
 }
 
+void Monitor::forget(int arm) {
+  ArmState& a = arms_[arm];
+  if (a.read && safety_.latchStale) a.latched = true;
+  a.read = false;
+}
+
+bool Monitor::reset(int arm) {
+  ArmState& a = arms_[arm];
+  if (a.stale) return false;
+  a.latched = false;
+  return true;
+}
+
 void Monitor::setJointState(int arm, double t, const double* q, const double* qdot) {
   if (arm < 0 || arm >= armCount()) throw InputError("arm " + std::to_string(arm) + ": no such arm");
   ArmState& a = arms_[arm];
@@ -273,7 +286,9 @@ void Monitor::cycle(double t) {
     // the watchdog: a verdict on a reading that is not current (or none yet) is no verdict
     a.stale = !a.read || !(std::abs(t - a.t) <= staleAfter(ai));
     if (a.stale) ++counters_.staleStops;
-    if ((a.warned || a.stale) && !a.stopped) {
+    // a sensor that was current and fell silent latches (one never heard from does not)
+    if (a.stale && a.read && safety_.latchStale) a.latched = true;
+    if ((a.warned || a.stale || a.latched) && !a.stopped) {
       a.stopped = true;
       ++counters_.stops;
       for (Warning& w : warnings_)
@@ -281,7 +296,7 @@ void Monitor::cycle(double t) {
           w.stop = true;
           break;
         }
-    } else if (!a.warned && !a.stale) {
+    } else if (!a.warned && !a.stale && !a.latched) {
       a.stopped = false;
     }
   }

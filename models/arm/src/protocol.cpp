@@ -109,6 +109,7 @@ const char* typeName(Type t) {
     case Type::Obstacles: return "OBSTACLES";
     case Type::Subscribe: return "SUBSCRIBE";
     case Type::Claim: return "CLAIM";
+    case Type::Reset: return "RESET";
     case Type::Welcome: return "WELCOME";
     case Type::Verdict: return "VERDICT";
     case Type::Error: return "ERROR";
@@ -123,6 +124,7 @@ bool knownType(std::uint8_t b) {
     case Type::Obstacles:
     case Type::Subscribe:
     case Type::Claim:
+    case Type::Reset:
     case Type::Welcome:
     case Type::Verdict:
     case Type::Error: return true;
@@ -179,6 +181,7 @@ const char* toString(Cause c) {
     case Cause::Stale: return "stale";
     case Cause::ObstacleLost: return "obstacle_lost";
     case Cause::Disputed: return "disputed";
+    case Cause::Latched: return "latched";
   }
   return "?";
 }
@@ -246,6 +249,10 @@ std::string encode(const Message& m, std::uint8_t version) {
         } else if constexpr (std::is_same_v<T, Subscribe>) {
           w.head(Type::Subscribe);
           w.u8(x.flags);
+        } else if constexpr (std::is_same_v<T, Reset>) {
+          w.head(Type::Reset);
+          w.u16(static_cast<std::uint16_t>(x.arms.size()));
+          for (std::uint16_t a : x.arms) w.u16(a);
         } else if constexpr (std::is_same_v<T, Claim>) {
           w.head(Type::Claim);
           w.u16(static_cast<std::uint16_t>(x.arms.size()));
@@ -366,6 +373,16 @@ Decoded decode(std::string_view payload) {
         r.fail(std::to_string(m) + " obstacles claimed (at most " + std::to_string(kMaxObstacles) + ")");
       r.what = "obstacle";
       for (std::uint16_t k = 0; k < m && r.error.empty(); ++k) x.obstacles.push_back(r.u16());
+      if (r.done()) d.message = std::move(x);
+      break;
+    }
+    case Type::Reset: {
+      Reset x;
+      r.what = "arm count";
+      const std::uint16_t n = r.u16();
+      if (r.error.empty() && n > kMaxArms) r.fail(std::to_string(n) + " arms to reset (at most " + std::to_string(kMaxArms) + ")");
+      r.what = "arm";
+      for (std::uint16_t k = 0; k < n && r.error.empty(); ++k) x.arms.push_back(r.u16());
       if (r.done()) d.message = std::move(x);
       break;
     }

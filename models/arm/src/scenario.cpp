@@ -239,7 +239,8 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
   Scenario s;
   s.file = path;
   if (const YAML::Node n = root["safety"]) {
-    y.knownKeys(n, "safety", {"cycle_time", "reaction_time", "stopping_time", "min_separation", "horizon"});
+    y.knownKeys(n, "safety", {"cycle_time", "reaction_time", "stopping_time", "min_separation", "horizon", "latch_stale"});
+    if (n["latch_stale"]) s.safety.latchStale = y.boolean(n["latch_stale"], "safety.latch_stale");
     s.safety.cycleTime = y.positive(n, "cycle_time", "safety", s.safety.cycleTime);
     s.safety.reactionTime = y.number(n, "reaction_time", "safety", s.safety.reactionTime);
     s.safety.stoppingTime = y.number(n, "stopping_time", "safety", s.safety.stoppingTime);

@@ -227,6 +227,20 @@ void ArmService::onFrame(net::Server& s, net::ConnectionId id, std::string_view 
         case proto::Type::Readings: err = onReadings(id, p, payload); break;
         case proto::Type::Obstacles: err = onObstacles(id, p, payload); break;
         case proto::Type::Claim: err = onClaim(id, p, payload); break;
+        case proto::Type::Reset: {
+          const proto::Decoded d = proto::decode(payload);
+          if (!d.ok) {
+            err = d.error;
+            break;
+          }
+          // any client may ask (the latch is an acknowledgement, not a reading): an arm whose
+          // sensor is not current again stays latched, and the verdict says so
+          for (const std::uint16_t a : std::get<proto::Reset>(d.message).arms)
+            if (a >= monitor_.armCount()) err = "RESET: unknown arm id " + std::to_string(a);
+          if (err.empty())
+            for (const std::uint16_t a : std::get<proto::Reset>(d.message).arms) monitor_.reset(a);
+          break;
+        }
         case proto::Type::Subscribe: {
           const proto::Decoded d = proto::decode(payload);
           if (!d.ok) {
@@ -488,10 +502,10 @@ void ArmService::runCycle() {
     // fail safe: a verdict on a reading that is not current (or none: the monitor's watchdog, by
     // the arm's declared sensor period) is no verdict: STOP, and the geometry (of a pose no sensor
     // gave now) is not its cause
-    if (monitor_.stale(a)) {
+    if (monitor_.stale(a) || monitor_.latched(a)) {
       if (v.level != proto::Level::Stop) ++counters_.staleStops;
       v.level = proto::Level::Stop;
-      v.cause = proto::Cause::Stale;
+      v.cause = monitor_.stale(a) ? proto::Cause::Stale : proto::Cause::Latched;
       v.pair = none;
       continue;
     }

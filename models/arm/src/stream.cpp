@@ -1,5 +1,6 @@
 #include <starm/stream.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -39,6 +40,33 @@ proto::Message expect(net::Client& c, std::chrono::milliseconds timeout, const c
 }
 
 }  // namespace
+
+std::vector<std::string> resetLatches(const std::string& host, std::uint16_t port, const std::string& token,
+                                      const std::vector<std::string>& arms) {
+  net::Client client;
+  client.connect(host, port);
+  client.send(proto::encode(proto::Hello{proto::kVersion, token}));
+  const proto::Message m = expect(client, std::chrono::milliseconds(2000), "WELCOME");
+  const auto* w = std::get_if<proto::Welcome>(&m);
+  if (!w) throw std::runtime_error("the service did not answer HELLO with WELCOME");
+  proto::Reset reset;
+  std::vector<std::string> named;
+  for (std::size_t a = 0; a < w->armNames.size(); ++a)
+    if (arms.empty() || std::find(arms.begin(), arms.end(), w->armNames[a]) != arms.end()) {
+      reset.arms.push_back(static_cast<std::uint16_t>(a));
+      named.push_back(w->armNames[a]);
+    }
+  for (const std::string& a : arms)
+    if (std::find(named.begin(), named.end(), a) == named.end()) throw std::runtime_error("no arm '" + a + "' in the service's scenario");
+  client.send(proto::encode(reset));
+  // a SUBSCRIBE and the next VERDICT would wait on the sensors; a refusal comes back at once
+  if (const auto f = client.receive(std::chrono::milliseconds(200))) {
+    const proto::Decoded d = proto::decode(*f);
+    if (d.ok && std::holds_alternative<proto::Error>(d.message))
+      throw std::runtime_error("service: " + std::get<proto::Error>(d.message).message);
+  }
+  return named;
+}
 
 void runStream(const StreamConfig& cfg, StreamResult& res) {
   net::Client client;

@@ -261,6 +261,7 @@ Watch watch(double period, double jitter, double declaredPeriod, double declared
   Scenario s = loadScenario(scenarioPath("two_pandas"));
   s.arms[0].sensorPeriod = declaredPeriod;
   s.arms[0].sensorJitter = declaredJitter;
+  s.safety.latchStale = false;  // the watchdog alone (its latch: below)
   Monitor m = makeMonitor(s);
   std::mt19937_64 g(5);
   const std::vector<double> still(7, 0.0);
@@ -301,6 +302,38 @@ TEST(Monitor, DeclaredSensorRatesMeanNoSpuriousStopAndASilentSensorStillStops) {
   EXPECT_LE(age, 0.02 + 0.003 + 0.001 + 1e-9);
   EXPECT_EQ(declared.stopped, static_cast<int>(std::lround((2.0 - declared.firstStopAfterSilence) / 0.001)) + 1)
       << "STOPs before the sensor fell silent";
+}
+
+TEST(Monitor, ASensorThatFellSilentHoldsItsStopUntilReset) {
+  Monitor m = makeMonitor(loadScenario(scenarioPath("two_pandas")));
+  const std::vector<double> still(7, 0.0);
+  const auto tick = [&](double t, bool arm0) {
+    if (arm0) m.setJointState(0, t, kHome.data(), still.data());
+    m.setJointState(1, t, kHome.data(), still.data());
+    m.cycle(t);
+  };
+  tick(0.0, true);
+  EXPECT_FALSE(m.stopped(0));
+  tick(0.012, false);  // 12 ms without arm 0: stale
+  EXPECT_TRUE(m.stale(0));
+  EXPECT_FALSE(m.reset(0)) << "reset while the sensor is still silent";
+  tick(0.013, true);  // back: current, but held
+  EXPECT_FALSE(m.stale(0));
+  EXPECT_TRUE(m.latched(0));
+  EXPECT_TRUE(m.stopped(0)) << "a silent sensor's STOP cleared itself";
+  EXPECT_FALSE(m.stopped(1));
+  EXPECT_TRUE(m.reset(0));
+  tick(0.014, true);
+  EXPECT_FALSE(m.stopped(0));
+  // a sensor never heard from is STOP but does not latch: its first reading is enough
+  Monitor fresh = makeMonitor(loadScenario(scenarioPath("two_pandas")));
+  fresh.setJointState(1, 0.0, kHome.data(), still.data());
+  fresh.cycle(0.0);
+  EXPECT_TRUE(fresh.stopped(0));
+  fresh.setJointState(0, 0.001, kHome.data(), still.data());
+  fresh.setJointState(1, 0.001, kHome.data(), still.data());
+  fresh.cycle(0.001);
+  EXPECT_FALSE(fresh.stopped(0));
 }
 
 TEST(Monitor, AnArmNeverReadIsStopped) {

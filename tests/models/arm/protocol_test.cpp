@@ -31,7 +31,7 @@ std::vector<Message> samples() {
   v.arms = {{Level::Stop, 0.2, Cause::Collision, {0, 8, 1, 8, -1, 0.031, 0.2}},
             {Level::Warn, 0.29, Cause::Lookahead, {1, 3, -1, -1, 1, 0.12, 0.29}}};
   v.nearest = {0, 8, 1, 8, -1, 0.031, 0.2};
-  return {Hello{kVersion, "s3cret"}, r, o, Subscribe{Subscribe::kOwnOnly}, w, v, Error{"bad token"}, Claim{{0, 1}, {3}}};
+  return {Hello{kVersion, "s3cret"}, r, o, Subscribe{Subscribe::kOwnOnly}, w, v, Error{"bad token"}, Claim{{0, 1}, {3}}, Reset{{1}}};
 }
 
 bool same(const Message& a, const Message& b) { return encode(a) == encode(b); }
@@ -98,8 +98,8 @@ TEST(Protocol, VersionOneVerdictsKeepTheirLayoutAndVersionTwoNamesTheCause) {
   EXPECT_EQ(v2.arms[1].cause, Cause::Lookahead);
   // a cause beyond the last is refused
   std::string bad = two;
-  bad[2 + 4 + 8 + 8 + 2 + 9] = 7;
-  EXPECT_EQ(decode(bad).error, "VERDICT: verdict cause 7");
+  bad[2 + 4 + 8 + 8 + 2 + 9] = 8;
+  EXPECT_EQ(decode(bad).error, "VERDICT: verdict cause 8");
   // versions 0 and 3 are not served
   for (const char version : {'\0', '\3'}) {
     std::string m = two;

@@ -410,9 +410,15 @@ TEST(ArmService, OneConnectionReportsEachArmAndAConnectionMayNotGoBack) {
   a.c.send(proto::encode(pandaReading(3, 0.05)));
   expectError(a.c, "time 0.05 s goes backwards (this connection's last was 0.201 s)");
   std::this_thread::sleep_for(100ms);  // the service sees the close first
-  // a has left: the arm is free, its next owner is alone and the dispute is over
+  // a has left: the arm is free, its next owner is alone and the dispute is over; the arms'
+  // sensor left, so their STOP is held until a RESET
   Peer c(svc.service.port());
   c.c.send(proto::encode(bothArmsAt(1, 0.202)));
+  v = c.next();
+  ASSERT_TRUE(v && std::holds_alternative<proto::Verdict>(*v));
+  EXPECT_EQ(std::get<proto::Verdict>(*v).arms[0].cause, proto::Cause::Latched);
+  c.c.send(proto::encode(proto::Reset{{0, 1}}));
+  c.c.send(proto::encode(bothArmsAt(2, 0.203)));
   v = c.next();
   ASSERT_TRUE(v && std::holds_alternative<proto::Verdict>(*v));
   EXPECT_EQ(std::get<proto::Verdict>(*v).arms[0].level, proto::Level::Ok);
@@ -746,13 +752,55 @@ TEST(ArmServiceFaults, AnArmWithoutACurrentReadingIsStopped) {
   ASSERT_TRUE(v);
   EXPECT_EQ(v->arms[0].level, proto::Level::Stop) << "a verdict on a 0.012 s old reading is no verdict";
   EXPECT_EQ(v->arms[1].level, proto::Level::Ok);
-  // back: current again
+  EXPECT_EQ(v->arms[0].cause, proto::Cause::Stale);
+  // back: current again, but the STOP is held until someone resets it (a deliberate restart)
   p.c.send(proto::encode(bothArms(5, 0.014)));
   v = verdictFor(p, 5);
   ASSERT_TRUE(v);
+  EXPECT_EQ(v->arms[0].level, proto::Level::Stop) << "a silent sensor's STOP cleared itself";
+  EXPECT_EQ(v->arms[0].cause, proto::Cause::Latched);
+  EXPECT_EQ(v->arms[1].level, proto::Level::Ok);
+  p.c.send(proto::encode(proto::Reset{{0}}));
+  p.c.send(proto::encode(bothArms(6, 0.015)));
+  v = verdictFor(p, 6);
+  ASSERT_TRUE(v);
   EXPECT_EQ(v->arms[0].level, proto::Level::Ok);
+  // a RESET naming no arm of the scenario is refused
+  p.c.send(proto::encode(proto::Reset{{9}}));
+  expectError(p.c, "RESET: unknown arm id 9");
   svc.stop();
-  EXPECT_EQ(svc.service.counters().staleStops, 1u);
+  EXPECT_EQ(svc.service.counters().staleStops, 2u);
+}
+
+TEST(ArmServiceFaults, StsimArmResetReleasesALatchedStop) {
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  const fs::path d = tempDir("reset");
+  Service svc(s, {});
+  Peer p(svc.service.port());
+  p.c.send(proto::encode(bothArms(1, 0.0)));
+  ASSERT_TRUE(verdictFor(p, 1));
+  p.c.send(proto::encode(pandaReading(2, 0.02, 1)));  // the left arm's sensor silent for 20 ms
+  p.c.send(proto::encode(bothArms(3, 0.021)));
+  auto v = verdictFor(p, 3);
+  ASSERT_TRUE(v);
+  ASSERT_EQ(v->arms[0].cause, proto::Cause::Latched);
+  const auto reset = [&](const std::string& arms) {
+    const std::string cmd = std::string("timeout 20 ") + STSIM_BINARY + " arm reset --connect 127.0.0.1:" +
+                            std::to_string(svc.service.port()) + arms + " > " + (d / "stdout").string() + " 2> " +
+                            (d / "stderr").string();
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  EXPECT_EQ(reset(" --arms elbow"), 1);
+  EXPECT_NE(slurp(d / "stderr").find("no arm 'elbow' in the service's scenario"), std::string::npos) << slurp(d / "stderr");
+  EXPECT_EQ(reset(" --arms left"), 0) << slurp(d / "stderr");
+  EXPECT_EQ(slurp(d / "stdout"), "arm reset: left\n");
+  std::this_thread::sleep_for(100ms);  // the service has read it
+  p.c.send(proto::encode(bothArms(4, 0.022)));
+  v = verdictFor(p, 4);
+  ASSERT_TRUE(v);
+  EXPECT_EQ(v->arms[0].level, proto::Level::Ok);
+  fs::remove_all(d);
 }
 
 TEST(ArmServiceFaults, ATrackedObstacleWithoutACurrentPoseStopsEveryArm) {

@@ -22,6 +22,9 @@ struct SafetyConfig {
   double stoppingTime = 0.200;  // s, braking to rest
   double minSeparation = 0.02;  // m, every object grown by half of it
   double horizon = 0.0;         // s, look-ahead of the time-to-collision search; 0 = safe time
+  // A STOP because an arm's sensor fell silent holds until reset(arm), once the arm is current
+  // again (ISO 10218: a deliberate restart after a protective stop); false: it clears itself.
+  bool latchStale = true;
   double safeTime() const { return cycleTime + reactionTime + stoppingTime; }
   double lookAhead() const { return horizon > 0.0 ? horizon : safeTime(); }
 };
@@ -107,9 +110,13 @@ class Monitor {
   bool stopped(int arm) const { return arms_[arm].stopped; }
   // The watchdog: no reading of the arm within staleAfter(arm) of the cycle's time (or none yet).
   bool stale(int arm) const { return arms_[arm].stale; }
-  // The arm has no reading from now on (its sensor left): stale, STOP, until the next one, whose
-  // time may be any.
-  void forget(int arm) { arms_[arm].read = false; }
+  // The arm has no reading from now on (its sensor left): stale, STOP (latched, if it had
+  // readings) until the next one, whose time may be any.
+  void forget(int arm);
+  // Held by the latch: its sensor fell silent (or left) since the last reset.
+  bool latched(int arm) const { return arms_[arm].latched; }
+  // Releases the latch if the arm was current at the last cycle; false if it stays latched.
+  bool reset(int arm);
   double staleAfter(int arm) const;
   bool warned(int arm) const { return arms_[arm].warned; }
   double time() const { return now_; }  // of the last cycle
@@ -150,6 +157,7 @@ class Monitor {
     double t = 0.0;  // time of the last reading
     bool read = false;   // any reading yet
     bool stale = false;  // this cycle: no current reading
+    bool latched = false;  // a sensor once current fell silent: STOP until reset
     bool fresh = false;
     bool stopped = false;
     bool warned = false;

@@ -13,6 +13,8 @@
 //   0x02 READINGS   u32 seq, f64 t, u16 n, n x {u16 arm, u8 dof, dof x f64 q, dof x f64 qdot}
 //   0x03 OBSTACLES  u32 seq, f64 t, u16 n, n x {u16 obstacle, 3 x f64 position, 3 x f64 velocity}
 //   0x04 SUBSCRIBE  u8 flags (bit 0: only the cycles holding this client's own readings)
+//   0x06 RESET      u16 n, n x u16 arm: release the latch of STOPs held since a sensor fell silent
+//                   (each arm current again; one that is not stays latched)
 //   0x05 CLAIM      u16 n, n x u16 arm, u16 m, m x u16 obstacle: what this client reports (once,
 //                   before its first READINGS or OBSTACLES; without it a client claims each arm or
 //                   obstacle by its first report of it)
@@ -52,6 +54,7 @@ enum class Type : std::uint8_t {
   Obstacles = 0x03,
   Subscribe = 0x04,
   Claim = 0x05,
+  Reset = 0x06,
   Welcome = 0x81,
   Verdict = 0x82,
   Error = 0xFF,
@@ -68,8 +71,9 @@ enum class Cause : std::uint8_t {
   Stale = 4,         // STOP: no current reading of the arm
   ObstacleLost = 5,  // STOP: a tracked obstacle has no current pose
   Disputed = 6,      // STOP: the arm, or a tracked obstacle, is reported by two connections
+  Latched = 7,       // STOP: held since the arm's sensor fell silent, until a RESET
 };
-inline constexpr std::uint8_t kLastCause = 6;
+inline constexpr std::uint8_t kLastCause = 7;
 const char* toString(Cause c);
 
 struct Hello {
@@ -101,6 +105,9 @@ struct Subscribe {
 };
 struct Claim {
   std::vector<std::uint16_t> arms, obstacles;
+};
+struct Reset {
+  std::vector<std::uint16_t> arms;
 };
 struct Welcome {
   std::uint16_t version = kVersion;
@@ -134,7 +141,7 @@ struct Error {
   std::string message;
 };
 
-using Message = std::variant<Hello, Readings, Obstacles, Subscribe, Claim, Welcome, Verdict, Error>;
+using Message = std::variant<Hello, Readings, Obstacles, Subscribe, Claim, Reset, Welcome, Verdict, Error>;
 
 // In protocol `version` (kOldestVersion..kVersion).
 std::string encode(const Message& m, std::uint8_t version = kVersion);

@@ -43,6 +43,12 @@ struct StreamResult {
 // InputError on a bad trace line. `result` holds what was measured up to then.
 void runStream(const StreamConfig& cfg, StreamResult& result);
 
+// `stsim arm reset`: asks the service at host:port to release the latched STOPs of the named
+// arms (all when empty), held since their sensors fell silent. Returns the arms named; throws
+// std::runtime_error for an unknown arm name or a service that refuses.
+std::vector<std::string> resetLatches(const std::string& host, std::uint16_t port, const std::string& token,
+                                      const std::vector<std::string>& arms);
+
 // A sensor source that writes every reading it passes on as a CSV trace line.
 class RecordingSensor final : public SensorSource {
  public:
