@@ -124,7 +124,7 @@ int runPool(int argc, const char* const* argv) {
   args.positional("SCENARIO.yaml", "the scenario (models/pool/README.md documents its keys)", false)
       .option("out", "DIR", "write the run's files to this directory (created if missing); with --study, fig13.txt")
       .option("space", "KIND", "override space.kind: none, single, quadtree or cells")
-      .option("df", "N", "override space.decomposition_factor")
+      .option("df", "N|auto", "override space.decomposition_factor (quadtree only): an integer >= 1, or auto")
       .option("until", "T", "override every shot's time limit (s)")
       .option("max-events", "N", "stop the run after N events, an error naming events.csv (default 200000, about\n"
                                  "27 MB of events.csv; at most 2000000)")
@@ -164,20 +164,24 @@ int runPool(int argc, const char* const* argv) {
   if (!path) throw UsageError("missing argument SCENARIO.yaml (see stsim pool --help)");
 
   pool::Scenario scenario = pool::loadScenario(*path);
-  if (args.has("space")) {
-    if (!parseSpaceKind(args.get("space"), scenario.space.kind))
-      throw UsageError("option --space: unknown kind '" + args.get("space") + "' (none, single, quadtree, cells)");
-  }
-  if (args.has("df")) {
-    const long df = args.getInt("df");
-    if (df < 1) throw UsageError("option --df needs an integer >= 1");
-    scenario.space.decompositionFactor = static_cast<int>(df);
-  }
+  // the overrides are checked by the code that checks their YAML keys (pool::SettingError), the
+  // problem named at the flag: `--space cells --df 7` is refused as `kind: cells` with a
+  // decomposition_factor is. --space sets the file's keys of its old kind aside.
+  auto setting = [&](const char* flag, auto&& set) {
+    try {
+      return set();
+    } catch (const pool::SettingError& e) {
+      throw UsageError(std::string("option --") + flag + ": " + e.what());
+    }
+  };
+  if (args.has("space")) setting("space", [&] { scenario.space.kind = pool::spaceKindSetting(args.get("space")); });
+  if (args.has("df"))
+    setting("df", [&] {
+      pool::checkKeyForKind(scenario.space, "space.decomposition_factor");
+      pool::setDecompositionFactor(scenario.space, args.get("df"));
+    });
   double until = -1.0;
-  if (args.has("until")) {
-    until = args.getDouble("until");
-    if (!(until > 0.0)) throw UsageError("option --until needs a positive time");
-  }
+  if (args.has("until")) until = setting("until", [&] { return pool::untilSetting(args.get("until")); });
 
   // events.csv (and animation.html) grow with the events: a runaway time limit (until 1e12 on
   // box100) wrote 269 MB before the library's own bound stopped it

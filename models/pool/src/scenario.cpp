@@ -1,6 +1,8 @@
 #include <stpool/scenario.hpp>
 
 #include <algorithm>
+#include <cctype>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -24,8 +26,60 @@ namespace {
 
 constexpr double kMaxTableSide = 100.0;  // m; a snooker table is 3.6
 constexpr double kMaxFriction = 100.0;   // m/s^2; cloth's rolling resistance is about 0.1
+constexpr long kMaxFactor = 1000000000;  // a factor past any ball count: taken as this
+
+// The whole text as a number (a leading '+' allowed, as YAML and strtod allow it).
+template <class T>
+bool wholeNumber(const std::string& text, T& out) {
+  const char* b = text.data();
+  const char* e = b + text.size();
+  if (b != e && *b == '+') ++b;
+  const auto [ptr, ec] = std::from_chars(b, e, out);
+  return b != e && ec == std::errc() && ptr == e;
+}
 
 }  // namespace
+
+SpaceKind spaceKindSetting(const std::string& text) {
+  SpaceKind kind = SpaceKind::Tree;
+  if (!parseSpaceKind(text, kind)) throw SettingError("unknown space kind '" + text + "' (none, single, quadtree, cells)");
+  return kind;
+}
+
+void setDecompositionFactor(SpaceSpec& space, const std::string& text) {
+  if (text == "auto") {
+    space.autoFactor = true;  // the space picks it as it runs (stcore/factor_tuner.hpp)
+    return;
+  }
+  long df = 0;
+  if (!wholeNumber(text, df)) throw SettingError("must be an integer or auto, got '" + text + "'");
+  if (df < 1) throw SettingError("must be at least 1 (or auto), got " + text);
+  space.decompositionFactor = static_cast<int>(std::min(df, kMaxFactor));
+  space.autoFactor = false;
+}
+
+void checkKeyForKind(const SpaceSpec& space, const std::string& key) {
+  const bool tree = key == "space.decomposition_factor" || key == "space.divisions" || key == "space.max_depth";
+  const bool cells = key == "space.cell_size" || key == "space.margin";
+  if (!tree && !cells) return;
+  if (space.kind == (tree ? SpaceKind::Tree : SpaceKind::Cells)) return;
+  const char* kindName = space.kind == SpaceKind::Tree ? "quadtree" : toString(space.kind);
+  throw SettingError(std::string("only for kind ") + (tree ? "quadtree" : "cells") + " (this space is " + kindName + ")");
+}
+
+double untilSetting(const std::string& text) {
+  double v = 0.0;
+  if (!wholeNumber(text, v)) {
+    std::string low;
+    for (const char c : text) low += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    // YAML's own spellings of infinity and NaN
+    if (low == ".inf" || low == "+.inf" || low == "-.inf" || low == ".nan") throw SettingError("must be finite");
+    throw SettingError("must be a number, got '" + text + "'");
+  }
+  if (!std::isfinite(v)) throw SettingError("must be finite");
+  if (!(v > 0.0)) throw SettingError("must be positive, got " + text);
+  return v;
+}
 
 namespace {
 
@@ -38,6 +92,16 @@ struct Where {
 };
 
 [[noreturn]] void fail(const Where& w, const std::string& problem) { throw ScenarioError(w.str() + ": " + problem); }
+
+// One of the settings above, its problem named at the key that gave it.
+template <class F>
+auto setting(const Where& w, F&& f) {
+  try {
+    return f();
+  } catch (const SettingError& e) {
+    fail(w, e.what());
+  }
+}
 
 class Reader {
  public:
@@ -204,8 +268,9 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
     if (seed < 0) fail(rd.at(root["seed"], "seed"), "must not be negative");
     s.seed = static_cast<std::uint64_t>(seed);
   }
-  if (root["until"]) {
-    s.until = rd.positive(root["until"], "until");
+  if (const YAML::Node n = root["until"]) {
+    if (!n.IsScalar()) fail(rd.at(n, "until"), "must be a number");
+    s.until = setting(rd.at(n, "until"), [&] { return untilSetting(n.Scalar()); });
   }
   if (root["friction"]) {
     mark("friction", root["friction"]);
@@ -351,7 +416,10 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
         const double rad = deg * std::numbers::pi / 180.0;
         shot.velocity = speed * Vec2(std::cos(rad), std::sin(rad));
       }
-      if (n["until"]) shot.until = rd.positive(n["until"], key + ".until");
+      if (const YAML::Node u = n["until"]) {
+        if (!u.IsScalar()) fail(rd.at(u, key + ".until"), "must be a number");
+        shot.until = setting(rd.at(u, key + ".until"), [&] { return untilSetting(u.Scalar()); });
+      }
       s.shots.push_back(shot);
     }
   }
@@ -362,29 +430,22 @@ Scenario parse(const YAML::Node& root, const std::string& source) {
     rd.onlyKeys(sp, "space", {"kind", "decomposition_factor", "divisions", "max_depth", "cell_size", "margin"});
     if (sp["kind"]) {
       const std::string k = rd.text(sp["kind"], "space.kind");
-      if (!parseSpaceKind(k, s.space.kind))
-        fail(rd.at(sp["kind"], "space.kind"), "unknown space kind '" + k + "' (none, single, quadtree, cells)");
+      s.space.kind = setting(rd.at(sp["kind"], "space.kind"), [&] { return spaceKindSetting(k); });
     }
     // a key of another kind would be taken and do nothing: refused, naming the kind it is for
-    const char* kindName = s.space.kind == SpaceKind::Tree ? "quadtree" : toString(s.space.kind);
-    auto onlyFor = [&](const char* k, SpaceKind kind, const char* name) {
-      if (sp[k] && s.space.kind != kind)
-        fail(rd.at(sp[k], std::string("space.") + k),
-             std::string("only for kind ") + name + " (this space is " + kindName + ")");
-    };
-    for (const char* k : {"decomposition_factor", "divisions", "max_depth"}) onlyFor(k, SpaceKind::Tree, "quadtree");
-    for (const char* k : {"cell_size", "margin"}) onlyFor(k, SpaceKind::Cells, "cells");
+    for (const char* k : {"decomposition_factor", "divisions", "max_depth", "cell_size", "margin"})
+      if (sp[k]) setting(rd.at(sp[k], std::string("space.") + k), [&] { checkKeyForKind(s.space, std::string("space.") + k); });
     auto intKey = [&](const char* k, int& out) {
       if (!sp[k]) return;
       const std::string key = std::string("space.") + k;
       mark(key, sp[k]);
       out = static_cast<int>(std::clamp(rd.integer(sp[k], key), -1L, 1000000000L));
     };
-    if (sp["decomposition_factor"] && sp["decomposition_factor"].IsScalar() && sp["decomposition_factor"].Scalar() == "auto") {
-      mark("space.decomposition_factor", sp["decomposition_factor"]);
-      s.space.autoFactor = true;  // the space picks it as it runs (stcore/factor_tuner.hpp)
-    } else {
-      intKey("decomposition_factor", s.space.decompositionFactor);
+    if (const YAML::Node df = sp["decomposition_factor"]) {
+      mark("space.decomposition_factor", df);
+      const Where w = rd.at(df, "space.decomposition_factor");
+      if (!df.IsScalar()) fail(w, "must be an integer or auto");
+      setting(w, [&] { setDecompositionFactor(s.space, df.Scalar()); });
     }
     intKey("divisions", s.space.divisions);
     intKey("max_depth", s.space.maxDepth);

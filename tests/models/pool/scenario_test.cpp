@@ -307,6 +307,36 @@ TEST(PoolCommand, OverridesAndUsageErrors) {
   EXPECT_EQ(runStsim("pool").code, 2);
 }
 
+// The command line's overrides skipped the YAML's checks: `--space cells --df 7` ran, while
+// `space: {kind: cells, decomposition_factor: 7}` is refused. They go through the checks of their
+// keys now, the problem named at the flag in one line, exit 2 (usage); `--df auto` is taken as
+// `decomposition_factor: auto` is.
+TEST(PoolCommand, OverridesAreCheckedAsTheirYamlKeys) {
+  const std::string scen = std::string(STSIM_SOURCE_DIR) + "/models/pool/scenarios/break.yaml";
+  const Ran cells = runStsim("pool " + scen + " --space cells --df 7 --until 0.1");
+  EXPECT_EQ(cells.code, 2) << cells.out;
+  EXPECT_EQ(cells.out, "stsim pool: option --df: only for kind quadtree (this space is cells)\n");
+  EXPECT_EQ(errorOf(std::string(kGood) + "space: {kind: cells, decomposition_factor: 7}\n"),
+            "s.yaml:7:44: space.decomposition_factor: only for kind quadtree (this space is cells)");
+  // the same words as the YAML's, for each flag
+  EXPECT_EQ(runStsim("pool " + scen + " --df 0").out, "stsim pool: option --df: must be at least 1 (or auto), got 0\n");
+  EXPECT_EQ(runStsim("pool " + scen + " --df 2.5").out,
+            "stsim pool: option --df: must be an integer or auto, got '2.5'\n");
+  EXPECT_EQ(runStsim("pool " + scen + " --space octopus").out,
+            "stsim pool: option --space: unknown space kind 'octopus' (none, single, quadtree, cells)\n");
+  EXPECT_EQ(runStsim("pool " + scen + " --until -3").out, "stsim pool: option --until: must be positive, got -3\n");
+  EXPECT_EQ(runStsim("pool " + scen + " --until inf").out, "stsim pool: option --until: must be finite\n");
+  EXPECT_EQ(errorOf(std::string(kGood) + "space: {decomposition_factor: 0}\n"),
+            "s.yaml:7:31: space.decomposition_factor: must be at least 1 (or auto), got 0");
+  // --df auto runs, as the YAML's auto does; and a number after the YAML's auto turns it off
+  const Ran aut = runStsim("pool " + scen + " --df auto --until 0.5");
+  EXPECT_EQ(aut.code, 0) << aut.out;
+  EXPECT_NE(aut.out.find("space tree df=auto"), std::string::npos) << aut.out;
+  const Ran seven = runStsim("pool " + scen + " --space quadtree --df 7 --until 0.5");
+  EXPECT_EQ(seven.code, 0) << seven.out;
+  EXPECT_NE(seven.out.find("space tree df=7"), std::string::npos) << seven.out;
+}
+
 // box100 with --until 1e12 wrote a 269 MB events.csv (2 000 000 rows) before the library's bound
 // stopped it, with "until: stopped after ..." naming no file (issue 35). The run stops at
 // --max-events (200 000 unless raised): the error names events.csv and the option, exit 1, and

@@ -51,6 +51,25 @@ struct ScenarioError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The settings `stsim pool` overrides on its command line (--space, --df, --until) are parsed and
+// range-checked here, by the code the YAML reader uses for their keys, so both refuse the same
+// values in the same words. A bad value throws SettingError with the problem alone; the caller
+// names the place: the reader "FILE:LINE:COL: space.decomposition_factor: ...", the command line
+// "option --df: ...".
+struct SettingError : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+// space.kind: none, single, quadtree or cells.
+SpaceKind spaceKindSetting(const std::string& text);
+// space.decomposition_factor: an integer, at least 1, or auto (the space picks its own as it runs).
+void setDecompositionFactor(SpaceSpec& space, const std::string& text);
+// A space key ("space.decomposition_factor") given for a space of another kind: taken, it would
+// do nothing, so it is refused, naming the kind it is for.
+void checkKeyForKind(const SpaceSpec& space, const std::string& key);
+// until (the scenario's or a shot's): seconds, positive and finite.
+double untilSetting(const std::string& text);
+
 Scenario loadScenario(const std::string& path);
 // Same from YAML text; `source` names it in messages.
 Scenario parseScenario(const std::string& yamlText, const std::string& source);
