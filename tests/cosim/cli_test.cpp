@@ -127,6 +127,18 @@ TEST(HighwayCli, PhysicalCollisionsAreFewerAndEveryOneWarned) {
     if (row.rfind("time,", 0) == 0) continue;
     EXPECT_EQ(splitCsv(row).back(), "1") << row;  // each physical report touches
   }
+  // docs/outputs.md's conventions: SUMO's numbers in full (the shortest text that reads back, so
+  // 210.4, not 210.400), worked-out ones (gap, lead time) to 0.001 with trailing zeros dropped:
+  // in neither does a fraction end in 0
+  for (const char* file : {"p/collisions.csv", "p/collision_warnings.csv", "d/collisions.csv"}) {
+    const auto all = lines(slurp(dir / file));
+    for (std::size_t i = 1; i < all.size(); ++i)
+      for (const auto& f : splitCsv(all[i])) {
+        if (f.find('.') == std::string::npos || f.find_first_not_of("-0123456789.") != std::string::npos) continue;
+        EXPECT_NE(f.back(), '0') << file << ": " << all[i];
+        EXPECT_NE(f.back(), '.') << file << ": " << all[i];
+      }
+  }
 }
 
 // The sublane network exists to produce lane-marker and curb warnings (lateral drift, filtering).

@@ -115,7 +115,10 @@ std::vector<SumoCollision> readCollisionOutput(const std::filesystem::path& file
       throw std::runtime_error(file.string() + ": <collision " + key + "=\"" + text + "\">: not a number");
     };
     SumoCollision c;
-    c.time = number("time") + stepLength;
+    // the report's step plus one (as the plugin sees it), on SUMO's clock of whole milliseconds: the
+    // double libsumo gives for that time (210.7 + 0.1 is 210.79999999999998; SUMO's 210.8 is 210.8),
+    // so collisions.csv writes the same time either way
+    c.time = std::round((number("time") + stepLength) * 1000.0) / 1000.0;
     c.collider = attr("collider");
     c.victim = attr("victim");
     c.type = attr("type");

@@ -1,6 +1,9 @@
 #pragma once
 // A co-simulation scenario: a SUMO configuration plus stsim's settings, read from a scenario YAML
-// (or defaults for a plain .sumocfg). Paths in the YAML are relative to the YAML file.
+// (or defaults for a plain .sumocfg). Paths in the YAML are relative to the YAML file. Every key
+// below is shown at its default, or with "default:" beside it when the value shown is an example.
+// The monitor's settings (detector ... hindsight; all of them, with ranges and defaults) are the
+// table of docs/settings.md, which `stsim highway --settings` prints; only a few are shown here.
 //
 //   sumocfg: motorway.sumocfg        # required
 //   seed: 42                          # SUMO's seed and the smart-car draw
@@ -13,25 +16,26 @@
 //   broadphase: cells                 # cells | all-pairs
 //   check_road: true                  # curbs and lane markers
 //   penetration: 1.0                  # fraction of vehicles equipped
-//   smart_types: [truck]              # vTypes always equipped
+//   smart_types: [truck]              # vTypes always equipped (default: none)
 //   action: color                     # none | color | brake
 //   brake: {deceleration: 3.0, max_deceleration: 9.0, standstill_gap: 1.0}   # action brake (m/s^2, m)
 //   safe_time:
 //     vehicle_reaction: 1.0           # s
 //     road_reaction: 0.5              # s
 //     brake_force: {passenger: 12000, truck: 75000, bus: 72000, motorcycle: 2250, emergency: 31500, other: 12000}
-//   conflict: {rear_end_below: 30, crossing_above: 85}   # deg: SSAM's type thresholds (warnings.csv type)
+//   conflict: {rear_end_below: 30, crossing_above: 85, max_ttc: 1.5, max_pet: 5}   # deg, deg, s, s: SSAM's
 //   concentric: {inner_margin: 0.0, outer_margin: 0.0}
-//   cells: {length: 200, hysteresis_db: 3, tx_power_dbm: 40, path_loss_exponent: 3,
-//           reference_distance: 1, radio_range: 600, decomposition_factor: 8, max_depth: 8}
+//   cells: {length: 800, hysteresis_db: 3, tx_power_dbm: 40, path_loss_exponent: 3,
+//           reference_distance: 1, radio_range: 1000, decomposition_factor: 128, max_depth: 8}
 //   collision_action: warn            # passed to SUMO's --collision.action
 //   collision_mingap_factor: 1        # SUMO's --collision.mingap-factor: SUMO registers a collision
 //                                     # when a gap falls below factor x the follower's minGap (SUMO's
 //                                     # default 1); 0 counts physical contact only
-//   incidents:                        # scripted hard braking (plugin.hpp Incident)
+//   incidents:                        # scripted hard braking (plugin.hpp Incident; default: none)
 //     - {time: 150, near: [2200, -5.6], speed: 0, deceleration: 8, hold: 30}
-//   sumo_args: ["--lateral-resolution", "0.8"]   # extra SUMO options
-//   out: out/motorway                 # output directory (relative to the working directory)
+//   sumo_args: ["--lateral-resolution", "0.8"]   # extra SUMO options (default: none)
+//   out: out/motorway                 # output directory, relative to the working directory
+//                                     # (--out overrides it; without either, `stsim highway --help`'s)
 // Unknown keys are errors (a typo must not silently fall back to a default).
 #include <cstdint>
 #include <filesystem>
