@@ -138,8 +138,9 @@ def find_col(cols, *patterns):
 
 
 def conflict_maps(out, runs, sweep):
-    """One conflict map per parameter combination, all seeds together (highway runs whose
-    warnings.csv has positions); the network from the runs' summary.json."""
+    """One conflict map per parameter combination, all seeds together (highway runs with a
+    conflicts.csv: one point per conflict, no warnings); the network from the runs' summary.json,
+    TTC* from it too (the map's title)."""
     # installed, both scripts sit in share/stsim; in the source tree the map's is the model's
     here = os.path.dirname(os.path.abspath(__file__))
     script = next((p for p in (os.path.join(here, "conflict_map.py"),
@@ -152,12 +153,12 @@ def conflict_maps(out, runs, sweep):
         if r["status"] != "done":
             continue
         d = os.path.join(out, "runs", r["run_id"])
-        path = os.path.join(d, "warnings.csv")
+        path = os.path.join(d, "conflicts.csv")
         if not os.path.exists(path):
             continue
         with open(path, newline="") as f:
             header = next(csv.reader(f), [])
-        if "x" not in header or "type" not in header:
+        if "conflict_x" not in header or "type" not in header:
             continue
         groups.setdefault(tuple(r[p] for p in sweep), []).append(d)
     if not groups:
@@ -178,7 +179,8 @@ def conflict_maps(out, runs, sweep):
         args = ["--out", os.path.join(out, name), "--title", "%s (%d runs)" % (label, len(dirs))]
         if net and os.path.exists(net):
             args += ["--net", net]
-        cm.main(args + [os.path.join(d, "warnings.csv") for d in dirs])
+        if cm.main(args + [os.path.join(d, "conflicts.csv") for d in dirs]) != 0:
+            continue
         maps.append((name, label))
     return maps
 

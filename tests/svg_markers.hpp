@@ -1,7 +1,7 @@
 #pragma once
-// The warning markers of a conflict map's SVG (models/highway/conflict_map.py): one group
-// <g id="warnings_TYPE"> per conflict type; a marker is a <use> or a <path> outside the group's
-// <defs> (matplotlib writes either form).
+// The conflict markers of a conflict map's SVG (models/highway/conflict_map.py): one group
+// <g id="conflicts_TYPE_PANEL"> per conflict type and panel; a marker is a <use> or a <path>
+// outside the group's <defs> (matplotlib writes either form).
 #include <string>
 
 namespace st::test {
@@ -9,7 +9,7 @@ namespace st::test {
 inline long svgMarkers(const std::string& svg) {
   long n = 0;
   std::size_t at = 0;
-  while ((at = svg.find("<g id=\"warnings_", at)) != std::string::npos) {
+  while ((at = svg.find("<g id=\"conflicts_", at)) != std::string::npos) {
     // the group ends at its matching </g>
     int depth = 0;
     std::size_t i = at, end = svg.size();

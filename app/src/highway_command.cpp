@@ -181,7 +181,7 @@ int runTrace(const Args& a) {
             << (out / "warnings.csv").string() << ", " << (out / "conflicts.csv").string() << " and " << (out / "summary.json").string() << "\n";
   if (!a.has("no-map")) {
     const hw::ConflictMapOutcome map =
-        hw::drawConflictMap({out / "conflict_map", a.get("net"), {out / "warnings.csv"}, "stsim highway"});
+        hw::drawConflictMap({out / "conflict_map", a.get("net"), {out / "conflicts.csv"}, "stsim highway"});
     using State = hw::ConflictMapOutcome::State;
     if (map.state == State::Drawn) std::cout << "  conflict map: " << (out / "conflict_map.png").string() << " (and .svg)\n";
     // a map that could not be written (a full disk) fails the run as any output does; a missing tool does not

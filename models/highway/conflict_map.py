@@ -1,19 +1,25 @@
 #!/usr/bin/python3
-"""A conflict map: the network's lanes and every warning at its position, coloured by conflict type,
-sized by severity (vehicle warnings: MaxDeltaV; road warnings: the lateral speed towards the line),
-a ring where hindsight called the warning a nuisance. A long thin network (a motorway) is cut
-into segments along its length, one panel each, the lateral scale stretched (said in the title)
-so that its lanes show apart.
+"""A conflict map: the network's lanes and every conflict of conflicts.csv (one row, one point: an
+unordered pair's continuous encounter with TTC at most TTC*) at its conflict point, coloured by
+SSAM's type (rear-end, lane change, crossing), sized by MaxDeltaV. Warnings (per ego, against each
+car's safe time, road warnings among them) are not drawn: they are what a driver gets, not what a
+safety study counts. TTC* is read from the summary.json beside each conflicts.csv (its
+conflicts.max_ttc_s), or given with --ttc-star, and said in the title. A long thin network (a
+motorway) is cut into segments along its length, one panel each, the lateral scale stretched (said
+in the title) so that its lanes show apart.
 
 Uses Debian's python3-matplotlib. Called by `stsim highway` and `stsim batch`; by hand:
     /usr/bin/python3 models/highway/conflict_map.py --out PREFIX [--net NET.net.xml] [--title T] \
-        warnings.csv [warnings.csv ...]
-writes PREFIX.png and PREFIX.svg. In the SVG each warning is one <use> marker inside a group whose
-id starts with "warnings_" (one group per type), so the markers can be counted.
+        [--ttc-star S] conflicts.csv [conflicts.csv ...]
+writes PREFIX.png and PREFIX.svg. In the SVG each conflict is one <use> marker inside a group whose
+id starts with "conflicts_" (one group per type and panel), so the markers can be counted. A file
+that is not a conflicts.csv (a warnings.csv) is refused (exit 1).
 """
 import argparse
 import csv
+import json
 import math
+import os
 import sys
 import xml.etree.ElementTree as ET
 
@@ -29,19 +35,16 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
-# type -> (label, colour); the order of the legend
+# type -> (label, colour); the order of the legend: SSAM's three angle classes, all conflicts.csv has
 TYPES = [
     ("rear_end", "rear-end", "#d62728"),
     ("lane_change", "lane change", "#ff7f0e"),
     ("crossing", "crossing", "#1f77b4"),
-    # none of SSAM's conflicts: a zone occupied (or reached) without the bodies on a collision course
-    ("proximity", "proximity (no collision course)", "#9467bd"),
-    ("road", "road (curb, marker, hazard)", "#7f7f7f"),
 ]
-# drawn underneath and fainter, so the conflicts show
-FAINT = ("proximity", "road")
 # marker area (pt^2) at severity 0 and per m/s, capped
 SIZE0, SIZE_PER_MS, SIZE_MAX = 6.0, 6.0, 160.0
+# the columns that make a file a conflicts.csv (a warnings.csv has none of the first two)
+CONFLICT_COLUMNS = ("first", "second", "type", "conflict_x", "conflict_y")
 
 
 def num(s):
@@ -70,18 +73,54 @@ def read_lanes(path):
     return lanes
 
 
-def read_warnings(paths):
+class NotConflicts(Exception):
+    pass
+
+
+def read_conflicts(paths):
+    """One (x, y, type, MaxDeltaV) per row of each conflicts.csv: at its conflict point, else (a
+    row without one) midway between the two vehicles' centres, so every conflict is drawn once."""
     out = []
     for path in paths:
         with open(path, newline="") as f:
-            for w in csv.DictReader(f):
-                x, y = num(w.get("x")), num(w.get("y"))
+            rows = csv.DictReader(f)
+            missing = [c for c in CONFLICT_COLUMNS if c not in (rows.fieldnames or [])]
+            if missing:
+                raise NotConflicts("%s is not a conflicts.csv (no %s column): the map draws conflicts, "
+                                   "not warnings" % (path, ", ".join(missing)))
+            for c in rows:
+                x, y = num(c.get("conflict_x")), num(c.get("conflict_y"))
                 if x is None or y is None:
-                    continue
-                t = w.get("type") or "road"
-                sev = num(w.get("max_delta_v")) if t != "road" else num(w.get("lateral_speed"))
-                out.append((x, y, t, max(0.0, sev or 0.0), w.get("verdict") == "nuisance"))
+                    xs = [num(c.get("first_x")), num(c.get("second_x"))]
+                    ys = [num(c.get("first_y")), num(c.get("second_y"))]
+                    if None in xs or None in ys:
+                        raise NotConflicts("%s: conflict %s/%s has no position" % (path, c["first"], c["second"]))
+                    x, y = sum(xs) / 2.0, sum(ys) / 2.0
+                out.append((x, y, c.get("type") or "", max(0.0, num(c.get("max_delta_v")) or 0.0)))
     return out
+
+
+def ttc_stars(paths):
+    """TTC* of each conflicts.csv's run, from its summary.json (conflicts.max_ttc_s); None where
+    there is none."""
+    stars = []
+    for path in paths:
+        v = None
+        try:
+            with open(os.path.join(os.path.dirname(os.path.abspath(path)), "summary.json")) as f:
+                v = num((json.load(f).get("conflicts") or {}).get("max_ttc_s"))
+        except (OSError, ValueError, AttributeError):
+            pass
+        stars.append(v)
+    return stars
+
+
+def threshold_text(stars):
+    """'TTC* 1.5 s' for the title; several values listed; 'TTC*' alone when none is known."""
+    known = sorted(set(s for s in stars if s is not None))
+    if not known:
+        return "TTC*"
+    return "TTC* " + " / ".join("%g" % s for s in known) + " s"
 
 
 # a network longer than this many times its width is cut into segments
@@ -91,11 +130,11 @@ MAX_SEGMENTS = 6
 PANEL_RATIO = 0.14  # a segment's panel: height over width, before the lateral stretch is capped
 
 
-def layout(lanes, warnings):
+def layout(lanes, points):
     """The panels: [(long range, cross range)] along the network's long axis, the axis ('x' or
     'y') and the lateral stretch (1: equal scales, a single panel)."""
-    xs = [p[0] for pts, _ in lanes for p in pts] + [w[0] for w in warnings]
-    ys = [p[1] for pts, _ in lanes for p in pts] + [w[1] for w in warnings]
+    xs = [p[0] for pts, _ in lanes for p in pts] + [w[0] for w in points]
+    ys = [p[1] for pts, _ in lanes for p in pts] + [w[1] for w in points]
     if not xs:
         return [((0.0, 1.0), (0.0, 1.0))], "x", 1.0, [math.inf]
     span_x, span_y = max(xs) - min(xs), max(ys) - min(ys)
@@ -110,12 +149,12 @@ def layout(lanes, warnings):
     k = int(min(MAX_SEGMENTS, max(2, math.ceil(long_span / SEGMENT_LENGTH))))
     step = long_span / k
     lane_pts = [(p[0], p[1]) if axis == "x" else (p[1], p[0]) for pts, _ in lanes for p in pts]
-    pts = [(w[0], w[1]) if axis == "x" else (w[1], w[0]) for w in warnings]
-    panels, cuts = [], []  # cuts: each panel's upper end along the axis; a warning is in the first it is below
+    pts = [(w[0], w[1]) if axis == "x" else (w[1], w[0]) for w in points]
+    panels, cuts = [], []  # cuts: each panel's upper end along the axis; a point is in the first it is below
     for i in range(k):
         a, b = lo + i * step, lo + (i + 1) * step
         inside = [c for (l, c) in pts if a <= l <= b] or [c for (l, c) in lane_pts if a <= l <= b] or across
-        # the warnings' lateral extent, or the lanes' where there are none, with a lane or two beside
+        # the points' lateral extent, or the lanes' where there are none, with a lane or two beside
         c0, c1 = min(inside) - 10.0, max(inside) + 10.0
         pad = 0.01 * step
         panels.append(((a - pad, b + pad), (c0, c1)))
@@ -130,16 +169,25 @@ def size_of(sev):
 
 
 def main(argv):
-    ap = argparse.ArgumentParser(description="conflict map of stsim warnings")
+    ap = argparse.ArgumentParser(description="conflict map of stsim's conflicts.csv")
     ap.add_argument("--out", required=True, help="output prefix (writes PREFIX.png and PREFIX.svg)")
     ap.add_argument("--net", help="SUMO .net.xml whose lanes are drawn")
     ap.add_argument("--title", default="")
-    ap.add_argument("csv", nargs="+")
+    ap.add_argument("--ttc-star", type=float, help="TTC* (s) to name in the title (default: the runs' summary.json)")
+    ap.add_argument("csv", nargs="+", help="conflicts.csv files, drawn together")
     a = ap.parse_args(argv)
 
-    warnings = read_warnings(a.csv)
+    try:
+        conflicts = read_conflicts(a.csv)
+    except NotConflicts as e:
+        print(e)
+        return 1
+    threshold = threshold_text([a.ttc_star] if a.ttc_star is not None else ttc_stars(a.csv))
+    # a type conflicts.csv does not write today still gets its points, in grey
+    types = TYPES + [(t, t.replace("_", " "), "#7f7f7f")
+                     for t in sorted(set(w[2] for w in conflicts) - set(k for k, _, _ in TYPES))]
     lanes = read_lanes(a.net) if a.net else []
-    panels, axis, stretch, cuts = layout(lanes, warnings)
+    panels, axis, stretch, cuts = layout(lanes, conflicts)
     flip = axis == "y"  # a north-south network: its length along the panels' horizontal axis (turned)
     if len(panels) == 1:
         # one panel at the network's own shape, the legend to its right
@@ -168,7 +216,7 @@ def main(argv):
                 return j
         return len(cuts) - 1
 
-    counts = {key: sum(1 for w in warnings if w[2] == key) for key, _, _ in TYPES}
+    counts = {key: sum(1 for w in conflicts if w[2] == key) for key, _, _ in types}
     for i, (ax, ((l0, l1), (c0, c1))) in enumerate(zip(axes, panels)):
         if lanes:
             normal = [[xy(*p) for p in pts] for pts, internal in lanes if not internal]
@@ -176,26 +224,17 @@ def main(argv):
             ax.add_collection(LineCollection(normal, colors="#b0b0b0", linewidths=1.2, zorder=1))
             ax.add_collection(LineCollection(inner, colors="#d0d0d0", linewidths=0.6, zorder=1))
         last = i == len(panels) - 1
-        for key, label, colour in TYPES:
-            # each warning in one panel: the last takes its upper end
-            pts = [w for w in warnings if w[2] == key and panel_of(xy(w[0], w[1])[0]) == i]
+        for key, label, colour in types:
+            # each conflict in one panel: the last takes its upper end
+            pts = [w for w in conflicts if w[2] == key and panel_of(xy(w[0], w[1])[0]) == i]
             if not pts:
                 continue
             # the most severe drawn last (on top)
             pts.sort(key=lambda w: w[3])
-            # road and proximity warnings (often the most) underneath and fainter, so the conflicts show
-            faint = key in FAINT
-            for nuisance in (False, True):
-                group = [w for w in pts if w[4] == nuisance]
-                if not group:
-                    continue
-                p = [xy(w[0], w[1]) for w in group]
-                sc = ax.scatter([q[0] for q in p], [q[1] for q in p], s=[size_of(w[3]) for w in group],
-                                facecolors="none" if nuisance else colour,
-                                edgecolors=colour if nuisance else "black",
-                                alpha=0.3 if faint else 0.65, linewidths=0.9 if nuisance else 0.3,
-                                zorder=2 if faint else 3)
-                sc.set_gid("warnings_%s%s_%d" % (key, "_nuisance" if nuisance else "", i + 1))
+            p = [xy(w[0], w[1]) for w in pts]
+            sc = ax.scatter([q[0] for q in p], [q[1] for q in p], s=[size_of(w[3]) for w in pts],
+                            facecolors=colour, edgecolors="black", alpha=0.65, linewidths=0.3, zorder=3)
+            sc.set_gid("conflicts_%s_%d" % (key, i + 1))
         ax.set_xlim(l0, l1)
         # a north-south network turned a quarter clockwise (north to the right, east down), not
         # mirrored: left and right of the traffic stay where they are
@@ -206,27 +245,20 @@ def main(argv):
         ax.set_ylabel("%s (m)" % ("x" if flip else "y"), fontsize=8)
         if last:
             ax.set_xlabel("%s (m)" % ("y" if flip else "x"), fontsize=8)
-    # the legend: types (with counts), hindsight's nuisances and three sizes, from proxy handles
-    # (not counted as warnings)
+    # the legend: types (with counts) and three sizes, from proxy handles (not counted as conflicts)
     handles = [Line2D([], [], linestyle="none", marker="o", markersize=7, markerfacecolor=colour,
                       markeredgecolor="black", markeredgewidth=0.3, alpha=0.8,
-                      label="%s (%d)" % (label, counts[key])) for key, label, colour in TYPES if counts[key]]
-    nuisances = sum(1 for w in warnings if w[4])
-    if nuisances:
-        handles.append(Line2D([], [], linestyle="none", marker="o", markersize=7, markerfacecolor="none",
-                              markeredgecolor="#555555", markeredgewidth=0.9,
-                              label="ring: nuisance, hindsight (%d)" % nuisances))
+                      label="%s (%d)" % (label, counts[key])) for key, label, colour in types if counts[key]]
     for sev in (2.0, 10.0, 20.0):
         handles.append(Line2D([], [], linestyle="none", marker="o", markersize=math.sqrt(size_of(sev)),
                               markerfacecolor="white", markeredgecolor="black", markeredgewidth=0.5,
                               label="%g m/s" % sev))
-    if handles:
-        leg = axes[0].legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7,
-                             framealpha=0.85, title="type; size: ΔV\n(road: lateral speed)", title_fontsize=7)
-        leg.set_gid("legend")
-    conflicts = sum(counts[k] for k in ("rear_end", "lane_change", "crossing"))
-    title = (a.title + ": " if a.title else "") + "%d warnings: %d conflicts, %d proximity, %d road" % (
-        len(warnings), conflicts, counts["proximity"], counts["road"])
+    leg = axes[0].legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7,
+                         framealpha=0.85, title="conflicts at %s\n(conflicts.csv; no warnings)\n"
+                         "type; size: MaxΔV" % threshold, title_fontsize=7)
+    leg.set_gid("legend")
+    title = (a.title + ": " if a.title else "") + "%d conflicts at %s (%s)" % (
+        len(conflicts), threshold, ", ".join("%d %s" % (counts[k], l) for k, l, _ in types if counts[k]) or "none")
     if len(panels) > 1:
         title += "\nin %d segments along %s; lateral scale stretched %.0f×" % (len(panels), axis, stretch) \
             if stretch > 1.0 else "\nin %d segments along %s" % (len(panels), axis)

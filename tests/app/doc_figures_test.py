@@ -453,6 +453,8 @@ def figures(r):
         ("cosim/README.md", "| warnings SSM cannot see, by zone | %s |" % "; ".join(zones)),
         ("models/highway/README.md", "| motorway/scenario.yaml (the main job) | %d + %d, proximity %s (of %s) | %d + %d, proximity %s (of %s) | %d + %d |"
          % (f_re, f_lc, thousands(f_px), thousands(f_veh), c_re, c_lc, thousands(c_px), thousands(c_veh), b_re, b_lc)),
+        ("models/highway/README.md", "networks/motorway/scenario.yaml`): %d conflicts at TTC* %g s; the rear-end conflicts cluster"
+         % (cs["count"], cs["max_ttc_s"])),
         ("models/highway/README.md", "Hindsight confirms %d of the five-circle's %d rear-end conflicts and %d of its %d proximity warnings."
          % (conf_rear, f_re, conf_prox, f_px)),
         ("models/highway/README.md", "conflicts is complete, %d/%d, because" % (det["five"]["recalled"], n_ssm)),

@@ -238,8 +238,9 @@ TEST(BatchEndToEnd, KilledBatchResumesWithoutRedoingRuns) {
   EXPECT_EQ(table, tableWithoutTimings(dir / "whole/runs.csv"));
 }
 
-// The report's conflict maps: one per parameter combination, all its seeds' warnings in it (one
-// SVG marker per warnings.csv row of those runs); the runs themselves draw none.
+// The report's conflict maps: one per parameter combination, all its seeds' conflicts in it (one
+// SVG marker per conflicts.csv row of those runs, none for their warnings); the runs themselves
+// draw none.
 TEST(BatchEndToEnd, OneConflictMapPerCombination) {
   if (std::system("/usr/bin/python3 -c 'import matplotlib' > /dev/null 2>&1") != 0)
     GTEST_SKIP() << "python3-matplotlib not installed";
@@ -260,7 +261,7 @@ TEST(BatchEndToEnd, OneConflictMapPerCombination) {
   for (std::size_t r = 1; r < table.size(); ++r) {
     const fs::path run = dir / "out/runs" / table[r][1];
     EXPECT_FALSE(fs::exists(run / "conflict_map.png")) << run;
-    const std::string csv = slurp(run / "warnings.csv");
+    const std::string csv = slurp(run / "conflicts.csv");
     rows[table[r][detectorCol]] += static_cast<long>(std::count(csv.begin(), csv.end(), '\n')) - 1;
   }
   ASSERT_EQ(rows.size(), 2u);

@@ -155,7 +155,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
   bool mapped = false;
   if (setup.map) {
     const hw::ConflictMapOutcome map = hw::drawConflictMap(
-        {out / "conflict_map", files.net, {out / "warnings.csv"}, (s.source.parent_path().filename() / s.source.filename()).string()});
+        {out / "conflict_map", files.net, {out / "conflicts.csv"}, (s.source.parent_path().filename() / s.source.filename()).string()});
     mapped = map.state == hw::ConflictMapOutcome::State::Drawn;
     result.mapProblem = map.why;
     result.mapFailed = map.state == hw::ConflictMapOutcome::State::Failed;

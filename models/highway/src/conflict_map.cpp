@@ -41,7 +41,7 @@ ConflictMapOutcome drawConflictMap(const ConflictMapRequest& r) {
   cmd << "/usr/bin/python3 " << quoted(script.string()) << " --out " << quoted(r.out.string());
   if (!r.net.empty()) cmd << " --net " << quoted(r.net.string());
   if (!r.title.empty()) cmd << " --title " << quoted(r.title);
-  for (const auto& w : r.warnings) cmd << ' ' << quoted(w.string());
+  for (const auto& w : r.conflicts) cmd << ' ' << quoted(w.string());
   cmd << " > " << quoted(log.string()) << " 2>&1";
   const int status = std::system(cmd.str().c_str());
   if (status != 0) {

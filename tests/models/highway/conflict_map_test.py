@@ -1,8 +1,10 @@
 #!/usr/bin/python3
-"""models/highway/conflict_map.py's layout: a long road in segments, each warning drawn once, a
-north-south road turned (not mirrored), a square network one equal-aspect panel. Exits 77
+"""models/highway/conflict_map.py's layout: a long road in segments, each conflict (a row of
+conflicts.csv) drawn once, a north-south road turned (not mirrored), a square network one
+equal-aspect panel; TTC* from the run's summary.json in the title; a warnings.csv refused. Exits 77
 (skipped) without matplotlib."""
 import csv
+import json
 import os
 import random
 import re
@@ -22,9 +24,9 @@ except ImportError:
 
 
 def markers(svg):
-    """Markers inside the warnings_* groups (as tests/svg_markers.hpp counts them)."""
+    """Markers inside the conflicts_* groups (as tests/svg_markers.hpp counts them)."""
     n = 0
-    for m in re.finditer(r'<g id="warnings_', svg):
+    for m in re.finditer(r'<g id="conflicts_', svg):
         depth, i = 0, m.start()
         while True:
             o, c = svg.find("<g", i + 1), svg.find("</g>", i + 1)
@@ -40,17 +42,27 @@ def markers(svg):
     return n
 
 
-def write_warnings(path, points):
+TYPES = ["rear_end", "lane_change", "crossing"]
+
+
+def write_conflicts(path, points):
+    """conflicts.csv's columns the map reads; a point without (x, y) has only the two centres."""
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["x", "y", "type", "max_delta_v", "lateral_speed", "verdict"])
-        for x, y, t, verdict in points:
-            w.writerow([x, y, t, 5.0, "", verdict])
+        w.writerow(["first", "second", "type", "max_delta_v", "conflict_x", "conflict_y",
+                    "first_x", "first_y", "second_x", "second_y"])
+        for i, (x, y, t) in enumerate(points):
+            w.writerow(["a.%d" % i, "b.%d" % i, t, 5.0, x, y, x - 2.0, y, x + 2.0, y])
 
 
-def draw(tmp, name, points):
-    csv_path = os.path.join(tmp, name + ".csv")
-    write_warnings(csv_path, points)
+def draw(tmp, name, points, summary=None):
+    d = os.path.join(tmp, name)
+    os.makedirs(d)
+    csv_path = os.path.join(d, "conflicts.csv")
+    write_conflicts(csv_path, points)
+    if summary is not None:
+        with open(os.path.join(d, "summary.json"), "w") as f:
+            json.dump(summary, f)
     out = os.path.join(tmp, name)
     subprocess.run(["/usr/bin/python3", SCRIPT, "--out", out, "--title", name, csv_path], check=True)
     with open(out + ".svg") as f:
@@ -66,21 +78,20 @@ class ConflictMapLayout(unittest.TestCase):
         pts = []
         for i in range(n):
             s, c = random.uniform(0, length), random.choice([0.0, 3.5, 7.0])
-            t = random.choice(["rear_end", "lane_change", "proximity", "road"])
-            v = random.choice(["confirmed", "nuisance", ""])
-            pts.append((s, -c, t, v) if along_x else (c, s, t, v))
+            t = random.choice(TYPES)
+            pts.append((s, -c, t) if along_x else (c, s, t))
         # on the cuts between segments (3000 / 4): each drawn once
-        pts += [(750.0, 0.0, "rear_end", ""), (1500.0, 0.0, "rear_end", ""), (3000.0, 0.0, "rear_end", "")] \
-            if along_x else [(0.0, 750.0, "rear_end", ""), (0.0, 2250.0, "rear_end", "")]
+        pts += [(750.0, 0.0, "rear_end"), (1500.0, 0.0, "rear_end"), (3000.0, 0.0, "rear_end")] \
+            if along_x else [(0.0, 750.0, "rear_end"), (0.0, 2250.0, "rear_end")]
         return pts
 
-    def test_a_long_road_is_cut_into_segments_and_every_warning_drawn_once(self):
+    def test_a_long_road_is_cut_into_segments_and_every_conflict_drawn_once(self):
         pts = self.road(True)
         svg = draw(self.tmp, "east_west", pts)
         self.assertEqual(markers(svg), len(pts))
         self.assertIn("in 4 segments along x", svg)
         # every segment has its own groups, numbered by panel
-        self.assertTrue(re.search(r'id="warnings_\w+_4"', svg))
+        self.assertTrue(re.search(r'id="conflicts_\w+_4"', svg))
 
     def test_a_north_south_road_is_turned_not_mirrored(self):
         import importlib.util
@@ -93,25 +104,63 @@ class ConflictMapLayout(unittest.TestCase):
         self.assertIn("segments along y", svg)
         # the layout's panels run along y; the drawn axes turn a quarter clockwise: the lateral
         # (x) axis points down, so east is below and the picture is a rotation, not a reflection
-        panels, axis, stretch, cuts = cm.layout([], [(x, y, t, 0.0, False) for x, y, t, _ in pts])
+        panels, axis, stretch, cuts = cm.layout([], [(x, y, t, 0.0) for x, y, t in pts])
         self.assertEqual(axis, "y")
         self.assertGreater(stretch, 1.0)
         self.assertEqual(len(cuts), len(panels))
-        # two marked warnings at one northing: the eastern one (x = 7) is drawn below the western
+        # two marked conflicts at one northing: the eastern one (x = 7) is drawn below the western
         # one (x = 0), as a quarter turn clockwise puts it (a mirror would draw it above)
-        road = [(random.choice([0.0, 3.5, 7.0]), random.uniform(0, 3000), "proximity", "") for _ in range(100)]
-        svg = draw(self.tmp, "turned", road + [(7.0, 100.0, "crossing", ""), (0.0, 100.0, "lane_change", "")])
+        road = [(random.choice([0.0, 3.5, 7.0]), random.uniform(0, 3000), "rear_end") for _ in range(100)]
+        svg = draw(self.tmp, "turned", road + [(7.0, 100.0, "crossing"), (0.0, 100.0, "lane_change")])
 
         def screen_y(kind):
-            group = re.search(r'<g id="warnings_%s_1">(.*?)</g>' % kind, svg, flags=re.S).group(1)
+            group = re.search(r'<g id="conflicts_%s_1">(.*?)</g>' % kind, svg, flags=re.S).group(1)
             return float(re.search(r'<use [^>]*\by="([-0-9.]+)"', group).group(1))
         self.assertGreater(screen_y("crossing"), screen_y("lane_change"))  # SVG's y grows downwards
 
     def test_a_square_network_is_one_panel_at_equal_scales(self):
-        pts = [(random.uniform(0, 300), random.uniform(0, 300), "crossing", "") for _ in range(50)]
+        pts = [(random.uniform(0, 300), random.uniform(0, 300), "crossing") for _ in range(50)]
         svg = draw(self.tmp, "square", pts)
         self.assertEqual(markers(svg), len(pts))
         self.assertNotIn("segments", svg)
+
+    def test_one_point_per_conflicts_row_and_ttc_star_from_the_summary(self):
+        pts = [(random.uniform(0, 300), random.uniform(0, 300), random.choice(TYPES)) for _ in range(37)]
+        svg = self.draw_with_centres("ttc", pts, summary={"conflicts": {"max_ttc_s": 2.5}})
+        rows = len(pts) + 1  # and the row without a conflict point
+        self.assertEqual(markers(svg), rows)
+        self.assertIn("%d conflicts at TTC* 2.5 s" % rows, svg)
+        self.assertIn("rear-end (%d)" % (sum(1 for p in pts if p[2] == "rear_end") + 1), svg)
+        # no summary.json: TTC* named, its value unknown
+        svg = draw(self.tmp, "no_summary", pts)
+        self.assertIn("%d conflicts at TTC* (" % len(pts), svg)
+
+    def draw_with_centres(self, name, pts, summary):
+        """draw() plus one row whose conflict point is empty (its centres at 10, 10 and 14, 10)."""
+        d = os.path.join(self.tmp, name)
+        os.makedirs(d)
+        path = os.path.join(d, "conflicts.csv")
+        write_conflicts(path, pts)
+        with open(path, "a", newline="") as f:
+            csv.writer(f).writerow(["c", "d", "rear_end", 1.0, "", "", 10.0, 10.0, 14.0, 10.0])
+        with open(os.path.join(d, "summary.json"), "w") as f:
+            json.dump(summary, f)
+        out = os.path.join(self.tmp, name)
+        subprocess.run(["/usr/bin/python3", SCRIPT, "--out", out, path], check=True)
+        with open(out + ".svg") as f:
+            return f.read()
+
+    def test_a_warnings_csv_is_refused(self):
+        path = os.path.join(self.tmp, "warnings.csv")
+        with open(path, "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(["ego", "foe", "kind", "x", "y", "type", "max_delta_v"])
+            w.writerow(["a", "curb", "curb", 1.0, 2.0, "road", ""])
+        r = subprocess.run(["/usr/bin/python3", SCRIPT, "--out", os.path.join(self.tmp, "w"), path],
+                           capture_output=True, text=True)
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("not a conflicts.csv", r.stdout)
+        self.assertFalse(os.path.exists(os.path.join(self.tmp, "w.png")))
 
 
 if __name__ == "__main__":

@@ -359,7 +359,8 @@ long csvRows(const fs::path& csv) {
   return std::count(s.begin(), s.end(), '\n') - 1;
 }
 
-TEST(ConflictMap, OneMarkerPerWarningInAValidPngAndSvg) {
+// One point per row of conflicts.csv (a conflict, at TTC*), none for the warnings beside it.
+TEST(ConflictMap, OneMarkerPerConflictInAValidPngAndSvg) {
   if (std::system("/usr/bin/python3 -c 'import matplotlib' > /dev/null 2>&1") != 0)
     GTEST_SKIP() << "python3-matplotlib not installed";
   const fs::path data = fs::path(STSIM_SOURCE_DIR) / "tests/data/highway";
@@ -369,6 +370,8 @@ TEST(ConflictMap, OneMarkerPerWarningInAValidPngAndSvg) {
   HighwayMonitor m(road, MonitorConfig{});
   FcdReader r(data / "lanedrop.fcd.xml", readSumoVehicleTypes(data / "lanedrop.rou.xml"), {}, &road);
   WarningsCsvWriter csv(out / "warnings.csv");
+  ConflictsCsvWriter conflictsCsv(out / "conflicts.csv");
+  std::vector<Conflict> conflicts;
   FcdFrame f;
   double last = 0.0;
   bool laned = false;
@@ -377,15 +380,20 @@ TEST(ConflictMap, OneMarkerPerWarningInAValidPngAndSvg) {
     last = f.time;
     for (const auto& v : f.vehicles) laned = laned || v.lane >= 0;
     csv.write(m.takeFinished());
+    m.takeConflicts(conflicts);
+    conflictsCsv.write(conflicts);
   }
   m.finish(last);
   csv.write(m.takeFinished());
   csv.flush();
+  m.takeConflicts(conflicts);
+  conflictsCsv.write(conflicts);
+  conflictsCsv.flush();
   EXPECT_TRUE(laned);  // the trace's lane attributes became lane indices
-  const long rows = csvRows(out / "warnings.csv");
-  ASSERT_GT(rows, 5);
+  const long rows = csvRows(out / "conflicts.csv");
+  ASSERT_GT(rows, 0);
   std::string why;
-  ASSERT_TRUE(writeConflictMap({out / "map", data / "lanedrop.net.xml", {out / "warnings.csv"}, "lanedrop"}, why)) << why;
+  ASSERT_TRUE(writeConflictMap({out / "map", data / "lanedrop.net.xml", {out / "conflicts.csv"}, "lanedrop"}, why)) << why;
   const std::string png = slurp(out / "map.png");
   ASSERT_GT(png.size(), 8u);
   EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));

@@ -1,6 +1,8 @@
 #pragma once
-// The conflict map (PNG and SVG): the network's lanes and every warning at its position,
-// coloured by conflict type, sized by severity. Drawn by models/highway/conflict_map.py with
+// The conflict map (PNG and SVG): the network's lanes and every conflict of conflicts.csv (one
+// point per conflict at its conflict point, at TTC*; no warnings), coloured by conflict type, sized
+// by MaxDeltaV. TTC* is read from the summary.json beside each conflicts.csv (conflicts.max_ttc_s)
+// and said in the title. Drawn by models/highway/conflict_map.py with
 // Debian's python3-matplotlib, which the batch report's plots use too.
 #include <filesystem>
 #include <string>
@@ -11,7 +13,7 @@ namespace st::highway {
 struct ConflictMapRequest {
   std::filesystem::path out;                     // prefix: writes out.png and out.svg
   std::filesystem::path net;                     // .net.xml whose lanes are drawn (empty: none)
-  std::vector<std::filesystem::path> warnings;   // warnings.csv files, drawn together
+  std::vector<std::filesystem::path> conflicts;  // conflicts.csv files, drawn together
   std::string title;
 };
 
