@@ -312,30 +312,25 @@ void Monitor::noteNearest(int i, int j, int obstacle, const TimeToCollision& r) 
   for (const auto& [me, other] : {std::pair{i, j}, std::pair{j, i}}) {
     if (me < 0) continue;
     Warning& w = armWorst_[capArm_[me]];
-    if (!(r.t < w.ttc || (r.t == w.ttc && r.distance < w.distance))) continue;
-    w.arm = capArm_[me];
-    w.body = capBody_[me];
-    w.capsule = capLocal_[me];
-    w.otherArm = other >= 0 ? capArm_[other] : -1;
-    w.otherBody = other >= 0 ? capBody_[other] : -1;
-    w.otherCapsule = other >= 0 ? capLocal_[other] : -1;
-    w.obstacle = obstacle;
-    w.distance = r.distance;
-    w.ttc = r.t;
-    w.outcome = r.outcome;
+    if (r.t < w.ttc || (r.t == w.ttc && r.distance < w.distance)) w = pairRecord(me, other, obstacle, r);
   }
-  if (!(r.distance < nearest_.distance)) return;
-  nearest_.t = now_;
-  nearest_.arm = capArm_[i];
-  nearest_.body = capBody_[i];
-  nearest_.capsule = capLocal_[i];
-  nearest_.otherArm = j >= 0 ? capArm_[j] : -1;
-  nearest_.otherBody = j >= 0 ? capBody_[j] : -1;
-  nearest_.otherCapsule = j >= 0 ? capLocal_[j] : -1;
-  nearest_.obstacle = obstacle;
-  nearest_.distance = r.distance;
-  nearest_.ttc = r.t;
-  nearest_.outcome = r.outcome;
+  if (r.distance < nearest_.distance) nearest_ = pairRecord(i, j, obstacle, r);
+}
+
+Warning Monitor::pairRecord(int i, int j, int obstacle, const TimeToCollision& r) const {
+  Warning w;
+  w.t = now_;
+  w.arm = capArm_[i];
+  w.body = capBody_[i];
+  w.capsule = capLocal_[i];
+  w.otherArm = j >= 0 ? capArm_[j] : -1;
+  w.otherBody = j >= 0 ? capBody_[j] : -1;
+  w.otherCapsule = j >= 0 ? capLocal_[j] : -1;
+  w.obstacle = obstacle;
+  w.distance = r.distance;
+  w.ttc = r.t;
+  w.outcome = r.outcome;
+  return w;
 }
 
 void Monitor::addWarning(const Warning& w) {

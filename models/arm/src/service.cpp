@@ -303,31 +303,33 @@ std::string ArmService::onHello(net::ConnectionId id, Peer& p, std::string_view 
   return "";
 }
 
-std::string ArmService::mayReportArm(net::ConnectionId id, const Peer& p, int a, const std::string& where) {
-  const net::ConnectionId owner = armOwner_[a];
+// "" if `id` may report the item `owners[k]` keeps (it owns it, or it is free and `id` claims
+// by reporting); else the reason, and another owner's item is marked disputed.
+std::string ArmService::mayReport(net::ConnectionId id, const Peer& p, std::vector<net::ConnectionId>& owners,
+                                  std::vector<char>& disputed, std::size_t k, const std::string& name,
+                                  const std::string& where, const char* stopped) {
+  const net::ConnectionId owner = owners[k];
   if (owner == id) return "";
-  const std::string name = "arm " + std::to_string(a) + " (" + monitor_.arm(a).name + ")";
-  if (owner == kNobody)
-    return p.claimed ? where + ": " + name + " is not in this connection's CLAIM" : "";
-  // two accounts of one arm: neither can be trusted, the arm stops until its owner leaves
-  armDisputed_[a] = 1;
+  if (owner == kNobody) return p.claimed ? where + ": " + name + " is not in this connection's CLAIM" : "";
+  // two accounts of one thing: neither can be trusted; STOP until its owner leaves
+  disputed[k] = 1;
   ++counters_.disputes;
-  return where + ": " + name + " is reported by connection " + std::to_string(owner) +
-         " (one connection per arm; the arm is stopped until that connection leaves)";
+  return where + ": " + name + " is reported by connection " + std::to_string(owner) + " (" + stopped +
+         " until that connection leaves)";
+}
+
+std::string ArmService::mayReportArm(net::ConnectionId id, const Peer& p, int a, const std::string& where) {
+  return mayReport(id, p, armOwner_, armDisputed_, static_cast<std::size_t>(a),
+                   "arm " + std::to_string(a) + " (" + monitor_.arm(a).name + ")", where,
+                   "one connection per arm; the arm is stopped");
 }
 
 std::string ArmService::mayReportObstacle(net::ConnectionId id, const Peer& p, int o, const std::string& where) {
   const Obstacle& ob = monitor_.obstacles()[o];
   const std::string name = "obstacle " + std::to_string(o) + " (" + ob.name + ")";
   if (!ob.tracked) return where + ": " + name + " is not tracked (the scenario puts it; obstacles[i].tracked)";
-  const net::ConnectionId owner = obstacleOwner_[o];
-  if (owner == id) return "";
-  if (owner == kNobody)
-    return p.claimed ? where + ": " + name + " is not in this connection's CLAIM" : "";
-  obstacleDisputed_[o] = 1;
-  ++counters_.disputes;
-  return where + ": " + name + " is reported by connection " + std::to_string(owner) +
-         " (one connection per obstacle; every arm is stopped until that connection leaves)";
+  return mayReport(id, p, obstacleOwner_, obstacleDisputed_, static_cast<std::size_t>(o), name, where,
+                   "one connection per obstacle; every arm is stopped");
 }
 
 std::string ArmService::onClaim(net::ConnectionId id, Peer& p, std::string_view payload) {

@@ -780,8 +780,11 @@ TEST(ArmServiceFaults, StsimArmResetReleasesALatchedStop) {
   p.c.send(proto::encode(bothArms(1, 0.0)));
   ASSERT_TRUE(verdictFor(p, 1));
   p.c.send(proto::encode(pandaReading(2, 0.02, 1)));  // the left arm's sensor silent for 20 ms
+  auto v = verdictFor(p, 2);  // its own cycle (sent together, the two would share one)
+  ASSERT_TRUE(v);
+  ASSERT_EQ(v->arms[0].cause, proto::Cause::Stale);
   p.c.send(proto::encode(bothArms(3, 0.021)));
-  auto v = verdictFor(p, 3);
+  v = verdictFor(p, 3);
   ASSERT_TRUE(v);
   ASSERT_EQ(v->arms[0].cause, proto::Cause::Latched);
   const auto reset = [&](const std::string& arms) {

@@ -169,6 +169,8 @@ class Monitor {
   void testObstacle(int i, int o, double t);
   void addWarning(const Warning& w);
   void noteNearest(int i, int j, int obstacle, const TimeToCollision& r);
+  // capsule i's pair with capsule j (or an obstacle, j < 0), as a record seen from i
+  Warning pairRecord(int i, int j, int obstacle, const TimeToCollision& r) const;
   // Counts the advancement; a Warning for capsule i (ego side filled) if r warns at time t.
   std::optional<Warning> warningFor(int i, const TimeToCollision& r, double t);
 

@@ -114,6 +114,9 @@ class ArmService final : public net::Handler {
   // reporting; otherwise the reason, and another owner's arm is marked disputed
   std::string mayReportArm(net::ConnectionId id, const Peer& p, int a, const std::string& where);
   std::string mayReportObstacle(net::ConnectionId id, const Peer& p, int o, const std::string& where);
+  std::string mayReport(net::ConnectionId id, const Peer& p, std::vector<net::ConnectionId>& owners,
+                        std::vector<char>& disputed, std::size_t k, const std::string& name, const std::string& where,
+                        const char* stopped);
   // "" or why a message at time t from `id` cannot be taken: beyond any clock, a jump ahead of
   // its own last time, or (its first time) too far from the sensors that are talking
   std::string checkTime(net::ConnectionId id, const Peer& p, const std::string& what, double t) const;
