@@ -61,12 +61,39 @@ KeyProblem checkKeys(const YAML::Node& map, std::string_view where,
   return {};
 }
 
+// yaml-cpp 0.7's LoadAll never returns on some malformed input (fuzz_pool_yaml found one that
+// YAML::Load parses at once), so the first document is loaded alone and a second one is found by
+// its marker: a line "---" (alone or before a space) at column 0 after the first document's
+// content began, followed by more content. A marker at column 0 always starts a document (it
+// ends even a block scalar), so no text of the first document is taken for one.
 YAML::Node loadOneDocument(const std::string& text) {
-  std::vector<YAML::Node> docs = YAML::LoadAll(text);
-  for (std::size_t i = 1; i < docs.size(); ++i)
-    if (!docs[i].IsNull())
-      throw YAML::ParserException(docs[i].Mark(), "a second YAML document (after ---): the file must hold one");
-  return docs.empty() ? YAML::Node() : docs.front();
+  YAML::Node doc = YAML::Load(text);
+  bool content = false, marker = false;
+  int line = 0;
+  for (std::size_t at = 0; at < text.size(); ++line) {
+    std::size_t end = text.find('\n', at);
+    if (end == std::string::npos) end = text.size();
+    const std::string_view l(text.data() + at, end - at);
+    at = end + 1;
+    const std::size_t first = l.find_first_not_of(" \t\r");
+    if (first == std::string_view::npos || l[first] == '#') continue;  // blank or a comment
+    const bool isMarker = l.substr(0, 3) == "---" && (l.size() == 3 || l[3] == ' ' || l[3] == '\t' || l[3] == '\r');
+    const bool isEnd = l.substr(0, 3) == "..." && l.find_first_not_of(" \t\r", 3) == std::string_view::npos;
+    if (isEnd) continue;
+    if (isMarker) {
+      if (content) marker = true;
+      // "--- value" holds content on the marker's own line
+      if (l.find_first_not_of(" \t\r", 3) == std::string_view::npos || l[l.find_first_not_of(" \t\r", 3)] == '#') continue;
+    }
+    if (marker) {
+      YAML::Mark m;
+      m.line = line;
+      m.pos = static_cast<int>(at - l.size() - 1);
+      throw YAML::ParserException(m, "a second YAML document (after ---): the file must hold one");
+    }
+    content = true;
+  }
+  return doc;
 }
 
 YAML::Node loadText(const std::string& text, std::string_view file, std::string& error, bool column) {
