@@ -77,13 +77,14 @@ YAML::Node loadOneDocument(const std::string& text) {
     at = end + 1;
     const std::size_t first = l.find_first_not_of(" \t\r");
     if (first == std::string_view::npos || l[first] == '#') continue;  // blank or a comment
+    // what follows a 3-character marker on its line: nothing, a comment, or content ("--- value")
+    const std::size_t rest = l.size() > 3 ? l.find_first_not_of(" \t\r", 3) : std::string_view::npos;
+    const bool bare = rest == std::string_view::npos || l[rest] == '#';
     const bool isMarker = l.substr(0, 3) == "---" && (l.size() == 3 || l[3] == ' ' || l[3] == '\t' || l[3] == '\r');
-    const bool isEnd = l.substr(0, 3) == "..." && l.find_first_not_of(" \t\r", 3) == std::string_view::npos;
-    if (isEnd) continue;
+    if (l.substr(0, 3) == "..." && bare) continue;  // a document's end
     if (isMarker) {
       if (content) marker = true;
-      // "--- value" holds content on the marker's own line
-      if (l.find_first_not_of(" \t\r", 3) == std::string_view::npos || l[l.find_first_not_of(" \t\r", 3)] == '#') continue;
+      if (bare) continue;
     }
     if (marker) {
       YAML::Mark m;

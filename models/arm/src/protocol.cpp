@@ -32,6 +32,10 @@ struct Writer {
     u16(static_cast<std::uint16_t>(n));
     out.append(s.data(), n);
   }
+  void ids(const std::vector<std::uint16_t>& v) {
+    u16(static_cast<std::uint16_t>(v.size()));
+    for (std::uint16_t id : v) u16(id);
+  }
   void head(Type t) {
     u8(version);
     u8(static_cast<std::uint8_t>(t));
@@ -94,6 +98,14 @@ struct Reader {
   bool fail(const std::string& e) {
     if (error.empty()) error = e;
     return false;
+  }
+  // u16 n (at most `max`), then n x u16 ids: CLAIM's and RESET's lists
+  void ids(std::vector<std::uint16_t>& out, std::size_t max, const char* noun, const std::string& beyond) {
+    what = "count";
+    const std::uint16_t n = u16();
+    if (error.empty() && n > max) fail(std::to_string(n) + " " + noun + " " + beyond + " (at most " + std::to_string(max) + ")");
+    what = noun;
+    for (std::uint16_t k = 0; k < n && error.empty(); ++k) out.push_back(u16());
   }
   bool done() {
     if (!error.empty()) return false;
@@ -251,14 +263,11 @@ std::string encode(const Message& m, std::uint8_t version) {
           w.u8(x.flags);
         } else if constexpr (std::is_same_v<T, Reset>) {
           w.head(Type::Reset);
-          w.u16(static_cast<std::uint16_t>(x.arms.size()));
-          for (std::uint16_t a : x.arms) w.u16(a);
+          w.ids(x.arms);
         } else if constexpr (std::is_same_v<T, Claim>) {
           w.head(Type::Claim);
-          w.u16(static_cast<std::uint16_t>(x.arms.size()));
-          for (std::uint16_t a : x.arms) w.u16(a);
-          w.u16(static_cast<std::uint16_t>(x.obstacles.size()));
-          for (std::uint16_t o : x.obstacles) w.u16(o);
+          w.ids(x.arms);
+          w.ids(x.obstacles);
         } else if constexpr (std::is_same_v<T, Welcome>) {
           w.head(Type::Welcome);
           w.u16(x.version);
@@ -362,27 +371,14 @@ Decoded decode(std::string_view payload) {
     }
     case Type::Claim: {
       Claim x;
-      r.what = "arm count";
-      const std::uint16_t n = r.u16();
-      if (r.error.empty() && n > kMaxArms) r.fail(std::to_string(n) + " arms claimed (at most " + std::to_string(kMaxArms) + ")");
-      r.what = "arm";
-      for (std::uint16_t k = 0; k < n && r.error.empty(); ++k) x.arms.push_back(r.u16());
-      r.what = "obstacle count";
-      const std::uint16_t m = r.u16();
-      if (r.error.empty() && m > kMaxObstacles)
-        r.fail(std::to_string(m) + " obstacles claimed (at most " + std::to_string(kMaxObstacles) + ")");
-      r.what = "obstacle";
-      for (std::uint16_t k = 0; k < m && r.error.empty(); ++k) x.obstacles.push_back(r.u16());
+      r.ids(x.arms, kMaxArms, "arms", "claimed");
+      r.ids(x.obstacles, kMaxObstacles, "obstacles", "claimed");
       if (r.done()) d.message = std::move(x);
       break;
     }
     case Type::Reset: {
       Reset x;
-      r.what = "arm count";
-      const std::uint16_t n = r.u16();
-      if (r.error.empty() && n > kMaxArms) r.fail(std::to_string(n) + " arms to reset (at most " + std::to_string(kMaxArms) + ")");
-      r.what = "arm";
-      for (std::uint16_t k = 0; k < n && r.error.empty(); ++k) x.arms.push_back(r.u16());
+      r.ids(x.arms, kMaxArms, "arms", "to reset");
       if (r.done()) d.message = std::move(x);
       break;
     }

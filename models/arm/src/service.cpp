@@ -182,10 +182,7 @@ std::string ArmService::checkTime(net::ConnectionId id, const Peer& p, const std
   // A connection with a clock of its own, or one that owns what it reports (CLAIM), is held to
   // its own clock alone: no other client's time may get a sensor refused (it would lose its arms
   // to whoever claims them next). A clock jumping ahead is a fault of this connection.
-  bool owns = false;
-  for (const net::ConnectionId o : armOwner_) owns = owns || o == id;
-  for (const net::ConnectionId o : obstacleOwner_) owns = owns || o == id;
-  if (std::isfinite(p.newestT) || owns) {
+  if (std::isfinite(p.newestT) || p.owns) {
     if (!std::isfinite(p.newestT)) return "";
     if (t - p.newestT > cfg_.maxLead)
       return what + ": time " + num(t) + " s jumps more than " + num(cfg_.maxLead) + " s ahead of this connection's last (" +
@@ -356,6 +353,7 @@ std::string ArmService::onClaim(net::ConnectionId id, Peer& p, std::string_view 
   for (const std::uint16_t a : c.arms) armOwner_[a] = id;
   for (const std::uint16_t o : c.obstacles) obstacleOwner_[o] = id;
   p.claimed = true;
+  p.owns = !c.arms.empty() || !c.obstacles.empty();
   return "";
 }
 

@@ -73,7 +73,9 @@ struct Service {
     c.net.handleSignals = false;
     return c;
   }
-  ~Service() {
+  ~Service() { stop(); }
+  void stop() {
+    if (!thread.joinable()) return;
     boost::asio::post(io, [this] { service.stop(); });
     thread.join();
   }
@@ -172,6 +174,12 @@ TEST(ArmServiceRogues, AFloodOrASilentSubscriberDoesNotReachTheVerdict) {
   silent.send(proto::encode(proto::Hello{proto::kVersion, ""}));
   silent.send(proto::encode(proto::Subscribe{}));
   for (std::size_t k = 1; k < readings.size(); ++k) expectStop(sensor, readings[k], "flood");
+  // the STOPs above would hold by staleness alone (the flood's times run ahead of the sensor's):
+  // what keeps the flood out is its refusal at its first message
+  svc.stop();
+  EXPECT_EQ(svc.service.counters().disputes, 2u) << "its first message, naming both arms";
+  EXPECT_EQ(svc.service.counters().readings, static_cast<std::uint64_t>(2 * readings.size()))
+      << "readings other than the sensor's were taken";
 }
 
 TEST(ArmServiceRogues, AClientThatClaimsTheArmsFirstCanOnlyStopThem) {

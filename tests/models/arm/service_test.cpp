@@ -107,7 +107,7 @@ proto::Readings pandaReading(std::uint32_t seq, double t, std::uint16_t arm = 0)
   return r;
 }
 
-proto::Readings bothArmsAt(std::uint32_t seq, double t) {
+proto::Readings bothArms(std::uint32_t seq, double t) {
   proto::Readings r = pandaReading(seq, t, 0);
   r.arms.push_back(pandaReading(seq, t, 1).arms[0]);
   return r;
@@ -393,7 +393,7 @@ TEST(ArmService, OneConnectionReportsEachArmAndAConnectionMayNotGoBack) {
   const Scenario s = loadScenario(scenarioPath("two_pandas"));
   Service svc(s, {});
   Peer a(svc.service.port()), b(svc.service.port());
-  proto::Readings both = bothArmsAt(1, 0.2);
+  proto::Readings both = bothArms(1, 0.2);
   a.c.send(proto::encode(both));
   auto v = a.next();
   ASSERT_TRUE(v && std::holds_alternative<proto::Verdict>(*v));
@@ -401,7 +401,7 @@ TEST(ArmService, OneConnectionReportsEachArmAndAConnectionMayNotGoBack) {
   // b reports a's arm: refused, and the arm stops (two accounts of one arm) until a leaves
   b.c.send(proto::encode(pandaReading(1, 0.2005)));
   expectError(b.c, "arm 0 (left) is reported by connection");
-  a.c.send(proto::encode(bothArmsAt(2, 0.201)));
+  a.c.send(proto::encode(bothArms(2, 0.201)));
   v = a.next();
   ASSERT_TRUE(v && std::holds_alternative<proto::Verdict>(*v));
   EXPECT_EQ(std::get<proto::Verdict>(*v).arms[0].level, proto::Level::Stop) << "a disputed arm went on";
@@ -413,12 +413,12 @@ TEST(ArmService, OneConnectionReportsEachArmAndAConnectionMayNotGoBack) {
   // a has left: the arm is free, its next owner is alone and the dispute is over; the arms'
   // sensor left, so their STOP is held until a RESET
   Peer c(svc.service.port());
-  c.c.send(proto::encode(bothArmsAt(1, 0.202)));
+  c.c.send(proto::encode(bothArms(1, 0.202)));
   v = c.next();
   ASSERT_TRUE(v && std::holds_alternative<proto::Verdict>(*v));
   EXPECT_EQ(std::get<proto::Verdict>(*v).arms[0].cause, proto::Cause::Latched);
   c.c.send(proto::encode(proto::Reset{{0, 1}}));
-  c.c.send(proto::encode(bothArmsAt(2, 0.203)));
+  c.c.send(proto::encode(bothArms(2, 0.203)));
   v = c.next();
   ASSERT_TRUE(v && std::holds_alternative<proto::Verdict>(*v));
   EXPECT_EQ(std::get<proto::Verdict>(*v).arms[0].level, proto::Level::Ok);
@@ -560,7 +560,7 @@ TEST(ArmService, AVersionOneClientIsStillServed) {
   ASSERT_TRUE(std::holds_alternative<proto::Welcome>(proto::decode(*f).message));
   EXPECT_EQ(std::get<proto::Welcome>(proto::decode(*f).message).version, 1);
   c.send(proto::encode(proto::Subscribe{proto::Subscribe::kOwnOnly}, 1));
-  c.send(proto::encode(bothArmsAt(1, 0.0), 1));
+  c.send(proto::encode(bothArms(1, 0.0), 1));
   f = c.receive(2s);
   ASSERT_TRUE(f);
   EXPECT_EQ((*f)[0], 1);
@@ -649,11 +649,6 @@ TEST(ArmService, ObstaclePosesMoveTheObstacle) {
 // flood of connections that never say HELLO. Each: a colliding pose still gets STOP at once, a
 // real sensor can still connect.
 
-proto::Readings bothArms(std::uint32_t seq, double t) {
-  proto::Readings r = pandaReading(seq, t, 0);
-  r.arms.push_back(pandaReading(seq, t, 1).arms[0]);
-  return r;
-}
 
 // The verdict acknowledging seq (earlier ones skipped), or nullopt.
 std::optional<proto::Verdict> verdictFor(Peer& p, std::uint32_t seq) {

@@ -99,6 +99,7 @@ class ArmService final : public net::Handler {
     bool inCycle = false;
     bool claimed = false;   // sent CLAIM: reports only what it claimed
     bool reported = false;  // sent READINGS or OBSTACLES
+    bool owns = false;      // claimed an arm or obstacle by CLAIM (its clock is then its own)
     std::uint8_t version = proto::kVersion;  // its HELLO's: what it is answered in
     std::uint32_t ack = 0;
     double lastT = -std::numeric_limits<double>::infinity();  // of its last READINGS
