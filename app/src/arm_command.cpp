@@ -40,7 +40,8 @@ struct Watch {
 };
 
 void writeSummary(const fs::path& file, const std::string& scenario, const arm::Monitor& m, const arm::RunStats& st,
-                  const std::string& broadphase, const std::string& error, bool closedLoop, const Watch& watch) {
+                  const std::string& broadphase, const std::string& error, bool closedLoop, const Watch& watch,
+                  const arm::SeparationMonitor* ssm) {
   const arm::MonitorCounters& c = m.counters();
   std::ostringstream j;
   j << "{\n  \"scenario\": " << io::jsonString(scenario) << ",\n";
@@ -64,6 +65,14 @@ void writeSummary(const fs::path& file, const std::string& scenario, const arm::
   j << "  \"latency_us\": {\"p50\": " << num(arm::percentile(st.latencyUs, 50)) << ", \"p99\": "
     << num(arm::percentile(st.latencyUs, 99)) << ", \"max\": " << num(maxUs) << ", \"mean\": "
     << num(st.latencyUs.empty() ? 0.0 : sum / static_cast<double>(st.latencyUs.size())) << "},\n";
+  if (ssm) {
+    const arm::SsmCounters& sc = ssm->counters();
+    const arm::SsmConfig& cf = ssm->config();
+    j << "  \"ssm\": {\"response\": " << io::jsonString(arm::toString(cf.response)) << ", \"T_r_s\": " << num(cf.reactionTime)
+      << ", \"T_s_s\": " << num(cf.stoppingTime) << ", \"stop_cycles\": " << sc.stopCycles << ", \"scaled_cycles\": "
+      << sc.scaledCycles << ", \"violations\": " << sc.violations << ", \"contacts\": " << sc.contacts
+      << ", \"min_separation_m\": " << num(sc.minSeparation) << "},\n";
+  }
   j << "  \"broadphase\": " << io::jsonString(broadphase) << ",\n";
   if (const Space<3>* sp = m.space()) {
     j << "  \"octree\": {\"decomposition_factor\": " << sp->rule().decompositionFactor
@@ -78,8 +87,49 @@ void writeSummary(const fs::path& file, const std::string& scenario, const arm::
   io::writeTextFile(file, j.str());
 }
 
+// Persons beside working arms: binary STOP against speed scaling, closed loop, on each scenario.
+int runCoexistenceStudy(const Args& args) {
+  std::vector<std::string> files;
+  if (args.positionalValue(0)) files.push_back(*args.positionalValue(0));
+  else files.push_back((fs::path(args.get("shipped")) / "person_walkup.yaml").string());
+  const fs::path out = args.get("out");
+  fs::create_directories(out);
+  io::CsvRowWriter csv(out / "coexistence.csv",
+                      "case,response,contacts,violations,stops,stop_cycles,scaled_cycles,min_separation_m,min_slack_m,"
+                      "progress,duration_s");
+  std::printf("coexistence study: persons beside working arms, closed loop (progress: the arms' program time over the "
+              "clock time)\n\n");
+  std::printf("  %-16s %-8s %8s %10s %6s %11s %13s %10s %11s %9s\n", "case", "response", "contacts", "below S_p",
+              "STOPs", "STOP cycles", "scaled cycles", "min sep m", "min slack m", "progress");
+  for (const std::string& f : files) {
+    const arm::Scenario sc = arm::loadScenario(f);
+    if (sc.persons.empty()) throw UsageError(f + ": no persons: the coexistence study needs a scenario with persons:");
+    double progress[2] = {0.0, 0.0};
+    int k = 0;
+    for (arm::SsmResponse r : {arm::SsmResponse::Stop, arm::SsmResponse::Scaling}) {
+      const arm::CoexistenceOutcome o = arm::runCoexistence(sc, r);
+      progress[k++] = o.progress;
+      const std::string name = fs::path(f).stem().string();
+      std::printf("  %-16s %-8s %8llu %10llu %6d %11llu %13llu %10.4f %11.4f %9.4f\n", name.c_str(), arm::toString(r),
+                  static_cast<unsigned long long>(o.contacts), static_cast<unsigned long long>(o.violations), o.stops,
+                  static_cast<unsigned long long>(o.stopCycles), static_cast<unsigned long long>(o.scaledCycles),
+                  o.minSeparation, o.minSlack, o.progress);
+      std::ostringstream line;
+      line << io::csvField(name) << ',' << arm::toString(r) << ',' << o.contacts << ',' << o.violations << ',' << o.stops
+           << ',' << o.stopCycles << ',' << o.scaledCycles << ',' << num(o.minSeparation) << ',' << num(o.minSlack) << ','
+           << num(o.progress) << ',' << num(o.duration);
+      csv.row(line.str());
+    }
+    std::printf("  %-16s scaling / stop throughput: %.3fx\n", "", progress[0] > 0.0 ? progress[1] / progress[0] : INFINITY);
+  }
+  csv.flush();
+  std::printf("\n-> %s\n", (out / "coexistence.csv").c_str());
+  return 0;
+}
+
 int runStudy(const Args& args) {
-  if (args.get("study") != "stopping") throw UsageError("--study: expected stopping");
+  if (args.get("study") == "coexistence") return runCoexistenceStudy(args);
+  if (args.get("study") != "stopping") throw UsageError("--study: expected stopping or coexistence");
   arm::StudyConfig cfg;
   cfg.randomCourses = static_cast<int>(args.getInt("courses"));
   if (cfg.randomCourses < 0 || cfg.randomCourses > 100000) throw UsageError("--courses: expected 0..100000");
@@ -308,19 +358,23 @@ int runArm(int argc, const char* const* argv) {
   args.option("out", "DIR", "output folder", "arm-out");
   args.option("broadphase", "KIND", "octree (default, from the scenario) or none (all pairs, the reference)", "");
   args.flag("open-loop", "STOP is flagged but the arms keep moving (default: closed loop, a STOP brakes the arm)");
-  args.option("study", "NAME", "stopping: contacts open vs closed loop against safe time and stopping time", "");
+  args.option("study", "NAME", "stopping: contacts open vs closed loop against safe time and stopping time; "
+              "coexistence: persons beside a working arm, binary STOP vs speed scaling (SCENARIO, or the shipped "
+              "person_walkup)", "");
   args.option("courses", "N", "--study: random two-Panda courses", "200");
   args.option("seed", "N", "--study: seed of the random courses", "1");
   args.option("stopping-time", "S", "--study: the arms' real stopping time (s)", "0.2");
   args.option("shipped", "DIR", "--study: folder of the shipped scenarios", "models/arm/scenarios");
   args.flag("no-shipped", "--study: random courses only");
+  args.option("response", "R", "persons: stop (binary) or scaling (speed factor), instead of the scenario's ssm.response", "");
   args.option("record-trace", "FILE", "write the readings applied as a CSV sensor trace (for stsim arm stream)", "");
   if (!args.parse(argc, argv)) {
     std::cout << args.help();
     return 0;
   }
   if (args.has("study")) {
-    if (args.positionalValue(0)) throw UsageError("--study takes no SCENARIO");
+    if (args.positionalValue(0) && args.get("study") != "coexistence")
+      throw UsageError("--study stopping takes no SCENARIO");
     return runStudy(args);
   }
   if (!args.positionalValue(0)) throw UsageError("missing argument SCENARIO (see stsim arm --help)");
@@ -345,10 +399,25 @@ int runArm(int argc, const char* const* argv) {
   }
   arm::SensorSource& sensor = *chosen;
   Watch watch;
+  // persons: speed and separation monitoring beside the collision monitor
+  if (!args.get("response").empty()) {
+    const std::string r = args.get("response");
+    if (r == "stop") sc.ssm.response = arm::SsmResponse::Stop;
+    else if (r == "scaling") sc.ssm.response = arm::SsmResponse::Scaling;
+    else throw UsageError("--response: expected stop or scaling, got '" + r + "'");
+  }
+  arm::PersonSet persons = arm::makePersons(sc);
+  std::unique_ptr<arm::SeparationMonitor> ssm;
+  if (persons.size() > 0) ssm = std::make_unique<arm::SeparationMonitor>(sc.ssm, monitor.armCount());
 
   const fs::path out = args.get("out");
   fs::create_directories(out);
   io::CsvRowWriter csv(out / "warnings.csv", "t_s,arm,link,capsule,other,distance_m,ttc_s,reason,stop");
+  std::unique_ptr<io::CsvRowWriter> ssmCsv;
+  if (ssm)
+    ssmCsv = std::make_unique<io::CsvRowWriter>(out / "ssm.csv",
+        "t_s,arm,link,person,part,region,separation_m,S_p_m,S_h_m,S_r_m,S_s_m,C_m,Z_d_m,Z_r_m,dominant,v_r_mps,"
+        "allowed_mps,factor,verdict");
   std::ostringstream line;
   arm::RunStats stats;
   const std::string bpName = sc.broad.kind == SpaceKind::None ? "none" : toString(sc.broad.kind);
@@ -356,7 +425,25 @@ int runArm(int argc, const char* const* argv) {
   StopSignals stopSignals;
   try {
     arm::run(monitor, sensor, stats, [&](const arm::Monitor& m) {
-      if (drive) drive->observe(m, m.time());
+      if (ssm) {
+        arm::separationStep(m, persons, *ssm, drive.get());
+        for (int a = 0; a < m.armCount(); ++a) {
+          const arm::SsmVerdict& v = ssm->verdict(a);
+          if (v.person < 0) continue;
+          const arm::SeparationTerms& T = v.terms;
+          line.str("");
+          line << num(m.time()) << ',' << io::csvField(m.arm(a).name) << ','
+               << io::csvField(arm::bodyName(m.arm(a).model, v.armBody)) << ',' << io::csvField(persons.name(v.person)) << ','
+               << arm::bodyParts()[v.part].name << ',' << arm::toString(arm::bodyParts()[v.part].region) << ','
+               << num(v.separation) << ',' << num(v.required) << ',' << num(T.sh) << ',' << num(T.sr) << ',' << num(T.ss)
+               << ',' << num(T.c) << ',' << num(T.zd) << ',' << num(T.zr) << ',' << T.dominant() << ',' << num(v.robotSpeed)
+               << ',' << num(v.allowedSpeed) << ',' << num(v.factor) << ','
+               << (v.stop ? "STOP" : v.factor < 1.0 ? "SCALE" : "OK");
+          ssmCsv->row(line.str());
+        }
+      } else if (drive) {
+        drive->observe(m, m.time());
+      }
       watch.see(m);
       for (const arm::Warning& w : m.warnings()) {
         line.str("");
@@ -371,23 +458,32 @@ int runArm(int argc, const char* const* argv) {
     // results so far stay on disk; the first failure is the one reported (a full disk fails both)
     try {
       csv.flush();
+      if (ssmCsv) ssmCsv->flush();
     } catch (const std::exception&) {
     }
     try {
-      writeSummary(out / "summary.json", path, monitor, stats, bpName, e.what(), closedLoop, watch);
+      writeSummary(out / "summary.json", path, monitor, stats, bpName, e.what(), closedLoop, watch, ssm.get());
     } catch (const std::exception&) {
     }
     throw;
   }
   csv.flush();
-  writeSummary(out / "summary.json", path, monitor, stats, bpName, "", closedLoop, watch);
+  if (ssmCsv) ssmCsv->flush();
+  writeSummary(out / "summary.json", path, monitor, stats, bpName, "", closedLoop, watch, ssm.get());
   const auto& c = monitor.counters();
   std::cout << "arm (" << (closedLoop ? "closed" : "open") << " loop): " << stats.cycles << " cycles, " << c.warnings
             << " warnings, " << c.stops << " STOPs, "
             << (std::isnan(watch.firstContact) ? std::string("no contact") : "first contact at " + num(watch.firstContact) + " s")
             << ", min distance " << num(watch.minDistance) << " m, latency p50 "
             << num(arm::percentile(stats.latencyUs, 50)) << " us p99 " << num(arm::percentile(stats.latencyUs, 99))
-            << " us -> " << (out / "summary.json").string() << "\n";
+            << " us";
+  if (ssm) {
+    const arm::SsmCounters& k = ssm->counters();
+    std::cout << ", persons (" << arm::toString(sc.ssm.response) << "): " << k.stopCycles << " STOP cycles, "
+              << k.scaledCycles << " scaled, " << k.violations << " below S_p unstopped, " << k.contacts
+              << " contacts, min separation " << num(k.minSeparation) << " m";
+  }
+  std::cout << " -> " << (out / "summary.json").string() << "\n";
   if (const int sig = StopSignals::signal()) {
     std::cout.flush();
     std::cerr << "stsim arm: " << StopSignals::name(sig) << ": "

@@ -5,6 +5,7 @@
 
 #include <starm/monitor.hpp>
 #include <starm/scenario.hpp>
+#include <starm/ssm.hpp>
 
 namespace st::arm {
 
@@ -48,7 +49,9 @@ double ArmDrive::advance(double t) {
     return tau_;
   }
   if (t <= last_) return tau_;
-  if (mode_ == DriveMode::Following) {
+  if (mode_ == DriveMode::Scaled) {
+    advanceScaled(t);
+  } else if (mode_ == DriveMode::Following) {
     // exact while following: tau = t - lag (no drift from summing cycle lengths)
     tau_ = t - lag_;
     s_ = 1.0;
@@ -65,14 +68,63 @@ double ArmDrive::advance(double t) {
   return tau_;
 }
 
+void ArmDrive::advanceScaled(double t) {
+  // piecewise: s heads for the current target at the braking rate; targets change at their times
+  const double rate = cfg_.stoppingTime > 0.0 ? 1.0 / cfg_.stoppingTime : std::numeric_limits<double>::infinity();
+  double a = last_;
+  while (a < t) {
+    while (!targets_.empty() && targets_.front().first <= a) {
+      target_ = targets_.front().second;
+      targets_.pop_front();
+    }
+    const double b = targets_.empty() ? t : std::min(t, targets_.front().first);
+    const double gap = target_ - s_;
+    const double reach = std::abs(gap) / rate;  // time to get there
+    if (reach >= b - a) {
+      const double s1 = s_ + (gap > 0.0 ? 1.0 : -1.0) * rate * (b - a);
+      tau_ += 0.5 * (s_ + s1) * (b - a);
+      s_ = s1;
+    } else {
+      tau_ += 0.5 * (s_ + target_) * reach + target_ * (b - a - reach);
+      s_ = target_;
+    }
+    a = b;
+  }
+  // back at full speed with nothing pending: following again, its lag as it stands
+  if (s_ >= 1.0 && target_ >= 1.0 && targets_.empty()) {
+    s_ = 1.0;
+    mode_ = DriveMode::Following;
+    lag_ = t - tau_;
+  }
+}
+
+void ArmDrive::limit(double t, double factor) {
+  factor = std::clamp(factor, 0.0, 1.0);
+  if (mode_ == DriveMode::Braking || mode_ == DriveMode::Stopped) return;
+  if (mode_ == DriveMode::Following && factor >= 1.0) return;
+  if (mode_ == DriveMode::Resuming && factor >= ramp_.at(last_)) return;  // the resume ramp is below it
+  if (mode_ != DriveMode::Scaled) {
+    // from following (s = 1) or part way up a resume ramp, heading for full speed until the new factor is due
+    s_ = mode_ == DriveMode::Following ? 1.0 : ramp_.at(last_);
+    target_ = 1.0;
+    targets_.clear();
+    mode_ = DriveMode::Scaled;
+  }
+  const double last = targets_.empty() ? target_ : targets_.back().second;
+  if (factor == last) return;
+  targets_.emplace_back(std::max(t + cfg_.delay, last_), factor);
+}
+
 void ArmDrive::observe(double t, bool warned, bool stop, double rate) {
   if (warned) lastThreat_ = t;
-  if (stop && (mode_ == DriveMode::Following || mode_ == DriveMode::Resuming)) {
+  if (stop && (mode_ == DriveMode::Following || mode_ == DriveMode::Resuming || mode_ == DriveMode::Scaled)) {
     // braking starts `delay` after the STOP cycle, never before the next reading
     double stopping = cfg_.stoppingTime;
     if (cfg_.deceleration > 0.0) stopping = rate / cfg_.deceleration;
     const double start = std::max(t + cfg_.delay, last_);
-    const double s0 = mode_ == DriveMode::Following ? 1.0 : ramp_.at(start);
+    // scaled: the speed now, held until braking starts (the factors on their way are dropped)
+    const double s0 = mode_ == DriveMode::Following ? 1.0 : mode_ == DriveMode::Scaled ? s_ : ramp_.at(start);
+    targets_.clear();
     ramp_ = {start, s0, stopping > 0.0 ? -1.0 / stopping : -std::numeric_limits<double>::infinity()};
     if (!(stopping > 0.0)) ramp_ = {start, 0.0, 0.0};  // no braking time: at rest from the start
     mode_ = DriveMode::Braking;
@@ -139,9 +191,12 @@ bool ClosedLoopSensor::next(Reading& r) {
   return true;
 }
 
-void ClosedLoopSensor::observe(const Monitor& m, double t) {
+void ClosedLoopSensor::observe(const Monitor& m, double t, const SeparationMonitor* ssm) {
   for (int a = 0; a < static_cast<int>(arms_.size()); ++a) {
-    observeArm(a, t, m.warned(a), m.stopped(a));
+    const SsmVerdict* v = ssm ? &ssm->verdict(a) : nullptr;
+    const bool ssmStop = v && v->stop;
+    observeArm(a, t, m.warned(a) || ssmStop, m.stopped(a) || ssmStop);
+    if (v) limitArm(a, t, v->factor);
   }
 }
 
@@ -152,6 +207,11 @@ void ClosedLoopSensor::observeArm(int a, double t, bool warned, bool stop) {
   if (f.head < f.buffer.size())
     for (double v : f.buffer[f.head].qdot) rate = std::max(rate, std::abs(v));
   f.drive.observe(t, warned, stop, rate);
+}
+
+void ClosedLoopSensor::limitArm(int a, double t, double factor) {
+  ArmFeed& f = arms_[a];
+  if (f.seen) f.drive.limit(t, factor);
 }
 
 std::unique_ptr<ClosedLoopSensor> makeClosedLoopSensor(const Scenario& s) {

@@ -232,10 +232,112 @@ void randomObstacles(const Yaml& y, const YAML::Node& n, Scenario& s) {
 
 namespace {
 
+// ssm: and persons: (after braking:, whose times are the drive's T_r and T_s)
+void parseSsm(const Yaml& y, const YAML::Node& root, Scenario& s) {
+  SsmConfig& c = s.ssm;
+  c.cycleTime = s.safety.cycleTime;
+  c.reactionTime = s.safety.cycleTime + s.braking.delay;
+  c.stoppingTime = s.braking.stoppingTime;
+  if (const YAML::Node n = root["ssm"]) {
+    y.knownKeys(n, "ssm", {"response", "body_speed", "hand_speed", "intrusion", "person_uncertainty", "robot_uncertainty",
+                           "robot_speed"});
+    if (n["response"]) {
+      const std::string r = y.text(n["response"], "ssm.response");
+      if (r == "stop") c.response = SsmResponse::Stop;
+      else if (r == "scaling") c.response = SsmResponse::Scaling;
+      else y.fail(n["response"], "ssm.response", "expected stop or scaling, got '" + r + "'");
+    }
+    c.bodySpeed = y.positive(n, "body_speed", "ssm", c.bodySpeed);
+    c.handSpeed = y.positive(n, "hand_speed", "ssm", c.handSpeed);
+    c.robotSpeed = y.positive(n, "robot_speed", "ssm", c.robotSpeed);
+    for (const auto& [name, field] : {std::pair{"intrusion", &c.intrusion}, std::pair{"person_uncertainty", &c.personUncertainty},
+                                      std::pair{"robot_uncertainty", &c.robotUncertainty}}) {
+      *field = y.number(n, name, "ssm", *field);
+      if (*field < 0.0 || *field > kMaxSeparation)
+        y.fail(n[name], std::string("ssm.") + name, "expected 0.." + io::number(kMaxSeparation) + " m");
+    }
+  }
+  const YAML::Node persons = y.list(root["persons"], "persons");
+  if (!persons) return;
+  if (s.braking.deceleration > 0.0)
+    y.fail(root["braking"]["deceleration"], "braking.deceleration",
+           "persons need the drive's stopping time (braking.stopping_time) for S_s, not a deceleration");
+  for (std::size_t i = 0; i < persons.size(); ++i) {
+    const std::string key = "persons[" + std::to_string(i) + "]";
+    const YAML::Node p = persons[i];
+    y.knownKeys(p, key, {"name", "start", "script", "trace"});
+    Scenario::Person person;
+    person.name = p["name"] ? y.text(p["name"], key + ".name") : "person" + std::to_string(i);
+    for (const Scenario::Person& other : s.persons)
+      if (other.name == person.name) y.fail(p["name"], key + ".name", "duplicate person name '" + person.name + "'");
+    if (p["trace"] && (p["script"] || p["start"])) y.fail(p["trace"], key + ".trace", "give either a trace or start and script, not both");
+    if (p["trace"]) {
+      std::filesystem::path f = y.text(p["trace"], key + ".trace");
+      if (f.is_relative()) f = std::filesystem::path(s.file).parent_path() / f;
+      person.trace = f.string();
+      s.persons.push_back(person);
+      continue;
+    }
+    PersonScript& sc = person.script;
+    sc.name = person.name;
+    if (const YAML::Node st = p["start"]) {
+      y.knownKeys(st, key + ".start", {"xy", "heading"});
+      const std::vector<double> xy = y.numbers(st["xy"], key + ".start.xy");
+      if (xy.size() != 2) y.fail(st["xy"], key + ".start.xy", "expected [x, y]");
+      sc.start = Vec3(xy[0], xy[1], 0.0);
+      sc.heading = y.number(st, "heading", key + ".start", 0.0);
+    } else {
+      y.fail(p, key + ".start", "missing: where the person stands first ({xy: [x, y], heading})");
+    }
+    const YAML::Node script = y.list(p["script"], key + ".script");
+    for (std::size_t k = 0; script && k < script.size(); ++k) {
+      const std::string ak = key + ".script[" + std::to_string(k) + "]";
+      const YAML::Node a = script[k];
+      y.knownKeys(a, ak, {"walk", "reach", "wait"});
+      if (a.size() != 1) y.fail(a, ak, "expected one of walk, reach, wait");
+      PersonAction act;
+      if (const YAML::Node wait = a["wait"]) {
+        act.kind = PersonAction::Wait;
+        act.duration = y.number(wait, ak + ".wait");
+        if (!(act.duration >= 0.0 && act.duration <= 3600.0)) y.fail(wait, ak + ".wait", "expected a time in 0..3600 s");
+      } else {
+        const bool walk = static_cast<bool>(a["walk"]);
+        const YAML::Node w = walk ? a["walk"] : a["reach"];
+        const std::string wk = ak + (walk ? ".walk" : ".reach");
+        y.knownKeys(w, wk, walk ? std::initializer_list<const char*>{"to", "speed"}
+                                : std::initializer_list<const char*>{"to", "speed", "hand"});
+        act.kind = walk ? PersonAction::Walk : PersonAction::Reach;
+        const double limit = walk ? c.bodySpeed : c.handSpeed;
+        if (!w["speed"]) y.fail(w, wk + ".speed", "missing (m/s)");
+        act.speed = y.positive(w, "speed", wk, 0.0);
+        // S_h bounds the person by these speeds: a script faster than them breaks the bound
+        if (act.speed > limit)
+          y.fail(w["speed"], wk + ".speed",
+                 io::number(act.speed) + " m/s is beyond " + (walk ? "ssm.body_speed " : "ssm.hand_speed ") +
+                     io::number(limit) + " m/s, the speed S_h assumes");
+        if (walk) {
+          const std::vector<double> to = y.numbers(w["to"], wk + ".to");
+          if (to.size() != 2) y.fail(w["to"], wk + ".to", "expected [x, y]");
+          act.to = Vec3(to[0], to[1], 0.0);
+        } else {
+          act.to = y.vec3(w["to"], wk + ".to");
+          const std::string hand = w["hand"] ? y.text(w["hand"], wk + ".hand") : "right";
+          if (hand != "right" && hand != "left") y.fail(w["hand"], wk + ".hand", "expected right or left, got '" + hand + "'");
+          act.rightHand = hand == "right";
+        }
+        if (!(act.to.cwiseAbs().maxCoeff() <= kMaxBaseOffset))
+          y.fail(w["to"], wk + ".to", "farther than " + io::number(kMaxBaseOffset) + " m from the workcell's origin");
+      }
+      sc.actions.push_back(act);
+    }
+    s.persons.push_back(person);
+  }
+}
+
 Scenario parseScenario(const std::string& path, const YAML::Node& root) {
   const Yaml y{path};
   y.knownKeys(root, "", {"safety", "octree", "models", "arms", "trace", "duration", "obstacles", "random_obstacles", "name",
-                         "description", "braking"});
+                         "description", "braking", "persons", "ssm"});
   Scenario s;
   s.file = path;
   if (const YAML::Node n = root["safety"]) {
@@ -443,6 +545,7 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
     }
   }
   if (const YAML::Node n = root["random_obstacles"]) randomObstacles(y, n, s);
+  parseSsm(y, root, s);
   return s;
 }
 
@@ -472,6 +575,19 @@ std::unique_ptr<SensorSource> makeSensor(const Scenario& s) {
 }
 
 Monitor makeMonitor(const Scenario& s) { return Monitor(s.arms, s.obstacles, s.safety, s.broad); }
+
+PersonSet makePersons(const Scenario& s) {
+  PersonSet set;
+  for (const Scenario::Person& p : s.persons) {
+    if (p.trace.empty()) {
+      set.add(p.name, std::make_unique<ScriptedPerson>(p.script));
+    } else {
+      const CsvPersonTrace trace(p.trace, {p.name});
+      set.add(p.name, std::make_unique<TracedPerson>(trace.rows(0)));
+    }
+  }
+  return set;
+}
 
 void run(Monitor& m, SensorSource& src, RunStats& stats, const std::function<void(const Monitor&)>& onCycle,
          const std::function<bool()>& stopRequested) {

@@ -127,4 +127,45 @@ StudyResult stoppingStudy(const StudyConfig& cfg) {
   return res;
 }
 
+void separationStep(const Monitor& m, PersonSet& persons, SeparationMonitor& ssm, ClosedLoopSensor* drive) {
+  persons.pose(m.time());
+  ssm.cycle(m, persons);
+  if (drive) drive->observe(m, m.time(), &ssm);
+}
+
+CoexistenceOutcome runCoexistence(Scenario s, SsmResponse response,
+                                  const std::function<void(const Monitor&, const SeparationMonitor&)>& onCycle) {
+  s.ssm.response = response;
+  Monitor m = makeMonitor(s);
+  std::unique_ptr<ClosedLoopSensor> drive = makeClosedLoopSensor(s);
+  PersonSet persons = makePersons(s);
+  SeparationMonitor ssm(s.ssm, m.armCount());
+  CoexistenceOutcome o;
+  o.minSlack = std::numeric_limits<double>::infinity();
+  RunStats stats;
+  run(m, *drive, stats, [&](const Monitor& mm) {
+    separationStep(mm, persons, ssm, drive.get());
+    for (int a = 0; a < mm.armCount(); ++a) {
+      const SsmVerdict& v = ssm.verdict(a);
+      if (v.person >= 0) o.minSlack = std::min(o.minSlack, v.slack);
+    }
+    if (onCycle) onCycle(mm, ssm);
+  });
+  const SsmCounters& c = ssm.counters();
+  o.cycles = stats.cycles;
+  o.contacts = c.contacts;
+  o.violations = c.violations;
+  o.stopCycles = c.stopCycles;
+  o.scaledCycles = c.scaledCycles;
+  o.minSeparation = c.minSeparation;
+  o.duration = m.time();
+  double tau = 0.0;
+  for (int a = 0; a < m.armCount(); ++a) {
+    o.stops += drive->drive(a).stops();
+    tau += drive->drive(a).tau();
+  }
+  o.progress = o.duration > 0.0 ? tau / m.armCount() / o.duration : 1.0;
+  return o;
+}
+
 }  // namespace st::arm

@@ -6,6 +6,7 @@
 // ISO 10218 stop category 2). A joint moving at w comes to rest w * delay + w * T / 2 after the
 // STOP's braking command. The arm stays stopped until the resume rule lets it go: never, or once
 // the threat has been clear for a settable time; it then ramps back up at the same rate.
+#include <deque>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -15,6 +16,7 @@
 namespace st::arm {
 
 class Monitor;
+class SeparationMonitor;
 
 struct BrakeConfig {
   double stoppingTime = 0.2;   // s, full speed to rest (used when deceleration is 0)
@@ -35,7 +37,8 @@ struct Ramp {
   double integral(double a, double b) const;
 };
 
-enum class DriveMode { Following, Braking, Stopped, Resuming };
+// Scaled: the program speed follows a speed factor below 1 (speed and separation monitoring).
+enum class DriveMode { Following, Braking, Stopped, Resuming, Scaled };
 
 // One arm's drive state (pure: no monitor, no sensor), so the profile can be tested on its own.
 class ArmDrive {
@@ -50,6 +53,11 @@ class ArmDrive {
   // The monitor's verdict of the cycle at t: warned (a threat), stop (STOP held). `rate` is the
   // largest nominal joint rate now (rad/s), used when braking by deceleration.
   void observe(double t, bool warned, bool stop, double rate);
+  // Speed scaling: from `delay` after the cycle at t the program speed heads for `factor` (0..1),
+  // changing at 1 / stoppingTime per second, the braking rate (a scaled arm is one that braked
+  // part way, so its speed is never above the ramp a STOP would have made). A STOP overrides it;
+  // a stopped arm goes again only by the resume rule. factor 1 lets it back to following.
+  void limit(double t, double factor);
   // stopped and no rule will resume it
   bool heldForGood() const { return mode_ == DriveMode::Stopped && !cfg_.resumes(); }
   int stops() const { return stops_; }
@@ -64,6 +72,10 @@ class ArmDrive {
   double tau_ = 0.0;
   double lag_ = 0.0;   // t - tau while following
   double s_ = 1.0;
+  // Scaled: the factor the speed heads for, and factors still on their way (effective time, factor)
+  double target_ = 1.0;
+  std::deque<std::pair<double, double>> targets_;
+  void advanceScaled(double t);
   double lastThreat_ = -std::numeric_limits<double>::infinity();
   int stops_ = 0, resumes_ = 0;
 };
@@ -77,9 +89,12 @@ class ClosedLoopSensor final : public SensorSource {
  public:
   ClosedLoopSensor(std::unique_ptr<SensorSource> nominal, std::vector<ArmModel> models, BrakeConfig cfg);
   bool next(Reading& r) override;
-  void observe(const Monitor& m, double t);
+  // With speed and separation monitoring: its STOP counts as the monitor's, its factor scales the arm.
+  void observe(const Monitor& m, double t, const SeparationMonitor* ssm = nullptr);
   // The same from a verdict that came another way (the network): warned, STOP held.
   void observeArm(int arm, double t, bool warned, bool stop);
+  // A speed factor for the arm from the cycle at t (ArmDrive::limit).
+  void limitArm(int arm, double t, double factor);
   const ArmDrive& drive(int arm) const { return arms_[arm].drive; }
 
  private:

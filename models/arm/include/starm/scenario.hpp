@@ -14,6 +14,10 @@
 //                box: {center, half_extents, rpy}, velocity: [..]}]
 //   random_obstacles: {count, seed, min: [..], max: [..], radius: [lo, hi], keep_out: [{center, radius}]}
 //   braking: {stopping_time: 0.2 | deceleration: 8.0, delay: 0.01, resume: never | 0.5}   (closed loop)
+//   persons: [{name, start: {xy: [x, y], heading}, script: [{walk: {to: [x, y], speed}} |
+//              {reach: {hand: right|left, to: [x, y, z], speed}} | {wait: s}]} | {name, trace: file.csv}]
+//   ssm: {response: scaling|stop, body_speed, hand_speed, intrusion, person_uncertainty,
+//         robot_uncertainty, robot_speed}
 #include <chrono>
 #include <functional>
 #include <memory>
@@ -23,6 +27,7 @@
 #include <starm/drive.hpp>
 #include <starm/monitor.hpp>
 #include <starm/sensor.hpp>
+#include <starm/ssm.hpp>
 
 namespace st::arm {
 
@@ -38,12 +43,23 @@ struct Scenario {
   // closed loop: how a STOPped arm brakes and resumes (defaults: safety.stopping_time,
   // safety.reaction_time, never resume)
   BrakeConfig braking;
+  // persons in the cell and speed and separation monitoring (T_r = cycle + braking.delay,
+  // T_s = braking.stopping_time: the drive's own stopping)
+  struct Person {
+    std::string name;
+    PersonScript script;  // or
+    std::string trace;    // CSV person trace (relative paths resolved)
+  };
+  std::vector<Person> persons;
+  SsmConfig ssm;
 };
 
 // Throws InputError naming the file, line and key.
 Scenario loadScenario(const std::string& path);
 std::unique_ptr<SensorSource> makeSensor(const Scenario& s);
 Monitor makeMonitor(const Scenario& s);
+// The scenario's persons, scripted or traced (a trace is read here: InputError naming its line).
+PersonSet makePersons(const Scenario& s);
 // The scenario's sensor in closed loop (drive.cpp): STOP brakes the arm per s.braking.
 std::unique_ptr<ClosedLoopSensor> makeClosedLoopSensor(const Scenario& s);
 

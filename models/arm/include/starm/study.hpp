@@ -4,6 +4,7 @@
 // seeded random two-Panda courses (bases, start and goal poses, timing drawn per course).
 // Contact is an exact capsule distance <= 0 between any tested pair (no growth).
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -60,5 +61,25 @@ struct StudyResult {
 };
 
 StudyResult stoppingStudy(const StudyConfig& cfg);
+
+// Persons beside working arms, closed loop: what a response (binary STOP or speed scaling) does
+// to contacts, separation and the arms' task progress.
+struct CoexistenceOutcome {
+  std::uint64_t cycles = 0;
+  std::uint64_t contacts = 0;      // arm cycles with a person capsule touching a moving arm capsule
+  std::uint64_t violations = 0;    // arm cycles below S_p at the arm's speed without a STOP verdict
+  std::uint64_t stopCycles = 0, scaledCycles = 0;
+  int stops = 0;                   // STOPs the drives obeyed
+  double minSeparation = 0.0;      // m, person to arm over the run
+  double minSlack = 0.0;           // m, smallest separation - S_p over the run (negative: below S_p)
+  double progress = 0.0;           // task progress: the arms' mean program time over the clock time
+  double duration = 0.0;           // s, clock time of the run
+};
+// One scenario with its persons under the given response. onCycle (if given) sees every cycle.
+CoexistenceOutcome runCoexistence(Scenario s, SsmResponse response,
+                                  const std::function<void(const Monitor&, const SeparationMonitor&)>& onCycle = {});
+// One cycle's persons: posed at the monitor's time, the SSM verdicts, and (closed loop) the
+// drives' response, the monitor's STOPs merged with the SSM's.
+void separationStep(const Monitor& m, PersonSet& persons, SeparationMonitor& ssm, ClosedLoopSensor* drive);
 
 }  // namespace st::arm
