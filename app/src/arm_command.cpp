@@ -1,4 +1,5 @@
 // stsim arm: the robot-arm collision monitor over a scenario's sensor stream.
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -41,7 +42,7 @@ struct Watch {
 
 void writeSummary(const fs::path& file, const std::string& scenario, const arm::Monitor& m, const arm::RunStats& st,
                   const std::string& broadphase, const std::string& error, bool closedLoop, const Watch& watch,
-                  const arm::SeparationMonitor* ssm) {
+                  const arm::SeparationMonitor* ssm, const arm::DeadlineWatch& deadline) {
   const arm::MonitorCounters& c = m.counters();
   std::ostringstream j;
   j << "{\n  \"scenario\": " << io::jsonString(scenario) << ",\n";
@@ -65,6 +66,10 @@ void writeSummary(const fs::path& file, const std::string& scenario, const arm::
   j << "  \"latency_us\": {\"p50\": " << num(arm::percentile(st.latencyUs, 50)) << ", \"p99\": "
     << num(arm::percentile(st.latencyUs, 99)) << ", \"max\": " << num(maxUs) << ", \"mean\": "
     << num(st.latencyUs.empty() ? 0.0 : sum / static_cast<double>(st.latencyUs.size())) << "},\n";
+  j << "  \"deadline\": {\"budget_us\": " << num(deadline.budgetUs) << ", \"missed\": " << deadline.missed
+    << ", \"cycles\": " << deadline.cycles << ", \"first_miss_s\": "
+    << num(deadline.misses.empty() ? NAN : deadline.misses.front().first) << ", \"worst_us\": " << num(deadline.worstUs)
+    << ", \"worst_at_s\": " << num(deadline.worstT) << "},\n";
   if (ssm) {
     const arm::SsmCounters& sc = ssm->counters();
     const arm::SsmConfig& cf = ssm->config();
@@ -366,6 +371,8 @@ int runArm(int argc, const char* const* argv) {
   args.option("stopping-time", "S", "--study: the arms' real stopping time (s)", "0.2");
   args.option("shipped", "DIR", "--study: folder of the shipped scenarios", "models/arm/scenarios");
   args.flag("no-shipped", "--study: random courses only");
+  args.option("budget-us", "US", "compute budget of a cycle (readings + detection + persons); default the cycle "
+              "time. Cycles over it are counted, listed in deadlines.csv and flagged", "");
   args.option("response", "R", "persons: stop (binary) or scaling (speed factor), instead of the scenario's ssm.response", "");
   args.option("record-trace", "FILE", "write the readings applied as a CSV sensor trace (for stsim arm stream)", "");
   if (!args.parse(argc, argv)) {
@@ -407,12 +414,17 @@ int runArm(int argc, const char* const* argv) {
     else throw UsageError("--response: expected stop or scaling, got '" + r + "'");
   }
   arm::PersonSet persons = arm::makePersons(sc);
+  arm::DeadlineWatch deadline;
+  deadline.budgetUs = args.get("budget-us").empty() ? sc.safety.cycleTime * 1e6 : args.getDouble("budget-us");
+  if (!(deadline.budgetUs > 0.0 && deadline.budgetUs <= 3.6e9))
+    throw UsageError("--budget-us: expected a time in (0, 3.6e9] us, got " + args.get("budget-us"));
   std::unique_ptr<arm::SeparationMonitor> ssm;
   if (persons.size() > 0) ssm = std::make_unique<arm::SeparationMonitor>(sc.ssm, monitor.armCount());
 
   const fs::path out = args.get("out");
   fs::create_directories(out);
   io::CsvRowWriter csv(out / "warnings.csv", "t_s,arm,link,capsule,other,distance_m,ttc_s,reason,stop");
+  io::CsvRowWriter deadlineCsv(out / "deadlines.csv", "t_s,compute_us,budget_us");
   std::unique_ptr<io::CsvRowWriter> ssmCsv;
   if (ssm)
     ssmCsv = std::make_unique<io::CsvRowWriter>(out / "ssm.csv",
@@ -426,7 +438,10 @@ int runArm(int argc, const char* const* argv) {
   try {
     arm::run(monitor, sensor, stats, [&](const arm::Monitor& m) {
       if (ssm) {
+        // the persons' check is part of the cycle's compute time
+        const auto t0 = std::chrono::steady_clock::now();
         arm::separationStep(m, persons, *ssm, drive.get());
+        stats.latencyUs.back() += std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
         for (int a = 0; a < m.armCount(); ++a) {
           const arm::SsmVerdict& v = ssm->verdict(a);
           if (v.person < 0) continue;
@@ -444,6 +459,12 @@ int runArm(int argc, const char* const* argv) {
       } else if (drive) {
         drive->observe(m, m.time());
       }
+      deadline.see(m.time(), stats.latencyUs.back());
+      if (stats.latencyUs.back() > deadline.budgetUs) {
+        line.str("");
+        line << num(m.time()) << ',' << num(stats.latencyUs.back()) << ',' << num(deadline.budgetUs);
+        deadlineCsv.row(line.str());
+      }
       watch.see(m);
       for (const arm::Warning& w : m.warnings()) {
         line.str("");
@@ -458,18 +479,20 @@ int runArm(int argc, const char* const* argv) {
     // results so far stay on disk; the first failure is the one reported (a full disk fails both)
     try {
       csv.flush();
+      deadlineCsv.flush();
       if (ssmCsv) ssmCsv->flush();
     } catch (const std::exception&) {
     }
     try {
-      writeSummary(out / "summary.json", path, monitor, stats, bpName, e.what(), closedLoop, watch, ssm.get());
+      writeSummary(out / "summary.json", path, monitor, stats, bpName, e.what(), closedLoop, watch, ssm.get(), deadline);
     } catch (const std::exception&) {
     }
     throw;
   }
   csv.flush();
+  deadlineCsv.flush();
   if (ssmCsv) ssmCsv->flush();
-  writeSummary(out / "summary.json", path, monitor, stats, bpName, "", closedLoop, watch, ssm.get());
+  writeSummary(out / "summary.json", path, monitor, stats, bpName, "", closedLoop, watch, ssm.get(), deadline);
   const auto& c = monitor.counters();
   std::cout << "arm (" << (closedLoop ? "closed" : "open") << " loop): " << stats.cycles << " cycles, " << c.warnings
             << " warnings, " << c.stops << " STOPs, "
@@ -484,6 +507,11 @@ int runArm(int argc, const char* const* argv) {
               << " contacts, min separation " << num(k.minSeparation) << " m";
   }
   std::cout << " -> " << (out / "summary.json").string() << "\n";
+  if (deadline.missed > 0)
+    std::cout << "arm: DEADLINE MISSED: " << deadline.missed << " of " << deadline.cycles << " cycles over the "
+              << num(deadline.budgetUs) << " us budget (first at " << num(deadline.misses.front().first) << " s, worst "
+              << num(deadline.worstUs) << " us at " << num(deadline.worstT) << " s) -> "
+              << (out / "deadlines.csv").string() << "\n";
   if (const int sig = StopSignals::signal()) {
     std::cout.flush();
     std::cerr << "stsim arm: " << StopSignals::name(sig) << ": "

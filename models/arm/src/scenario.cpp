@@ -632,6 +632,14 @@ void run(Monitor& m, SensorSource& src, RunStats& stats, const std::function<voi
   }
 }
 
+void DeadlineWatch::see(double t, double us) {
+  ++cycles;
+  if (us > worstUs) worstUs = us, worstT = t;
+  if (!(us > budgetUs)) return;
+  ++missed;
+  if (misses.size() < kMaxKept) misses.emplace_back(t, us);
+}
+
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());

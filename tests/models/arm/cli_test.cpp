@@ -69,6 +69,40 @@ TEST(ArmCli, TwoPandasWritesWarningsAndSummary) {
   fs::remove_all(d);
 }
 
+TEST(ArmCli, CyclesOverTheBudgetAreCountedListedAndFlagged) {
+  // a budget no cycle can keep (1 ns): every cycle is a miss, each listed with its time
+  const fs::path d = tempDir("deadline");
+  Result r = stsim(scenario("two_pandas") + " --budget-us 0.001 --out " + (d / "out").string(), d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("DEADLINE MISSED: 3001 of 3001 cycles over the 0.001 us budget"), std::string::npos) << r.out;
+  const std::string summary = slurp(d / "out" / "summary.json");
+  EXPECT_NE(summary.find("\"deadline\": {\"budget_us\": 0.001, \"missed\": 3001, \"cycles\": 3001, \"first_miss_s\": 0,"),
+            std::string::npos) << summary;
+  EXPECT_EQ(lines(slurp(d / "out" / "deadlines.csv")), 3002);
+  // the default budget is the cycle time (1 ms): the summary says which
+  r = stsim(scenario("two_pandas") + " --out " + (d / "out2").string(), d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(slurp(d / "out2" / "summary.json").find("\"deadline\": {\"budget_us\": 1000,"), std::string::npos);
+  r = stsim(scenario("two_pandas") + " --budget-us 0 --out " + (d / "out3").string(), d);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("--budget-us"), std::string::npos) << r.err;
+  fs::remove_all(d);
+}
+
+TEST(ArmCli, PersonsWriteSeparationTermsPerCycle) {
+  const fs::path d = tempDir("persons");
+  const Result r = stsim(scenario("person_walkup") + " --out " + (d / "out").string(), d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("persons (scaling): 0 STOP cycles"), std::string::npos) << r.out;
+  const std::string csv = slurp(d / "out" / "ssm.csv");
+  EXPECT_EQ(csv.rfind("t_s,arm,link,person,part,region,separation_m,S_p_m,S_h_m,S_r_m,S_s_m,C_m,Z_d_m,Z_r_m,dominant,", 0), 0u);
+  EXPECT_EQ(lines(csv), 10002);  // one row per cycle for the one arm
+  EXPECT_NE(csv.find(",visitor,r_hand,hand_fingers,"), std::string::npos);
+  EXPECT_NE(csv.find(",SCALE\n"), std::string::npos);
+  EXPECT_NE(slurp(d / "out" / "summary.json").find("\"ssm\": {\"response\": \"scaling\""), std::string::npos);
+  fs::remove_all(d);
+}
+
 // A CSV trace of the two-Panda motion up to 1.2 s (past the first warnings), then `bad`.
 // Returns the scenario; `badLine` the line number of `bad`, `cycles` the times before it.
 fs::path badTrace(const fs::path& d, const std::string& bad, int& badLine, int& cycles) {

@@ -63,6 +63,20 @@ PersonSet makePersons(const Scenario& s);
 // The scenario's sensor in closed loop (drive.cpp): STOP brakes the arm per s.braking.
 std::unique_ptr<ClosedLoopSensor> makeClosedLoopSensor(const Scenario& s);
 
+// Deadlines: each cycle's compute time (readings applied + detection + persons) against a
+// budget, by default the cycle time. A miss is counted and kept with its time (the first
+// kMaxKept); a run with misses is flagged, not failed.
+struct DeadlineWatch {
+  static constexpr std::size_t kMaxKept = 10000;
+  double budgetUs = 1000.0;
+  std::uint64_t cycles = 0;
+  std::uint64_t missed = 0;
+  double worstUs = 0.0;
+  double worstT = 0.0;  // s, cycle time of the worst cycle
+  std::vector<std::pair<double, double>> misses;  // (t s, compute us)
+  void see(double t, double us);
+};
+
 struct RunStats {
   std::uint64_t cycles = 0;
   std::vector<double> latencyUs;  // per cycle: readings applied + detection
