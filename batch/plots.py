@@ -15,6 +15,7 @@ import json
 import math
 import os
 import re
+import shutil
 import sys
 
 import matplotlib
@@ -23,6 +24,12 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 Z95 = 1.959963984540054  # the normal 0.975 quantile (Wilson intervals)
+DPI = 120
+MAX_WIDTH_PX = 2400  # every figure: wider ones wrap their panels into rows instead
+TYPES = ["rear_end", "lane_change", "crossing"]  # SSAM's conflict types
+# report.headline -> the rate family of the runs' metrics (batch/src/rates.cpp)
+HEADLINES = {"conflicts_per_vehicle_km": "per_vehicle_km", "conflicts_per_hour": "per_hour",
+             "conflicts_per_entering_vehicle": "per_entering_vehicle"}
 
 # metric key -> (what it counts, unit): "SUMO collisions" + "per run" reads "SUMO collisions per run"
 LABELS = {
@@ -39,6 +46,9 @@ LABELS = {
     "conflicts.tit_s2": ("time-integrated TTC below TTC*", "s² per run"),
     "warnings.per_vehicle_km": ("warnings", "per vehicle-km"),
     "vehicle_km": ("distance driven", "vehicle-km per run"),
+    "exposure.vehicle_km": ("distance driven after the warm-up", "vehicle-km per run"),
+    "exposure.hours": ("time simulated after the warm-up", "h per run"),
+    "exposure.entering_vehicles": ("vehicles entering after the warm-up", "per run"),
     "vehicles": ("vehicles", "per run"),
     "collision_checks": ("collision checks", "per run"),
     "min_ttc": ("minimum TTC per warning episode", "s"),
@@ -47,6 +57,14 @@ LABELS = {
 }
 # patterns for the families of keys: (regex, what, unit), \1 the kind, zone or type
 LABEL_PATTERNS = [
+    (r"^rate\.per_vehicle_km\.all$", "conflicts (all types)", "per vehicle-km"),
+    (r"^rate\.per_hour\.all$", "conflicts (all types)", "per hour"),
+    (r"^rate\.per_entering_vehicle\.all$", "conflicts (all types)", "per entering vehicle"),
+    (r"^rate\.per_vehicle_km\.(\w+)$", r"\1 conflicts", "per vehicle-km"),
+    (r"^rate\.per_hour\.(\w+)$", r"\1 conflicts", "per hour"),
+    (r"^rate\.per_entering_vehicle\.(\w+)$", r"\1 conflicts", "per entering vehicle"),
+    (r"^counted\.all$", "conflicts after the warm-up (all types)", "per run"),
+    (r"^counted\.(\w+)$", r"\1 conflicts after the warm-up", "per run"),
     (r"^conflicts\.per_vehicle_km_by_type\.(\w+)$", r"\1 conflicts", "per vehicle-km"),
     (r"^conflicts\.by_type\.(\w+)$", r"\1 conflicts", "per run"),
     (r"^warnings\.per_vehicle_km_by_(?:type|kind)\.(\w+)$", r"\1 warnings", "per vehicle-km"),
@@ -137,7 +155,7 @@ def find_col(cols, *patterns):
     return None
 
 
-def conflict_maps(out, runs, sweep):
+def conflict_maps(out, runs, sweep, warmup=0.0):
     """One conflict map per parameter combination, all seeds together (highway runs with a
     conflicts.csv: one point per conflict, no warnings); the network from the runs' summary.json,
     TTC* from it too (the map's title)."""
@@ -179,7 +197,24 @@ def conflict_maps(out, runs, sweep):
         args = ["--out", os.path.join(out, name), "--title", "%s (%d runs)" % (label, len(dirs))]
         if net and os.path.exists(net):
             args += ["--net", net]
-        if cm.main(args + [os.path.join(d, "conflicts.csv") for d in dirs]) != 0:
+        files = [os.path.join(d, "conflicts.csv") for d in dirs]
+        if warmup > 0:  # the maps show what the tables count: conflicts begun after the warm-up
+            kept = []
+            for path in files:
+                header, rows = read_csv(path)
+                # beside its run's summary.json, where the map reads TTC*
+                folder = os.path.join(out, "after_warmup", os.path.basename(os.path.dirname(path)))
+                os.makedirs(folder, exist_ok=True)
+                if os.path.exists(os.path.join(os.path.dirname(path), "summary.json")):
+                    shutil.copyfile(os.path.join(os.path.dirname(path), "summary.json"), os.path.join(folder, "summary.json"))
+                dst = os.path.join(folder, "conflicts.csv")
+                with open(dst, "w", newline="") as g:
+                    w = csv.DictWriter(g, fieldnames=header)
+                    w.writeheader()
+                    w.writerows(r for r in rows if (num(r.get("begin")) or -1) >= warmup)
+                kept.append(dst)
+            files = kept
+        if cm.main(args + files) != 0:
             continue
         maps.append((name, label))
     return maps
@@ -203,8 +238,20 @@ class Batch:
         path = os.path.join(out, "paired.csv")
         self.paired = read_csv(path)[1] if os.path.exists(path) else []
         self.record = read_record(os.path.join(out, "experiment.yaml"))
+        self.warmup = num(self.record.get("warmup")) or 0.0
+        report = self.record.get("report") or {}
+        if isinstance(report, str):  # the record read without PyYAML: "{headline: X}"
+            m = re.search(r"headline:\s*(\w+)", report)
+            report = {"headline": m.group(1)} if m else {}
+        self.headline_name = report.get("headline", "conflicts_per_vehicle_km")
+        family = HEADLINES.get(self.headline_name, "per_vehicle_km")
+        # the study's headline (highway runs with conflicts.csv): one rate by SSAM type, and all types
+        self.headline_types = ["rate.%s.%s" % (family, t) for t in TYPES + ["all"]
+                               if "rate.%s.%s" % (family, t) in self.metrics]
         self.headline = find_col(self.metrics, r"per_vehicle_km.*total|total.*per_vehicle_km", r"per_vehicle_km",
                                  r"collision_checks$", r"warnings") or (self.metrics[0] if self.metrics else None)
+        if self.headline_types:
+            self.headline = self.headline_types[-1]
         # collisions are contacts (the bodies touch); SUMO's count holds its minGap violations too
         self.collisions = find_col(self.metrics, r"^contacts$", r"^sumo_collisions$", r"sumo.*collisions", r"collisions$")
 
@@ -297,23 +344,28 @@ def metric_figure(b, x):
     return fig
 
 
+def read_conflicts(path, warmup=0.0):
+    """A run's conflicts.csv rows of SSAM's types whose encounter began at or after the warm-up
+    (the batch's rule, batch/src/conflicts.cpp)."""
+    if not os.path.exists(path):
+        return None
+    _, rows = read_csv(path)
+    return [r for r in rows if r.get("type") in TYPES and (warmup <= 0 or (num(r.get("begin")) or -1) >= warmup)]
+
+
 def min_ttc_values(b):
-    """Per parameter combination, the minimum TTC of every warning episode (runs' warnings.csv)."""
+    """Per parameter combination and SSAM type, the minimum TTC of every conflict after the
+    warm-up (runs' conflicts.csv, one row per conflict; the warnings and road warnings are not in it)."""
     by = {}
     for r in b.done:
-        path = os.path.join(b.out, "runs", r["run_id"], "warnings.csv")
-        if not os.path.exists(path):
+        rows = read_conflicts(os.path.join(b.out, "runs", r["run_id"], "conflicts.csv"), b.warmup)
+        if rows is None:
             continue
-        with open(path, newline="") as f:
-            rd = csv.DictReader(f)
-            col = find_col(rd.fieldnames or [], r"^min_ttc$", r"^min_ttc", r"min_ttc")
-            if not col:
-                continue
-            vals = by.setdefault(b.key(r), [])
-            for w in rd:
-                v = num(w[col])
-                if v is not None:
-                    vals.append(v)
+        per = by.setdefault(b.key(r), {t: [] for t in TYPES})
+        for c in rows:
+            v = num(c.get("min_ttc"))
+            if v is not None:
+                per[c["type"]].append(v)
     return by
 
 
@@ -324,42 +376,52 @@ def nice_step(span, bins=30):
 
 
 def min_ttc_figure(b, by=None):
-    """Distribution of the minimum TTC per warning episode, one series (or panel) per parameter
-    combination. Episodes at TTC 0 (the zone already overlapping when the warning began: a
-    proximity state, no closing) are left out of the histogram and counted in the legend."""
+    """Distribution of the conflicts' minimum TTC, one panel per SSAM type (columns); a line per
+    parameter combination, or with more than 6 combinations one row of panels per combination.
+    Conflicts at TTC 0 (the bodies touching) are left out of the bins and counted in the label."""
     by = min_ttc_values(b) if by is None else by
-    if not any(by.values()):
+    if not any(v for per in by.values() for v in per.values()):
         return None
     keys = [k for k in b.combos() if k in by] + [k for k in by if k not in b.combos()]
-    positive = [v for vals in by.values() for v in vals if v > 0]
+    types = [t for t in TYPES if any(by[k][t] for k in keys)]
+    positive = [v for k in keys for t in types for v in by[k][t] if v > 0]
     hi = max(positive) if positive else 1.0
     step = nice_step(hi)
     bins = [step * i for i in range(int(math.ceil(hi / step)) + 1)] or [0, step]
     if len(bins) < 2:
         bins.append(step)
-    fig, axes = _panels(len(keys))
-    zero_total = 0
-    for i, (ax, key) in enumerate(zip(axes, keys)):
-        vals = by[key]
-        pos = [v for v in vals if v > 0]
-        zero = len(vals) - len(pos)
-        zero_total += zero
-        name = b.combo_label(key)
-        text = "%s: n=%d (TTC 0, left out: %d)" % (name, len(pos), zero)
-        ax.hist(pos, bins=bins, histtype="step", linewidth=1.5, color="C%d" % (i % 10), label=text)
-        if len(keys) > 6:
-            ax.set_title(text, fontsize=7)
-    for ax in set(axes):
-        ax.set_xlabel("minimum TTC per episode (s)")
-        ax.set_ylabel("episodes per %g s bin" % step)
-        ax.grid(alpha=0.3)
-        if len(keys) <= 6:
-            ax.legend(fontsize=8, title=", ".join(b.sweep) or None)
-    total = sum(len(v) for v in by.values())
-    fig.suptitle("Minimum TTC per warning episode, all seeds pooled per combination\n"
-                 "%d episodes; %d at TTC 0 (zone already overlapping, no closing) left out" % (total, zero_total),
+    stacked = len(keys) > 6  # a row of panels per combination
+    nrows = len(keys) if stacked else 1
+    fig, axes = plt.subplots(nrows, len(types), squeeze=False, sharex=True, constrained_layout=True,
+                             figsize=(min(MAX_WIDTH_PX / DPI, 4.4 * len(types)), (2.0 * nrows + 1.0) if stacked else 4.2))
+    zero_total = total = 0
+    for ti, t in enumerate(types):
+        for ki, key in enumerate(keys):
+            ax = axes[ki if stacked else 0][ti]
+            vals = by[key][t]
+            pos = [v for v in vals if v > 0]
+            zero = len(vals) - len(pos)
+            zero_total += zero
+            total += len(vals)
+            text = "%s: n=%d (TTC 0: %d)" % (b.combo_label(key), len(pos), zero)
+            ax.hist(pos, bins=bins, histtype="step", linewidth=1.5, color="C%d" % (ki % 10), label=text)
+            if stacked:
+                ax.set_title("%s\n%s" % (t.replace("_", "-"), text), fontsize=7)
+        for row in range(nrows):
+            ax = axes[row][ti]
+            if not stacked:
+                ax.set_title("%s conflicts" % t.replace("_", "-"), fontsize=9)
+                ax.legend(fontsize=7)
+            if row == nrows - 1:
+                ax.set_xlabel("minimum TTC per conflict (s)", fontsize=8)
+            if ti == 0:
+                ax.set_ylabel("conflicts per %g s bin" % step, fontsize=8)
+            ax.grid(alpha=0.3)
+            ax.tick_params(labelsize=7)
+    warm = ", after a %g s warm-up" % b.warmup if b.warmup else ""
+    fig.suptitle("Minimum TTC per conflict by SSAM type (conflicts.csv, all seeds per combination%s)\n"
+                 "%d conflicts; %d at TTC 0 (bodies touching) left out of the bins" % (warm, total, zero_total),
                  fontsize=10)
-    fig.tight_layout()
     return fig
 
 
@@ -429,51 +491,62 @@ def collisions_figure(b):
 
 
 def paired_metrics(b):
-    return [m for m in (b.collisions, find_col(b.metrics, r"^collisions_warned$"), b.headline) if m]
+    """The paired figure's metrics: the headline by type (highway studies), else the headline, and
+    the collisions."""
+    head = b.headline_types or [b.headline]
+    return [m for m in head + [b.collisions, find_col(b.metrics, r"^collisions_warned$")] if m]
 
 
 def paired_figure(b, metrics=None):
-    """The paired study's result: for each metric a panel, for each compared combination
-    (paired.csv, a swept value against the key's first value on the same seeds) every seed's
-    difference as a dot and their mean with its 95 % t-interval, the numbers of paired.csv."""
+    """The paired study's result: a panel per metric, wrapped into rows of at most 3 panels so the
+    figure stays within MAX_WIDTH_PX at any number of combinations; in each panel a row per
+    compared combination (paired.csv, a swept value against the key's first value on the same
+    seeds) with every seed's difference as a dot and their mean with its 95 % t-interval."""
     metrics = paired_metrics(b) if metrics is None else metrics
     rows = [r for r in b.paired if (num(r.get("pairs")) or 0) >= 2]
     metrics = [m for m in metrics if any(num(r.get(m + ".diff_mean")) is not None for r in rows)]
     if not rows or not metrics:
         return None
-    fig, axes = plt.subplots(1, len(metrics), squeeze=False,
-                             figsize=(max(4.2, 1.3 * len(rows) + 2.6) * len(metrics), 4.6))
+    ncols = min(3, len(metrics))
+    nrows = (len(metrics) + ncols - 1) // ncols
     names = []
     for r in rows:
         others = [p for p in b.sweep if p != r["compared"]]
         names.append("%s − %s" % (r[r["compared"]], r["baseline"]) +
-                     ("\n" + b.combo_label(tuple(r[p] for p in others), others) if others else ""))
-    for ax, m in zip(axes[0], metrics):
+                     (" (%s)" % b.combo_label(tuple(r[p] for p in others), others) if others else ""))
+    panel_h = 0.32 * len(rows) + 1.6
+    fig, axes = plt.subplots(nrows, ncols, squeeze=False, sharey=True, constrained_layout=True,
+                             figsize=(min(MAX_WIDTH_PX / DPI, 4.6 * ncols + 2.4), panel_h * nrows + 0.6))
+    flat = [a for row in axes for a in row]
+    for a in flat[len(metrics):]:
+        a.set_visible(False)
+    ys = list(range(len(rows)))
+    for ax, m in zip(flat, metrics):
         ns = set()
         for i, r in enumerate(rows):
             diffs = [d for _, d in b.per_seed_differences(r, m)]
             jitter = [((j * 0.6180339887) % 1 - 0.5) * 0.3 for j in range(len(diffs))]
-            ax.plot([i + j for j in jitter], diffs, "o", color="#4477aa", alpha=0.45, markersize=4,
+            ax.plot(diffs, [i + j for j in jitter], "o", color="#4477aa", alpha=0.45, markersize=3.5,
                     label="one seed's difference" if i == 0 else None)
             mean, half = num(r.get(m + ".diff_mean")), num(r.get(m + ".diff_ci95"))
             ns.add(len(diffs))
             if mean is not None:
-                ax.errorbar([i], [mean], yerr=[half or 0.0], fmt="D", color="black", capsize=6, markersize=6,
+                ax.errorbar([mean], [i], xerr=[half or 0.0], fmt="D", color="black", capsize=4, markersize=5,
                             label="mean ± 95 % CI (t)" if i == 0 else None)
-        ax.axhline(0.0, color="#555555", linewidth=0.8, linestyle="--")
-        ax.set_xticks(range(len(rows)))
-        ax.set_xticklabels(names, fontsize=8)
-        ax.set_xlim(-0.6, len(rows) - 0.4)
-        ax.set_xlabel("compared − baseline, same seed")
+        ax.axvline(0.0, color="#555555", linewidth=0.8, linestyle="--")
+        ax.set_yticks(ys)
+        ax.set_yticklabels(names, fontsize=7)
+        ax.set_ylim(len(rows) - 0.5, -0.5)
         what, unit = quantity(m)
-        ax.set_ylabel("difference in %s" % label(m))
+        ax.set_xlabel("difference in %s" % label(m), fontsize=8)
         n_text = "n=%d pairs" % min(ns) if len(ns) == 1 else "n=%d-%d pairs" % (min(ns), max(ns))
         ax.set_title("%s (%s)" % (what, n_text), fontsize=9)
-        ax.grid(alpha=0.3, axis="y")
-        ax.legend(fontsize=7)
-    fig.suptitle("Paired differences on the same seeds: each seed, and the mean with its 95 % t-interval",
-                 fontsize=10)
-    fig.tight_layout()
+        ax.grid(alpha=0.3, axis="x")
+        ax.tick_params(axis="x", labelsize=7)
+        if m == metrics[0]:
+            ax.legend(fontsize=7)
+    fig.suptitle("Paired differences (compared − baseline) on the same seeds: each seed, and the mean with its "
+                 "95 % t-interval", fontsize=10)
     return fig
 
 
@@ -672,6 +745,7 @@ def write_header(f, b):
                  ("seeds", "%d per combination (%s: %s), the same for every combination" % (
                      len(b.seeds), b.seed_key, seeds_text(b.seeds))),
                  ("swept", swept),
+                 ("warm-up", "%g s of every run left out of every conflict statistic" % b.warmup if b.warmup else "none"),
                  ("fixed", ", ".join("%s: %s" % (k2, json.dumps(v2) if isinstance(v2, (dict, list)) else v2)
                                      for k2, v2 in fixed.items()) or "nothing"),
                  ("runs", "%d (%d done, %d not done)" % (len(b.runs), n_done, len(b.runs) - n_done))]:
@@ -694,7 +768,8 @@ def write_hindsight(f, sweep, kinds, rows):
         k, n = num(r.get(part)), num(r.get(whole))
         return share_text(k or 0, n) if n else "n/a"
     f.write("## Hindsight (pooled over seeds; [hindsight.csv](hindsight.csv))\n\n"
-            "Warnings per vehicle-km by kind; the confirmed share of each kind's warnings (what "
+            "Warnings per vehicle-km by kind (the mean of the runs' rates over the seeds, as summary.csv's "
+            "`warnings.per_vehicle_km_by_kind`; the whole run, warnings have no warm-up); the confirmed share of each kind's warnings (what "
             "followed confirmed the conflict); the near misses' recall (warned at least the lead "
             "time before) and the median lead time; the same for the unsignalled line crossings and for the "
             "collisions, contacts with the bodies touching (the collider warned about the victim; SUMO's minGap "
@@ -775,6 +850,60 @@ def write_conflicts(f, out, sweep):
 
 
 
+RATES = [("per_vehicle_km", "per vehicle-km", "exposure.vehicle_km", "vehicle-km"),
+         ("per_hour", "per hour", "exposure.hours", "hours"),
+         ("per_entering_vehicle", "per entering vehicle", "exposure.entering_vehicles", "entering vehicles")]
+
+
+def write_headline(f, b):
+    """report.md's lead (highway studies): the headline rate by SSAM type per combination and its
+    paired differences by type with their 95 % intervals; then every rate with its exposure. Each
+    rate has one definition (batch/src/rates.cpp), the one every table shows."""
+    if not b.headline_types:
+        return
+    what = quantity(b.headline_types[0])[1]
+    warm = ("the first %g s of every run (the warm-up) left out of every count, rate and exposure" % b.warmup
+            if b.warmup else "no warm-up left out (`warmup:` 0)")
+    f.write("## Headline: conflicts %s by type (`report.headline: %s`)\n\n" % (what, b.headline_name))
+    f.write("A run's rate is its conflicts (its conflicts.csv: one per pair and encounter, counted once, "
+            "below TTC*; not the per-ego warnings) that began after the warm-up, over its exposure after "
+            "the warm-up; a combination's rate is the mean of its runs' rates over the seeds (Student t "
+            "interval), a comparison's the mean of the seed-by-seed differences (paired t interval). "
+            "Every table and figure of this report uses these definitions; %s.\n\n" % warm)
+    cols = b.sweep + [label(m) for m in b.headline_types]
+    f.write("| " + " | ".join(cols) + " |\n|" + "---|" * len(cols) + "\n")
+    ds = {m: decimals([num(r.get(m + ".mean")) for r in b.summary]) for m in b.headline_types}
+    for r in b.summary:
+        cells = [r[p] for p in b.sweep]
+        for m in b.headline_types:
+            cells.append(estimate(num(r.get(m + ".mean")), num(r.get(m + ".ci95")), b.n(b.key(r), m), ds[m]))
+        f.write("| " + " | ".join(cells) + " |\n")
+    if b.paired:
+        f.write("\n### Paired differences of the headline by type (compared − baseline, same seeds; "
+                "[paired.csv](paired.csv))\n\n")
+        cols = ["compared"] + b.sweep + ["pairs"] + ["difference in %s" % label(m) for m in b.headline_types]
+        f.write("| " + " | ".join(cols) + " |\n|" + "---|" * len(cols) + "\n")
+        ds = {m: decimals([num(r.get(m + ".diff_mean")) for r in b.paired]) for m in b.headline_types}
+        for r in b.paired:
+            cells = ["%s vs %s" % (r["compared"], r["baseline"])] + [r[p] for p in b.sweep] + [r["pairs"]]
+            for m in b.headline_types:
+                n = len(b.per_seed_differences(r, m))
+                cells.append(estimate(num(r.get(m + ".diff_mean")), num(r.get(m + ".diff_ci95")), n, ds[m]))
+            f.write("| " + " | ".join(cells) + " |\n")
+    f.write("\n### Rates and exposure after the warm-up (mean over seeds; [summary.csv](summary.csv))\n\n")
+    cols = b.sweep + ["conflicts per run"] + ["%s per run" % e for _, _, _, e in RATES] + \
+        ["conflicts %s" % w for _, w, _, _ in RATES]
+    f.write("| " + " | ".join(cols) + " |\n|" + "---|" * len(cols) + "\n")
+    ms = ["counted.all"] + [x for _, _, x, _ in RATES] + ["rate.%s.all" % k for k, _, _, _ in RATES]
+    ds = {m: decimals([num(r.get(m + ".mean")) for r in b.summary]) for m in ms}
+    for r in b.summary:
+        cells = [r[p] for p in b.sweep]
+        for m in ms:
+            cells.append(estimate(num(r.get(m + ".mean")), num(r.get(m + ".ci95")), b.n(b.key(r), m), ds[m]))
+        f.write("| " + " | ".join(cells) + " |\n")
+    f.write("\n")
+
+
 def write_estimates(f, b):
     """The headline metric per combination, the paired comparisons and the collisions by action,
     each as estimate ± half-width (95 % CI, n=…), one precision per column."""
@@ -816,7 +945,13 @@ def write_estimates(f, b):
 
 
 def save(fig, out, name):
-    fig.savefig(os.path.join(out, name), dpi=120)
+    """Writes the figure at DPI, no wider than MAX_WIDTH_PX (a wider one is narrowed to it)."""
+    w, h = fig.get_size_inches()
+    if w * DPI > MAX_WIDTH_PX:
+        fig.set_size_inches(MAX_WIDTH_PX / DPI, h)
+        if not fig.get_constrained_layout():
+            fig.tight_layout()
+    fig.savefig(os.path.join(out, name), dpi=DPI)
     plt.close(fig)
 
 
@@ -831,7 +966,7 @@ def main(out):
     fig = min_ttc_figure(b)
     if fig:
         save(fig, out, "min_ttc_distribution.png")
-        plots.append(("min_ttc_distribution.png", "distribution of the minimum TTC per warning episode"))
+        plots.append(("min_ttc_distribution.png", "distribution of the conflicts' minimum TTC by SSAM type"))
     fig = collisions_figure(b)
     if fig:
         save(fig, out, "collisions_by_action.png")
@@ -840,7 +975,7 @@ def main(out):
     if fig:
         save(fig, out, "paired_differences.png")
         plots.append(("paired_differences.png", "paired differences on the same seeds, per seed and their mean"))
-    maps = conflict_maps(out, b.runs, b.sweep)
+    maps = conflict_maps(out, b.runs, b.sweep, b.warmup)
     kinds, hrows = hindsight_rows(out)
     if hrows:
         save(hindsight_figure(b, kinds, hrows), out, "hindsight.png")
@@ -848,6 +983,7 @@ def main(out):
 
     with open(os.path.join(out, "report.md"), "w") as f:
         write_header(f, b)
+        write_headline(f, b)
         for name, title in plots:
             f.write("## %s\n\n![%s](%s)\n\n" % (title, title, name))
         if hrows:
@@ -857,8 +993,8 @@ def main(out):
         write_conflicts(f, out, b.sweep)
         if maps:
             f.write("## Conflict maps (one per parameter combination, all seeds)\n\n"
-                    "Every warning at the ego's position at its minimum TTC, coloured by conflict type, "
-                    "sized by severity.\n\n")
+                    "Every conflict of conflicts.csv (after the warm-up) at its conflict point, coloured by "
+                    "conflict type, sized by severity.\n\n")
             for name, lab in maps:
                 f.write("### %s\n\n![conflict map, %s](%s.png) ([SVG](%s.svg))\n\n" % (lab, lab, name, name))
         write_estimates(f, b)

@@ -1,5 +1,6 @@
 #include <stbatch/conflicts.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -19,8 +20,6 @@ using namespace detail;
 
 namespace {
 
-const char* const kTypes[] = {"rear_end", "lane_change", "crossing"};
-
 // A combination's conflicts, pooled over its done runs.
 struct Pool {
   int runs = 0;
@@ -29,36 +28,18 @@ struct Pool {
   std::map<std::string, std::vector<double>> values;  // measure -> its finite values
 };
 
-// Adds the conflicts of one run's conflicts.csv (one row per conflict: a pair and an encounter,
-// counted once); false if the run wrote none.
-bool addRun(const fs::path& file, Pool& pool, std::set<std::string>& measures) {
-  std::ifstream in(file);
-  if (!in) return false;
-  std::string line;
-  if (!std::getline(in, line)) return false;
-  const std::vector<std::string> header = io::csvFields(line);
-  std::map<std::string, std::size_t> col;
-  for (std::size_t i = 0; i < header.size(); ++i) col[header[i]] = i;
-  if (!col.count("type")) throw std::runtime_error(file.string() + ": no type column (not a highway conflicts.csv)");
-  for (const char* m : kConflictMeasures)
-    if (col.count(m)) measures.insert(m);
+// Adds one run's conflicts (one row per conflict: a pair and an encounter, counted once); false
+// if the run wrote none.
+bool addRun(const fs::path& file, double warmup, Pool& pool, std::set<std::string>& measures) {
+  const RunConflicts run = readRunConflicts(file, warmup);
+  if (!run.present) return false;
+  measures.insert(run.measures.begin(), run.measures.end());
   ++pool.runs;
-  while (std::getline(in, line)) {
-    const std::vector<std::string> row = io::csvFields(line);
-    if (row.size() != header.size()) continue;  // a cut last row (the run was stopped)
-    const std::string& type = row[col["type"]];
-    bool conflict = false;
-    for (const char* t : kTypes) conflict = conflict || type == t;
-    if (!conflict) continue;
-    ++pool.byType[type];
+  for (const RunConflicts::Row& row : run.rows) {
+    ++pool.byType[row.type];
     ++pool.conflicts;
-    for (const char* m : kConflictMeasures) {
-      if (!col.count(m)) continue;
-      const std::string& cell = row[col[m]];
-      char* end = nullptr;
-      const double v = std::strtod(cell.c_str(), &end);
-      if (!cell.empty() && end && *end == '\0' && std::isfinite(v)) pool.values[m].push_back(v);
-    }
+    for (std::size_t m = 0; m < run.measures.size(); ++m)
+      if (std::isfinite(row.values[m])) pool.values[run.measures[m]].push_back(row.values[m]);
   }
   return true;
 }
@@ -87,6 +68,41 @@ Welch welch(const std::vector<double>& x, const std::vector<double>& y) {
 
 }  // namespace
 
+RunConflicts readRunConflicts(const fs::path& file, double warmup) {
+  RunConflicts run;
+  std::ifstream in(file);
+  if (!in) return run;
+  std::string line;
+  if (!std::getline(in, line)) return run;
+  const std::vector<std::string> header = io::csvFields(line);
+  std::map<std::string, std::size_t> col;
+  for (std::size_t i = 0; i < header.size(); ++i) col[header[i]] = i;
+  if (!col.count("type")) throw std::runtime_error(file.string() + ": no type column (not a highway conflicts.csv)");
+  if (warmup > 0.0 && !col.count("begin"))
+    throw std::runtime_error(file.string() + ": no begin column, so warmup cannot be applied");
+  std::vector<std::size_t> at;
+  for (const char* m : kConflictMeasures)
+    if (col.count(m)) run.measures.emplace_back(m), at.push_back(col[m]);
+  run.present = true;
+  auto value = [](const std::string& cell) {
+    char* end = nullptr;
+    const double v = std::strtod(cell.c_str(), &end);
+    return !cell.empty() && end && *end == '\0' && std::isfinite(v) ? v : std::nan("");
+  };
+  while (std::getline(in, line)) {
+    const std::vector<std::string> row = io::csvFields(line);
+    if (row.size() != header.size()) continue;  // a cut last row (the run was stopped)
+    const std::string& type = row[col["type"]];
+    if (std::find(std::begin(kConflictTypes), std::end(kConflictTypes), type) == std::end(kConflictTypes)) continue;
+    // the warm-up: an encounter that began before it is the warm-up's, left out whole
+    if (warmup > 0.0 && !(value(row[col["begin"]]) >= warmup)) continue;
+    RunConflicts::Row r{type, {}};
+    for (std::size_t i : at) r.values.push_back(value(row[i]));
+    run.rows.push_back(std::move(r));
+  }
+  return run;
+}
+
 void writeConflictTables(const Experiment& e, const std::vector<RunResult>& results, const fs::path& outDir) {
   std::map<std::vector<std::string>, Pool> pools;
   std::vector<std::vector<std::string>> order;
@@ -97,7 +113,7 @@ void writeConflictTables(const Experiment& e, const std::vector<RunResult>& resu
     for (const auto& [k, v] : r.spec.params) key.push_back(v);
     if (!pools.count(key)) order.push_back(key);
     Pool& p = pools[key];
-    if (r.status == RunStatus::Done) any = addRun(runDir(outDir, r.spec) / "conflicts.csv", p, present) || any;
+    if (r.status == RunStatus::Done) any = addRun(runDir(outDir, r.spec) / "conflicts.csv", e.warmup, p, present) || any;
   }
   if (!any) return;
   std::vector<std::string> measures;  // in kConflictMeasures' order
@@ -107,14 +123,14 @@ void writeConflictTables(const Experiment& e, const std::vector<RunResult>& resu
   std::ostringstream t;
   for (const auto& axis : e.sweep) t << csvField(axis.key) << ",";
   t << "runs,conflicts";
-  for (const char* type : kTypes) t << "," << type;
+  for (const char* type : kConflictTypes) t << "," << type;
   for (const auto& m : measures) t << "," << m << ".n," << m << ".mean," << m << ".sd," << m << ".ci95";
   t << "\n";
   for (const auto& key : order) {
     const Pool& p = pools[key];
     for (const auto& v : key) t << csvField(v) << ",";
     t << p.runs << "," << p.conflicts;
-    for (const char* type : kTypes) t << "," << (p.byType.count(type) ? p.byType.at(type) : 0);
+    for (const char* type : kConflictTypes) t << "," << (p.byType.count(type) ? p.byType.at(type) : 0);
     for (const auto& m : measures) {
       const auto at = p.values.find(m);
       const Summary s = summarize(at == p.values.end() ? std::vector<double>{} : at->second);

@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <set>
 #include <sstream>
@@ -77,6 +78,33 @@ void absolutizePaths(YAML::Node n, const fs::path& baseDir) {
   }
 }
 
+// warmup: and report: (after command:, which they depend on)
+void readAnalysis(Experiment& e, const io::Yaml<ExperimentError>& y, const YAML::Node& root) {
+  if (const YAML::Node w = root["warmup"]) {
+    if (e.command != "highway") fail(e, "warmup", w, "applies to highway experiments (their conflicts.csv) only");
+    double v = std::nan("");
+    try {
+      if (w.IsScalar()) v = w.as<double>();
+    } catch (const YAML::Exception&) {
+    }
+    if (!(v >= 0.0 && v < 1e9)) fail(e, "warmup", w, "must be seconds >= 0 (from each run's start, left out of every statistic)");
+    e.warmup = v;
+  }
+  if (const YAML::Node r = root["report"]) {
+    if (e.command != "highway") fail(e, "report", r, "applies to highway experiments only");
+    if (!r.IsMap()) fail(e, "report", r, "must be a map: report: {headline: conflicts_per_vehicle_km}");
+    y.onlyKeys(r, "report", [](const std::string& k) { return k == "headline"; }, "expected headline");
+    if (const YAML::Node h = r["headline"]) {
+      std::string list;
+      for (const char* k : kHeadlines) list.append(list.empty() ? "" : ", ").append(k);
+      if (!h.IsScalar()) fail(e, "report.headline", h, "must be one of " + list);
+      e.headline = h.as<std::string>();
+      if (std::find(std::begin(kHeadlines), std::end(kHeadlines), e.headline) == std::end(kHeadlines))
+        fail(e, "report.headline", h, "unknown headline '" + e.headline + "': expected one of " + list);
+    }
+  }
+}
+
 }  // namespace
 
 Experiment loadExperiment(const fs::path& file, const std::vector<std::string>& optionalKeys) {
@@ -90,9 +118,10 @@ Experiment loadExperiment(const fs::path& file,
   const io::Yaml<ExperimentError> y(file.string());
   const YAML::Node root = y.load(file);
   if (!root.IsMap()) throw ExperimentError(file.string() + ": an experiment is a YAML map (base, sweep, seeds, ...)");
-  static const std::set<std::string> known = {"name", "command", "base", "sweep", "fixed", "seeds", "seed_key"};
+  static const std::set<std::string> known = {"name", "command", "base",     "sweep", "fixed",
+                                              "seeds", "seed_key", "warmup", "report"};
   y.onlyKeys(root, "", [](const std::string& k) { return known.count(k) > 0; },
-             "expected one of name, command, base, sweep, fixed, seeds, seed_key");
+             "expected one of name, command, base, sweep, fixed, seeds, seed_key, warmup, report");
   if (root["name"] && !root["name"].IsScalar()) fail(e, "name", root["name"], "must be a plain folder name, got a list or map");
   e.name = root["name"] ? root["name"].as<std::string>() : file.stem().string();
   // the name is the default output folder out/<name>: one plain folder name, never a path
@@ -105,6 +134,7 @@ Experiment loadExperiment(const fs::path& file,
     if (e.command != "highway" && e.command != "pool" && e.command != "arm")
       fail(e, "command", root["command"], "must be highway, pool or arm");
   }
+  readAnalysis(e, y, root);
   if (root["seed_key"]) {
     if (!root["seed_key"].IsScalar()) fail(e, "seed_key", root["seed_key"], "must be a key name");
     e.seedKey = root["seed_key"].as<std::string>();

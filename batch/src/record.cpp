@@ -60,12 +60,22 @@ std::string experimentRecord(const Experiment& e) {
   return std::string(em.c_str()) + "\n";
 }
 
+// The analysis keys, after the runs' record: a batch resumed with another warm-up or headline
+// reuses its runs and analyses them anew.
+std::string analysisRecord(const Experiment& e) {
+  std::string a;
+  if (e.warmup != 0.0) a += "warmup: " + number(e.warmup) + "\n";
+  if (e.headline != Experiment{}.headline) a += "report: {headline: " + e.headline + "}\n";
+  return a;
+}
+
 }  // namespace
 
 void checkResumable(const Experiment& e, const fs::path& outDir) {
   const fs::path p = outDir / "experiment.yaml";
   if (!fs::exists(p)) return;
-  if (readFile(p) != experimentRecord(e))
+  const std::string runs = experimentRecord(e), held = readFile(p);
+  if (held.rfind(runs, 0) != 0)
     throw ExperimentError(p.string() + ": this folder holds the runs of another experiment (its base, sweep, fixed or "
                           "seeds differ from " + e.file.string() + "); give another --out or remove the folder");
 }
@@ -73,7 +83,7 @@ void checkResumable(const Experiment& e, const fs::path& outDir) {
 void writeExperimentRecord(const Experiment& e, const fs::path& outDir) {
   checkResumable(e, outDir);
   fs::create_directories(outDir);
-  writeFileAtomically(outDir / "experiment.yaml", experimentRecord(e));
+  writeFileAtomically(outDir / "experiment.yaml", experimentRecord(e) + analysisRecord(e));
 }
 
 Experiment readExperimentRecord(const fs::path& outDir) {

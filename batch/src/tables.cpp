@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include <stbatch/conflicts.hpp>
+#include <stbatch/rates.hpp>
 #include <stbatch/stats.hpp>
 
 #include "files.hpp"
@@ -77,8 +78,8 @@ std::string pairedTable(const Experiment& e, const std::vector<RunResult>& resul
 }
 
 // hindsight.csv (highway runs): what hindsight made of the warnings, per parameter combination,
-// pooled over its done runs (seeds): per warning kind the warnings per vehicle-km (all warnings
-// over all vehicle-km), the judged and confirmed warnings and the confirmed share (precision);
+// pooled over its done runs (seeds): per warning kind the warnings per vehicle-km (the mean of the
+// runs' rates, as summary.csv's mean of warnings.per_vehicle_km_by_kind), the judged and confirmed warnings and the confirmed share (precision);
 // the near misses, those warned and the recall; the median of the runs' median lead times; the
 // same for the unsignalled crossings and SUMO's collisions (warned the lead time ahead). A
 // share of nothing (no warning judged, no near miss) and a lead time of no warned near miss are
@@ -115,10 +116,17 @@ std::string hindsightTable(const Experiment& e, const std::vector<std::vector<st
   for (const auto& key : order) {
     std::map<std::string, double> total;  // sums over the done runs
     std::map<std::string, std::vector<double>> leads;  // per event kind, each run's median lead time
+    std::map<std::string, std::vector<double>> perKm;  // per warning kind, each run's warnings per vehicle-km
     int done = 0;
     for (const RunResult* r : groups.at(key)) {
       if (r->status != RunStatus::Done) continue;
       ++done;
+      double km = 0.0;
+      for (const auto& [k, v] : r->metrics)
+        if (k == "vehicle_km") km = v;
+      for (const auto& [k, v] : r->metrics)
+        for (const auto& kind : kinds)
+          if (k == "warnings.by_kind." + kind && km > 0.0 && !std::isnan(v)) perKm[kind].push_back(v / km);
       for (const auto& [k, v] : r->metrics) {
         if (std::isnan(v)) continue;
         bool lead = false;
@@ -130,7 +138,11 @@ std::string hindsightTable(const Experiment& e, const std::vector<std::vector<st
     for (const auto& v : key) t << csvField(v) << ",";
     const double km = total["vehicle_km"];
     t << done << "," << (done ? number(km) : "");
-    for (const auto& k : kinds) t << "," << cell(total["warnings.by_kind." + k], km);
+    // a rate has one definition in every table: the mean of the runs' rates over the seeds
+    for (const auto& k : kinds) {
+      const Summary s = summarize(perKm[k]);
+      t << "," << (s.n ? number(s.mean) : "");
+    }
     for (const auto& k : kinds) {
       const double judged = total[byKind + k + ".judged"], confirmed = total[byKind + k + ".confirmed"];
       t << "," << (done ? number(judged) : "") << "," << (done ? number(confirmed) : "") << "," << cell(confirmed, judged);
@@ -156,6 +168,7 @@ std::string hindsightTable(const Experiment& e, const std::vector<std::vector<st
 }  // namespace
 
 void writeTables(const Experiment& e, std::vector<RunResult> results, const fs::path& outDir) {
+  addRates(e, results, outDir);
   std::sort(results.begin(), results.end(), [](const RunResult& a, const RunResult& b) { return a.spec.index < b.spec.index; });
   // metric columns: first-seen order over runs in index order (deterministic for any job count)
   std::vector<std::string> metricCols;

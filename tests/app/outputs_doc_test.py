@@ -49,6 +49,7 @@ FILES = {
     "highway/summary.json": ["replay/summary.json", "live/summary.json"],
     "highway/collisions.csv": ["live/collisions.csv"],
     "highway/collision_warnings.csv": ["live/collision_warnings.csv"],
+    "highway/exposure.csv": ["live/exposure.csv"],
     "highway/validation.json": ["live/validation.json"],
     "batch/runs.csv": ["batch/runs.csv"],
     "batch/summary.csv": ["batch/summary.csv"],
@@ -57,7 +58,7 @@ FILES = {
     "batch/conflicts.csv": ["batch/conflicts.csv"],
     "batch/conflicts_compared.csv": ["batch/conflicts_compared.csv"],
 }
-LIVE = {"highway/collisions.csv", "highway/collision_warnings.csv", "highway/validation.json", "batch/runs.csv",
+LIVE = {"highway/collisions.csv", "highway/collision_warnings.csv", "highway/exposure.csv", "highway/validation.json", "batch/runs.csv",
         "batch/summary.csv", "batch/paired.csv", "batch/hindsight.csv", "batch/conflicts.csv",
         "batch/conflicts_compared.csv"}
 SWEEP = ["detector"]  # the batch experiment below
@@ -240,6 +241,9 @@ def check(src, work, have_sumo):
                        if "." in name else p)
         return out
     metrics = flat("highway/summary.json") + flat("highway/validation.json", "ssm.")
+    # the batch's own figures of a highway run (exposure.*, counted.*, rate.*), documented in runs.csv's table
+    metrics += [pattern(n, placeholders, True) for n, _ in sections.get("batch/runs.csv", [])
+                if n.split(".")[0] in ("exposure", "counted", "rate")]
     for section, files in FILES.items():
         if section not in sections:
             fails.append("%s: no table in docs/outputs.md" % section)

@@ -205,5 +205,41 @@ TEST(BatchExperiment, MalformedExperimentsNameTheKey) {
   EXPECT_NE(errorOf("base: base.yaml\nseeds: 2\nsweep:\n  detectr: [five]\n").find("bad.yaml:4:"), std::string::npos);
 }
 
+
+// warmup: and report: {headline}: the analysis keys, checked with the key and line named; a
+// resumed batch may change them (its runs stay), and the record keeps them for merges.
+TEST(BatchExperiment, WarmupAndHeadlineAreCheckedAndRecorded) {
+  const auto e = loadExperiment(writeExperiment("w.yaml",
+      "base: base.yaml\nseeds: 2\nwarmup: 120\nreport: {headline: conflicts_per_hour}\n"));
+  EXPECT_DOUBLE_EQ(e.warmup, 120.0);
+  EXPECT_EQ(e.headline, "conflicts_per_hour");
+  const auto d = loadExperiment(writeExperiment("d.yaml", "base: base.yaml\n"));
+  EXPECT_DOUBLE_EQ(d.warmup, 0.0);
+  EXPECT_EQ(d.headline, "conflicts_per_vehicle_km");
+  EXPECT_NE(errorOf("base: base.yaml\nwarmup: -5\n").find("bad.yaml:2:"), std::string::npos);
+  EXPECT_NE(errorOf("base: base.yaml\nwarmup: -5\n").find("warmup: must be seconds >= 0"), std::string::npos);
+  EXPECT_NE(errorOf("base: base.yaml\nwarmup: soon\n").find("warmup: must be seconds"), std::string::npos);
+  EXPECT_NE(errorOf("base: base.yaml\nreport: {headline: crashes}\n").find("report.headline: unknown headline 'crashes'"),
+            std::string::npos);
+  EXPECT_NE(errorOf("base: base.yaml\nreport: {headlin: conflicts_per_hour}\n").find("headlin"), std::string::npos);
+  EXPECT_NE(errorOf("base: base.yaml\nreport: conflicts_per_hour\n").find("report: must be a map"), std::string::npos);
+  EXPECT_NE(errorOf("command: pool\nbase: base.yaml\nwarmup: 10\n").find("warmup: applies to highway"), std::string::npos);
+  const fs::path out = writeExperiment("d2.yaml", "").parent_path() / "analysis_record";
+  fs::remove_all(out);
+  writeExperimentRecord(d, out);
+  Experiment again = d;
+  again.warmup = 60.0;
+  again.headline = "conflicts_per_entering_vehicle";
+  EXPECT_NO_THROW(checkResumable(again, out));  // the same runs, analysed anew
+  writeExperimentRecord(again, out);
+  const Experiment back = readExperimentRecord(out);
+  EXPECT_DOUBLE_EQ(back.warmup, 60.0);
+  EXPECT_EQ(back.headline, "conflicts_per_entering_vehicle");
+  Experiment other = d;
+  other.seeds = {9};
+  EXPECT_THROW(checkResumable(other, out), ExperimentError);
+  fs::remove_all(out);
+}
+
 }  // namespace
 }  // namespace st::batch

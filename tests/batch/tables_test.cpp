@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <stbatch/conflicts.hpp>
 #include <stbatch/run_result.hpp>
@@ -211,8 +212,9 @@ TEST(BatchTables, HindsightNullsStayEmptyAndSharesArePooledOverSeeds) {
   EXPECT_EQ(h[1][0], "five");
   EXPECT_EQ(h[1][column(h, "runs")], "2");
   EXPECT_DOUBLE_EQ(std::stod(h[1][column(h, "vehicle_km")]), 40.0);
-  EXPECT_DOUBLE_EQ(std::stod(h[1][column(h, "vehicle.per_vehicle_km")]), 10.0 / 40.0);
-  EXPECT_DOUBLE_EQ(std::stod(h[1][column(h, "curb.per_vehicle_km")]), 8.0 / 40.0);
+  // a rate's one definition, as summary.csv's: the mean of the runs' rates (4/10 and 6/30; 5/10 and 3/30)
+  EXPECT_DOUBLE_EQ(std::stod(h[1][column(h, "vehicle.per_vehicle_km")]), (4.0 / 10.0 + 6.0 / 30.0) / 2.0);
+  EXPECT_DOUBLE_EQ(std::stod(h[1][column(h, "curb.per_vehicle_km")]), (5.0 / 10.0 + 3.0 / 30.0) / 2.0);
   EXPECT_EQ(h[1][column(h, "vehicle.judged")], "10");
   EXPECT_EQ(h[1][column(h, "vehicle.confirmed")], "4");
   EXPECT_DOUBLE_EQ(std::stod(h[1][column(h, "vehicle.confirmed_share")]), 0.4);
@@ -311,6 +313,137 @@ TEST(BatchTables, ConflictTablesPoolSsamTypesAndCompareDesignsByWelch) {
   EXPECT_NEAR(std::stod(at(d, 1, "min_ttc.diff_ci95")), 2.776445 * se, 1e-5);
   EXPECT_NEAR(std::stod(at(d, 1, "min_ttc.t")), -1.0 / se, 1e-9);
   EXPECT_DOUBLE_EQ(std::stod(at(d, 1, "max_delta_v.diff_mean")), 7.0 - 6.0);
+  fs::remove_all(dir);
+}
+
+
+// A highway study on a hand-made fixture: 2 designs x 3 seeds, a 100 s warm-up. Each run's
+// exposure after the warm-up is summary.json's total less exposure.csv's row at 100 s; the
+// conflicts are those of conflicts.csv that began at or after 100 s. Every figure below is worked
+// out by hand from the fixture (no call into stats.cpp):
+//   rear-end conflicts after the warm-up  base: 2, 4, 3   x: 1, 2, 4   (one more at 99.9 s each: left out)
+//   vehicle-km after the warm-up          base: 10 - 2 = 8   x: 12 - 3 = 9
+//   rear-end per vehicle-km               base: 1/4, 1/2, 3/8   x: 1/9, 2/9, 4/9
+//   paired differences x - base           -5/36, -5/18, 5/72: mean -25/216, sd sqrt(2850/216^2/2),
+//                                         95 % half-width t(0.975, 2) = 4.302653 x sd / sqrt(3)
+//   Welch on min_ttc (all types)          x (n 7): sum 5.3, squares about the mean 58/35
+//                                         base (n 10): sum 11, squares about the mean 0.96
+//                                         dof 9.23 -> 9, t(0.975, 9) = 2.262157
+TEST(BatchTables, StudyRatesHonourTheWarmupAndMatchHandWorkedIntervals) {
+  Experiment e;
+  e.command = "highway";
+  e.warmup = 100.0;
+  e.sweep = {{"design", {"base", "x"}}};
+  e.seeds = {1, 2, 3};
+  const std::vector<RunSpec> specs = expandRuns(e);
+  ASSERT_EQ(specs.size(), 6u);
+  const fs::path dir = fs::temp_directory_path() / ("stsim_study_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  // rear-end min_ttc values after the warm-up, per (design, seed); base seed 2 has a lane change too
+  const std::map<std::pair<std::string, std::int64_t>, std::vector<double>> rearEnds = {
+      {{"base", 1}, {1.0, 1.2}}, {{"base", 2}, {0.5, 0.7, 0.9, 1.1}}, {{"base", 3}, {1.3, 1.4, 1.5}},
+      {{"x", 1}, {0.6}},         {{"x", 2}, {0.4, 1.4}},               {{"x", 3}, {0.2, 0.3, 1.5, 0.9}}};
+  std::vector<RunResult> results;
+  for (const RunSpec& s : specs) {
+    const bool x = s.params[0].second == "x";
+    const fs::path run = dir / "runs" / s.id;
+    fs::create_directories(run);
+    std::ofstream(run / "result.yaml") << "status: done\nerror: \"\"\nwall_seconds: 1\n";
+    std::ofstream(run / "summary.json") << "{\"vehicle_km\": " << (x ? 12 : 10) << ", \"vehicles\": " << (x ? 52 : 50)
+                                        << ", \"simulated_s\": 400}\n";
+    std::ofstream(run / "exposure.csv") << "time,vehicle_km,vehicles\n0,0,0\n50,1,6\n100," << (x ? 3 : 2) << ","
+                                        << (x ? 12 : 10) << "\n100.1,5,20\n400," << (x ? 12 : 10) << "," << (x ? 52 : 50) << "\n";
+    std::ofstream c(run / "conflicts.csv");
+    c << "first,second,type,begin,min_ttc\n";
+    c << "w,v,rear_end,99.9,0.05\n";  // the warm-up's: counted nowhere
+    double begin = 100.0;              // the first at the warm-up's end: counted
+    for (double ttc : rearEnds.at({s.params[0].second, s.seed})) c << "a,b,rear_end," << begin << "," << ttc << "\n", begin += 10.0;
+    if (!x && s.seed == 2) c << "c,d,lane_change,300,1.4\n";
+    c << "e,f,proximity,200,0.3\n";  // not a conflict type
+    c.close();
+    results.push_back(loadRunResult(dir, s));
+    ASSERT_EQ(results.back().status, RunStatus::Done) << results.back().error;
+  }
+  writeTables(e, results, dir);
+  auto column = [](const std::vector<std::vector<std::string>>& t, const std::string& name) {
+    for (std::size_t i = 0; i < t[0].size(); ++i)
+      if (t[0][i] == name) return i;
+    ADD_FAILURE() << "no column " << name;
+    return std::size_t{0};
+  };
+  const auto runs = readCsv(dir / "runs.csv");
+  ASSERT_EQ(runs.size(), 7u);
+  // base seed 1: 2 rear-ends after the warm-up over 8 vehicle-km, 300 s, 40 entering vehicles
+  EXPECT_DOUBLE_EQ(std::stod(runs[1][column(runs, "exposure.vehicle_km")]), 8.0);
+  EXPECT_NEAR(std::stod(runs[1][column(runs, "exposure.hours")]), 300.0 / 3600.0, 1e-12);  // the tables write 12 digits
+  EXPECT_DOUBLE_EQ(std::stod(runs[1][column(runs, "exposure.entering_vehicles")]), 40.0);
+  EXPECT_EQ(runs[1][column(runs, "counted.rear_end")], "2");
+  EXPECT_EQ(runs[1][column(runs, "counted.all")], "2");
+  EXPECT_DOUBLE_EQ(std::stod(runs[1][column(runs, "rate.per_vehicle_km.rear_end")]), 0.25);
+  EXPECT_DOUBLE_EQ(std::stod(runs[1][column(runs, "rate.per_hour.rear_end")]), 24.0);
+  EXPECT_DOUBLE_EQ(std::stod(runs[1][column(runs, "rate.per_entering_vehicle.rear_end")]), 0.05);
+  EXPECT_EQ(runs[2][column(runs, "counted.all")], "5");  // base seed 2: 4 rear-ends and the lane change
+  EXPECT_EQ(runs[2][column(runs, "counted.lane_change")], "1");
+  EXPECT_DOUBLE_EQ(std::stod(runs[4][column(runs, "exposure.vehicle_km")]), 9.0);
+
+  // summary.csv: the mean of the runs' rates, (1/4 + 1/2 + 3/8) / 3
+  const auto summary = readCsv(dir / "summary.csv");
+  EXPECT_NEAR(std::stod(summary[1][column(summary, "rate.per_vehicle_km.rear_end.mean")]), 1.125 / 3.0, 1e-12);
+
+  // paired.csv: x - base on the same seeds
+  const auto paired = readCsv(dir / "paired.csv");
+  ASSERT_EQ(paired.size(), 2u);
+  EXPECT_EQ(paired[1][column(paired, "pairs")], "3");
+  const double sd = std::sqrt(2850.0 / (216.0 * 216.0) / 2.0);
+  EXPECT_NEAR(std::stod(paired[1][column(paired, "rate.per_vehicle_km.rear_end.diff_mean")]), -25.0 / 216.0, 1e-12);
+  EXPECT_NEAR(std::stod(paired[1][column(paired, "rate.per_vehicle_km.rear_end.diff_sd")]), sd, 1e-12);
+  EXPECT_NEAR(std::stod(paired[1][column(paired, "rate.per_vehicle_km.rear_end.diff_ci95")]), 4.302653 * sd / std::sqrt(3.0), 1e-6);
+
+  // conflicts.csv and conflicts_compared.csv: the pooled conflicts after the warm-up, Welch by hand
+  const auto pooled = readCsv(dir / "conflicts.csv");
+  EXPECT_EQ(pooled[1][column(pooled, "conflicts")], "10");
+  EXPECT_EQ(pooled[2][column(pooled, "conflicts")], "7");
+  EXPECT_NEAR(std::stod(pooled[1][column(pooled, "min_ttc.mean")]), 1.1, 1e-12);
+  const auto welch = readCsv(dir / "conflicts_compared.csv");
+  ASSERT_EQ(welch.size(), 2u);
+  const double vx = 58.0 / 35.0 / 6.0 / 7.0, vb = 0.96 / 9.0 / 10.0, se = std::sqrt(vx + vb);
+  const double diff = 5.3 / 7.0 - 1.1;
+  EXPECT_NEAR(std::stod(welch[1][column(welch, "min_ttc.diff_mean")]), diff, 1e-12);
+  EXPECT_NEAR(std::stod(welch[1][column(welch, "min_ttc.t")]), diff / se, 1e-9);
+  EXPECT_NEAR(std::stod(welch[1][column(welch, "min_ttc.diff_ci95")]), 2.262157 * se, 1e-6);
+  EXPECT_NEAR(std::stod(welch[1][column(welch, "min_ttc.t")]), -1.5314296826704683, 1e-9);
+  fs::remove_all(dir);
+}
+
+// A warm-up the run cannot honour is said, naming the file: no exposure.csv, or a run no longer
+// than the warm-up.
+TEST(BatchTables, WarmupWithoutExposureNamesTheFile) {
+  Experiment e;
+  e.command = "highway";
+  e.warmup = 50.0;
+  e.seeds = {1};
+  const std::vector<RunSpec> specs = expandRuns(e);
+  const fs::path dir = fs::temp_directory_path() / ("stsim_warmup_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const fs::path run = dir / "runs" / specs[0].id;
+  fs::create_directories(run);
+  std::ofstream(run / "result.yaml") << "status: done\nerror: \"\"\nwall_seconds: 1\n";
+  std::ofstream(run / "summary.json") << "{\"vehicle_km\": 3, \"vehicles\": 9, \"simulated_s\": 400}\n";
+  std::ofstream(run / "conflicts.csv") << "first,second,type,begin,min_ttc\na,b,rear_end,60,1\n";
+  std::vector<RunResult> results{loadRunResult(dir, specs[0])};
+  try {
+    writeTables(e, results, dir);
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& ex) {
+    EXPECT_NE(std::string(ex.what()).find((run / "exposure.csv").string()), std::string::npos) << ex.what();
+  }
+  e.warmup = 400.0;
+  try {
+    writeTables(e, results, dir);
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& ex) {
+    EXPECT_NE(std::string(ex.what()).find("not longer than the experiment's warmup"), std::string::npos) << ex.what();
+  }
   fs::remove_all(dir);
 }
 

@@ -15,8 +15,26 @@ namespace st::batch {
 inline constexpr const char* kConflictMeasures[] = {"min_ttc", "pet", "drac", "max_s", "delta_s",
                                                     "dr", "max_d", "max_delta_v"};
 
+// SSAM's conflict types, in the tables' order.
+inline constexpr const char* kConflictTypes[] = {"rear_end", "lane_change", "crossing"};
+
+// One run's conflicts.csv as the batch counts it: the rows of SSAM's three types whose encounter
+// began at or after `warmup` (s), each with the measures the file has (NaN where empty or not
+// finite). `present` is false when the run wrote no conflicts.csv.
+struct RunConflicts {
+  bool present = false;
+  std::vector<std::string> measures;  // of kConflictMeasures, those the file's header names
+  struct Row {
+    std::string type;
+    std::vector<double> values;  // by `measures`
+  };
+  std::vector<Row> rows;
+};
+// Throws std::runtime_error naming the file when its header lacks `type` or (warmup > 0) `begin`.
+RunConflicts readRunConflicts(const std::filesystem::path& file, double warmup);
+
 // Writes conflicts.csv (per combination: the conflicts by type, and per measure its n, mean, sd and
-// 95 % CI over the pooled conflicts) and conflicts_compared.csv (each swept key's values against
+// 95 % CI over the pooled conflicts after the experiment's warm-up) and conflicts_compared.csv (each swept key's values against
 // its first, the other keys held: per measure the difference of the means with its Welch 95 % CI
 // and t, SSAM's t-test of two designs). Nothing is written when no done run has a conflicts.csv.
 // Throws std::runtime_error naming a conflicts.csv whose header lacks `type`.

@@ -47,7 +47,17 @@ struct Experiment {
   std::map<std::string, std::string> fixed;  // overrides applied to every run
   std::vector<std::int64_t> seeds;
   std::string seedKey = "seed";
+  // The analysis (highway experiments; changing it re-analyses the runs, it reruns none):
+  // `warmup:` seconds from each run's start left out of every conflict count, rate and exposure;
+  // `report: {headline: H}` the rate report.md leads with, by conflict type (kHeadlines).
+  double warmup = 0.0;  // s
+  std::string headline = "conflicts_per_vehicle_km";
 };
+
+// report.headline's values: conflicts (conflicts.csv, counted once) per vehicle-km driven, per
+// hour simulated, per vehicle entering the network, each after the warm-up.
+inline constexpr const char* kHeadlines[] = {"conflicts_per_vehicle_km", "conflicts_per_hour",
+                                             "conflicts_per_entering_vehicle"};
 
 struct RunSpec {
   int index = 0;  // position in the cross product

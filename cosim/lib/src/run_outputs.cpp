@@ -39,9 +39,18 @@ RunOutputs::RunOutputs(const fs::path& out, bool trajectories)
   if (!collisions_) throw std::runtime_error("cannot write " + (out / "collisions.csv").string());
   collisions_ << "time,collider,victim,type,lane,pos,collider_speed,victim_speed,gap,contact\n";
   collisions_.flush();
+  // the exposure up to each tick: what a study's warm-up leaves out (stsim batch's warmup)
+  exposure_.open(out / "exposure.csv");
+  if (!exposure_) throw std::runtime_error("cannot write " + (out / "exposure.csv").string());
+  exposure_ << "time,vehicle_km,vehicles\n";
 }
 
 void RunOutputs::writeDetected(HighwayPlugin& plugin) {
+  const hw::MonitorCounters& c = plugin.monitor().counters();
+  if (const double t = plugin.monitor().lastTime(); t > exposureTime_) {
+    exposureTime_ = t;
+    exposure_ << full(t) << "," << full(c.vehicleMeters / 1000.0) << "," << c.vehiclesSeen << "\n";
+  }
   const std::vector<hw::Warning> finished = plugin.takeFinished();
   warnings_.write(finished);
   for (const hw::Warning& w : finished)
@@ -73,6 +82,7 @@ void RunOutputs::flush() {
   conflicts_.flush();
   events_.flush();
   collisions_.flush();
+  exposure_.flush();
   if (series_) series_->flush();
 }
 

@@ -18,7 +18,7 @@
 
 namespace st::cosim {
 
-// warnings.csv, conflicts.csv, events.csv, collisions.csv, written as the run goes, and what the end needs of
+// warnings.csv, conflicts.csv, events.csv, collisions.csv, exposure.csv, written as the run goes, and what the end needs of
 // them (the vehicle warnings and collision reports, for the collisions' warning lead times).
 class RunOutputs {
  public:
@@ -44,6 +44,8 @@ class RunOutputs {
   std::vector<highway::Conflict> conflictBuffer_;
   std::optional<highway::TrajectoriesCsvWriter> series_;
   std::vector<highway::TrajectoryPoint> seriesBuffer_;
+  std::ofstream exposure_;  // exposure.csv: the distance and vehicles counted so far, per tick
+  double exposureTime_ = -1.0;
 };
 
 // collision_warnings.csv: one row per collision, whether and how long before its collider warned.

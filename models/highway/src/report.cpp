@@ -283,7 +283,7 @@ void writeSummaryJson(const std::filesystem::path& path, const MonitorCounters& 
 }
 
 void removeRunOutputs(const std::filesystem::path& out) {
-  for (const char* f : {"warnings.csv", "conflicts.csv", "events.csv", "trajectories.csv", "summary.json", "collisions.csv", "collision_warnings.csv", "validation.json",
+  for (const char* f : {"warnings.csv", "conflicts.csv", "events.csv", "trajectories.csv", "summary.json", "collisions.csv", "collision_warnings.csv", "validation.json", "exposure.csv",
                         "ssm.xml", "sumo_collisions.xml", "sumo.log", "conflict_map.png", "conflict_map.svg",
                         "conflict_map.log"}) {
     std::error_code ec;
