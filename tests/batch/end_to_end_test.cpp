@@ -312,7 +312,7 @@ TEST(BatchEndToEnd, HindsightIsPooledPerCombinationAndReported) {
   double missed = 0;  // events not warned the lead time ahead, over all runs
   for (std::size_t row = 1; row < h.size(); ++row) {
     const std::string detector = h[row][0];
-    double judged = 0, confirmed = 0, markerJudged = 0, markerConfirmed = 0, events = 0, warned = 0, km = 0, markers = 0,
+    double judged = 0, confirmed = 0, markerJudged = 0, markerConfirmed = 0, events = 0, warned = 0, markerRates = 0, rated = 0,
            collisions = 0;
     for (std::size_t r = 1; r < runs.size(); ++r) {
       if (runs[r][col(runs[0], "detector")] != detector) continue;
@@ -348,8 +348,9 @@ TEST(BatchEndToEnd, HindsightIsPooledPerCombinationAndReported) {
       EXPECT_EQ(listedWarned[1], numberAfter(json, "warned", json.find("\"crossings\"", hs)));
       collisions += numberAfter(json, "events", json.find("\"collisions\": {"));
       EXPECT_EQ(numberAfter(json, "events", json.find("\"collisions\": {")), numberAfter(json, "sumo_collisions"));
-      km += numberAfter(json, "vehicle_km");
-      markers += numberAfter(json, "lane_marker", json.find("\"by_kind\""));
+      // a rate's one definition: each run's warnings over its vehicle-km, averaged over the runs
+      markerRates += numberAfter(json, "lane_marker", json.find("\"by_kind\"")) / numberAfter(json, "vehicle_km");
+      ++rated;
     }
     EXPECT_GT(judged, 0.0) << detector;       // there is something to pool
     EXPECT_GT(events, 0.0) << detector;
@@ -357,7 +358,7 @@ TEST(BatchEndToEnd, HindsightIsPooledPerCombinationAndReported) {
     EXPECT_EQ(std::stod(h[row][col(h[0], "vehicle.confirmed")]), confirmed) << detector;
     EXPECT_NEAR(std::stod(h[row][col(h[0], "vehicle.confirmed_share")]), confirmed / judged, 1e-11) << detector;
     EXPECT_NEAR(std::stod(h[row][col(h[0], "lane_marker.confirmed_share")]), markerConfirmed / markerJudged, 1e-11);
-    EXPECT_NEAR(std::stod(h[row][col(h[0], "lane_marker.per_vehicle_km")]), markers / km, 1e-9) << detector;
+    EXPECT_NEAR(std::stod(h[row][col(h[0], "lane_marker.per_vehicle_km")]), markerRates / rated, 1e-9) << detector;
     EXPECT_EQ(std::stod(h[row][col(h[0], "near_misses")]), events) << detector;
     EXPECT_NEAR(std::stod(h[row][col(h[0], "near_miss_recall")]), warned / events, 1e-11) << detector;
     EXPECT_EQ(std::stod(h[row][col(h[0], "collisions")]), collisions) << detector;
