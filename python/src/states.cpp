@@ -5,6 +5,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include <sthighway/sumo_conversion.hpp>
+
 #include "values.hpp"
 
 namespace stpy {
@@ -52,6 +54,7 @@ struct Raw {
   double v[kKeyCount] = {};
   bool has[kKeyCount] = {};
   hw::VehicleClass vehicleClass = hw::VehicleClass::Passenger;
+  std::string className;  // as given (SUMO's vClass for step_sumo)
   long signals = 0;
   bool equipped = true;
   std::string lane;  // the lane id (reported in the warnings' lane column); empty: unknown
@@ -63,7 +66,10 @@ void setValue(Raw& r, int key, py::handle value, Convention c, const std::string
   r.has[key] = true;
   switch (key) {
     case kId: r.id = toStr(value, what); break;
-    case kClass: r.vehicleClass = classOf(toStr(value, what), c, what); break;
+    case kClass:
+      r.className = toStr(value, what);
+      r.vehicleClass = classOf(r.className, c, what);
+      break;
     case kSignals:
       r.signals = toInt(value, what);
       if (r.signals < 0) throw py::value_error(what + " must be >= 0");
@@ -85,23 +91,15 @@ std::string vehicleWhere(std::size_t i, const Raw& r) {
   return "vehicle " + std::to_string(i) + (r.has[kId] ? " ('" + r.id + "')" : "");
 }
 
-
-// The state in our conventions. SUMO's: as st::cosim::toVehicleState (cosim/lib/src/conversions.cpp).
+// The state in our conventions; SUMO's through the one conversion (sthighway/sumo_conversion.hpp).
 void toState(const Raw& r, Convention c, std::size_t i, const LaneIndex& lanes, const EdgeIndex& edges,
              hw::VehicleState& s) {
   const std::string where = vehicleWhere(i, r);
   const int needed[] = {kId, kX, kY, c == Convention::Ours ? kHeading : kAngle, kSpeed};
   for (int k : needed)
     if (!r.has[k]) throw py::value_error(where + ": missing '" + kKeyNames[k] + "'");
-  const hw::ClassDefaults d = hw::classDefaults(r.vehicleClass);
   s = hw::VehicleState{};  // every field this layer does not set keeps the model's default
   s.id = r.id;
-  s.vehicleClass = r.vehicleClass;
-  s.length = r.has[kLength] ? r.v[kLength] : d.length;
-  s.width = r.has[kWidth] ? r.v[kWidth] : d.width;
-  s.mass = r.has[kMass] ? r.v[kMass] : d.mass;
-  if (r.has[kDecel]) s.decel = r.v[kDecel];  // else unknown (hindsight.evasive_deceleration)
-  s.acceleration = r.has[kAcceleration] ? r.v[kAcceleration] : 0.0;
   s.equipped = r.equipped;
   if (!r.lane.empty()) {
     // as the FCD reader does: the lane's index in the road, -1 for a lane the road lacks
@@ -115,24 +113,39 @@ void toState(const Raw& r, Convention c, std::size_t i, const LaneIndex& lanes, 
     s.route[k] = at->second;
   }
   const double lateral = r.has[kLateralSpeed] ? r.v[kLateralSpeed] : 0.0;
-  if (c == Convention::Ours) {
-    s.position = st::Vec2(r.v[kX], r.v[kY]);
-    s.heading = r.v[kHeading];
-    s.speed = r.v[kSpeed];
-    s.lateralSpeed = lateral;
-    if (r.signals > (hw::kSignalLeft | hw::kSignalRight))
-      throw py::value_error(where + ": 'signals' must be 0..3 (1 left, 2 right), got " + std::to_string(r.signals));
-    s.signals = static_cast<std::uint8_t>(r.signals);
-  } else {
-    s.heading = hw::headingFromNavigationDegrees(r.v[kAngle]);
-    s.position = hw::centreFromFrontBumper(st::Vec2(r.v[kX], r.v[kY]), s.heading, s.length);
-    const double speed = r.v[kSpeed];
-    s.speed = lateral == 0.0 ? speed : std::copysign(std::hypot(speed, lateral), speed);
-    s.lateralSpeed = 0.0;
-    s.signals = 0;  // SUMO's bit 1 is the left blinker, bit 0 the right
-    if (r.signals & 2) s.signals |= hw::kSignalLeft;
-    if (r.signals & 1) s.signals |= hw::kSignalRight;
+  if (c == Convention::Sumo) {
+    // SUMO's records through the one conversion the live coupling and the FCD reader use
+    hw::SumoTypeRecord type;
+    type.vClass = r.className;
+    if (r.has[kLength]) type.length = r.v[kLength];
+    if (r.has[kWidth]) type.width = r.v[kWidth];
+    if (r.has[kMass]) type.mass = r.v[kMass];
+    if (r.has[kDecel]) type.decel = r.v[kDecel];
+    hw::SumoVehicleRecord v;
+    v.x = r.v[kX];
+    v.y = r.v[kY];
+    v.angle = r.v[kAngle];
+    v.speed = r.v[kSpeed];
+    v.lateralSpeed = lateral;
+    v.acceleration = r.has[kAcceleration] ? r.v[kAcceleration] : 0.0;
+    v.signals = static_cast<int>(r.signals);
+    hw::toVehicleState(v, hw::toVehicleTypeInfo(type), s);
+    return;
   }
+  const hw::ClassDefaults d = hw::classDefaults(r.vehicleClass);
+  s.vehicleClass = r.vehicleClass;
+  s.length = r.has[kLength] ? r.v[kLength] : d.length;
+  s.width = r.has[kWidth] ? r.v[kWidth] : d.width;
+  s.mass = r.has[kMass] ? r.v[kMass] : d.mass;
+  if (r.has[kDecel]) s.decel = r.v[kDecel];  // else unknown (hindsight.evasive_deceleration)
+  s.acceleration = r.has[kAcceleration] ? r.v[kAcceleration] : 0.0;
+  s.position = st::Vec2(r.v[kX], r.v[kY]);
+  s.heading = r.v[kHeading];
+  s.speed = r.v[kSpeed];
+  s.lateralSpeed = lateral;
+  if (r.signals > (hw::kSignalLeft | hw::kSignalRight))
+    throw py::value_error(where + ": 'signals' must be 0..3 (1 left, 2 right), got " + std::to_string(r.signals));
+  s.signals = static_cast<std::uint8_t>(r.signals);
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 #pragma once
 // Vehicle states from Python: a list of dicts (one per vehicle) or a dict of columns (NumPy
 // arrays or sequences), in our conventions (centre, heading in rad from +x) or SUMO's (front
-// bumper, navigational degrees: converted as st::cosim::toVehicleState does, with the same
-// sthighway/vehicle.hpp functions); and a state back as a dict.
+// bumper, navigational degrees, SUMO's vClass and signal bits: through the one conversion every
+// SUMO source uses, sthighway/sumo_conversion.hpp); and a state back as a dict.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>

@@ -67,6 +67,9 @@ TEST(Conversions, BlinkerBits) {
   EXPECT_EQ(toVehicleState(v, car()).signals, highway::kSignalLeft);
   v.signals = kSumoBlinkerRight;
   EXPECT_EQ(toVehicleState(v, car()).signals, highway::kSignalRight);
+  // hazard lights (bit 2) announce no lane change: not a blinker, on every path alike
+  v.signals = highway::kSumoHazardLights;
+  EXPECT_EQ(toVehicleState(v, car()).signals, highway::kSignalNone);
 }
 
 }  // namespace

@@ -204,12 +204,6 @@ std::vector<Vec2> parseShape(const XmlScanner& x, const XmlScanner::Tag& t, cons
   return pts;
 }
 
-bool contains(const std::string& hay, const char* needle) {
-  std::string h = hay;
-  std::transform(h.begin(), h.end(), h.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-  return h.find(needle) != std::string::npos;
-}
-
 std::string fmtNumber(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", v);
@@ -281,48 +275,29 @@ RoadGeometry readSumoNet(const std::filesystem::path& path, std::vector<std::str
   return road;
 }
 
-VehicleTypeInfo guessVehicleType(const std::string& typeName) {
-  VehicleClass c = VehicleClass::Passenger;
-  if (contains(typeName, "truck") || contains(typeName, "trailer") || contains(typeName, "lorry") || contains(typeName, "hgv"))
-    c = VehicleClass::Truck;
-  else if (contains(typeName, "bus") || contains(typeName, "coach"))
-    c = VehicleClass::Bus;
-  else if (contains(typeName, "moto") || contains(typeName, "moped"))
-    c = VehicleClass::Motorcycle;
-  else if (contains(typeName, "emergency") || contains(typeName, "ambulance"))
-    c = VehicleClass::Emergency;
-  const ClassDefaults d = classDefaults(c);
-  return {c, d.length, d.width, d.mass};
-}
-
 VehicleTypes readSumoVehicleTypes(const std::filesystem::path& path) {
   XmlScanner x(path);
-  VehicleTypes out;
+  std::map<std::string, SumoTypeRecord> records;
   XmlScanner::Tag t;
   std::string current;
+  auto positive = [&](const std::string& id, const char* key) -> std::optional<double> {
+    const std::string* text = t.attr(key);
+    if (!text) return std::nullopt;
+    const double v = number(x, t, key, *text);
+    if (!(v > 0)) x.fail(t.line, "<vType id=\"" + id + "\"> " + key + " must be positive");
+    return v;
+  };
   while (x.next(t)) {
     if (t.name == "vType" && !t.closing) {
       const std::string* id = t.attr("id");
       if (!id) x.fail(t.line, "<vType> lacks attribute 'id'");
-      const std::string* vc = t.attr("vClass");
-      VehicleTypeInfo info = vc ? VehicleTypeInfo{} : guessVehicleType(*id);
-      if (vc) {
-        info.vehicleClass = vehicleClassFromName(*vc);
-        if (info.vehicleClass == VehicleClass::Other) info.vehicleClass = VehicleClass::Passenger;
-        const ClassDefaults d = classDefaults(info.vehicleClass);
-        info.length = d.length;
-        info.width = d.width;
-        info.mass = d.mass;
-      }
-      info.length = optionalNumber(x, t, "length", info.length);
-      info.width = optionalNumber(x, t, "width", info.width);
-      info.mass = optionalNumber(x, t, "mass", info.mass);
-      info.decel = optionalNumber(x, t, "decel", info.decel);
-      if (!std::isnan(info.decel) && !(info.decel > 0))
-        x.fail(t.line, "<vType id=\"" + *id + "\"> decel must be positive");
-      if (!(info.length > 0) || !(info.width > 0) || !(info.mass > 0))
-        x.fail(t.line, "<vType id=\"" + *id + "\"> length, width and mass must be positive");
-      out[*id] = info;
+      SumoTypeRecord r;
+      if (const std::string* vc = t.attr("vClass")) r.vClass = *vc;
+      r.length = positive(*id, "length");
+      r.width = positive(*id, "width");
+      r.mass = positive(*id, "mass");
+      r.decel = positive(*id, "decel");
+      records[*id] = r;
       current = t.selfClosing ? "" : *id;
     } else if (t.name == "vType" && t.closing) {
       current.clear();
@@ -333,10 +308,12 @@ VehicleTypes readSumoVehicleTypes(const std::filesystem::path& path) {
         if (!v) x.fail(t.line, "<param key=\"mass\"> lacks attribute 'value'");
         const double m = number(x, t, "value", *v);
         if (!(m > 0)) x.fail(t.line, "<param key=\"mass\"> must be positive");
-        out[current].mass = m;
+        records[current].mass = m;
       }
     }
   }
+  VehicleTypes out;
+  for (const auto& [id, r] : records) out[id] = toVehicleTypeInfo(r);
   return out;
 }
 
@@ -363,7 +340,8 @@ struct FcdReader::Impl {
   VehicleTypes types;
   struct Last {
     double time;
-    Vec2 centre;
+    double posLat;     // NaN: not in the trace
+    std::string lane;  // "" not in the trace
     int handle;  // dense, in order of first appearance: the monitor's handle for the vehicle
   };
   std::unordered_map<std::string, Last> last;
@@ -373,11 +351,40 @@ struct FcdReader::Impl {
   long rootLine = 0;        // line of <fcd-export>, 0 if none
   bool rootClosed = false;  // </fcd-export> seen
   std::unordered_map<std::string, int> laneIndex;  // lane id -> index into the network's lanes
+  const RoadGeometry* road = nullptr;
   Impl(const std::filesystem::path& p, VehicleTypes t, FcdChecks c) : x(p), types(std::move(t)), checks(std::move(c)) {}
+
+  // FCD has no lateral speed (SUMO 1.15; sumo's --fcd-output.attributes knows no speedLat). In
+  // the sublane model posLat is the centre's offset from its lane's line, so its change over the
+  // step is what SUMO's lateral speed was: along one lane, or (the road known) into a lane beside
+  // it on the same edge, the lanes' half widths between them added (if the centre moved less than
+  // a quarter of the lines' distance: more is a lane change made in one step). Anything else, or
+  // no posLat (SUMO without the sublane model reports no lateral speed): 0, as the live run reads it.
+  double lateralSpeed(const Last& prev, const std::string* lane, double posLat, double time) const {
+    if (!lane || !(time > prev.time) || std::isnan(posLat) || std::isnan(prev.posLat)) return 0.0;
+    double offset = 0.0;  // the old lane's line seen from the new lane's
+    if (*lane != prev.lane) {
+      if (!road) return 0.0;
+      const auto a = laneIndex.find(prev.lane), b = laneIndex.find(*lane);
+      if (a == laneIndex.end() || b == laneIndex.end()) return 0.0;
+      const Lane& from = road->lanes[static_cast<std::size_t>(a->second)];
+      const Lane& to = road->lanes[static_cast<std::size_t>(b->second)];
+      if (from.edge != to.edge || std::abs(from.index - to.index) != 1) return 0.0;
+      offset = (to.index > from.index ? 0.5 : -0.5) * (from.width + to.width);
+    }
+    const double moved = posLat + offset - prev.posLat;
+    // a lane change SUMO makes in one step (without the sublane model posLat stays 0 and the
+    // centre jumps a lane width) is no lateral motion: SUMO reports none; a sublane crossing
+    // moves a fraction of that
+    if (offset != 0.0 && !(std::abs(moved) < 0.25 * std::abs(offset))) return 0.0;
+    const double v = moved / (time - prev.time);
+    return std::isfinite(v) ? v : 0.0;
+  }
 };
 
 FcdReader::FcdReader(const std::filesystem::path& path, VehicleTypes types, FcdChecks checks, const RoadGeometry* road)
     : impl_(std::make_unique<Impl>(path, std::move(types), std::move(checks))) {
+  impl_->road = road;
   if (road)
     for (std::size_t i = 0; i < road->lanes.size(); ++i) impl_->laneIndex.emplace(road->lanes[i].id, static_cast<int>(i));
 }
@@ -441,62 +448,62 @@ bool FcdReader::next(FcdFrame& frame) {
     if (const std::string* lane = t.attr("lane"); lane && m.checks.lanesChecked &&
         !std::binary_search(m.checks.lanes.begin(), m.checks.lanes.end(), *lane))
       x.fail(t.line, "<vehicle id=\"" + v.id + "\"> lane '" + *lane + "' is not in " + m.checks.netFile);
-    v.vehicleClass = info.vehicleClass;
-    v.length = optionalNumber(x, t, "length", info.length);
-    v.width = optionalNumber(x, t, "width", info.width);
-    v.mass = info.mass;
-    v.decel = info.decel;
-    if (!(v.length > 0) || !(v.width > 0)) x.fail(t.line, "<vehicle id=\"" + v.id + "\"> length and width must be positive");
-    if (v.length > kFcdMaxSize || v.width > kFcdMaxSize)
+    // a trace's own length and width (fcd-output.attributes) stand for the vType's
+    info.length = optionalNumber(x, t, "length", info.length);
+    info.width = optionalNumber(x, t, "width", info.width);
+    if (!(info.length > 0) || !(info.width > 0)) x.fail(t.line, "<vehicle id=\"" + v.id + "\"> length and width must be positive");
+    if (info.length > kFcdMaxSize || info.width > kFcdMaxSize)
       x.fail(t.line, "<vehicle id=\"" + v.id + "\"> length and width must be at most " + fmtNumber(kFcdMaxSize) + " m");
-    // SUMO: front-bumper centre and navigational degrees; ours: body centre and math radians
-    const Vec2 front(required(x, t, "x"), required(x, t, "y"));
+    SumoVehicleRecord r;
+    r.x = required(x, t, "x");
+    r.y = required(x, t, "y");
     if (const FcdChecks& c = m.checks; c.bounded) {
       const double g = FcdChecks::kOutsideMargin;
-      if (!(front.x() >= c.lo.x() - g && front.x() <= c.hi.x() + g && front.y() >= c.lo.y() - g && front.y() <= c.hi.y() + g))
-        x.fail(t.line, "<vehicle id=\"" + v.id + "\"> position (" + fmtNumber(front.x()) + ", " + fmtNumber(front.y()) +
+      if (!(r.x >= c.lo.x() - g && r.x <= c.hi.x() + g && r.y >= c.lo.y() - g && r.y <= c.hi.y() + g))
+        x.fail(t.line, "<vehicle id=\"" + v.id + "\"> position (" + fmtNumber(r.x) + ", " + fmtNumber(r.y) +
                            ") is more than " + fmtNumber(g) + " m outside " + c.netFile + " (x " + fmtNumber(c.lo.x()) +
                            ".." + fmtNumber(c.hi.x()) + ", y " + fmtNumber(c.lo.y()) + ".." + fmtNumber(c.hi.y()) + ")");
     }
     // SUMO writes [0, 360) (360.00 where its rounding reaches it); 1e300 was taken and changed the
     // warnings, -90 was taken as 270
-    const double angle = required(x, t, "angle");
-    if (!(angle >= 0.0 && angle <= 360.0))
-      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> angle " + fmtNumber(angle) + " is not a heading (degrees, 0..360)");
-    v.heading = headingFromNavigationDegrees(angle);
-    v.position = centreFromFrontBumper(front, v.heading, v.length);
-    v.speed = required(x, t, "speed");
-    if (v.speed < 0.0)
-      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> speed " + fmtNumber(v.speed) + " m/s is negative (SUMO's are >= 0)");
-    if (!(std::abs(v.speed) <= kFcdMaxSpeed))
-      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> speed " + fmtNumber(v.speed) + " m/s is beyond any vehicle's (at most " +
+    r.angle = required(x, t, "angle");
+    if (!(r.angle >= 0.0 && r.angle <= 360.0))
+      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> angle " + fmtNumber(r.angle) + " is not a heading (degrees, 0..360)");
+    r.speed = required(x, t, "speed");
+    if (r.speed < 0.0)
+      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> speed " + fmtNumber(r.speed) + " m/s is negative (SUMO's are >= 0)");
+    if (!(std::abs(r.speed) <= kFcdMaxSpeed))
+      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> speed " + fmtNumber(r.speed) + " m/s is beyond any vehicle's (at most " +
                          fmtNumber(kFcdMaxSpeed) + ")");
-    v.acceleration = optionalNumber(x, t, "acceleration", 0.0);
-    if (!(std::abs(v.acceleration) <= kFcdMaxAcceleration))
-      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> acceleration " + fmtNumber(v.acceleration) +
+    r.acceleration = optionalNumber(x, t, "acceleration", 0.0);
+    if (!(std::abs(r.acceleration) <= kFcdMaxAcceleration))
+      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> acceleration " + fmtNumber(r.acceleration) +
                          " m/s^2 is beyond any vehicle's (at most " + fmtNumber(kFcdMaxAcceleration) + ")");
-    if (const std::string* lane = t.attr("lane"); lane && !m.laneIndex.empty()) {
+    if (const std::string* sig = t.attr("signals")) {
+      const double bits = number(x, t, "signals", *sig);
+      if (!(bits >= 0 && bits <= (1 << 30) && bits == std::floor(bits)))
+        x.fail(t.line, "<vehicle id=\"" + v.id + "\"> signals " + fmtNumber(bits) + " is not SUMO's signal bits");
+      r.signals = static_cast<int>(bits);
+    }
+    const std::string* lane = t.attr("lane");
+    if (lane && !m.laneIndex.empty()) {
       auto li = m.laneIndex.find(*lane);
       if (li != m.laneIndex.end()) v.lane = li->second;
     }
-    if (const std::string* sig = t.attr("signals")) {
-      const long bits = static_cast<long>(number(x, t, "signals", *sig));
-      // SUMO: bit 0 right blinker, bit 1 left blinker, bit 2 hazard lights (both)
-      if (bits & 2 || bits & 4) v.signals |= kSignalLeft;
-      if (bits & 1 || bits & 4) v.signals |= kSignalRight;
-    }
-    // lateral speed is not in FCD: the sideways part of the centre's motion since the last frame
     auto it = m.last.find(v.id);
     // times increase strictly, so a vehicle last seen at this frame's time is listed twice in it
     if (it != m.last.end() && it->second.time == frame.time)
       x.fail(t.line, "vehicle '" + v.id + "' appears twice in the timestep (line " + std::to_string(stepLine) + ")");
-    if (it != m.last.end() && frame.time > it->second.time) {
-      const Vec2 vel = (v.position - it->second.centre) / (frame.time - it->second.time);
-      const Vec2 d = v.direction();
-      v.lateralSpeed = vel.dot(Vec2(-d.y(), d.x()));
-    }
+    double posLat = std::numeric_limits<double>::quiet_NaN();
+    if (t.attr("posLat")) posLat = required(x, t, "posLat");
+    if (it != m.last.end()) r.lateralSpeed = m.lateralSpeed(it->second, lane, posLat, frame.time);
+    toVehicleState(r, info, v);
     v.handle = it != m.last.end() ? it->second.handle : static_cast<int>(m.last.size());
-    m.last[v.id] = {frame.time, v.position, v.handle};
+    Impl::Last& last = it != m.last.end() ? it->second : m.last[v.id];
+    last.time = frame.time;
+    last.posLat = posLat;
+    last.lane = lane ? *lane : std::string();
+    last.handle = v.handle;
     frame.vehicles.push_back(std::move(v));
   }
   if (openVehicle) x.fail(openVehicle, "<vehicle> is not closed (expected \"/>\" or </vehicle>)");

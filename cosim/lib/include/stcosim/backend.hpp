@@ -17,6 +17,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include <sthighway/sumo_conversion.hpp>
+
 namespace st::cosim {
 
 struct SumoError : std::runtime_error {
@@ -26,25 +28,21 @@ struct SumoError : std::runtime_error {
 enum class BackendKind : std::uint8_t { Libsumo, Traci };
 const char* toString(BackendKind k);
 
-// SUMO's signal bits (TraCI "signal states"): bit 0 right blinker, bit 1 left blinker.
-inline constexpr int kSumoBlinkerRight = 1;
-inline constexpr int kSumoBlinkerLeft = 2;
+// SUMO's signal bits (TraCI "signal states"), as the one conversion names them.
+using highway::kSumoBlinkerLeft;
+using highway::kSumoBlinkerRight;
 
-// One vehicle on the road after a step, as SUMO reports it. Its id, type and serial are read
-// when it appears; the rest every step (acceleration and signals only if asked, VehicleReads).
-struct SumoVehicle {
+// One vehicle on the road after a step, as SUMO reports it: the record the one conversion reads
+// (position, angle, speeds, acceleration, signals: every step; acceleration and signals only if
+// asked, VehicleReads) and what the backend keeps beside it. Its id, type and serial are read
+// when it appears.
+struct SumoVehicle : highway::SumoVehicleRecord {
   std::string id;
   std::string type;           // vType id
   int typeIndex = -1;         // Backend::vehicleType(typeIndex) is this vehicle's vType
   // 0, 1, 2, ... in order of first appearance, kept through a teleport, new after an arrival:
   // an index for per-vehicle data that needs no lookup by id
   std::uint32_t serial = 0;
-  double x = 0.0, y = 0.0;    // front-bumper centre (m)
-  double angle = 0.0;         // navigational degrees: 0 = north, clockwise
-  double speed = 0.0;         // longitudinal (m/s)
-  double lateralSpeed = 0.0;  // to the left (m/s), sublane model only
-  double acceleration = 0.0;  // longitudinal (m/s^2)
-  int signals = 0;            // SUMO signal bits
   // Its route (VehicleReads::route): the index of its current edge in it (inside a junction, of
   // the edge it left), the route's id, its edges (read again only when the id changes: SUMO
   // gives a rerouted vehicle a new route), and a number that changes whenever they are read

@@ -1,7 +1,7 @@
 #pragma once
 // SUMO's file formats read as plain XML (no SUMO library): the network's lane geometry and the
-// floating-car-data trace. Conversion of SUMO's conventions (front-bumper position, navigational
-// degrees, signal bits) to ours happens here, once.
+// floating-car-data trace. SUMO's conventions become ours in sumo_conversion.hpp, as for every
+// other source.
 #include <cstdint>
 #include <filesystem>
 #include <istream>
@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <sthighway/road.hpp>
+#include <sthighway/sumo_conversion.hpp>
 #include <sthighway/vehicle.hpp>
 
 namespace st::highway {
@@ -28,19 +29,11 @@ struct InputError : std::runtime_error {
 // lanes): a trace may still name them.
 RoadGeometry readSumoNet(const std::filesystem::path& path, std::vector<std::string>* leftOut = nullptr);
 
-// Size and mass for vehicle types; FCD does not carry them. Unknown types use classDefaults of
-// the class guessed from the type name (e.g. "truck" in the name -> Truck).
-struct VehicleTypeInfo {
-  VehicleClass vehicleClass = VehicleClass::Passenger;
-  double length = 5.0;
-  double width = 1.8;
-  double mass = 1500.0;
-  double decel = std::numeric_limits<double>::quiet_NaN();  // m/s^2, the vType's `decel`; NaN: not given
-};
+// Size and mass for vehicle types; FCD does not carry them (toVehicleTypeInfo's rule, as a live
+// run reads them from SUMO). A trace's types no vType describes: guessVehicleType.
 using VehicleTypes = std::map<std::string, VehicleTypeInfo>;
-// Reads <vType id length width vClass mass|param key="mass"> from a route/additional file.
+// Reads <vType id length width vClass decel mass|param key="mass"> from a route/additional file.
 VehicleTypes readSumoVehicleTypes(const std::filesystem::path& path);
-VehicleTypeInfo guessVehicleType(const std::string& typeName);
 
 struct FcdFrame {
   double time = 0.0;
@@ -77,10 +70,12 @@ inline constexpr double kNetMaxCoordinate = 1e7;
 inline constexpr double kNetMaxLaneWidth = 100.0;
 
 // Streams <timestep time=".."><vehicle id x y angle speed [type acceleration signals length
-// width lane] .../></timestep> frames. Lateral speed is not in FCD: it is estimated from the change of
-// the centre across frames (0 on a vehicle's first frame). A file without a single <timestep> is
-// an error (not an FCD trace), and so is a directory. Given the network (road), a vehicle's lane
-// attribute becomes its index into road->lanes (VehicleState::lane; -1 for a lane road lacks).
+// width lane posLat] .../></timestep> frames, each vehicle through toVehicleState as a live run
+// converts it. Lateral speed is not in FCD: in the sublane model it is the change of posLat over
+// the step (0 on a vehicle's first frame, without posLat, or off its lane's edge). A file without
+// a single <timestep> is an error (not an FCD trace), and so is a directory. Given the network
+// (road, which must outlive the reader), a vehicle's lane attribute becomes its index into
+// road->lanes (VehicleState::lane; -1 for a lane road lacks).
 class FcdReader {
  public:
   FcdReader(const std::filesystem::path& path, VehicleTypes types = {}, FcdChecks checks = {},

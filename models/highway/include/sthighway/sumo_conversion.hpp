@@ -1,0 +1,75 @@
+#pragma once
+// SUMO's records to the highway model's states: the one conversion every source uses (libsumo and
+// libtraci through cosim, FCD traces through FcdReader, Python's step_sumo), so a replay or a
+// script sees what the live run saw. SUMO's conventions and ours:
+//   position  SUMO reports the centre of the front bumper; we use the centre of the body:
+//             centre = front - L/2 * (cos h, sin h).
+//   heading   SUMO's angle is navigational degrees (0 = north, clockwise); ours is radians
+//             counter-clockwise from +x: h = (90 - angle) * pi / 180.
+//   velocity  SUMO's angle already turns with the vehicle's lateral motion in the sublane model
+//             (it is the direction of travel), so the velocity is |v| along the heading with
+//             |v| = hypot(speed, lateral speed) and our lateral speed is 0. Without the sublane
+//             model lateral speed is 0 and this is the plain speed. (A lane change SUMO makes in
+//             one step is no lateral motion: SUMO reports none.)
+//   signals   bit 0 (right blinker) and bit 1 (left blinker) to our TurnSignal bits; bit 2, the
+//             hazard lights, says nothing about a lane change and is not a blinker here.
+//   type      the vType's vClass (SUMO's default when absent: passenger; a name we do not know:
+//             Other), its length and width (SUMO's length includes no minGap) and decel, each
+//             SUMO 1.15's default for the vClass where the vType sets none (what a live run reads
+//             back from SUMO), and its mass from <param key="mass" value="kg"/> (or a mass
+//             attribute) if present, else the per-class default of classDefaults.
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+
+#include <sthighway/vehicle.hpp>
+
+namespace st::highway {
+
+// SUMO's signal bits (TraCI "signal states", FCD's `signals`).
+inline constexpr int kSumoBlinkerRight = 1;
+inline constexpr int kSumoBlinkerLeft = 2;
+inline constexpr int kSumoHazardLights = 4;
+
+// A vType as SUMO gives it; what is not given is empty.
+struct SumoTypeRecord {
+  std::string vClass;             // SUMO's vClass name; empty: SUMO's default, passenger
+  std::optional<double> length;   // m
+  std::optional<double> width;    // m
+  std::optional<double> mass;     // kg
+  std::optional<double> decel;    // m/s^2, SUMO's decel (normal maximum braking)
+};
+
+// A vType as the highway model wants it, converted once per type.
+struct VehicleTypeInfo {
+  VehicleClass vehicleClass = VehicleClass::Passenger;
+  double length = 5.0;
+  double width = 1.8;
+  double mass = 1500.0;
+  double decel = std::numeric_limits<double>::quiet_NaN();  // m/s^2, the vType's `decel`; NaN: not given
+};
+VehicleTypeInfo toVehicleTypeInfo(const SumoTypeRecord& type);
+
+// A type that no vType describes (a trace read without its route file): the class guessed from
+// the type's name ("truck", "bus", "moto", ... in it; else passenger) with classDefaults' body
+// and mass, decel unknown.
+VehicleTypeInfo guessVehicleType(const std::string& typeName);
+
+// One vehicle in one step as SUMO reports it.
+struct SumoVehicleRecord {
+  double x = 0.0, y = 0.0;    // front-bumper centre (m)
+  double angle = 0.0;         // navigational degrees: 0 = north, clockwise
+  double speed = 0.0;         // longitudinal (m/s)
+  double lateralSpeed = 0.0;  // to the left (m/s), sublane model only
+  double acceleration = 0.0;  // longitudinal (m/s^2)
+  int signals = 0;            // SUMO's signal bits
+};
+
+std::uint8_t toTurnSignals(int sumoSignals);
+
+// Writes the record's motion and the type's body into `s`; its id, handle, lane, route and
+// `equipped` are the caller's and left as they are.
+void toVehicleState(const SumoVehicleRecord& v, const VehicleTypeInfo& type, VehicleState& s);
+
+}  // namespace st::highway
