@@ -122,6 +122,7 @@ const char* typeName(Type t) {
     case Type::Subscribe: return "SUBSCRIBE";
     case Type::Claim: return "CLAIM";
     case Type::Reset: return "RESET";
+    case Type::Skeletons: return "SKELETONS";
     case Type::Welcome: return "WELCOME";
     case Type::Verdict: return "VERDICT";
     case Type::Error: return "ERROR";
@@ -137,6 +138,7 @@ bool knownType(std::uint8_t b) {
     case Type::Subscribe:
     case Type::Claim:
     case Type::Reset:
+    case Type::Skeletons:
     case Type::Welcome:
     case Type::Verdict:
     case Type::Error: return true;
@@ -194,6 +196,7 @@ const char* toString(Cause c) {
     case Cause::ObstacleLost: return "obstacle_lost";
     case Cause::Disputed: return "disputed";
     case Cause::Latched: return "latched";
+    case Cause::Person: return "person";
   }
   return "?";
 }
@@ -209,13 +212,21 @@ void encodeInto(std::string& out, const Verdict& v, std::uint8_t version) {
     w.u8(static_cast<std::uint8_t>(a.level));
     w.f64(a.minTtc);
     if (version < 2) continue;
-    w.u8(static_cast<std::uint8_t>(a.cause));
+    // a cause the version does not know is told as its nearest one it does
+    const Cause cause = a.cause == Cause::Person && version < 3 ? Cause::Separation : a.cause;
+    w.u8(static_cast<std::uint8_t>(cause));
     w.i16(a.pair.body);
     w.i16(a.pair.otherArm);
     w.i16(a.pair.otherBody);
     w.i16(a.pair.obstacle);
     w.f64(a.pair.distance);
     w.f64(a.pair.ttc);
+    if (version < 3) continue;
+    w.f64(a.factor);
+    w.f64(a.personSeparation);
+    w.f64(a.required);
+    w.i16(a.person);
+    w.i16(a.part);
   }
   const Nearest& n = v.nearest;
   w.i16(n.arm);
@@ -280,6 +291,20 @@ std::string encode(const Message& m, std::uint8_t version) {
           }
           w.u16(static_cast<std::uint16_t>(x.obstacleNames.size()));
           for (const std::string& n : x.obstacleNames) w.str(n);
+          if (version >= 3) {
+            w.u16(static_cast<std::uint16_t>(x.personNames.size()));
+            for (const std::string& n : x.personNames) w.str(n);
+          }
+        } else if constexpr (std::is_same_v<T, Skeletons>) {
+          w.head(Type::Skeletons);
+          w.u32(x.seq);
+          w.f64(x.t);
+          w.u16(static_cast<std::uint16_t>(x.persons.size()));
+          for (const PersonPose& p : x.persons) {
+            w.u16(p.person);
+            for (std::size_t j = 0; j < kSkeletonJoints; ++j)
+              for (int i = 0; i < 3; ++i) w.f64(j < p.joints.size() ? p.joints[j][i] : 0.0);
+          }
         } else if constexpr (std::is_same_v<T, Verdict>) {
           encodeInto(out, x, version);
         } else if constexpr (std::is_same_v<T, Error>) {
@@ -395,6 +420,10 @@ Decoded decode(std::string_view payload) {
       }
       const std::uint16_t no = r.u16();
       for (std::uint16_t k = 0; k < no && r.error.empty(); ++k) x.obstacleNames.push_back(r.str());
+      if (static_cast<std::uint8_t>(payload[0]) >= 3) {
+        const std::uint16_t np = r.u16();
+        for (std::uint16_t k = 0; k < np && r.error.empty(); ++k) x.personNames.push_back(r.str());
+      }
       if (r.done()) d.message = std::move(x);
       break;
     }
@@ -405,8 +434,9 @@ Decoded decode(std::string_view payload) {
       v.cycle = r.u64();
       v.t = r.f64();
       const std::uint16_t n = r.u16();
-      const bool causes = static_cast<std::uint8_t>(payload[0]) >= 2;
-      if (r.error.empty() && r.need(static_cast<std::size_t>(n) * (causes ? 34 : 9))) {
+      const auto version = static_cast<std::uint8_t>(payload[0]);
+      const bool causes = version >= 2, persons = version >= 3;
+      if (r.error.empty() && r.need(static_cast<std::size_t>(n) * (persons ? 62 : causes ? 34 : 9))) {
         v.arms.resize(n);
         for (std::size_t k = 0; k < v.arms.size(); ++k) {
           ArmVerdict& a = v.arms[k];
@@ -416,7 +446,7 @@ Decoded decode(std::string_view payload) {
           a.minTtc = r.f64();
           if (!causes) continue;
           const std::uint8_t c = r.u8();
-          if (c > kLastCause) r.fail("verdict cause " + std::to_string(c));
+          if (c > lastCause(version)) r.fail("verdict cause " + std::to_string(c));
           a.cause = static_cast<Cause>(c);
           a.pair.arm = static_cast<std::int16_t>(k);
           a.pair.body = r.i16();
@@ -425,6 +455,12 @@ Decoded decode(std::string_view payload) {
           a.pair.obstacle = r.i16();
           a.pair.distance = r.f64();
           a.pair.ttc = r.f64();
+          if (!persons) continue;
+          a.factor = r.f64();
+          a.personSeparation = r.f64();
+          a.required = r.f64();
+          a.person = r.i16();
+          a.part = r.i16();
         }
       }
       r.what = "nearest";
@@ -436,6 +472,33 @@ Decoded decode(std::string_view payload) {
       v.nearest.distance = r.f64();
       v.nearest.ttc = r.f64();
       if (r.done()) d.message = std::move(v);
+      break;
+    }
+    case Type::Skeletons: {
+      Skeletons x;
+      if (static_cast<std::uint8_t>(payload[0]) < 3) {
+        r.fail("needs protocol version 3 (this message says " + std::to_string(static_cast<std::uint8_t>(payload[0])) + ")");
+        break;
+      }
+      r.what = "seq";
+      x.seq = r.u32();
+      r.what = "t";
+      x.t = r.f64();
+      r.what = "count";
+      const std::uint16_t n = r.u16();
+      if (r.error.empty() && n > kMaxPersons)
+        r.fail(std::to_string(n) + " persons in one message (at most " + std::to_string(kMaxPersons) + ")");
+      r.what = "skeleton";
+      if (r.error.empty() && r.need(static_cast<std::size_t>(n) * (2 + kSkeletonJoints * 24))) {
+        x.persons.resize(n);
+        for (PersonPose& p : x.persons) {
+          p.person = r.u16();
+          p.joints.resize(kSkeletonJoints);
+          for (Vec3& j : p.joints)
+            for (int i = 0; i < 3; ++i) j[i] = r.f64();
+        }
+      }
+      if (r.done()) d.message = std::move(x);
       break;
     }
     case Type::Error: {

@@ -66,6 +66,16 @@ ArmService::ArmService(boost::asio::io_context& io, const Scenario& scenario, Se
   obstacleDisputed_.assign(monitor_.obstacles().size(), 0);
   poseT_.assign(monitor_.obstacles().size(), std::numeric_limits<double>::quiet_NaN());
   pendingArm_.resize(arms);
+  static_assert(proto::kSkeletonJoints == static_cast<std::size_t>(kSkeletonJoints));
+  for (const Scenario::Person& person : scenario.persons) {
+    auto h = std::make_unique<HeldPerson>();
+    held_.push_back(h.get());
+    persons_.add(person.name, std::move(h));
+  }
+  personOwner_.assign(held_.size(), kNobody);
+  personDisputed_.assign(held_.size(), 0);
+  personT_.assign(held_.size(), std::numeric_limits<double>::quiet_NaN());
+  if (!held_.empty()) ssm_.emplace(scenario.ssm, arms);
   // a reading older than this could not start the braking in time
   staleAfter_ = cfg_.staleAfter > 0.0 ? cfg_.staleAfter : monitor_.safety().reactionTime + monitor_.safety().cycleTime;
   if (!cfg_.logDir.empty()) {
@@ -75,7 +85,12 @@ ArmService::ArmService(boost::asio::io_context& io, const Scenario& scenario, Se
     for (int a = 0; a < arms; ++a)
       for (const char* column : {"_level", "_min_ttc_s", "_cause", "_cause_body", "_cause_other", "_cause_distance_m", "_cause_ttc_s"})
         header += ',' + io::csvField(monitor_.arm(a).name + column);
-    verdictLog_.emplace(fs::path(cfg_.logDir) / "verdicts.csv", header + ",nearest,nearest_other,distance_m,ttc_s");
+    header += ",nearest,nearest_other,distance_m,ttc_s";
+    if (!held_.empty())
+      for (int a = 0; a < arms; ++a)
+        for (const char* column : {"_factor", "_person_separation_m", "_S_p_m", "_person"})
+          header += ',' + io::csvField(monitor_.arm(a).name + column);
+    verdictLog_.emplace(fs::path(cfg_.logDir) / "verdicts.csv", header);
     connLog_.emplace(fs::path(cfg_.logDir) / "connections.csv", "wall_s,connection,event,detail");
   }
   verdict_.arms.resize(arms);
@@ -174,6 +189,10 @@ void ArmService::release(net::ConnectionId id) {
     }
   for (std::size_t o = 0; o < obstacleOwner_.size(); ++o)
     if (obstacleOwner_[o] == id) obstacleOwner_[o] = kNobody, obstacleDisputed_[o] = 0;
+  // a person's tracker that leaves leaves the person where it was last seen, going stale: every
+  // arm STOPs until a pose comes again (a person no longer seen may be anywhere)
+  for (std::size_t k = 0; k < personOwner_.size(); ++k)
+    if (personOwner_[k] == id) personOwner_[k] = kNobody, personDisputed_[k] = 0;
 }
 
 std::string ArmService::checkTime(net::ConnectionId id, const Peer& p, const std::string& what, double t) const {
@@ -224,6 +243,7 @@ void ArmService::onFrame(net::Server& s, net::ConnectionId id, std::string_view 
         case proto::Type::Readings: err = onReadings(id, p, payload); break;
         case proto::Type::Obstacles: err = onObstacles(id, p, payload); break;
         case proto::Type::Claim: err = onClaim(id, p, payload); break;
+        case proto::Type::Skeletons: err = onSkeletons(id, p, payload); break;
         case proto::Type::Reset: {
           const proto::Decoded d = proto::decode(payload);
           if (!d.ok) {
@@ -296,6 +316,7 @@ std::string ArmService::onHello(net::ConnectionId id, Peer& p, std::string_view 
     w.armDofs.push_back(static_cast<std::uint8_t>(monitor_.arm(a).model.dof()));
   }
   for (const Obstacle& o : monitor_.obstacles()) w.obstacleNames.push_back(o.name);
+  for (int k = 0; k < persons_.size(); ++k) w.personNames.push_back(persons_.name(k));
   server_.send(id, proto::encode(w, p.version));
   return "";
 }
@@ -451,6 +472,88 @@ std::string ArmService::onObstacles(net::ConnectionId id, Peer& p, std::string_v
   return "";
 }
 
+std::string ArmService::onSkeletons(net::ConnectionId id, Peer& p, std::string_view payload) {
+  if (p.version < 3)
+    return "SKELETONS needs protocol version 3 (this connection said HELLO with version " + std::to_string(p.version) + ")";
+  const proto::Decoded d = proto::decode(payload);
+  if (!d.ok) return d.error;
+  const auto& m = std::get<proto::Skeletons>(d.message);
+  const std::string seq = "SKELETONS seq " + std::to_string(m.seq);
+  if (std::string e = checkTime(id, p, seq, m.t); !e.empty()) return e;
+  // every pose checked before any is taken
+  for (const proto::PersonPose& pp : m.persons) {
+    if (pp.person >= held_.size())
+      return seq + ": unknown person id " + std::to_string(pp.person) + " (the scenario has " + std::to_string(held_.size()) +
+             " persons)";
+    for (std::size_t j = 0; j < pp.joints.size(); ++j)
+      if (!pp.joints[j].allFinite() || pp.joints[j].cwiseAbs().maxCoeff() > 1000.0)
+        return seq + ": person " + std::to_string(pp.person) + " joint " + jointName(static_cast<int>(j)) +
+               " is not a finite position within 1 km of the cell";
+  }
+  std::string owned;
+  for (const proto::PersonPose& pp : m.persons)
+    if (std::string e = mayReport(id, p, personOwner_, personDisputed_, pp.person,
+                                  "person " + std::to_string(pp.person) + " (" + persons_.name(pp.person) + ")", seq,
+                                  "one connection per person; every arm is stopped");
+        !e.empty() && owned.empty())
+      owned = std::move(e);
+  if (!owned.empty()) return owned;
+  p.reported = true;
+  for (const proto::PersonPose& pp : m.persons) {
+    personOwner_[pp.person] = id;
+    Skeleton s;
+    for (std::size_t j = 0; j < pp.joints.size(); ++j) s.p[j] = pp.joints[j];
+    held_[pp.person]->set(s);
+    personT_[pp.person] = m.t;
+  }
+  heard(p, m.t);
+  if (!p.inCycle) {
+    p.inCycle = true;
+    inCycle_.push_back(id);
+  }
+  p.ack = m.seq;
+  cycleT_ = pending_ ? std::max(cycleT_, m.t) : m.t;
+  pending_ = true;
+  return "";
+}
+
+void ArmService::applyPersons(double t) {
+  if (!ssm_) return;
+  persons_.pose(t);
+  ssm_->cycle(monitor_, persons_);
+  // a person whose tracker fell silent (or left) may be anywhere: every arm stops, as for an obstacle
+  bool lost = false, disputed = false;
+  for (const double pt : personT_) lost = lost || (!std::isnan(pt) && !(std::abs(t - pt) <= staleAfter_));
+  for (const char d : personDisputed_) disputed = disputed || d;
+  for (int a = 0; a < monitor_.armCount(); ++a) {
+    proto::ArmVerdict& v = verdict_.arms[a];
+    const SsmVerdict& s = ssm_->verdict(a);
+    v.factor = s.factor;
+    v.personSeparation = s.separation;
+    v.required = s.required;
+    v.person = static_cast<std::int16_t>(s.person);
+    v.part = static_cast<std::int16_t>(s.part);
+    if (v.level == proto::Level::Stop) {
+      v.factor = 0.0;
+      continue;
+    }
+    if (lost || disputed) {
+      v.level = proto::Level::Stop;
+      v.cause = lost ? proto::Cause::ObstacleLost : proto::Cause::Disputed;
+      v.pair = proto::Nearest{};
+      v.pair.arm = static_cast<std::int16_t>(a);
+      v.factor = 0.0;
+      ++(lost ? counters_.staleStops : counters_.disputeStops);
+    } else if (s.stop) {
+      v.level = proto::Level::Stop;
+      v.cause = proto::Cause::Person;
+      v.pair = proto::Nearest{};
+      v.pair.arm = static_cast<std::int16_t>(a);
+      v.pair.distance = s.separation;
+    }
+  }
+}
+
 void ArmService::onIdle(net::Server&) {
   if (pending_) runCycle();
 }
@@ -522,6 +625,7 @@ void ArmService::runCycle() {
       ++counters_.disputeStops;
     }
   }
+  applyPersons(t);
   const Warning& n = monitor_.nearest();
   verdict_.nearest = {static_cast<std::int16_t>(n.arm), static_cast<std::int16_t>(n.body),
                       static_cast<std::int16_t>(n.otherArm), static_cast<std::int16_t>(n.otherBody),
@@ -550,6 +654,10 @@ void ArmService::runCycle() {
       row += ',' + io::csvField(monitor_.arm(n.arm).name + "/" + bodyName(monitor_.arm(n.arm).model, n.body)) + ',' +
              io::csvField(otherName(monitor_, n)) + ',' + num(n.distance) + ',' + num(n.ttc);
     else row += ",,,inf,inf";
+    if (ssm_)
+      for (const proto::ArmVerdict& v : verdict_.arms)
+        row += ',' + num(v.factor) + ',' + num(v.personSeparation) + ',' + num(v.required) + ',' +
+               (v.person >= 0 ? io::csvField(persons_.name(v.person) + "/" + bodyParts()[v.part].name) : std::string());
     verdictLog_->row(row);
     verdictLog_->flush();
   }

@@ -159,7 +159,11 @@ void runStream(const StreamConfig& cfg, StreamResult& res) {
       const bool stop = v->arms[a].level == proto::Level::Stop;
       anyStop = anyStop || stop;
       if (stop && std::isnan(res.firstStop[a])) res.firstStop[a] = t;
-      if (loop) loop->observeArm(a, t, stop, stop);
+      if (loop) {
+        loop->observeArm(a, t, stop, stop);
+        // version 3: the speed factor of speed and separation monitoring (1 without persons)
+        loop->limitArm(a, t, v->arms[a].factor);
+      }
     }
     res.stopCycles += anyStop ? 1 : 0;
     res.minDistance = std::min(res.minDistance, v->nearest.distance);

@@ -31,7 +31,19 @@ std::vector<Message> samples() {
   v.arms = {{Level::Stop, 0.2, Cause::Collision, {0, 8, 1, 8, -1, 0.031, 0.2}},
             {Level::Warn, 0.29, Cause::Lookahead, {1, 3, -1, -1, 1, 0.12, 0.29}}};
   v.nearest = {0, 8, 1, 8, -1, 0.031, 0.2};
-  return {Hello{kVersion, "s3cret"}, r, o, Subscribe{Subscribe::kOwnOnly}, w, v, Error{"bad token"}, Claim{{0, 1}, {3}}, Reset{{1}}};
+  w.personNames = {"visitor"};
+  v.arms[1].factor = 0.375;
+  v.arms[1].personSeparation = 0.61;
+  v.arms[1].required = 0.55;
+  v.arms[1].person = 0;
+  v.arms[1].part = 7;
+  Skeletons sk;
+  sk.seq = 5;
+  sk.t = 0.75;
+  sk.persons = {{0, std::vector<Vec3>(kSkeletonJoints, Vec3(1, 2, 3))}};
+  sk.persons[0].joints[16] = Vec3(-1, 0.5, 0.08);
+  return {Hello{kVersion, "s3cret"}, r, o, Subscribe{Subscribe::kOwnOnly}, w, v, Error{"bad token"}, Claim{{0, 1}, {3}}, Reset{{1}},
+          sk};
 }
 
 bool same(const Message& a, const Message& b) { return encode(a) == encode(b); }
@@ -100,12 +112,46 @@ TEST(Protocol, VersionOneVerdictsKeepTheirLayoutAndVersionTwoNamesTheCause) {
   std::string bad = two;
   bad[2 + 4 + 8 + 8 + 2 + 9] = 8;
   EXPECT_EQ(decode(bad).error, "VERDICT: verdict cause 8");
-  // versions 0 and 3 are not served
-  for (const char version : {'\0', '\3'}) {
+  // versions 0 and 4 are not served
+  for (const char version : {'\0', '\4'}) {
     std::string m = two;
     m[0] = version;
-    EXPECT_NE(decode(m).error.find("not supported (this service speaks 1 to 2)"), std::string::npos) << decode(m).error;
+    EXPECT_NE(decode(m).error.find("not supported (this service speaks 1 to 3)"), std::string::npos) << decode(m).error;
   }
+}
+
+TEST(Protocol, VersionThreeCarriesPersonsAndOlderVersionsDoNot) {
+  const Verdict v = std::get<Verdict>(samples()[5]);
+  const std::string two = encode(v, 2), three = encode(v, 3);
+  // version 3: 28 bytes more per arm (3 x f64, 2 x i16)
+  EXPECT_EQ(three.size(), two.size() + 2 * 28);
+  const Decoded d3 = decode(three), d2 = decode(two);
+  ASSERT_TRUE(d3.ok && d2.ok) << d3.error << d2.error;
+  const auto& v3 = std::get<Verdict>(d3.message);
+  EXPECT_EQ(v3.arms[1].factor, 0.375);
+  EXPECT_EQ(v3.arms[1].personSeparation, 0.61);
+  EXPECT_EQ(v3.arms[1].person, 0);
+  EXPECT_EQ(v3.arms[1].part, 7);
+  EXPECT_EQ(std::get<Verdict>(d2.message).arms[1].factor, 1.0) << "version 2 carries no factor";
+  // the person cause is told to version 2 as separation, whose decoders know no cause 8
+  Verdict p = v;
+  p.arms[0].cause = Cause::Person;
+  EXPECT_EQ(std::get<Verdict>(decode(encode(p, 2)).message).arms[0].cause, Cause::Separation);
+  EXPECT_EQ(std::get<Verdict>(decode(encode(p, 3)).message).arms[0].cause, Cause::Person);
+  // WELCOME's persons only from version 3 on
+  const Welcome w = std::get<Welcome>(samples()[4]);
+  EXPECT_TRUE(std::get<Welcome>(decode(encode(w, 2)).message).personNames.empty());
+  EXPECT_EQ(std::get<Welcome>(decode(encode(w, 3)).message).personNames, std::vector<std::string>{"visitor"});
+  // SKELETONS: round trip, refused in an older version, bounded before allocating
+  const Skeletons sk = std::get<Skeletons>(samples()[9]);
+  const Decoded ds = decode(encode(sk));
+  ASSERT_TRUE(ds.ok) << ds.error;
+  EXPECT_EQ(std::get<Skeletons>(ds.message).persons[0].joints[16], Vec3(-1, 0.5, 0.08));
+  EXPECT_EQ(decode(encode(sk, 2)).error, "SKELETONS: needs protocol version 3 (this message says 2)");
+  std::string many = encode(sk);
+  many[2 + 4 + 8] = static_cast<char>(0xFF);
+  many[2 + 4 + 8 + 1] = static_cast<char>(0xFF);
+  EXPECT_EQ(decode(many).error, "SKELETONS: 65535 persons in one message (at most 64)");
 }
 
 TEST(Protocol, InfinityAndNanSurviveTheWire) {
@@ -141,8 +187,8 @@ TEST(Protocol, EveryTruncationAndTrailingByteIsNamed) {
 
 TEST(Protocol, VersionAndTypeAreChecked) {
   std::string m = encode(Subscribe{});
-  m[0] = 3;
-  EXPECT_NE(decode(m).error.find("protocol version 3 not supported"), std::string::npos);
+  m[0] = 4;
+  EXPECT_NE(decode(m).error.find("protocol version 4 not supported"), std::string::npos);
   m[0] = static_cast<char>(kVersion);
   m[1] = 0x42;
   EXPECT_NE(decode(m).error.find("unknown message type 0x42"), std::string::npos) << decode(m).error;

@@ -567,11 +567,86 @@ TEST(ArmService, AVersionOneClientIsStillServed) {
   const proto::Decoded d = proto::decode(*f);
   ASSERT_TRUE(d.ok) << d.error;
   EXPECT_EQ(std::get<proto::Verdict>(d.message).arms[0].level, proto::Level::Ok);
-  // a version 3 HELLO is refused naming what is spoken
-  net::Client three;
-  three.connect("127.0.0.1", svc.service.port(), 2s);
-  three.send(proto::encode(proto::Hello{3, ""}));
-  expectError(three, "protocol version 3 not supported (this service speaks 1 to 2)");
+  // a version 4 HELLO is refused naming what is spoken
+  net::Client four;
+  four.connect("127.0.0.1", svc.service.port(), 2s);
+  four.send(proto::encode(proto::Hello{4, ""}, 3));
+  expectError(four, "protocol version 4 not supported (this service speaks 1 to 3)");
+}
+
+proto::Skeletons skeletonAt(std::uint32_t seq, double t, double x) {
+  const Skeleton sk = standingSkeleton(Vec3(x, 0, 0), 3.141592653589793);
+  proto::Skeletons m;
+  m.seq = seq;
+  m.t = t;
+  m.persons = {{0, std::vector<Vec3>(sk.p.begin(), sk.p.end())}};
+  return m;
+}
+
+TEST(ArmService, ASkeletonSlowsAndStopsTheArmInVersionThree) {
+  // person_walkup's Panda at rest at its home pose, its person reported by SKELETONS walking in:
+  // factor 1 far away, a factor between 0 and 1 nearer, STOP (cause person) closest; the
+  // verdicts equal the in-process SeparationMonitor's on the same poses
+  const Scenario s = loadScenario(scenarioPath("person_walkup"));
+  Service svc(s, {});
+  Peer p(svc.service.port());
+  Monitor mon = makeMonitor(s);
+  PersonSet persons;
+  auto held = std::make_unique<HeldPerson>();
+  HeldPerson* h = held.get();
+  persons.add("visitor", std::move(held));
+  SeparationMonitor ssm(s.ssm, 1);
+  std::uint32_t seq = 0;
+  bool scaled = false;
+  proto::ArmVerdict last;
+  for (int k = 0; k <= 24; ++k) {
+    const double t = 0.001 * k, x = 3.0 - 0.1 * k;
+    p.c.send(proto::encode(skeletonAt(++seq, t, x)));
+    proto::Readings r = pandaReading(++seq, t);
+    p.c.send(proto::encode(r));
+    std::optional<proto::Message> m;
+    const proto::Verdict* v = nullptr;
+    while ((m = p.next()) && (!(v = std::get_if<proto::Verdict>(&*m)) || v->ack < seq)) {
+    }
+    ASSERT_TRUE(v) << k;
+    // in process, the same poses
+    mon.setJointState(0, t, r.arms[0].q.data(), r.arms[0].qdot.data());
+    mon.cycle(t);
+    h->set(standingSkeleton(Vec3(x, 0, 0), 3.141592653589793));
+    persons.pose(t);
+    ssm.cycle(mon, persons);
+    const SsmVerdict& ref = ssm.verdict(0);
+    last = v->arms[0];
+    EXPECT_EQ(last.factor, ref.factor) << k;
+    EXPECT_EQ(last.personSeparation, ref.separation) << k;
+    EXPECT_EQ(last.person, 0);
+    EXPECT_EQ(last.level == proto::Level::Stop, ref.stop) << k;
+    if (ref.stop) {
+      EXPECT_EQ(last.cause, proto::Cause::Person) << k;
+    }
+    if (k == 0) {
+      EXPECT_EQ(last.factor, 1.0);
+    }
+    scaled = scaled || (last.factor > 0.0 && last.factor < 1.0);
+  }
+  EXPECT_TRUE(scaled);
+  EXPECT_EQ(last.level, proto::Level::Stop) << "0.6 m from the base";
+  // the person's tracker falls silent: every arm STOPs until a pose comes again
+  p.c.send(proto::encode(pandaReading(++seq, 0.2)));
+  std::optional<proto::Message> m;
+  const proto::Verdict* v = nullptr;
+  while ((m = p.next()) && (!(v = std::get_if<proto::Verdict>(&*m)) || v->ack < seq)) {
+  }
+  ASSERT_TRUE(v);
+  EXPECT_EQ(v->arms[0].level, proto::Level::Stop);
+  EXPECT_EQ(v->arms[0].cause, proto::Cause::ObstacleLost);
+  // a version 2 client may not send SKELETONS; its verdicts tell a person STOP as separation
+  net::Client two;
+  two.connect("127.0.0.1", svc.service.port(), 2s);
+  two.send(proto::encode(proto::Hello{2, ""}, 2));
+  ASSERT_TRUE(two.receive(2s));
+  two.send(proto::encode(skeletonAt(1, 0.3, 2.0), 3));
+  expectError(two, "SKELETONS needs protocol version 3 (this connection said HELLO with version 2)");
 }
 
 TEST(ArmService, ASocketPastEverySlotIsToldTheServicesLimits) {

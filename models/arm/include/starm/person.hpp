@@ -135,4 +135,22 @@ class TracedPerson final : public PersonTrack {
   std::size_t i_ = 0;
 };
 
+// A person whose skeleton is set from outside (a tracker over the network): there from its first
+// pose on, where it was last set.
+class HeldPerson final : public PersonTrack {
+ public:
+  void set(const Skeleton& s) {
+    s_ = s;
+    seen_ = true;
+  }
+  bool at(double, Skeleton& s) override {
+    if (seen_) s = s_;
+    return seen_;
+  }
+
+ private:
+  Skeleton s_;
+  bool seen_ = false;
+};
+
 }  // namespace st::arm

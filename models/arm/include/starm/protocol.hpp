@@ -1,11 +1,13 @@
 #pragma once
-// The arm service's wire protocol, version 2 (version 1 still served): pure encode / decode of
+// The arm service's wire protocol, version 3 (versions 1 and 2 still served): pure encode / decode of
 // frame payloads (the length prefix is st::net's). No sockets here, so every message can be
 // tested and fuzzed.
 //
 // Every payload starts with two bytes: the protocol version (1 or 2) and the message type. A
-// client's HELLO names its version; the service answers in it. The versions differ only in
-// VERDICT: version 2 gives each arm the cause of its level. Numbers are little-endian:
+// client's HELLO names its version; the service answers in it. Version 2 gives each arm of a
+// VERDICT the cause of its level; version 3 adds persons: SKELETONS, the persons in WELCOME, and
+// each arm's speed factor and person separation in VERDICT (cause 8, person, in version 3 only;
+// a version 2 client is told `separation`). Numbers are little-endian:
 // u8/u16/u32/u64, f64 IEEE 754; a string is u16 length + bytes.
 //
 //   client -> service
@@ -15,15 +17,18 @@
 //   0x04 SUBSCRIBE  u8 flags (bit 0: only the cycles holding this client's own readings)
 //   0x06 RESET      u16 n, n x u16 arm: release the latch of STOPs held since a sensor fell silent
 //                   (each arm current again; one that is not stays latched)
+//   0x07 SKELETONS  (version 3) u32 seq, f64 t, u16 n, n x {u16 person, 17 x 3 x f64 joints}
+//                   (person.hpp's joint order, cell frame, m)
 //   0x05 CLAIM      u16 n, n x u16 arm, u16 m, m x u16 obstacle: what this client reports (once,
 //                   before its first READINGS or OBSTACLES; without it a client claims each arm or
 //                   obstacle by its first report of it)
 //   service -> client
 //   0x81 WELCOME    u16 version, f64 cycle time, f64 safe time, u16 arms, arms x {string name, u8 dof},
-//                   u16 obstacles, obstacles x {string name}
+//                   u16 obstacles, obstacles x {string name}[, v3: u16 persons, persons x {string name}]
 //   0x82 VERDICT    u32 ack (last seq of this client's in the cycle, 0: none), u64 cycle, f64 t,
 //                   u16 arms, arms x {u8 level, f64 min ttc[, v2: u8 cause, i16 body,
-//                   i16 other arm, i16 other body, i16 obstacle, f64 distance, f64 ttc]},
+//                   i16 other arm, i16 other body, i16 obstacle, f64 distance, f64 ttc][, v3:
+//                   f64 speed factor, f64 person separation, f64 S_p, i16 person, i16 body part]},
 //                   nearest {i16 arm, i16 body, i16 other arm, i16 other body, i16 obstacle,
 //                   f64 distance, f64 ttc}
 //   0xFF ERROR      string message (one line); the service closes the connection after it
@@ -42,11 +47,13 @@
 
 namespace st::arm::proto {
 
-inline constexpr std::uint8_t kVersion = 2;     // what this build speaks by default
+inline constexpr std::uint8_t kVersion = 3;     // what this build speaks by default
 inline constexpr std::uint8_t kOldestVersion = 1;  // the oldest still served
 inline constexpr std::size_t kMaxArms = 64;        // per message
 inline constexpr std::size_t kMaxDof = 32;
 inline constexpr std::size_t kMaxObstacles = 4096;
+inline constexpr std::size_t kMaxPersons = 64;     // per message
+inline constexpr std::size_t kSkeletonJoints = 17;  // person.hpp's SkeletonJoint
 
 enum class Type : std::uint8_t {
   Hello = 0x01,
@@ -55,6 +62,7 @@ enum class Type : std::uint8_t {
   Subscribe = 0x04,
   Claim = 0x05,
   Reset = 0x06,
+  Skeletons = 0x07,  // version 3
   Welcome = 0x81,
   Verdict = 0x82,
   Error = 0xFF,
@@ -72,8 +80,11 @@ enum class Cause : std::uint8_t {
   ObstacleLost = 5,  // STOP: a tracked obstacle has no current pose
   Disputed = 6,      // STOP: the arm, or a tracked obstacle, is reported by two connections
   Latched = 7,       // STOP: held since the arm's sensor fell silent, until a RESET
+  Person = 8,        // STOP: a person within S_p at the arm's speed (version 3; version 2: Separation)
 };
-inline constexpr std::uint8_t kLastCause = 7;
+inline constexpr std::uint8_t kLastCause = 8;
+// the last cause a version's VERDICT carries
+inline std::uint8_t lastCause(std::uint8_t version) { return version >= 3 ? 8 : 7; }
 const char* toString(Cause c);
 
 struct Hello {
@@ -99,6 +110,15 @@ struct Obstacles {
   double t = 0.0;
   std::vector<ObstaclePose> obstacles;
 };
+struct PersonPose {
+  std::uint16_t person = 0;
+  std::vector<Vec3> joints;  // kSkeletonJoints, cell frame
+};
+struct Skeletons {
+  std::uint32_t seq = 0;
+  double t = 0.0;
+  std::vector<PersonPose> persons;
+};
 struct Subscribe {
   std::uint8_t flags = 0;
   static constexpr std::uint8_t kOwnOnly = 1;
@@ -115,6 +135,7 @@ struct Welcome {
   std::vector<std::string> armNames;
   std::vector<std::uint8_t> armDofs;
   std::vector<std::string> obstacleNames;
+  std::vector<std::string> personNames;  // version 3
 };
 // A pair of bodies: an arm's body and another arm's body or an obstacle (-1: none).
 struct Nearest {
@@ -129,6 +150,11 @@ struct ArmVerdict {
   // (the arm's smallest time to collision; `arm` is this arm); on the wire `arm` is implied
   Cause cause = Cause::None;
   Nearest pair;
+  // version 3: speed and separation monitoring (factor 1, no person: nothing to slow for)
+  double factor = 1.0;
+  double personSeparation = std::numeric_limits<double>::infinity();  // m
+  double required = 0.0;  // m, S_p of the binding person pair
+  std::int16_t person = -1, part = -1;  // the binding person and body part (person.hpp's bodyParts order)
 };
 struct Verdict {
   std::uint32_t ack = 0;
@@ -141,7 +167,7 @@ struct Error {
   std::string message;
 };
 
-using Message = std::variant<Hello, Readings, Obstacles, Subscribe, Claim, Reset, Welcome, Verdict, Error>;
+using Message = std::variant<Hello, Readings, Obstacles, Subscribe, Claim, Reset, Welcome, Verdict, Error, Skeletons>;
 
 // In protocol `version` (kOldestVersion..kVersion).
 std::string encode(const Message& m, std::uint8_t version = kVersion);

@@ -111,6 +111,9 @@ class ArmService final : public net::Handler {
   std::string onReadings(net::ConnectionId id, Peer& p, std::string_view payload);
   std::string onObstacles(net::ConnectionId id, Peer& p, std::string_view payload);
   std::string onClaim(net::ConnectionId id, Peer& p, std::string_view payload);
+  std::string onSkeletons(net::ConnectionId id, Peer& p, std::string_view payload);
+  // the persons' speed and separation verdicts folded into the cycle's verdict
+  void applyPersons(double t);
   // "" if `id` may report arm a (or obstacle o): it owns it, or it is free and `id` claims by
   // reporting; otherwise the reason, and another owner's arm is marked disputed
   std::string mayReportArm(net::ConnectionId id, const Peer& p, int a, const std::string& where);
@@ -136,6 +139,14 @@ class ArmService final : public net::Handler {
   static constexpr net::ConnectionId kNobody = 0;  // st::net numbers connections from 1
   std::vector<net::ConnectionId> armOwner_, obstacleOwner_;  // per arm / obstacle, the connection reporting it
   std::vector<char> armDisputed_, obstacleDisputed_;         // reported by another too: STOP until its owner leaves
+  // persons (protocol version 3's SKELETONS): their poses as last reported, who reports each,
+  // when (NaN: never; then no person is there to check), and the speed and separation check
+  PersonSet persons_;
+  std::vector<HeldPerson*> held_;
+  std::vector<net::ConnectionId> personOwner_;
+  std::vector<char> personDisputed_;
+  std::vector<double> personT_;
+  std::optional<SeparationMonitor> ssm_;
   std::vector<double> poseT_;        // per obstacle, time of its last pose report (NaN: never, it stands where the scenario put it)
   // connections before HELLO, oldest first, with their deadlines (entries of closed or greeted
   // connections are skipped when they come up)
