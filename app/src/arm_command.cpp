@@ -232,6 +232,8 @@ int runServe(int argc, const char* const* argv) {
               "closes the oldest)", "16");
   args.option("hello-timeout", "MS", "time a connection has to say HELLO", "2000");
   args.option("frame-timeout", "MS", "time a client has to finish a frame it has begun", "2000");
+  args.option("budget-us", "US", "a cycle computing longer than this is STOP for every arm (cause deadline); "
+              "default the scenario's cycle time, 0: not watched", "");
   if (!args.parse(argc, argv)) {
     std::cout << args.help();
     return 0;
@@ -247,6 +249,9 @@ int runServe(int argc, const char* const* argv) {
   cfg.token = args.get("token");
   cfg.logDir = args.get("out");
   const arm::Scenario sc = arm::loadScenario(*args.positionalValue(0));
+  cfg.cycleBudgetUs = args.get("budget-us").empty() ? sc.safety.cycleTime * 1e6 : args.getDouble("budget-us");
+  if (!(cfg.cycleBudgetUs >= 0.0 && cfg.cycleBudgetUs <= 3.6e9))
+    throw UsageError("--budget-us: expected a time in 0..3.6e9 us, got " + args.get("budget-us"));
   boost::asio::io_context io;
   arm::ArmService service(io, sc, cfg);
   std::cout << "arm serve: listening on " << cfg.net.address << ":" << service.port() << std::endl;
@@ -254,7 +259,8 @@ int runServe(int argc, const char* const* argv) {
   const arm::ServiceCounters& c = service.counters();
   std::cout << "arm serve: " << (sig ? StopSignals::name(sig) : "stopped") << ", " << c.connections
             << " connections, " << c.readings << " readings, " << c.cycles << " cycles, " << c.verdictsSent
-            << " verdicts, " << c.rejected << " refused -> " << (fs::path(cfg.logDir) / "verdicts.csv").string()
+ << " verdicts, " << c.rejected << " refused, " << c.deadlineMisses << " cycles over the "
+            << num(cfg.cycleBudgetUs) << " us budget (STOP) -> " << (fs::path(cfg.logDir) / "verdicts.csv").string()
             << std::endl;
   return sig ? 128 + sig : 0;  // 130, 143, 129: as every command (stop_signals.hpp)
 }

@@ -197,6 +197,7 @@ const char* toString(Cause c) {
     case Cause::Disputed: return "disputed";
     case Cause::Latched: return "latched";
     case Cause::Person: return "person";
+    case Cause::Deadline: return "deadline";
   }
   return "?";
 }
@@ -213,7 +214,10 @@ void encodeInto(std::string& out, const Verdict& v, std::uint8_t version) {
     w.f64(a.minTtc);
     if (version < 2) continue;
     // a cause the version does not know is told as its nearest one it does
-    const Cause cause = a.cause == Cause::Person && version < 3 ? Cause::Separation : a.cause;
+    const Cause cause = version >= 3 ? a.cause
+                        : a.cause == Cause::Person ? Cause::Separation
+                        : a.cause == Cause::Deadline ? Cause::Stale
+                                                     : a.cause;
     w.u8(static_cast<std::uint8_t>(cause));
     w.i16(a.pair.body);
     w.i16(a.pair.otherArm);

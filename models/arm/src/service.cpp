@@ -44,6 +44,7 @@ net::ServerConfig checked(const ServiceConfig& c) {
     throw std::runtime_error(c.net.address + ": listening on a non-loopback address needs a shared token (--token)");
   if (c.maxClients < 1 || c.maxPending < 1) throw std::runtime_error("service: maxClients and maxPending must be at least 1");
   if (c.helloTimeout.count() <= 0) throw std::runtime_error("service: helloTimeout must be positive");
+  if (!(c.cycleBudgetUs >= 0.0)) throw std::runtime_error("service: cycleBudgetUs must be a time >= 0 (us)");
   if (!(c.staleAfter >= 0.0 && c.staleAfter <= kMaxClock)) throw std::runtime_error("service: staleAfter must be a time >= 0 (s)");
   if (!(c.maxLead > 0.0 && c.maxLead <= kMaxClock)) throw std::runtime_error("service: maxLead must be a time > 0 (s)");
   net::ServerConfig n = c.net;
@@ -559,6 +560,7 @@ void ArmService::onIdle(net::Server&) {
 }
 
 void ArmService::runCycle() {
+  const auto started = Clock::now();
   pending_ = false;
   const double t = std::max(cycleT_, lastCycleT_);
   lastCycleT_ = t;
@@ -626,6 +628,20 @@ void ArmService::runCycle() {
     }
   }
   applyPersons(t);
+  // the deadline: a cycle that took longer than its budget fails safe, every arm STOP for it
+  if (cfg_.cycleBudgetUs > 0.0 &&
+      std::chrono::duration<double, std::micro>(Clock::now() - started).count() > cfg_.cycleBudgetUs) {
+    ++counters_.deadlineMisses;
+    for (int a = 0; a < monitor_.armCount(); ++a) {
+      proto::ArmVerdict& v = verdict_.arms[a];
+      if (v.level == proto::Level::Stop) continue;
+      v.level = proto::Level::Stop;
+      v.cause = proto::Cause::Deadline;
+      v.pair = proto::Nearest{};
+      v.pair.arm = static_cast<std::int16_t>(a);
+      v.factor = 0.0;
+    }
+  }
   const Warning& n = monitor_.nearest();
   verdict_.nearest = {static_cast<std::int16_t>(n.arm), static_cast<std::int16_t>(n.body),
                       static_cast<std::int16_t>(n.otherArm), static_cast<std::int16_t>(n.otherBody),

@@ -574,6 +574,43 @@ TEST(ArmService, AVersionOneClientIsStillServed) {
   expectError(four, "protocol version 4 not supported (this service speaks 1 to 3)");
 }
 
+TEST(ArmService, ACycleOverItsBudgetIsStopForEveryArm) {
+  // a budget no cycle keeps (1 ns): every verdict STOP, cause deadline (version 2: stale), counted
+  const Scenario s = loadScenario(scenarioPath("two_pandas"));
+  ServiceConfig cfg;
+  cfg.cycleBudgetUs = 0.001;
+  Service svc(s, cfg);
+  Peer p(svc.service.port());
+  p.c.send(proto::encode(bothArms(1, 0.0)));
+  auto m = p.next();
+  ASSERT_TRUE(m && std::holds_alternative<proto::Verdict>(*m));
+  for (const proto::ArmVerdict& v : std::get<proto::Verdict>(*m).arms) {
+    EXPECT_EQ(v.level, proto::Level::Stop);
+    EXPECT_EQ(v.cause, proto::Cause::Deadline);
+    EXPECT_EQ(v.factor, 0.0);
+  }
+  net::Client two;
+  two.connect("127.0.0.1", svc.service.port(), 2s);
+  two.send(proto::encode(proto::Hello{2, ""}, 2));
+  ASSERT_TRUE(two.receive(2s));
+  two.send(proto::encode(proto::Subscribe{}, 2));
+  p.c.send(proto::encode(bothArms(2, 0.001)));
+  const auto f = two.receive(2s);
+  ASSERT_TRUE(f);
+  const proto::Decoded d = proto::decode(*f);
+  ASSERT_TRUE(d.ok) << d.error;
+  EXPECT_EQ(std::get<proto::Verdict>(d.message).arms[0].cause, proto::Cause::Stale);
+  svc.stop();
+  EXPECT_GE(svc.service.counters().deadlineMisses, 2u);
+  // unwatched (the library's default): the same cycle is OK
+  Service free(s, {});
+  Peer q(free.service.port());
+  q.c.send(proto::encode(bothArms(1, 0.0)));
+  m = q.next();
+  ASSERT_TRUE(m && std::holds_alternative<proto::Verdict>(*m));
+  EXPECT_EQ(std::get<proto::Verdict>(*m).arms[0].level, proto::Level::Ok);
+}
+
 proto::Skeletons skeletonAt(std::uint32_t seq, double t, double x) {
   const Skeleton sk = standingSkeleton(Vec3(x, 0, 0), 3.141592653589793);
   proto::Skeletons m;

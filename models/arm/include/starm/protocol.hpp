@@ -6,8 +6,8 @@
 // Every payload starts with two bytes: the protocol version (1 or 2) and the message type. A
 // client's HELLO names its version; the service answers in it. Version 2 gives each arm of a
 // VERDICT the cause of its level; version 3 adds persons: SKELETONS, the persons in WELCOME, and
-// each arm's speed factor and person separation in VERDICT (cause 8, person, in version 3 only;
-// a version 2 client is told `separation`). Numbers are little-endian:
+// each arm's speed factor and person separation in VERDICT (causes 8 person and 9 deadline in
+// version 3 only; a version 2 client is told `separation` and `stale`). Numbers are little-endian:
 // u8/u16/u32/u64, f64 IEEE 754; a string is u16 length + bytes.
 //
 //   client -> service
@@ -81,10 +81,11 @@ enum class Cause : std::uint8_t {
   Disputed = 6,      // STOP: the arm, or a tracked obstacle, is reported by two connections
   Latched = 7,       // STOP: held since the arm's sensor fell silent, until a RESET
   Person = 8,        // STOP: a person within S_p at the arm's speed (version 3; version 2: Separation)
+  Deadline = 9,      // STOP: the cycle's compute time exceeded its budget (version 3; version 2: Stale)
 };
-inline constexpr std::uint8_t kLastCause = 8;
+inline constexpr std::uint8_t kLastCause = 9;
 // the last cause a version's VERDICT carries
-inline std::uint8_t lastCause(std::uint8_t version) { return version >= 3 ? 8 : 7; }
+inline std::uint8_t lastCause(std::uint8_t version) { return version >= 3 ? 9 : 7; }
 const char* toString(Cause c);
 
 struct Hello {

@@ -57,6 +57,11 @@ struct ServiceConfig {
   // message (the first client's verdict does not wait for the others' reads, but with many
   // clients the cycles pile up: bench/arm_service measures both)
   bool batchCycles = true;
+  // Deadline (us): a cycle whose compute time (readings applied, detection, persons) exceeds it
+  // is STOP for every arm, cause `deadline` (a verdict late is no verdict). 0: not watched (the
+  // library's default, so a test on a loaded machine does not turn preemption into STOPs);
+  // `stsim arm serve` watches the cycle time unless --budget-us says otherwise.
+  double cycleBudgetUs = 0.0;
 };
 
 struct ServiceCounters {
@@ -64,6 +69,7 @@ struct ServiceCounters {
   std::uint64_t disputes = 0;     // reports refused because another connection owns the arm or obstacle
   std::uint64_t disputeStops = 0;  // arm verdicts forced to STOP: its (or a tracked obstacle's) report disputed
   std::uint64_t staleStops = 0;  // arm verdicts forced to STOP: no current reading of the arm
+  std::uint64_t deadlineMisses = 0;  // cycles over cfg.cycleBudgetUs: every arm STOP
   std::uint64_t helloTimeouts = 0, shed = 0, refusedFull = 0;  // pending closed late / shed; HELLO past maxClients
 };
 
