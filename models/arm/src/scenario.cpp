@@ -265,12 +265,22 @@ void parseSsm(const Yaml& y, const YAML::Node& root, Scenario& s) {
   for (std::size_t i = 0; i < persons.size(); ++i) {
     const std::string key = "persons[" + std::to_string(i) + "]";
     const YAML::Node p = persons[i];
-    y.knownKeys(p, key, {"name", "start", "script", "trace"});
+    y.knownKeys(p, key, {"name", "start", "script", "trace", "sensor"});
     Scenario::Person person;
     person.name = p["name"] ? y.text(p["name"], key + ".name") : "person" + std::to_string(i);
     for (const Scenario::Person& other : s.persons)
       if (other.name == person.name) y.fail(p["name"], key + ".name", "duplicate person name '" + person.name + "'");
     if (p["trace"] && (p["script"] || p["start"])) y.fail(p["trace"], key + ".trace", "give either a trace or start and script, not both");
+    if (const YAML::Node sn = p["sensor"]) {
+      // its tracker's rate over the service: a pose older than period + jitter is stale
+      y.knownKeys(sn, key + ".sensor", {"period", "jitter"});
+      if (!sn["period"]) y.fail(sn, key + ".sensor.period", "missing: the tracker's period (s)");
+      person.sensorPeriod = y.positive(sn, "period", key + ".sensor", 0.0);
+      person.sensorJitter = y.number(sn, "jitter", key + ".sensor", 0.0);
+      if (!(person.sensorJitter >= 0.0 && person.sensorJitter < person.sensorPeriod))
+        y.fail(sn["jitter"] ? sn["jitter"] : sn, key + ".sensor.jitter", "must be at least 0 and less than the period");
+      if (person.sensorPeriod > kMaxLookAhead) y.fail(sn["period"], key + ".sensor.period", "must be at most 60 s");
+    }
     if (p["trace"]) {
       std::filesystem::path f = y.text(p["trace"], key + ".trace");
       if (f.is_relative()) f = std::filesystem::path(s.file).parent_path() / f;

@@ -79,6 +79,8 @@ ArmService::ArmService(boost::asio::io_context& io, const Scenario& scenario, Se
   if (!held_.empty()) ssm_.emplace(scenario.ssm, arms);
   // a reading older than this could not start the braking in time
   staleAfter_ = cfg_.staleAfter > 0.0 ? cfg_.staleAfter : monitor_.safety().reactionTime + monitor_.safety().cycleTime;
+  for (const Scenario::Person& person : scenario.persons)
+    personStaleAfter_.push_back(person.sensorPeriod > 0.0 ? person.sensorPeriod + person.sensorJitter : staleAfter_);
   if (!cfg_.logDir.empty()) {
     namespace fs = std::filesystem;
     fs::create_directories(cfg_.logDir);
@@ -524,7 +526,8 @@ void ArmService::applyPersons(double t) {
   ssm_->cycle(monitor_, persons_);
   // a person whose tracker fell silent (or left) may be anywhere: every arm stops, as for an obstacle
   bool lost = false, disputed = false;
-  for (const double pt : personT_) lost = lost || (!std::isnan(pt) && !(std::abs(t - pt) <= staleAfter_));
+  for (std::size_t k = 0; k < personT_.size(); ++k)
+    lost = lost || (!std::isnan(personT_[k]) && !(std::abs(t - personT_[k]) <= personStaleAfter_[k]));
   for (const char d : personDisputed_) disputed = disputed || d;
   for (int a = 0; a < monitor_.armCount(); ++a) {
     proto::ArmVerdict& v = verdict_.arms[a];

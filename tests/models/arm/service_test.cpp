@@ -620,6 +620,39 @@ proto::Skeletons skeletonAt(std::uint32_t seq, double t, double x) {
   return m;
 }
 
+TEST(ArmService, A30HzPersonTrackerIsCurrentOnceItsRateIsDeclared) {
+  // poses every 33 ms with the tracker declared at 30 Hz +-5 ms: never stale while it talks;
+  // silent, every arm STOPs once its last pose is older than period + jitter
+  Scenario s = loadScenario(scenarioPath("person_walkup"));
+  s.persons[0].sensorPeriod = 1.0 / 30.0;
+  s.persons[0].sensorJitter = 0.005;
+  Service svc(s, {});
+  Peer p(svc.service.port());
+  std::uint32_t seq = 0;
+  auto verdictAt = [&](double t) {
+    p.c.send(proto::encode(pandaReading(++seq, t)));
+    std::optional<proto::Message> m;
+    const proto::Verdict* v = nullptr;
+    while ((m = p.next()) && (!(v = std::get_if<proto::Verdict>(&*m)) || v->ack < seq)) {
+    }
+    return v ? v->arms[0] : proto::ArmVerdict{proto::Level::Stop, 0.0, proto::Cause::None, {}};
+  };
+  double lastPose = 0.0;
+  for (int k = 0; k <= 300; ++k) {
+    const double t = 0.001 * k;
+    if (k % 33 == 0 && k <= 264) {
+      p.c.send(proto::encode(skeletonAt(++seq, t, 3.0)));
+      lastPose = t;
+    }
+    const proto::ArmVerdict v = verdictAt(t);
+    const bool stale = t - lastPose > 1.0 / 30.0 + 0.005 + 1e-12;
+    ASSERT_EQ(v.level == proto::Level::Stop, stale) << "t = " << t;
+    if (stale) {
+      EXPECT_EQ(v.cause, proto::Cause::ObstacleLost);
+    }
+  }
+}
+
 TEST(ArmService, ASkeletonSlowsAndStopsTheArmInVersionThree) {
   // person_walkup's Panda at rest at its home pose, its person reported by SKELETONS walking in:
   // factor 1 far away, a factor between 0 and 1 nearer, STOP (cause person) closest; the

@@ -323,6 +323,8 @@ TEST(Ssm, BadPersonInputIsNamed) {
   expectError("nostart.yaml", arm + "persons:\n  - {name: p, script: []}\n", "persons[0].start: missing");
   expectError("hand.yaml", arm + "persons:\n  - {start: {xy: [2, 0]}, script: [{reach: {hand: third, to: [1, 0, 1], speed: 1}}]}\n",
               "persons[0].script[0].reach.hand: expected right or left");
+  expectError("jitter.yaml", arm + "persons:\n  - {start: {xy: [2, 0]}, sensor: {period: 0.033, jitter: 0.05}}\n",
+              "persons[0].sensor.jitter: must be at least 0 and less than the period");
   const fs::path csv = write("trace.csv", "t,person\n0,p\n");
   expectError("traced.yaml", arm + "persons:\n  - {name: p, trace: " + csv.string() + "}\n", csv.string() + ":2: expected t, person");
   fs::remove(csv);

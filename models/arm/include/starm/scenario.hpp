@@ -15,7 +15,8 @@
 //   random_obstacles: {count, seed, min: [..], max: [..], radius: [lo, hi], keep_out: [{center, radius}]}
 //   braking: {stopping_time: 0.2 | deceleration: 8.0, delay: 0.01, resume: never | 0.5}   (closed loop)
 //   persons: [{name, start: {xy: [x, y], heading}, script: [{walk: {to: [x, y], speed}} |
-//              {reach: {hand: right|left, to: [x, y, z], speed}} | {wait: s}]} | {name, trace: file.csv}]
+//              {reach: {hand: right|left, to: [x, y, z], speed}} | {wait: s}]} | {name, trace: file.csv},
+//              sensor: {period, jitter}]
 //   ssm: {response: scaling|stop, body_speed, hand_speed, intrusion, person_uncertainty,
 //         robot_uncertainty, robot_speed}
 #include <chrono>
@@ -49,6 +50,9 @@ struct Scenario {
     std::string name;
     PersonScript script;  // or
     std::string trace;    // CSV person trace (relative paths resolved)
+    // its tracker's period and jitter (s) over the service: a pose older than period + jitter is
+    // stale (every arm STOPs); 0: the obstacles' freshness (reaction + cycle)
+    double sensorPeriod = 0.0, sensorJitter = 0.0;
   };
   std::vector<Person> persons;
   SsmConfig ssm;

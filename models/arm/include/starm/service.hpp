@@ -152,6 +152,7 @@ class ArmService final : public net::Handler {
   std::vector<net::ConnectionId> personOwner_;
   std::vector<char> personDisputed_;
   std::vector<double> personT_;
+  std::vector<double> personStaleAfter_;  // s, per person: its tracker's period + jitter, or staleAfter_
   std::optional<SeparationMonitor> ssm_;
   std::vector<double> poseT_;        // per obstacle, time of its last pose report (NaN: never, it stands where the scenario put it)
   // connections before HELLO, oldest first, with their deadlines (entries of closed or greeted
