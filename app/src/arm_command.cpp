@@ -1,4 +1,5 @@
 // stsim arm: the robot-arm collision monitor over a scenario's sensor stream.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -95,8 +96,19 @@ void writeSummary(const fs::path& file, const std::string& scenario, const arm::
 // Persons beside working arms: binary STOP against speed scaling, closed loop, on each scenario.
 int runCoexistenceStudy(const Args& args) {
   std::vector<std::string> files;
-  if (args.positionalValue(0)) files.push_back(*args.positionalValue(0));
-  else files.push_back((fs::path(args.get("shipped")) / "person_walkup.yaml").string());
+  if (args.positionalValue(0)) {
+    files.push_back(*args.positionalValue(0));
+  } else {
+    // every shipped scenario with persons: person_*.yaml
+    const fs::path dir = args.get("shipped");
+    if (!fs::is_directory(dir)) throw UsageError("--shipped: " + dir.string() + " is not a folder (give --shipped DIR or a SCENARIO)");
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.path().extension() == ".yaml" && e.path().filename().string().rfind("person_", 0) == 0)
+        files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());
+    if (files.empty()) throw UsageError("--shipped: no person_*.yaml in " + dir.string());
+  }
+  double sumProgress[2] = {0.0, 0.0};
   const fs::path out = args.get("out");
   fs::create_directories(out);
   io::CsvRowWriter csv(out / "coexistence.csv",
@@ -126,7 +138,12 @@ int runCoexistenceStudy(const Args& args) {
       csv.row(line.str());
     }
     std::printf("  %-16s scaling / stop throughput: %.3fx\n", "", progress[0] > 0.0 ? progress[1] / progress[0] : INFINITY);
+    sumProgress[0] += progress[0];
+    sumProgress[1] += progress[1];
   }
+  if (files.size() > 1)
+    std::printf("\n  all %zu cases: scaling / stop throughput (summed progress): %.3fx\n", files.size(),
+                sumProgress[0] > 0.0 ? sumProgress[1] / sumProgress[0] : INFINITY);
   csv.flush();
   std::printf("\n-> %s\n", (out / "coexistence.csv").c_str());
   return 0;
@@ -370,8 +387,8 @@ int runArm(int argc, const char* const* argv) {
   args.option("broadphase", "KIND", "octree (default, from the scenario) or none (all pairs, the reference)", "");
   args.flag("open-loop", "STOP is flagged but the arms keep moving (default: closed loop, a STOP brakes the arm)");
   args.option("study", "NAME", "stopping: contacts open vs closed loop against safe time and stopping time; "
-              "coexistence: persons beside a working arm, binary STOP vs speed scaling (SCENARIO, or the shipped "
-              "person_walkup)", "");
+              "coexistence: persons beside a working arm, binary STOP vs speed scaling (SCENARIO, or every "
+              "person_*.yaml in --shipped)", "");
   args.option("courses", "N", "--study: random two-Panda courses", "200");
   args.option("seed", "N", "--study: seed of the random courses", "1");
   args.option("stopping-time", "S", "--study: the arms' real stopping time (s)", "0.2");

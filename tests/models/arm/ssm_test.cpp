@@ -254,30 +254,36 @@ TEST(ArmDrive, ScalingFollowsTheFactorAtTheBrakingRate) {
 }
 
 TEST(Ssm, ClosedLoopNoPersonTouchesAMovingArm) {
-  const Scenario s = loadScenario(scenarioPath("person_walkup"));
-  ASSERT_EQ(s.persons.size(), 1u);
-  double progress[2] = {0, 0};
-  int k = 0;
-  for (SsmResponse r : {SsmResponse::Stop, SsmResponse::Scaling}) {
-    std::uint64_t unstopped = 0, cycles = 0;
-    double minSep = INFINITY;
-    const CoexistenceOutcome o = runCoexistence(s, r, [&](const Monitor& m, const SeparationMonitor& ssm) {
-      ++cycles;
-      const SsmVerdict& v = ssm.verdict(0);
-      // S_p is never broken at the arm's speed without a STOP verdict that cycle
-      if (v.violated && !v.stop) ++unstopped;
-      minSep = std::min(minSep, v.separation);
-      (void)m;
-    });
-    EXPECT_EQ(o.contacts, 0u) << toString(r);
-    EXPECT_EQ(unstopped, 0u) << toString(r);
-    EXPECT_GT(minSep, 0.3) << toString(r);  // far from contact
-    EXPECT_EQ(o.cycles, cycles);
-    progress[k++] = o.progress;
+  // every shipped person scenario (walking up, walking past, reaching at 2.0 and 1.6 m/s), both responses
+  for (const char* name : {"person_walkup", "person_walkpast", "person_reach"}) {
+    const Scenario s = loadScenario(scenarioPath(name));
+    ASSERT_EQ(s.persons.size(), 1u);
+    double progress[2] = {0, 0};
+    int k = 0;
+    for (SsmResponse r : {SsmResponse::Stop, SsmResponse::Scaling}) {
+      std::uint64_t unstopped = 0, cycles = 0;
+      double minSep = INFINITY;
+      const CoexistenceOutcome o = runCoexistence(s, r, [&](const Monitor&, const SeparationMonitor& ssm) {
+        ++cycles;
+        const SsmVerdict& v = ssm.verdict(0);
+        // S_p is never broken at the arm's speed without a STOP verdict that cycle
+        if (v.violated && !v.stop) ++unstopped;
+        minSep = std::min(minSep, v.separation);
+      });
+      EXPECT_EQ(o.contacts, 0u) << name << " " << toString(r);
+      EXPECT_EQ(unstopped, 0u) << name << " " << toString(r);
+      EXPECT_GT(minSep, 0.2) << name << " " << toString(r);  // far from contact
+      EXPECT_EQ(o.cycles, cycles);
+      progress[k++] = o.progress;
+    }
+    // scaling never does worse than the binary STOP; where the person works at the table it keeps
+    // the arm going while binary STOP parks it
+    EXPECT_GE(progress[1], progress[0]) << name;
+    EXPECT_LE(progress[1], 1.0 + 1e-12);
+    if (std::string(name) != "person_walkpast") {
+      EXPECT_GE(progress[1] / progress[0], 1.4) << name << " " << progress[0] << " " << progress[1];
+    }
   }
-  // binary STOP parks the arm while the person works at the table; scaling keeps it going
-  EXPECT_GE(progress[1] / progress[0], 1.4) << progress[0] << " " << progress[1];
-  EXPECT_LE(progress[1], 1.0 + 1e-12);
 }
 
 TEST(Person, CsvTraceIsInterpolatedBetweenLines) {
