@@ -27,6 +27,41 @@ std::pair<int, double> arrival(const Body& b, const Vec2& p) {
 }
 }  // namespace
 
+void startRearPet(const Body& a, const Body& b, double ttc, double t, RearPetWatch& w) {
+  w = RearPetWatch{};
+  if (!std::isfinite(ttc)) return;
+  Body at = a, bt = b;
+  at.position += ttc * at.velocity;
+  bt.position += ttc * bt.velocity;
+  w.active = true;
+  w.p = contactPoint(at.box(), bt.box(), tol::kContactPointTie);
+  // the leader as close() names SSAM's first vehicle
+  w.first = arrival(a, w.p) <= arrival(b, w.p) ? 0 : 1;
+  w.dir = {a.axis, b.axis};
+  w.half = {0.5 * a.length, 0.5 * b.length};
+  w.lastT = t;
+  observeRearPet(a.position, b.position, t, w);
+}
+
+void observeRearPet(const Vec2& ca, const Vec2& cb, double t, RearPetWatch& w) {
+  if (!w.active) return;
+  const Vec2* c[2] = {&ca, &cb};
+  const bool first = !(t > w.lastT);  // the watch's own start: no tick before to time from
+  for (int i = 0; i < 2; ++i) {
+    if (std::isnan(c[i]->x())) continue;
+    const bool leader = i == w.first;
+    const double along = (*c[i] - w.p).dot(w.dir[i]);
+    // leader: its back past p (> 0: left); follower: its front short of p (<= 0: reached)
+    const double s = leader ? along - w.half[i] : -along - w.half[i];
+    double& when = leader ? w.leave : w.arrive;
+    const bool crossed = leader ? s > 0.0 : s <= 0.0;
+    if (std::isnan(when) && crossed)
+      when = first || s == w.s[i] ? t : w.lastT + (t - w.lastT) * (0.0 - w.s[i]) / (s - w.s[i]);
+    w.s[i] = s;
+  }
+  w.lastT = t;
+}
+
 void ConflictBook::observe(double t, double lastT) {
   ++tick_;
   const double dt = std::isfinite(lastT) ? t - lastT : 0.0;
@@ -75,8 +110,11 @@ void ConflictBook::observe(double t, double lastT) {
     Waiting& w = waiting_[i];
     const bool here = c.inputOf[w.a] >= 0 && c.slots[w.a].serial == w.serialA && c.inputOf[w.b] >= 0 &&
                       c.slots[w.b].serial == w.serialB;
-    if (here && t <= w.until) observePet(c.centre[w.a], c.centre[w.b], t, w.pet);
-    if (!here || t > w.until || !std::isnan(w.pet.pet())) settle(std::move(w.conflict), w.pet.pet());
+    if (here && t <= w.until) {
+      observePet(c.centre[w.a], c.centre[w.b], t, w.pet);
+      observeRearPet(c.centre[w.a], c.centre[w.b], t, w.rearPet);
+    }
+    if (!here || t > w.until || !std::isnan(w.petNow())) settle(std::move(w.conflict), w.petNow());
     else if (kept != i) waiting_[kept++] = std::move(w);
     else ++kept;
   }
@@ -110,8 +148,10 @@ void ConflictBook::touch(int a, int b, double ttc, double t, double dt) {
     en.laneA = paths_->reportedLane(a);
     en.laneB = paths_->reportedLane(b);
     startPet(en.bodyA, en.bodyB, t, petAngles_, en.pet);
+    startRearPet(en.bodyA, en.bodyB, ttc, t, en.rearPet);
   } else {
     observePet(c.centre[a], c.centre[b], t, en.pet);
+    observeRearPet(c.centre[a], c.centre[b], t, en.rearPet);
   }
 }
 
@@ -180,10 +220,13 @@ void ConflictBook::close(Encounter& en, double end, bool open) {
   k.tet = en.tet;
   k.tit = en.tit;
   k.open = open;
-  // PET: of crossing and merging paths only; once both have passed, or watched on for a while
-  if (k.type == ConflictType::RearEnd) return settle(std::move(k), kNaN);
-  if (open || !en.pet.active || !std::isnan(en.pet.pet())) return settle(std::move(k), en.pet.pet());
-  waiting_.push_back({std::move(k), en.a, en.b, c.slots[en.a].serial, c.slots[en.b].serial, end + kPetHorizon, en.pet});
+  // PET: once the first has left and the second arrived, or watched on for a while; of crossing
+  // and merging paths across the area their bodies sweep, of a rear-end at the conflict point
+  const bool rearEnd = k.type == ConflictType::RearEnd;
+  const double pet = rearEnd ? en.rearPet.pet() : en.pet.pet();
+  if (open || !(rearEnd ? en.rearPet.active : en.pet.active) || !std::isnan(pet)) return settle(std::move(k), pet);
+  waiting_.push_back({std::move(k), en.a, en.b, c.slots[en.a].serial, c.slots[en.b].serial, end + kPetHorizon, en.pet,
+                      en.rearPet, rearEnd});
 }
 
 void ConflictBook::settle(Conflict&& k, double pet) {
@@ -201,7 +244,7 @@ void ConflictBook::settle(Conflict&& k, double pet) {
 void ConflictBook::finish(double t) {
   for (auto& [key, en] : open_) close(en, t, true);
   open_.clear();
-  for (Waiting& w : waiting_) settle(std::move(w.conflict), w.pet.pet());
+  for (Waiting& w : waiting_) settle(std::move(w.conflict), w.petNow());
   waiting_.clear();
 }
 

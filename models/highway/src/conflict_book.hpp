@@ -4,7 +4,10 @@
 // against its own safe time) and from the detector: every pair with an equipped car whose exact
 // rectangles, moved on in straight lines at their velocities, touch within TTC*, found by a sweep
 // along x whose reach bounds any such pair (so it finds what all pairs would), tick by tick.
+#include <array>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <utility>
 #include <vector>
@@ -16,6 +19,30 @@
 #include "vehicle_table.hpp"
 
 namespace st::highway::detail {
+
+// PET of a rear-end, as SSAM has it: from the first vehicle (the leader) leaving the conflict
+// point to the second reaching it. The point is the predicted contact at the minimum TTC; the
+// leader has left it once its back is past it, the follower reached it once its front is, each
+// along its own heading at the minimum TTC, on the positions the two then take (timed between
+// ticks by linear interpolation). Negative: the follower reached it before the leader had left
+// (they met); NaN until both are seen.
+struct RearPetWatch {
+  bool active = false;
+  Vec2 p = Vec2::Zero();
+  int first = 0;                   // 0: the pair's a leads, 1: its b
+  std::array<Vec2, 2> dir{};       // a's and b's heading
+  std::array<double, 2> half{};    // half lengths
+  std::array<double, 2> s{};       // last signed distance: the leader's back past p, the follower's front short of p
+  double lastT = 0.0;
+  double leave = std::numeric_limits<double>::quiet_NaN(), arrive = std::numeric_limits<double>::quiet_NaN();
+  double pet() const {
+    return active && !std::isnan(leave) && !std::isnan(arrive) ? arrive - leave : std::numeric_limits<double>::quiet_NaN();
+  }
+};
+// A watch from the two bodies at time t, their minimum TTC `ttc`.
+void startRearPet(const Body& a, const Body& b, double ttc, double t, RearPetWatch& w);
+// The two centres at a later tick t (NaN: that one is gone).
+void observeRearPet(const Vec2& ca, const Vec2& cb, double t, RearPetWatch& w);
 
 class ConflictBook {
  public:
@@ -44,6 +71,7 @@ class ConflictBook {
     int laneA = -1, laneB = -1;
     EpisodeTrack trackA, trackB;  // each vehicle's as ego (start, end, MaxS, DR, MaxD)
     PetWatch pet;
+    RearPetWatch rearPet;
   };
   // A conflict whose encounter ended, its PET still to come (until `until`).
   struct Waiting {
@@ -52,6 +80,9 @@ class ConflictBook {
     std::uint64_t serialA = 0, serialB = 0;
     double until = 0.0;
     PetWatch pet;
+    RearPetWatch rearPet;
+    bool rearEnd = false;  // which of the two watches gives its PET
+    double petNow() const { return rearEnd ? rearPet.pet() : pet.pet(); }
   };
   using Key = std::pair<std::uint64_t, std::uint64_t>;
 

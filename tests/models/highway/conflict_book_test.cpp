@@ -245,6 +245,56 @@ TEST(ConflictBook, OneConflictPerPairWithTheLeaderFirst) {
   EXPECT_EQ(m.counters().conflictsByType[static_cast<int>(ConflictType::RearEnd)], 1u);
 }
 
+// SSAM's PET of a rear-end, worked out by hand: the leader at 20 m/s, the follower at 30 m/s
+// until t = 1 (its front 10 m behind the leader's back: TTC 1 s, the conflict), then at 10 m/s;
+// 1 s frames, both 5 m long. The conflict point is the leader's back at t = 2, x = 67.5; the
+// leader's back leaves it at t = 2, the follower's front (37.5 m at t = 1, 10 m/s) reaches it at
+// t = 4: PET = 2 s, positive (they did not meet). Kept on the same course (no braking), the
+// follower reaches it when the leader leaves: PET 0 (the bodies touch).
+TEST(ConflictBook, RearEndPetIsTheLeaderLeavingToTheFollowerArriving) {
+  for (bool brakes : {true, false}) {
+    SCOPED_TRACE(brakes);
+    MonitorConfig cfg;
+    cfg.detector.kind = DetectorKind::Box;
+    cfg.checkRoad = false;
+    HighwayMonitor m(RoadGeometry{}, cfg);
+    std::vector<Conflict> got, tick;
+    for (int k = 0; k <= 8; ++k) {
+      const double t = k;
+      VehicleState lead, follow;
+      lead.id = "lead";
+      lead.position = {30.0 + 20.0 * t, 0.0};
+      lead.speed = 20.0;
+      follow.id = "follow";
+      const bool slow = brakes && t >= 1.0;
+      follow.position = {slow ? 35.0 + 10.0 * (t - 1.0) : 5.0 + 30.0 * t, 0.0};
+      follow.speed = slow && t > 1.0 ? 10.0 : 30.0;
+      if (!brakes && t >= 2.0) follow.position = {5.0 + 30.0 * 2.0 + 20.0 * (t - 2.0), 0.0}, follow.speed = 20.0;
+      const std::vector<VehicleState> v = {follow, lead};
+      m.step(t, v);
+      m.takeConflicts(tick);
+      got.insert(got.end(), tick.begin(), tick.end());
+    }
+    m.finish(8.0);
+    m.takeConflicts(tick);
+    got.insert(got.end(), tick.begin(), tick.end());
+    ASSERT_EQ(got.size(), 1u);
+    const Conflict& c = got[0];
+    EXPECT_EQ(c.type, ConflictType::RearEnd);
+    EXPECT_EQ(c.first, "lead");
+    EXPECT_EQ(c.second, "follow");
+    if (brakes) {
+      EXPECT_NEAR(c.minTtc, 1.0, 1e-9);
+      EXPECT_NEAR(c.conflictX, 67.5, 1e-6);
+      EXPECT_NEAR(c.pet, 2.0, 1e-9);
+    } else {
+      // touching from t = 2 on, behind the leader at its speed: the point reached as it is left
+      EXPECT_NEAR(c.conflictX, 67.5, 1e-6);
+      EXPECT_NEAR(c.pet, 0.0, 1e-9);
+    }
+  }
+}
+
 // conflicts.csv has one row per conflict counted, and summary.json's conflicts.count says so.
 TEST(ConflictBook, CsvRowsAndSummaryCountAgree) {
   const RoadGeometry road = readSumoNet(kData / "lanedrop.net.xml");

@@ -138,7 +138,7 @@ struct Conflict {
   double begin = 0.0, end = 0.0;      // s
   double minTtc = 0.0;                // s, smallest TTC of the encounter (0: touching)
   double minTtcTime = 0.0;            // s, its first tick
-  double pet = kNone;                 // s, PET of a lane_change or crossing (PetWatch); NaN: none measured
+  double pet = kNone;                 // s, SSAM's PET (rear-ends at the conflict point, others across the swept area); NaN: none measured
   double drac = kNone;                // m/s^2, closing speed of the centres / (2 min TTC); inf touching
   double maxSpeed = kNone;            // m/s, SSAM's MaxS: either vehicle's largest speed, begin to end
   double deltaSpeed = kNone;          // m/s, SSAM's DeltaS: |v_first - v_second|
@@ -300,7 +300,7 @@ class HighwayMonitor {
   // The points recorded since the last call, in tick order (into out, replacing its contents).
   void takeTrajectories(std::vector<TrajectoryPoint>& out);
   // Conflicts (Conflict) that ended since the last call, into out (replacing its contents), in
-  // the order they were settled (a crossing's waits for its PET up to kPetHorizon s).
+  // the order they were settled (a conflict waits for its PET up to kPetHorizon s).
   void takeConflicts(std::vector<Conflict>& out);
   // Episodes still open now (end == time of the last tick).
   std::vector<Warning> openWarnings() const;
