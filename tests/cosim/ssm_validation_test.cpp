@@ -48,6 +48,15 @@ TEST(SsmValidation, BoxTtcMatchesSsmAndDetectorsRecallEveryConflict) {
   // without the one-step time shift the match fails: the shift is real, not a tolerance artefact
   const auto shift = v.find("without_time_shift");
   EXPECT_LT(jsonNumber(v, "within_tolerance", shift) / jsonNumber(v, "matched_samples", shift), 0.5) << v;
+  // DRAC on the same samples (SSM run with TTC DRAC PET): SSM's speed difference squared over
+  // twice the gap against ours, the closing speed over twice the box TTC: the same on a following
+  // pair when the TTCs agree, so within 0.1 m/s² on >= 99 %, far below it at worst
+  const auto drac = v.find("\"drac\"");
+  ASSERT_NE(drac, std::string::npos) << v;
+  EXPECT_GE(jsonNumber(v, "ssm_samples", drac), 0.99 * matched) << v;
+  EXPECT_EQ(jsonNumber(v, "matched", drac), jsonNumber(v, "ssm_samples", drac)) << v;
+  EXPECT_GE(jsonNumber(v, "within_fraction", drac), 0.99) << v;
+  EXPECT_LT(jsonNumber(v, "max_abs_error_m_s2", drac), 0.01) << v;
 
   // the conflict point: SSM's (the leader's back now) moved on by the leader's velocity times
   // SSM's TTC, both from SSM's output, is where the box detector's bodies touch: within 0.5 m on

@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include <sthighway/conflict.hpp>
 #include <sthighway/report.hpp>
 #include <stio/format.hpp>
 #include <stcosim/scenario.hpp>
@@ -53,8 +54,10 @@ constexpr double kValidationHorizon = 1.0e4;
 std::vector<std::string> ssmArguments(const std::filesystem::path& file, double threshold) {
   std::ostringstream th;
   th << threshold;
-  return {"--device.ssm.probability", "1", "--device.ssm.deterministic", "true", "--device.ssm.measures", "TTC PET",
-          "--device.ssm.thresholds", th.str() + " " + th.str(), "--device.ssm.trajectories", "true", "--device.ssm.file",
+  // DRAC's threshold (a conflict above it) out of reach: its values are written, the conflicts
+  // SSM logs stay those of TTC and PET
+  return {"--device.ssm.probability", "1", "--device.ssm.deterministic", "true", "--device.ssm.measures", "TTC DRAC PET",
+          "--device.ssm.thresholds", th.str() + " 1e9 " + th.str(), "--device.ssm.trajectories", "true", "--device.ssm.file",
           std::filesystem::absolute(file).string(), "--precision", "6"};
 }
 
@@ -81,12 +84,15 @@ std::vector<SsmConflict> readSsmOutput(const std::filesystem::path& path) {
       c.types.push_back(static_cast<int>(parseNumber(w, path)));
     for (const auto& w : words(node.get<std::string>("TTCSpan.<xmlattr>.values", "")))
       c.ttc.push_back(parseNumber(w, path));
+    for (const auto& w : words(node.get<std::string>("DRACSpan.<xmlattr>.values", "")))
+      c.drac.push_back(parseNumber(w, path));
     const std::pair<const char*, std::vector<Vec2>*> series[] = {
         {"conflictPoint", &c.conflictPoints}, {"egoVelocity", &c.egoVelocities}, {"foeVelocity", &c.foeVelocities}};
     for (const auto& [name, into] : series)
       for (const auto& w : words(node.get<std::string>(std::string(name) + ".<xmlattr>.values", "")))
         into->push_back(parsePoint(w, path));
-    bool sameLengths = c.types.size() == c.times.size() && c.ttc.size() == c.times.size();
+    bool sameLengths = c.types.size() == c.times.size() && c.ttc.size() == c.times.size() &&
+                       (c.drac.empty() || c.drac.size() == c.times.size());
     for (const auto& [name, into] : series) sameLengths = sameLengths && into->size() == c.times.size();
     if (!sameLengths)
       throw ScenarioError(path.string() + ": SSM conflict " + c.ego + "/" + c.foe +
@@ -211,6 +217,18 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
         const double err = std::abs(box - c.ttc[i]);
         if (shifted) {
           r.ttc.add(err);
+          if (i < c.drac.size() && std::isfinite(c.drac[i])) {
+            // ours as conflicts.csv's: the rate the centre distance shrinks over twice the TTC
+            r.dracSamples++;
+            const Vec2 rel = foe->body.position - ego->body.position, vrel = foe->body.velocity - ego->body.velocity;
+            const double dist = rel.norm();
+            const double ours = hw::decelerationToAvoid(dist > 0.0 ? -rel.dot(vrel) / dist : vrel.norm(), box);
+            if (std::isfinite(ours)) {
+              std::ostringstream what;
+              what << c.ego << ">" << c.foe << "@" << t;
+              r.drac.add(std::abs(ours - c.drac[i]), what.str());
+            }
+          }
         } else {
           r.matchedUnshifted++;
           if (err <= r.ttc.tolerance) r.withinUnshifted++;
@@ -420,7 +438,8 @@ std::string toJson(const ValidationReport& r) {
      << ",\n    \"within_fraction\": " << num(r.ttc.withinFraction()) << ",\n    \"max_abs_error_s\": " << num(r.ttc.maxAbsError)
      << ",\n    \"mean_abs_error_s\": " << num(r.ttc.meanAbsError())
      << ",\n    \"without_time_shift\": {\"matched_samples\": " << r.matchedUnshifted
-     << ", \"within_tolerance\": " << r.withinUnshifted << "}\n  },\n  \"pet\": {\"ssm_pets\": " << r.ssmPets
+     << ", \"within_tolerance\": " << r.withinUnshifted << "}\n  },\n  \"drac\": {\"ssm_samples\": " << r.dracSamples
+     << ", " << agreementJson(r.drac, "m_s2") << "},\n  \"pet\": {\"ssm_pets\": " << r.ssmPets
      << ", \"stsim_pets\": " << r.stsimPets << ", " << agreementJson(r.pet, "s")
      << "},\n  \"conflict_point\": {\"box_episodes\": " << r.pointEpisodes << ", \"ssm_following\": "
      << r.pointAnyTtc.matched << ", " << agreementJson(r.point, "m") << ",\n    \"along_leader_path\": {"
@@ -464,6 +483,8 @@ std::string summaryLine(const ValidationReport& r) {
     if (a.matched == 0) os << "none on both sides";
     else os << io::fixed(100.0 * a.withinFraction(), 2) << " % within " << a.tolerance << " " << unit << " of SSM's";
   };
+  agreement(r.drac, "DRACs", "m/s²");
+  os << ";";
   agreement(r.pet, "PETs", "s");
   os << ";";
   agreement(r.point, "conflict points", "m");

@@ -9,6 +9,7 @@
 //    and SSM stamps a sample with the time at the start of the step whose result it evaluates,
 //    one step (deltaT) earlier than the simulation time libsumo reports after that step, so the
 //    sample at T is compared with our state at T + deltaT. SSM writes with --precision digits.
+//    On the same samples, SSM's DRAC (run with TTC, DRAC and PET) against ours.
 // 2. Recall: every SSM conflict (any order of the pair, following types) whose minimum TTC is below
 //    the ego's safe time at that moment must have raised a car-car warning for the same pair from
 //    each detector (concentric, five-circle, box), running side by side on the same states.
@@ -65,6 +66,7 @@ struct SsmConflict {
   std::vector<double> times;
   std::vector<int> types;
   std::vector<double> ttc;   // NaN where SSM has none ("NA")
+  std::vector<double> drac;  // m/s², per sample as ttc; empty when SSM ran without DRAC
   // per sample (trajectories), network x/y; NaN where "NA": the conflict point (the leader's back
   // on following types, the lanes' meeting point on merging and crossing) and the velocities
   std::vector<Vec2> conflictPoints, egoVelocities, foeVelocities;
@@ -133,6 +135,11 @@ struct ValidationReport {
   std::uint64_t followingSamples = 0;   // SSM following-follower samples with a TTC
   // 1. of those, the samples where the box detector has a TTC too: |box - ssm| (s)
   Agreement ttc{0.02};
+  // and on those samples where SSM has a DRAC: ours (the closing speed of the centres over twice
+  // the box TTC, conflicts.csv's) against SSM's (the speed difference squared over twice the gap),
+  // |ours - SSM's| (m/s²)
+  std::uint64_t dracSamples = 0;
+  Agreement drac{0.1};
   // The same statistic without the time-stamp shift (for the record: shows why it is needed).
   std::uint64_t withinUnshifted = 0, matchedUnshifted = 0;
   std::vector<DetectorValidation> detectors;
