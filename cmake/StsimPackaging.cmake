@@ -13,7 +13,7 @@ set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)  # stsim_<version>_<arch>.deb
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(stsim_deb_depends "libeigen3-dev (>= 3.4), libyaml-cpp-dev, libboost1.74-dev")
+set(stsim_deb_depends "libeigen3-dev (>= 3.4), libyaml-cpp-dev, libboost1.74-dev, liburdfdom-dev")
 if(STSIM_WITH_SUMO)
   string(APPEND stsim_deb_depends ", sumo (>= 1.15)")  # libsumo's headers come with sumo
 endif()

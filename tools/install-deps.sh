@@ -7,6 +7,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   sumo sumo-tools
   libfcl-dev
+  liburdfdom-dev  # URDF robots for the arm model (models/arm/src/urdf.cpp)
   python3-matplotlib openmpi-bin libopenmpi-dev
   xvfb xauth  # a virtual X display for the sumo-gui test (xvfb-run needs xauth, only recommended)
   clang libclang-rt-14-dev  # libFuzzer for fuzz/ (clang's fuzzer runtime is in the compiler-rt dev package)

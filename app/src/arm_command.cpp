@@ -12,6 +12,7 @@
 #include <starm/service.hpp>
 #include <starm/stream.hpp>
 #include <starm/study.hpp>
+#include <starm/urdf.hpp>
 #include <stnet/frame.hpp>
 #include <stio/format.hpp>
 #include <stio/output.hpp>
@@ -371,6 +372,32 @@ int runResetCommand(int argc, const char* const* argv) {
   return 0;
 }
 
+// stsim arm ROBOT.urdf: the model a scenario's `models: {NAME: {urdf: ROBOT.urdf}}` gets, its
+// bodies by link name and the self pairs that touch at the zero pose (candidates for `allow`).
+int describeUrdf(const std::string& path) {
+  const arm::ArmModel m = arm::loadUrdf(path);
+  std::printf("%s: robot %s, %d moving joints, %d bodies, %zu capsules\n", path.c_str(), m.name.c_str(), m.dof(),
+              m.bodies(), m.capsules.size());
+  for (int b = 0; b < m.bodies(); ++b) {
+    std::string links, joint;
+    for (const auto& [link, body] : m.links)
+      if (body == b && link != m.bodyNames[b]) links += (links.empty() ? " (with " : ", ") + link;
+    if (!links.empty()) links += ")";
+    if (b >= 1 && b <= m.dof()) {
+      const arm::Joint& j = m.joints[b - 1];
+      joint = " after " + (j.type == arm::JointType::Prismatic ? std::string("prismatic ") : std::string("revolute ")) +
+              j.name + " [" + io::number(j.lower) + ", " + io::number(j.upper) + "]";
+    }
+    const auto caps = std::count_if(m.capsules.begin(), m.capsules.end(), [&](const arm::LinkCapsule& c) { return c.body == b; });
+    std::printf("  body %d %s%s%s: %ld capsules\n", b, m.bodyNames[b].c_str(), links.c_str(), joint.c_str(), static_cast<long>(caps));
+  }
+  const auto touching = arm::selfContacts(m, std::vector<double>(m.dof(), 0.0), 0.0);
+  std::printf("self pairs touching at the zero pose (adjacent bodies are allowed): %s\n", touching.empty() ? "none" : "");
+  for (const arm::BodyContact& c : touching)
+    std::printf("  %s - %s  %s m\n", m.bodyNames[c.a].c_str(), m.bodyNames[c.b].c_str(), io::number(c.distance).c_str());
+  return 0;
+}
+
 int runArm(int argc, const char* const* argv) {
   if (argc > 0 && std::string(argv[0]) == "serve") return runServe(argc - 1, argv + 1);
   if (argc > 0 && std::string(argv[0]) == "reset") return runResetCommand(argc - 1, argv + 1);
@@ -381,7 +408,8 @@ int runArm(int argc, const char* const* argv) {
             "warnings.csv and summary.json.\n  stsim arm serve SCENARIO --listen 127.0.0.1:PORT   the service "
             "(stsim arm serve --help)\n  stsim arm stream --connect HOST:PORT SENSORS.csv     its sensor client\n  stsim arm "
             "reset --connect HOST:PORT [--arms A,B]  release STOPs held since a sensor fell silent");
-  args.positional("SCENARIO", "scenario YAML (arms, obstacles, octree rule, safety terms, sensor trace or waypoints)",
+  args.positional("SCENARIO", "scenario YAML (arms, obstacles, octree rule, safety terms, sensor trace or waypoints), "
+                  "or a robot's .urdf: its bodies by link name and the self pairs touching at the zero pose",
                   false);
   args.option("out", "DIR", "output folder", "arm-out");
   args.option("broadphase", "KIND", "octree (default, from the scenario) or none (all pairs, the reference)", "");
@@ -409,6 +437,7 @@ int runArm(int argc, const char* const* argv) {
   }
   if (!args.positionalValue(0)) throw UsageError("missing argument SCENARIO (see stsim arm --help)");
   const std::string path = *args.positionalValue(0);
+  if (fs::path(path).extension() == ".urdf") return describeUrdf(path);
   const bool closedLoop = !args.has("open-loop");
   arm::Scenario sc = arm::loadScenario(path);
   const std::string bp = args.get("broadphase");

@@ -1,6 +1,9 @@
 #include <starm/arm.hpp>
 
+#include <algorithm>
 #include <cmath>
+
+#include <stcore/distance.hpp>
 
 namespace st::arm {
 
@@ -16,8 +19,13 @@ LinkCapsule centred(int body, const Vec3& centre, const Vec3& dir, double length
 
 LinkCapsule rotated(const LinkCapsule& c, const Eigen::Matrix3d& r) { return {c.body, r * c.a, r * c.b, c.radius}; }
 
-// One DH transform, written out (the matrix product is checked against Eigen's in the tests).
+// One DH transform, written out (the matrix product is checked against Eigen's in the tests);
+// under the Urdf convention the joint's origin followed by its motion.
 Eigen::Isometry3d dhTransform(DhConvention conv, const Joint& j, double theta) {
+  if (conv == DhConvention::Urdf) {
+    if (j.type == JointType::Prismatic) return j.origin * Eigen::Translation3d(theta * j.axis);
+    return j.origin * Eigen::AngleAxisd(theta, j.axis);
+  }
   const double ct = std::cos(theta), st = std::sin(theta);
   const double ca = std::cos(j.alpha), sa = std::sin(j.alpha);
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
@@ -36,6 +44,26 @@ Eigen::Isometry3d dhTransform(DhConvention conv, const Joint& j, double theta) {
 }
 
 }  // namespace
+
+double jointReach(const Joint& j) {
+  double r = std::abs(j.a) + std::abs(j.d) + j.origin.translation().norm();
+  if (j.type == JointType::Prismatic) r += std::max(std::abs(j.lower), std::abs(j.upper));
+  return r;
+}
+
+int ArmModel::bodyIndex(const std::string& wanted) const {
+  for (const auto& [link, body] : links)
+    if (link == wanted) return body;
+  for (int b = 0; b < static_cast<int>(bodyNames.size()); ++b)
+    if (bodyNames[b] == wanted) return b;
+  if (wanted == "flange") return dof() + 1;
+  if (wanted.rfind("link", 0) == 0 && wanted.size() > 4 && wanted.size() < 8 &&
+      wanted.find_first_not_of("0123456789", 4) == std::string::npos) {
+    const int k = std::stoi(wanted.substr(4));
+    if (k <= dof()) return k;
+  }
+  return -1;
+}
 
 void ArmModel::setAllowed(int i, int j, bool allow) {
   allowed[i * bodies() + j] = allow;
@@ -133,6 +161,25 @@ std::vector<Eigen::Isometry3d> forwardKinematics(const ArmModel& m, const Eigen:
   return frames;
 }
 
+std::vector<BodyContact> selfContacts(const ArmModel& m, const std::vector<double>& q, double separation) {
+  const auto frames = forwardKinematics(m, Eigen::Isometry3d::Identity(), q);
+  std::vector<BodyContact> out;
+  for (std::size_t i = 0; i < m.capsules.size(); ++i)
+    for (std::size_t j = i + 1; j < m.capsules.size(); ++j) {
+      const LinkCapsule &ci = m.capsules[i], &cj = m.capsules[j];
+      if (m.isAllowed(ci.body, cj.body)) continue;
+      const Capsule a{frames[ci.body] * ci.a, frames[ci.body] * ci.b, ci.radius};
+      const Capsule b{frames[cj.body] * cj.a, frames[cj.body] * cj.b, cj.radius};
+      const double d = distance(a, b);
+      if (d > separation) continue;
+      const int lo = std::min(ci.body, cj.body), hi = std::max(ci.body, cj.body);
+      const auto it = std::find_if(out.begin(), out.end(), [&](const BodyContact& c) { return c.a == lo && c.b == hi; });
+      if (it == out.end()) out.push_back({lo, hi, d});
+      else it->distance = std::min(it->distance, d);
+    }
+  return out;
+}
+
 void bodyRates(const ArmModel& m, const Eigen::Isometry3d* frames, const double* qdot, BodyRates& out) {
   const int n = m.dof();
   out.w.resize(n + 2);
@@ -140,9 +187,17 @@ void bodyRates(const ArmModel& m, const Eigen::Isometry3d* frames, const double*
   out.w[0].setZero();
   out.c[0].setZero();
   for (int k = 1; k <= n; ++k) {
-    // joint k turns about z of frame k (modified) or frame k-1 (classic)
-    const Eigen::Isometry3d& f = frames[m.convention == DhConvention::Modified ? k : k - 1];
-    const Vec3 axis = f.linear().col(2);
+    // joint k turns about z of frame k (modified) or frame k-1 (classic), about or along its
+    // axis in frame k (urdf)
+    const bool urdf = m.convention == DhConvention::Urdf;
+    const Eigen::Isometry3d& f = frames[m.convention == DhConvention::Classic ? k - 1 : k];
+    const Vec3 axis = urdf ? Vec3(f.linear() * m.joints[k - 1].axis) : Vec3(f.linear().col(2));
+    if (urdf && m.joints[k - 1].type == JointType::Prismatic) {
+      // a slide: every point of the body and beyond moves at qdot axis (w x p - c with c = -v)
+      out.w[k] = out.w[k - 1];
+      out.c[k] = out.c[k - 1] - qdot[k - 1] * axis;
+      continue;
+    }
     const Vec3 w = qdot[k - 1] * axis;
     out.w[k] = out.w[k - 1] + w;
     out.c[k] = out.c[k - 1] + w.cross(f.translation());

@@ -63,6 +63,7 @@ Obstacle advanced(const Obstacle& o, double dt) {
 }  // namespace
 
 std::string bodyName(const ArmModel& m, int body) {
+  if (body >= 0 && body < static_cast<int>(m.bodyNames.size())) return m.bodyNames[body];
   return body == m.dof() + 1 ? std::string("flange") : "link" + std::to_string(body);
 }
 
@@ -91,6 +92,15 @@ Monitor::Monitor(std::vector<ArmInstance> arms, std::vector<Obstacle> obstacles,
       capArm_.push_back(static_cast<int>(arms_.size()));
       capBody_.push_back(inst.model.capsules[k].body);
       capLocal_.push_back(k);
+      // allowed obstacle pairs of this capsule's body, by obstacle index
+      std::vector<int> allowedObs;
+      for (const auto& [body, name] : inst.allowedObstacles) {
+        if (body != inst.model.capsules[k].body) continue;
+        const auto it = std::find_if(obstacles_.begin(), obstacles_.end(), [&](const Obstacle& o) { return o.name == name; });
+        if (it == obstacles_.end()) throw std::invalid_argument("arm " + inst.name + ": allowed obstacle '" + name + "' is not an obstacle");
+        allowedObs.push_back(static_cast<int>(it - obstacles_.begin()));
+      }
+      capAllowedObstacles_.push_back(std::move(allowedObs));
     }
     a.inst = std::move(inst);
     arms_.push_back(std::move(a));
@@ -123,7 +133,7 @@ Monitor::Monitor(std::vector<ArmInstance> arms, std::vector<Obstacle> obstacles,
     for (const ArmState& a : arms_) {
       const ArmModel& m = a.inst.model;
       double reach = m.flange.translation().norm();
-      for (const Joint& j : m.joints) reach += std::abs(j.a) + std::abs(j.d);
+      for (const Joint& j : m.joints) reach += jointReach(j);
       double extent = 0.0;
       for (const LinkCapsule& c : m.capsules) extent = std::max({extent, c.a.norm() + c.radius, c.b.norm() + c.radius});
       reach += extent + grow;
@@ -381,6 +391,8 @@ void Monitor::testPair(int i, int j, double t) {
 
 void Monitor::testObstacle(int i, int o, double t) {
   const int id = capsuleCount() + o;
+  const std::vector<int>& allowed = capAllowedObstacles_[i];
+  if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), o) != allowed.end()) return;
   ++counters_.candidatePairs;
   if (!swept_[i].overlaps(swept_[id])) return;
   ++counters_.exactPairs;

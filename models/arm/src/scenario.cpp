@@ -9,6 +9,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <starm/urdf.hpp>
 #include <stio/format.hpp>
 #include <stio/yaml.hpp>
 
@@ -105,8 +106,51 @@ struct Yaml {
   }
 };
 
+// One side of an allowed pair: a body index, or a link name (the arm's own, else "obstacle:NAME"
+// when obstacles may be named); a body index in `body`, else the obstacle's name in `obstacle`.
+struct PairSide {
+  int body = -1;
+  std::string obstacle;
+};
+
+PairSide pairSide(const Yaml& y, const YAML::Node& n, const std::string& key, const ArmModel& m, bool obstacles) {
+  const int nb = m.bodies();
+  if (!n.IsScalar()) y.fail(n, key, "expected a body (0.." + std::to_string(nb - 1) + ") or a link name");
+  const std::string& v = n.Scalar();
+  if (!v.empty() && v.find_first_not_of("0123456789+-.eE") == std::string::npos) return {y.integer(n, key, 0, nb - 1), ""};
+  if (obstacles && v.rfind("obstacle:", 0) == 0 && v.size() > 9) return {-1, v.substr(9)};
+  const int b = m.bodyIndex(v);
+  if (b < 0) {
+    std::string names;
+    for (int k = 0; k < nb; ++k) names += (k ? ", " : "") + bodyName(m, k);
+    y.fail(n, key, "unknown link '" + v + "' (bodies: " + names + (obstacles ? "; or obstacle:NAME" : "") + ")");
+  }
+  return {b, ""};
+}
+
+ArmModel parseUrdfModel(const Yaml& y, const YAML::Node& n, const std::string& key, const std::string& name) {
+  y.knownKeys(n, key, {"urdf", "allow"});
+  std::filesystem::path f = y.text(n["urdf"], key + ".urdf");
+  if (f.is_relative()) f = std::filesystem::path(y.file).parent_path() / f;
+  ArmModel m;
+  try {
+    m = loadUrdf(f.string(), name);
+  } catch (const InputError& e) {
+    y.fail(n["urdf"], key + ".urdf", e.what());
+  }
+  // the robot's own never-colliding pairs (SRDF's disable_collisions), by link name
+  if (const YAML::Node pairs = y.list(n["allow"], key + ".allow"))
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      const std::string pk = key + ".allow[" + std::to_string(k) + "]";
+      if (!pairs[k].IsSequence() || pairs[k].size() != 2) y.fail(pairs[k], pk, "expected [link, link]");
+      m.setAllowed(pairSide(y, pairs[k][0], pk + "[0]", m, false).body, pairSide(y, pairs[k][1], pk + "[1]", m, false).body, true);
+    }
+  return m;
+}
+
 ArmModel parseModel(const Yaml& y, const YAML::Node& n, const std::string& key, const std::string& name) {
-  y.knownKeys(n, key, {"convention", "joints", "flange", "capsules"});
+  if (n.IsMap() && n["urdf"]) return parseUrdfModel(y, n, key, name);
+  y.knownKeys(n, key, {"convention", "joints", "flange", "capsules", "urdf"});
   ArmModel m;
   m.name = name;
   const std::string conv = n["convention"] ? y.text(n["convention"], key + ".convention") : "";
@@ -442,6 +486,11 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
   if (!arms.IsDefined()) y.fail(root, "arms", "missing key (the list of arms)");
   if (!arms.IsSequence() || arms.size() == 0) y.fail(arms, "arms", "expected a list of arms");
   bool anyWaypoints = false;
+  struct ObstacleAllow {
+    YAML::Node node;
+    std::string key, name;
+  };
+  std::vector<ObstacleAllow> obstacleAllows;
   for (std::size_t i = 0; i < arms.size(); ++i) {
     const std::string key = "arms[" + std::to_string(i) + "]";
     const YAML::Node a = arms[i];
@@ -478,14 +527,22 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
     for (const char* which : {"allow", "check"}) {
       const YAML::Node pairs = y.list(a[which], key + "." + which);
       if (!pairs) continue;
+      const bool allow = std::string(which) == "allow";
       for (std::size_t k = 0; k < pairs.size(); ++k) {
         const std::string pk = key + "." + which + "[" + std::to_string(k) + "]";
         const int nb = inst.model.bodies();
         if (!pairs[k].IsSequence() || pairs[k].size() != 2)
-          y.fail(pairs[k], pk, "expected [body, body] with bodies 0.." + std::to_string(nb - 1));
-        const int b0 = y.integer(pairs[k][0], pk + "[0]", 0, nb - 1);
-        const int b1 = y.integer(pairs[k][1], pk + "[1]", 0, nb - 1);
-        inst.model.setAllowed(b0, b1, std::string(which) == "allow");
+          y.fail(pairs[k], pk, "expected [body, body] with bodies 0.." + std::to_string(nb - 1) + " or link names");
+        const PairSide s0 = pairSide(y, pairs[k][0], pk + "[0]", inst.model, allow);
+        const PairSide s1 = pairSide(y, pairs[k][1], pk + "[1]", inst.model, allow);
+        if (s0.body < 0 && s1.body < 0) y.fail(pairs[k], pk, "expected a link of the arm and an obstacle");
+        if (s0.body >= 0 && s1.body >= 0) {
+          inst.model.setAllowed(s0.body, s1.body, allow);
+        } else {
+          // arm vs a named obstacle (checked against the obstacles below)
+          inst.allowedObstacles.emplace_back(s0.body >= 0 ? s0.body : s1.body, s0.body >= 0 ? s1.obstacle : s0.obstacle);
+          obstacleAllows.push_back({pairs[k], pk, inst.allowedObstacles.back().second});
+        }
       }
     }
     if (const YAML::Node w = a["waypoints"]) {
@@ -555,6 +612,9 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
     }
   }
   if (const YAML::Node n = root["random_obstacles"]) randomObstacles(y, n, s);
+  for (const ObstacleAllow& oa : obstacleAllows)
+    if (std::none_of(s.obstacles.begin(), s.obstacles.end(), [&](const Obstacle& o) { return o.name == oa.name; }))
+      y.fail(oa.node, oa.key, "no obstacle named '" + oa.name + "'");
   parseSsm(y, root, s);
   return s;
 }

@@ -59,6 +59,9 @@ struct ArmInstance {
   // older than that is stale and the arm STOPs. Period 0 (undeclared): stale after reaction +
   // cycle time.
   double sensorPeriod = 0.0, sensorJitter = 0.0;
+  // Allowed arm-vs-obstacle pairs: (body, obstacle name), never tested (a base bolted to the
+  // table it stands on). A name no obstacle has is refused by the Monitor (invalid_argument).
+  std::vector<std::pair<int, std::string>> allowedObstacles{};
 };
 
 struct Warning {
@@ -190,6 +193,7 @@ class Monitor {
   std::vector<Vec3> capA_, capB_, capVa_, capVb_;
   std::vector<double> capR_;
   std::vector<int> capArm_, capBody_, capLocal_;
+  std::vector<std::vector<int>> capAllowedObstacles_;  // per capsule, the obstacles never tested (few)
   // per space object (capsules first, then obstacles)
   std::vector<Aabb3> swept_, fat_;
   // Neighbours from the space, cached when the object was last filed. A pair's candidacy

@@ -5,9 +5,10 @@
 //   octree: {kind: tree|cells|single, decomposition_factor: 4, max_depth: 8, margin: 0.05, cell_size: 0.25,
 //            bounds: {min: [..], max: [..]}}
 //   models: {name: {convention: modified|classic, joints: [{a, alpha, d, offset, limits: [lo, hi], max_rate}],
-//                   flange: {xyz, rpy}, capsules: [{body, a: [x,y,z], b: [x,y,z], radius}]}}
+//                   flange: {xyz, rpy}, capsules: [{body, a: [x,y,z], b: [x,y,z], radius}]}
+//                   | {urdf: file.urdf, allow: [[link, link]]}}     (starm/urdf.hpp)
 //   arms: [{name, model: panda|iiwa14|<models key>, base: {xyz, rpy},
-//           allow: [[i, j]], check: [[i, j]], waypoints: [{t, q: [...]}]}]
+//           allow: [[i|link, j|link|obstacle:NAME]], check: [[i, j]], waypoints: [{t, q: [...]}]}]
 //   trace: file.csv            (instead of waypoints; relative to the scenario file)
 //   duration: 4.0              (scripted motion length; default the last waypoint)
 //   obstacles: [{name, sphere: {center, radius} | capsule: {a, b, radius} |
