@@ -2,6 +2,9 @@
 // DynamicAABBTreeCollisionManager doing the same work on the same trace:
 //   (a) Shaffer & Herb's scale: 2 Pandas + 24 stationary primitives (bench/arm_cycle/shaffer_scale.yaml)
 //   (b) 1 Panda + 1000 random obstacles (models/arm/scenarios/panda_clutter.yaml)
+// and, second table, the octree depth when the scenario sets no broadphase key: the old fixed
+// default (8) against the depth chosen from the scene (depthFromScene) and each hand-set depth
+// 2..6, on (a), (b) and the two-UR5 URDF cell (models/arm/scenarios/two_ur5_cell.yaml).
 // "The same work" per cycle: forward kinematics and end-point velocities (shared code), every
 // capsule's look-ahead swept box given to the broad phase (FCL: as the object's AABB), the
 // allowed-collision matrix, exact distance for each overlapping pair, and time to collision by
@@ -321,6 +324,35 @@ int main(int argc, char** argv) {
                 fclOwn.max, fclOwn.mean, fclOwn.pairsPerCycle, static_cast<unsigned long long>(fclOwn.warnings));
     std::printf("%-28s vs FCL on the same boxes: p50 %.1fx, p99 %.1fx faster; same warnings: %s (%zu cycles)\n", "", fcl.p50 / ours.p50,
                 fcl.p99 / ours.p99, oursPairs == fcl.warnings && oursPairs == fclOwn.warnings ? "yes" : "NO", rd.cycles.size());
+  }
+  // the default depth: every broadphase key unset
+  const Case depthCases[] = {cases[0], cases[1], {"(c) two UR5 (URDF) + table", root + "/models/arm/scenarios/two_ur5_cell.yaml"}};
+  std::printf("\narm_cycle: every broadphase key unset; per-cycle latency (us), octree depth by rule\n");
+  std::printf("%-28s %-26s %7s %7s %8s %8s\n", "case", "max_depth", "p50", "p99", "max", "mean");
+  for (const Case& c : depthCases) {
+    Scenario sc = loadScenario(c.file);
+    sc.broad = BroadphaseConfig{};
+    const Readings rd = record(sc);
+    auto row = [&](const char* label, const std::string& what, const Stats& st) {
+      std::printf("%-28s %-26s %7.2f %7.2f %8.1f %8.2f\n", label, what.c_str(), st.p50, st.p99, st.max, st.mean);
+    };
+    const int chosen = makeMonitor(sc).space()->rule().maxDepth;
+    const Stats scene = runOurs(sc, rd, reps);
+    sc.broad.depthFromScene = false;
+    sc.broad.rule.maxDepth = 8;
+    const Stats old = runOurs(sc, rd, reps);
+    row(c.label, "8 (fixed, before)", old);
+    row("", "from the scene: " + std::to_string(chosen) + " (now)", scene);
+    double best = 1e300;
+    int bestDepth = 0;
+    for (int d = 2; d <= 6; ++d) {
+      sc.broad.rule.maxDepth = d;
+      const Stats st = runOurs(sc, rd, reps);
+      row("", "hand-set " + std::to_string(d), st);
+      if (st.p99 < best) best = st.p99, bestDepth = d;
+    }
+    std::printf("%-28s p99 from the scene / best hand-set (%d): %.2fx; before / now: %.0fx\n", "", bestDepth, scene.p99 / best,
+                old.p99 / scene.p99);
   }
   return 0;
 }

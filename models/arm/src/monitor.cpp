@@ -67,6 +67,17 @@ std::string bodyName(const ArmModel& m, int body) {
   return body == m.dof() + 1 ? std::string("flange") : "link" + std::to_string(body);
 }
 
+int depthFromScene(const Aabb3& bounds, std::vector<double> movingSizes) {
+  constexpr int kMin = 2, kMax = 8;
+  const double edge = (bounds.max - bounds.min).maxCoeff();
+  if (movingSizes.empty() || !(edge > 0.0)) return kMax;
+  const auto mid = movingSizes.begin() + static_cast<std::ptrdiff_t>(movingSizes.size() / 2);
+  std::nth_element(movingSizes.begin(), mid, movingSizes.end());
+  if (!(*mid > 0.0)) return kMax;
+  const double d = std::round(std::log2(edge / *mid));
+  return static_cast<int>(std::clamp(d, static_cast<double>(kMin), static_cast<double>(kMax)));
+}
+
 std::string otherName(const Monitor& m, const Warning& w) {
   if (w.obstacle >= 0) return "obstacle:" + m.obstacles()[w.obstacle].name;
   return m.arm(w.otherArm).name + "/" + bodyName(m.arm(w.otherArm).model, w.otherBody);
@@ -147,6 +158,16 @@ Monitor::Monitor(std::vector<ArmInstance> arms, std::vector<Obstacle> obstacles,
       first = false;
     }
     if (first) bounds_ = {Vec3::Constant(-1.0), Vec3::Constant(1.0)};
+  }
+  if (broad_.depthFromScene) {
+    // the moving objects' sizes: capsules in any pose, moving obstacles' swept boxes, fat
+    std::vector<double> sizes;
+    for (int i = 0; i < nc; ++i) {
+      const LinkCapsule& lc = arms_[capArm_[i]].inst.model.capsules[capLocal_[i]];
+      sizes.push_back((lc.b - lc.a).norm() + 2.0 * (lc.radius + grow + broad_.margin));
+    }
+    for (int o : moving_) sizes.push_back((swept_[nc + o].max - swept_[nc + o].min).maxCoeff() + 2.0 * broad_.margin);
+    broad_.rule.maxDepth = depthFromScene(bounds_, sizes);
   }
   if (broad_.kind != SpaceKind::None) {
     space_.emplace(broad_.kind, bounds_, broad_.rule);

@@ -470,6 +470,7 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
     const double md = y.number(n, "max_depth", "octree", s.broad.rule.maxDepth);
     if (md < 0 || md > 20 || md != std::floor(md)) y.fail(n["max_depth"], "octree.max_depth", "expected an integer 0..20");
     s.broad.rule.maxDepth = static_cast<int>(md);
+    if (n["max_depth"]) s.broad.depthFromScene = false;
     s.broad.margin = y.number(n, "margin", "octree", s.broad.margin);
     if (s.broad.margin < 0) y.fail(n["margin"], "octree.margin", "must not be negative");
     s.broad.rule.cellSize = y.number(n, "cell_size", "octree", 0.25);

@@ -26,6 +26,7 @@ Scenario randomCourse(std::uint64_t seed, int index) {
   s.safety.horizon = 0.0;
   s.broad.kind = SpaceKind::Tree;
   s.broad.rule.maxDepth = 4;
+  s.broad.depthFromScene = false;
   s.broad.margin = 0.03;
   const double gap = u(0.85, 1.3), side = u(-0.12, 0.12);
   const std::vector<double> home{0, -0.785, 0, -2.356, 0, 1.571, 0.785};

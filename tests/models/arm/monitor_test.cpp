@@ -349,3 +349,27 @@ TEST(Monitor, AnArmNeverReadIsStopped) {
 
 }  // namespace
 }  // namespace st::arm
+
+namespace st::arm {
+namespace {
+
+// The octree depth for a scenario without octree.max_depth: leaves about the moving objects' size.
+TEST(DepthFromScene, LeavesAboutTheMovingObjectsSize) {
+  const Aabb3 b{Vec3::Zero(), Vec3(3.2, 1.0, 1.0)};
+  EXPECT_EQ(depthFromScene(b, {0.2, 0.1, 0.4}), 4);        // 3.2 / 0.2 = 16
+  EXPECT_EQ(depthFromScene(b, {0.3, 0.3, 0.1, 5.0}), 3);   // median 0.3: log2 10.7 = 3.4
+  EXPECT_EQ(depthFromScene(b, {3.0}), 2);                  // never shallower than 2
+  EXPECT_EQ(depthFromScene(b, {1e-4}), 8);                 // never deeper than the old default
+  EXPECT_EQ(depthFromScene(b, {}), 8);                     // nothing moves
+}
+
+TEST(DepthFromScene, ScenarioWithoutTheKeyChoosesIt) {
+  Scenario s = loadScenario(std::string(STSIM_SOURCE_DIR) + "/models/arm/scenarios/two_pandas.yaml");
+  EXPECT_FALSE(s.broad.depthFromScene);  // the file sets max_depth: 4
+  s.broad = BroadphaseConfig{};
+  const Monitor m = makeMonitor(s);
+  EXPECT_EQ(m.space()->rule().maxDepth, 4);
+}
+
+}  // namespace
+}  // namespace st::arm
