@@ -129,14 +129,24 @@ PairSide pairSide(const Yaml& y, const YAML::Node& n, const std::string& key, co
 }
 
 ArmModel parseUrdfModel(const Yaml& y, const YAML::Node& n, const std::string& key, const std::string& name) {
-  y.knownKeys(n, key, {"urdf", "allow"});
-  std::filesystem::path f = y.text(n["urdf"], key + ".urdf");
-  if (f.is_relative()) f = std::filesystem::path(y.file).parent_path() / f;
+  y.knownKeys(n, key, {"urdf", "srdf", "allow"});
+  auto file = [&](const char* k) {
+    std::filesystem::path f = y.text(n[k], key + "." + k);
+    if (f.is_relative()) f = std::filesystem::path(y.file).parent_path() / f;
+    return f.string();
+  };
   ArmModel m;
   try {
-    m = loadUrdf(f.string(), name);
+    m = loadUrdf(file("urdf"), name);
   } catch (const InputError& e) {
     y.fail(n["urdf"], key + ".urdf", e.what());
+  }
+  if (n["srdf"]) {
+    try {
+      applySrdf(m, file("srdf"));
+    } catch (const InputError& e) {
+      y.fail(n["srdf"], key + ".srdf", e.what());
+    }
   }
   // the robot's own never-colliding pairs (SRDF's disable_collisions), by link name
   if (const YAML::Node pairs = y.list(n["allow"], key + ".allow"))

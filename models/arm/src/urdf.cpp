@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include <console_bridge/console.h>
+#include <tinyxml.h>
 #include <urdf_parser/urdf_parser.h>
 
 #include <starm/sensor.hpp>
@@ -220,6 +221,37 @@ ArmModel parseUrdf(const std::string& xml, const std::string& file, const std::s
   if (static_cast<int>(b.m.bodyNames.size()) == b.m.dof() + 1) b.m.bodyNames.push_back("flange");
   b.m.resetAllowedToAdjacent();
   return b.m;
+}
+
+void applySrdfText(ArmModel& m, const std::string& xml, const std::string& file) {
+  TiXmlDocument doc;
+  doc.Parse(xml.c_str());
+  if (doc.Error())
+    throw InputError(file + ":" + std::to_string(doc.ErrorRow()) + ": not a valid SRDF: " + doc.ErrorDesc());
+  const TiXmlElement* robot = doc.RootElement();
+  if (!robot || std::string(robot->Value()) != "robot") throw InputError(file + ": not a valid SRDF: the root element is not <robot>");
+  for (const TiXmlElement* e = robot->FirstChildElement("disable_collisions"); e; e = e->NextSiblingElement("disable_collisions")) {
+    const char* l1 = e->Attribute("link1");
+    const char* l2 = e->Attribute("link2");
+    const std::string at = file + ":" + std::to_string(e->Row());
+    if (!l1 || !l2) throw InputError(at + ": disable_collisions needs link1 and link2");
+    int b[2] = {-1, -1};
+    const char* names[2] = {l1, l2};
+    for (int k = 0; k < 2; ++k)
+      for (const auto& [link, body] : m.links)
+        if (link == names[k]) b[k] = body;
+    for (int k = 0; k < 2; ++k)
+      if (b[k] < 0) throw InputError(at + ": disable_collisions: robot " + m.name + " has no link '" + names[k] + "'");
+    m.setAllowed(b[0], b[1], true);
+  }
+}
+
+void applySrdf(ArmModel& m, const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open the SRDF file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  applySrdfText(m, text.str(), path);
 }
 
 ArmModel loadUrdf(const std::string& path, const std::string& name) {

@@ -291,6 +291,27 @@ TEST(Urdf, BadInputIsOneLineNamingTheFile) {
   }
 }
 
+TEST(Urdf, SrdfDisablesPairsByLinkName) {
+  ArmModel m = loadUrdf(shipped("ur5.urdf"));
+  EXPECT_FALSE(m.isAllowed(4, 6));
+  applySrdf(m, shipped("ur5.srdf"));
+  EXPECT_TRUE(m.isAllowed(4, 6));  // wrist_1_link, wrist_3_link
+  EXPECT_TRUE(m.isAllowed(5, 7));  // wrist_2_link, tool0
+  EXPECT_FALSE(m.isAllowed(2, 4));
+  auto error = [&](const std::string& xml) {
+    try {
+      applySrdfText(m, xml, "r.srdf");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  EXPECT_EQ(error("<robot name=\"ur5\">\n<disable_collisions link1=\"wrist_1_link\" link2=\"hand\"/></robot>"),
+            "r.srdf:2: disable_collisions: robot ur5 has no link 'hand'");
+  EXPECT_EQ(error("<robot><disable_collisions link1=\"a\"").rfind("r.srdf:", 0), 0u);
+  EXPECT_EQ(error("<robot><disable_collisions link1=\"a\"").find('\n'), std::string::npos);
+}
+
 struct Result {
   int code;
   std::string out, err;

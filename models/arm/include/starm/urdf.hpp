@@ -25,4 +25,10 @@ ArmModel loadUrdf(const std::string& path, const std::string& name = "");
 // The same from text; `file` names it in errors.
 ArmModel parseUrdf(const std::string& xml, const std::string& file, const std::string& name = "");
 
+// An SRDF's <disable_collisions link1="A" link2="B"/> as allowed pairs of m (links by their URDF
+// names; pairs of links on one body are already never tested). Other SRDF elements are ignored.
+// Throws InputError "FILE: what" (missing file, malformed XML, a link the robot has not).
+void applySrdf(ArmModel& m, const std::string& path);
+void applySrdfText(ArmModel& m, const std::string& xml, const std::string& file);
+
 }  // namespace st::arm
