@@ -15,6 +15,8 @@
 #include <tuple>
 #include <sstream>
 
+#include <tinyxml.h>
+
 #include <stcore/distance.hpp>
 #include <starm/scenario.hpp>
 #include <starm/urdf.hpp>
@@ -69,7 +71,56 @@ TEST(Urdf, Ur5FramesEqualTheDhModel) {
     const auto fd = forwardKinematics(dh, base, q);
     for (int b = 0; b < u.bodies(); ++b) worst = std::max(worst, (fu[b].matrix() - fd[b].matrix()).cwiseAbs().maxCoeff());
   }
-  EXPECT_LT(worst, 1e-9);
+  EXPECT_LT(worst, 1e-12);  // 6.7e-16 measured
+  RecordProperty("worst", std::to_string(worst));
+}
+
+// The URDF's joint chain composed here from the file's own numbers (read with tinyxml, not
+// urdfdom): origin xyz, then Rz(yaw) Ry(pitch) Rx(roll), then the turn about the axis; the
+// model's frames equal it within 1e-12 at 1 000 random configurations.
+TEST(Urdf, Ur5FramesEqualTheChainComposedIndependently) {
+  TiXmlDocument doc(shipped("ur5.urdf"));
+  ASSERT_TRUE(doc.LoadFile());
+  auto numbers = [](const char* text) {
+    std::istringstream in(text ? text : "0 0 0");
+    Vec3 v;
+    in >> v.x() >> v.y() >> v.z();
+    return v;
+  };
+  struct RawJoint {
+    Eigen::Isometry3d origin;
+    Vec3 axis;
+    bool moving;
+  };
+  std::vector<RawJoint> chain;  // in file order, which is chain order for ur5.urdf
+  for (const TiXmlElement* j = doc.RootElement()->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+    const TiXmlElement* o = j->FirstChildElement("origin");
+    const Vec3 xyz = numbers(o ? o->Attribute("xyz") : nullptr), rpy = numbers(o ? o->Attribute("rpy") : nullptr);
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.translation() = xyz;
+    t.linear() = (Eigen::AngleAxisd(rpy.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) *
+                  Eigen::AngleAxisd(rpy.x(), Vec3::UnitX())).toRotationMatrix();
+    const TiXmlElement* ax = j->FirstChildElement("axis");
+    chain.push_back({t, numbers(ax ? ax->Attribute("xyz") : "1 0 0").normalized(), std::string(j->Attribute("type")) != "fixed"});
+  }
+  const ArmModel u = loadUrdf(shipped("ur5.urdf"));
+  ASSERT_EQ(chain.size(), 7u);
+  std::mt19937_64 gen(11);
+  std::uniform_real_distribution<double> angle(-2 * kPi, 2 * kPi);
+  double worst = 0.0;
+  for (int trial = 0; trial < 1000; ++trial) {
+    std::vector<double> q(6);
+    for (double& v : q) v = angle(gen);
+    const auto f = forwardKinematics(u, Eigen::Isometry3d::Identity(), q);
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    int k = 0;
+    for (const RawJoint& j : chain) {
+      t = t * j.origin;
+      if (j.moving) t = t * Eigen::AngleAxisd(q[k++], j.axis);
+      worst = std::max(worst, (t.matrix() - f[j.moving ? k : k + 1].matrix()).cwiseAbs().maxCoeff());
+    }
+  }
+  EXPECT_LE(worst, 1e-12);
 }
 
 // Body velocities from the URDF axes equal those of the DH model (and a finite difference).
