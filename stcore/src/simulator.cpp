@@ -33,14 +33,13 @@ const char* toString(EventKind kind) {
 
 template <int D>
 Simulator<D>::Simulator(const Aabb<D>& bounds, const SimulatorConfig& config)
-    : config_(config), bounds_(bounds) {
+    : config_(config), bounds_(bounds), space_(config.spaceKind, bounds, config.rule) {
   // A ball's box in the space must be strictly larger than the ball: with no margin a moving ball
   // touches the edge of its membership at once, and each Boundary event schedules the next at the
-  // same instant (a livelock). Any margin well above position rounding gives progress.
+  // same instant (a livelock). Any margin well above position rounding gives progress. (The brute
+  // force lists no boxes.)
   if (config_.spaceKind != SpaceKind::None && !(config_.marginFactor > 0.0))
     throw std::invalid_argument("simulator margin factor must be positive when a space is used");
-  if (config_.spaceKind != SpaceKind::None)
-    space_ = std::make_unique<Space<D>>(config_.spaceKind, bounds, config_.rule);
 }
 
 template <int D>
@@ -65,7 +64,7 @@ int Simulator<D>::addBall(const Vec<D>& p, const Vec<D>& v, double radius, doubl
   motion_.push_back(Motion{b.p, b.v, b.t, b.radius});
   next_.push_back(Next{});
   mark_.push_back(0u);
-  if (space_) space_->insert(i, boxOf(i, now_), spaceMargin(i));
+  space_.insert(i, boxOf(i, now_), spaceMargin(i));
   settleSpace();
   predict(i);
   return i;
@@ -143,7 +142,7 @@ void Simulator<D>::deactivate(int i) {
   b.active = false;
   ++b.gen;
   heap_.remove(i);
-  if (space_) space_->remove(i);
+  space_.remove(i);
   settleSpace();
 }
 
@@ -170,30 +169,26 @@ void Simulator<D>::synchronize(double t) {
 // Cells: the fat margin; a tree: the slop its region events keep against rounding.
 template <int D>
 double Simulator<D>::spaceMargin(int i) const {
-  switch (space_->kind()) {
-    case SpaceKind::Cells: return config_.marginFactor * balls_[i].radius;
-    case SpaceKind::Tree: return tol::kRegionSlop;
-    default: return 0.0;
-  }
+  return space_.listingMargin(balls_[i].radius, config_.marginFactor);
 }
 
 template <int D>
 void Simulator<D>::spaceUpdate(int i) {
-  if (space_) space_->update(i, boxOf(i, balls_[i].t), spaceMargin(i));
+  space_.update(i, boxOf(i, balls_[i].t), spaceMargin(i));
 }
 
-// A tree: ball i's membership moves to its box now; its path is unchanged, so its prediction
-// stands and only the neighbours it gained are checked.
+// A space that does not name the neighbours an update brings (a tree): ball i's membership moves
+// to its box now; its path is unchanged, so its prediction stands and only the neighbours it
+// gained, found by comparing its leaves before and after, are checked.
 template <int D>
 void Simulator<D>::refileGained(int i) {
-  const RegionTree<D>& tree = *space_->tree();
-  oldLeaves_ = tree.leavesOf(i);
-  const std::uint64_t restructures = tree.counters().subdivisions + tree.counters().reunions;
-  if (!space_->update(i, boxOf(i, now_), spaceMargin(i))) {
+  oldLeaves_ = space_.leavesOf(i);
+  const std::uint64_t restructures = space_.counters().subdivisions + space_.counters().reunions;
+  if (!space_.update(i, boxOf(i, now_), spaceMargin(i))) {
     schedule(i, next_[i]);  // the same neighbours: only the region event moves
     return;
   }
-  if (tree.counters().subdivisions + tree.counters().reunions != restructures) {
+  if (space_.counters().subdivisions + space_.counters().reunions != restructures) {
     predict(i);  // leaves were rebuilt: the old ones name other regions now
     return;
   }
@@ -203,7 +198,7 @@ void Simulator<D>::refileGained(int i) {
   const Next old = next_[i];
   Next best = old;
   bool stamped = false;
-  for (int leaf : tree.leavesOf(i)) {
+  for (int leaf : space_.leavesOf(i)) {
     if (inOld(leaf)) continue;
     if (!stamped) {
       // once each, should it lie in several entered leaves
@@ -214,10 +209,10 @@ void Simulator<D>::refileGained(int i) {
       mark_[i] = markNow_;
       stamped = true;
     }
-    for (int j : tree.objectsIn(leaf)) {
+    for (int j : space_.objectsIn(leaf)) {
       if (mark_[j] == markNow_) continue;
       mark_[j] = markNow_;
-      const std::vector<int>& shared = tree.leavesOf(j);
+      const std::vector<int>& shared = space_.leavesOf(j);
       if (std::none_of(shared.begin(), shared.end(), inOld)) pairCandidate(i, j, best);
     }
   }
@@ -232,10 +227,9 @@ void Simulator<D>::refileGained(int i) {
 // gained), and those a reunion listed in a wider region are predicted again.
 template <int D>
 void Simulator<D>::settleSpace() {
-  if (!space_) return;
-  while (space_->hasRelisted() || space_->hasWidened()) {
-    space_->takeWidened(widened_);
-    space_->takeRelisted(relisted_);
+  while (space_.hasRelisted() || space_.hasWidened()) {
+    space_.takeWidened(widened_);
+    space_.takeRelisted(relisted_);
     for (int j : relisted_)
       if (balls_[j].active) refileGained(j);
     for (int j : widened_)
@@ -296,17 +290,17 @@ inline void Simulator<D>::pairStraight(int i, int j, Next& best) const {
 template <int D>
 void Simulator<D>::predict(int i) {
   Next best;
-  if (space_) {
+  {
     // gather, then predict: the neighbours' motion comes from memory while the cells are walked
     // (the order candidates arrive in does not matter: consider() breaks every tie)
     constexpr int kGather = 256;
     int gathered[kGather];
-    int n = space_->kind() == SpaceKind::Cells ? space_->gatherNeighbors(i, gathered, kGather) : -1;
+    int n = space_.gatherNeighbors(i, gathered, kGather);
     if (n >= 0) {
       for (int k = 0; k < n; ++k) __builtin_prefetch(&motion_[gathered[k]]);
     } else {
       n = 0;
-      space_->forEachNeighbor(i, [&](int j) {
+      space_.forEachNeighbor(i, [&](int j) {
         if (n == kGather) {
           pairCandidate(i, j, best);
           return;
@@ -333,9 +327,6 @@ void Simulator<D>::predict(int i) {
     } else {
       for (int k = 0; k < n; ++k) pairCandidate(i, gathered[k], best);
     }
-  } else {
-    for (int j = 0; j < static_cast<int>(balls_.size()); ++j)
-      if (j != i && balls_[j].active) pairCandidate(i, j, best);
   }
   if (accelerating(i)) predictObstaclesAccelerated(i, best);
   else predictObstacles(i, best);
@@ -349,7 +340,7 @@ template <int D>
 void Simulator<D>::predictGained(int i) {
   const Next old = next_[i];
   Next best = old;
-  space_->forEachNeighborGained(i, [&](int j) { pairCandidate(i, j, best); });
+  space_.forEachNeighborGained(i, [&](int j) { pairCandidate(i, j, best); });
   // a new partner is taken as it is now; the old one keeps the generation it was predicted with
   if (best.kind == EventKind::BallBall && (best.other != old.other || best.t != old.t || old.kind != best.kind))
     best.otherGen = balls_[best.other].gen;
@@ -369,28 +360,27 @@ void Simulator<D>::schedule(int i, const Next& best) {
   heap_.set(i, n.due());
 }
 
-// When the ball may first touch a region it is not listed in (infinity without a space).
+// When the ball may first touch a region it is not listed in (infinity for one region or none).
 template <int D>
 double Simulator<D>::exitTime(int i) const {
-  if (!space_) return kInf;
   const BallState<D>& bi = balls_[i];
-  if (space_->kind() == SpaceKind::Tree) {
+  if (space_.followsSlowingPaths()) {
     // exact along the path, quadratic while the ball slows
     BallPath<D> path{bi.p, bi.v, bi.radius};
     if (accelerating(i)) {
       path.a = bi.acceleration();
       path.horizon = bi.stopTime() - bi.t;
     }
-    const double dt = space_->exitTime(i, path);
+    const double dt = space_.exitTime(i, path);
     return dt < kInf ? bi.t + dt : kInf;
   }
   if (accelerating(i)) {
     // the straight constant-velocity path from now runs ahead of the decelerating one along every
     // axis, so its exit time is a safe (early) bound
-    const double dt = space_->exitTime(i, bi.positionAt(now_), bi.velocityAt(now_), bi.radius);
+    const double dt = space_.exitTime(i, bi.positionAt(now_), bi.velocityAt(now_), bi.radius);
     return dt < kInf ? std::max(now_, bi.t) + dt : kInf;
   }
-  const double dt = space_->exitTime(i, bi.p, bi.v, bi.radius);
+  const double dt = space_.exitTime(i, bi.p, bi.v, bi.radius);
   return dt < kInf ? bi.t + dt : kInf;
 }
 
@@ -511,10 +501,10 @@ void Simulator<D>::process(int i) {
   if (n.boundaryFirst()) {
     // membership follows the ball; its path is unchanged, so only its own prediction is redone
     now_ = std::max(now_, n.exit);
-    if (space_->kind() == SpaceKind::Tree) {
+    if (!space_.reportsGainedNeighbors()) {
       refileGained(i);
     } else {
-      space_->update(i, boxOf(i, n.exit), spaceMargin(i));
+      space_.update(i, boxOf(i, n.exit), spaceMargin(i));
       // cells: only the cells entered can hold new neighbours
       if (accelerating(i)) predict(i);
       else predictGained(i);

@@ -34,16 +34,16 @@ typename Space<D>::Impl Space<D>::make(SpaceKind kind, const Box& bounds, const 
       return Impl(std::in_place_type<RegionTree<D>>, bounds, r);
     }
     case SpaceKind::Cells: return Impl(std::in_place_type<UniformGrid<D>>, bounds, rule.cellSize);
-    case SpaceKind::None: break;
+    case SpaceKind::None: return Impl(std::in_place_type<BruteForce<D>>, bounds);
   }
-  throw std::invalid_argument("a space needs a kind: single, tree or cells");
+  throw std::invalid_argument("a space needs a kind: none, single, tree or cells");
 }
 
 template <int D>
 Space<D>::Space(SpaceKind kind, const Box& bounds, const SpaceRule& rule)
     : kind_(kind), bounds_(bounds), rule_(rule), impl_(make(kind, bounds, rule)) {
   if (const auto* t = std::get_if<RegionTree<D>>(&impl_)) rule_ = t->rule();  // divisions resolved
-  if (kind_ == SpaceKind::Single) rule_.subdivide = false;
+  if (kind_ == SpaceKind::Single || kind_ == SpaceKind::None) rule_.subdivide = false;
   tuning_ = kind_ == SpaceKind::Tree && rule_.autoFactor && rule_.subdivide;
   if (rule_.autoFactor && !(rule_.autoRegionCost > 0.0))
     throw std::invalid_argument("the auto decomposition factor needs a positive region cost");
@@ -82,7 +82,8 @@ bool Space<D>::update(int id, const Box& box, double margin) {
     // a new factor re-lists objects, this one perhaps among them
     return tuning_ && tune(id, box, changed) ? true : changed;
   }
-  std::get<SingleList<D>>(impl_).update(id, box, margin);
+  // one region or none: the neighbours never change
+  visit([&](auto& s) { s.update(id, box, margin); });
   return false;
 }
 

@@ -1,4 +1,5 @@
-// The three broadphases against brute force written here, on random scenes: candidate pairs and
+// The broadphases against brute force written here (and "none", the brute force behind the
+// interface, against the others), on random scenes: candidate pairs and
 // box queries are exactly "shares a leaf" computed from the leaf boxes, and cover every pair of
 // overlapping boxes; a region tree's event times against the analytic time a disc first touches
 // the next leaf's wall (straight and slowing); and, in a running simulation, after every event,
@@ -155,6 +156,77 @@ void everyBroadphaseMatchesBruteForce(unsigned seed, int scenes) {
   }
   EXPECT_GT(divided, scenes / 2);  // the trees were divided, not one leaf each
 }
+
+// "none" is the brute force behind the same interface: on random scenes, after inserts, updates
+// and removals, its pairs are every pair of present objects, its neighbours every other object, and
+// the pairs whose boxes overlap, found through it, are those found through every other kind.
+template <int D>
+void noneGivesThePairsOfEveryKind(unsigned seed, int scenes) {
+  std::mt19937_64 rng(seed);
+  const Aabb<D> world{Vec<D>::Zero(), Vec<D>::Constant(100)};
+  for (int scene = 0; scene < scenes; ++scene) {
+    const int n = 5 + static_cast<int>(rng() % 60);
+    std::vector<Aabb<D>> boxes = randomScene<D>(rng, n);
+    const std::vector<Aabb<D>> moved = randomScene<D>(rng, n);
+    std::vector<bool> present(n, true), updated(n, false);
+    for (int id = 0; id < n; ++id) {
+      if (rng() % 7 == 0) present[id] = false;
+      else if (rng() % 3 == 0) updated[id] = true;
+    }
+    SpaceRule rule;
+    rule.decompositionFactor = 1 + static_cast<int>(rng() % 6);
+    rule.maxDepth = 7;
+    rule.cellSize = 3.0 + static_cast<double>(rng() % 20);
+    auto fill = [&](Space<D>& s) {
+      for (int id = 0; id < n; ++id) s.insert(id, boxes[id]);
+      for (int id = 0; id < n; ++id) {
+        if (!present[id]) s.remove(id);
+        else if (updated[id]) s.update(id, moved[id]);
+      }
+    };
+    auto boxOf = [&](int id) { return clampTo(updated[id] ? moved[id] : boxes[id], world); };
+    auto overlapping = [&](const Space<D>& s) {
+      Pairs out;
+      s.forEachPair([&](int a, int b) {
+        if (boxOf(a).overlaps(boxOf(b))) out.insert({a, b});
+      });
+      return out;
+    };
+    Space<D> none(SpaceKind::None, world, rule);
+    fill(none);
+    EXPECT_EQ(none.leafCount(), 1);
+    EXPECT_FALSE(none.divided());
+    Pairs all;
+    for (int a = 0; a < n; ++a)
+      for (int b = a + 1; b < n; ++b)
+        if (present[a] && present[b]) all.insert({a, b});
+    std::vector<std::pair<int, int>> got;
+    none.forEachPair([&](int a, int b) { got.push_back({a, b}); });
+    ASSERT_EQ(Pairs(got.begin(), got.end()), all) << "scene " << scene;
+    ASSERT_EQ(got.size(), all.size()) << "scene " << scene;
+    for (int id = 0; id < n; ++id) {
+      ASSERT_EQ(none.contains(id), present[id]);
+      if (!present[id]) continue;
+      std::vector<int> others;
+      none.forEachNeighbor(id, [&](int j) { others.push_back(j); });
+      std::vector<int> expected;
+      for (int j = 0; j < n; ++j)
+        if (j != id && present[j]) expected.push_back(j);
+      ASSERT_EQ(others, expected) << "scene " << scene << " object " << id;  // in id order
+      BallPath<D> path{boxOf(id).center(), Vec<D>::Constant(3.0), 0.5};
+      EXPECT_EQ(none.exitTime(id, path), std::numeric_limits<double>::infinity());
+    }
+    const Pairs truth = overlapping(none);
+    for (SpaceKind kind : {SpaceKind::Single, SpaceKind::Tree, SpaceKind::Cells}) {
+      Space<D> s(kind, world, rule);
+      fill(s);
+      ASSERT_EQ(overlapping(s), truth) << toString(kind) << " scene " << scene;
+    }
+  }
+}
+
+TEST(Broadphase, NoneGivesThePairsOfEveryKind2D) { noneGivesThePairsOfEveryKind<2>(201, test::scaledCount(300)); }
+TEST(Broadphase, NoneGivesThePairsOfEveryKind3D) { noneGivesThePairsOfEveryKind<3>(202, test::scaledCount(300)); }
 
 // (fewer scenes under the sanitizers: test_scale.hpp)
 TEST(Broadphase, EveryKindMatchesBruteForce2D) { everyBroadphaseMatchesBruteForce<2>(101, test::scaledCount(1000)); }

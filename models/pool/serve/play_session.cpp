@@ -125,7 +125,8 @@ Vec2 vec2(const json& j, const char* key) {
 
 std::string regionsJson(const Simulator<2>& sim) {
   std::string out = "[";
-  if (const Space<2>* sp = sim.space()) {
+  // (none, the brute force, has no regions to draw)
+  if (const Space<2>* sp = sim.space(); sp->kind() != SpaceKind::None) {
     bool first = true;
     for (int leaf : sp->leaves()) {
       const Rect b = sp->leafBounds(leaf);
@@ -143,7 +144,7 @@ std::string regionsJson(const Simulator<2>& sim) {
 // Subdivisions plus reunions: changes when the regions change.
 std::uint64_t regionChanges(const Simulator<2>& sim) {
   const Space<2>* sp = sim.space();
-  return sp ? sp->counters().subdivisions + sp->counters().reunions : 0;
+  return sp->counters().subdivisions + sp->counters().reunions;
 }
 
 int version(SpaceKind k) { return k == SpaceKind::Tree ? 2 : 1; }

@@ -123,7 +123,8 @@ void writeSummaryJson(std::ostream& os, const RunRecord& run, const Game& game) 
   os << "  \"collision_checks\": " << c.pairChecks << ",\n";
   os << "  \"obstacle_checks\": " << c.staticChecks << ",\n";
   os << "  \"stale_predictions\": " << c.staleEvents << ",\n";
-  if (const Space<2>* sp = sim.space()) {
+  // (none, the brute force, has no regions to count)
+  if (const Space<2>* sp = sim.space(); sp->kind() != SpaceKind::None) {
     os << "  \"space_counters\": {\"subdivisions\": " << sp->counters().subdivisions
        << ", \"reunions\": " << sp->counters().reunions << ", \"transfers\": " << sp->counters().transfers
        << ", \"leaves_at_end\": " << sp->leaves().size() << "},\n";
@@ -174,8 +175,8 @@ void writeTableSvg(std::ostream& os, const Game& game, const std::string& title)
   os << "<rect width=\"100%\" height=\"100%\" fill=\"#5b3a1e\"/>\n";
   os << "<rect x=\"" << v.x(0) << "\" y=\"" << v.y(t.spec.height) << "\" width=\"" << t.spec.width * v.scale
      << "\" height=\"" << t.spec.height * v.scale << "\" fill=\"#1f7a4a\"/>\n";
-  // the space's regions (the report's Fig. 7)
-  if (const Space<2>* sp = sim.space()) {
+  // the space's regions (the report's Fig. 7; none, the brute force, has none)
+  if (const Space<2>* sp = sim.space(); sp->kind() != SpaceKind::None) {
     os << "<g fill=\"none\" stroke=\"#d9f99d\" stroke-width=\"1\" stroke-dasharray=\"4 3\">\n";
     for (int leaf : sp->leaves()) {
       Rect b = sp->leafBounds(leaf);

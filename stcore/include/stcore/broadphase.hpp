@@ -1,13 +1,15 @@
 #pragma once
-// The broadphase: which objects may touch. One interface, three implementations, each in its own
+// The broadphase: which objects may touch. One interface, four implementations, each in its own
 // header (in the way Jolt puts a quadtree and a brute-force broadphase behind one BroadPhase):
+//   BruteForce<D>   brute_force.hpp   no regions: every object a candidate of every other (the
+//                                     report's "no space", SpaceKind::None; the test oracle)
 //   SingleList<D>   single_list.hpp   one region listing every object: the report's version I
 //   RegionTree<D>   region_tree.hpp   the report's space (§2.6): regions that subdivide past a
 //                                     decomposition factor and reunite below it; a quadtree in
 //                                     2-D, an octree in 3-D (version II)
 //   UniformGrid<D>  uniform_grid.hpp  fixed uniform cells, never divided
-// Space<D> (space.hpp) holds the one a caller picks at run time; a caller that knows its kind
-// may use the type itself. (The report's "no space" is no broadphase: callers test every pair.)
+// Space<D> (space.hpp) holds the one a caller picks at run time, so a caller never branches on
+// the kind; a caller that knows its kind may use the type itself.
 //
 // Every implementation, for objects named by the caller's dense ids (0, 1, 2, ...) and given
 // as boxes (grown by an optional margin), answers:
@@ -16,8 +18,14 @@
 //   forEachInBox(box, f)      f(object) once for every object listed in a leaf the box touches
 //   forEachPair(f)            f(a, b) once for every pair sharing a leaf (a < b)
 //   exitTime(id, path)        the next region event of a ball moving from its listed box
+//   listingMargin(r, fat)     the margin a ball of radius r is listed with (fat: the caller's
+//                             fraction of r for implementations that keep fat boxes)
 //   leaves(), leafBounds(leaf), objectsIn(leaf), leavesOf(id), depthOf(leaf), leafCount()
 // An object is listed in every leaf its box (closed) touches; the box is clamped to the bounds.
+//
+// Optional capabilities are refinements of that interface (the concepts at the end of this file);
+// Space<D> answers them for every implementation, with the documented default where one lacks it.
+#include <array>
 #include <cmath>
 #include <concepts>
 #include <cstddef>
@@ -179,6 +187,33 @@ concept Broadphase = requires(B b, const B cb, int id, const Aabb<D>& box, doubl
   { cb.leavesOf(id) } -> std::same_as<const std::vector<int>&>;
   { cb.leafCount() } -> std::same_as<int>;
   { cb.counters() } -> std::same_as<const SpaceCounters&>;
+  { B::listingMargin(margin, margin) } -> std::same_as<double>;
 };
+
+// Refinements (Space<D> gives the default in brackets to an implementation without one):
+// gathers a ball's neighbours into an array without a branch per entry [-1: walk them instead]
+template <class B>
+concept GathersNeighbors = requires(const B cb, int id, int* out) {
+  { cb.gatherNeighbors(id, out, id) } -> std::same_as<int>;
+};
+// names the objects an update may have brought as neighbours [every neighbour]
+template <class B>
+concept ReportsGainedNeighbors = requires(const B cb, int id) { cb.forEachNeighborGained(id, [](int) {}); };
+// keys what forEachInBox visits by a block of cells [{-1, -1}: no key]
+template <class B, int D>
+concept KeysVisitsByBlock = requires(const B cb, const Aabb<D>& box) {
+  { cb.cellBlock(box) } -> std::same_as<std::array<int, 2>>;
+};
+// re-lists other objects when an update divides or reunites regions [never]
+template <class B>
+concept RelistsObjects = requires(B b, std::vector<int>& out) {
+  b.takeRelisted(out);
+  b.takeWidened(out);
+  { b.hasRelisted() } -> std::same_as<bool>;
+  { b.hasWidened() } -> std::same_as<bool>;
+};
+// exitTime follows a slowing path (BallPath::a) exactly [the path's acceleration is not used]
+template <class B>
+concept FollowsSlowingPaths = B::kFollowsSlowingPaths;
 
 }  // namespace st

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include <stcore/broadphase.hpp>
+#include <stcore/tolerances.hpp>
 
 namespace st {
 
@@ -57,6 +58,9 @@ class RegionTree {
 
   // Time from the path's start until the ball's next region event (see above); infinity if none.
   double exitTime(int id, const BallPath<D>& path) const;
+  static constexpr bool kFollowsSlowingPaths = true;  // exact along BallPath::a
+  // boxes are listed as they are, with the slop the region events keep against rounding
+  static double listingMargin(double /*radius*/, double /*fatFraction*/) { return tol::kRegionSlop; }
 
   std::vector<int> leaves() const;
   Box leafBounds(int leaf) const { return nodes_[leaf].box; }

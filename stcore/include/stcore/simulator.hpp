@@ -153,7 +153,9 @@ class Simulator {
   const std::vector<Vec<D>>& points() const { return points_; }
   const std::vector<Segment>& segments() const { return segments_; }
   const std::vector<Sensor<D>>& sensors() const { return sensors_; }
-  const Space<D>* space() const { return space_.get(); }
+  // The broadphase, never null: SpaceKind::None is the brute force, every ball a candidate of
+  // every other.
+  const Space<D>* space() const { return &space_; }
   const SimulatorCounters& counters() const { return counters_; }
   // Time of the next event, or infinity.
   double nextEventTime() const;
@@ -218,7 +220,7 @@ class Simulator {
 
   SimulatorConfig config_;
   Aabb<D> bounds_;
-  std::unique_ptr<Space<D>> space_;
+  Space<D> space_;
   std::vector<BallState<D>> balls_;
   std::vector<Motion> motion_;
   std::vector<Next> next_;

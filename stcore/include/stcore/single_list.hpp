@@ -58,6 +58,7 @@ class SingleList {
         f(std::min(objects_[i], objects_[j]), std::max(objects_[i], objects_[j]));
   }
   double exitTime(int /*id*/, const BallPath<D>& /*path*/) const { return std::numeric_limits<double>::infinity(); }
+  static double listingMargin(double /*radius*/, double /*fatFraction*/) { return 0.0; }
 
   std::vector<int> leaves() const { return {0}; }
   Box leafBounds(int /*leaf*/) const { return bounds_; }

@@ -1,14 +1,17 @@
 #pragma once
-// A broadphase picked at run time (broadphase.hpp): the single list, the region tree or the
-// uniform grid behind one value type, for callers that take the kind from a scenario. Each call
-// forwards to the implementation; what only one kind has (the grid's gathered neighbours and
-// block keys, the tree's relisted objects) answers as documented for the others.
+// A broadphase picked at run time (broadphase.hpp): brute force ("none"), the single list, the
+// region tree or the uniform grid behind one value type, for callers that take the kind from a
+// scenario and never branch on it. Each call forwards to the implementation; an optional
+// capability (broadphase.hpp's refinements: the grid's gathered neighbours and block keys, the
+// tree's relisted objects) answers with its documented default where the implementation lacks it.
 #include <array>
 #include <cstdint>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
 #include <stcore/broadphase.hpp>
+#include <stcore/brute_force.hpp>
 #include <stcore/factor_tuner.hpp>
 #include <stcore/region_tree.hpp>
 #include <stcore/single_list.hpp>
@@ -21,7 +24,8 @@ class Space {
  public:
   using Box = Aabb<D>;
 
-  // Single, Tree or Cells (rule.cellSize); throws std::invalid_argument on a bad rule or bounds.
+  // None (brute force), Single, Tree or Cells (rule.cellSize); throws std::invalid_argument on a
+  // bad rule or bounds.
   Space(SpaceKind kind, const Box& bounds, const SpaceRule& rule);
 
   SpaceKind kind() const { return kind_; }
@@ -67,16 +71,23 @@ class Space {
   // Cells: the objects forEachNeighbor would visit, written to out in its order; how many, or -1
   // if more than `room` entries had to be looked at. Other kinds: -1 (visit them instead).
   int gatherNeighbors(int id, int* out, int room) const {
-    const auto* g = std::get_if<UniformGrid<D>>(&impl_);
-    return g ? g->gatherNeighbors(id, out, room) : -1;
+    return visit([&](const auto& s) {
+      if constexpr (GathersNeighbors<std::decay_t<decltype(s)>>) return s.gatherNeighbors(id, out, room);
+      else return -1;
+    });
   }
+  // True if forEachNeighborGained names fewer than every neighbour (cells): a caller then checks
+  // those after an update; otherwise it compares the leaves before and after (leavesOf).
+  bool reportsGainedNeighbors() const { return reportsGains_; }
   // Calls f(other) once for every object that may share a leaf with id since id's last update
   // and may not have before it: a superset of the new neighbours (cells: the objects of the cells
   // entered; the others: every neighbour).
   template <class F>
   void forEachNeighborGained(int id, F&& f) const {
-    if (const auto* g = std::get_if<UniformGrid<D>>(&impl_)) g->forEachNeighborGained(id, f);
-    else forEachNeighbor(id, f);
+    visit([&](const auto& s) {
+      if constexpr (ReportsGainedNeighbors<std::decay_t<decltype(s)>>) s.forEachNeighborGained(id, f);
+      else forEachNeighbor(id, f);
+    });
   }
   // Calls f(object) once for every object listed in a leaf the box touches.
   template <class F>
@@ -92,8 +103,10 @@ class Space {
   // depends on the box through this block only, so a caller may keep what it found per block.
   // Other kinds: {-1, -1}.
   std::array<int, 2> cellBlock(const Box& box) const {
-    const auto* g = std::get_if<UniformGrid<D>>(&impl_);
-    return g ? g->cellBlock(box) : std::array<int, 2>{-1, -1};
+    return visit([&](const auto& s) {
+      if constexpr (KeysVisitsByBlock<std::decay_t<decltype(s)>, D>) return s.cellBlock(box);
+      else return std::array<int, 2>{-1, -1};
+    });
   }
   // Changes whenever an insert, remove or update may change what forEachInBox visits (cells: an
   // object's block of cells changed): with cellBlock, the key of a cached visit.
@@ -106,6 +119,14 @@ class Space {
     return visit([&](const auto& s) { return s.exitTime(id, path); });
   }
   double exitTime(int id, const Vec<D>& p, const Vec<D>& v, double r) const { return exitTime(id, BallPath<D>{p, v, r}); }
+  // True if exitTime follows a slowing path exactly (the tree); otherwise it ignores BallPath::a,
+  // and a caller passes the straight path from now, which reaches every wall first.
+  bool followsSlowingPaths() const { return followsSlowing_; }
+  // The margin a ball of this radius is listed with: the tree's slop, the grid's fat boxes
+  // (fatFraction * radius), nothing for the others.
+  double listingMargin(double radius, double fatFraction) const {
+    return visit([&](const auto& s) { return s.listingMargin(radius, fatFraction); });
+  }
 
   // Leaf regions id is listed in (cells: filled on demand, valid until the next call).
   const std::vector<int>& leavesOf(int id) const {
@@ -133,28 +154,38 @@ class Space {
   // Tree: objects whose leaves a division or reunion rewrote while another object changed (see
   // RegionTree::takeRelisted), and of those the ones a reunion widened. Other kinds: none.
   std::vector<int> takeRelisted() {
-    auto* t = std::get_if<RegionTree<D>>(&impl_);
-    return t ? t->takeRelisted() : std::vector<int>{};
+    std::vector<int> out;
+    takeRelisted(out);
+    return out;
   }
   void takeRelisted(std::vector<int>& out) {
-    if (auto* t = std::get_if<RegionTree<D>>(&impl_)) t->takeRelisted(out);
-    else out.clear();
+    visit([&](auto& s) {
+      if constexpr (RelistsObjects<std::decay_t<decltype(s)>>) s.takeRelisted(out);
+      else out.clear();
+    });
   }
   bool hasRelisted() const {
-    const auto* t = std::get_if<RegionTree<D>>(&impl_);
-    return t && t->hasRelisted();
+    return visit([](const auto& s) {
+      if constexpr (RelistsObjects<std::decay_t<decltype(s)>>) return s.hasRelisted();
+      else return false;
+    });
   }
   std::vector<int> takeWidened() {
-    auto* t = std::get_if<RegionTree<D>>(&impl_);
-    return t ? t->takeWidened() : std::vector<int>{};
+    std::vector<int> out;
+    takeWidened(out);
+    return out;
   }
   void takeWidened(std::vector<int>& out) {
-    if (auto* t = std::get_if<RegionTree<D>>(&impl_)) t->takeWidened(out);
-    else out.clear();
+    visit([&](auto& s) {
+      if constexpr (RelistsObjects<std::decay_t<decltype(s)>>) s.takeWidened(out);
+      else out.clear();
+    });
   }
   bool hasWidened() const {
-    const auto* t = std::get_if<RegionTree<D>>(&impl_);
-    return t && t->hasWidened();
+    return visit([](const auto& s) {
+      if constexpr (RelistsObjects<std::decay_t<decltype(s)>>) return s.hasWidened();
+      else return false;
+    });
   }
 
   // decomposition_factor: auto (SpaceRule::autoFactor, a tree): the tuner choosing the factor in
@@ -170,7 +201,7 @@ class Space {
   const UniformGrid<D>* grid() const { return std::get_if<UniformGrid<D>>(&impl_); }
 
  private:
-  using Impl = std::variant<SingleList<D>, RegionTree<D>, UniformGrid<D>>;
+  using Impl = std::variant<BruteForce<D>, SingleList<D>, RegionTree<D>, UniformGrid<D>>;
   static Impl make(SpaceKind kind, const Box& bounds, const SpaceRule& rule);
   template <class F>
   decltype(auto) visit(F&& f) {
@@ -188,6 +219,9 @@ class Space {
   SpaceRule rule_;
   Impl impl_;
   std::uint64_t revision_ = 0;
+  // the implementation's capabilities, asked once
+  bool reportsGains_ = visit([](const auto& s) { return ReportsGainedNeighbors<std::decay_t<decltype(s)>>; });
+  bool followsSlowing_ = visit([](const auto& s) { return FollowsSlowingPaths<std::decay_t<decltype(s)>>; });
   // auto: the tuner and what it reads that the implementation does not keep
   bool tuning_ = false;
   mutable FactorTuner tuner_;  // counts the const queries' visits

@@ -63,6 +63,9 @@ class UniformGrid {
   // acceleration is not used: the straight path from the same state reaches every wall first,
   // a safe early bound); infinity if never.
   double exitTime(int id, const BallPath<D>& path) const;
+  // fat boxes: a margin of fatFraction * radius around each ball (fewer region events, more
+  // candidates)
+  static double listingMargin(double radius, double fatFraction) { return fatFraction * radius; }
 
   std::vector<int> leaves() const;
   Box leafBounds(int cell) const;
