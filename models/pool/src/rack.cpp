@@ -7,6 +7,7 @@
 #include <string>
 
 #include <stcore/hash.hpp>
+#include <stcore/uniform_grid.hpp>
 
 namespace st::pool {
 
@@ -51,14 +52,11 @@ std::vector<BallSpec> randomBalls(const Table& table, int count, double speed, d
   std::vector<BallSpec> balls;
   const double lo = radius + clearance;
   const double w = table.spec.width, h = table.spec.height;
-  // a uniform grid of buckets of edge >= one ball diameter + clearance makes the overlap test local
-  const double cell = 2.0 * radius + clearance;
-  const int nx = std::max(1, static_cast<int>(w / cell)), ny = std::max(1, static_cast<int>(h / cell));
-  std::vector<std::vector<int>> grid(static_cast<std::size_t>(nx) * ny);
-  auto cellOf = [&](const Vec2& p, int& ix, int& iy) {
-    ix = std::clamp(static_cast<int>(p.x() / w * nx), 0, nx - 1);
-    iy = std::clamp(static_cast<int>(p.y() / h * ny), 0, ny - 1);
-  };
+  // which placed balls are near a candidate: stcore's grid (one "who is near whom" in stsim), each
+  // ball listed by its box grown by half the clearance; two balls closer than 2 radius + clearance
+  // have boxes that overlap with room to spare, so share a cell, and the distance test below decides
+  const double reach = radius + 0.5 * clearance;
+  UniformGrid<2> placed(Aabb<2>{Vec2(0.0, 0.0), Vec2(w, h)}, 2.0 * reach);
   const long maxTries = 200L * count + 1000;
   long tries = 0;
   while (static_cast<int>(balls.size()) < count) {
@@ -66,16 +64,10 @@ std::vector<BallSpec> randomBalls(const Table& table, int count, double speed, d
       throw std::invalid_argument("cannot place " + std::to_string(count) + " balls on the table without overlap");
     const Vec2 p(rng.uniform(lo, w - lo), rng.uniform(lo, h - lo));
     if (*placementProblem(table, p, radius) != '\0') continue;
-    int ix, iy;
-    cellOf(p, ix, iy);
     bool free = true;
-    for (int gx = std::max(0, ix - 1); free && gx <= std::min(nx - 1, ix + 1); ++gx)
-      for (int gy = std::max(0, iy - 1); free && gy <= std::min(ny - 1, iy + 1); ++gy)
-        for (int j : grid[static_cast<std::size_t>(gx) * ny + gy])
-          if ((balls[j].position - p).norm() < 2.0 * radius + clearance) {
-            free = false;
-            break;
-          }
+    placed.forEachInBox(boundsOf<2>(p, reach), [&](int j) {
+      if ((balls[j].position - p).norm() < 2.0 * radius + clearance) free = false;
+    });
     if (!free) continue;
     const int number = static_cast<int>(balls.size());
     BallSpec b = makeBall(number, p);
@@ -87,7 +79,7 @@ std::vector<BallSpec> randomBalls(const Table& table, int count, double speed, d
     }
     const double phi = 2.0 * std::numbers::pi * rng.uniform();
     b.velocity = speed * Vec2(std::cos(phi), std::sin(phi));
-    grid[static_cast<std::size_t>(ix) * ny + iy].push_back(number);
+    placed.insert(number, boundsOf<2>(p, reach));
     balls.push_back(b);
   }
   return balls;
