@@ -81,6 +81,8 @@ void expectSameStates(const Recorded& a, const Recorded& b) {
       EXPECT_EQ(x.routeIndex, y.routeIndex);
       EXPECT_EQ(x.routeId, y.routeId);
       EXPECT_EQ(x.route, y.route);
+      EXPECT_EQ(x.nextSignal, y.nextSignal);
+      EXPECT_EQ(x.nextSignalDistance, y.nextSignalDistance);
     }
   }
 }
@@ -165,6 +167,29 @@ TEST(Backends, LibsumoAndLibtraciAgreeOnTheSublaneModel) {
     }
   EXPECT_GT(lateral, 1000u);
   EXPECT_GT(blinking, 100u);
+  expectSameStates(viaLibsumo, viaTraci);
+  EXPECT_EQ(viaLibsumo.warnings, viaTraci.warnings);
+}
+
+// A traffic light: each car's next light (state and distance to its stop line) read the same way
+// by both, and every state a light shows met (red, yellow, green) with a stop line ahead.
+TEST(Backends, LibsumoAndLibtraciAgreeOnTrafficLights) {
+  Scenario s = loadScenario(sourceDir() / "networks/intersection/scenario.yaml");
+  s.end = 120.0;
+  const SumoLaunch launch{sumoArguments(s), false, "", ""};
+  auto a = startLibsumo(launch);
+  const Recorded viaLibsumo = run(*a, s);
+  auto b = launchTraci(launch);
+  const Recorded viaTraci = run(*b, s);
+  std::set<char> states;
+  for (const auto& step : viaLibsumo.steps)
+    for (const auto& v : step)
+      if (v.nextSignal) {
+        states.insert(v.nextSignal);
+        EXPECT_GE(v.nextSignalDistance, 0.0);
+        EXPECT_LE(v.nextSignalDistance, 200.0);  // the arms' length
+      }
+  EXPECT_TRUE(states.count('r') && states.count('y') && states.count('G') && states.count('g'));
   expectSameStates(viaLibsumo, viaTraci);
   EXPECT_EQ(viaLibsumo.warnings, viaTraci.warnings);
 }

@@ -20,6 +20,7 @@ class LibsumoBackend final : public Backend {
     deltaT_ = libsumo::Simulation::getDeltaT();
     time_ = libsumo::Simulation::getTime();
     lateral_ = detail::movesSideways<libsumo::Simulation>();  // else one getter per vehicle and step saved
+    signals_.load<libsumo::TrafficLight, libsumo::Lane>();
     // vehicles already on the road when we attach
     StepEvents initial;
     initial.departed = libsumo::Vehicle::getIDList();
@@ -101,6 +102,8 @@ class LibsumoBackend final : public Backend {
  private:
   // the per-step values, in place
   void readVehicles() {
+    const bool lights = reads_.nextSignal && signals_.any();
+    if (lights) signals_.readStates<libsumo::TrafficLight>();
     for (SumoVehicle& v : vehicles_) {
       const auto p = libsumo::Vehicle::getPosition(v.id);
       v.x = p.x;
@@ -110,7 +113,7 @@ class LibsumoBackend final : public Backend {
       if (lateral_) v.lateralSpeed = libsumo::Vehicle::getLateralSpeed(v.id);
       if (reads_.acceleration) v.acceleration = libsumo::Vehicle::getAcceleration(v.id);
       if (reads_.signals) v.signals = libsumo::Vehicle::getSignals(v.id);
-      if (reads_.route) {
+      if (reads_.route || lights) {
         v.routeIndex = libsumo::Vehicle::getRouteIndex(v.id);
         std::string routeId = libsumo::Vehicle::getRouteID(v.id);
         if (routeId != v.routeId) {
@@ -119,12 +122,14 @@ class LibsumoBackend final : public Backend {
           v.routeVersion = ++routeReads_;
         }
       }
+      if (lights) signals_.next(v, libsumo::Vehicle::getLaneID(v.id), libsumo::Vehicle::getLanePosition(v.id));
     }
   }
 
   bool owns_;
   bool open_ = true;
   bool lateral_ = true;  // SUMO moves vehicles sideways at finite speed (sublane model or lane-change duration)
+  detail::SignalBook signals_;  // the network's traffic lights
 };
 
 }  // namespace

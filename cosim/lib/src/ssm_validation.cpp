@@ -179,7 +179,10 @@ void SsmValidator::record(double t, std::span<const hw::VehicleState> states) {
   f.recs.reserve(states.size());
   for (const auto& s : states) {
     auto [it, fresh] = impl_->ids.try_emplace(s.id, static_cast<int>(impl_->ids.size()));
-    f.recs.push_back({it->second, hw::bodyOf(s), s.mass, s.vehicleClass, s.equipped});
+    // SSM's following TTC is at constant speeds: the body without its braking to a red light
+    hw::Body b = hw::bodyOf(s);
+    b.stopAcceleration = 0.0;
+    f.recs.push_back({it->second, b, s.mass, s.vehicleClass, s.equipped});
   }
   std::sort(f.recs.begin(), f.recs.end(), [](const Impl::Rec& a, const Impl::Rec& b) { return a.vid < b.vid; });
   impl_->frames.push_back(std::move(f));

@@ -27,14 +27,19 @@ using libsumo::TraCIResults;
 // of each vehicle with a full getter of its own (about 0.8 us per variable and vehicle in SUMO
 // 1.15, bench/RESULTS.md), so a variable not needed is not subscribed. The type, needed once per
 // vehicle, is a getter at its first appearance rather than a variable sent every step.
-std::vector<int> vehicleVars(const VehicleReads& reads, bool lateral) {
+// With traffic lights (`lights`), the lane and the position on it for the next light.
+std::vector<int> vehicleVars(const VehicleReads& reads, bool lateral, bool lights) {
   std::vector<int> vars{libsumo::VAR_POSITION, libsumo::VAR_ANGLE, libsumo::VAR_SPEED};
   if (lateral) vars.push_back(libsumo::VAR_SPEED_LAT);
   if (reads.acceleration) vars.push_back(libsumo::VAR_ACCELERATION);
   if (reads.signals) vars.push_back(libsumo::VAR_SIGNALS);
-  if (reads.route) {
+  if (reads.route || lights) {
     vars.push_back(libsumo::VAR_ROUTE_INDEX);
     vars.push_back(libsumo::VAR_ROUTE_ID);
+  }
+  if (lights) {
+    vars.push_back(libsumo::VAR_LANE_ID);
+    vars.push_back(libsumo::VAR_LANEPOSITION);
   }
   return vars;
 }
@@ -107,8 +112,9 @@ class TraciBackend final : public Backend {
       gui_ = libtraci::Simulation::hasGUI();
       endTime_ = libtraci::Simulation::getEndTime();
       lateral_ = detail::movesSideways<libtraci::Simulation>();
+      signals_.load<libtraci::TrafficLight, libtraci::Lane>();
       subscribedWith_ = reads_;
-      vars_ = vehicleVars(reads_, lateral_);
+      vars_ = vehicleVars(reads_, lateral_, lights());
       libtraci::Simulation::subscribe(kSimulationVars);
       // vehicles already on the road when we attach
       const auto ids = libtraci::Vehicle::getIDList();
@@ -147,7 +153,7 @@ class TraciBackend final : public Backend {
       } else {
         // the reads changed: every vehicle SUMO still holds (teleporting ones too) is subscribed again
         subscribedWith_ = reads_;
-        vars_ = vehicleVars(reads_, lateral_);
+        vars_ = vehicleVars(reads_, lateral_, lights());
         for (const auto& id : events_.departed) subscribed_.insert(id);
         for (const auto& id : subscribed_) libtraci::Vehicle::subscribe(id, vars_);
       }
@@ -284,6 +290,8 @@ class TraciBackend final : public Backend {
 
   // the per-step values, in place
   void readVehicles() {
+    const bool lights = this->lights();
+    if (lights) signals_.readStates<libtraci::TrafficLight>();
     for (SumoVehicle& v : vehicles_) {
       const TraCIResults& r = vehicleResults(v.id);
       const auto& p = resultAs<libsumo::TraCIPosition>(r, libsumo::VAR_POSITION, "position");
@@ -295,7 +303,7 @@ class TraciBackend final : public Backend {
       if (reads_.acceleration)
         v.acceleration = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_ACCELERATION, "acceleration").value;
       if (reads_.signals) v.signals = resultAs<libsumo::TraCIInt>(r, libsumo::VAR_SIGNALS, "signals").value;
-      if (reads_.route) {
+      if (reads_.route || lights) {
         v.routeIndex = resultAs<libsumo::TraCIInt>(r, libsumo::VAR_ROUTE_INDEX, "route index").value;
         const std::string& routeId = resultAs<libsumo::TraCIString>(r, libsumo::VAR_ROUTE_ID, "route").value;
         if (routeId != v.routeId) {
@@ -305,6 +313,9 @@ class TraciBackend final : public Backend {
           v.routeVersion = ++routeReads_;
         }
       }
+      if (lights)
+        signals_.next(v, resultAs<libsumo::TraCIString>(r, libsumo::VAR_LANE_ID, "lane").value,
+                      resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_LANEPOSITION, "lane position").value);
     }
   }
 
@@ -321,6 +332,8 @@ class TraciBackend final : public Backend {
   int minExpected_ = 1;
   const libsumo::SubscriptionResults* results_ = nullptr;  // the step's, while read() runs
   bool lateral_ = true;       // SUMO moves vehicles sideways at finite speed
+  detail::SignalBook signals_;  // the network's traffic lights
+  bool lights() const { return reads_.nextSignal && signals_.any(); }
   VehicleReads subscribedWith_;  // the reads vars_ was made for
   std::vector<int> vars_;        // each vehicle's subscribed variables
   std::unordered_set<std::string> subscribed_;  // the vehicles SUMO holds a subscription of ours for

@@ -9,10 +9,16 @@ class AllPairsSearch final : public PairSearch {
  public:
   explicit AllPairsSearch(const PairTest& test) : test_(test) {}
 
-  void prepare() override {}
+  // accelerations bound the pairs under ConstantAcceleration and in a tick where a car brakes to
+  // a stop line (as the cell search)
+  void prepare() override {
+    const VehicleTable& cars = *test_.cars;
+    accelerating_ = test_.cfg->detector.motion == MotionModel::ConstantAcceleration;
+    for (int s : cars.active) accelerating_ = accelerating_ || cars.body[s].stopAcceleration < 0.0;
+  }
 
   void threatsOf(int e, std::vector<Threat>& out) override {
-    if (test_.cfg->detector.motion == MotionModel::ConstantAcceleration) threatsOfFor<true>(e, out);
+    if (accelerating_) threatsOfFor<true>(e, out);
     else threatsOfFor<false>(e, out);
   }
 
@@ -27,6 +33,7 @@ class AllPairsSearch final : public PairSearch {
   }
 
   PairTest test_;
+  bool accelerating_ = false;
 };
 
 }  // namespace

@@ -52,6 +52,7 @@ struct BinStats {
   int count = 0;
   int equipped = 0;
   bool divided = false;       // its cell is divided: searched through the cell's tree
+  bool stopping = false;      // a member brakes to a stop line
   int axis = 0;               // the long axis of its members' centres
 
   // an equipped car's brake ratio into kMax and kLight, without a branch (the trucks come in no
@@ -142,7 +143,9 @@ class CellPairSearch final : public PairSearch {
 
  private:
   const VehicleTable& cars() const { return *test_.cars; }
-  bool accelerating() const { return test_.cfg->detector.motion == MotionModel::ConstantAcceleration; }
+  // accelerations bound the pairs under ConstantAcceleration, and in a tick where a car brakes to
+  // a stop line under either model (a leader slowing for its red light closes on its follower)
+  bool accelerating() const { return test_.cfg->detector.motion == MotionModel::ConstantAcceleration || anyStop_; }
   MemberView memberView() const {
     return {memberKey_.data(), memberPos_.data(), memberVel_.data(), memberExt_.data(),
             memberAcc_.data(), memberSlot_.data(), memberBrake_.data(), memberEquipped_.data()};
@@ -179,6 +182,7 @@ class CellPairSearch final : public PairSearch {
   std::vector<int> binOf_;       // the car's bin, by slot
   std::vector<CarGroup> groups_;  // binStats_ as the road search reads it
   double globalAmax_ = 0.0;
+  bool anyStop_ = false;  // a car brakes to a stop line this tick
   Vec2 globalExtMax_ = Vec2::Zero();
 
   // the cars of every bin, contiguous by bin (memberStart_[b] .. memberStart_[b + 1]), each bin's
@@ -247,6 +251,7 @@ void CellPairSearch::placeCars() {
   memberStart_.assign(nb + 1, 0);
   if (binOf_.size() < t.slots.size()) binOf_.resize(t.slots.size());
   globalAmax_ = 0.0;
+  anyStop_ = false;
   globalExtMax_ = Vec2::Zero();
   for (int s : t.active) {
     const int bin = 2 * cells_->placeDeferred(s, t.body[s].position, boxOf(t.body[s]), t.vel[s]) + t.wide[s];
@@ -272,6 +277,8 @@ void CellPairSearch::placeCars() {
       c.takeRatio(t.brakeRatio[s]);
     }
     globalAmax_ = std::max(globalAmax_, t.accelAbs[s]);
+    c.stopping = c.stopping || t.body[s].stopAcceleration < 0.0;
+    anyStop_ = anyStop_ || c.stopping;
     globalExtMax_ = globalExtMax_.cwiseMax(t.ext[s]);
   }
   cells_->refreshExtents();
@@ -292,7 +299,7 @@ void CellPairSearch::placeCars() {
   groups_.resize(nb);
   for (int b = 0; b < nb; ++b) {
     const BinStats& c = binStats_[b];
-    groups_[b] = {c.centres, c.vmin, c.vmax, c.amax, c.envMax, c.kMax, c.equipped};
+    groups_[b] = {c.centres, c.vmin, c.vmax, c.amax, c.envMax, c.kMax, c.equipped, c.stopping};
   }
 }
 

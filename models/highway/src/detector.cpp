@@ -19,17 +19,16 @@ namespace {
 // A point given in a body's frame, as a world offset from its centre.
 Vec2 toWorld(const Body& b, double x, double y) { return x * b.axis + y * normalOf(b.axis); }
 
-// A car's own motion as a kernel track: constant velocity, or its longitudinal acceleration until
-// it stops (it does not reverse).
+// A car's own motion as a kernel track: constant velocity, or its longitudinal acceleration
+// (motionAcceleration: its own, braking to a stop line) until it stops (it does not reverse).
 Track trackOf(const Body& b, MotionModel motion) {
   Track t;
   t.p = b.position;
   t.v = b.velocity;
-  if (motion != MotionModel::ConstantAcceleration || std::abs(b.acceleration) <= tol::kAccelerationEpsilon)
-    return t;
+  const double acc = motionAcceleration(b, motion);
+  if (std::abs(acc) <= tol::kAccelerationEpsilon) return t;
   // longitudinal speed u changes at rate acc until it reaches zero; cars do not reverse
   const double u = b.velocity.dot(b.axis);
-  const double acc = b.acceleration;
   if (u * acc < 0.0) {
     t.a = acc * b.axis;
     t.stop = -u / acc;
@@ -42,7 +41,7 @@ Track trackOf(const Body& b, MotionModel motion) {
 
 // relativePieces of two bodies' tracks; at constant velocity directly (the one piece it gives).
 int bodyPieces(const Body& ego, const Body& foe, MotionModel motion, double horizon, std::array<Piece, 3>& out) {
-  if (motion == MotionModel::ConstantVelocity) {
+  if (motion == MotionModel::ConstantVelocity && !(ego.stopAcceleration < 0.0) && !(foe.stopAcceleration < 0.0)) {
     out[0] = Piece{foe.position - ego.position, foe.velocity - ego.velocity, Vec2::Zero(), 0.0, horizon};
     return 1;
   }
@@ -323,7 +322,7 @@ bool layoutCoversBody(const FiveCircleLayout& layout, double length, double widt
 
 double boxTtc(const Body& a, const Body& b, MotionModel motion, double horizon) {
   const Box2 boxA = a.box(), boxB = b.box();
-  if (motion == MotionModel::ConstantVelocity) {
+  if (motion == MotionModel::ConstantVelocity && !(a.stopAcceleration < 0.0) && !(b.stopAcceleration < 0.0)) {
     const Impact hit = timeOfEntry(boxA, boxB, b.velocity - a.velocity, horizon, tol::kContactSlop);
     return hit.acts() ? hit.actTime() : kInf;
   }
@@ -451,7 +450,8 @@ Ttc featureTtc(const DetectorConfig& cfg, const Body& ego, const RoadFeature& f,
   // relative motion of the feature as seen from the ego: the ego's motion reversed
   // (not needed by the circles at constant velocity: they call the stcore kernels directly)
   std::array<detail::Piece, 3> pcs;
-  const bool direct = cfg.kind != DetectorKind::Box && cfg.motion == MotionModel::ConstantVelocity;
+  const bool direct =
+      cfg.kind != DetectorKind::Box && cfg.motion == MotionModel::ConstantVelocity && !(ego.stopAcceleration < 0.0);
   const int n =
       direct ? 0 : detail::relativePieces(detail::trackOf(ego, cfg.motion), detail::staticTrack(mid), horizon, pcs);
   double t = kInf;
@@ -488,7 +488,7 @@ Ttc featureTtc(const DetectorConfig& cfg, const Body& ego, const RoadFeature& f,
                          ? innerRadius(cfg, ego.width)
                          : zoneCircle(cfg.five.zones[FiveCircleLayout::kCenter], ego.length, ego.width).radius;
     zone = cfg.kind == DetectorKind::Concentric ? Zone::Inner : Zone::Center;
-    if (cfg.motion == MotionModel::ConstantVelocity || (n == 1 && !pcs[0].accelerating())) {
+    if (direct || (n == 1 && !pcs[0].accelerating())) {
       // the stcore kernels for constant velocity
       const Circle c{ego.position, r};
       Impact hit;

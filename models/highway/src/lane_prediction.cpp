@@ -324,17 +324,18 @@ int LanePrediction::successor(int slot, int lane, int& routeAt) const {
   return (sig & kSignalLeft) && l.nextLeft >= 0 ? l.nextLeft : (sig & kSignalRight) && l.nextRight >= 0 ? l.nextRight : l.next;
 }
 
-Body LanePrediction::bodyAt(std::span<const PathPiece> path, const Body& now, double acceleration, bool accelerate, double t) {
+Body LanePrediction::bodyAt(std::span<const PathPiece> path, const Body& now, MotionModel motion, double t) {
   std::size_t i = 0;
   while (i + 1 < path.size() && path[i + 1].t0 <= t) ++i;
   const PathPiece& pc = path[i];
   const double tau = t - pc.t0;
-  const double a = accelerate ? acceleration : 0.0;
+  const double a = motionAcceleration(now, motion);
   Body b = now;
-  const double speed = accelerate && a < 0.0 ? std::max(0.0, pc.speed + a * tau) : pc.speed + a * tau;
+  const double speed = a < 0.0 ? std::max(0.0, pc.speed + a * tau) : pc.speed + a * tau;
   b.position = pc.p + (pc.scale * driven(pc.speed, a, tau)) * pc.dir + (pc.lateral * tau) * pc.normal;
   b.velocity = (pc.scale * speed) * pc.dir + pc.lateral * pc.normal;
   b.acceleration = pc.scale * now.acceleration;
+  b.stopAcceleration = pc.scale * now.stopAcceleration;
   b.axis = pc.axis;
   return b;
 }
@@ -344,7 +345,6 @@ Ttc LanePrediction::vehicleTtc(int e, int f, double horizon) const {
   const DetectorConfig& dc = cfg_->detector;
   if (straight_[e] && straight_[f]) return st::highway::vehicleTtc(dc, c.body[e], c.shape[e], c.body[f], c.shape[f], horizon);
   const auto pe = path(e), pf = path(f);
-  const bool accelerate = dc.motion == MotionModel::ConstantAcceleration;
   std::size_t i = 0, j = 0;
   double t = 0.0;
   while (true) {
@@ -354,8 +354,8 @@ Ttc LanePrediction::vehicleTtc(int e, int f, double horizon) const {
     if (i + 1 < pe.size()) end = std::min(end, pe[i + 1].t0);
     if (j + 1 < pf.size()) end = std::min(end, pf[j + 1].t0);
     // a straight path at its start is the body itself
-    const Body a = straight_[e] && t == 0.0 ? c.body[e] : bodyAt(pe.subspan(i), c.body[e], c.body[e].acceleration, accelerate, t);
-    const Body b = straight_[f] && t == 0.0 ? c.body[f] : bodyAt(pf.subspan(j), c.body[f], c.body[f].acceleration, accelerate, t);
+    const Body a = straight_[e] && t == 0.0 ? c.body[e] : bodyAt(pe.subspan(i), c.body[e], dc.motion, t);
+    const Body b = straight_[f] && t == 0.0 ? c.body[f] : bodyAt(pf.subspan(j), c.body[f], dc.motion, t);
     // the cached shapes while a body keeps its heading (they depend on it)
     const CarShape sa = a.axis == c.body[e].axis ? c.shape[e] : carShape(dc, a);
     const CarShape sb = b.axis == c.body[f].axis ? c.shape[f] : carShape(dc, b);
@@ -426,8 +426,7 @@ void LanePrediction::predict(int slot, double t) {
   const double chord = lane >= 0 ? chordOffset(lane, pr, 0.5 * b.length) : 0.0;
   pr.d -= chord;
   pieceBegin_[slot] = static_cast<int>(pieces_.size());
-  const bool accelerate = cfg_->detector.motion == MotionModel::ConstantAcceleration;
-  const double acc = accelerate ? b.acceleration : 0.0;
+  const double acc = motionAcceleration(b, cfg_->detector.motion);
   constexpr double kMinPathSpeed = 0.1;  // m/s: slower cars are predicted where they are (straight)
   const double u = lane >= 0 ? b.velocity.dot(pr.dir) : 0.0;
   // the lateral speed, from the offset tick to tick while the car drives along one edge: in the

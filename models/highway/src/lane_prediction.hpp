@@ -109,8 +109,9 @@ class LanePrediction {
   // detector itself, bit for bit).
   Ttc vehicleTtc(int e, int f, double horizon) const;
 
-  // The body of a car at time t >= 0 on its path (pieces from path()).
-  static Body bodyAt(std::span<const PathPiece> path, const Body& now, double acceleration, bool accelerate, double t);
+  // The body of a car at time t >= 0 on its path (pieces from path()), moving at
+  // motionAcceleration(now, motion) along it.
+  static Body bodyAt(std::span<const PathPiece> path, const Body& now, MotionModel motion, double t);
 
  private:
   struct NetLane {

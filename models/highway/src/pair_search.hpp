@@ -22,6 +22,7 @@ struct CarGroup {
   double amax = 0.0, envMax = 0.0;
   double kMax = 0.0;  // largest m / (2 F_brake) of its equipped cars
   int equipped = 0;
+  bool stopping = false;  // a car of it brakes to a stop line (its acceleration counts then)
 };
 
 class PairSearch {

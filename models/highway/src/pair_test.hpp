@@ -110,7 +110,9 @@ struct PairTest {
     const PairState* state[2] = {&stateE, &stateF};
     Threat* out[2] = {&outE, &outF};
     int warns = 0;
-    if (vehicleTtcSymmetric(dc)) {
+    // (a car braking to its stop line: each direction on its own, to its own safe time, as the
+    // braking's pieces end at the horizon)
+    if (vehicleTtcSymmetric(dc) && !(cars->body[e].stopAcceleration < 0.0) && !(cars->body[f].stopAcceleration < 0.0)) {
       // concentric at constant velocity: the envelopes are the outer circles, so the prunes below
       // would be bounds on the detector's own test: its kernel once (vehicleTtc's concentric
       // case: the outer circles' disc entry, already touching is 0), unbounded, against each

@@ -137,9 +137,12 @@ void RoadSearch::prepare(std::span<const CarGroup> groups) {
     const Vec2 va = ca.vmin.cwiseAbs().cwiseMax(ca.vmax.cwiseAbs());
     const double speed = va.norm();
     const double h = SafeTimeConfig::safeTimeBound(cfg_->safeTime.roadReactionTime, ca.kMax, speed);
-    const double rr = ca.envMax + speed * h + 0.5 * (accel ? ca.amax : 0.0) * h * h + 2 * tol::kPruneSlop;
+    // a car braking to its stop line keeps its lateral speed while the speed along it falls: its
+    // motion turns, under either motion model
+    const double am = accel || ca.stopping ? ca.amax : 0.0;
+    const double rr = ca.envMax + speed * h + 0.5 * am * h * h + 2 * tol::kPruneSlop;
     const Aabb<2> rb{ca.centres.min.array() - rr, ca.centres.max.array() + rr};
-    const double ah = 0.5 * (accel ? ca.amax : 0.0) * h * h + 2 * tol::kPruneSlop;
+    const double ah = 0.5 * am * h * h + 2 * tol::kPruneSlop;
     for (int fi : cachedVisit(*featureIndex_, rb, featureVisits_[A])) {
       const FeatureLine& l = featureLine_[fi];
       if (l.line) {
@@ -182,7 +185,8 @@ void RoadSearch::threatsOf(int e, int group, std::vector<Threat>& out) {
   // fraction of hMax for a car keeping its lane); near or beyond an end it may be the full speed
   // (hMax)
   const Body& a = t.body[e];
-  const double accel = cfg_->detector.motion == MotionModel::ConstantAcceleration ? t.accelAbs[e] : 0.0;
+  const double accel =
+      cfg_->detector.motion == MotionModel::ConstantAcceleration || a.stopAcceleration < 0.0 ? t.accelAbs[e] : 0.0;
   const SupportBound& sb = t.shape[e].road;
   const Vec2 normal(-a.axis.y(), a.axis.x());
   if (featureNear_.size() < list.size()) featureNear_.resize(list.size());
@@ -215,7 +219,8 @@ void RoadSearch::checkFeature(int e, int fi, double hMax, std::vector<Threat>& o
   const VehicleTable& t = *cars_;
   const RoadFeature& f = features_.features[fi];
   const Body& a = t.body[e];
-  const double accel = cfg_->detector.motion == MotionModel::ConstantAcceleration ? t.accelAbs[e] : 0.0;
+  const double accel =
+      cfg_->detector.motion == MotionModel::ConstantAcceleration || a.stopAcceleration < 0.0 ? t.accelAbs[e] : 0.0;
   if (featureLine_[fi].line) {
     const double s = featureLine_[fi].n.dot(a.position - f.segment.a);
     const Vec2 toward = s > 0.0 ? Vec2(-featureLine_[fi].n) : featureLine_[fi].n;
@@ -295,7 +300,7 @@ void RoadSearch::laneThreats(int e, std::vector<Threat>& out) const {
     if (g >= 0 && f.speed > 0.0) {
       counters_->featureChecks += 1;
       const double gap = f.endGap - roadSupport(dc, t.body[e], f.dir) / prediction_->scale(f.endLane);
-      const double a = dc.motion == MotionModel::ConstantAcceleration ? t.body[e].acceleration : 0.0;
+      const double a = motionAcceleration(t.body[e], dc.motion);
       double ttc = 0.0;
       if (gap > 0.0) {
         const double disc = f.speed * f.speed + 2.0 * a * gap;
@@ -308,7 +313,6 @@ void RoadSearch::laneThreats(int e, std::vector<Threat>& out) const {
   }
   if (hazards_.empty()) return;
   const auto path = prediction_->path(e);
-  const bool accelerate = dc.motion == MotionModel::ConstantAcceleration;
   const Body& now = t.body[e];
   for (int fi : hazards_) {
     const RoadFeature& h = features_.features[fi];
@@ -321,7 +325,7 @@ void RoadSearch::laneThreats(int e, std::vector<Threat>& out) const {
     counters_->featureChecks += 1;
     for (std::size_t i = 0; i < path.size() && path[i].t0 <= safe; ++i) {
       const double end = i + 1 < path.size() ? std::min(safe, path[i + 1].t0) : safe;
-      const Body b = LanePrediction::bodyAt(path.subspan(i), now, now.acceleration, accelerate, path[i].t0);
+      const Body b = LanePrediction::bodyAt(path.subspan(i), now, dc.motion, path[i].t0);
       const Ttc r = featureTtc(dc, b, h, end - path[i].t0);
       if (r.found()) {
         const int g = groupOf_[fi];

@@ -1,7 +1,9 @@
 #include <sthighway/sumo_conversion.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <string_view>
 
 namespace st::highway {
@@ -72,6 +74,23 @@ std::uint8_t toTurnSignals(int sumoSignals) {
   return s;
 }
 
+double stopDistanceOf(const SumoVehicleRecord& v, double decel) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const double d = std::max(0.0, v.nextSignalDistance);
+  switch (v.nextSignal) {
+    case 'r':
+    case 'u':
+    case 's':
+      return d;
+    case 'y': {
+      const double brake = decel > 0.0 ? decel : 4.5;
+      return v.speed * v.speed <= 2.0 * brake * d ? d : kInf;  // it can stop: it does
+    }
+    default:
+      return kInf;
+  }
+}
+
 void toVehicleState(const SumoVehicleRecord& v, const VehicleTypeInfo& type, VehicleState& s) {
   s.vehicleClass = type.vehicleClass;
   s.length = type.length;
@@ -84,6 +103,7 @@ void toVehicleState(const SumoVehicleRecord& v, const VehicleTypeInfo& type, Veh
   s.lateralSpeed = 0.0;
   s.acceleration = v.acceleration;
   s.signals = toTurnSignals(v.signals);
+  s.stopDistance = stopDistanceOf(v, type.decel);
 }
 
 }  // namespace st::highway

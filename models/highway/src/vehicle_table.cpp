@@ -26,6 +26,8 @@ void checkFinite(const VehicleState& v) {
   if (!(v.width > 0.0) || !std::isfinite(v.width)) throw bad("width");
   if (!(v.mass > 0.0) || !std::isfinite(v.mass)) throw bad("mass");
   if (!std::isnan(v.decel) && !(v.decel > 0.0 && std::isfinite(v.decel))) throw bad("decel");
+  if (!(v.stopDistance >= 0.0))
+    throw std::invalid_argument("vehicle '" + v.id + "': stopDistance must be >= 0 (infinity: none)");
 }
 
 }  // namespace
@@ -156,7 +158,8 @@ void VehicleTable::take(int s, const VehicleState& v, double t) {
   brakeRatio[s] = cfg->safeTime.brakeRatio(v.mass, v.vehicleClass);
   wide[s] = static_cast<int>(!(brakeRatio[s] <= tol::kCompactBrakeRatio && ownExt[s].maxCoeff() <= tol::kCompactExtent &&
                                std::abs(v.lateralSpeed) <= tol::kCompactLateralSpeed));
-  accelAbs[s] = std::abs(v.acceleration);
+  // under either model the kernels may brake it to its stop line (motionAcceleration)
+  accelAbs[s] = std::max(std::abs(v.acceleration), -body[s].stopAcceleration);
   vclass[s] = v.vehicleClass;
   pairState[s] = {ext[s], env[s], v.mass, twiceBrake, shape[s].outer, sl.serial};
   signals[s] = v.signals;

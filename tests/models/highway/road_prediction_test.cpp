@@ -326,7 +326,7 @@ TEST(RoadPrediction, PrunesKeepEveryThreatOfTheUnprunedPathsAndPathsStayWithinTh
         const Body& b = cars.body[e];
         const double dev = cars.env[e] - cars.ownEnv[e];
         for (double t = 0.0; t <= paths.horizon(e); t += 0.01) {
-          const Body at = LanePrediction::bodyAt(path, b, b.acceleration, accel, t);
+          const Body at = LanePrediction::bodyAt(path, b, cfg.detector.motion, t);
           const double allowed = dev + (accel ? 0.5 * std::abs(b.acceleration) * t * t : 0.0) + 1e-9;
           ASSERT_LE((at.position - b.position - b.velocity * t).norm(), allowed) << "scene " << scene << " t " << t;
           // and its shapes within the extents the prunes read, at every heading on the path
@@ -414,7 +414,7 @@ Body turnedAfter3s(std::uint8_t signal, const std::vector<std::string>& route, s
   paths.update(0.0);
   if (routePredicted) *routePredicted = counters.routePredicted;
   const int e = cars.active[0];
-  return LanePrediction::bodyAt(paths.path(e), cars.body[e], 0.0, false, 3.0);  // 30 m on
+  return LanePrediction::bodyAt(paths.path(e), cars.body[e], MotionModel::ConstantVelocity, 3.0);  // 30 m on
 }
 
 bool onNorthLane(const Body& at) {

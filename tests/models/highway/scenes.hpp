@@ -38,7 +38,7 @@ inline void makeTruck(VehicleState& v) {
 }
 
 // Random scenes: cars on the lanes (some off-centre, some crossing markers), in jams, straddling
-// cell boundaries, at rest; three ticks, with arrivals and departures.
+// cell boundaries, at rest, some braking to a stop line; three ticks, with arrivals and departures.
 inline std::vector<std::vector<VehicleState>> randomScene(std::mt19937_64& rng, double cellLength) {
   std::uniform_real_distribution<double> U(0.0, 1.0);
   const int n = 20 + static_cast<int>(60 * U(rng));
@@ -73,6 +73,9 @@ inline std::vector<std::vector<VehicleState>> randomScene(std::mt19937_64& rng, 
     const double s = U(rng);
     v.signals = s < 0.1 ? kSignalLeft : s < 0.2 ? kSignalRight : kSignalNone;
     v.equipped = U(rng) < 0.9;
+    // in some jams and spread scenes a quarter of the cars brake to a red light's stop line
+    // (drawn from the index, so the scenes' random stream is as before)
+    if ((style < 0.15 || style > 0.85) && i % 4 == 0) v.stopDistance = 1.0 + (i * 7) % 50;
     cars.push_back(v);
   }
   std::vector<std::vector<VehicleState>> ticks(3);

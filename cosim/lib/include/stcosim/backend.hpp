@@ -107,6 +107,7 @@ struct VehicleReads {
   bool acceleration = true;  // used by the constant-acceleration motion model only
   bool signals = true;       // blinkers: used by the lane-marker check only
   bool route = true;         // the route: used by the road-aware prediction only
+  bool nextSignal = true;    // the next traffic light's state and distance (networks with lights only)
   bool operator==(const VehicleReads&) const = default;
 };
 

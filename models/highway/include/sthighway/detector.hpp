@@ -78,6 +78,9 @@ struct Body {
   Vec2 axis = Vec2(1.0, 0.0);     // unit heading
   Vec2 velocity = Vec2::Zero();   // m/s
   double acceleration = 0.0;      // along axis (m/s^2); used by ConstantAcceleration
+  // The even braking (m/s^2, < 0) that stands it at a stop line ahead (VehicleState::stopDistance),
+  // used under either motion model; 0: none.
+  double stopAcceleration = 0.0;
   double length = 5.0;
   double width = 1.8;
   Box2 box() const { return {position, axis, Vec2(0.5 * length, 0.5 * width)}; }
@@ -92,7 +95,17 @@ inline Body bodyOf(const VehicleState& v, const Vec2& axis) {
   b.acceleration = v.acceleration;
   b.length = v.length;
   b.width = v.width;
+  // u^2 / (2 d) stands it at the line; at the line already, at once (a tenth of a millimetre)
+  if (v.stopDistance < std::numeric_limits<double>::infinity() && v.speed > 0.0)
+    b.stopAcceleration = -v.speed * v.speed / (2.0 * std::max(v.stopDistance, 1e-4));
   return b;
+}
+
+// The acceleration along its axis a kernel predicts a body with: its own under
+// ConstantAcceleration (else none), at most the braking to its stop line.
+inline double motionAcceleration(const Body& b, MotionModel motion) {
+  const double own = motion == MotionModel::ConstantAcceleration ? b.acceleration : 0.0;
+  return b.stopAcceleration < 0.0 ? std::min(own, b.stopAcceleration) : own;
 }
 
 struct Ttc {

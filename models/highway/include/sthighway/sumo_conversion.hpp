@@ -13,6 +13,8 @@
 //             one step is no lateral motion: SUMO reports none.)
 //   signals   bit 0 (right blinker) and bit 1 (left blinker) to our TurnSignal bits; bit 2, the
 //             hazard lights, says nothing about a lane change and is not a blinker here.
+//   lights    the link state of its next traffic light and the distance to its stop line become
+//             where it must stop (stopDistanceOf): the prediction brakes it evenly to stand there.
 //   type      the vType's vClass (SUMO's default when absent: passenger; a name we do not know:
 //             Other), its length and width (SUMO's length includes no minGap) and decel, each
 //             SUMO 1.15's default for the vClass where the vType sets none (what a live run reads
@@ -64,7 +66,17 @@ struct SumoVehicleRecord {
   double lateralSpeed = 0.0;  // to the left (m/s), sublane model only
   double acceleration = 0.0;  // longitudinal (m/s^2)
   int signals = 0;            // SUMO's signal bits
+  // The next traffic light on its route (TraCI's getNextTLS): the state of its link there (SUMO's
+  // letters: r red, y yellow, g/G green, s stop then go, u red-yellow, o/O off) and the distance
+  // from its front bumper to the stop line (m); 0: none ahead or not read.
+  char nextSignal = 0;
+  double nextSignalDistance = 0.0;
 };
+
+// Where the car must stop (VehicleState::stopDistance): at its next light's stop line when that
+// is red (r), red-yellow (u) or a stop sign's arrow (s), or yellow (y) when it can stop before the
+// line at its vType's decel (SUMO's passenger 4.5 m/s^2 if unknown); else nowhere (infinity).
+double stopDistanceOf(const SumoVehicleRecord& v, double decel);
 
 std::uint8_t toTurnSignals(int sumoSignals);
 

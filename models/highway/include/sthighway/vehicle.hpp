@@ -56,6 +56,10 @@ struct VehicleState {
   // prediction follows it through junctions; without one (all -1: FCD traces, most callers) a
   // car is predicted into the turn its signal shows, else the straightest successor.
   std::array<int, kRouteAhead> route = {-1, -1, -1, -1, -1, -1, -1, -1};
+  // Where it must stop: metres from its front bumper to a red light's stop line ahead (SUMO's
+  // next traffic light, sumo_conversion.hpp), infinity: nowhere. Its motion is predicted braking
+  // evenly to stand there, under either motion model.
+  double stopDistance = std::numeric_limits<double>::infinity();
 
   Vec2 direction() const { return {std::cos(heading), std::sin(heading)}; }
   Vec2 velocity() const {

@@ -1,0 +1,114 @@
+// Traffic lights read live: a car whose next light is red is predicted to stop at its stop line,
+// so it is in no crossing conflict with the traffic crossing on green. Checked against what the
+// cars then did (SUMO's own FCD trace of the same run) and the light's fixed-time program.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <vector>
+
+#include <libsumo/libsumo.h>
+
+#include "test_util.hpp"
+#include <stcosim/backend.hpp>
+#include <stcosim/scenario.hpp>
+#include <sthighway/sumo_files.hpp>
+
+namespace st::cosim {
+namespace {
+
+using namespace st::cosim::test;
+
+TEST(Signals, NoCrossingWarningWithACarThatThenStoppedBeforeTheJunction) {
+  const auto dir = freshDir("signals_intersection");
+  const auto src = sourceDir() / "networks/intersection";
+  const auto fcd = dir / "trace.fcd.xml";
+  std::ofstream(dir / "run.yaml") << "sumocfg: " << (src / "intersection.sumocfg").string()
+                                  << "\nseed: 42\nend: 300\naction: none\ndetector: box\n"
+                                  << "sumo_args: [--fcd-output, " << fcd.string()
+                                  << ", --fcd-output.attributes, 'x,y,angle,type,speed,lane']\n";
+  const auto run = runStsim({"highway", (dir / "run.yaml").string(), "--no-map", "--out", (dir / "out").string()}, dir);
+  ASSERT_EQ(run.code, 0) << run.err;
+
+  // each car's speed and lane over the run, as SUMO moved it
+  const highway::RoadGeometry road = highway::readSumoNet(src / "intersection.net.xml");
+  struct Sample {
+    double t, speed;
+    int lane;
+  };
+  std::map<std::string, std::vector<Sample>> trace;
+  highway::FcdReader reader(fcd, {}, {}, &road);
+  for (highway::FcdFrame f; reader.next(f);)
+    for (const auto& v : f.vehicles) trace[v.id].push_back({f.time, v.speed, v.lane});
+  // the fixed-time program netconvert wrote (link indices 0-3 from n_in, 4-7 e_in, 8-11 s_in,
+  // 12-15 w_in): north-south green for 42 s, yellow 3, east-west green 42, yellow 3
+  const std::string net = slurp(src / "intersection.net.xml");
+  ASSERT_NE(net.find("<phase duration=\"42\" state=\"GGGgrrrrGGGgrrrr\"/>"), std::string::npos);
+  ASSERT_NE(net.find("<phase duration=\"42\" state=\"rrrrGGGgrrrrGGGg\"/>"), std::string::npos);
+  auto red = [](const std::string& lane, double t) {
+    const double c = std::fmod(t, 90.0);
+    return lane[0] == 'n' || lane[0] == 's' ? c >= 45.0 : c < 45.0;
+  };
+  // stood still on an approach (a lane into the junction) at its red within 8 s after t
+  auto stoppedAtRed = [&](const std::string& id, double t) {
+    for (const Sample& s : trace[id]) {
+      if (!(s.t >= t && s.t <= t + 8.0 && s.speed < 0.1 && s.lane >= 0)) continue;
+      const std::string& lane = road.lanes[static_cast<std::size_t>(s.lane)].id;
+      if (lane.find("_in_") != std::string::npos && red(lane, s.t)) return true;
+    }
+    return false;
+  };
+
+  const auto rows = lines(slurp(dir / "out/warnings.csv"));
+  ASSERT_FALSE(rows.empty());
+  const auto header = splitCsv(rows[0]);
+  auto col = [&](const char* name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    EXPECT_NE(it, header.end()) << name;
+    return static_cast<std::size_t>(it - header.begin());
+  };
+  const std::size_t ego = col("ego"), foe = col("foe"), kind = col("kind"), begin = col("begin"), type = col("type");
+  int vehicle = 0, crossing = 0;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const auto f = splitCsv(rows[i]);
+    if (f[kind] != "vehicle") continue;
+    ++vehicle;
+    if (f[type] != "crossing") continue;
+    ++crossing;
+    const double t = std::stod(f[begin]);
+    EXPECT_FALSE(stoppedAtRed(f[ego], t - 0.1) || stoppedAtRed(f[foe], t - 0.1))
+        << f[ego] << " x " << f[foe] << " at " << t << ": one of them then stood at its red";
+  }
+  EXPECT_GT(vehicle, 20);
+  // the opposing left turns on the permissive green stay (SUMO's yielding is not modelled)
+  EXPECT_GT(crossing, 0);
+}
+
+// The next light as the backend derives it (the lights' controlled links once, their states each
+// step, each car's lane and position) against SUMO's own getNextTLS, car by car and step by step.
+TEST(Signals, TheNextLightIsSumosOwn) {
+  Scenario s = loadScenario(sourceDir() / "networks/intersection/scenario.yaml");
+  auto b = startLibsumo(SumoLaunch{sumoArguments(s), false, "", ""});
+  std::size_t compared = 0, red = 0;
+  for (int k = 0; k < 1200 && b->running(); ++k) {
+    b->step();
+    for (const SumoVehicle& v : b->vehicles()) {
+      if (libsumo::Vehicle::getLaneID(v.id)[0] == ':') continue;  // inside the junction: none
+      const auto next = libsumo::Vehicle::getNextTLS(v.id);
+      if (next.empty()) {
+        EXPECT_EQ(v.nextSignal, 0) << v.id;
+        continue;
+      }
+      ++compared;
+      red += v.nextSignal == 'r';
+      EXPECT_EQ(v.nextSignal, next.front().state) << v.id << " at " << b->time();
+      EXPECT_NEAR(v.nextSignalDistance, next.front().dist, 1e-9) << v.id << " at " << b->time();
+    }
+  }
+  b->close();
+  EXPECT_GT(compared, 5000u);
+  EXPECT_GT(red, 1000u);
+}
+
+}  // namespace
+}  // namespace st::cosim
