@@ -34,22 +34,21 @@ std::string derived(double v) {
 }  // namespace
 
 RunOutputs::RunOutputs(const fs::path& out, bool trajectories)
-    : warnings_(prepared(out) / "warnings.csv"), conflicts_(out / "conflicts.csv"), events_(out / "events.csv"), collisions_(out / "collisions.csv") {
+    : warnings_(prepared(out) / "warnings.csv"),
+      conflicts_(out / "conflicts.csv"),
+      events_(out / "events.csv"),
+      collisions_(out / "collisions.csv", "time,collider,victim,type,lane,pos,collider_speed,victim_speed,gap,contact"),
+      // the exposure up to each tick: what a study's warm-up leaves out (stsim batch's warmup)
+      exposure_(out / "exposure.csv", "time,vehicle_km,vehicles") {
   if (trajectories) series_.emplace(out / "trajectories.csv");
-  if (!collisions_) throw std::runtime_error("cannot write " + (out / "collisions.csv").string());
-  collisions_ << "time,collider,victim,type,lane,pos,collider_speed,victim_speed,gap,contact\n";
   collisions_.flush();
-  // the exposure up to each tick: what a study's warm-up leaves out (stsim batch's warmup)
-  exposure_.open(out / "exposure.csv");
-  if (!exposure_) throw std::runtime_error("cannot write " + (out / "exposure.csv").string());
-  exposure_ << "time,vehicle_km,vehicles\n";
 }
 
 void RunOutputs::writeDetected(HighwayPlugin& plugin) {
   const hw::MonitorCounters& c = plugin.monitor().counters();
   if (const double t = plugin.monitor().lastTime(); t > exposureTime_) {
     exposureTime_ = t;
-    exposure_ << full(t) << "," << full(c.vehicleMeters / 1000.0) << "," << c.vehiclesSeen << "\n";
+    exposure_.row(full(t) + "," + full(c.vehicleMeters / 1000.0) + "," + std::to_string(c.vehiclesSeen));
   }
   const std::vector<hw::Warning> finished = plugin.takeFinished();
   warnings_.write(finished);
@@ -71,10 +70,10 @@ void RunOutputs::writeCollisions(HighwayPlugin& plugin) {
 
 void RunOutputs::writeCollision(const SumoCollision& c) {
   collisionReports_.push_back(c);
-  collisions_ << full(c.time) << "," << io::csvField(c.collider) << "," << io::csvField(c.victim) << ","
-              << io::csvField(c.type) << "," << io::csvField(c.lane) << "," << full(c.pos) << ","
-              << full(c.colliderSpeed) << "," << full(c.victimSpeed) << ","
-              << (std::isnan(c.gap) ? std::string() : derived(c.gap)) << "," << (c.contact() ? 1 : 0) << "\n";
+  collisions_.row(full(c.time) + "," + io::csvField(c.collider) + "," + io::csvField(c.victim) + "," +
+                  io::csvField(c.type) + "," + io::csvField(c.lane) + "," + full(c.pos) + "," + full(c.colliderSpeed) +
+                  "," + full(c.victimSpeed) + "," + (std::isnan(c.gap) ? std::string() : derived(c.gap)) + "," +
+                  (c.contact() ? "1" : "0"));
 }
 
 void RunOutputs::flush() {

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <stio/output.hpp>
+
 #include <sthighway/report.hpp>
 #include <stcosim/collisions.hpp>
 #include <stcosim/run.hpp>
@@ -37,14 +39,14 @@ class RunOutputs {
   highway::WarningsCsvWriter warnings_;
   highway::ConflictsCsvWriter conflicts_;
   highway::EventsCsvWriter events_;
-  std::ofstream collisions_;
+  io::CsvRowWriter collisions_;
   std::vector<SumoCollision> collisionReports_;
   std::vector<highway::Warning> vehicleWarnings_;
   std::vector<highway::HindsightEvent> eventBuffer_;  // one buffer for every step
   std::vector<highway::Conflict> conflictBuffer_;
   std::optional<highway::TrajectoriesCsvWriter> series_;
   std::vector<highway::TrajectoryPoint> seriesBuffer_;
-  std::ofstream exposure_;  // exposure.csv: the distance and vehicles counted so far, per tick
+  io::CsvRowWriter exposure_;  // exposure.csv: the distance and vehicles counted so far, per tick
   double exposureTime_ = -1.0;
 };
 
