@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <string_view>
+#include <limits>
 #include <stdexcept>
 
 #include <sthighway/sumo_conversion.hpp>
@@ -15,15 +17,20 @@ namespace {
 
 // The keys a vehicle may have; which ones depend on the convention.
 enum Key { kId, kX, kY, kHeading, kAngle, kSpeed, kLateralSpeed, kAcceleration, kLength, kWidth, kMass, kDecel, kClass,
-           kSignals, kEquipped, kLane, kRoute, kKeyCount };
+           kSignals, kEquipped, kLane, kRoute, kNextSignal, kNextSignalDistance, kStopDistance, kKeyCount };
 const char* const kKeyNames[kKeyCount] = {"id", "x", "y", "heading", "angle", "speed", "lateral_speed", "acceleration",
-                                          "length", "width", "mass", "decel", "vehicle_class", "signals", "equipped", "lane", "route"};
+                                          "length", "width", "mass", "decel", "vehicle_class", "signals", "equipped", "lane", "route",
+                                          "next_signal", "next_signal_distance", "stop_distance"};
+// SUMO's link states (TraCI's getNextTLS, getRedYellowGreenState)
+constexpr std::string_view kLinkStates = "rRyYgGsuoO";
 
 
 std::string knownKeys(Convention c) {
   std::string s;
   for (int k = 0; k < kKeyCount; ++k) {
-    if ((c == Convention::Ours && k == kAngle) || (c == Convention::Sumo && k == kHeading)) continue;
+    if ((c == Convention::Ours && (k == kAngle || k == kNextSignal || k == kNextSignalDistance)) ||
+        (c == Convention::Sumo && (k == kHeading || k == kStopDistance)))
+      continue;
     s += (s.empty() ? "" : ", ") + std::string(kKeyNames[k]);
   }
   return s;
@@ -36,6 +43,10 @@ int keyOf(const std::string& name, Convention c, const std::string& where) {
         throw py::value_error(where + ": unknown key 'angle' (SUMO's navigational angle: use step_sumo(), or 'heading' in rad)");
       if (c == Convention::Sumo && k == kHeading)
         throw py::value_error(where + ": unknown key 'heading' for step_sumo() (SUMO gives 'angle' in degrees)");
+      if (c == Convention::Ours && (k == kNextSignal || k == kNextSignalDistance))
+        throw py::value_error(where + ": unknown key '" + name + "' for step() (SUMO's next light: step_sumo(); ours: 'stop_distance')");
+      if (c == Convention::Sumo && k == kStopDistance)
+        throw py::value_error(where + ": unknown key 'stop_distance' for step_sumo() (give SUMO's 'next_signal' and 'next_signal_distance')");
       return k;
     }
   throw py::value_error(where + ": unknown key '" + name + "' (known: " + knownKeys(c) + ")");
@@ -59,6 +70,8 @@ struct Raw {
   bool equipped = true;
   std::string lane;  // the lane id (reported in the warnings' lane column); empty: unknown
   std::vector<std::string> route;  // edge ids from the current edge on (SUMO: route[routeIndex:])
+  char nextSignal = 0;             // SUMO's link state of its next light, 0: none
+  double stopDistance = std::numeric_limits<double>::infinity();
 };
 
 void setValue(Raw& r, int key, py::handle value, Convention c, const std::string& where) {
@@ -76,6 +89,19 @@ void setValue(Raw& r, int key, py::handle value, Convention c, const std::string
       break;
     case kEquipped: r.equipped = toBool(value, what); break;
     case kLane: r.lane = value.is_none() ? std::string() : toStr(value, what); break;
+    case kNextSignal: {
+      const std::string s = value.is_none() ? std::string() : toStr(value, what);
+      if (s.size() > 1 || (s.size() == 1 && kLinkStates.find(s[0]) == std::string_view::npos))
+        throw py::value_error(what + " must be one of SUMO's link states (" + std::string(kLinkStates) + ") or None, got '" + s + "'");
+      r.nextSignal = s.empty() ? 0 : s[0];
+      break;
+    }
+    case kStopDistance:
+      if (!value.is_none()) {
+        r.stopDistance = toFinite(value, what);
+        if (r.stopDistance < 0.0) throw py::value_error(what + " must be >= 0 (None: nowhere)");
+      }
+      break;
     case kRoute:
       r.route.clear();
       if (value.is_none()) break;
@@ -129,6 +155,10 @@ void toState(const Raw& r, Convention c, std::size_t i, const LaneIndex& lanes, 
     v.lateralSpeed = lateral;
     v.acceleration = r.has[kAcceleration] ? r.v[kAcceleration] : 0.0;
     v.signals = static_cast<int>(r.signals);
+    v.nextSignal = r.nextSignal;
+    v.nextSignalDistance = r.has[kNextSignalDistance] ? r.v[kNextSignalDistance] : 0.0;
+    if (r.nextSignal && !r.has[kNextSignalDistance])
+      throw py::value_error(where + ": 'next_signal' needs 'next_signal_distance' (m to its stop line)");
     hw::toVehicleState(v, hw::toVehicleTypeInfo(type), s);
     return;
   }
@@ -146,6 +176,7 @@ void toState(const Raw& r, Convention c, std::size_t i, const LaneIndex& lanes, 
   if (r.signals > (hw::kSignalLeft | hw::kSignalRight))
     throw py::value_error(where + ": 'signals' must be 0..3 (1 left, 2 right), got " + std::to_string(r.signals));
   s.signals = static_cast<std::uint8_t>(r.signals);
+  s.stopDistance = r.stopDistance;
 }
 
 }  // namespace
@@ -172,7 +203,8 @@ void readStates(py::handle vehicles, Convention c, const LaneIndex& lanes, const
     raws.resize(n.value_or(0));
     // numbers through one NumPy conversion per column where it can (ids and names element-wise)
     for (auto& [k, col] : cols) {
-      const bool numeric = k != kId && k != kClass && k != kSignals && k != kEquipped && k != kLane && k != kRoute;
+      const bool numeric = k != kId && k != kClass && k != kSignals && k != kEquipped && k != kLane && k != kRoute &&
+                           k != kNextSignal && k != kStopDistance;
       if (numeric && py::isinstance<py::array>(col) && py::cast<py::array>(col).dtype().kind() == 'f') {
         auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(col);
         if (!a || a.ndim() != 1)

@@ -6,6 +6,8 @@ state: tests/cosim/one_conversion_test.cpp)."""
 import csv
 import itertools
 
+import pytest
+
 import stsim
 from conftest import DATA
 
@@ -73,3 +75,42 @@ def test_step_sumo_and_the_fcd_reader_give_the_same_warnings(tmp_path):
         b = finished(stsim.Monitor(str(net), detector=detector, motion=motion), replay)
         assert len(a) >= least
         assert a == b
+
+
+def test_a_red_light_through_step_sumo_is_the_stop_distance_of_step():
+    """SUMO's next light (next_signal, next_signal_distance) goes through the same conversion as the
+    live coupling: red 20 m ahead is stop_distance 20 in our convention, and the car behind is
+    warned of the leader braking to its line (at equal speeds, no warning without the light)."""
+    def cars(sumo, light):
+        lead = {"id": "lead", "speed": 10.0, "length": 4.0, "width": 1.8}
+        follow = {"id": "follow", "speed": 10.0, "length": 4.0, "width": 1.8}
+        if sumo:
+            lead.update(x=5.0 + 2.0, y=0.0, angle=90.0)  # front bumper
+            follow.update(x=2.0, y=0.0, angle=90.0)
+            if light:
+                lead.update(next_signal=light, next_signal_distance=20.0)
+        else:
+            lead.update(x=5.0, y=0.0, heading=0.0, stop_distance=20.0 if light == "r" else None)
+            follow.update(x=0.0, y=0.0, heading=0.0)
+        return [lead, follow]
+
+    def alerts(sumo, light):
+        m = stsim.Monitor(detector="box", check_road=False)
+        (m.step_sumo if sumo else m.step)(0.0, cars(sumo, light))
+        return [(a.vehicle, a.foe, a.ttc) for a in m.alerts()]
+
+    red = alerts(True, "r")
+    assert red == alerts(False, "r")
+    assert sorted((v, f) for v, f, _ in red) == [(0, "follow"), (1, "lead")]  # each warns of the other
+    for _, _, ttc in red:
+        assert abs(ttc - (1.0 / 1.25) ** 0.5) < 1e-6  # 10 t - 1.25 t^2 closes the 1 m gap
+    assert alerts(True, "G") == alerts(True, None) == alerts(False, None) == []
+    for bad, match in (({"next_signal": "x", "next_signal_distance": 1.0}, "link states"),
+                       ({"next_signal": "r"}, "next_signal_distance"),
+                       ({"stop_distance": 5.0}, "stop_distance")):
+        v = cars(True, None)
+        v[0].update(bad)
+        with pytest.raises(ValueError, match=match):
+            stsim.Monitor().step_sumo(0.0, v)
+    with pytest.raises(ValueError, match="step_sumo"):
+        stsim.Monitor().step(0.0, [{"id": "a", "x": 0.0, "y": 0.0, "heading": 0.0, "speed": 1.0, "next_signal": "r"}])
