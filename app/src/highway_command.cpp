@@ -86,7 +86,13 @@ int runTrace(const Args& a) {
 
   const auto wallStart = std::chrono::steady_clock::now();
   std::vector<std::string> leftOut;
-  const hw::RoadGeometry road = hw::readSumoNet(a.get("net"), &leftOut);
+  int lights = 0;
+  const hw::RoadGeometry road = hw::readSumoNet(a.get("net"), &leftOut, &lights);
+  // a trace carries no light states: said once, as the junction results depend on it
+  if (lights > 0)
+    std::cerr << "stsim highway: note: " << a.get("net") << " has " << lights
+              << " traffic light(s); an FCD trace carries no light states, so cars are predicted through red lights "
+                 "(a live run reads them)\n";
   // the trace is checked against the network (bounds, lanes) and, with --vtypes, its types
   hw::FcdChecks checks = hw::fcdChecksFor(road, leftOut, a.get("net"));
   hw::VehicleTypes types;

@@ -130,4 +130,24 @@ TEST(HighwayFcd, EmptyFilesAndDirectoriesAreNamed) {
   EXPECT_NE(r.err.find("none.xml: defines no <vType>"), std::string::npos) << r.err;
 }
 
+// A trace carries no light states: on a network with traffic lights the replay says so once
+// (a live run reads them), on one without it says nothing.
+TEST(HighwayFcd, ATraceOnANetworkWithLightsSaysTheyAreNotRead) {
+  const std::string good = "x=\"-1.60\" y=\"150.00\" angle=\"180.00\" type=\"car\" speed=\"10.00\" lane=\"n_in_1\"";
+  const fs::path dir = freshDir("fcd_lights");
+  std::ofstream(dir / "t.fcd.xml") << "<fcd-export>\n<timestep time=\"0\">\n<vehicle id=\"a\" " + good +
+                                          "/>\n</timestep>\n</fcd-export>\n";
+  const auto r = runStsim({"highway", "--fcd", (dir / "t.fcd.xml").string(), "--net",
+                           std::string(STSIM_SOURCE_DIR) + "/networks/intersection/intersection.net.xml", "--no-map", "--out",
+                           (dir / "out").string()},
+                          dir);
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(lines(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("has 1 traffic light(s); an FCD trace carries no light states"), std::string::npos) << r.err;
+  const Outcome quiet = replay("no_lights", trace("x=\"2863.97\" y=\"-9.38\" angle=\"90.00\" type=\"car\" speed=\"23.50\""),
+                               {"--no-map"});
+  EXPECT_EQ(quiet.code, 0) << quiet.err;
+  EXPECT_EQ(quiet.err.find("traffic light"), std::string::npos) << quiet.err;
+}
+
 }  // namespace

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <limits>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 
 namespace st::highway {
@@ -212,15 +213,18 @@ std::string fmtNumber(double v) {
 
 }  // namespace
 
-RoadGeometry readSumoNet(const std::filesystem::path& path, std::vector<std::string>* leftOut) {
+RoadGeometry readSumoNet(const std::filesystem::path& path, std::vector<std::string>* leftOut, int* trafficLights) {
   XmlScanner x(path);
   RoadGeometry road;
   XmlScanner::Tag t;
   std::string edge;
   bool internal = false, sawNet = false;
   std::unordered_map<std::string, long> laneLines;  // lane id -> its line (an id given twice is an error)
+  std::unordered_set<std::string> lights;           // <tlLogic> ids (one per light, programs aside)
   while (x.next(t)) {
     if (t.name == "net" && !t.closing) sawNet = true;
+    if (t.name == "tlLogic" && !t.closing)
+      if (const std::string* id = t.attr("id")) lights.insert(*id);
     if (t.name == "edge") {
       if (t.closing) {
         edge.clear();
@@ -271,6 +275,7 @@ RoadGeometry readSumoNet(const std::filesystem::path& path, std::vector<std::str
       road.lanes.push_back(std::move(l));
     }
   }
+  if (trafficLights) *trafficLights = static_cast<int>(lights.size());
   if (!sawNet) throw InputError(path.string() + ":1: not a SUMO network (no <net> element)");
   return road;
 }

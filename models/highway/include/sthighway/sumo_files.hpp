@@ -27,7 +27,9 @@ struct InputError : std::runtime_error {
 // 3.2 m when absent). The network's netOffset is already applied by SUMO to shapes and FCD alike.
 // `leftOut`, if given, receives the ids of the lanes the geometry leaves out (sidewalks, bicycle
 // lanes): a trace may still name them.
-RoadGeometry readSumoNet(const std::filesystem::path& path, std::vector<std::string>* leftOut = nullptr);
+// `trafficLights`, if given, receives the number of traffic lights (<tlLogic> programs' ids).
+RoadGeometry readSumoNet(const std::filesystem::path& path, std::vector<std::string>* leftOut = nullptr,
+                         int* trafficLights = nullptr);
 
 // Size and mass for vehicle types; FCD does not carry them (toVehicleTypeInfo's rule, as a live
 // run reads them from SUMO). A trace's types no vType describes: guessVehicleType.
