@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include <stcosim/backend.hpp>
@@ -142,16 +143,21 @@ class SignalBook {
   void readStates() {
     for (std::size_t k = 0; k < ids_.size(); ++k) states_[k] = TrafficLight::getRedYellowGreenState(ids_[k]);
   }
-  void next(SumoVehicle& v, const std::string& lane, double lanePos) {
+  // `where` gives the vehicle's lane and position on it, asked only when its route's next step
+  // passes a light (a car past its last light reads nothing more)
+  template <class Where>
+  void next(SumoVehicle& v, Where&& where) {
     v.nextSignal = 0;
     v.nextSignalDistance = 0.0;
-    const auto len = laneLength_.find(lane);
-    if (len == laneLength_.end() || v.routeIndex < 0 || static_cast<std::size_t>(v.routeIndex) + 1 >= v.route.size()) return;
+    if (v.routeIndex < 0 || static_cast<std::size_t>(v.routeIndex) + 1 >= v.route.size()) return;
     key_.assign(v.route[static_cast<std::size_t>(v.routeIndex)]);
     key_ += '\n';
     key_ += v.route[static_cast<std::size_t>(v.routeIndex) + 1];
     const auto link = links_.find(key_);
     if (link == links_.end()) return;
+    const auto [lane, lanePos] = where();
+    const auto len = laneLength_.find(lane);
+    if (len == laneLength_.end()) return;  // inside the junction already (or off its route's lane)
     const std::string& state = states_[static_cast<std::size_t>(link->second.tls)];
     if (static_cast<std::size_t>(link->second.index) >= state.size()) return;
     v.nextSignal = state[static_cast<std::size_t>(link->second.index)];

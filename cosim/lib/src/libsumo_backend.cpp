@@ -122,7 +122,10 @@ class LibsumoBackend final : public Backend {
           v.routeVersion = ++routeReads_;
         }
       }
-      if (lights) signals_.next(v, libsumo::Vehicle::getLaneID(v.id), libsumo::Vehicle::getLanePosition(v.id));
+      if (lights)
+        signals_.next(v, [&] {
+          return std::pair<std::string, double>(libsumo::Vehicle::getLaneID(v.id), libsumo::Vehicle::getLanePosition(v.id));
+        });
     }
   }
 

@@ -314,8 +314,11 @@ class TraciBackend final : public Backend {
         }
       }
       if (lights)
-        signals_.next(v, resultAs<libsumo::TraCIString>(r, libsumo::VAR_LANE_ID, "lane").value,
-                      resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_LANEPOSITION, "lane position").value);
+        signals_.next(v, [&] {
+          return std::pair<const std::string&, double>(
+              resultAs<libsumo::TraCIString>(r, libsumo::VAR_LANE_ID, "lane").value,
+              resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_LANEPOSITION, "lane position").value);
+        });
     }
   }
 

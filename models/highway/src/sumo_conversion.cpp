@@ -77,15 +77,16 @@ std::uint8_t toTurnSignals(int sumoSignals) {
 double stopDistanceOf(const SumoVehicleRecord& v, double decel) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const double d = std::max(0.0, v.nextSignalDistance);
+  const double brake = decel > 0.0 ? decel : 4.5;
   switch (v.nextSignal) {
     case 'r':
     case 'u':
     case 's':
-      return d;
-    case 'y': {
-      const double brake = decel > 0.0 ? decel : 4.5;
+      // unless it cannot stop even at an emergency's braking (twice its decel, SUMO's default
+      // emergencyDecel): then it runs the light, as SUMO's drivers past that point do
+      return v.speed * v.speed <= 4.0 * brake * d ? d : kInf;
+    case 'y':
       return v.speed * v.speed <= 2.0 * brake * d ? d : kInf;  // it can stop: it does
-    }
     default:
       return kInf;
   }

@@ -158,8 +158,10 @@ void VehicleTable::take(int s, const VehicleState& v, double t) {
   brakeRatio[s] = cfg->safeTime.brakeRatio(v.mass, v.vehicleClass);
   wide[s] = static_cast<int>(!(brakeRatio[s] <= tol::kCompactBrakeRatio && ownExt[s].maxCoeff() <= tol::kCompactExtent &&
                                std::abs(v.lateralSpeed) <= tol::kCompactLateralSpeed));
-  // under either model the kernels may brake it to its stop line (motionAcceleration)
-  accelAbs[s] = std::max(std::abs(v.acceleration), -body[s].stopAcceleration);
+  // what the kernels move it with (motionAcceleration): its own under ConstantAcceleration, and
+  // under either model the braking to its stop line
+  const bool own = cfg->detector.motion == MotionModel::ConstantAcceleration;
+  accelAbs[s] = std::max(own ? std::abs(v.acceleration) : 0.0, -body[s].stopAcceleration);
   vclass[s] = v.vehicleClass;
   pairState[s] = {ext[s], env[s], v.mass, twiceBrake, shape[s].outer, sl.serial};
   signals[s] = v.signals;

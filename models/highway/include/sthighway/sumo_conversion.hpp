@@ -74,8 +74,9 @@ struct SumoVehicleRecord {
 };
 
 // Where the car must stop (VehicleState::stopDistance): at its next light's stop line when that
-// is red (r), red-yellow (u) or a stop sign's arrow (s), or yellow (y) when it can stop before the
-// line at its vType's decel (SUMO's passenger 4.5 m/s^2 if unknown); else nowhere (infinity).
+// is red (r), red-yellow (u) or a stop sign's arrow (s) and it can stop there braking at most
+// twice its vType's decel (an emergency's; SUMO's passenger 4.5 m/s^2 if unknown), or yellow (y)
+// when it can stop at its decel; else nowhere (infinity: it goes on).
 double stopDistanceOf(const SumoVehicleRecord& v, double decel);
 
 std::uint8_t toTurnSignals(int sumoSignals);
