@@ -105,9 +105,12 @@ Monitor::Monitor(std::vector<ArmInstance> arms, std::vector<Obstacle> obstacles,
       capLocal_.push_back(k);
       // allowed obstacle pairs of this capsule's body, by obstacle index
       std::vector<int> allowedObs;
-      for (const auto& [body, name] : inst.allowedObstacles) {
+      for (const auto& allowed : inst.allowedObstacles) {
+        const auto& [body, name] = allowed;
         if (body != inst.model.capsules[k].body) continue;
-        const auto it = std::find_if(obstacles_.begin(), obstacles_.end(), [&](const Obstacle& o) { return o.name == name; });
+        // (clang before 16 captures no structured binding)
+        const auto it = std::find_if(obstacles_.begin(), obstacles_.end(),
+                                     [&](const Obstacle& o) { return o.name == allowed.second; });
         if (it == obstacles_.end()) throw std::invalid_argument("arm " + inst.name + ": allowed obstacle '" + name + "' is not an obstacle");
         allowedObs.push_back(static_cast<int>(it - obstacles_.begin()));
       }
