@@ -150,15 +150,24 @@ TEST(Plugin, ReadsOnlyWhatItsConfigurationNeedsWithTheSameWarnings) {
   c->close();
 }
 
-// The sublane model: lateral speeds and blinkers are non-zero here, and must agree as well.
-TEST(Backends, LibsumoAndLibtraciAgreeOnTheSublaneModel) {
-  Scenario s = loadScenario(sourceDir() / "networks/sublane/scenario.yaml");
-  s.end = 60.0;
+// A shipped scenario's first `end` seconds through libsumo, then libtraci: identical states and
+// warnings; the libsumo run for the caller's own checks.
+Recorded agreeOn(const std::string& network, double end) {
+  Scenario s = loadScenario(sourceDir() / "networks" / network / "scenario.yaml");
+  s.end = end;
   const SumoLaunch launch{sumoArguments(s), false, "", ""};
   auto a = startLibsumo(launch);
-  const Recorded viaLibsumo = run(*a, s);
+  Recorded viaLibsumo = run(*a, s);
   auto b = launchTraci(launch);
   const Recorded viaTraci = run(*b, s);
+  expectSameStates(viaLibsumo, viaTraci);
+  EXPECT_EQ(viaLibsumo.warnings, viaTraci.warnings);
+  return viaLibsumo;
+}
+
+// The sublane model: lateral speeds and blinkers are non-zero here, and must agree as well.
+TEST(Backends, LibsumoAndLibtraciAgreeOnTheSublaneModel) {
+  const Recorded viaLibsumo = agreeOn("sublane", 60.0);
   std::size_t lateral = 0, blinking = 0;
   for (const auto& step : viaLibsumo.steps)
     for (const auto& v : step) {
@@ -167,20 +176,12 @@ TEST(Backends, LibsumoAndLibtraciAgreeOnTheSublaneModel) {
     }
   EXPECT_GT(lateral, 1000u);
   EXPECT_GT(blinking, 100u);
-  expectSameStates(viaLibsumo, viaTraci);
-  EXPECT_EQ(viaLibsumo.warnings, viaTraci.warnings);
 }
 
 // A traffic light: each car's next light (state and distance to its stop line) read the same way
 // by both, and every state a light shows met (red, yellow, green) with a stop line ahead.
 TEST(Backends, LibsumoAndLibtraciAgreeOnTrafficLights) {
-  Scenario s = loadScenario(sourceDir() / "networks/intersection/scenario.yaml");
-  s.end = 120.0;
-  const SumoLaunch launch{sumoArguments(s), false, "", ""};
-  auto a = startLibsumo(launch);
-  const Recorded viaLibsumo = run(*a, s);
-  auto b = launchTraci(launch);
-  const Recorded viaTraci = run(*b, s);
+  const Recorded viaLibsumo = agreeOn("intersection", 120.0);
   std::set<char> states;
   for (const auto& step : viaLibsumo.steps)
     for (const auto& v : step)
@@ -190,8 +191,6 @@ TEST(Backends, LibsumoAndLibtraciAgreeOnTrafficLights) {
         EXPECT_LE(v.nextSignalDistance, 200.0);  // the arms' length
       }
   EXPECT_TRUE(states.count('r') && states.count('y') && states.count('G') && states.count('g'));
-  expectSameStates(viaLibsumo, viaTraci);
-  EXPECT_EQ(viaLibsumo.warnings, viaTraci.warnings);
 }
 
 // A teleport (a ramp car stuck for 1 s, t = 112.7 s, starting and ending in one step) goes

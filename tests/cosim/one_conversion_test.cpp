@@ -30,7 +30,7 @@ struct Record {
   double time = 0.0;
   std::string id, type, lane;
   SumoVehicle v;
-  std::string posLat;  // as written
+  std::vector<std::string> fields;  // the CSV row as written: the FCD repeats its numbers exactly
 };
 
 std::vector<Record> readRecords() {
@@ -56,7 +56,7 @@ std::vector<Record> readRecords() {
     r.v.angle = std::stod(f[6]);
     r.v.speed = std::stod(f[7]);
     r.v.lateralSpeed = std::stod(f[8]);
-    r.posLat = f[9];
+    r.fields = f;
     r.v.acceleration = std::stod(f[10]);
     r.v.signals = std::stoi(f[11]);
     out.push_back(r);
@@ -70,15 +70,9 @@ fs::path writeFcd(const std::vector<Record>& records, const fs::path& dir) {
   const fs::path p = dir / "one_conversion.fcd.xml";
   std::ofstream out(p);
   out << "<fcd-export>\n";
-  std::string open;
-  const std::string csv = slurp(kData / "one_conversion.csv");
-  std::istringstream lines(csv);
-  std::string line;
-  std::getline(lines, line);
   double time = -1.0;
   for (const Record& r : records) {
-    std::getline(lines, line);
-    const auto f = splitCsv(line);
+    const auto& f = r.fields;
     if (r.time != time) {
       if (time >= 0.0) out << "  </timestep>\n";
       out << "  <timestep time=\"" << f[0] << "\">\n";

@@ -18,6 +18,7 @@
 #include <stcore/shapes.hpp>
 
 #include <sthighway/road.hpp>
+#include <sthighway/tolerances.hpp>
 #include <sthighway/vehicle.hpp>
 
 namespace st::highway {
@@ -95,9 +96,9 @@ inline Body bodyOf(const VehicleState& v, const Vec2& axis) {
   b.acceleration = v.acceleration;
   b.length = v.length;
   b.width = v.width;
-  // u^2 / (2 d) stands it at the line; at the line already, at once (a tenth of a millimetre)
+  // u^2 / (2 d) stands it at the line; at the line already, at once
   if (v.stopDistance < std::numeric_limits<double>::infinity() && v.speed > 0.0)
-    b.stopAcceleration = -v.speed * v.speed / (2.0 * std::max(v.stopDistance, 1e-4));
+    b.stopAcceleration = -v.speed * v.speed / (2.0 * std::max(v.stopDistance, tol::kStopLineMinDistance));
   return b;
 }
 

@@ -38,6 +38,9 @@ inline constexpr double kBoundRelativeSlop = 1e-12;
 // Accelerations below this are treated as zero: the constant-velocity kernels are used (m/s^2).
 inline constexpr double kAccelerationEpsilon = 1e-9;
 
+// A car closer than this to its stop line brakes as if it were this far (m): at the line, at once.
+inline constexpr double kStopLineMinDistance = 1e-4;
+
 // The five-circle TTC skips a zone circle x body circle pair before its square root when the
 // pair provably cannot win, so the result stays bit for bit: the clearance a skipped pair keeps
 // (m), far above the rounding of the skip test and of toiBalls' hit time (under 1e-5 m at the
