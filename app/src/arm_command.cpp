@@ -8,6 +8,7 @@
 #include <iostream>
 #include <sstream>
 
+#include <starm/replay.hpp>
 #include <starm/scenario.hpp>
 #include <starm/service.hpp>
 #include <starm/stream.hpp>
@@ -472,6 +473,9 @@ int runArm(int argc, const char* const* argv) {
     throw UsageError("--budget-us: expected a time in (0, 3.6e9] us, got " + args.get("budget-us"));
   std::unique_ptr<arm::SeparationMonitor> ssm;
   if (persons.size() > 0) ssm = std::make_unique<arm::SeparationMonitor>(sc.ssm, monitor.armCount());
+  // the picture: replay.html, the cell and each arm's STOPs with their cause
+  arm::ReplayRecorder replay(monitor, persons.size() > 0 ? &persons : nullptr);
+  const std::string replayTitle = fs::path(path).filename().string() + (closedLoop ? " (closed loop)" : " (open loop)");
 
   const fs::path out = args.get("out");
   fs::create_directories(out);
@@ -518,6 +522,7 @@ int runArm(int argc, const char* const* argv) {
         deadlineCsv.row(line.str());
       }
       watch.see(m);
+      replay.see(m, persons.size() > 0 ? &persons : nullptr, ssm.get());
       for (const arm::Warning& w : m.warnings()) {
         line.str("");
         line << num(w.t) << ',' << io::csvField(m.arm(w.arm).name) << ',' << io::csvField(arm::bodyName(m.arm(w.arm).model, w.body))
@@ -537,6 +542,7 @@ int runArm(int argc, const char* const* argv) {
     }
     try {
       writeSummary(out / "summary.json", path, monitor, stats, bpName, e.what(), closedLoop, watch, ssm.get(), deadline);
+      replay.write(out / "replay.html", replayTitle);
     } catch (const std::exception&) {
     }
     throw;
@@ -545,6 +551,7 @@ int runArm(int argc, const char* const* argv) {
   deadlineCsv.flush();
   if (ssmCsv) ssmCsv->flush();
   writeSummary(out / "summary.json", path, monitor, stats, bpName, "", closedLoop, watch, ssm.get(), deadline);
+  replay.write(out / "replay.html", replayTitle);
   const auto& c = monitor.counters();
   std::cout << "arm (" << (closedLoop ? "closed" : "open") << " loop): " << stats.cycles << " cycles, " << c.warnings
             << " warnings, " << c.stops << " STOPs, "
@@ -558,7 +565,7 @@ int runArm(int argc, const char* const* argv) {
               << k.scaledCycles << " scaled, " << k.violations << " below S_p unstopped, " << k.contacts
               << " contacts, min separation " << num(k.minSeparation) << " m";
   }
-  std::cout << " -> " << (out / "summary.json").string() << "\n";
+  std::cout << " -> " << (out / "summary.json").string() << ", " << (out / "replay.html").string() << "\n";
   if (deadline.missed > 0)
     std::cout << "arm: DEADLINE MISSED: " << deadline.missed << " of " << deadline.cycles << " cycles over the "
               << num(deadline.budgetUs) << " us budget (first at " << num(deadline.misses.front().first) << " s, worst "

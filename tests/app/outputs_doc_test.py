@@ -4,7 +4,7 @@
 Runs every command that writes a CSV or JSON file on a small input (pool, arm and its stopping
 study, arm serve and arm stream, a highway replay; with SUMO a live highway run with
 --validate-ssm and a highway batch), reads the header of every CSV and the keys of every JSON
-file they wrote, and checks both ways against the file's table in docs/outputs.md:
+file they wrote (and the data an HTML page inlines), and checks both ways against the file's table in docs/outputs.md:
 
 - every column (key) written is documented;
 - every documented column (key) is written, unless its meaning begins with "Only" (written in
@@ -37,6 +37,7 @@ FILES = {
     "pool/summary.json": ["pool/summary.json"],
     "arm/warnings.csv": ["arm/warnings.csv"],
     "arm/summary.json": ["arm/summary.json"],
+    "arm/replay.html": ["arm/replay.html"],
     "arm/sensors.csv": ["sensors.csv"],
     "arm/stopping_study.csv": ["study/stopping_study.csv"],
     "arm serve/verdicts.csv": ["serve/verdicts.csv"],
@@ -141,6 +142,11 @@ def json_paths(value, prefix=""):
 def written(path):
     if path.endswith(".csv"):
         return csv_header(path)
+    if path.endswith(".html"):
+        # a page's data: the JSON object it inlines as `const D = {...};` (one line)
+        with open(path) as f:
+            m = re.search(r"^const D = (.*);$", f.read(), re.M)
+        return json_paths(json.loads(m.group(1))) if m else ["(no const D = ... in the page)"]
     with open(path) as f:
         return json_paths(json.load(f))
 
@@ -249,7 +255,7 @@ def check(src, work, have_sumo):
             fails.append("%s: no table in docs/outputs.md" % section)
             continue
         docs = sections[section]
-        json_key = section.endswith(".json")
+        json_key = section.endswith((".json", ".html"))
         pats = [(n, m, re.compile("^%s$" % pattern(n, placeholders, json_key, metrics))) for n, m in docs]
         seen = []
         for f in files:
