@@ -116,6 +116,9 @@ Monitor::Monitor(std::vector<ArmInstance> arms, std::vector<Obstacle> obstacles,
       }
       capAllowedObstacles_.push_back(std::move(allowedObs));
     }
+    if (!(inst.sensorDrift >= 0.0 && inst.sensorDrift < 0.5))
+      throw std::invalid_argument("arm " + inst.name + ": sensor drift must be in [0, 0.5)");
+    a.clock.drift = inst.sensorDrift;
     a.inst = std::move(inst);
     arms_.push_back(std::move(a));
   }
@@ -186,13 +189,16 @@ Monitor::Monitor(std::vector<ArmInstance> arms, std::vector<Obstacle> obstacles,
 
 double Monitor::staleAfter(int arm) const {
   const ArmInstance& a = arms_[arm].inst;
-  return a.sensorPeriod > 0.0 ? a.sensorPeriod + a.sensorJitter : safety_.reactionTime + safety_.cycleTime;
+  const double gap = a.sensorPeriod > 0.0 ? a.sensorPeriod + a.sensorJitter : safety_.reactionTime + safety_.cycleTime;
+  // a clock that may run slow stretches the gap between its readings on the monitor's clock
+  return gap * (1.0 + a.sensorDrift);
 }
 
 void Monitor::forget(int arm) {
   ArmState& a = arms_[arm];
   if (a.read && safety_.latchStale) a.latched = true;
   a.read = false;
+  a.clock.reset();  // the next reading may come from another sensor, another clock
 }
 
 bool Monitor::reset(int arm) {
@@ -222,6 +228,7 @@ void Monitor::setJointState(int arm, double t, const double* q, const double* qd
     capVa_[i] = a.rates.velocity(lc.body, capA_[i]);
     capVb_[i] = a.rates.velocity(lc.body, capB_[i]);
   }
+  a.newer = a.newer || !a.read || t > a.t;  // the same stamp again is a repeat, not news
   a.t = t;
   a.read = true;
   a.fresh = true;
@@ -247,8 +254,9 @@ void Monitor::setObstaclePose(int o, double t, const Vec3& position, const Vec3&
 }
 
 MovingCapsule Monitor::movingCapsule(int i) const {
-  // extrapolated from the arm's last reading to the cycle time
-  const double dt = now_ - arms_[capArm_[i]].t;
+  // extrapolated from the arm's last reading to the cycle time (its age on the monitor's clock)
+  const ArmState& a = arms_[capArm_[i]];
+  const double dt = a.clock.age(a.t, now_);
   return {{capA_[i] + dt * capVa_[i], capB_[i] + dt * capVb_[i], capR_[i]}, capVa_[i], capVb_[i]};
 }
 
@@ -266,6 +274,11 @@ void Monitor::refile(int id) {
 
 void Monitor::cycle(double t) {
   now_ = t;
+  // readings new since the last cycle arrive now (for the clocks that may drift)
+  for (ArmState& a : arms_) {
+    if (a.fresh && a.newer && a.read) a.clock.arrived(a.t, t);
+    a.newer = false;
+  }
   const double h = safety_.lookAhead();
   const double grow = 0.5 * safety_.minSeparation;
   const int nc = capsuleCount();
@@ -318,7 +331,7 @@ void Monitor::cycle(double t) {
   for (int ai = 0; ai < armCount(); ++ai) {
     ArmState& a = arms_[ai];
     // the watchdog: a verdict on a reading that is not current (or none yet) is no verdict
-    a.stale = !a.read || !(std::abs(t - a.t) <= staleAfter(ai));
+    a.stale = !a.read || !(std::abs(a.clock.age(a.t, t)) <= staleAfter(ai));
     if (a.stale) ++counters_.staleStops;
     // a sensor that was current and fell silent latches (one never heard from does not)
     if (a.stale && a.read && safety_.latchStale) a.latched = true;

@@ -327,13 +327,16 @@ void parseSsm(const Yaml& y, const YAML::Node& root, Scenario& s) {
     if (p["trace"] && (p["script"] || p["start"])) y.fail(p["trace"], key + ".trace", "give either a trace or start and script, not both");
     if (const YAML::Node sn = p["sensor"]) {
       // its tracker's rate over the service: a pose older than period + jitter is stale
-      y.knownKeys(sn, key + ".sensor", {"period", "jitter"});
+      y.knownKeys(sn, key + ".sensor", {"period", "jitter", "drift"});
       if (!sn["period"]) y.fail(sn, key + ".sensor.period", "missing: the tracker's period (s)");
       person.sensorPeriod = y.positive(sn, "period", key + ".sensor", 0.0);
       person.sensorJitter = y.number(sn, "jitter", key + ".sensor", 0.0);
       if (!(person.sensorJitter >= 0.0 && person.sensorJitter < person.sensorPeriod))
         y.fail(sn["jitter"] ? sn["jitter"] : sn, key + ".sensor.jitter", "must be at least 0 and less than the period");
       if (person.sensorPeriod > kMaxLookAhead) y.fail(sn["period"], key + ".sensor.period", "must be at most 60 s");
+      person.sensorDrift = y.number(sn, "drift", key + ".sensor", 0.0);
+      if (!(person.sensorDrift >= 0.0 && person.sensorDrift < 0.5))
+        y.fail(sn["drift"], key + ".sensor.drift", "must be at least 0 and less than 0.5 (a ratio: 0.02 is 2 %)");
     }
     if (p["trace"]) {
       std::filesystem::path f = y.text(p["trace"], key + ".trace");
@@ -522,13 +525,17 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
     inst.base = y.pose(a["base"], key + ".base");
     if (const YAML::Node sn = a["sensor"]) {
       // its joint sensor's rate: a reading older than period + jitter is stale (STOP)
-      y.knownKeys(sn, key + ".sensor", {"period", "jitter"});
+      y.knownKeys(sn, key + ".sensor", {"period", "jitter", "drift"});
       if (!sn["period"]) y.fail(sn, key + ".sensor.period", "missing: the sensor's period (s)");
       inst.sensorPeriod = y.positive(sn, "period", key + ".sensor", 0.0);
       inst.sensorJitter = y.number(sn, "jitter", key + ".sensor", 0.0);
       if (!(inst.sensorJitter >= 0.0 && inst.sensorJitter < inst.sensorPeriod))
         y.fail(sn["jitter"], key + ".sensor.jitter", "must be at least 0 and less than the period");
       if (inst.sensorPeriod > kMaxLookAhead) y.fail(sn["period"], key + ".sensor.period", "must be at most 60 s");
+      // how far its clock may run from the monitor's (a ratio: 0.02 is 2 %)
+      inst.sensorDrift = y.number(sn, "drift", key + ".sensor", 0.0);
+      if (!(inst.sensorDrift >= 0.0 && inst.sensorDrift < 0.5))
+        y.fail(sn["drift"], key + ".sensor.drift", "must be at least 0 and less than 0.5 (a ratio: 0.02 is 2 %)");
     }
     // a base kilometres away is no workcell: 1e300 was accepted ("first contact at 0 s")
     if (const Vec3 at = inst.base.translation(); !(at.cwiseAbs().maxCoeff() <= kMaxBaseOffset))

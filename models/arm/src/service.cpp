@@ -79,8 +79,14 @@ ArmService::ArmService(boost::asio::io_context& io, const Scenario& scenario, Se
   if (!held_.empty()) ssm_.emplace(scenario.ssm, arms);
   // a reading older than this could not start the braking in time
   staleAfter_ = cfg_.staleAfter > 0.0 ? cfg_.staleAfter : monitor_.safety().reactionTime + monitor_.safety().cycleTime;
-  for (const Scenario::Person& person : scenario.persons)
-    personStaleAfter_.push_back(person.sensorPeriod > 0.0 ? person.sensorPeriod + person.sensorJitter : staleAfter_);
+  for (const Scenario::Person& person : scenario.persons) {
+    const double gap = person.sensorPeriod > 0.0 ? person.sensorPeriod + person.sensorJitter : staleAfter_;
+    personStaleAfter_.push_back(gap * (1.0 + person.sensorDrift));
+    personClock_.push_back(SensorClock{person.sensorDrift});
+  }
+  personNew_.assign(held_.size(), 0);
+  personMarkStamp_.assign(held_.size(), std::numeric_limits<double>::quiet_NaN());
+  personMarkAfter_.assign(held_.size(), 0.0);
   if (!cfg_.logDir.empty()) {
     namespace fs = std::filesystem;
     fs::create_directories(cfg_.logDir);
@@ -195,7 +201,11 @@ void ArmService::release(net::ConnectionId id) {
   // a person's tracker that leaves leaves the person where it was last seen, going stale: every
   // arm STOPs until a pose comes again (a person no longer seen may be anywhere)
   for (std::size_t k = 0; k < personOwner_.size(); ++k)
-    if (personOwner_[k] == id) personOwner_[k] = kNobody, personDisputed_[k] = 0;
+    if (personOwner_[k] == id) {
+      personOwner_[k] = kNobody, personDisputed_[k] = 0;
+      personClock_[k].reset();  // the next tracker keeps a clock of its own
+      personMarkStamp_[k] = std::numeric_limits<double>::quiet_NaN();
+    }
 }
 
 std::string ArmService::checkTime(net::ConnectionId id, const Peer& p, const std::string& what, double t) const {
@@ -507,6 +517,7 @@ std::string ArmService::onSkeletons(net::ConnectionId id, Peer& p, std::string_v
     Skeleton s;
     for (std::size_t j = 0; j < pp.joints.size(); ++j) s.p[j] = pp.joints[j];
     held_[pp.person]->set(s);
+    if (std::isnan(personT_[pp.person]) || m.t > personT_[pp.person]) personNew_[pp.person] = 1;
     personT_[pp.person] = m.t;
   }
   heard(p, m.t);
@@ -526,8 +537,18 @@ void ArmService::applyPersons(double t) {
   ssm_->cycle(monitor_, persons_);
   // a person whose tracker fell silent (or left) may be anywhere: every arm stops, as for an obstacle
   bool lost = false, disputed = false;
-  for (std::size_t k = 0; k < personT_.size(); ++k)
-    lost = lost || (!std::isnan(personT_[k]) && !(std::abs(t - personT_[k]) <= personStaleAfter_[k]));
+  for (std::size_t k = 0; k < personT_.size(); ++k) {
+    // for a tracker whose clock may drift: a pose new since the last cycle is marked as arrived
+    // at the first later cycle (this cycle's time may be older than the pose's arrival)
+    if (!std::isnan(personMarkStamp_[k]) && t > personMarkAfter_[k]) {
+      personClock_[k].arrived(personMarkStamp_[k], t);
+      personMarkStamp_[k] = std::numeric_limits<double>::quiet_NaN();
+    }
+    if (personNew_[k] && std::isnan(personMarkStamp_[k]) && personClock_[k].drift > 0.0)
+      personMarkStamp_[k] = personT_[k], personMarkAfter_[k] = t;
+    personNew_[k] = 0;
+    lost = lost || (!std::isnan(personT_[k]) && !(std::abs(personClock_[k].age(personT_[k], t)) <= personStaleAfter_[k]));
+  }
   for (const char d : personDisputed_) disputed = disputed || d;
   for (int a = 0; a < monitor_.armCount(); ++a) {
     proto::ArmVerdict& v = verdict_.arms[a];

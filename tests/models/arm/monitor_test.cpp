@@ -304,6 +304,100 @@ TEST(Monitor, DeclaredSensorRatesMeanNoSpuriousStopAndASilentSensorStillStops) {
       << "STOPs before the sensor fell silent";
 }
 
+// Arm 0's sensor keeps its own clock, running (1 + rate) times the monitor's: it reads every
+// `period` +- `jitter` (uniform) of its own clock and stamps the reading with it; the reading
+// arrives at the first monitor cycle at or after the monitor's time it was taken, plus `delay`
+// from `delayFrom` on (a backlog). Silent from its own time `silentAt`. Both Pandas at rest.
+struct DriftWatch {
+  int stoppedTalking = 0, stoppedSilent = 0;
+  double lastTaken = 0.0, lastArrival = 0.0, firstStopAfterSilence = -1.0, firstStop = -1.0;
+  double staleAfter = 0.0;
+};
+DriftWatch driftWatch(double rate, double declaredDrift, double silentAt, double delay = 0.0, double delayFrom = 1e9,
+                      bool repeatStamps = false) {
+  Scenario s = loadScenario(scenarioPath("two_pandas"));
+  s.arms[0].sensorPeriod = 0.02;
+  s.arms[0].sensorJitter = 0.003;
+  s.arms[0].sensorDrift = declaredDrift;
+  s.safety.latchStale = false;
+  Monitor m = makeMonitor(s);
+  std::mt19937_64 g(7);
+  const std::vector<double> still(7, 0.0);
+  DriftWatch w;
+  w.staleAfter = m.staleAfter(0);
+  double next = 0.0;  // its own clock's time of its next reading
+  bool silent = false;
+  for (int k = 0; k <= 6000; ++k) {
+    const double t = 0.001 * k;
+    for (;;) {
+      const double taken = next / (1.0 + rate);  // the monitor's time it is taken at
+      const double arrives = taken + (taken >= delayFrom ? delay : 0.0);
+      if (next >= silentAt) silent = true;
+      if (silent || arrives > t) break;
+      const double stamp = repeatStamps && taken >= delayFrom ? delayFrom * (1.0 + rate) : next;
+      m.setJointState(0, stamp, kHome.data(), still.data());
+      w.lastTaken = taken;
+      w.lastArrival = t;
+      const double u = static_cast<double>(g() >> 11) * 0x1.0p-53;
+      next += 0.02 + (2.0 * u - 1.0) * 0.003;
+    }
+    m.setJointState(1, t, kHome.data(), still.data());
+    m.cycle(t);
+    EXPECT_EQ(m.stale(0), m.stopped(0)) << "at rest, only the watchdog stops arm 0 (t = " << t << ")";
+    if (!m.stopped(0)) continue;
+    if (w.firstStop < 0.0) w.firstStop = t;
+    if (silent) {
+      ++w.stoppedSilent;
+      if (w.firstStopAfterSilence < 0.0) w.firstStopAfterSilence = t;
+    } else {
+      ++w.stoppedTalking;
+    }
+  }
+  return w;
+}
+
+TEST(Monitor, ASensorClockTwoPerCentOffIsNoStopOnceItsDriftIsDeclared) {
+  for (const double rate : {0.02, -0.02}) {
+    SCOPED_TRACE(rate > 0 ? "its clock 2 % fast" : "its clock 2 % slow");
+    // 50 Hz +- 3 ms declared, its clock's drift not: judged by its stamps, the clocks part by
+    // 20 ms a second and the arm is STOPped within about a second and a quarter (a slow clock's
+    // longest gaps, 23 ms of its own, are 23.5 ms of the monitor's: its first STOP comes sooner),
+    // and from then on on most cycles
+    const DriftWatch undeclared = driftWatch(rate, 0.0, 100.0);
+    EXPECT_GT(undeclared.stoppedTalking, 3000);
+    EXPECT_LT(undeclared.firstStop, 1.5);
+    // declared (drift: 0.02): 5.5 s, 275 readings, the clocks 110 ms apart at the end, no STOP ...
+    const DriftWatch declared = driftWatch(rate, 0.02, 5.5 * (1.0 + rate));
+    EXPECT_EQ(declared.stoppedTalking, 0);
+    EXPECT_DOUBLE_EQ(declared.staleAfter, 0.023 * 1.02);
+    // ... and silent, STOP within (period + jitter)(1 + drift) + one cycle of its last reading's
+    // arrival, never before (period + jitter)(1 + drift) after it was taken
+    ASSERT_GT(declared.firstStopAfterSilence, 0.0) << "the silent sensor was never stopped";
+    EXPECT_LE(declared.firstStopAfterSilence - declared.lastArrival, declared.staleAfter + 0.001 + 1e-9);
+    EXPECT_GT(declared.firstStopAfterSilence - declared.lastTaken, declared.staleAfter);
+    EXPECT_EQ(declared.stoppedSilent, static_cast<int>(std::lround((6.0 - declared.firstStopAfterSilence) / 0.001)) + 1);
+  }
+}
+
+TEST(Monitor, ADeclaredDriftStillAgesABacklogAndARepeatedStamp) {
+  // from 2 s on, each reading arrives 50 ms after it is taken (a queue backs up): the sensor still
+  // talks at its rate, but what it says is older than its period + jitter. STOP once the last
+  // prompt reading is period + jitter old; it holds while the offset's envelope, rising at most
+  // at the declared drift, has not taken the new delay up as drift: about (50 ms - 23.5 ms) /
+  // 2 % = 1.3 s wholly, partly until 50 ms / 2 % = 2.5 s (the latch, on by default, holds it).
+  const DriftWatch backlog = driftWatch(0.0, 0.02, 100.0, 0.05, 2.0);
+  EXPECT_GT(backlog.firstStop, 2.0);
+  EXPECT_LE(backlog.firstStop, 2.0 + backlog.staleAfter + 0.001 + 1e-9);
+  EXPECT_GT(backlog.stoppedTalking, 1300) << "a backlog of 50 ms looked current";
+  EXPECT_LT(backlog.stoppedTalking, 2600);
+  // from 2 s on, the same stamp again and again (a sensor stuck on one reading): a repeat is no
+  // news, so the arm is STOPped as if silent, and stays STOPped
+  const DriftWatch stuck = driftWatch(0.02, 0.02, 100.0, 0.0, 2.0, true);
+  EXPECT_GT(stuck.firstStop, 2.0);
+  EXPECT_LE(stuck.firstStop, 2.0 + 0.024 + stuck.staleAfter + 0.001 + 1e-9);
+  EXPECT_EQ(stuck.stoppedTalking, static_cast<int>(std::lround((6.0 - stuck.firstStop) / 0.001)) + 1);
+}
+
 TEST(Monitor, ASensorThatFellSilentHoldsItsStopUntilReset) {
   Monitor m = makeMonitor(loadScenario(scenarioPath("two_pandas")));
   const std::vector<double> still(7, 0.0);

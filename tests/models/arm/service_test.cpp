@@ -4,6 +4,9 @@
 // cleanly. Only 127.0.0.1, ports picked by the system, every wait bounded.
 #include <gtest/gtest.h>
 
+#include <random>
+#include <tuple>
+
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -651,6 +654,84 @@ TEST(ArmService, A30HzPersonTrackerIsCurrentOnceItsRateIsDeclared) {
       EXPECT_EQ(v.cause, proto::Cause::ObstacleLost);
     }
   }
+}
+
+// person_walkup over the service with two sensors on clocks of their own: joint states at 50 Hz
+// +-3 ms (uniform) on the reference clock, the person tracker at 30 Hz +-5 ms on a clock running
+// 2 % slow, silent from 3 s; the arm at rest, the person 3 m away. Each message is sent alone and
+// its verdict awaited. Returns the joint sensor's verdicts (time, level, cause).
+std::optional<proto::Verdict> verdictFor(Peer& p, std::uint32_t seq);
+
+struct DriftRun {
+  std::vector<std::tuple<double, proto::Level, proto::Cause>> verdicts;
+  double lastPose = 0.0;  // the reference time the tracker's last pose was taken
+};
+DriftRun driftOverTheService(double declaredDrift) {
+  Scenario s = loadScenario(scenarioPath("person_walkup"));
+  s.arms[0].sensorPeriod = 0.02, s.arms[0].sensorJitter = 0.003, s.arms[0].sensorDrift = declaredDrift;
+  s.persons[0].sensorPeriod = 1.0 / 30.0, s.persons[0].sensorJitter = 0.005, s.persons[0].sensorDrift = declaredDrift;
+  Service svc(s, {});
+  Peer joints(svc.service.port()), tracker(svc.service.port());
+  std::mt19937_64 g(11);
+  auto jitter = [&](double j) { return (2.0 * (static_cast<double>(g() >> 11) * 0x1.0p-53) - 1.0) * j; };
+  std::uint32_t seq = 0;
+  double nextJoint = 0.0, nextPose = 0.0;  // each on its own clock
+  const double rate = -0.02;               // the tracker's clock against the reference
+  DriftRun r;
+  for (int k = 0; k <= 4000; ++k) {
+    const double t = 0.001 * k;
+    if (nextPose / (1.0 + rate) <= t && nextPose < 3.0 * (1.0 + rate)) {
+      tracker.c.send(proto::encode(skeletonAt(++seq, nextPose, 3.0)));
+      if (!verdictFor(tracker, seq)) ADD_FAILURE() << "no verdict for the pose at " << t;
+      r.lastPose = t;
+      nextPose += 1.0 / 30.0 + jitter(0.005);
+    }
+    if (nextJoint <= t) {
+      joints.c.send(proto::encode(pandaReading(++seq, nextJoint)));
+      const auto v = verdictFor(joints, seq);
+      if (!v) ADD_FAILURE() << "no verdict for the reading at " << t;
+      else r.verdicts.emplace_back(t, v->arms[0].level, v->arms[0].cause);
+      nextJoint += 0.02 + jitter(0.003);
+    }
+  }
+  return r;
+}
+
+TEST(ArmService, TwoSensorClocksTwoPerCentApartAreNoStopOnceTheirDriftIsDeclared) {
+  // undeclared, the tracker's poses age by its clock's lag (20 ms a second) and every arm STOPs
+  // (cause obstacle_lost) within about two seconds while the tracker still talks
+  const DriftRun undeclared = driftOverTheService(0.0);
+  int stopsTalking = 0;
+  for (const auto& v : undeclared.verdicts)
+    if (std::get<0>(v) < undeclared.lastPose && std::get<1>(v) == proto::Level::Stop) ++stopsTalking;
+  EXPECT_GT(stopsTalking, 20);
+  // declared (drift 0.02 on both sensors): no STOP while both talk; the tracker silent, STOP
+  // (obstacle_lost) by the first verdict after its last pose is (period + jitter)(1 + drift)
+  // old, and none before
+  const DriftRun declared = driftOverTheService(0.02);
+  const double staleAfter = (1.0 / 30.0 + 0.005) * 1.02;
+  double firstStop = -1.0;
+  for (const auto& [t, level, cause] : declared.verdicts) {
+    const bool stop = level == proto::Level::Stop;
+    if (t <= declared.lastPose + staleAfter) {
+      EXPECT_FALSE(stop) << "a spurious STOP at " << t << " s, cause " << proto::toString(cause);
+    } else if (firstStop < 0.0) {
+      EXPECT_TRUE(stop) << "the silent tracker was not stopped at " << t << " s";
+      EXPECT_EQ(cause, proto::Cause::ObstacleLost);
+      firstStop = t;
+    }
+  }
+  EXPECT_GT(firstStop, declared.lastPose + staleAfter);
+  // the cycles' clock is the newest stamp: the last pose is marked as arrived at the first cycle
+  // after it (a joint reading, at most 23 ms later); STOP within (period + jitter)(1 + drift) +
+  // one cycle (a joint period) of that mark
+  double marked = -1.0;
+  for (const auto& v : declared.verdicts)
+    if (std::get<0>(v) > declared.lastPose) {
+      marked = std::get<0>(v);
+      break;
+    }
+  EXPECT_LE(firstStop, marked + staleAfter + 0.023 + 1e-9);
 }
 
 TEST(ArmService, ASkeletonSlowsAndStopsTheArmInVersionThree) {

@@ -2,8 +2,8 @@
 // Closed loop: a STOP halts the arm that received it. Each arm follows its nominal motion (the
 // scripted or recorded readings) in its own program time tau; a STOP makes the program clock
 // slow down linearly (ds/dt = -1 / stopping time, s = dtau/dt) until it stands, so the arm stays on
-// its path and every joint decelerates at |qdot_nominal| / stopping time (a path-maintaining stop,
-// ISO 10218 stop category 2). A joint moving at w comes to rest w * delay + w * T / 2 after the
+// its path and every joint decelerates at |qdot_nominal| / stopping time (a path-maintaining stop
+// with power kept: IEC 60204-1 stop category 2). A joint moving at w comes to rest w * delay + w * T / 2 after the
 // STOP's braking command. The arm stays stopped until the resume rule lets it go: never, or once
 // the threat has been clear for a settable time; it then ramps back up at the same rate.
 #include <deque>

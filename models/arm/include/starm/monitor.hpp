@@ -3,6 +3,7 @@
 // stationary and moving obstacles. Each cycle: forward kinematics for the arms that reported,
 // capsules moved in the space, candidate pairs from shared leaves, exact distance and time to
 // collision for each, warnings and STOP per arm.
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -14,8 +15,9 @@
 
 namespace st::arm {
 
-// Speed-and-separation monitoring terms (ISO/TS 15066): warn when the time to collision is at
-// most the time the system needs to bring the arm to rest.
+// The time-to-collision rule's terms: warn when a pair's time to collision is at most the time the
+// system needs to bring the arm to rest. (Not ISO/TS 15066's protective separation distance S_p:
+// that is the persons' check, starm/ssm.hpp.)
 struct SafetyConfig {
   double cycleTime = 0.001;     // s, sensor period
   double reactionTime = 0.010;  // s, from warning to the start of braking
@@ -63,9 +65,43 @@ struct ArmInstance {
   // older than that is stale and the arm STOPs. Period 0 (undeclared): stale after reaction +
   // cycle time.
   double sensorPeriod = 0.0, sensorJitter = 0.0;
+  // The most its clock may run fast or slow against the monitor's (1: 0.02 for 2 %). 0: the
+  // clocks agree and a reading's age is the monitor's time less its stamp. Declared, the age is
+  // judged on the monitor's clock through SensorClock (below) and the gap between readings may be
+  // (period + jitter) (1 + drift).
+  double sensorDrift = 0.0;
   // Allowed arm-vs-obstacle pairs: (body, obstacle name), never tested (a base bolted to the
   // table it stands on). A name no obstacle has is refused by the Monitor (invalid_argument).
   std::vector<std::pair<int, std::string>> allowedObstacles{};
+};
+
+// A sensor's clock seen from the monitor's: the offset to add to its stamps to get the
+// monitor's time of the reading. With no drift declared the clocks agree (offset 0). With drift
+// rho declared the offset is the lower envelope of (arrival - stamp) over the readings, allowed
+// to rise by at most rho per second of the monitor's clock between arrivals:
+//   offset_k = min(arrival_k - stamp_k, offset_{k-1} + rho (arrival_k - arrival_{k-1})).
+// The true offset (monitor time of the reading less its stamp) changes by at most rho per second
+// and never exceeds arrival - stamp (a reading arrives after it is taken), so offset_k is at least
+// the true offset less the smallest transport delay seen: age(t) = t - (stamp + offset) is the
+// reading's age on the monitor's clock less that delay. It is never less than t - arrival (the
+// watchdog on the monitor's own clock), and a delay that grows (a backlog) still ages readings.
+// A sensor whose clock drifts is thus judged by its rate, not by how far its clock has wandered.
+struct SensorClock {
+  double drift = 0.0;     // declared, 1 (0.02: 2 %)
+  double offset = 0.0;    // s, monitor time - stamp
+  double arrival = 0.0;   // s, monitor time of the last new reading
+  bool known = false;     // a reading arrived since the last reset
+  // A new reading (a stamp later than the last) first seen at monitor time t.
+  void arrived(double stamp, double t) {
+    if (!(drift > 0.0)) return;
+    const double o = t - stamp;
+    offset = known ? std::min(o, offset + drift * (t - arrival)) : o;
+    arrival = t;
+    known = true;
+  }
+  // s, on the monitor's clock at time t (0 drift: t - stamp)
+  double age(double stamp, double t) const { return t - (stamp + offset); }
+  void reset() { known = false, offset = 0.0; }
 };
 
 struct Warning {
@@ -161,7 +197,9 @@ class Monitor {
     int firstCapsule = 0;
     std::vector<Eigen::Isometry3d> frames;
     BodyRates rates;
-    double t = 0.0;  // time of the last reading
+    double t = 0.0;  // time of the last reading (its stamp, on its sensor's clock)
+    SensorClock clock;   // that clock against the monitor's
+    bool newer = false;  // the reading set since the last cycle has a later stamp than the one before
     bool read = false;   // any reading yet
     bool stale = false;  // this cycle: no current reading
     bool latched = false;  // a sensor once current fell silent: STOP until reset

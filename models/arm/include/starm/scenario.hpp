@@ -17,7 +17,7 @@
 //   braking: {stopping_time: 0.2 | deceleration: 8.0, delay: 0.01, resume: never | 0.5}   (closed loop)
 //   persons: [{name, start: {xy: [x, y], heading}, script: [{walk: {to: [x, y], speed}} |
 //              {reach: {hand: right|left, to: [x, y, z], speed}} | {wait: s}]} | {name, trace: file.csv},
-//              sensor: {period, jitter}]
+//              sensor: {period, jitter, drift}]
 //   ssm: {response: scaling|stop, body_speed, hand_speed, intrusion, person_uncertainty,
 //         robot_uncertainty, robot_speed}
 #include <chrono>
@@ -54,6 +54,7 @@ struct Scenario {
     // its tracker's period and jitter (s) over the service: a pose older than period + jitter is
     // stale (every arm STOPs); 0: the obstacles' freshness (reaction + cycle)
     double sensorPeriod = 0.0, sensorJitter = 0.0;
+    double sensorDrift = 0.0;  // how far its clock may run from the service's (ArmInstance::sensorDrift)
   };
   std::vector<Person> persons;
   SsmConfig ssm;

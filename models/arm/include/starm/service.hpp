@@ -152,7 +152,13 @@ class ArmService final : public net::Handler {
   std::vector<net::ConnectionId> personOwner_;
   std::vector<char> personDisputed_;
   std::vector<double> personT_;
-  std::vector<double> personStaleAfter_;  // s, per person: its tracker's period + jitter, or staleAfter_
+  std::vector<double> personStaleAfter_;  // s, per person: its tracker's (period + jitter)(1 + drift), or staleAfter_
+  std::vector<SensorClock> personClock_;  // per person: its tracker's clock against the cycles'
+  std::vector<char> personNew_;           // a pose with a later stamp since the last cycle
+  // a pose's arrival on the cycles' clock: the first cycle later than the one it came in (the
+  // cycles' time is the newest stamp, which lags the pose's arrival by up to a sensor's period
+  // in the cycle it comes in); NaN: none waiting
+  std::vector<double> personMarkStamp_, personMarkAfter_;
   std::optional<SeparationMonitor> ssm_;
   std::vector<double> poseT_;        // per obstacle, time of its last pose report (NaN: never, it stands where the scenario put it)
   // connections before HELLO, oldest first, with their deadlines (entries of closed or greeted
