@@ -129,6 +129,7 @@ Monitor::Monitor(std::vector<ArmInstance> arms, std::vector<Obstacle> obstacles,
     for (int k = 0; k < m.dof(); ++k) q[k] = std::clamp(0.0, m.joints[k].lower, m.joints[k].upper);
     setJointState(i, 0.0, q.data(), qd.data());
     arms_[i].read = false;  // a pose to file, not a reading: the arm is stale until its sensor reports
+    arms_[i].markStamp = std::numeric_limits<double>::quiet_NaN();
   }
   obstaclesNow_ = obstacles_;
   for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o)
@@ -194,11 +195,25 @@ double Monitor::staleAfter(int arm) const {
   return gap * (1.0 + a.sensorDrift);
 }
 
+void Monitor::setSensorRate(int arm, double period, double jitter, double drift) {
+  ArmState& a = arms_[arm];
+  if (!(period >= 0.0 && period <= 60.0)) throw std::invalid_argument("arm " + a.inst.name + ": sensor period must be in [0, 60] s");
+  if (!(jitter >= 0.0 && (jitter < period || (period == 0.0 && jitter == 0.0))))
+    throw std::invalid_argument("arm " + a.inst.name + ": sensor jitter must be at least 0 and less than the period");
+  if (!(drift >= 0.0 && drift < 0.5)) throw std::invalid_argument("arm " + a.inst.name + ": sensor drift must be in [0, 0.5)");
+  a.inst.sensorPeriod = period;
+  a.inst.sensorJitter = jitter;
+  a.inst.sensorDrift = drift;
+  a.clock = SensorClock{drift};
+  a.markStamp = std::numeric_limits<double>::quiet_NaN();
+}
+
 void Monitor::forget(int arm) {
   ArmState& a = arms_[arm];
   if (a.read && safety_.latchStale) a.latched = true;
   a.read = false;
   a.clock.reset();  // the next reading may come from another sensor, another clock
+  a.markStamp = std::numeric_limits<double>::quiet_NaN();
 }
 
 bool Monitor::reset(int arm) {
@@ -228,7 +243,11 @@ void Monitor::setJointState(int arm, double t, const double* q, const double* qd
     capVa_[i] = a.rates.velocity(lc.body, capA_[i]);
     capVb_[i] = a.rates.velocity(lc.body, capB_[i]);
   }
-  a.newer = a.newer || !a.read || t > a.t;  // the same stamp again is a repeat, not news
+  // the same stamp again is a repeat, not news; a later one waits for its arrival mark
+  if ((!a.read || t > a.t) && std::isnan(a.markStamp)) {
+    a.markStamp = t, a.markAfter = started_ ? now_ : -std::numeric_limits<double>::infinity();
+    a.markApplied = false;
+  }
   a.t = t;
   a.read = true;
   a.fresh = true;
@@ -274,10 +293,18 @@ void Monitor::refile(int id) {
 
 void Monitor::cycle(double t) {
   now_ = t;
-  // readings new since the last cycle arrive now (for the clocks that may drift)
+  // new readings arrive now, if this cycle is later than the last before they came (for the
+  // clocks that may drift)
   for (ArmState& a : arms_) {
-    if (a.fresh && a.newer && a.read) a.clock.arrived(a.t, t);
-    a.newer = false;
+    if (std::isnan(a.markStamp)) continue;
+    if (stampedCycles_ && !a.markApplied) {
+      a.markApplied = true;
+      a.markAfter = std::max(a.markAfter, t);
+      continue;
+    }
+    if (!(t > a.markAfter)) continue;
+    a.clock.arrived(a.markStamp, t);
+    a.markStamp = std::numeric_limits<double>::quiet_NaN();
   }
   const double h = safety_.lookAhead();
   const double grow = 0.5 * safety_.minSeparation;

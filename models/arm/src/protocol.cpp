@@ -283,6 +283,16 @@ std::string encode(const Message& m, std::uint8_t version) {
           w.head(Type::Claim);
           w.ids(x.arms);
           w.ids(x.obstacles);
+          if (version >= 4) {
+            w.u16(static_cast<std::uint16_t>(x.rates.size()));
+            for (const SensorRate& rate : x.rates) {
+              w.u8(rate.kind);
+              w.u16(rate.id);
+              w.f64(rate.period);
+              w.f64(rate.jitter);
+              w.f64(rate.drift);
+            }
+          }
         } else if constexpr (std::is_same_v<T, Welcome>) {
           w.head(Type::Welcome);
           w.u16(x.version);
@@ -402,6 +412,23 @@ Decoded decode(std::string_view payload) {
       Claim x;
       r.ids(x.arms, kMaxArms, "arms", "claimed");
       r.ids(x.obstacles, kMaxObstacles, "obstacles", "claimed");
+      if (static_cast<std::uint8_t>(payload[0]) >= 4 && r.error.empty()) {
+        r.what = "rates";
+        const std::uint16_t n = r.u16();
+        if (r.error.empty() && n > kMaxRates)
+          r.fail(std::to_string(n) + " rates in one CLAIM (at most " + std::to_string(kMaxRates) + ")");
+        if (r.error.empty() && r.need(static_cast<std::size_t>(n) * 27)) {
+          x.rates.resize(n);
+          for (SensorRate& rate : x.rates) {
+            rate.kind = r.u8();
+            rate.id = r.u16();
+            rate.period = r.f64();
+            rate.jitter = r.f64();
+            rate.drift = r.f64();
+            if (rate.kind > SensorRate::Person && r.error.empty()) r.fail("rate kind " + std::to_string(rate.kind) + " (0 arm, 1 person)");
+          }
+        }
+      }
       if (r.done()) d.message = std::move(x);
       break;
     }

@@ -1,5 +1,6 @@
 #include <starm/service.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -61,6 +62,7 @@ net::ServerConfig checked(const ServiceConfig& c) {
 ArmService::ArmService(boost::asio::io_context& io, const Scenario& scenario, ServiceConfig cfg)
     : cfg_(std::move(cfg)), monitor_(makeMonitor(scenario)), server_(io, checked(cfg_), *this), helloTimer_(io) {
   const int arms = monitor_.armCount();
+  monitor_.setStampedCycles(true);  // a cycle runs at the newest stamp among its messages
   armOwner_.assign(arms, kNobody);
   armDisputed_.assign(arms, 0);
   obstacleOwner_.assign(monitor_.obstacles().size(), kNobody);
@@ -79,14 +81,21 @@ ArmService::ArmService(boost::asio::io_context& io, const Scenario& scenario, Se
   if (!held_.empty()) ssm_.emplace(scenario.ssm, arms);
   // a reading older than this could not start the braking in time
   staleAfter_ = cfg_.staleAfter > 0.0 ? cfg_.staleAfter : monitor_.safety().reactionTime + monitor_.safety().cycleTime;
-  for (const Scenario::Person& person : scenario.persons) {
-    const double gap = person.sensorPeriod > 0.0 ? person.sensorPeriod + person.sensorJitter : staleAfter_;
-    personStaleAfter_.push_back(gap * (1.0 + person.sensorDrift));
-    personClock_.push_back(SensorClock{person.sensorDrift});
-  }
   personNew_.assign(held_.size(), 0);
   personMarkStamp_.assign(held_.size(), std::numeric_limits<double>::quiet_NaN());
   personMarkAfter_.assign(held_.size(), 0.0);
+  for (const Scenario::Person& person : scenario.persons) {
+    const proto::SensorRate rate{proto::SensorRate::Person, 0, person.sensorPeriod, person.sensorJitter, person.sensorDrift};
+    scenarioPersonRates_.push_back(rate);
+    personStaleAfter_.push_back(0.0);
+    personClock_.emplace_back();
+    setPersonRate(personClock_.size() - 1, rate);
+  }
+  for (int a = 0; a < arms; ++a) {
+    const ArmInstance& inst = monitor_.arm(a);
+    scenarioArmRates_.push_back({proto::SensorRate::Arm, static_cast<std::uint16_t>(a), inst.sensorPeriod, inst.sensorJitter,
+                                 inst.sensorDrift});
+  }
   if (!cfg_.logDir.empty()) {
     namespace fs = std::filesystem;
     fs::create_directories(cfg_.logDir);
@@ -186,6 +195,13 @@ void ArmService::onClose(net::Server&, net::ConnectionId id, net::CloseReason wh
   logConnection(id, net::toString(why), detail);
 }
 
+void ArmService::setPersonRate(std::size_t k, const proto::SensorRate& r) {
+  const double gap = r.period > 0.0 ? r.period + r.jitter : staleAfter_;
+  personStaleAfter_[k] = gap * (1.0 + r.drift);
+  personClock_[k] = SensorClock{r.drift};
+  personMarkStamp_[k] = std::numeric_limits<double>::quiet_NaN();
+}
+
 void ArmService::release(net::ConnectionId id) {
   // what it reported is free, and its disputes are over: the next claimant owns it alone
   for (std::size_t a = 0; a < armOwner_.size(); ++a)
@@ -195,6 +211,9 @@ void ArmService::release(net::ConnectionId id) {
       // the arm has no reading: STOP)
       monitor_.forget(static_cast<int>(a));
       pendingArm_[a].fresh = false;
+      // rates it declared leave with it: the scenario's again for the next owner
+      const proto::SensorRate& r = scenarioArmRates_[a];
+      monitor_.setSensorRate(static_cast<int>(a), r.period, r.jitter, r.drift);
     }
   for (std::size_t o = 0; o < obstacleOwner_.size(); ++o)
     if (obstacleOwner_[o] == id) obstacleOwner_[o] = kNobody, obstacleDisputed_[o] = 0;
@@ -203,8 +222,7 @@ void ArmService::release(net::ConnectionId id) {
   for (std::size_t k = 0; k < personOwner_.size(); ++k)
     if (personOwner_[k] == id) {
       personOwner_[k] = kNobody, personDisputed_[k] = 0;
-      personClock_[k].reset();  // the next tracker keeps a clock of its own
-      personMarkStamp_[k] = std::numeric_limits<double>::quiet_NaN();
+      setPersonRate(k, scenarioPersonRates_[k]);  // the next tracker keeps a clock of its own
     }
 }
 
@@ -378,16 +396,45 @@ std::string ArmService::onClaim(net::ConnectionId id, Peer& p, std::string_view 
     if (o >= monitor_.obstacles().size())
       return "CLAIM: unknown obstacle id " + std::to_string(o) + " (the scenario has " +
              std::to_string(monitor_.obstacles().size()) + ")";
+  // version 4: the rates of its sensors, each of an arm it claims or of a person (claimed with it)
+  std::vector<std::uint16_t> persons;
+  for (const proto::SensorRate& r : c.rates) {
+    const bool arm = r.kind == proto::SensorRate::Arm;
+    const std::string what = std::string(arm ? "arm " : "person ") + std::to_string(r.id);
+    if (arm && std::find(c.arms.begin(), c.arms.end(), r.id) == c.arms.end())
+      return "CLAIM: a rate for " + what + ", which this CLAIM does not name";
+    if (!arm && r.id >= held_.size())
+      return "CLAIM: unknown person id " + std::to_string(r.id) + " (the scenario has " + std::to_string(held_.size()) + " persons)";
+    if (!(std::isfinite(r.period) && r.period > 0.0 && r.period <= 60.0))
+      return "CLAIM: " + what + " rate: period " + num(r.period) + " s is not in (0, 60]";
+    if (!(r.jitter >= 0.0 && r.jitter < r.period))
+      return "CLAIM: " + what + " rate: jitter " + num(r.jitter) + " s is not in [0, period)";
+    if (!(r.drift >= 0.0 && r.drift < 0.5)) return "CLAIM: " + what + " rate: drift " + num(r.drift) + " is not in [0, 0.5)";
+    if (!arm) {
+      if (std::find(persons.begin(), persons.end(), r.id) != persons.end()) return "CLAIM: " + what + " has two rates";
+      persons.push_back(r.id);
+    }
+  }
   std::string owned;
   for (const std::uint16_t a : c.arms)
     if (std::string e = mayReportArm(id, p, a, "CLAIM"); !e.empty() && owned.empty()) owned = std::move(e);
   for (const std::uint16_t o : c.obstacles)
     if (std::string e = mayReportObstacle(id, p, o, "CLAIM"); !e.empty() && owned.empty()) owned = std::move(e);
+  for (const std::uint16_t k : persons)
+    if (std::string e = mayReport(id, p, personOwner_, personDisputed_, k, "person " + std::to_string(k) + " (" + persons_.name(k) + ")",
+                                  "CLAIM", "one connection per person; every arm is stopped");
+        !e.empty() && owned.empty())
+      owned = std::move(e);
   if (!owned.empty()) return owned;
   for (const std::uint16_t a : c.arms) armOwner_[a] = id;
   for (const std::uint16_t o : c.obstacles) obstacleOwner_[o] = id;
+  for (const std::uint16_t k : persons) personOwner_[k] = id;
+  for (const proto::SensorRate& r : c.rates) {
+    if (r.kind == proto::SensorRate::Arm) monitor_.setSensorRate(r.id, r.period, r.jitter, r.drift);
+    else setPersonRate(r.id, r);
+  }
   p.claimed = true;
-  p.owns = !c.arms.empty() || !c.obstacles.empty();
+  p.owns = !c.arms.empty() || !c.obstacles.empty() || !persons.empty();
   return "";
 }
 

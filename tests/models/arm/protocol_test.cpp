@@ -112,11 +112,11 @@ TEST(Protocol, VersionOneVerdictsKeepTheirLayoutAndVersionTwoNamesTheCause) {
   std::string bad = two;
   bad[2 + 4 + 8 + 8 + 2 + 9] = 8;
   EXPECT_EQ(decode(bad).error, "VERDICT: verdict cause 8");
-  // versions 0 and 4 are not served
-  for (const char version : {'\0', '\4'}) {
+  // versions 0 and 5 are not served
+  for (const char version : {'\0', '\5'}) {
     std::string m = two;
     m[0] = version;
-    EXPECT_NE(decode(m).error.find("not supported (this service speaks 1 to 3)"), std::string::npos) << decode(m).error;
+    EXPECT_NE(decode(m).error.find("not supported (this service speaks 1 to 4)"), std::string::npos) << decode(m).error;
   }
 }
 
@@ -154,6 +154,32 @@ TEST(Protocol, VersionThreeCarriesPersonsAndOlderVersionsDoNot) {
   EXPECT_EQ(decode(many).error, "SKELETONS: 65535 persons in one message (at most 64)");
 }
 
+TEST(Protocol, VersionFourClaimsCarryRatesAndOlderClaimsAreByteForByteAsBefore) {
+  const Claim c{{0, 1}, {3}, {{SensorRate::Arm, 1, 0.02, 0.003, 0.02}, {SensorRate::Person, 0, 1.0 / 30.0, 0.005, 0.01}}};
+  const Decoded d = decode(encode(c, 4));
+  ASSERT_TRUE(d.ok) << d.error;
+  EXPECT_EQ(std::get<Claim>(d.message).rates, c.rates);
+  EXPECT_EQ(std::get<Claim>(d.message).arms, c.arms);
+  // versions 1 to 3: the CLAIM of before, written by hand (version, type, 2 arms, 1 obstacle)
+  for (const std::uint8_t version : {1, 2, 3}) {
+    const std::string old = encode(c, version);
+    EXPECT_EQ(old, std::string({static_cast<char>(version), 0x05, 2, 0, 0, 0, 1, 0, 1, 0, 3, 0}));
+    const Decoded o = decode(old);
+    ASSERT_TRUE(o.ok) << o.error;
+    EXPECT_TRUE(std::get<Claim>(o.message).rates.empty());
+  }
+  // bounded, named: a rate cut short, a kind that is neither arm nor person, too many rates
+  std::string cut = encode(c, 4);
+  cut.pop_back();
+  EXPECT_NE(decode(cut).error.find("CLAIM: truncated at byte"), std::string::npos) << decode(cut).error;
+  std::string kind = encode(c, 4);
+  kind[12 + 2] = 2;  // the first rate's kind (after 2 + 2 + 4 + 2 + 2 bytes and the rates' count)
+  EXPECT_EQ(decode(kind).error, "CLAIM: rate kind 2 (0 arm, 1 person)");
+  std::string many = encode(Claim{{}, {}, {}}, 4);
+  many[many.size() - 2] = static_cast<char>(129);
+  EXPECT_EQ(decode(many).error, "CLAIM: 129 rates in one CLAIM (at most 128)");
+}
+
 TEST(Protocol, InfinityAndNanSurviveTheWire) {
   Verdict v;
   v.arms = {{Level::Ok, std::numeric_limits<double>::infinity(), Cause::None, {}}};
@@ -187,8 +213,8 @@ TEST(Protocol, EveryTruncationAndTrailingByteIsNamed) {
 
 TEST(Protocol, VersionAndTypeAreChecked) {
   std::string m = encode(Subscribe{});
-  m[0] = 4;
-  EXPECT_NE(decode(m).error.find("protocol version 4 not supported"), std::string::npos);
+  m[0] = 5;
+  EXPECT_NE(decode(m).error.find("protocol version 5 not supported"), std::string::npos);
   m[0] = static_cast<char>(kVersion);
   m[1] = 0x42;
   EXPECT_NE(decode(m).error.find("unknown message type 0x42"), std::string::npos) << decode(m).error;

@@ -570,11 +570,11 @@ TEST(ArmService, AVersionOneClientIsStillServed) {
   const proto::Decoded d = proto::decode(*f);
   ASSERT_TRUE(d.ok) << d.error;
   EXPECT_EQ(std::get<proto::Verdict>(d.message).arms[0].level, proto::Level::Ok);
-  // a version 4 HELLO is refused naming what is spoken
-  net::Client four;
-  four.connect("127.0.0.1", svc.service.port(), 2s);
-  four.send(proto::encode(proto::Hello{4, ""}, 3));
-  expectError(four, "protocol version 4 not supported (this service speaks 1 to 3)");
+  // a version 5 HELLO is refused naming what is spoken
+  net::Client five;
+  five.connect("127.0.0.1", svc.service.port(), 2s);
+  five.send(proto::encode(proto::Hello{5, ""}, 4));
+  expectError(five, "protocol version 5 not supported (this service speaks 1 to 4)");
 }
 
 TEST(ArmService, ACycleOverItsBudgetIsStopForEveryArm) {
@@ -732,6 +732,78 @@ TEST(ArmService, TwoSensorClocksTwoPerCentApartAreNoStopOnceTheirDriftIsDeclared
       break;
     }
   EXPECT_LE(firstStop, marked + staleAfter + 0.023 + 1e-9);
+}
+
+// two_pandas with arm 0's joint sensor declared at 50 Hz +-3 ms (no drift) in the scenario;
+// arm 1 reported at 50 Hz on the reference clock, arm 0 at 50 Hz +-3 ms on a clock 2 % slow.
+// A version 4 client that declares its drift in its CLAIM is not stopped; once it leaves, a
+// version 3 client on the same clock is judged by the scenario's rate again.
+TEST(ArmService, AVersionFourClaimDeclaresItsSensorsRate) {
+  Scenario s = loadScenario(scenarioPath("two_pandas"));
+  s.arms[0].sensorPeriod = 0.02, s.arms[0].sensorJitter = 0.003;
+  Service svc(s, {});
+  Peer reference(svc.service.port());
+  std::uint32_t seq = 0;
+  std::mt19937_64 g(13);
+  double next = 0.0;  // arm 0's sensor's own clock
+  int stops = 0, verdicts = 0;
+  double lastTaken = 0.0, firstStop = -1.0;
+  const double staleAfter = 0.023 * 1.02;
+  // from t0 to t1 (reference time): arm 0's readings through `sensor` until `quiet`, arm 1's
+  // through reference; counted: verdicts and STOPs of arm 0 while its readings are current
+  const auto run = [&](net::Client& sensor, std::uint8_t version, double t0, double t1, double quiet) {
+    for (int k = static_cast<int>(std::lround(t0 * 1000)); k < static_cast<int>(std::lround(t1 * 1000)); ++k) {
+      const double t = 0.001 * k;
+      if (next / 0.98 <= t && t < quiet) {
+        lastTaken = next / 0.98;
+        sensor.send(proto::encode(pandaReading(++seq, next, 0), version));
+        next += 0.02 + (2.0 * (static_cast<double>(g() >> 11) * 0x1.0p-53) - 1.0) * 0.003;
+        for (int n = 0; n < 10; ++n) {
+          const auto f = sensor.receive(2s);
+          if (!f) break;
+          const proto::Decoded d = proto::decode(*f);
+          const auto* v = d.ok ? std::get_if<proto::Verdict>(&d.message) : nullptr;
+          if (v && v->ack >= seq) break;
+        }
+      }
+      if (k % 20 == 0) {
+        reference.c.send(proto::encode(pandaReading(++seq, t, 1)));
+        const auto v = verdictFor(reference, seq);
+        if (!v) ADD_FAILURE() << "no verdict at " << t;
+        else if (t > t0 + 0.03 && t <= lastTaken + staleAfter) ++verdicts, stops += v->arms[0].level == proto::Level::Stop;
+        else if (t > lastTaken + staleAfter && firstStop < 0.0 && v && v->arms[0].level == proto::Level::Stop) firstStop = t;
+      }
+    }
+  };
+  {
+    Peer sensor(svc.service.port());
+    // a rate for an arm it does not claim, or out of range, is refused naming it
+    Peer wrong(svc.service.port());
+    wrong.c.send(proto::encode(proto::Claim{{1}, {}, {{proto::SensorRate::Arm, 0, 0.02, 0.003, 0.02}}}));
+    expectError(wrong.c, "CLAIM: a rate for arm 0, which this CLAIM does not name");
+    Peer bad(svc.service.port());
+    bad.c.send(proto::encode(proto::Claim{{0}, {}, {{proto::SensorRate::Arm, 0, 0.02, 0.003, 0.7}}}));
+    expectError(bad.c, "CLAIM: arm 0 rate: drift 0.7 is not in [0, 0.5)");
+    sensor.c.send(proto::encode(proto::Claim{{0}, {}, {{proto::SensorRate::Arm, 0, 0.02, 0.003, 0.02}}}));
+    run(sensor.c, proto::kVersion, 0.0, 3.0, 2.5);
+    EXPECT_GT(verdicts, 120);
+    EXPECT_EQ(stops, 0) << "a declared drift of 2 % was STOPped";
+    // silent from 2.5 s: STOP once its last reading is (period + jitter)(1 + drift) old, by the
+    // reference's cycle after the one that marks its arrival (two reference periods)
+    EXPECT_GT(firstStop, lastTaken + staleAfter);
+    EXPECT_LE(firstStop, lastTaken + staleAfter + 2 * 0.02 + 1e-9);
+  }
+  // the version 4 client left: its rate with it (arm 0 STOP while no one reports it)
+  std::this_thread::sleep_for(100ms);  // the service sees the close first
+  net::Client old;
+  old.connect("127.0.0.1", svc.service.port(), 2s);
+  old.send(proto::encode(proto::Hello{3, ""}, 3));
+  ASSERT_TRUE(old.receive(2s));
+  old.send(proto::encode(proto::Subscribe{proto::Subscribe::kOwnOnly}, 3));
+  stops = verdicts = 0;
+  run(old, 3, 3.0, 5.0, 5.0);
+  EXPECT_GT(verdicts, 90);
+  EXPECT_GT(stops, verdicts / 2) << "the scenario's rate (no drift) did not come back";
 }
 
 TEST(ArmService, ASkeletonSlowsAndStopsTheArmInVersionThree) {

@@ -5,6 +5,7 @@
 // collision for each, warnings and STOP per arm.
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -161,6 +162,16 @@ class Monitor {
   // Releases the latch if the arm was current at the last cycle; false if it stays latched.
   bool reset(int arm);
   double staleAfter(int arm) const;
+  // Declares arm's sensor anew (ArmInstance::sensorPeriod, sensorJitter, sensorDrift; period 0:
+  // undeclared), its clock's offset forgotten: a sensor that introduces itself (the service's
+  // CLAIM). Throws std::invalid_argument for a period beyond [0, 60] s, jitter beyond
+  // [0, period) or drift beyond [0, 0.5).
+  void setSensorRate(int arm, double period, double jitter, double drift);
+  // The cycles' times are the sensors' own stamps (the service: a cycle runs at the newest stamp
+  // among its messages), so the cycle a reading is applied in may run at that reading's own
+  // stamp, whatever its clock's offset: its arrival is marked at the first cycle later than that
+  // one. Off (in process): at the first cycle later than the last one before it was set.
+  void setStampedCycles(bool on) { stampedCycles_ = on; }
   bool warned(int arm) const { return arms_[arm].warned; }
   double time() const { return now_; }  // of the last cycle
   // The closest pair of this cycle among those tested exactly (swept boxes overlapping; any
@@ -199,7 +210,12 @@ class Monitor {
     BodyRates rates;
     double t = 0.0;  // time of the last reading (its stamp, on its sensor's clock)
     SensorClock clock;   // that clock against the monitor's
-    bool newer = false;  // the reading set since the last cycle has a later stamp than the one before
+    // A reading with a later stamp than the one before, waiting to be marked as arrived: at the
+    // first cycle later than the last cycle before it was set (a cycle's time may lag the
+    // reading's arrival: the service stamps cycles with the newest stamp). NaN: none waiting.
+    double markStamp = std::numeric_limits<double>::quiet_NaN();
+    double markAfter = -std::numeric_limits<double>::infinity();
+    bool markApplied = false;  // stampedCycles: the cycle it was applied in has run
     bool read = false;   // any reading yet
     bool stale = false;  // this cycle: no current reading
     bool latched = false;  // a sensor once current fell silent: STOP until reset
@@ -230,6 +246,7 @@ class Monitor {
   double now_ = 0.0;
   double t0_ = 0.0;  // time the obstacles are given at
   bool started_ = false;
+  bool stampedCycles_ = false;
 
   // arm capsules, struct of arrays, at their arm's reading time
   std::vector<Vec3> capA_, capB_, capVa_, capVb_;

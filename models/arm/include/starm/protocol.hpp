@@ -1,5 +1,5 @@
 #pragma once
-// The arm service's wire protocol, version 3 (versions 1 and 2 still served): pure encode / decode of
+// The arm service's wire protocol, version 4 (versions 1 to 3 still served): pure encode / decode of
 // frame payloads (the length prefix is st::net's). No sockets here, so every message can be
 // tested and fuzzed.
 //
@@ -7,7 +7,9 @@
 // client's HELLO names its version; the service answers in it. Version 2 gives each arm of a
 // VERDICT the cause of its level; version 3 adds persons: SKELETONS, the persons in WELCOME, and
 // each arm's speed factor and person separation in VERDICT (causes 8 person and 9 deadline in
-// version 3 only; a version 2 client is told `separation` and `stale`). Numbers are little-endian:
+// version 3 only; a version 2 client is told `separation` and `stale`). Version 4 lets a CLAIM
+// declare the rates of what it reports (each arm's joint sensor, each person's tracker: period,
+// jitter, clock drift; starm/monitor.hpp) instead of the scenario's. Numbers are little-endian:
 // u8/u16/u32/u64, f64 IEEE 754; a string is u16 length + bytes.
 //
 //   client -> service
@@ -21,7 +23,9 @@
 //                   (person.hpp's joint order, cell frame, m)
 //   0x05 CLAIM      u16 n, n x u16 arm, u16 m, m x u16 obstacle: what this client reports (once,
 //                   before its first READINGS or OBSTACLES; without it a client claims each arm or
-//                   obstacle by its first report of it)
+//                   obstacle by its first report of it)[, v4: u16 k, k x {u8 kind (0 arm, 1 person),
+//                   u16 id, f64 period, f64 jitter, f64 drift}: its sensors' rates (s, s, ratio); a
+//                   person named here is claimed too]
 //   service -> client
 //   0x81 WELCOME    u16 version, f64 cycle time, f64 safe time, u16 arms, arms x {string name, u8 dof},
 //                   u16 obstacles, obstacles x {string name}[, v3: u16 persons, persons x {string name}]
@@ -47,7 +51,7 @@
 
 namespace st::arm::proto {
 
-inline constexpr std::uint8_t kVersion = 3;     // what this build speaks by default
+inline constexpr std::uint8_t kVersion = 4;     // what this build speaks by default
 inline constexpr std::uint8_t kOldestVersion = 1;  // the oldest still served
 inline constexpr std::size_t kMaxArms = 64;        // per message
 inline constexpr std::size_t kMaxDof = 32;
@@ -124,8 +128,19 @@ struct Subscribe {
   std::uint8_t flags = 0;
   static constexpr std::uint8_t kOwnOnly = 1;
 };
+// A sensor's declared rate (version 4): readings at most period + jitter apart (s), its clock
+// off the service's by at most drift (a ratio: 0.02 is 2 %).
+struct SensorRate {
+  enum Kind : std::uint8_t { Arm = 0, Person = 1 };
+  std::uint8_t kind = Arm;
+  std::uint16_t id = 0;
+  double period = 0.0, jitter = 0.0, drift = 0.0;
+  bool operator==(const SensorRate&) const = default;
+};
+inline constexpr std::size_t kMaxRates = 128;  // per CLAIM
 struct Claim {
   std::vector<std::uint16_t> arms, obstacles;
+  std::vector<SensorRate> rates;  // version 4; not written in older versions
 };
 struct Reset {
   std::vector<std::uint16_t> arms;

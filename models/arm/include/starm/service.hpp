@@ -154,6 +154,9 @@ class ArmService final : public net::Handler {
   std::vector<double> personT_;
   std::vector<double> personStaleAfter_;  // s, per person: its tracker's (period + jitter)(1 + drift), or staleAfter_
   std::vector<SensorClock> personClock_;  // per person: its tracker's clock against the cycles'
+  // the scenario's declared rates (period, jitter, drift), put back when a CLAIM's owner leaves
+  std::vector<proto::SensorRate> scenarioArmRates_, scenarioPersonRates_;
+  void setPersonRate(std::size_t person, const proto::SensorRate& rate);
   std::vector<char> personNew_;           // a pose with a later stamp since the last cycle
   // a pose's arrival on the cycles' clock: the first cycle later than the one it came in (the
   // cycles' time is the newest stamp, which lags the pose's arrival by up to a sensor's period
