@@ -161,7 +161,8 @@ TEST(Protocol, VersionFourClaimsCarryRatesAndOlderClaimsAreByteForByteAsBefore) 
   EXPECT_EQ(std::get<Claim>(d.message).rates, c.rates);
   EXPECT_EQ(std::get<Claim>(d.message).arms, c.arms);
   // versions 1 to 3: the CLAIM of before, written by hand (version, type, 2 arms, 1 obstacle)
-  for (const std::uint8_t version : {1, 2, 3}) {
+  for (const int v : {1, 2, 3}) {
+    const auto version = static_cast<std::uint8_t>(v);
     const std::string old = encode(c, version);
     EXPECT_EQ(old, std::string({static_cast<char>(version), 0x05, 2, 0, 0, 0, 1, 0, 1, 0, 3, 0}));
     const Decoded o = decode(old);

@@ -140,7 +140,7 @@ struct SensorRate {
 inline constexpr std::size_t kMaxRates = 128;  // per CLAIM
 struct Claim {
   std::vector<std::uint16_t> arms, obstacles;
-  std::vector<SensorRate> rates;  // version 4; not written in older versions
+  std::vector<SensorRate> rates{};  // version 4; not written in older versions
 };
 struct Reset {
   std::vector<std::uint16_t> arms;
