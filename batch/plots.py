@@ -26,7 +26,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 Z95 = 1.959963984540054  # the normal 0.975 quantile (Wilson intervals)
 DPI = 120
 MAX_WIDTH_PX = 2400  # every figure: wider ones wrap their panels into rows instead
-TYPES = ["rear_end", "lane_change", "crossing"]  # SSAM's conflict types
+TYPES = ["rear_end", "lane_change", "crossing", "pedestrian"]  # SSAM's conflict types and a person's
 # report.headline -> the rate family of the runs' metrics (batch/src/rates.cpp)
 HEADLINES = {"conflicts_per_vehicle_km": "per_vehicle_km", "conflicts_per_hour": "per_hour",
              "conflicts_per_entering_vehicle": "per_entering_vehicle"}
@@ -815,11 +815,11 @@ def write_conflicts(f, out, sweep):
             "counted once (an unordered pair and one encounter whose box TTC fell to TTC*, whatever the "
             "detector; not the per-ego warnings). Each measure as mean ± half-width "
             "(95 % CI, n: the conflicts with a value).\n\n")
-    head = sweep + ["runs", "conflicts", "rear-end", "lane change", "crossing"] + [lab for _, lab in measures]
+    head = sweep + ["runs", "conflicts", "rear-end", "lane change", "crossing", "pedestrian"] + [lab for _, lab in measures]
     f.write("| " + " | ".join(head) + " |\n|" + "---|" * len(head) + "\n")
     ds = {m: decimals([num(r.get(m + ".mean")) for r in rows]) for m, _ in measures}
     for r in rows:
-        cells = [r[p] for p in sweep] + [r["runs"], r["conflicts"], r["rear_end"], r["lane_change"], r["crossing"]]
+        cells = [r[p] for p in sweep] + [r["runs"], r["conflicts"]] + [r.get(t, "0") for t in TYPES]
         for m, _ in measures:
             n = num(r.get(m + ".n"))
             cells.append(estimate(num(r.get(m + ".mean")), num(r.get(m + ".ci95")), int(n) if n is not None else None,

@@ -164,7 +164,10 @@ int runTrace(const Args& a) {
     while (reader.next(frame)) {
       if (hasEnd && frame.time > end) break;
       if (penetration < 1.0)
-        for (auto& v : frame.vehicles) v.equipped = hw::drawnEquipped(static_cast<std::uint64_t>(seed), v.id, penetration);
+        // persons are foes, never equipped (as the live run has them)
+        for (auto& v : frame.vehicles)
+          v.equipped = v.vehicleClass != hw::VehicleClass::Pedestrian &&
+                       hw::drawnEquipped(static_cast<std::uint64_t>(seed), v.id, penetration);
       monitor.step(frame.time, frame.vehicles);
       if (!any) first = frame.time;
       any = true;
@@ -179,7 +182,9 @@ int runTrace(const Args& a) {
   const hw::MonitorCounters& c = monitor.counters();
   std::uint64_t total = 0;
   for (auto n : c.warningsByKind) total += n;
-  std::cout << "highway: " << c.vehiclesSeen << " vehicles, " << c.vehicleMeters / 1000.0 << " vehicle-km, " << total
+  std::cout << "highway: " << c.vehiclesSeen << " vehicles, "
+            << (c.personsSeen ? std::to_string(c.personsSeen) + " persons on foot, " : std::string())
+            << c.vehicleMeters / 1000.0 << " vehicle-km, " << total
             << " warnings (vehicle " << c.warningsByKind[0] << ", curb " << c.warningsByKind[1] << ", lane_marker "
             << c.warningsByKind[2] << ", hazard " << c.warningsByKind[3] << "; " << hw::conflictTypeBreakdown(c) << "), "
             << hw::conflictCountText(c) << " conflicts (one per pair and encounter, TTC <= " << cfg.conflict.maxTtc

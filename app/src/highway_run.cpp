@@ -121,6 +121,7 @@ int runHighwayCommand(const st::cli::Args& a) {
   for (auto n : c.warningsByKind) total += n;
   std::cout << "highway (" << r.backend << ", " << r.detector << " detector): " << fmt(r.simulatedSeconds, 1)
             << " s simulated, " << c.vehiclesSeen << " vehicles (" << pc.equipped << " equipped), "
+            << (c.personsSeen ? std::to_string(c.personsSeen) + " persons on foot, " : std::string())
             << fmt(c.vehicleMeters / 1000.0, 1) << " vehicle-km\n  warnings " << total << ": vehicle "
             << c.warningsByKind[0] << ", curb " << c.warningsByKind[1] << ", lane_marker " << c.warningsByKind[2]
             << ", hazard " << c.warningsByKind[3] << " ("

@@ -6,6 +6,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <stbatch/conflicts.hpp>
 #include <stio/format.hpp>
@@ -83,7 +84,8 @@ void addRates(const Experiment& e, std::vector<RunResult>& results, const fs::pa
     r.metrics.emplace_back("exposure.vehicle_km", x.vehicleKm);
     r.metrics.emplace_back("exposure.hours", x.hours);
     r.metrics.emplace_back("exposure.entering_vehicles", x.enteringVehicles);
-    const std::string types[] = {"all", kConflictTypes[0], kConflictTypes[1], kConflictTypes[2]};
+    std::vector<std::string> types{"all"};
+    types.insert(types.end(), std::begin(kConflictTypes), std::end(kConflictTypes));
     for (const auto& t : types) r.metrics.emplace_back("counted." + t, counted[t]);
     for (const auto& t : types) r.metrics.emplace_back("rate.per_vehicle_km." + t, rate(counted[t], x.vehicleKm));
     for (const auto& t : types) r.metrics.emplace_back("rate.per_hour." + t, rate(counted[t], x.hours));

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """A conflict map: the network's lanes and every conflict of conflicts.csv (one row, one point: an
 unordered pair's continuous encounter with TTC at most TTC*) at its conflict point, coloured by
-SSAM's type (rear-end, lane change, crossing), sized by MaxDeltaV. Warnings (per ego, against each
+type (SSAM's rear-end, lane change, crossing; a vehicle with a person: pedestrian), sized by MaxDeltaV. Warnings (per ego, against each
 car's safe time, road warnings among them) are not drawn: they are what a driver gets, not what a
 safety study counts. TTC* is read from the summary.json beside each conflicts.csv (its
 conflicts.max_ttc_s), or given with --ttc-star, and said in the title. A long thin network (a
@@ -35,11 +35,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
-# type -> (label, colour); the order of the legend: SSAM's three angle classes, all conflicts.csv has
+# type -> (label, colour); the order of the legend: SSAM's three angle classes and a vehicle with
+# a person on foot, all conflicts.csv has
 TYPES = [
     ("rear_end", "rear-end", "#d62728"),
     ("lane_change", "lane change", "#ff7f0e"),
     ("crossing", "crossing", "#1f77b4"),
+    ("pedestrian", "pedestrian", "#2ca02c"),
 ]
 # marker area (pt^2) at severity 0 and per m/s, capped
 SIZE0, SIZE_PER_MS, SIZE_MAX = 6.0, 6.0, 160.0

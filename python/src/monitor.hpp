@@ -90,6 +90,7 @@ class Monitor {
     d["ticks"] = c.ticks;
     d["vehicle_updates"] = c.vehicleUpdates;
     d["vehicles_seen"] = c.vehiclesSeen;
+    d["persons_seen"] = c.personsSeen;
     d["vehicle_meters"] = c.vehicleMeters;
     d["handoffs"] = c.handoffs;
     d["subdivisions"] = c.subdivisions;

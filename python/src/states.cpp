@@ -56,7 +56,7 @@ hw::VehicleClass classOf(const std::string& name, Convention c, const std::strin
   if (c == Convention::Sumo) return hw::vehicleClassFromName(name);  // as the SUMO coupling does
   for (int k = 0; k < hw::kVehicleClassCount; ++k)
     if (name == hw::toString(static_cast<hw::VehicleClass>(k))) return static_cast<hw::VehicleClass>(k);
-  throw py::value_error(what + " must be passenger, truck, bus, motorcycle, emergency or other, got '" + name + "'");
+  throw py::value_error(what + " must be passenger, truck, bus, motorcycle, emergency, other, bicycle or pedestrian, got '" + name + "'");
 }
 
 // One vehicle's values as given, before the convention is applied.

@@ -28,6 +28,7 @@ using namespace st::cosim::test;
 
 struct Recorded {
   std::vector<std::vector<SumoVehicle>> steps;
+  std::vector<std::vector<SumoVehicle>> personSteps;
   std::vector<std::string> warnings;  // CSV rows
   std::uint64_t departed = 0, arrived = 0, teleports = 0;
 };
@@ -48,6 +49,7 @@ Recorded run(Backend& b, const Scenario& s, bool allReads = true) {
     b.step();
     plugin.update();
     r.steps.push_back(b.vehicles());
+    r.personSteps.push_back(b.persons());
     for (const auto& w : plugin.takeFinished()) r.warnings.push_back(highway::warningCsvRow(w));
   }
   plugin.finish();
@@ -59,13 +61,13 @@ Recorded run(Backend& b, const Scenario& s, bool allReads = true) {
   return r;
 }
 
-void expectSameStates(const Recorded& a, const Recorded& b) {
-  ASSERT_EQ(a.steps.size(), b.steps.size());
-  for (std::size_t k = 0; k < a.steps.size(); ++k) {
-    ASSERT_EQ(a.steps[k].size(), b.steps[k].size()) << "step " << k;
-    for (std::size_t i = 0; i < a.steps[k].size(); ++i) {
-      const SumoVehicle& x = a.steps[k][i];
-      const SumoVehicle& y = b.steps[k][i];
+void expectSameRecords(const std::vector<std::vector<SumoVehicle>>& as, const std::vector<std::vector<SumoVehicle>>& bs) {
+  ASSERT_EQ(as.size(), bs.size());
+  for (std::size_t k = 0; k < as.size(); ++k) {
+    ASSERT_EQ(as[k].size(), bs[k].size()) << "step " << k;
+    for (std::size_t i = 0; i < as[k].size(); ++i) {
+      const SumoVehicle& x = as[k][i];
+      const SumoVehicle& y = bs[k][i];
       ASSERT_EQ(x.id, y.id) << "step " << k;
       // TraCI sends doubles as 8 bytes: bit-identical values
       EXPECT_EQ(x.x, y.x);
@@ -85,6 +87,12 @@ void expectSameStates(const Recorded& a, const Recorded& b) {
       EXPECT_EQ(x.nextSignalDistance, y.nextSignalDistance);
     }
   }
+}
+
+// the vehicles and the persons on foot, step by step
+void expectSameStates(const Recorded& a, const Recorded& b) {
+  expectSameRecords(a.steps, b.steps);
+  expectSameRecords(a.personSteps, b.personSteps);
 }
 
 TEST(Backends, LibsumoAndLibtraciGiveIdenticalStatesAndWarnings) {
@@ -191,6 +199,22 @@ TEST(Backends, LibsumoAndLibtraciAgreeOnTrafficLights) {
         EXPECT_LE(v.nextSignalDistance, 200.0);  // the arms' length
       }
   EXPECT_TRUE(states.count('r') && states.count('y') && states.count('G') && states.count('g'));
+}
+
+// Persons on foot (the crosswalk network: 12 flows of walkers): the same persons in the same order
+// with the same records through both, and riders none of them.
+TEST(Backends, LibsumoAndLibtraciAgreeOnPersons) {
+  const Recorded viaLibsumo = agreeOn("crosswalk", 120.0);
+  std::size_t seen = 0, walking = 0;
+  for (const auto& step : viaLibsumo.personSteps)
+    for (const auto& p : step) {
+      ++seen;
+      walking += p.speed > 0.5;
+      EXPECT_EQ(p.signals, 0);
+      EXPECT_TRUE(p.route.empty());
+    }
+  EXPECT_GT(seen, 5000u);
+  EXPECT_GT(walking, 2000u);
 }
 
 // A teleport (a ramp car stuck for 1 s, t = 112.7 s, starting and ending in one step) goes

@@ -1,7 +1,7 @@
 #pragma once
 // SSAM's comparison of designs over an experiment's highway runs: each run's conflicts.csv (one
 // row per conflict, a pair and one encounter below TTC*, counted once; not the warnings, which are
-// per ego), of an SSAM type (rear_end, lane_change, crossing), pooled per parameter combination
+// per ego), of a conflict type (rear_end, lane_change, crossing, pedestrian), pooled per parameter combination
 // over its seeds.
 #include <filesystem>
 #include <vector>
@@ -15,10 +15,10 @@ namespace st::batch {
 inline constexpr const char* kConflictMeasures[] = {"min_ttc", "pet", "drac", "max_s", "delta_s",
                                                     "dr", "max_d", "max_delta_v"};
 
-// SSAM's conflict types, in the tables' order.
-inline constexpr const char* kConflictTypes[] = {"rear_end", "lane_change", "crossing"};
+// The conflict types, in the tables' order: SSAM's three and a vehicle with a person on foot.
+inline constexpr const char* kConflictTypes[] = {"rear_end", "lane_change", "crossing", "pedestrian"};
 
-// One run's conflicts.csv as the batch counts it: the rows of SSAM's three types whose encounter
+// One run's conflicts.csv as the batch counts it: the rows of the conflict types whose encounter
 // began at or after `warmup` (s), each with the measures the file has (NaN where empty or not
 // finite). `present` is false when the run wrote no conflicts.csv.
 struct RunConflicts {

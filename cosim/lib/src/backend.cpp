@@ -31,6 +31,7 @@ void Backend::setReads(const VehicleReads& reads) {
       v.routeVersion = ++routeReads_;
     }
   }
+  if (!reads_.persons) applyPersons({});
 }
 
 const SumoVehicleType& Backend::vehicleType(const std::string& typeId) {
@@ -72,6 +73,35 @@ void Backend::appear(const std::string& id) {
   v.type = types_[static_cast<std::size_t>(k.typeIndex)].id;
   v.serial = k.serial;
   vehicles_.push_back(std::move(v));
+}
+
+void Backend::applyPersons(const std::vector<std::string>& walking) {
+  const std::uint64_t call = ++personCalls_;
+  for (const std::string& id : walking) {
+    auto it = knownPersons_.find(id);
+    if (it == knownPersons_.end()) {
+      Known k;
+      k.typeIndex = typeIndexOf(readPersonTypeId(id));
+      k.serial = nextSerial_++;
+      it = knownPersons_.emplace(id, k).first;
+    }
+    Known& k = it->second;
+    k.seen = call;
+    if (k.onRoad) continue;
+    k.onRoad = true;
+    SumoVehicle p;
+    p.id = id;
+    p.typeIndex = k.typeIndex;
+    p.type = types_[static_cast<std::size_t>(k.typeIndex)].id;
+    p.serial = k.serial;
+    persons_.push_back(std::move(p));
+  }
+  std::erase_if(persons_, [&](const SumoVehicle& p) {
+    Known& k = knownPersons_.at(p.id);
+    if (k.seen == call) return false;
+    k.onRoad = false;
+    return true;
+  });
 }
 
 void Backend::leave(const std::string& id) {

@@ -116,6 +116,14 @@ bool movesSideways() {
   return positive("lateral-resolution") || positive("lanechange.duration");
 }
 
+// The persons on foot (not riding a vehicle) of this step.
+template <class Person>
+std::vector<std::string> walkingPersons() {
+  std::vector<std::string> ids = Person::getIDList();
+  std::erase_if(ids, [](const std::string& id) { return !Person::getVehicle(id).empty(); });
+  return ids;
+}
+
 // Each vehicle's next traffic light: the state of the link its route takes at the end of its lane
 // and the distance to that lane's end (the stop line), from the lights' controlled links read
 // once and each light's state read once a step. (SUMO's getNextTLS per vehicle and step cost

@@ -88,6 +88,7 @@ class LibsumoBackend final : public Backend {
     return detail::readVehicleType<libsumo::VehicleType>(typeId);
   }
   std::string readTypeId(const std::string& vehicleId) override { return libsumo::Vehicle::getTypeID(vehicleId); }
+  std::string readPersonTypeId(const std::string& personId) override { return libsumo::Person::getTypeID(personId); }
 
   void advance() override {
     try {
@@ -126,6 +127,15 @@ class LibsumoBackend final : public Backend {
         signals_.next(v, [&] {
           return std::pair<std::string, double>(libsumo::Vehicle::getLaneID(v.id), libsumo::Vehicle::getLanePosition(v.id));
         });
+    }
+    if (!reads_.persons) return;
+    applyPersons(detail::walkingPersons<libsumo::Person>());
+    for (SumoVehicle& p : persons_) {
+      const auto at = libsumo::Person::getPosition(p.id);
+      p.x = at.x;
+      p.y = at.y;
+      p.angle = libsumo::Person::getAngle(p.id);
+      p.speed = libsumo::Person::getSpeed(p.id);
     }
   }
 

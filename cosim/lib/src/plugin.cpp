@@ -122,8 +122,10 @@ void HighwayPlugin::prepare() {
 
   // convert in place; decide each vehicle's equipment once, on first sight
   const auto& vehicles = backend_.vehicles();
-  states_.resize(vehicles.size());
-  serials_.resize(vehicles.size());
+  const auto& persons = backend_.persons();
+  vehicleStates_ = vehicles.size();
+  states_.resize(vehicles.size() + persons.size());
+  serials_.resize(states_.size());
   for (std::size_t i = 0; i < vehicles.size(); ++i) {
     const SumoVehicle& v = vehicles[i];
     const TypeInfo& t = typeInfo(v.typeIndex);
@@ -152,6 +154,16 @@ void HighwayPlugin::prepare() {
       if (at >= pv.route.size() || pv.route[at] < 0) break;
       route[k] = pv.route[at];
     }
+  }
+  // persons on foot: foes with their own bodies, predicted in straight lines (no route, no lane)
+  for (std::size_t j = 0; j < persons.size(); ++j) {
+    const SumoVehicle& p = persons[j];
+    const std::size_t i = vehicles.size() + j;
+    const TypeInfo& t = typeInfo(p.typeIndex);
+    toVehicleState(p, t.info, states_[i]);
+    states_[i].equipped = t.smart;
+    states_[i].route.fill(-1);
+    serials_[i] = p.serial;
   }
   // each collision's bodies at this step: touching, or apart (SUMO's minGap rule)
   for (std::size_t k = newCollisions; k < collisions_.size(); ++k) collisions_[k].gap = bodyGap(collisions_[k]);
@@ -234,6 +246,7 @@ void HighwayPlugin::act() {
     if (v.serial < perVehicle_.size()) perVehicle_[v.serial].onRoadAt = now;
   for (const highway::Alert& al : monitor_.alerts()) {
     const auto i = static_cast<std::size_t>(al.vehicle);
+    if (i >= vehicleStates_) continue;  // an equipped person: warned in the outputs, no colour or brake in SUMO
     const highway::VehicleState& s = states_.at(i);
     const std::uint32_t serial = serials_[i];
     PerVehicle& pv = perVehicle_[serial];

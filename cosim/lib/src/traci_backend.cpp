@@ -6,6 +6,7 @@
 // leaves getCollisions unimplemented (collisions.hpp reads SUMO's collision file instead).
 #include <libsumo/libtraci.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <thread>
@@ -43,6 +44,8 @@ std::vector<int> vehicleVars(const VehicleReads& reads, bool lateral, bool light
   }
   return vars;
 }
+// A person's per-step variables; VAR_VEHICLE tells a rider (not on foot) apart.
+const std::vector<int> kPersonVars{libsumo::VAR_POSITION, libsumo::VAR_ANGLE, libsumo::VAR_SPEED, libsumo::VAR_VEHICLE};
 const std::vector<int> kSimulationVars{libsumo::VAR_TIME,
                                        libsumo::VAR_DEPARTED_VEHICLES_IDS,
                                        libsumo::VAR_ARRIVED_VEHICLES_IDS,
@@ -128,6 +131,7 @@ class TraciBackend final : public Backend {
       minExpected_ = libtraci::Simulation::getMinExpectedNumber();
       readVehicles();
       results_ = nullptr;
+      readPersons();
     });
   }
   ~TraciBackend() override { close(); }
@@ -162,6 +166,7 @@ class TraciBackend final : public Backend {
       applyEvents(events_);
       readVehicles();
       results_ = nullptr;
+      readPersons();
     });
   }
 
@@ -233,6 +238,7 @@ class TraciBackend final : public Backend {
   }
   // once per vehicle, at its first appearance (called within read())
   std::string readTypeId(const std::string& vehicleId) override { return libtraci::Vehicle::getTypeID(vehicleId); }
+  std::string readPersonTypeId(const std::string& personId) override { return libtraci::Person::getTypeID(personId); }
 
  private:
   std::string where() const { return host_ + ":" + std::to_string(port_); }
@@ -322,6 +328,38 @@ class TraciBackend final : public Backend {
     }
   }
 
+  // The persons on foot: their list (one round trip a step), a subscription for each new one (one
+  // trip each), their values from the step's answer.
+  void readPersons() {
+    if (!reads_.persons) return;
+    const std::vector<std::string> ids = libtraci::Person::getIDList();
+    for (const std::string& id : ids)
+      if (personsSubscribed_.insert(id).second) libtraci::Person::subscribe(id, kPersonVars);
+    if (personsSubscribed_.size() > ids.size()) {  // some have left SUMO (their subscriptions with them)
+      const std::unordered_set<std::string> present(ids.begin(), ids.end());
+      std::erase_if(personsSubscribed_, [&](const std::string& id) { return !present.contains(id); });
+    }
+    const auto results = libtraci::Person::getAllSubscriptionResults();
+    auto of = [&](const std::string& id) -> const TraCIResults& {
+      const auto it = results.find(id);
+      if (it == results.end()) throw SumoError("TraCI: no subscription results for person '" + id + "'");
+      return it->second;
+    };
+    std::vector<std::string> walking;
+    for (const std::string& id : ids)
+      if (resultAs<libsumo::TraCIString>(of(id), libsumo::VAR_VEHICLE, "person's vehicle").value.empty())
+        walking.push_back(id);
+    applyPersons(walking);
+    for (SumoVehicle& p : persons_) {
+      const TraCIResults& r = of(p.id);
+      const auto& at = resultAs<libsumo::TraCIPosition>(r, libsumo::VAR_POSITION, "position");
+      p.x = at.x;
+      p.y = at.y;
+      p.angle = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_ANGLE, "angle").value;
+      p.speed = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_SPEED, "speed").value;
+    }
+  }
+
   std::string host_;
   int port_;
   int order_;
@@ -340,6 +378,7 @@ class TraciBackend final : public Backend {
   VehicleReads subscribedWith_;  // the reads vars_ was made for
   std::vector<int> vars_;        // each vehicle's subscribed variables
   std::unordered_set<std::string> subscribed_;  // the vehicles SUMO holds a subscription of ours for
+  std::unordered_set<std::string> personsSubscribed_;  // the persons likewise
 };
 
 }  // namespace

@@ -15,6 +15,7 @@ const char* toString(ConflictType t) {
     case ConflictType::RearEnd: return "rear_end";
     case ConflictType::LaneChange: return "lane_change";
     case ConflictType::Crossing: return "crossing";
+    case ConflictType::Pedestrian: return "pedestrian";
     case ConflictType::Proximity: return "proximity";
     case ConflictType::Road: return "road";
   }
@@ -31,6 +32,11 @@ ConflictType conflictType(double deg, const ConflictConfig& config) {
   if (deg < config.rearEndBelowDeg) return ConflictType::RearEnd;
   if (deg > config.crossingAboveDeg) return ConflictType::Crossing;
   return ConflictType::LaneChange;
+}
+
+ConflictType conflictType(double deg, VehicleClass a, VehicleClass b, const ConflictConfig& config) {
+  if (a == VehicleClass::Pedestrian || b == VehicleClass::Pedestrian) return ConflictType::Pedestrian;
+  return conflictType(deg, config);
 }
 
 double decelerationToAvoid(double closingSpeed, double ttc) {

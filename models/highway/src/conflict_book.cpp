@@ -172,7 +172,8 @@ void ConflictBook::close(Encounter& en, double end, bool open) {
   Conflict k;
   k.first = c.slots[f].id;
   k.second = c.slots[s].id;
-  k.type = conflictType(toDegrees(std::atan2(std::abs(cross(bf.axis, bs.axis)), bf.axis.dot(bs.axis))), cfg_->conflict);
+  k.type = conflictType(toDegrees(std::atan2(std::abs(cross(bf.axis, bs.axis)), bf.axis.dot(bs.axis))), c.vclass[f],
+                        c.vclass[s], cfg_->conflict);
   k.begin = en.begin;
   k.end = end;
   k.minTtc = en.minTtc;

@@ -50,7 +50,7 @@ double tickDrac(const VehicleTable& cars, const RoadFeatures& road, int e, const
   return decelerationToAvoid(dist > 0.0 ? cars.vel[e].dot(d) / dist : cars.vel[e].norm(), th.ttc);
 }
 
-void describeConflict(const ConflictCapture& c, WarningKind kind, double egoMass, double foeMass, double ttc,
+void describeConflict(const ConflictCapture& c, WarningKind kind, double egoMass, double foeMass, bool pedestrian, double ttc,
                       double safeTime, const DetectorConfig& detector, const RoadFeatures& road, const ConflictConfig& config,
                       Warning& w) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -70,9 +70,9 @@ void describeConflict(const ConflictCapture& c, WarningKind kind, double egoMass
       w.drac = kNaN;
       return;
     }
-    w.type = conflictType(w.headingAngle, config);
+    w.type = pedestrian ? ConflictType::Pedestrian : conflictType(w.headingAngle, config);
     // PET, of crossing and merging paths, once both have passed (else hindsight watches on)
-    if (w.type == ConflictType::LaneChange || w.type == ConflictType::Crossing) w.pet = c.pet.pet();
+    if (crossesPaths(w.type)) w.pet = c.pet.pet();
     // the predicted contact: the rectangles moved on in straight lines until they touch (the box
     // detector's TTC is theirs; the circles' zones reach beyond the bodies)
     const double tc = detector.kind == DetectorKind::Box ? ttc : boxTtc(a, b, detector.motion, safeTime);

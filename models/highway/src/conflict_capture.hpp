@@ -158,9 +158,10 @@ inline bool onCollisionCourse(const DetectorConfig& dc, const Body& ego, const B
 }
 
 // The conflict fields of w (x .. lateralSpeed, but lane and line: the caller names them) from a
-// capture, the two masses (foeMass for vehicle warnings), the episode's minimum TTC and the safe
-// time then, and the detector (for the collision course).
-void describeConflict(const ConflictCapture& c, WarningKind kind, double egoMass, double foeMass, double ttc,
+// capture, the two masses (foeMass for vehicle warnings), whether one of the two is a pedestrian
+// (the type is then Pedestrian), the episode's minimum TTC and the safe time then, and the
+// detector (for the collision course).
+void describeConflict(const ConflictCapture& c, WarningKind kind, double egoMass, double foeMass, bool pedestrian, double ttc,
                       double safeTime, const DetectorConfig& detector, const RoadFeatures& road, const ConflictConfig& config,
                       Warning& w);
 

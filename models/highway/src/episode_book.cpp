@@ -47,7 +47,9 @@ Warning EpisodeBook::warningOf(int e, const Episode& ep, bool open) const {
   w.open = open;
   const ConflictCapture& c = captures_[ep.capture];
   const bool vehicle = ep.kind == WarningKind::Vehicle;
-  describeConflict(c, ep.kind, cars_->mass[e], vehicle ? cars_->mass[ep.foe] : 0.0, ep.minTtc, ep.safeTimeAtMin,
+  const bool pedestrian = vehicle && (cars_->vclass[e] == VehicleClass::Pedestrian ||
+                                      cars_->vclass[ep.foe] == VehicleClass::Pedestrian);
+  describeConflict(c, ep.kind, cars_->mass[e], vehicle ? cars_->mass[ep.foe] : 0.0, pedestrian, ep.minTtc, ep.safeTimeAtMin,
                    cfg_->detector, road_->features(), cfg_->conflict, w);
   w.lane = cars_->laneId(c.lane);
   if (c.feature >= 0) w.line = road_->features().features[c.feature].name;
@@ -96,8 +98,7 @@ void EpisodeBook::emit(int e, const Episode& ep) {
   ++counters_->warningsByType[static_cast<int>(w.type)];
   // a crossing or merging conflict whose PET is still to come: hindsight watches on
   const PetWatch& pet = captures_[ep.capture].pet;
-  const bool petPending = pet.active && std::isnan(w.pet) &&
-                          (w.type == ConflictType::LaneChange || w.type == ConflictType::Crossing);
+  const bool petPending = pet.active && std::isnan(w.pet) && crossesPaths(w.type);
   freeCaptures_.push_back(ep.capture);
   if (ep.window >= 0) hindsight_->finished(std::move(w), ep.window, petPending ? &pet : nullptr);
   else finished_.push_back(std::move(w));

@@ -255,6 +255,8 @@ bool LanePrediction::fits(int lane, const Projection& pr, const Vec2& axis, doub
 // still holds the centre within kKeep of its side and no other lane is nearer by kSwitch (a car
 // driving on a marker does not flap between two lanes).
 int LanePrediction::match(int slot, const Vec2& p, const Vec2& axis, Projection& out) const {
+  // a pedestrian walks where no lane leads it (crosswalks, sidewalks, across): a straight line
+  if (cars_->vclass[slot] == VehicleClass::Pedestrian) return -1;
   constexpr double kCentred = 0.3;  // m: a car this near its last lane's centre line keeps it, unsearched
   constexpr double kKeep = 0.25;    // m beyond the lane's side a car is still on its last lane
   constexpr double kSwitch = 0.25;  // m nearer another lane's centre line must be to take the car

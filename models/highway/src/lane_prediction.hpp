@@ -1,5 +1,6 @@
 #pragma once
-// Road-aware prediction (MonitorConfig::prediction == Road): each tick every car is matched to
+// Road-aware prediction (MonitorConfig::prediction == Road): each tick every car (a pedestrian
+// never: it walks where no lane leads it, in a straight line) is matched to
 // the lane its centre is on (by position and heading; the lane is kept while the centre stays in
 // it), described in that lane's frame (arc position s, offset d to the left, lateral speed, yaw
 // relative to the lane) and predicted along the lane's centre line, continued through junctions

@@ -110,7 +110,7 @@ std::uint64_t conflictCount(const MonitorCounters& c) {
 
 std::string conflictCountText(const MonitorCounters& c) {
   std::string s = std::to_string(conflictCount(c)) + " (";
-  for (ConflictType t : {ConflictType::RearEnd, ConflictType::LaneChange, ConflictType::Crossing})
+  for (ConflictType t : kConflictTypes)
     s += std::string(t == ConflictType::RearEnd ? "" : ", ") + toString(t) + " " +
          std::to_string(c.conflictsByType[static_cast<int>(t)]);
   return s + ")";
@@ -123,13 +123,13 @@ std::string conflictsJson(const MonitorCounters& c, const ConflictConfig& config
   os << "{\"count\": " << n << ", \"per_vehicle_km\": " << num(km > 0 ? static_cast<double>(n) / km : 0.0)
      << ", \"max_ttc_s\": " << num(config.maxTtc) << ", \"max_pet_s\": " << num(config.maxPet) << ",\n    \"by_type\": {";
   bool firstType = true;
-  for (ConflictType t : {ConflictType::RearEnd, ConflictType::LaneChange, ConflictType::Crossing}) {
+  for (ConflictType t : kConflictTypes) {
     os << (firstType ? "" : ", ") << jsonString(toString(t)) << ": " << c.conflictsByType[static_cast<int>(t)];
     firstType = false;
   }
   os << "},\n    \"per_vehicle_km_by_type\": {";
   firstType = true;
-  for (ConflictType t : {ConflictType::RearEnd, ConflictType::LaneChange, ConflictType::Crossing}) {
+  for (ConflictType t : kConflictTypes) {
     os << (firstType ? "" : ", ") << jsonString(toString(t)) << ": "
        << num(km > 0 ? static_cast<double>(c.conflictsByType[static_cast<int>(t)]) / km : 0.0);
     firstType = false;
@@ -214,6 +214,7 @@ std::string summaryJson(const MonitorCounters& c, const RunInfo& info) {
   os << "  \"simulated_s\": " << num(info.simulatedSeconds) << ",\n";
   os << "  \"ticks\": " << c.ticks << ",\n";
   os << "  \"vehicles\": " << c.vehiclesSeen << ",\n";
+  os << "  \"persons\": " << c.personsSeen << ",\n";
   os << "  \"vehicle_updates\": " << c.vehicleUpdates << ",\n";
   os << "  \"vehicle_km\": " << num(km) << ",\n";
   os << "  \"warnings\": {\n    \"total\": " << total << ",\n    \"per_vehicle_km\": " << num(km > 0 ? static_cast<double>(total) / km : 0.0)
@@ -223,7 +224,7 @@ std::string summaryJson(const MonitorCounters& c, const RunInfo& info) {
   os << "},\n    \"by_zone\": {";
   for (int z = 0; z < kZoneCount; ++z)
     os << (z ? ", " : "") << jsonString(toString(static_cast<Zone>(z))) << ": " << c.warningsByZone[z];
-  os << "},\n    \"conflicts\": " << ssamConflicts(c) << ",\n    \"by_type\": {";
+  os << "},\n    \"conflicts\": " << conflictWarnings(c) << ",\n    \"by_type\": {";
   for (int k = 0; k < kConflictTypeCount; ++k)
     os << (k ? ", " : "") << jsonString(toString(static_cast<ConflictType>(k))) << ": " << c.warningsByType[k];
   os << "},\n    \"per_vehicle_km_by_type\": {";
@@ -265,16 +266,16 @@ std::string conflictTypeBreakdown(const MonitorCounters& c) {
   // SSAM's conflicts first, then apart what is none of them: proximity (zones only), road
   auto n = [&](ConflictType t) { return std::to_string(c.warningsByType[static_cast<int>(t)]); };
   std::string s;
-  for (ConflictType t : {ConflictType::RearEnd, ConflictType::LaneChange, ConflictType::Crossing})
+  for (ConflictType t : kConflictTypes)
     s += std::string(t == ConflictType::RearEnd ? "" : ", ") + toString(t) + " " + n(t);
   return s + "; proximity " + n(ConflictType::Proximity) + " (zone occupied, no collision course); road " +
          n(ConflictType::Road);
 }
 
-std::uint64_t ssamConflicts(const MonitorCounters& c) {
+std::uint64_t conflictWarnings(const MonitorCounters& c) {
   std::uint64_t n = 0;
   for (int k = 0; k < kConflictTypeCount; ++k)
-    if (isSsamType(static_cast<ConflictType>(k))) n += c.warningsByType[k];
+    if (isConflictType(static_cast<ConflictType>(k))) n += c.warningsByType[k];
   return n;
 }
 

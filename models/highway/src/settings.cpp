@@ -48,7 +48,7 @@ const char* layoutWord(const FiveCircleLayout& l) {
 }
 
 std::vector<Setting> makeTable() {
-  static_assert(kVehicleClassCount == 6, "one safe_time.brake_force key per VehicleClass");
+  static_assert(kVehicleClassCount == 8, "one safe_time.brake_force key per VehicleClass");
   using T = SettingType;
   std::vector<Setting> t = {
       {"detector", T::Choice, "", 0, 0, "concentric|five|box",
@@ -88,6 +88,8 @@ std::vector<Setting> makeTable() {
       brakeForce<3>("safe_time.brake_force.motorcycle"),
       brakeForce<4>("safe_time.brake_force.emergency"),
       brakeForce<5>("safe_time.brake_force.other"),
+      brakeForce<6>("safe_time.brake_force.bicycle"),
+      brakeForce<7>("safe_time.brake_force.pedestrian"),
       {"conflict.rear_end_below", T::Number, "deg", 0, 180, "",
        "a warning is typed rear-end below this heading angle (SSAM's 30)",
        [](MonitorConfig& c, const SettingValue& v) { c.conflict.rearEndBelowDeg = number(v); },

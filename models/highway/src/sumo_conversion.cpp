@@ -45,6 +45,12 @@ VehicleTypeInfo toVehicleTypeInfo(const SumoTypeRecord& type) {
   return t;
 }
 
+VehicleTypeInfo defaultPersonType() {
+  SumoTypeRecord r;
+  r.vClass = "pedestrian";
+  return toVehicleTypeInfo(r);
+}
+
 VehicleTypeInfo guessVehicleType(const std::string& typeName) {
   std::string name = typeName;
   for (char& ch : name) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));

@@ -350,6 +350,8 @@ struct FcdReader::Impl {
     int handle;  // dense, in order of first appearance: the monitor's handle for the vehicle
   };
   std::unordered_map<std::string, Last> last;
+  std::unordered_map<std::string, Last> lastPerson;  // persons have ids of their own
+  int nextHandle = 0;
   double lastTime = -std::numeric_limits<double>::infinity();
   FcdChecks checks;
   bool anyStep = false;
@@ -403,7 +405,7 @@ bool FcdReader::next(FcdFrame& frame) {
   long stepLine = 0;
   long openVehicle = 0;  // line of a <vehicle ...> not yet closed by </vehicle>
   while (x.next(t)) {
-    if (openVehicle && !(t.name == "vehicle" && t.closing))
+    if (openVehicle && !(t.name == "vehicle" && t.closing) && t.name != "person" && t.name != "container")
       x.fail(openVehicle, "<vehicle> is not closed (expected \"/>\" or </vehicle> before line " + std::to_string(t.line) + ")");
     if (t.name == "vehicle" && t.closing) {
       if (!openVehicle) x.fail(t.line, "</vehicle> without <vehicle>");
@@ -434,38 +436,45 @@ bool FcdReader::next(FcdFrame& frame) {
       stepLine = t.line;
       continue;
     }
-    if (t.name != "vehicle") continue;
-    if (!inStep) x.fail(t.line, "<vehicle> outside a <timestep>");
-    if (!t.selfClosing) openVehicle = t.line;
+    // a person (or container) inside an open <vehicle> rides it (SUMO nests passengers): no foe
+    if ((t.name == "person" || t.name == "container") && openVehicle) continue;
+    if (t.name != "vehicle" && t.name != "person") continue;
+    const bool person = t.name == "person";
+    const std::string tag = "<" + t.name + ">";
+    if (!inStep) x.fail(t.line, tag + " outside a <timestep>");
+    if (!t.selfClosing && !person) openVehicle = t.line;
     VehicleState v;
     const std::string* id = t.attr("id");
-    if (!id) x.fail(t.line, "<vehicle> lacks attribute 'id'");
-    if (id->empty()) x.fail(t.line, "<vehicle> attribute 'id' is empty");
+    if (!id) x.fail(t.line, tag + " lacks attribute 'id'");
+    if (id->empty()) x.fail(t.line, tag + " attribute 'id' is empty");
     v.id = *id;
+    const std::string what = "<" + t.name + " id=\"" + v.id + "\">";
     const std::string* type = t.attr("type");
-    VehicleTypeInfo info;
+    // a person of no known type walks with SUMO's pedestrian defaults
+    VehicleTypeInfo info = person ? defaultPersonType() : VehicleTypeInfo{};
     if (type) {
       auto it = m.types.find(*type);
-      if (it == m.types.end() && m.checks.typesComplete)
-        x.fail(t.line, "<vehicle id=\"" + v.id + "\"> type '" + *type + "' is not defined in " + m.checks.typesFile);
-      info = it != m.types.end() ? it->second : guessVehicleType(*type);
+      if (it == m.types.end() && m.checks.typesComplete && !person)
+        x.fail(t.line, what + " type '" + *type + "' is not defined in " + m.checks.typesFile);
+      if (it != m.types.end()) info = it->second;
+      else if (!person) info = guessVehicleType(*type);
     }
     if (const std::string* lane = t.attr("lane"); lane && m.checks.lanesChecked &&
         !std::binary_search(m.checks.lanes.begin(), m.checks.lanes.end(), *lane))
-      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> lane '" + *lane + "' is not in " + m.checks.netFile);
+      x.fail(t.line, what + " lane '" + *lane + "' is not in " + m.checks.netFile);
     // a trace's own length and width (fcd-output.attributes) stand for the vType's
     info.length = optionalNumber(x, t, "length", info.length);
     info.width = optionalNumber(x, t, "width", info.width);
-    if (!(info.length > 0) || !(info.width > 0)) x.fail(t.line, "<vehicle id=\"" + v.id + "\"> length and width must be positive");
+    if (!(info.length > 0) || !(info.width > 0)) x.fail(t.line, what + " length and width must be positive");
     if (info.length > kFcdMaxSize || info.width > kFcdMaxSize)
-      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> length and width must be at most " + fmtNumber(kFcdMaxSize) + " m");
+      x.fail(t.line, what + " length and width must be at most " + fmtNumber(kFcdMaxSize) + " m");
     SumoVehicleRecord r;
     r.x = required(x, t, "x");
     r.y = required(x, t, "y");
     if (const FcdChecks& c = m.checks; c.bounded) {
       const double g = FcdChecks::kOutsideMargin;
       if (!(r.x >= c.lo.x() - g && r.x <= c.hi.x() + g && r.y >= c.lo.y() - g && r.y <= c.hi.y() + g))
-        x.fail(t.line, "<vehicle id=\"" + v.id + "\"> position (" + fmtNumber(r.x) + ", " + fmtNumber(r.y) +
+        x.fail(t.line, what + " position (" + fmtNumber(r.x) + ", " + fmtNumber(r.y) +
                            ") is more than " + fmtNumber(g) + " m outside " + c.netFile + " (x " + fmtNumber(c.lo.x()) +
                            ".." + fmtNumber(c.hi.x()) + ", y " + fmtNumber(c.lo.y()) + ".." + fmtNumber(c.hi.y()) + ")");
     }
@@ -473,21 +482,21 @@ bool FcdReader::next(FcdFrame& frame) {
     // warnings, -90 was taken as 270
     r.angle = required(x, t, "angle");
     if (!(r.angle >= 0.0 && r.angle <= 360.0))
-      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> angle " + fmtNumber(r.angle) + " is not a heading (degrees, 0..360)");
+      x.fail(t.line, what + " angle " + fmtNumber(r.angle) + " is not a heading (degrees, 0..360)");
     r.speed = required(x, t, "speed");
     if (r.speed < 0.0)
-      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> speed " + fmtNumber(r.speed) + " m/s is negative (SUMO's are >= 0)");
+      x.fail(t.line, what + " speed " + fmtNumber(r.speed) + " m/s is negative (SUMO's are >= 0)");
     if (!(std::abs(r.speed) <= kFcdMaxSpeed))
-      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> speed " + fmtNumber(r.speed) + " m/s is beyond any vehicle's (at most " +
+      x.fail(t.line, what + " speed " + fmtNumber(r.speed) + " m/s is beyond any vehicle's (at most " +
                          fmtNumber(kFcdMaxSpeed) + ")");
     r.acceleration = optionalNumber(x, t, "acceleration", 0.0);
     if (!(std::abs(r.acceleration) <= kFcdMaxAcceleration))
-      x.fail(t.line, "<vehicle id=\"" + v.id + "\"> acceleration " + fmtNumber(r.acceleration) +
+      x.fail(t.line, what + " acceleration " + fmtNumber(r.acceleration) +
                          " m/s^2 is beyond any vehicle's (at most " + fmtNumber(kFcdMaxAcceleration) + ")");
     if (const std::string* sig = t.attr("signals")) {
       const double bits = number(x, t, "signals", *sig);
       if (!(bits >= 0 && bits <= (1 << 30) && bits == std::floor(bits)))
-        x.fail(t.line, "<vehicle id=\"" + v.id + "\"> signals " + fmtNumber(bits) + " is not SUMO's signal bits");
+        x.fail(t.line, what + " signals " + fmtNumber(bits) + " is not SUMO's signal bits");
       r.signals = static_cast<int>(bits);
     }
     const std::string* lane = t.attr("lane");
@@ -495,16 +504,18 @@ bool FcdReader::next(FcdFrame& frame) {
       auto li = m.laneIndex.find(*lane);
       if (li != m.laneIndex.end()) v.lane = li->second;
     }
-    auto it = m.last.find(v.id);
+    auto& seen = person ? m.lastPerson : m.last;
+    auto it = seen.find(v.id);
     // times increase strictly, so a vehicle last seen at this frame's time is listed twice in it
-    if (it != m.last.end() && it->second.time == frame.time)
-      x.fail(t.line, "vehicle '" + v.id + "' appears twice in the timestep (line " + std::to_string(stepLine) + ")");
+    if (it != seen.end() && it->second.time == frame.time)
+      x.fail(t.line, t.name + " '" + v.id + "' appears twice in the timestep (line " + std::to_string(stepLine) + ")");
     double posLat = std::numeric_limits<double>::quiet_NaN();
     if (t.attr("posLat")) posLat = required(x, t, "posLat");
-    if (it != m.last.end()) r.lateralSpeed = m.lateralSpeed(it->second, lane, posLat, frame.time);
+    if (it != seen.end() && !person) r.lateralSpeed = m.lateralSpeed(it->second, lane, posLat, frame.time);
     toVehicleState(r, info, v);
-    v.handle = it != m.last.end() ? it->second.handle : static_cast<int>(m.last.size());
-    Impl::Last& last = it != m.last.end() ? it->second : m.last[v.id];
+    if (person) v.lane = -1;  // a sidewalk or crossing: not a lane it is predicted along
+    v.handle = it != seen.end() ? it->second.handle : m.nextHandle++;
+    Impl::Last& last = it != seen.end() ? it->second : seen[v.id];
     last.time = frame.time;
     last.posLat = posLat;
     last.lane = lane ? *lane : std::string();

@@ -15,6 +15,8 @@ const char* toString(VehicleClass c) {
     case VehicleClass::Motorcycle: return "motorcycle";
     case VehicleClass::Emergency: return "emergency";
     case VehicleClass::Other: return "other";
+    case VehicleClass::Bicycle: return "bicycle";
+    case VehicleClass::Pedestrian: return "pedestrian";
   }
   return "other";
 }
@@ -29,6 +31,8 @@ VehicleClass vehicleClassFromName(std::string_view name) {
   if (s == "bus" || s == "coach") return VehicleClass::Bus;
   if (s == "motorcycle" || s == "moped") return VehicleClass::Motorcycle;
   if (s == "emergency" || s == "authority" || s == "army") return VehicleClass::Emergency;
+  if (s == "bicycle") return VehicleClass::Bicycle;
+  if (s == "pedestrian" || s == "person") return VehicleClass::Pedestrian;
   return VehicleClass::Other;
 }
 
@@ -40,6 +44,8 @@ ClassDefaults classDefaults(VehicleClass c) {
     case VehicleClass::Motorcycle: return {2.2, 0.9, 250.0};
     case VehicleClass::Emergency: return {6.5, 2.2, 3500.0};
     case VehicleClass::Other: return {5.0, 1.8, 1500.0};
+    case VehicleClass::Bicycle: return {1.6, 0.65, 90.0};
+    case VehicleClass::Pedestrian: return {0.215, 0.478, 70.0};
   }
   return {5.0, 1.8, 1500.0};
 }

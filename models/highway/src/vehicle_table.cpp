@@ -75,7 +75,7 @@ int VehicleTable::newSlot(const VehicleState& v) {
   sl.prev = v.position;
   ensure(slots.size());
   arrived.push_back(s);
-  ++counters->vehiclesSeen;
+  ++(v.vehicleClass == VehicleClass::Pedestrian ? counters->personsSeen : counters->vehiclesSeen);
   return s;
 }
 
@@ -168,7 +168,7 @@ void VehicleTable::take(int s, const VehicleState& v, double t) {
   equipped[s] = v.equipped ? 1 : 0;
   lane[s] = v.lane;
   route[s] = v.route;
-  if (sl.present) counters->vehicleMeters += (v.position - sl.prev).norm();
+  if (sl.present && v.vehicleClass != VehicleClass::Pedestrian) counters->vehicleMeters += (v.position - sl.prev).norm();
   braking[s] = sl.present && t > sl.prevTime ? std::max(0.0, (sl.prevSpeed - v.speed) / (t - sl.prevTime)) : 0.0;
   accel[s] = sl.present && t > sl.prevTime ? (v.speed - sl.prevSpeed) / (t - sl.prevTime)
                                            : std::numeric_limits<double>::quiet_NaN();

@@ -241,15 +241,15 @@ TEST(ConflictRecord, ProximityCountsApartFromTheSsamTypes) {
   const auto& c = m.counters();
   EXPECT_EQ(c.warningsByType[static_cast<int>(ConflictType::Proximity)], 2u);
   EXPECT_EQ(c.warningsByType[static_cast<int>(ConflictType::RearEnd)], 0u);
-  EXPECT_EQ(ssamConflicts(c), 0u);
+  EXPECT_EQ(conflictWarnings(c), 0u);
   RunInfo info;
   const std::string json = summaryJson(c, info);
   EXPECT_NE(json.find("\"conflicts\": 0,\n    \"by_type\": {\"rear_end\": 0, \"lane_change\": 0, \"crossing\": 0, "
-                      "\"proximity\": 2, \"road\": 0}"),
+                      "\"pedestrian\": 0, \"proximity\": 2, \"road\": 0}"),
             std::string::npos)
       << json;
   EXPECT_EQ(conflictTypeBreakdown(c),
-            "rear_end 0, lane_change 0, crossing 0; proximity 2 (zone occupied, no collision course); road 0");
+            "rear_end 0, lane_change 0, crossing 0, pedestrian 0; proximity 2 (zone occupied, no collision course); road 0");
   // in warnings.csv: the type and an empty DRAC
   const std::string row = warningCsvRow(m.takeFinished().front());
   EXPECT_NE(row.find(",proximity,,"), std::string::npos) << row;

@@ -401,15 +401,17 @@ TEST(Cli, TraceModeCountsTypesAndDrawsTheMap) {
   std::smatch m;
   ASSERT_TRUE(std::regex_search(json, m, std::regex("\"total\": ([0-9]+)")));
   const long total = std::stol(m[1]);
-  // SSAM's three types, then apart proximity (zones only, no collision course) and road
+  // SSAM's three types and the pedestrian's (none on a motorway trace), then apart proximity (zones
+  // only, no collision course) and road
   ASSERT_TRUE(std::regex_search(json, m, std::regex("\"conflicts\": ([0-9]+),\\s*\"by_type\": \\{\"rear_end\": ([0-9]+), "
                                                     "\"lane_change\": ([0-9]+), \"crossing\": ([0-9]+), "
-                                                    "\"proximity\": ([0-9]+), \"road\": ([0-9]+)\\}")))
+                                                    "\"pedestrian\": ([0-9]+), \"proximity\": ([0-9]+), \"road\": ([0-9]+)\\}")))
       << json;
-  EXPECT_EQ(std::stol(m[2]) + std::stol(m[3]) + std::stol(m[4]) + std::stol(m[5]) + std::stol(m[6]), total);
-  EXPECT_EQ(std::stol(m[1]), std::stol(m[2]) + std::stol(m[3]) + std::stol(m[4]));
+  EXPECT_EQ(std::stol(m[2]) + std::stol(m[3]) + std::stol(m[4]) + std::stol(m[5]) + std::stol(m[6]) + std::stol(m[7]), total);
+  EXPECT_EQ(std::stol(m[1]), std::stol(m[2]) + std::stol(m[3]) + std::stol(m[4]) + std::stol(m[5]));
+  EXPECT_EQ(std::stol(m[5]), 0);
   EXPECT_GT(std::stol(m[2]), 0);
-  EXPECT_GT(std::stol(m[6]), 0);
+  EXPECT_GT(std::stol(m[7]), 0);
   // every row names the ego's lane (the trace has lane attributes, the net those lanes)
   std::istringstream csv(slurp(out / "warnings.csv"));
   std::string line;

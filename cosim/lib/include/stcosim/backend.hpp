@@ -108,6 +108,9 @@ struct VehicleReads {
   bool signals = true;       // blinkers: used by the lane-marker check only
   bool route = true;         // the route: used by the road-aware prediction only
   bool nextSignal = true;    // the next traffic light's state and distance (networks with lights only)
+  // persons on foot (Backend::persons): their list each step (one call, nothing on a network
+  // without persons) and position, angle and speed of each
+  bool persons = true;
   bool operator==(const VehicleReads&) const = default;
 };
 
@@ -148,6 +151,11 @@ class Backend {
   double deltaT() const { return deltaT_; }       // s, SUMO's step length
   // Vehicles on the road (teleporting ones excluded), in departure order.
   const std::vector<SumoVehicle>& vehicles() const { return vehicles_; }
+  // Persons on foot (VehicleReads::persons), in order of first appearance: position, angle and
+  // speed as SUMO reports them (signals, route and lights stay empty). A person riding a vehicle
+  // is not among them (it is that vehicle's); it returns, with its serial, when it walks again.
+  // Serials are drawn with the vehicles' (one space: a person's never equals a vehicle's).
+  const std::vector<SumoVehicle>& persons() const { return persons_; }
   const StepEvents& events() const { return events_; }
   // True while SUMO still expects vehicles or the end time is not reached.
   virtual bool running() = 0;
@@ -190,6 +198,11 @@ class Backend {
   virtual SumoVehicleType readVehicleType(const std::string& typeId) = 0;
   // The vType id of a vehicle that just appeared.
   virtual std::string readTypeId(const std::string& vehicleId) = 0;
+  // The vType id of a person that just appeared.
+  virtual std::string readPersonTypeId(const std::string& personId) = 0;
+  // Makes persons_ the persons in `walking` (this step's persons on foot): new ones appended,
+  // the rest removed; the records' values are the caller's to read.
+  void applyPersons(const std::vector<std::string>& walking);
   // Applies the step's departures, teleports and arrivals to vehicles_ in place: departures are
   // appended, a teleport removes a vehicle until it is placed again (appended then), an arrival
   // removes it; a vehicle seen for the first time gets its serial and type.
@@ -198,6 +211,7 @@ class Backend {
   double time_ = 0.0;
   double deltaT_ = 0.0;
   std::vector<SumoVehicle> vehicles_;
+  std::vector<SumoVehicle> persons_;
   StepEvents events_;
   VehicleReads reads_;
   std::uint64_t routeReads_ = 0;  // SumoVehicle::routeVersion's source
@@ -210,8 +224,11 @@ class Backend {
     std::uint32_t serial = 0;
     int typeIndex = -1;
     bool onRoad = false;
+    std::uint64_t seen = 0;  // persons: the applyPersons call that last listed it
   };
   std::unordered_map<std::string, Known> known_;  // vehicles until they arrive
+  std::unordered_map<std::string, Known> knownPersons_;  // every person seen (persons have ids of their own)
+  std::uint64_t personCalls_ = 0;
   std::uint32_t nextSerial_ = 0;
   std::deque<SumoVehicleType> types_;  // a deque: references handed out stay valid
   std::unordered_map<std::string, int> typeIndex_;

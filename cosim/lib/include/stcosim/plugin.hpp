@@ -144,7 +144,8 @@ class HighwayPlugin {
   };
   double collidingGap(const SumoCollision& c, double stepLength) const;
 
-  // The converted states of the last update (same order as the backend's vehicles).
+  // The converted states of the last update: the backend's vehicles in their order, then its
+  // persons on foot (foes, equipped only if their vType is a smart type).
   const std::vector<highway::VehicleState>& states() const { return states_; }
   const highway::HighwayMonitor& monitor() const { return monitor_; }
   const PluginCounters& counters() const { return counters_; }
@@ -167,6 +168,7 @@ class HighwayPlugin {
   highway::HighwayMonitor monitor_;
   std::unordered_map<std::string, int> edgeIndex_;  // SUMO edge id -> index into edgeIds(road)
   std::vector<highway::VehicleState> states_;
+  std::size_t vehicleStates_ = 0;  // states_[0, this) are vehicles, the rest persons
   double time_ = 0.0;  // s, of states_
   // per vType (by the backend's type index): converted once, and whether it is a smart type
   struct TypeInfo {

@@ -7,21 +7,34 @@
 
 #include <stcore/shapes.hpp>
 #include <stcore/vec.hpp>
+#include <sthighway/vehicle.hpp>
 
 namespace st::highway {
 
 // SSAM's types (RearEnd, LaneChange, Crossing) are of vehicle pairs on a collision course: the
 // two bodies (their exact rectangles) are predicted to meet within the safe time at the tick of
-// minimum TTC. A vehicle warning whose bodies are not, only the detector's zones (a circle that
-// already overlaps the other car side by side in the next lane, TTC 0, or will), is Proximity: a
-// blind-spot or close-following state, not a conflict of any angle class; it keeps its zone and
-// has no DRAC. Road warnings (curb, lane marker, hazard) are of type Road.
-enum class ConflictType : std::uint8_t { RearEnd, LaneChange, Crossing, Proximity, Road };
-inline constexpr int kConflictTypeCount = 5;
-const char* toString(ConflictType t);  // "rear_end", "lane_change", "crossing", "proximity", "road"
-// True for SSAM's three angle classes (the conflicts proper).
+// minimum TTC. A vehicle and a pedestrian on a collision course are of type Pedestrian whatever
+// the angle (SSAM has no such class; SUMO's SSM sees no persons). A vehicle warning whose bodies
+// are not, only the detector's zones (a circle that already overlaps the other car side by side
+// in the next lane, TTC 0, or will), is Proximity: a blind-spot or close-following state, not a
+// conflict of any angle class; it keeps its zone and has no DRAC. Road warnings (curb, lane
+// marker, hazard) are of type Road.
+enum class ConflictType : std::uint8_t { RearEnd, LaneChange, Crossing, Pedestrian, Proximity, Road };
+inline constexpr int kConflictTypeCount = 6;
+// "rear_end", "lane_change", "crossing", "pedestrian", "proximity", "road"
+const char* toString(ConflictType t);
+// True for SSAM's three angle classes (vehicle pairs: what SUMO's SSM can confirm).
 inline bool isSsamType(ConflictType t) {
   return t == ConflictType::RearEnd || t == ConflictType::LaneChange || t == ConflictType::Crossing;
+}
+// The conflicts proper, in the order every table lists them: SSAM's three and the pedestrian's.
+inline constexpr ConflictType kConflictTypes[] = {ConflictType::RearEnd, ConflictType::LaneChange,
+                                                  ConflictType::Crossing, ConflictType::Pedestrian};
+inline bool isConflictType(ConflictType t) { return isSsamType(t) || t == ConflictType::Pedestrian; }
+// The warnings' types whose paths cross or merge, so that one passes the conflict point after
+// the other: PET is measured for them (a pedestrian's at any angle: its crosswalk).
+inline bool crossesPaths(ConflictType t) {
+  return t == ConflictType::LaneChange || t == ConflictType::Crossing || t == ConflictType::Pedestrian;
 }
 
 struct ConflictConfig {
@@ -39,9 +52,11 @@ struct ConflictConfig {
 // The angle between two headings (rad, counter-clockwise from +x), in degrees in [0, 180].
 double relativeHeadingDeg(double headingA, double headingB);
 
-// The type of a vehicle-vehicle conflict at relative heading angle `deg` (in [0, 180]). A
-// head-on approach (near 180) is a crossing, as in SSAM when no lane information decides it.
+// The type of a conflict at relative heading angle `deg` (in [0, 180]) between road users of
+// classes a and b: Pedestrian if either is one, else SSAM's class of the angle (a head-on
+// approach, near 180, is a crossing, as in SSAM when no lane information decides it).
 ConflictType conflictType(double deg, const ConflictConfig& config);
+ConflictType conflictType(double deg, VehicleClass a, VehicleClass b, const ConflictConfig& config);
 
 // The deceleration rate to avoid the crash (m/s^2): the constant deceleration of the relative
 // motion that stops the closing before contact, v^2 / (2 gap) with the gap the closing speed

@@ -229,8 +229,9 @@ struct MonitorCounters {
   std::uint64_t toiChecks = 0;        // detector calls that reached the TTC kernels
   std::uint64_t featureChecks = 0;    // (ego, road feature) TTC computations
   std::uint64_t warningsBegun = 0;
-  double vehicleMeters = 0.0;         // distance driven, summed over vehicles (m)
-  std::uint64_t vehiclesSeen = 0;     // distinct ids
+  double vehicleMeters = 0.0;         // distance driven, summed over vehicles (m; persons walk none of it)
+  std::uint64_t vehiclesSeen = 0;     // distinct ids, persons on foot apart:
+  std::uint64_t personsSeen = 0;
   // Road prediction: vehicle updates predicted along a lane, and those on no fitting lane (or
   // stopped), predicted in a straight line.
   std::uint64_t roadPredicted = 0;

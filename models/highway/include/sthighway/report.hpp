@@ -107,8 +107,8 @@ void removeRunOutputs(const std::filesystem::path& out);
 // "rear_end N, lane_change N, crossing N; proximity N (zone occupied, no collision course); road N"
 // (for a printed summary): SSAM's conflicts, then apart the warnings that are none.
 std::string conflictTypeBreakdown(const MonitorCounters& counters);
-// The finished warnings of SSAM's three types (conflict.hpp: on a collision course); summary.json's
+// The finished warnings of the conflict types (kConflictTypes: on a collision course); summary.json's
 // warnings.conflicts.
-std::uint64_t ssamConflicts(const MonitorCounters& counters);
+std::uint64_t conflictWarnings(const MonitorCounters& counters);
 
 }  // namespace st::highway

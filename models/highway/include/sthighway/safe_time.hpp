@@ -15,8 +15,9 @@ struct SafeTimeConfig {
   double roadReactionTime = 0.5;     // s, car-curb / lane marker / hazard
   // Braking force per VehicleClass (N), indexed by the enum. Defaults: passenger 12 kN
   // (1.5 t at 8 m/s^2), truck 75 kN (15 t at 5 m/s^2), bus 72 kN (12 t at 6 m/s^2),
-  // motorcycle 2.25 kN (250 kg at 9 m/s^2), emergency 31.5 kN (3.5 t at 9 m/s^2), other 12 kN.
-  std::array<double, kVehicleClassCount> brakeForce{12000.0, 75000.0, 72000.0, 2250.0, 31500.0, 12000.0};
+  // motorcycle 2.25 kN (250 kg at 9 m/s^2), emergency 31.5 kN (3.5 t at 9 m/s^2), other 12 kN,
+  // bicycle 360 N (90 kg at 4 m/s^2), pedestrian 210 N (70 kg stopping at 3 m/s^2).
+  std::array<double, kVehicleClassCount> brakeForce{12000.0, 75000.0, 72000.0, 2250.0, 31500.0, 12000.0, 360.0, 210.0};
 
   double safeTime(double reactionTime, double mass, double closingSpeed, VehicleClass c) const {
     return safeTimeOf(reactionTime, mass, closingSpeed, 2.0 * brakeForce[static_cast<int>(c)]);

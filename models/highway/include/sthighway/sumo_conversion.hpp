@@ -53,6 +53,10 @@ struct VehicleTypeInfo {
 };
 VehicleTypeInfo toVehicleTypeInfo(const SumoTypeRecord& type);
 
+// SUMO's default person type (DEFAULT_PEDTYPE, vClass pedestrian): the type of a person whose
+// vType is not known.
+VehicleTypeInfo defaultPersonType();
+
 // A type that no vType describes (a trace read without its route file): the class guessed from
 // the type's name ("truck", "bus", "moto", ... in it; else passenger) with classDefaults' body
 // and mass, decel unknown.

@@ -77,7 +77,10 @@ inline constexpr double kNetMaxLaneWidth = 100.0;
 // the step (0 on a vehicle's first frame, without posLat, or off its lane's edge). A file without
 // a single <timestep> is an error (not an FCD trace), and so is a directory. Given the network
 // (road, which must outlive the reader), a vehicle's lane attribute becomes its index into
-// road->lanes (VehicleState::lane; -1 for a lane road lacks).
+// road->lanes (VehicleState::lane; -1 for a lane road lacks). A <person> on foot (not nested in
+// a <vehicle>: a passenger is its vehicle's) is read alike into the same frame, after its
+// predecessors in the file, with its type's body (SUMO's pedestrian defaults when the type is
+// unknown), no lane, handles drawn with the vehicles'.
 class FcdReader {
  public:
   FcdReader(const std::filesystem::path& path, VehicleTypes types = {}, FcdChecks checks = {},

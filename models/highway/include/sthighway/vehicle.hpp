@@ -13,13 +13,15 @@
 
 namespace st::highway {
 
-// Vehicle classes that differ in braking force (safe time) and default size/mass.
-enum class VehicleClass : std::uint8_t { Passenger, Truck, Bus, Motorcycle, Emergency, Other };
-inline constexpr int kVehicleClassCount = 6;
+// Road users that differ in braking force (safe time) and default size/mass. Bicycles are
+// vehicles to SUMO and to us; a pedestrian is a SUMO person (cosim reads them beside the
+// vehicles): a foe with its own small body, never equipped unless a scenario says so.
+enum class VehicleClass : std::uint8_t { Passenger, Truck, Bus, Motorcycle, Emergency, Other, Bicycle, Pedestrian };
+inline constexpr int kVehicleClassCount = 8;
 
 const char* toString(VehicleClass c);
-// Maps SUMO's vClass names ("passenger", "truck", "trailer", "bus", "coach", "motorcycle", ...)
-// and our own names; anything unknown is Other.
+// Maps SUMO's vClass names ("passenger", "truck", "trailer", "bus", "coach", "motorcycle",
+// "bicycle", "pedestrian", ...) and our own names; anything unknown is Other.
 VehicleClass vehicleClassFromName(std::string_view name);
 
 // Turn-signal bits (ours, not SUMO's: the trace reader converts).
@@ -70,7 +72,8 @@ struct VehicleState {
 
 // Typical size and mass per class, for sources that do not give them (documented defaults:
 // passenger 5 m x 1.8 m 1500 kg; truck 12 m x 2.55 m 15 t; bus 12 m x 2.55 m 12 t;
-// motorcycle 2.2 m x 0.9 m 250 kg; emergency 6.5 m x 2.2 m 3.5 t; other as passenger).
+// motorcycle 2.2 m x 0.9 m 250 kg; emergency 6.5 m x 2.2 m 3.5 t; other as passenger;
+// bicycle 1.6 m x 0.65 m 90 kg with its rider; pedestrian 0.215 m x 0.478 m (SUMO's person) 70 kg).
 struct ClassDefaults {
   double length;
   double width;
