@@ -19,7 +19,17 @@ std::int32_t mm(double x) { return static_cast<std::int32_t>(std::lround(std::cl
 
 std::string num(double x) { return io::jsonNumber(x, 6); }
 
-std::string vec(const Vec3& p) { return "[" + num(p.x()) + "," + num(p.y()) + "," + num(p.z()) + "]"; }
+// appended piece by piece: GCC 12 takes "[" + std::string for an overlapping memcpy (-Wrestrict)
+std::string vec(const Vec3& p) {
+  std::string s(1, '[');
+  s += num(p.x());
+  s += ',';
+  s += num(p.y());
+  s += ',';
+  s += num(p.z());
+  s += ']';
+  return s;
+}
 
 void appendCapsule(std::vector<std::int32_t>& out, const Capsule& c) {
   for (const Vec3* p : {&c.a, &c.b})
