@@ -47,6 +47,7 @@ Args makeArgs() {
       .option("fcd", "TRACE.xml", "SUMO floating-car-data trace to replay (sumo --fcd-output)")
       .option("net", "NET.net.xml", "SUMO network giving lane shapes and widths (with --fcd)")
       .option("vtypes", "FILE.xml", "route/additional file whose <vType>s give sizes and masses (with --fcd)")
+      .option("tls-states", "FILE.xml", "SUMO's SaveTLSStates output of the traced run: the lights' states (with --fcd)")
       .option("detector", "concentric|five|box", "collision detector", settingDefault("detector"))
       .option("layout", "a|b", "five-circle zone layout: Fig. 11(a) small or 11(b) large overlaps", settingDefault("layout"))
       .option("motion", "velocity|acceleration", "prediction: constant velocity, or constant acceleration", settingDefault("motion"))
@@ -88,11 +89,18 @@ int runTrace(const Args& a) {
   std::vector<std::string> leftOut;
   int lights = 0;
   const hw::RoadGeometry road = hw::readSumoNet(a.get("net"), &leftOut, &lights);
-  // a trace carries no light states: said once, as the junction results depend on it
-  if (lights > 0)
+  // a trace carries no light states: said once, as the junction results depend on it, unless
+  // SUMO's recorded states come with it
+  if (lights > 0 && !a.has("tls-states"))
     std::cerr << "stsim highway: note: " << a.get("net") << " has " << lights
               << " traffic light(s); an FCD trace carries no light states, so cars are predicted through red lights "
-                 "(a live run reads them)\n";
+                 "(a live run reads them; give SUMO's SaveTLSStates output with --tls-states)\n";
+  std::optional<hw::SignalLinks> signalLinks;
+  std::optional<hw::SignalStates> signalStates;
+  if (a.has("tls-states")) {
+    signalLinks.emplace(hw::readSignalLinks(a.get("net")));
+    signalStates.emplace(a.get("tls-states"), *signalLinks);
+  }
   // the trace is checked against the network (bounds, lanes) and, with --vtypes, its types
   hw::FcdChecks checks = hw::fcdChecksFor(road, leftOut, a.get("net"));
   hw::VehicleTypes types;
@@ -104,6 +112,7 @@ int runTrace(const Args& a) {
   }
   hw::HighwayMonitor monitor(road, cfg);
   hw::FcdReader reader(a.get("fcd"), types, checks, &road);
+  if (signalStates) reader.useSignals(&*signalLinks, &*signalStates);
 
   const std::filesystem::path out = a.get("out");
   std::error_code ec;
@@ -229,7 +238,7 @@ int run(int argc, const char* const* argv) {
     return runTrace(a);
   }
   if (!scenario) throw UsageError("missing input: --fcd TRACE.xml --net NET.net.xml, or a SCENARIO (see stsim highway --help)");
-  for (const char* opt : {"net", "vtypes"})
+  for (const char* opt : {"net", "vtypes", "tls-states"})
     if (a.has(opt)) throw UsageError(std::string("--") + opt + " applies to --fcd replays");
 #ifdef STSIM_HIGHWAY_COSIM
   return st::cosim::runHighwayCommand(a);

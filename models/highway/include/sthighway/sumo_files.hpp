@@ -14,6 +14,7 @@
 
 #include <sthighway/road.hpp>
 #include <sthighway/sumo_conversion.hpp>
+#include <sthighway/sumo_signals.hpp>
 #include <sthighway/vehicle.hpp>
 
 namespace st::highway {
@@ -88,6 +89,9 @@ class FcdReader {
   ~FcdReader();
   // Fills the next frame; false at the end of the file. Throws InputError with file:line.
   bool next(FcdFrame& frame);
+  // Reads each vehicle's next traffic light from recorded states (sumo_signals.hpp), from its
+  // lane and `pos` (the trace must have both attributes); both must outlive the reader.
+  void useSignals(const SignalLinks* links, SignalStates* states);
 
  private:
   struct Impl;
