@@ -52,6 +52,10 @@ COMMANDS = {
     "lanedrop": ["highway", "networks/sublane/scenario.yaml", "--validate-ssm", "--no-map"],
     # ... and its right-angle crossing, where SSM has PETs
     "crossing": ["highway", "tests/data/crossing/crossing.sumocfg", "--validate-ssm", "--no-map"],
+    # networks/onramp/README.md and networks/lanedrop/README.md: the hand-built ramps against SSM
+    "onramp_short": ["highway", "networks/onramp/short.yaml", "--validate-ssm", "--no-map"],
+    "onramp_long": ["highway", "networks/onramp/long.yaml", "--validate-ssm", "--no-map"],
+    "ramp_lanedrop": ["highway", "networks/lanedrop/scenario.yaml", "--validate-ssm", "--no-map"],
 }
 
 
@@ -62,6 +66,7 @@ BATCHES = {
     "incident": ("networks/experiments/incident_study.yaml", {}, ("action",)),
     "incident_contacts": ("networks/experiments/incident_study.yaml", {"collision_mingap_factor": 0}, ("action",)),
     "demand_sweep": ("networks/experiments/demand_sweep.yaml", {}, ("demand_scale", "detector")),
+    "accel_lane": ("networks/experiments/accel_lane.yaml", {}, ("base",)),
 }
 SLOW_BATCHES = {
     "brake": ("networks/experiments/brake_study.yaml", {}, ("penetration", "action")),
@@ -106,9 +111,10 @@ def run_batch(stsim, src, work, name):
             res["/".join(r[k] for k in keys)] = numbers(r)
     with open(os.path.join(out, "paired.csv"), newline="") as f:
         for r in csv.DictReader(f):
-            if r["compared"] != "action":
+            # the action studies compare the actions; a study of designs compares its bases
+            if r["compared"] != ("base" if keys == ("base",) else "action"):
                 continue
-            rest = [r[k] for k in keys if k != "action"]
+            rest = [r[k] for k in keys if k not in ("action", "base")]
             res["/".join(["diff"] + rest)] = numbers(r)
     with open(os.path.join(out, "runs.csv"), newline="") as f:
         res["runs"] = list(csv.DictReader(f))
@@ -153,6 +159,20 @@ def long_figures(r):
         (readme, "the same 40 runs give %s contacts per run without braking and %s with it, paired %s,"
          % (pm(c_none, "sumo_collisions", 2), pm(c_brake, "sumo_collisions", 2), pm(c_diff, "sumo_collisions", 2, True))),
     ]
+
+
+def accel_lane_figures(r):
+    """networks/onramp/README.md: the two designs' rear-end conflicts per vehicle-km and their
+    paired difference (accel_lane.yaml's report.md headline)."""
+    a = r["accel_lane"]
+    short, long_, diff = a["short"], a["long"], a["diff"]
+    key = "rate.per_vehicle_km.rear_end"
+
+    def pm(row, d, paired=False):
+        return "%.*f ± %.*f" % (d, row[key + (".diff_mean" if paired else ".mean")], d,
+                                row[key + (".diff_ci95" if paired else ".ci95")])
+    return [("networks/onramp/README.md", "| rear-end conflicts per vehicle-km | %s | %s | **%s** (%d seeds) |"
+             % (pm(short, 4), pm(long_, 4), pm(diff, 4, True), rnd(diff["pairs"])))]
 
 
 def demand_figures(r):
@@ -394,9 +414,31 @@ def figures(r):
         return "%.2f %%** (max %.3f %s, mean %.3f %s)" % (100.0 * a["within_fraction"], a["max_abs_error_" + unit], unit,
                                                         a["mean_abs_error_" + unit], unit)
 
+    def ramp_row(name):
+        d = {x["detector"]: x for x in r[name]["validation"]["detectors"]}["box"]
+        return "%d/%d (%.3f)" % (d["conflicts"]["confirmed_by_ssm"], d["conflicts"]["warnings"], d["conflicts"]["precision"])
+
+    def ramp_recall(name):
+        d = {x["detector"]: x for x in r[name]["validation"]["detectors"]}["box"]
+        return "%d/%d" % (d["recalled"], d["ssm_conflicts_below_safe_time"])
+
+    def ramp_conflicts(name):
+        c = r[name]["summary"]["conflicts"]
+        t = c["by_type"]
+        return "%d (rear-end %d, lane change %d, crossing %d)" % (c["count"], t["rear_end"], t["lane_change"], t["crossing"])
+    ramps = ("onramp_short", "onramp_long", "ramp_lanedrop")
+    ramp_figures = [
+        ("networks/onramp/README.md", "| conflicts (conflicts.csv) | %s | %s |" % tuple(ramp_conflicts(n) for n in ramps[:2])),
+        ("networks/onramp/README.md", "| box detector: its conflicts SSM also saw (precision) | %s | %s |" % tuple(ramp_row(n) for n in ramps[:2])),
+        ("networks/onramp/README.md", "| box detector: SSM's conflicts below the safe time it warned of (recall) | %s | %s |"
+         % tuple(ramp_recall(n) for n in ramps[:2])),
+        ("networks/lanedrop/README.md", "%s conflicts; the box detector's conflicts SSM also saw %s, SSM's conflicts below the safe time it warned of %s."
+         % (ramp_conflicts("ramp_lanedrop"), ramp_row("ramp_lanedrop"), ramp_recall("ramp_lanedrop"))),
+    ]
+
     cp, lcp, lfol = v["conflict_point"], ld["conflict_point"], ld["following"]
     raw = cp["without_moving_on"]
-    return [
+    return ramp_figures + [
         ("cosim/README.md", "| PET on the pairs both have (SSM: merging and crossing encounters; ours: `lane_change`, `crossing`) | SSM %d, box %d: %s |"
          % (v["pet"]["ssm_pets"], v["pet"]["stsim_pets"], "none on both sides" if v["pet"]["matched"] == 0 else "%d on both" % v["pet"]["matched"])),
         ("cosim/README.md", "| conflict point: box episodes with one, `rear_end` ones SSM has as following at their minimum-TTC tick, with the same TTC | %s |"
@@ -485,7 +527,7 @@ def main():
             checks = brake_figures(batches) + real_figures(batches)
         elif long:
             batches = {name: run_batch(stsim, src, work, name) for name in BATCHES}
-            checks = long_figures(batches) + demand_figures(batches)
+            checks = long_figures(batches) + demand_figures(batches) + accel_lane_figures(batches)
         else:
             checks = figures({name: run(stsim, src, work, name) for name in COMMANDS})
         fails = []

@@ -33,11 +33,16 @@ void startRearPet(const Body& a, const Body& b, double ttc, double t, RearPetWat
   Body at = a, bt = b;
   at.position += ttc * at.velocity;
   bt.position += ttc * bt.velocity;
+  startRearPet(a, b, at, bt, t, w);
+}
+
+void startRearPet(const Body& a, const Body& b, const Body& at, const Body& bt, double t, RearPetWatch& w) {
+  w = RearPetWatch{};
   w.active = true;
   w.p = contactPoint(at.box(), bt.box(), tol::kContactPointTie);
   // the leader as close() names SSAM's first vehicle
   w.first = arrival(a, w.p) <= arrival(b, w.p) ? 0 : 1;
-  w.dir = {a.axis, b.axis};
+  w.dir = {at.axis, bt.axis};
   w.half = {0.5 * a.length, 0.5 * b.length};
   w.lastT = t;
   observeRearPet(a.position, b.position, t, w);
@@ -77,20 +82,26 @@ void ConflictBook::observe(double t, double lastT) {
   }
   std::sort(sweep_.begin(), sweep_.end());
   // two bodies touching within TTC* are at most their half diagonals plus the way both cover apart
-  const double reachX = 2.0 * hmax + 2.0 * vmax * maxTtc + kReachMargin;
+  // (along their lanes, at a merge: each path departs from its straight line by its deviation at most)
+  double devMax = 0.0;
+  if (paths_->alongLanes())
+    for (int s : c.active) devMax = std::max(devMax, paths_->deviation(s));
+  const double reachX = 2.0 * hmax + 2.0 * vmax * maxTtc + 2.0 * devMax + kReachMargin;
   for (std::size_t i = 0; i < sweep_.size(); ++i) {
     const int a = sweep_[i].second;
     for (std::size_t j = i + 1; j < sweep_.size() && sweep_[j].first - sweep_[i].first <= reachX; ++j) {
       const int b = sweep_[j].second;
       if (!c.equipped[a] && !c.equipped[b]) continue;
-      const double reach =
-          halfDiagonal(c.body[a]) + halfDiagonal(c.body[b]) + (c.vel[a].norm() + c.vel[b].norm()) * maxTtc + kReachMargin;
+      const double dev = paths_->alongLanes() ? paths_->deviation(a) + paths_->deviation(b) : 0.0;
+      const double reach = halfDiagonal(c.body[a]) + halfDiagonal(c.body[b]) +
+                           (c.vel[a].norm() + c.vel[b].norm()) * maxTtc + dev + kReachMargin;
       if ((c.centre[b] - c.centre[a]).squaredNorm() > reach * reach) continue;
       // in the order of first appearance, whatever the input order
       const bool ab = c.slots[a].serial < c.slots[b].serial;
       const int lo = ab ? a : b, hi = ab ? b : a;
-      const double ttc = boxTtc(c.body[lo], c.body[hi], MotionModel::ConstantVelocity, maxTtc);
-      if (ttc <= maxTtc) touch(lo, hi, ttc, t, dt);
+      Body atLo, atHi;
+      const double ttc = pairTtc(lo, hi, maxTtc, atLo, atHi);
+      if (ttc <= maxTtc) touch(lo, hi, ttc, atLo, atHi, t, dt);
     }
   }
   // the encounters not below TTC* this tick end: now, or at the last tick of a car that left
@@ -121,7 +132,21 @@ void ConflictBook::observe(double t, double lastT) {
   waiting_.resize(kept);
 }
 
-void ConflictBook::touch(int a, int b, double ttc, double t, double dt) {
+double ConflictBook::pairTtc(int a, int b, double maxTtc, Body& atA, Body& atB) const {
+  const VehicleTable& c = *cars_;
+  if (paths_->alongLanes() && (paths_->atMerge(a) || paths_->atMerge(b)))
+    return paths_->boxTtcAlong(a, b, maxTtc, atA, atB);
+  const double ttc = boxTtc(c.body[a], c.body[b], MotionModel::ConstantVelocity, maxTtc);
+  if (std::isfinite(ttc)) {
+    atA = c.body[a];
+    atB = c.body[b];
+    atA.position += ttc * atA.velocity;
+    atB.position += ttc * atB.velocity;
+  }
+  return ttc;
+}
+
+void ConflictBook::touch(int a, int b, double ttc, const Body& atA, const Body& atB, double t, double dt) {
   const VehicleTable& c = *cars_;
   auto [it, fresh] = open_.try_emplace(Key{c.slots[a].serial, c.slots[b].serial});
   Encounter& en = it->second;
@@ -145,10 +170,12 @@ void ConflictBook::touch(int a, int b, double ttc, double t, double dt) {
     en.minTtcTime = t;
     en.bodyA = c.body[a];
     en.bodyB = c.body[b];
+    en.contactA = atA;
+    en.contactB = atB;
     en.laneA = paths_->reportedLane(a);
     en.laneB = paths_->reportedLane(b);
     startPet(en.bodyA, en.bodyB, t, petAngles_, en.pet);
-    startRearPet(en.bodyA, en.bodyB, ttc, t, en.rearPet);
+    startRearPet(en.bodyA, en.bodyB, atA, atB, t, en.rearPet);
   } else {
     observePet(c.centre[a], c.centre[b], t, en.pet);
     observeRearPet(c.centre[a], c.centre[b], t, en.rearPet);
@@ -157,10 +184,9 @@ void ConflictBook::touch(int a, int b, double ttc, double t, double dt) {
 
 void ConflictBook::close(Encounter& en, double end, bool open) {
   const VehicleTable& c = *cars_;
-  // the predicted contact: the rectangles moved on to the minimum TTC
-  Body at = en.bodyA, bt = en.bodyB;
-  at.position += en.minTtc * at.velocity;
-  bt.position += en.minTtc * bt.velocity;
+  // the predicted contact: the rectangles moved on to the minimum TTC (in straight lines, or along
+  // the lanes at a merge), where SSAM's angle classes are taken
+  const Body &at = en.contactA, &bt = en.contactB;
   const Vec2 p = contactPoint(at.box(), bt.box(), tol::kContactPointTie);
   // SSAM's first vehicle: its front at the contact point first (ties: the earlier seen)
   const bool aFirst = arrival(en.bodyA, p) <= arrival(en.bodyB, p);
@@ -172,7 +198,8 @@ void ConflictBook::close(Encounter& en, double end, bool open) {
   Conflict k;
   k.first = c.slots[f].id;
   k.second = c.slots[s].id;
-  k.type = conflictType(toDegrees(std::atan2(std::abs(cross(bf.axis, bs.axis)), bf.axis.dot(bs.axis))), c.vclass[f],
+  const Body &cf = aFirst ? at : bt, &cs = aFirst ? bt : at;
+  k.type = conflictType(toDegrees(std::atan2(std::abs(cross(cf.axis, cs.axis)), cf.axis.dot(cs.axis))), c.vclass[f],
                         c.vclass[s], cfg_->conflict);
   k.begin = en.begin;
   k.end = end;
@@ -189,7 +216,7 @@ void ConflictBook::close(Encounter& en, double end, bool open) {
   k.maxDeltaV = maxDeltaV(mf, bf.velocity, ms, bs.velocity);
   k.firstDeltaV = deltaV(mf, bf.velocity, ms, bs.velocity);
   k.secondDeltaV = deltaV(ms, bs.velocity, mf, bf.velocity);
-  k.conflictAngle = conflictAngleDeg(bf.axis, bs.axis);
+  k.conflictAngle = conflictAngleDeg(cf.axis, cs.axis);
   k.clockAngle = clockPosition(k.conflictAngle);
   const Vec2 v = postCrashVelocity(mf, bf.velocity, ms, bs.velocity);
   k.postCrashSpeed = v.norm();

@@ -39,8 +39,11 @@ struct RearPetWatch {
     return active && !std::isnan(leave) && !std::isnan(arrive) ? arrive - leave : std::numeric_limits<double>::quiet_NaN();
   }
 };
-// A watch from the two bodies at time t, their minimum TTC `ttc`.
+// A watch from the two bodies at time t, their minimum TTC `ttc` (moved on in straight lines).
 void startRearPet(const Body& a, const Body& b, double ttc, double t, RearPetWatch& w);
+// The same from the two bodies at the predicted contact (atA, atB: where and how each is headed
+// then; conflicts.csv predicts a car at a merge along its lanes).
+void startRearPet(const Body& a, const Body& b, const Body& atA, const Body& atB, double t, RearPetWatch& w);
 // The two centres at a later tick t (NaN: that one is gone).
 void observeRearPet(const Vec2& ca, const Vec2& cb, double t, RearPetWatch& w);
 
@@ -68,6 +71,7 @@ class ConflictBook {
     std::uint64_t seen = 0;  // the tick it was last below TTC*
     double begin = 0.0, minTtc = 0.0, minTtcTime = 0.0, tet = 0.0, tit = 0.0;
     Body bodyA, bodyB;       // at the minimum TTC
+    Body contactA, contactB; // ... moved on to their predicted contact (straight, or along the lanes at a merge)
     int laneA = -1, laneB = -1;
     EpisodeTrack trackA, trackB;  // each vehicle's as ego (start, end, MaxS, DR, MaxD)
     PetWatch pet;
@@ -87,7 +91,10 @@ class ConflictBook {
   using Key = std::pair<std::uint64_t, std::uint64_t>;
 
   void candidates();
-  void touch(int a, int b, double ttc, double t, double dt);
+  // The pair's box TTC within TTC* and the bodies at the contact: in straight lines, or along
+  // their lanes when one of them is at a merge (LanePrediction::atMerge).
+  double pairTtc(int a, int b, double maxTtc, Body& atA, Body& atB) const;
+  void touch(int a, int b, double ttc, const Body& atA, const Body& atB, double t, double dt);
   void close(Encounter& en, double end, bool open);
   void settle(Conflict&& c, double pet);
 

@@ -131,6 +131,9 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
     bool on = false;
     for (int a : ids) on = on || lanes_[a].next >= 0;
     for (int a : ids) lanes_[a].drops = on && lanes_[a].next < 0;
+    bool merge = false;
+    for (int a : ids) merge = merge || lanes_[a].drops;
+    for (int a : ids) lanes_[a].merge = merge;
   }
   // the segment grid
   if (pt_.empty()) return;
@@ -371,6 +374,34 @@ Ttc LanePrediction::vehicleTtc(int e, int f, double horizon) const {
   }
 }
 
+double LanePrediction::boxTtcAlong(int e, int f, double horizon, Body& atE, Body& atF) const {
+  const VehicleTable& c = *cars_;
+  constexpr MotionModel kMotion = MotionModel::ConstantVelocity;
+  const auto pe = path(e), pf = path(f);
+  std::size_t i = 0, j = 0;
+  double t = 0.0;
+  while (true) {
+    while (i + 1 < pe.size() && pe[i + 1].t0 <= t) ++i;
+    while (j + 1 < pf.size() && pf[j + 1].t0 <= t) ++j;
+    double end = horizon;
+    if (i + 1 < pe.size()) end = std::min(end, pe[i + 1].t0);
+    if (j + 1 < pf.size()) end = std::min(end, pf[j + 1].t0);
+    // a straight path at its start is the body itself
+    const Body a = straight_[e] && t == 0.0 ? c.body[e] : bodyAt(pe.subspan(i), c.body[e], kMotion, t);
+    const Body b = straight_[f] && t == 0.0 ? c.body[f] : bodyAt(pf.subspan(j), c.body[f], kMotion, t);
+    const double r = boxTtc(a, b, kMotion, end - t);
+    if (std::isfinite(r)) {
+      atE = a;
+      atF = b;
+      atE.position += r * a.velocity;
+      atF.position += r * b.velocity;
+      return t + r;
+    }
+    if (!(end < horizon)) return std::numeric_limits<double>::infinity();
+    t = end;
+  }
+}
+
 double LanePrediction::beyondLine(int slot, int side, bool shape) const {
   const LaneFrame& f = frame_[slot];
   return (side == 1 ? f.d : -f.d) + (shape ? f.halfShape : f.halfBody) - halfWidth(f.lane);
@@ -396,6 +427,9 @@ void LanePrediction::update(double t) {
     pieceBegin_.resize(n);
     pieceEnd_.resize(n);
     straight_.resize(n);
+    merge_.resize(n);
+    prevBent_.resize(n);
+    deviation_.resize(n);
     matched_.resize(n, -1);
   }
   for (int s : c.arrived) frame_[s] = LaneFrame{};
@@ -440,10 +474,20 @@ void LanePrediction::predict(int slot, double t) {
   // measured against another road's line): what its heading carries across the lane, as a
   // source's lateral speed there is no better (an FCD replay's backward difference turns SUMO's
   // one-step lane change into tens of m/s where SUMO reports none). At first sight: the source's.
+  // At a merge (an edge with a lane that drops) a body out of a junction is headed by the bend it
+  // left, not by its motion: SUMO heads it from its rear, still on the junction lane, to its front,
+  // 30 to 40 degrees off the lane at a ramp's nose (more after a lane change there); its offset
+  // then sits off the line by that chord. So it has no lateral motion there, nor at the tick after
+  // (its last offset was the chord's), and its body is predicted square to the lane.
   double lateral = lane >= 0 ? b.velocity.dot(leftNormal(pr.dir)) : 0.0;
   const bool before = lane >= 0 && wasHere && c.slots[slot].present && t > prevT_[slot] && prevLane_[slot] >= 0;
+  const bool mergeEdge = lane >= 0 && lanes_[lane].merge;
+  bool bent = false;
   if (before && !(prevAlong_[slot] && lanes_[lane].edge == lanes_[prevLane_[slot]].edge)) {
-    lateral = b.velocity.dot(b.axis) * b.axis.dot(leftNormal(pr.dir));
+    bent = mergeEdge;
+    lateral = bent ? 0.0 : b.velocity.dot(b.axis) * b.axis.dot(leftNormal(pr.dir));
+  } else if (before && mergeEdge && prevBent_[slot]) {
+    lateral = 0.0;
   } else if (before) {
     const double dt = t - prevT_[slot];
     lateral = (pr.d - prevD_[slot]) / dt;
@@ -468,10 +512,13 @@ void LanePrediction::predict(int slot, double t) {
     f.halfShape = roadSupport(cfg_->detector, square, leftNormal(pr.dir));
   }
   prevLane_[slot] = f.lane;
+  prevBent_[slot] = bent ? 1 : 0;
   prevAlong_[slot] = alongside(slot);
   prevD_[slot] = f.d;
   prevT_[slot] = t;
   prevPos_[slot] = b.position;
+  merge_[slot] = 0;
+  deviation_[slot] = 0.0;
   if (!alongLanes_ || lane < 0 || u < kMinPathSpeed) {
     // the straight line: the body's own motion
     const Vec2 n = leftNormal(b.axis);
@@ -511,6 +558,12 @@ void LanePrediction::predict(int slot, double t) {
   auto deviation = [&](const Vec2& p, double tk, double scale) {
     dev = std::max(dev, (p - b.position - b.velocity * tk).norm() + scale * std::abs(driven(u, acc, tk) - u * tk));
   };
+  // at a merge (atMerge): on a junction lane or an edge with a lane that drops, headed off its
+  // lane (SUMO's chord across a vertex or a junction), or (below) entering a junction lane or a
+  // bend within TTC*
+  const double maxTtc = cfg_->conflict.maxTtc;
+  auto turned = [&](const Vec2& u) { return std::abs(std::atan2(cross2(pr.dir, u), pr.dir.dot(u))) > tol::kMergeBend; };
+  bool merge = l.internal || l.merge || turned(b.axis);
   int ln = lane, seg = pr.seg;
   Vec2 q = foot;   // the path's point at arc S from the car
   double S = 0.0;  // arc from the car, in the source's lengths (Lane::length: times at the speed it gives)
@@ -525,7 +578,7 @@ void LanePrediction::predict(int slot, double t) {
     const Vec2 pk = first ? b.position : Vec2(off + q + dk * nk);
     // the body as it is now, then square to its lane from the next vertex on: it follows the lane
     // (a yaw against the lane's segment is mostly SUMO's front-to-rear chord across a joint)
-    const Vec2 axis = first ? b.axis : dir;
+    const Vec2 axis = first && !bent ? b.axis : dir;
     turns = turns || axis != b.axis;
     pieces_.push_back({tk, pk, dir, nk, axis, uk, lateral, cl.scale});
     maxScale = std::max(maxScale, cl.scale);
@@ -555,6 +608,9 @@ void LanePrediction::predict(int slot, double t) {
     deviation(pk + ((driven(u, acc, tEnd) - S) * cl.scale) * dir + (lateral * (tEnd - tk)) * nk, tEnd, cl.scale);
     ln = nln;
     seg = nseg;
+    // a junction lane, or a bend, within TTC*
+    const Vec2 next = (pt_[lanes_[ln].first + seg + 1] - pt_[lanes_[ln].first + seg]).normalized();
+    merge = merge || (tEnd <= maxTtc && (lanes_[ln].internal || turned(next)));
     q = pt_[lanes_[ln].first + seg];
     S = segEnd;
     tk = tEnd;
@@ -572,6 +628,8 @@ void LanePrediction::predict(int slot, double t) {
   c.env[slot] = c.ownEnv[slot] + grow;
   c.pairState[slot].ext = c.ext[slot];
   c.pairState[slot].env = c.env[slot];
+  deviation_[slot] = grow;
+  merge_[slot] = merge && h >= maxTtc ? 1 : 0;
 }
 
 }  // namespace st::highway::detail

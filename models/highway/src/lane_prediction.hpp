@@ -104,11 +104,30 @@ class LanePrediction {
   // The longest horizon a pair test may ask of a car this tick (s).
   double horizon(int slot) const { return horizon_[slot]; }
   bool straight(int slot) const { return straight_[slot] != 0; }
+  // The car is at a merge: on a junction lane, on an edge one of whose lanes ends while the edge
+  // goes on (an acceleration lane's, a lane drop's), headed off its lane by more than
+  // tol::kMergeBend (SUMO's chord from its rear to its front across a vertex or a junction), or on
+  // a lane its path leaves through a junction or turns by more than tol::kMergeBend within TTC*
+  // (an entry lane: a ramp's nose, its curve). Its momentary heading there is the bend's (SUMO heads a body from its rear to its
+  // front: 30 degrees and more off the carriageway at a ramp's nose), so conflicts.csv predicts
+  // such a car along its path (boxTtcAlong), not in a straight line. Only under road prediction,
+  // and only where its path reaches TTC* (horizon >= TTC*).
+  bool atMerge(int slot) const { return merge_[slot] != 0; }
+  // How far a car's path departs from its straight line (p + v t) within its horizon (m; 0 for a
+  // straight path): the pair prunes' growth of its envelope, which bounds any sweep over paths.
+  double deviation(int slot) const { return deviation_[slot]; }
 
   // vehicleTtc of ego e against foe f along their paths (slots), at most horizon s ahead: piece
   // by piece where both move straight with fixed headings (one piece each, the straight
   // detector itself, bit for bit).
   Ttc vehicleTtc(int e, int f, double horizon) const;
+
+  // The exact box TTC of two cars (slots) along their paths, each at its speed along the path at
+  // constant velocity (conflicts.csv's motion; under the constant-acceleration model the pieces
+  // still start where that model puts them), at most horizon s ahead: piece by piece, the box
+  // kernel on each stretch where both move straight with fixed headings (two straight paths: the
+  // straight box TTC). atE, atF: the two bodies then (unchanged when none is found).
+  double boxTtcAlong(int e, int f, double horizon, Body& atE, Body& atF) const;
 
   // The body of a car at time t >= 0 on its path (pieces from path()), moving at
   // motionAcceleration(now, motion) along it.
@@ -124,6 +143,7 @@ class LanePrediction {
     int edge = -1;                      // index into edgeIds(road)
     int exitEdge = -1;                  // the edge a car on it drives on or reaches next (a junction lane's outgoing edge)
     bool drops = false;         // ends while another lane of its edge goes on (a lane drop)
+    bool merge = false;         // a lane of its edge drops: an acceleration lane's edge, a lane drop's
     double scale = 1.0;         // its shape's length over the source's length of it (Lane::length)
     bool internal = false;
   };
@@ -159,6 +179,9 @@ class LanePrediction {
   std::vector<int> matched_;    // the lane match() found this tick (-1: none)
   std::vector<char> prevAlong_;  // alongside() at the last tick (after update(): at this one)
   std::vector<char> straight_;  // the path is the straight line (no lane, or slow)
+  std::vector<char> merge_;     // atMerge()
+  std::vector<char> prevBent_;  // its heading at the last tick was a junction's bend, not its motion (predict)
+  std::vector<double> deviation_;  // deviation()
   std::vector<PathPiece> pieces_;
 };
 

@@ -19,6 +19,8 @@
 #include <sthighway/report.hpp>
 #include <sthighway/sumo_files.hpp>
 
+#include "roads.hpp"
+
 namespace st::highway {
 namespace {
 
@@ -124,6 +126,9 @@ MonitorRun monitorRun(const Frames& in, const RoadGeometry& road, const MonitorC
 // Same conflicts (pair and begin), same end, same minimum TTC (1e-9 s) and its tick, same TET.
 // Returns the rear-ends in one file it checked the order of.
 int expectSameAsBruteForce(const Frames& frames, const RoadGeometry& road, MonitorConfig cfg, std::size_t atLeast) {
+  // the brute force predicts in straight lines (under road prediction conflicts.csv moves the cars
+  // at a merge along their lanes: tested on a merge below and against SSM in tests/cosim)
+  cfg.prediction = Prediction::Straight;
   const MonitorRun run = monitorRun(frames, road, cfg);
   const std::map<Key, Truth> truth = bruteForce(frames, cfg.conflict.maxTtc);
   // PET* left none out here, so every encounter below TTC* is a conflict
@@ -293,6 +298,90 @@ TEST(ConflictBook, RearEndPetIsTheLeaderLeavingToTheFollowerArriving) {
       EXPECT_NEAR(c.pet, 0.0, 1e-9);
     }
   }
+}
+
+// A ramp's nose worked out by hand: the ramp (3.75 m lanes) comes in at 31 degrees and bends
+// through a junction lane onto the acceleration lane acc_0 (y = -3.75), beside the through lane
+// acc_1 (y = 0) that up_0 leads into. SUMO heads a car by its momentary direction, so in a straight
+// line the ramp car 10 m before the nose drives across acc_0 into acc_1; along its lanes it stays
+// in acc_0.
+RoadGeometry rampNose() {
+  RoadGeometry r;
+  auto lane = [&](const std::string& edge, int index, std::vector<Vec2> shape, bool internal) {
+    Lane l = laneOf(edge, index, std::move(shape));
+    l.width = 3.75;
+    l.internal = internal;
+    r.lanes.push_back(l);
+  };
+  lane("up", 0, {Vec2(0.0, 0.0), Vec2(998.0, 0.0)}, false);
+  lane(":j_1", 0, {Vec2(998.0, 0.0), Vec2(1002.0, 0.0)}, true);
+  lane("ramp", 0, {Vec2(900.0, -63.75), Vec2(998.0, -4.87)}, false);
+  lane(":j_0", 0, {Vec2(998.0, -4.87), Vec2(999.2, -4.1), Vec2(1002.0, -3.75)}, true);
+  lane("acc", 0, {Vec2(1002.0, -3.75), Vec2(1250.0, -3.75)}, false);
+  lane("acc", 1, {Vec2(1002.0, 0.0), Vec2(1250.0, 0.0)}, false);
+  return r;
+}
+
+// The ramp car 10 m before the nose along the ramp, heading along it at `speed`, and another car.
+std::vector<Conflict> atTheNose(const RoadGeometry& road, Prediction prediction, const VehicleState& other, double speed) {
+  MonitorConfig cfg;
+  cfg.detector.kind = DetectorKind::Box;
+  cfg.checkRoad = false;
+  cfg.prediction = prediction;
+  HighwayMonitor m(road, cfg);
+  const Vec2 end(998.0, -4.87), dir = (end - Vec2(900.0, -63.75)).normalized();
+  VehicleState ramp;
+  ramp.id = "ramp";
+  ramp.position = end - 10.0 * dir;
+  ramp.heading = std::atan2(dir.y(), dir.x());
+  ramp.speed = speed;
+  std::vector<Conflict> got, tick;
+  m.step(0.0, std::vector<VehicleState>{ramp, other});
+  m.takeConflicts(tick);
+  got.insert(got.end(), tick.begin(), tick.end());
+  m.finish(0.0);
+  m.takeConflicts(tick);
+  got.insert(got.end(), tick.begin(), tick.end());
+  return got;
+}
+
+// Beside the nose on the through lane: in a straight line the ramp car's 31 degree heading takes it
+// into the through car within 0.7 s (a conflict SSM never sees); along the lanes they stay a lane
+// apart, no conflict.
+TEST(ConflictBook, AtARampsNoseCarsArePredictedAlongTheirLanes) {
+  const RoadGeometry road = rampNose();
+  VehicleState through;
+  through.id = "through";
+  through.position = {991.0, 0.0};
+  through.speed = 20.0;
+  const std::vector<Conflict> straight = atTheNose(road, Prediction::Straight, through, 20.0);
+  ASSERT_EQ(straight.size(), 1u);  // the scene has the artefact to remove
+  EXPECT_LT(straight[0].minTtc, 1.0);
+  EXPECT_TRUE(atTheNose(road, Prediction::Road, through, 20.0).empty());
+}
+
+// A slow car just past the nose in the acceleration lane: along the lanes the ramp car runs into
+// its back within TTC*, a rear-end (SSAM's class taken at the predicted contact, both along the
+// lane: conflict angle near 0), not the 31 degrees of the ramp car's momentary heading.
+TEST(ConflictBook, AtARampsNoseTheAngleClassIsTakenAtThePredictedContact) {
+  const RoadGeometry road = rampNose();
+  VehicleState slow;
+  slow.id = "slow";
+  slow.position = {1010.0, -3.75};
+  slow.speed = 5.0;
+  const std::vector<Conflict> got = atTheNose(road, Prediction::Road, slow, 20.0);
+  ASSERT_EQ(got.size(), 1u);
+  const Conflict& c = got[0];
+  EXPECT_EQ(c.type, ConflictType::RearEnd);
+  EXPECT_EQ(c.first, "slow");
+  EXPECT_EQ(c.second, "ramp");
+  EXPECT_LT(std::abs(c.conflictAngle), 5.0);
+  // about 17 m of lanes between the ramp car's front and the slow car's back, closing at 15 m/s
+  EXPECT_GT(c.minTtc, 0.9);
+  EXPECT_LT(c.minTtc, 1.4);
+  // the contact point lies on the acceleration lane, at the slow car's back moved on
+  EXPECT_NEAR(c.conflictY, -3.75, 1.0);
+  EXPECT_NEAR(c.conflictX, 1007.5 + 5.0 * c.minTtc, 0.5);
 }
 
 // conflicts.csv has one row per conflict counted, and summary.json's conflicts.count says so.

@@ -41,6 +41,15 @@ inline constexpr double kAccelerationEpsilon = 1e-9;
 // A car closer than this to its stop line brakes as if it were this far (m): at the line, at once.
 inline constexpr double kStopLineMinDistance = 1e-4;
 
+// A car whose path turns by more than this within TTC*, or whose body is turned off its lane by
+// more than this, is at a merge (lane_prediction.hpp, atMerge; rad, 1 degree): conflicts.csv
+// predicts it along its lanes, not in a straight line. A ramp's nose or its curve (the shipped
+// motorway's turns by 10.9 degrees 100 m before the nose, and SUMO heads a car past that vertex
+// by the chord from its rear, 4 degrees off for a few ticks); a straight lane's polyline joints
+// turn by hundredths of a degree. Smaller takes polyline noise for a bend (the same result, more
+// cost); larger leaves gentle curves and the chord's last degrees in straight lines.
+inline constexpr double kMergeBend = 0.0174533;
+
 // The five-circle TTC skips a zone circle x body circle pair before its square root when the
 // pair provably cannot win, so the result stays bit for bit: the clearance a skipped pair keeps
 // (m), far above the rounding of the skip test and of toiBalls' hit time (under 1e-5 m at the
