@@ -48,6 +48,7 @@ Args makeArgs() {
       .option("net", "NET.net.xml", "SUMO network giving lane shapes and widths (with --fcd)")
       .option("vtypes", "FILE.xml", "route/additional file whose <vType>s give sizes and masses (with --fcd)")
       .option("tls-states", "FILE.xml", "SUMO's SaveTLSStates output of the traced run: the lights' states (with --fcd)")
+      .option("routes", "FILE.xml", "the traced vehicles' routes: SUMO's --vehroute-output of the run, or a route file (with --fcd)")
       .option("detector", "concentric|five|box", "collision detector", settingDefault("detector"))
       .option("layout", "a|b", "five-circle zone layout: Fig. 11(a) small or 11(b) large overlaps", settingDefault("layout"))
       .option("motion", "velocity|acceleration", "prediction: constant velocity, or constant acceleration", settingDefault("motion"))
@@ -113,6 +114,11 @@ int runTrace(const Args& a) {
   hw::HighwayMonitor monitor(road, cfg);
   hw::FcdReader reader(a.get("fcd"), types, checks, &road);
   if (signalStates) reader.useSignals(&*signalLinks, &*signalStates);
+  hw::VehicleRoutes routes;
+  if (a.has("routes")) {
+    routes = hw::readSumoRoutes(a.get("routes"));
+    reader.useRoutes(&routes);
+  }
 
   const std::filesystem::path out = a.get("out");
   std::error_code ec;
@@ -238,7 +244,7 @@ int run(int argc, const char* const* argv) {
     return runTrace(a);
   }
   if (!scenario) throw UsageError("missing input: --fcd TRACE.xml --net NET.net.xml, or a SCENARIO (see stsim highway --help)");
-  for (const char* opt : {"net", "vtypes", "tls-states"})
+  for (const char* opt : {"net", "vtypes", "tls-states", "routes"})
     if (a.has(opt)) throw UsageError(std::string("--") + opt + " applies to --fcd replays");
 #ifdef STSIM_HIGHWAY_COSIM
   return st::cosim::runHighwayCommand(a);

@@ -165,24 +165,37 @@ TEST(HighwayCli, SublaneNetworkRaisesLaneMarkerAndCurbWarnings) {
 // (sumo_conversion.hpp); the replay's lateral speed is posLat's change (a sublane run's), none
 // for a lane change made in one step. SUMO labels its outputs with the time a step began, the
 // live run with the time after it: the replay's times are one step (0.1 s) earlier. The sublane
-// network (drifts across markers) and the motorway (lane changes in one step).
+// network (drifts across markers) and the motorway (lane changes in one step); the intersection
+// and the crosswalk (persons on foot) with the routes the cars drove (SUMO's --vehroute-output)
+// and the light's states (SaveTLSStates), where conflicts.csv is compared too.
 TEST(HighwayCli, LiveRunAndTheReplayOfItsFcdGiveTheSameWarnings) {
-  for (const std::string net : {"sublane", "motorway"}) {
+  for (const std::string net : {"sublane", "motorway", "intersection", "crosswalk"}) {
     const auto dir = freshDir("cli_replay_" + net);
     const auto src = sourceDir() / "networks" / net;
     const auto fcd = dir / "trace.fcd.xml";
+    const bool junction = net == "intersection" || net == "crosswalk";
+    const auto tls = dir / "tls.xml", routes = dir / "routes.xml";
+    std::ofstream(dir / "tls.add.xml") << "<additional><timedEvent type=\"SaveTLSStates\" source=\"C\" dest=\""
+                                       << tls.string() << "\"/></additional>\n";
     std::ofstream(dir / "live.yaml") << "sumocfg: " << (src / (net + ".sumocfg")).string()
-                                     << "\nseed: 42\nend: 90\naction: none\ndetector: five\n"
+                                     << "\nseed: 42\nend: " << (junction ? 300 : 90) << "\naction: none\ndetector: "
+                                     << (junction ? "box" : "five") << "\n"
                                      << "safe_time: {vehicle_reaction: 1.0, road_reaction: 0.5}\n"
                                      << "sumo_args: [--fcd-output, " << fcd.string()
-                                     << ", --fcd-output.attributes, 'x,y,angle,type,speed,lane,signals,acceleration,posLat',"
-                                     << " --precision, '6']\n";
+                                     << ", --fcd-output.attributes, 'x,y,angle,type,speed,lane,pos,signals,acceleration,posLat',"
+                                     << " --precision, '6'"
+                                     << (junction ? ", --additional-files, " + (dir / "tls.add.xml").string() +
+                                                        ", --vehroute-output, " + routes.string() +
+                                                        ", --vehroute-output.write-unfinished, 'true'"
+                                                  : std::string())
+                                     << "]\n";
     const auto live = runStsim({"highway", (dir / "live.yaml").string(), "--no-map", "--out", (dir / "live").string()}, dir);
     ASSERT_EQ(live.code, 0) << live.err;
-    const auto replay = runStsim({"highway", "--fcd", fcd.string(), "--net", (src / (net + ".net.xml")).string(), "--vtypes",
-                                  (src / (net + ".rou.xml")).string(), "--detector", "five", "--no-map", "--out",
-                                  (dir / "replay").string()},
-                                 dir);
+    std::vector<std::string> args{"highway", "--fcd", fcd.string(), "--net", (src / (net + ".net.xml")).string(),
+                                  "--vtypes", (src / (net + ".rou.xml")).string(), "--detector", junction ? "box" : "five",
+                                  "--no-map", "--out", (dir / "replay").string()};
+    if (junction) args.insert(args.end(), {"--tls-states", tls.string(), "--routes", routes.string()});
+    const auto replay = runStsim(args, dir);
     ASSERT_EQ(replay.code, 0) << replay.err;
     // ego, foe, kind, zone, begin, end (ms, the replay's moved on by the step) -> min TTC
     auto rows = [](const std::filesystem::path& p, long shiftMs) {
@@ -197,7 +210,7 @@ TEST(HighwayCli, LiveRunAndTheReplayOfItsFcdGiveTheSameWarnings) {
       return out;
     };
     const auto a = rows(dir / "live/warnings.csv", 0), b = rows(dir / "replay/warnings.csv", 100);
-    EXPECT_GT(a.size(), net == "sublane" ? 400u : 50u);
+    EXPECT_GT(a.size(), net == "sublane" ? 400u : net == "intersection" ? 20u : 50u);
     ASSERT_EQ(a.size(), b.size()) << net;
     for (const auto& [key, ttc] : a) {
       const auto it = b.find(key);
@@ -207,6 +220,26 @@ TEST(HighwayCli, LiveRunAndTheReplayOfItsFcdGiveTheSameWarnings) {
       } else {
         EXPECT_EQ(it->second, ttc) << net << ": " << key;
       }
+    }
+    if (!junction) continue;
+    // conflicts.csv: first, second, type, begin, end (ms, the replay's moved on) -> min TTC
+    auto conflicts = [](const std::filesystem::path& p, long shiftMs) {
+      std::map<std::string, double> out;
+      const auto ls = lines(slurp(p));
+      for (std::size_t i = 1; i < ls.size(); ++i) {
+        const auto f = splitCsv(ls[i]);
+        const long begin = std::lround(std::stod(f[3]) * 1000.0) + shiftMs, end = std::lround(std::stod(f[4]) * 1000.0) + shiftMs;
+        out.emplace(f[0] + " " + f[1] + " " + f[2] + " " + std::to_string(begin) + " " + std::to_string(end), std::stod(f[5]));
+      }
+      return out;
+    };
+    const auto ca = conflicts(dir / "live/conflicts.csv", 0), cb = conflicts(dir / "replay/conflicts.csv", 100);
+    EXPECT_GT(ca.size(), 20u) << net;
+    EXPECT_EQ(ca.size(), cb.size()) << net;
+    for (const auto& [key, ttc] : ca) {
+      const auto it = cb.find(key);
+      ASSERT_NE(it, cb.end()) << net << ": live conflict " << key << " not in the replay";
+      EXPECT_NEAR(it->second, ttc, 1e-4) << net << ": " << key;
     }
   }
 }

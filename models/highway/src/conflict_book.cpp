@@ -18,30 +18,42 @@ constexpr double kReachMargin = 1.0;
 double halfDiagonal(const Body& b) { return 0.5 * std::hypot(b.length, b.width); }
 
 // The order in which the two fronts reach the contact point p: at or past it now first (the
-// further past the earlier), then by time to get there at the speed along the axis.
+// further past the earlier; a front within tol::kArrivalTie short of it is at it: a car standing
+// with its front on the point is there, whichever way rounding puts it), then by time to get
+// there at the speed along the axis.
 std::pair<int, double> arrival(const Body& b, const Vec2& p) {
   const double d = (p - b.position).dot(b.axis) - 0.5 * b.length;
-  if (d <= 0.0) return {0, d};
+  if (d <= tol::kArrivalTie) return {0, d};
   const double s = b.velocity.dot(b.axis);
   return {1, s > 0.0 ? d / s : kInfinity};
 }
+
+// SSAM's first of the two at the contact point p: the front that reaches it first; together
+// (within tol::kArrivalTie) the one named first (the smaller id), whatever order they came in.
+bool aReachesFirst(const Body& a, const Body& b, const Vec2& p, bool aNamedFirst) {
+  const auto ta = arrival(a, p), tb = arrival(b, p);
+  if (ta.first != tb.first) return ta.first < tb.first;
+  if (std::abs(ta.second - tb.second) <= tol::kArrivalTie || ta.second == tb.second) return aNamedFirst;
+  return ta.second < tb.second;
+}
 }  // namespace
 
-void startRearPet(const Body& a, const Body& b, double ttc, double t, RearPetWatch& w) {
+void startRearPet(const Body& a, const Body& b, double ttc, double t, bool aNamedFirst, RearPetWatch& w) {
   w = RearPetWatch{};
   if (!std::isfinite(ttc)) return;
   Body at = a, bt = b;
   at.position += ttc * at.velocity;
   bt.position += ttc * bt.velocity;
-  startRearPet(a, b, at, bt, t, w);
+  startRearPet(a, b, at, bt, t, aNamedFirst, w);
 }
 
-void startRearPet(const Body& a, const Body& b, const Body& at, const Body& bt, double t, RearPetWatch& w) {
+void startRearPet(const Body& a, const Body& b, const Body& at, const Body& bt, double t, bool aNamedFirst,
+                  RearPetWatch& w) {
   w = RearPetWatch{};
   w.active = true;
   w.p = contactPoint(at.box(), bt.box(), tol::kContactPointTie);
   // the leader as close() names SSAM's first vehicle
-  w.first = arrival(a, w.p) <= arrival(b, w.p) ? 0 : 1;
+  w.first = aReachesFirst(a, b, w.p, aNamedFirst) ? 0 : 1;
   w.dir = {at.axis, bt.axis};
   w.half = {0.5 * a.length, 0.5 * b.length};
   w.lastT = t;
@@ -175,7 +187,7 @@ void ConflictBook::touch(int a, int b, double ttc, const Body& atA, const Body& 
     en.laneA = paths_->reportedLane(a);
     en.laneB = paths_->reportedLane(b);
     startPet(en.bodyA, en.bodyB, t, petAngles_, en.pet);
-    startRearPet(en.bodyA, en.bodyB, atA, atB, t, en.rearPet);
+    startRearPet(en.bodyA, en.bodyB, atA, atB, t, c.slots[a].id < c.slots[b].id, en.rearPet);
   } else {
     observePet(c.centre[a], c.centre[b], t, en.pet);
     observeRearPet(c.centre[a], c.centre[b], t, en.rearPet);
@@ -188,8 +200,8 @@ void ConflictBook::close(Encounter& en, double end, bool open) {
   // the lanes at a merge), where SSAM's angle classes are taken
   const Body &at = en.contactA, &bt = en.contactB;
   const Vec2 p = contactPoint(at.box(), bt.box(), tol::kContactPointTie);
-  // SSAM's first vehicle: its front at the contact point first (ties: the earlier seen)
-  const bool aFirst = arrival(en.bodyA, p) <= arrival(en.bodyB, p);
+  // SSAM's first vehicle: its front at the contact point first (together: the smaller id)
+  const bool aFirst = aReachesFirst(en.bodyA, en.bodyB, p, c.slots[en.a].id < c.slots[en.b].id);
   const int f = aFirst ? en.a : en.b, s = aFirst ? en.b : en.a;
   const Body &bf = aFirst ? en.bodyA : en.bodyB, &bs = aFirst ? en.bodyB : en.bodyA;
   const EpisodeTrack &tf = aFirst ? en.trackA : en.trackB, &ts = aFirst ? en.trackB : en.trackA;

@@ -39,11 +39,13 @@ struct RearPetWatch {
     return active && !std::isnan(leave) && !std::isnan(arrive) ? arrive - leave : std::numeric_limits<double>::quiet_NaN();
   }
 };
-// A watch from the two bodies at time t, their minimum TTC `ttc` (moved on in straight lines).
-void startRearPet(const Body& a, const Body& b, double ttc, double t, RearPetWatch& w);
+// A watch from the two bodies at time t, their minimum TTC `ttc` (moved on in straight lines);
+// aNamedFirst: a's id is the smaller (SSAM's first when both fronts reach the point together).
+void startRearPet(const Body& a, const Body& b, double ttc, double t, bool aNamedFirst, RearPetWatch& w);
 // The same from the two bodies at the predicted contact (atA, atB: where and how each is headed
 // then; conflicts.csv predicts a car at a merge along its lanes).
-void startRearPet(const Body& a, const Body& b, const Body& atA, const Body& atB, double t, RearPetWatch& w);
+void startRearPet(const Body& a, const Body& b, const Body& atA, const Body& atB, double t, bool aNamedFirst,
+                  RearPetWatch& w);
 // The two centres at a later tick t (NaN: that one is gone).
 void observeRearPet(const Vec2& ca, const Vec2& cb, double t, RearPetWatch& w);
 

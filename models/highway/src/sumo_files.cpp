@@ -162,6 +162,54 @@ VehicleTypes readSumoVehicleTypes(const std::filesystem::path& path) {
   return out;
 }
 
+VehicleRoutes readSumoRoutes(const std::filesystem::path& path) {
+  XmlScanner x(path);
+  XmlScanner::Tag t;
+  VehicleRoutes out;
+  std::unordered_map<std::string, std::vector<std::string>> named;  // top-level <route id edges>
+  std::string vehicle;  // the open <vehicle>'s id
+  auto edgesOf = [&](const std::string& text) {
+    std::vector<std::string> edges;
+    std::size_t i = 0;
+    while (i < text.size()) {
+      const std::size_t j = text.find(' ', i);
+      if (j != i) edges.push_back(text.substr(i, j == std::string::npos ? std::string::npos : j - i));
+      if (j == std::string::npos) break;
+      i = j + 1;
+    }
+    if (edges.empty()) x.fail(t.line, "<route> has no edges");
+    return edges;
+  };
+  bool any = false;
+  while (x.next(t)) {
+    if (t.name == "vehicle") {
+      if (t.closing) {
+        vehicle.clear();
+        continue;
+      }
+      const std::string* id = t.attr("id");
+      if (!id || id->empty()) x.fail(t.line, "<vehicle> lacks attribute 'id'");
+      any = true;
+      if (const std::string* route = t.attr("route")) {
+        const auto it = named.find(*route);
+        if (it == named.end()) x.fail(t.line, "<vehicle id=\"" + *id + "\"> route '" + *route + "' is not defined before it");
+        out[*id] = it->second;
+      }
+      if (!t.selfClosing) vehicle = *id;
+    } else if (t.name == "route" && !t.closing) {
+      const std::string* edges = t.attr("edges");
+      if (!edges) continue;  // a route distribution's reference
+      if (!vehicle.empty()) {
+        out[vehicle] = edgesOf(*edges);  // the last one a vehicle lists is the one it drove
+      } else if (const std::string* id = t.attr("id")) {
+        named[*id] = edgesOf(*edges);
+      }
+    }
+  }
+  if (!any) throw InputError(path.string() + ": holds no <vehicle> (a route file or sumo --vehroute-output?)");
+  return out;
+}
+
 FcdChecks fcdChecksFor(const RoadGeometry& road, const std::vector<std::string>& leftOut, std::string netFile) {
   FcdChecks c;
   c.netFile = std::move(netFile);
@@ -188,6 +236,7 @@ struct FcdReader::Impl {
     double posLat;     // NaN: not in the trace
     std::string lane;  // "" not in the trace
     int handle;  // dense, in order of first appearance: the monitor's handle for the vehicle
+    int routeAt = -1;  // the index of its edge in its route (inside a junction: of the edge it left)
   };
   std::unordered_map<std::string, Last> last;
   std::unordered_map<std::string, Last> lastPerson;  // persons have ids of their own
@@ -201,6 +250,8 @@ struct FcdReader::Impl {
   const RoadGeometry* road = nullptr;
   const SignalLinks* signalLinks = nullptr;
   SignalStates* signalStates = nullptr;
+  const VehicleRoutes* routes = nullptr;
+  std::unordered_map<std::string, int> edgeIndex;  // edge id -> index into edgeIds(*road)
   Impl(const std::filesystem::path& p, VehicleTypes t, FcdChecks c) : x(p), types(std::move(t)), checks(std::move(c)) {}
 
   // FCD has no lateral speed (SUMO 1.15; sumo's --fcd-output.attributes knows no speedLat). In
@@ -238,6 +289,13 @@ FcdReader::FcdReader(const std::filesystem::path& path, VehicleTypes types, FcdC
     for (std::size_t i = 0; i < road->lanes.size(); ++i) impl_->laneIndex.emplace(road->lanes[i].id, static_cast<int>(i));
 }
 FcdReader::~FcdReader() = default;
+
+void FcdReader::useRoutes(const VehicleRoutes* routes) {
+  if (!impl_->road) throw std::logic_error("FcdReader::useRoutes needs the network");
+  impl_->routes = routes;
+  const std::vector<std::string> ids = edgeIds(*impl_->road);
+  for (std::size_t i = 0; i < ids.size(); ++i) impl_->edgeIndex.emplace(ids[i], static_cast<int>(i));
+}
 
 void FcdReader::useSignals(const SignalLinks* links, SignalStates* states) {
   impl_->signalLinks = links;
@@ -348,18 +406,49 @@ bool FcdReader::next(FcdFrame& frame) {
       r.signals = static_cast<int>(bits);
     }
     const std::string* lane = t.attr("lane");
+    auto& seen = person ? m.lastPerson : m.last;
+    auto it = seen.find(v.id);
+    // its route from the edge it is on (a lane "<edge>_<index>"; inside a junction, ':', the
+    // edge it left), found from where it was last
+    int routeAt = it != seen.end() ? it->second.routeAt : -1;
+    const std::vector<std::string>* route = nullptr;
+    std::string edge;
+    if (m.routes && !person && lane) {
+      if (const auto rt = m.routes->find(v.id); rt != m.routes->end()) route = &rt->second;
+      if (route && !lane->empty() && (*lane)[0] != ':') {
+        edge = lane->substr(0, lane->rfind('_'));
+        const auto from = route->begin() + std::max(routeAt, 0);
+        auto k = std::find(from, route->end(), edge);
+        if (k == route->end()) k = std::find(route->begin(), route->end(), edge);
+        routeAt = k == route->end() ? -1 : static_cast<int>(k - route->begin());
+      } else if (route && routeAt >= 0) {
+        edge = (*route)[static_cast<std::size_t>(routeAt)];
+      }
+      if (routeAt >= 0)
+        for (int j = 0; j < kRouteAhead && static_cast<std::size_t>(routeAt + j) < route->size(); ++j) {
+          const auto e = m.edgeIndex.find((*route)[static_cast<std::size_t>(routeAt + j)]);
+          if (e == m.edgeIndex.end()) break;
+          v.route[static_cast<std::size_t>(j)] = e->second;
+        }
+    }
     if (m.signalStates && !person) {
       if (!lane || !t.attr("pos"))
         x.fail(t.line, what + " lacks attribute 'lane' or 'pos', which reading its traffic light needs "
                               "(sumo --fcd-output.attributes with lane,pos)");
-      nextSignalOf(*m.signalLinks, *m.signalStates, *lane, required(x, t, "pos"), r.signals, r);
+      const double pos = required(x, t, "pos");
+      if (route && routeAt >= 0) {
+        // as the live run: the link to the route's next edge; none past its last
+        const bool more = static_cast<std::size_t>(routeAt) + 1 < route->size();
+        if (more) nextSignalOf(*m.signalLinks, *m.signalStates, *lane, pos, r.signals, r, &edge,
+                               &(*route)[static_cast<std::size_t>(routeAt) + 1]);
+      } else {
+        nextSignalOf(*m.signalLinks, *m.signalStates, *lane, pos, r.signals, r);
+      }
     }
     if (lane && !m.laneIndex.empty()) {
       auto li = m.laneIndex.find(*lane);
       if (li != m.laneIndex.end()) v.lane = li->second;
     }
-    auto& seen = person ? m.lastPerson : m.last;
-    auto it = seen.find(v.id);
     // times increase strictly, so a vehicle last seen at this frame's time is listed twice in it
     if (it != seen.end() && it->second.time == frame.time)
       x.fail(t.line, t.name + " '" + v.id + "' appears twice in the timestep (line " + std::to_string(stepLine) + ")");
@@ -367,13 +456,17 @@ bool FcdReader::next(FcdFrame& frame) {
     if (t.attr("posLat")) posLat = required(x, t, "posLat");
     if (it != seen.end() && !person) r.lateralSpeed = m.lateralSpeed(it->second, lane, posLat, frame.time);
     toVehicleState(r, info, v);
-    if (person) v.lane = -1;  // a sidewalk or crossing: not a lane it is predicted along
+    if (person) {
+      v.lane = -1;         // a sidewalk or crossing: not a lane it is predicted along
+      v.equipped = false;  // a foe, as the live run has it
+    }
     v.handle = it != seen.end() ? it->second.handle : m.nextHandle++;
     Impl::Last& last = it != seen.end() ? it->second : seen[v.id];
     last.time = frame.time;
     last.posLat = posLat;
     last.lane = lane ? *lane : std::string();
     last.handle = v.handle;
+    last.routeAt = routeAt;
     frame.vehicles.push_back(std::move(v));
   }
   if (openVehicle) x.fail(openVehicle, "<vehicle> is not closed (expected \"/>\" or </vehicle>)");

@@ -39,8 +39,13 @@ SignalLinks readSignalLinks(const std::filesystem::path& net) {
       if (!(index >= 0 && index < 1e6 && index == std::floor(index)))
         x.fail(t.line, "<connection> linkIndex is not a link index: " + *t.attr("linkIndex"));
       const std::string* dir = t.attr("dir");
-      out.byLane[*from + "_" + *fromLane].push_back(
-          {lightOf(*tl), static_cast<int>(index), dir && !dir->empty() ? (*dir)[0] : 's'});
+      const std::string* to = t.attr("to");
+      if (!to) x.fail(t.line, "<connection> lacks attribute 'to'");
+      const SignalLinks::Link link{lightOf(*tl), static_cast<int>(index), dir && !dir->empty() ? (*dir)[0] : 's', *to};
+      out.byLane[*from + "_" + *fromLane].push_back(link);
+      const auto [at, fresh] = out.byEdges.try_emplace(*from + '\n' + *to, link);
+      if (!fresh && (link.light < at->second.light || (link.light == at->second.light && link.index < at->second.index)))
+        at->second = link;
     }
   }
   for (const auto& [lane, links] : out.byLane) {
@@ -91,9 +96,19 @@ void SignalStates::advanceTo(double t) {
 }
 
 void nextSignalOf(const SignalLinks& links, const SignalStates& states, const std::string& lane, double pos,
-                  int sumoSignals, SumoVehicleRecord& r) {
+                  int sumoSignals, SumoVehicleRecord& r, const std::string* edge, const std::string* nextEdge) {
   r.nextSignal = 0;
   r.nextSignalDistance = 0.0;
+  if (edge && nextEdge) {
+    const auto link = links.byEdges.find(*edge + '\n' + *nextEdge);
+    const auto len = links.laneLength.find(lane);
+    if (link == links.byEdges.end() || len == links.laneLength.end()) return;
+    const std::string& state = states.state(link->second.light);
+    if (static_cast<std::size_t>(link->second.index) >= state.size()) return;
+    r.nextSignal = state[static_cast<std::size_t>(link->second.index)];
+    r.nextSignalDistance = std::max(0.0, len->second - pos);
+    return;
+  }
   const auto it = links.byLane.find(lane);
   if (it == links.byLane.end() || it->second.empty()) return;
   const std::vector<SignalLinks::Link>& ls = it->second;

@@ -112,5 +112,42 @@ TEST(SignalReplay, BadStatesFilesNameFileAndLine) {
   }
 }
 
+// Routes for a replay: SUMO's --vehroute-output (a rerouted vehicle's last route is the one it
+// drove) and a plain route file (a vehicle naming a route defined before it); errors name the line.
+TEST(SignalReplay, RoutesFromVehrouteOutputAndRouteFiles) {
+  const fs::path file = writeFile("routes.xml",
+                                  "<routes>\n"
+                                  "  <route id=\"r0\" edges=\"n_in s_out\"/>\n"
+                                  "  <vehicle id=\"a\" depart=\"0\" route=\"r0\"/>\n"
+                                  "  <vehicle id=\"b\" depart=\"1\">\n"
+                                  "    <routeDistribution>\n"
+                                  "      <route replacedOnEdge=\"e_in\" edges=\"e_in w_out\"/>\n"
+                                  "      <route edges=\"e_in  n_out\"/>\n"
+                                  "    </routeDistribution>\n"
+                                  "  </vehicle>\n"
+                                  "  <person id=\"p\" depart=\"0\"><walk edges=\"n_in\"/></person>\n"
+                                  "</routes>\n");
+  const VehicleRoutes routes = readSumoRoutes(file);
+  ASSERT_EQ(routes.size(), 2u);
+  EXPECT_EQ(routes.at("a"), (std::vector<std::string>{"n_in", "s_out"}));
+  EXPECT_EQ(routes.at("b"), (std::vector<std::string>{"e_in", "n_out"}));
+  fs::remove(file);
+  const std::pair<std::string, std::string> bad[] = {
+      {"<routes>\n<vehicle id=\"a\" route=\"nowhere\"/>\n</routes>", ":2: <vehicle id=\"a\"> route 'nowhere' is not defined before it"},
+      {"<routes>\n<vehicle id=\"a\"><route edges=\" \"/></vehicle>\n</routes>", ":2: <route> has no edges"},
+      {"<routes>\n</routes>", "holds no <vehicle>"},
+  };
+  for (const auto& [body, message] : bad) {
+    const fs::path f = writeFile("bad_routes.xml", body);
+    try {
+      readSumoRoutes(f);
+      ADD_FAILURE() << "accepted: " << body;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+    fs::remove(f);
+  }
+}
+
 }  // namespace
 }  // namespace st::highway

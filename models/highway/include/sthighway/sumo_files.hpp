@@ -10,6 +10,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <sthighway/road.hpp>
@@ -37,6 +38,13 @@ RoadGeometry readSumoNet(const std::filesystem::path& path, std::vector<std::str
 using VehicleTypes = std::map<std::string, VehicleTypeInfo>;
 // Reads <vType id length width vClass decel mass|param key="mass"> from a route/additional file.
 VehicleTypes readSumoVehicleTypes(const std::filesystem::path& path);
+
+// Each vehicle's route (its edges) from a SUMO route file: SUMO's --vehroute-output (the last
+// <route> of a vehicle, the one it finished on: a rerouted vehicle's earlier ones are replaced) or
+// a plain route file (<vehicle route="ID"> with a top-level <route id edges>, or a nested <route
+// edges>). Flows and trips are no routes (--vehroute-output writes a flow's vehicles one by one).
+using VehicleRoutes = std::unordered_map<std::string, std::vector<std::string>>;
+VehicleRoutes readSumoRoutes(const std::filesystem::path& path);
 
 struct FcdFrame {
   double time = 0.0;
@@ -81,7 +89,7 @@ inline constexpr double kNetMaxLaneWidth = 100.0;
 // road->lanes (VehicleState::lane; -1 for a lane road lacks). A <person> on foot (not nested in
 // a <vehicle>: a passenger is its vehicle's) is read alike into the same frame, after its
 // predecessors in the file, with its type's body (SUMO's pedestrian defaults when the type is
-// unknown), no lane, handles drawn with the vehicles'.
+// unknown), no lane, not equipped, handles drawn with the vehicles'.
 class FcdReader {
  public:
   FcdReader(const std::filesystem::path& path, VehicleTypes types = {}, FcdChecks checks = {},
@@ -92,6 +100,10 @@ class FcdReader {
   // Reads each vehicle's next traffic light from recorded states (sumo_signals.hpp), from its
   // lane and `pos` (the trace must have both attributes); both must outlive the reader.
   void useSignals(const SignalLinks* links, SignalStates* states);
+  // Gives each vehicle its route from its current edge on (VehicleState::route, as a live run
+  // reads it; the lane attribute places it on its route), and its next light the link between
+  // its edge and the route's next. Needs the reader's network; `routes` must outlive the reader.
+  void useRoutes(const VehicleRoutes* routes);
 
  private:
   struct Impl;

@@ -19,10 +19,13 @@ struct SignalLinks {
     int light = 0;   // index into lights
     int index = 0;   // the link's index in the light's state string
     char dir = 's';  // SUMO's direction: s, l, L, r, R, t
+    std::string to;  // the edge it leads onto
   };
   std::vector<std::string> lights;                             // <tlLogic> ids, in order of first appearance
   std::unordered_map<std::string, std::vector<Link>> byLane;   // fromLane id -> its controlled links
   std::unordered_map<std::string, double> laneLength;          // those lanes' lengths (m, SUMO's)
+  // "from edge\nto edge" -> the lowest-index link between them (as cosim's SignalBook keys them)
+  std::unordered_map<std::string, Link> byEdges;
 };
 // From a .net.xml's <connection tl=".." linkIndex=".." dir=".."> elements (InputError: file:line).
 SignalLinks readSignalLinks(const std::filesystem::path& net);
@@ -51,8 +54,11 @@ class SignalStates {
 
 // Sets r.nextSignal and r.nextSignalDistance (SumoVehicleRecord) of a car on `lane` whose front is
 // `pos` m along it, with SUMO's signal bits `sumoSignals`, from the states now: none (0) when the
-// lane ends at no light.
+// lane ends at no light. With its route known (`edge` the one it is on, `nextEdge` the route's
+// next), the link between the two, as the live run reads it (none if no light controls one);
+// else the link of its lane its blinker shows.
 void nextSignalOf(const SignalLinks& links, const SignalStates& states, const std::string& lane, double pos,
-                  int sumoSignals, SumoVehicleRecord& r);
+                  int sumoSignals, SumoVehicleRecord& r, const std::string* edge = nullptr,
+                  const std::string* nextEdge = nullptr);
 
 }  // namespace st::highway

@@ -16,6 +16,11 @@ inline constexpr double kContactSlop = 1e-7;
 // below a car's size; a heading difference under about 0.03 degrees counts as flat.
 inline constexpr double kContactPointTie = 1e-3;
 
+// Two fronts reaching a conflict point within this of each other (s, or m for fronts already at
+// or past it) reach it together: SSAM's first of the pair is then the smaller id, not whichever
+// rounding favours (a replay's 6-decimal trace against the live run's doubles differ by ~1e-7 m).
+inline constexpr double kArrivalTie = 1e-6;
+
 // Consecutive polyline points closer than this are merged before offsetting (m); SUMO shapes
 // carry duplicate points at joints and their zero-length segments have no normal.
 inline constexpr double kMinSegmentLength = 1e-6;
