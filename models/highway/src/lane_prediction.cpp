@@ -562,7 +562,7 @@ void LanePrediction::predict(int slot, double t) {
   // lane (SUMO's chord across a vertex or a junction), or (below) entering a junction lane or a
   // bend within TTC*
   const double maxTtc = cfg_->conflict.maxTtc;
-  auto turned = [&](const Vec2& u) { return std::abs(std::atan2(cross2(pr.dir, u), pr.dir.dot(u))) > tol::kMergeBend; };
+  auto turned = [&](const Vec2& axis) { return std::abs(std::atan2(cross2(pr.dir, axis), pr.dir.dot(axis))) > tol::kMergeBend; };
   bool merge = l.internal || l.merge || turned(b.axis);
   int ln = lane, seg = pr.seg;
   Vec2 q = foot;   // the path's point at arc S from the car
