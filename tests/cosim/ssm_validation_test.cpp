@@ -301,9 +301,9 @@ TEST(SsmValidation, RampsConflictsAreSsmsAndNoRearEndIsALaneApart) {
     const std::vector<std::string> rows = lines(slurp(dir / "conflicts.csv"));
     ASSERT_GE(rows.size(), 6u);  // a header and at least five conflicts
     const std::vector<std::string> head = splitCsv(rows[0]);
-    auto col = [&](const char* name) {
-      const auto it = std::find(head.begin(), head.end(), name);
-      EXPECT_NE(it, head.end()) << name;
+    auto col = [&](const char* column) {
+      const auto it = std::find(head.begin(), head.end(), column);
+      EXPECT_NE(it, head.end()) << column;
       return static_cast<std::size_t>(it - head.begin());
     };
     const std::size_t first = col("first"), second = col("second"), type = col("type"), begin = col("begin"),
