@@ -245,9 +245,12 @@ class Batch:
             report = {"headline": m.group(1)} if m else {}
         self.headline_name = report.get("headline", "conflicts_per_vehicle_km")
         family = HEADLINES.get(self.headline_name, "per_vehicle_km")
-        # the study's headline (highway runs with conflicts.csv): one rate by SSAM type, and all types
+        # the study's headline (highway runs with conflicts.csv): one rate by SSAM type, and all
+        # types; the pedestrian's only where a run counted one (a motorway study has no persons)
+        def counted(t):
+            return t != "pedestrian" or any((num(r.get("counted.%s.mean" % t)) or 0) > 0 for r in self.summary)
         self.headline_types = ["rate.%s.%s" % (family, t) for t in TYPES + ["all"]
-                               if "rate.%s.%s" % (family, t) in self.metrics]
+                               if "rate.%s.%s" % (family, t) in self.metrics and counted(t)]
         self.headline = find_col(self.metrics, r"per_vehicle_km.*total|total.*per_vehicle_km", r"per_vehicle_km",
                                  r"collision_checks$", r"warnings") or (self.metrics[0] if self.metrics else None)
         if self.headline_types:

@@ -248,7 +248,7 @@ TEST(BatchEndToEnd, OneConflictMapPerCombination) {
   const fs::path file = dir / "experiment.yaml";
   std::ofstream(file) << "name: maps\ncommand: highway\nbase: " << STSIM_SOURCE_DIR
                       << "/networks/motorway/scenario.yaml\nsweep:\n  detector: [five, box]\n"
-                         "fixed:\n  end: 60\n  action: none\nseeds: 2\n";
+                         "fixed:\n  end: 200\n  action: none\nseeds: 2\n";  // 3-6 conflicts a run (none by 60 s)
   std::string err;
   ASSERT_EQ(runStsim({"batch", file.string(), "--out", (dir / "out").string(), "--jobs", "2"}, dir, &err), 0) << err;
   const auto table = tableWithoutTimings(dir / "out/runs.csv");
