@@ -1199,8 +1199,11 @@ Process spawnServe(const fs::path& logDir, rlim_t fileLimit = 0) {
     }
     close(fds[0]);
     const std::string scen = scenarioPath("two_pandas"), out = logDir.string();
+    // a budget of 1 s: these check the loop and the log, not the deadline (its own test, in
+    // process); at the default 1 ms a cycle slowed by a loaded machine (ASan under ctest -j2) was
+    // a STOP and the closed loop stopped at 0.373 s instead of 1.071 s
     execl(STSIM_BINARY, STSIM_BINARY, "arm", "serve", scen.c_str(), "--listen", "127.0.0.1:0", "--out", out.c_str(),
-          static_cast<char*>(nullptr));
+          "--budget-us", "1000000", static_cast<char*>(nullptr));
     _exit(127);
   }
   close(fds[1]);
