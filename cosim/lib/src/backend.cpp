@@ -67,12 +67,16 @@ void Backend::appear(const std::string& id) {
   Known& k = it->second;
   if (k.onRoad) return;
   k.onRoad = true;
+  vehicles_.push_back(record(id, k));
+}
+
+SumoVehicle Backend::record(const std::string& id, const Known& k) const {
   SumoVehicle v;
   v.id = id;
   v.typeIndex = k.typeIndex;
   v.type = types_[static_cast<std::size_t>(k.typeIndex)].id;
   v.serial = k.serial;
-  vehicles_.push_back(std::move(v));
+  return v;
 }
 
 void Backend::applyPersons(const std::vector<std::string>& walking) {
@@ -89,12 +93,7 @@ void Backend::applyPersons(const std::vector<std::string>& walking) {
     k.seen = call;
     if (k.onRoad) continue;
     k.onRoad = true;
-    SumoVehicle p;
-    p.id = id;
-    p.typeIndex = k.typeIndex;
-    p.type = types_[static_cast<std::size_t>(k.typeIndex)].id;
-    p.serial = k.serial;
-    persons_.push_back(std::move(p));
+    persons_.push_back(record(id, k));
   }
   std::erase_if(persons_, [&](const SumoVehicle& p) {
     Known& k = knownPersons_.at(p.id);

@@ -226,6 +226,8 @@ class Backend {
     bool onRoad = false;
     std::uint64_t seen = 0;  // persons: the applyPersons call that last listed it
   };
+  // a new record of a vehicle or person that appeared: id, type, serial; its values are read after
+  SumoVehicle record(const std::string& id, const Known& k) const;
   std::unordered_map<std::string, Known> known_;  // vehicles until they arrive
   std::unordered_map<std::string, Known> knownPersons_;  // every person seen (persons have ids of their own)
   std::uint64_t personCalls_ = 0;
