@@ -79,6 +79,8 @@ void writeSummary(const fs::path& file, const std::string& scenario, const arm::
     j << "  \"ssm\": {\"response\": " << io::jsonString(arm::toString(cf.response)) << ", \"T_r_s\": " << num(cf.reactionTime)
       << ", \"T_s_s\": " << num(cf.stoppingTime) << ", \"stop_cycles\": " << sc.stopCycles << ", \"scaled_cycles\": "
       << sc.scaledCycles << ", \"violations\": " << sc.violations << ", \"contacts\": " << sc.contacts
+      << ", \"contacts_within_limit\": " << sc.contactsWithinLimit << ", \"contacts_above_limit\": "
+      << sc.contactsAboveLimit << ", \"pfl_cycles\": " << sc.pflCycles
       << ", \"min_separation_m\": " << num(sc.minSeparation) << "},\n";
   }
   j << "  \"broadphase\": " << io::jsonString(broadphase) << ",\n";
@@ -110,42 +112,47 @@ int runCoexistenceStudy(const Args& args) {
     std::sort(files.begin(), files.end());
     if (files.empty()) throw UsageError("--shipped: no person_*.yaml in " + dir.string());
   }
-  double sumProgress[2] = {0.0, 0.0};
+  constexpr arm::SsmResponse kResponses[] = {arm::SsmResponse::Stop, arm::SsmResponse::Scaling, arm::SsmResponse::Pfl};
+  double sumProgress[3] = {0.0, 0.0, 0.0};
   const fs::path out = args.get("out");
   fs::create_directories(out);
   io::CsvRowWriter csv(out / "coexistence.csv",
-                      "case,response,contacts,violations,stops,stop_cycles,scaled_cycles,min_separation_m,min_slack_m,"
-                      "progress,duration_s");
+                      "case,response,contacts,contacts_within_limit,contacts_above_limit,violations,stops,stop_cycles,"
+                      "scaled_cycles,pfl_cycles,min_separation_m,min_slack_m,progress,duration_s");
   std::printf("coexistence study: persons beside working arms, closed loop (progress: the arms' program time over the "
-              "clock time)\n\n");
-  std::printf("  %-16s %-8s %8s %10s %6s %11s %13s %10s %11s %9s\n", "case", "response", "contacts", "below S_p",
-              "STOPs", "STOP cycles", "scaled cycles", "min sep m", "min slack m", "progress");
+              "clock time; contacts above: faster than the touched region's PFL limit)\n\n");
+  std::printf("  %-16s %-8s %8s %6s %10s %6s %11s %13s %10s %10s %11s %9s\n", "case", "response", "contacts", "above",
+              "below S_p", "STOPs", "STOP cycles", "scaled cycles", "pfl cycles", "min sep m", "min slack m", "progress");
   for (const std::string& f : files) {
     const arm::Scenario sc = arm::loadScenario(f);
     if (sc.persons.empty()) throw UsageError(f + ": no persons: the coexistence study needs a scenario with persons:");
-    double progress[2] = {0.0, 0.0};
+    double progress[3] = {0.0, 0.0, 0.0};
     int k = 0;
-    for (arm::SsmResponse r : {arm::SsmResponse::Stop, arm::SsmResponse::Scaling}) {
+    for (arm::SsmResponse r : kResponses) {
       const arm::CoexistenceOutcome o = arm::runCoexistence(sc, r);
       progress[k++] = o.progress;
       const std::string name = fs::path(f).stem().string();
-      std::printf("  %-16s %-8s %8llu %10llu %6d %11llu %13llu %10.4f %11.4f %9.4f\n", name.c_str(), arm::toString(r),
-                  static_cast<unsigned long long>(o.contacts), static_cast<unsigned long long>(o.violations), o.stops,
-                  static_cast<unsigned long long>(o.stopCycles), static_cast<unsigned long long>(o.scaledCycles),
-                  o.minSeparation, o.minSlack, o.progress);
+      std::printf("  %-16s %-8s %8llu %6llu %10llu %6d %11llu %13llu %10llu %10.4f %11.4f %9.4f\n", name.c_str(),
+                  arm::toString(r), static_cast<unsigned long long>(o.contacts),
+                  static_cast<unsigned long long>(o.contactsAboveLimit), static_cast<unsigned long long>(o.violations),
+                  o.stops, static_cast<unsigned long long>(o.stopCycles), static_cast<unsigned long long>(o.scaledCycles),
+                  static_cast<unsigned long long>(o.pflCycles), o.minSeparation, o.minSlack, o.progress);
       std::ostringstream line;
-      line << io::csvField(name) << ',' << arm::toString(r) << ',' << o.contacts << ',' << o.violations << ',' << o.stops
-           << ',' << o.stopCycles << ',' << o.scaledCycles << ',' << num(o.minSeparation) << ',' << num(o.minSlack) << ','
+      line << io::csvField(name) << ',' << arm::toString(r) << ',' << o.contacts << ',' << o.contactsWithinLimit << ','
+           << o.contactsAboveLimit << ',' << o.violations << ',' << o.stops << ',' << o.stopCycles << ','
+           << o.scaledCycles << ',' << o.pflCycles << ',' << num(o.minSeparation) << ',' << num(o.minSlack) << ','
            << num(o.progress) << ',' << num(o.duration);
       csv.row(line.str());
     }
-    std::printf("  %-16s scaling / stop throughput: %.3fx\n", "", progress[0] > 0.0 ? progress[1] / progress[0] : INFINITY);
-    sumProgress[0] += progress[0];
-    sumProgress[1] += progress[1];
+    std::printf("  %-16s throughput over stop: scaling %.3fx, pfl %.3fx\n", "",
+                progress[0] > 0.0 ? progress[1] / progress[0] : INFINITY,
+                progress[0] > 0.0 ? progress[2] / progress[0] : INFINITY);
+    for (int i = 0; i < 3; ++i) sumProgress[i] += progress[i];
   }
   if (files.size() > 1)
-    std::printf("\n  all %zu cases: scaling / stop throughput (summed progress): %.3fx\n", files.size(),
-                sumProgress[0] > 0.0 ? sumProgress[1] / sumProgress[0] : INFINITY);
+    std::printf("\n  all %zu cases, throughput over stop (summed progress): scaling %.3fx, pfl %.3fx\n", files.size(),
+                sumProgress[0] > 0.0 ? sumProgress[1] / sumProgress[0] : INFINITY,
+                sumProgress[0] > 0.0 ? sumProgress[2] / sumProgress[0] : INFINITY);
   csv.flush();
   std::printf("\n-> %s\n", (out / "coexistence.csv").c_str());
   return 0;
@@ -416,7 +423,7 @@ int runArm(int argc, const char* const* argv) {
   args.option("broadphase", "KIND", "octree (default, from the scenario) or none (all pairs, the reference)", "");
   args.flag("open-loop", "STOP is flagged but the arms keep moving (default: closed loop, a STOP brakes the arm)");
   args.option("study", "NAME", "stopping: contacts open vs closed loop against safe time and stopping time; "
-              "coexistence: persons beside a working arm, binary STOP vs speed scaling (SCENARIO, or every "
+              "coexistence: persons beside a working arm, binary STOP vs speed scaling vs PFL (SCENARIO, or every "
               "person_*.yaml in --shipped)", "");
   args.option("courses", "N", "--study: random two-Panda courses", "200");
   args.option("seed", "N", "--study: seed of the random courses", "1");
@@ -425,7 +432,7 @@ int runArm(int argc, const char* const* argv) {
   args.flag("no-shipped", "--study: random courses only");
   args.option("budget-us", "US", "compute budget of a cycle (readings + detection + persons); default the cycle "
               "time. Cycles over it are counted, listed in deadlines.csv and flagged", "");
-  args.option("response", "R", "persons: stop (binary) or scaling (speed factor), instead of the scenario's ssm.response", "");
+  args.option("response", "R", "persons: stop (binary), scaling (speed factor) or pfl (scaling, contact within ISO/TS 15066 Annex A's limits), instead of the scenario's ssm.response", "");
   args.option("record-trace", "FILE", "write the readings applied as a CSV sensor trace (for stsim arm stream)", "");
   if (!args.parse(argc, argv)) {
     std::cout << args.help();
@@ -464,7 +471,8 @@ int runArm(int argc, const char* const* argv) {
     const std::string r = args.get("response");
     if (r == "stop") sc.ssm.response = arm::SsmResponse::Stop;
     else if (r == "scaling") sc.ssm.response = arm::SsmResponse::Scaling;
-    else throw UsageError("--response: expected stop or scaling, got '" + r + "'");
+    else if (r == "pfl") sc.ssm.response = arm::SsmResponse::Pfl;
+    else throw UsageError("--response: expected stop, scaling or pfl, got '" + r + "'");
   }
   arm::PersonSet persons = arm::makePersons(sc);
   arm::DeadlineWatch deadline;
@@ -563,7 +571,8 @@ int runArm(int argc, const char* const* argv) {
     const arm::SsmCounters& k = ssm->counters();
     std::cout << ", persons (" << arm::toString(sc.ssm.response) << "): " << k.stopCycles << " STOP cycles, "
               << k.scaledCycles << " scaled, " << k.violations << " below S_p unstopped, " << k.contacts
-              << " contacts, min separation " << num(k.minSeparation) << " m";
+              << " contacts (" << k.contactsAboveLimit << " above the PFL limit), min separation " << num(k.minSeparation)
+              << " m";
   }
   std::cout << " -> " << (out / "summary.json").string() << ", " << (out / "replay.html").string() << "\n";
   if (deadline.missed > 0)

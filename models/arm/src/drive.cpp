@@ -68,6 +68,11 @@ double ArmDrive::advance(double t) {
   return tau_;
 }
 
+double ArmDrive::brakingSpeed() const {
+  if (mode_ == DriveMode::Resuming) return ramp_.at(last_ + cfg_.delay);
+  return s_;
+}
+
 void ArmDrive::advanceScaled(double t) {
   // piecewise: s heads for the current target at the braking rate; targets change at their times
   const double rate = cfg_.stoppingTime > 0.0 ? 1.0 / cfg_.stoppingTime : std::numeric_limits<double>::infinity();

@@ -294,16 +294,20 @@ void parseSsm(const Yaml& y, const YAML::Node& root, Scenario& s) {
   c.stoppingTime = s.braking.stoppingTime;
   if (const YAML::Node n = root["ssm"]) {
     y.knownKeys(n, "ssm", {"response", "body_speed", "hand_speed", "intrusion", "person_uncertainty", "robot_uncertainty",
-                           "robot_speed"});
+                           "robot_speed", "arm_mass", "payload"});
     if (n["response"]) {
       const std::string r = y.text(n["response"], "ssm.response");
       if (r == "stop") c.response = SsmResponse::Stop;
       else if (r == "scaling") c.response = SsmResponse::Scaling;
-      else y.fail(n["response"], "ssm.response", "expected stop or scaling, got '" + r + "'");
+      else if (r == "pfl") c.response = SsmResponse::Pfl;
+      else y.fail(n["response"], "ssm.response", "expected stop, scaling or pfl, got '" + r + "'");
     }
     c.bodySpeed = y.positive(n, "body_speed", "ssm", c.bodySpeed);
     c.handSpeed = y.positive(n, "hand_speed", "ssm", c.handSpeed);
     c.robotSpeed = y.positive(n, "robot_speed", "ssm", c.robotSpeed);
+    c.armMass = y.positive(n, "arm_mass", "ssm", c.armMass);
+    c.payload = y.number(n, "payload", "ssm", c.payload);
+    if (!(c.payload >= 0.0 && c.payload <= 1000.0)) y.fail(n["payload"], "ssm.payload", "expected 0..1000 kg");
     for (const auto& [name, field] : {std::pair{"intrusion", &c.intrusion}, std::pair{"person_uncertainty", &c.personUncertainty},
                                       std::pair{"robot_uncertainty", &c.robotUncertainty}}) {
       *field = y.number(n, name, "ssm", *field);

@@ -4,11 +4,56 @@
 #include <cmath>
 
 #include <stcore/distance.hpp>
+#include <starm/drive.hpp>
 #include <starm/monitor.hpp>
 
 namespace st::arm {
 
-const char* toString(SsmResponse r) { return r == SsmResponse::Stop ? "stop" : "scaling"; }
+const char* toString(SsmResponse r) {
+  switch (r) {
+    case SsmResponse::Stop: return "stop";
+    case SsmResponse::Scaling: return "scaling";
+    case SsmResponse::Pfl: return "pfl";
+  }
+  return "?";
+}
+
+const RegionLimits& regionLimits(BodyRegion r) {
+  // ISO/TS 15066:2016 Annex A, Table A.2 (maximum permissible quasi-static force per body region;
+  // transient contact: force multiplier 2) and Table A.3 (effective spring constant K in N/mm,
+  // effective mass m_H in kg), as the standard gives them and as they are widely cited (e.g.
+  // skull/forehead 130 N, 150 N/mm, 4.4 kg; hand/fingers 140 N, 75 N/mm, 0.6 kg; chest 140 N,
+  // 25 N/mm, 40 kg). The torso capsule covers back, shoulders and chest: it takes the chest's
+  // values, the lower speed limit of the two (back/shoulders: 210 N, 35 N/mm, 40 kg). The head
+  // (skull, forehead, and the face it carries) and the neck take no transient contact here: the
+  // pfl response never plans a contact with them, whatever their numbers allow (our choice, on
+  // the safe side).
+  static const RegionLimits table[] = {
+      {130.0, 150e3, 4.4, false},  // Skull: skull and forehead
+      {150.0, 50e3, 1.2, false},   // Neck
+      {140.0, 25e3, 40.0, true},   // Chest: back, shoulders, chest (chest's values)
+      {180.0, 25e3, 40.0, true},   // Pelvis
+      {150.0, 30e3, 3.0, true},    // UpperArm: upper arms and elbow joints
+      {160.0, 40e3, 2.0, true},    // LowerArm: lower arms and wrist joints
+      {140.0, 75e3, 0.6, true},    // Hand: hands and fingers
+      {220.0, 50e3, 75.0, true},   // Thigh: thighs and knees
+      {130.0, 60e3, 75.0, true},   // LowerLeg: lower legs
+  };
+  return table[static_cast<int>(r)];
+}
+
+double robotEffectiveMass(double armMass, double payload) { return armMass / 2.0 + payload; }
+
+double reducedMass(double humanMass, double robotMass) { return 1.0 / (1.0 / humanMass + 1.0 / robotMass); }
+
+double transientSpeedLimit(double force, double springK, double mu) { return force / std::sqrt(mu * springK); }
+
+double pflSpeedLimit(const SsmConfig& c, BodyRegion r) {
+  const RegionLimits& l = regionLimits(r);
+  if (!l.transient) return 0.0;
+  const double mu = reducedMass(l.mass, robotEffectiveMass(c.armMass, c.payload));
+  return transientSpeedLimit(2.0 * l.force, l.springK, mu);
+}
 
 const char* SeparationTerms::dominant() const {
   const std::pair<double, const char*> t[] = {{sh, "S_h"}, {sr, "S_r"}, {ss, "S_s"}, {c, "C"}, {zd, "Z_d"}, {zr, "Z_r"}};
@@ -24,6 +69,24 @@ SeparationTerms protectiveSeparation(const SsmConfig& c, double vh, double vr) {
   s.zd = c.personUncertainty;
   s.zr = c.robotUncertainty;
   return s;
+}
+
+SeparationTerms protectiveSeparation(const SsmConfig& c, double vh, double vr, double s, double sb) {
+  SeparationTerms t = protectiveSeparation(c, vh, 0.0);
+  const double vb = vr + std::max(0.0, sb - s) * c.robotSpeed;
+  t.sr = vb * c.reactionTime;             // (3) at the speed braking starts from
+  t.ss = vb * sb * c.stoppingTime / 2.0;  // (4) with the drive's stopping time s_b T_s
+  return t;
+}
+
+double allowedDrivenSpeed(const SsmConfig& c, double vh, double d) {
+  const double room = d - vh * c.cycleTime - protectiveSeparation(c, vh, 0.0).total();
+  const double b = c.reactionTime + c.cycleTime;
+  if (room <= 0.0) return b > 0.0 ? room / b : (room == 0.0 ? 0.0 : -1.0);
+  const double r = room / c.robotSpeed;
+  // the positive root of (T_s / 2) f^2 + b f - r = 0, in the form without cancellation
+  const double f = 2.0 * r / (b + std::sqrt(b * b + 2.0 * c.stoppingTime * r));
+  return f * c.robotSpeed;
 }
 
 double allowedRobotSpeed(const SsmConfig& c, double vh, double d) {
@@ -44,7 +107,8 @@ void PersonSet::pose(double t) {
   for (std::size_t i = 0; i < tracks_.size(); ++i) present_[i] = tracks_[i]->at(t, skeletons_[i]) ? 1 : 0;
 }
 
-SeparationMonitor::SeparationMonitor(SsmConfig cfg, int arms) : cfg_(cfg), verdicts_(static_cast<std::size_t>(arms)) {}
+SeparationMonitor::SeparationMonitor(SsmConfig cfg, int arms)
+    : cfg_(cfg), verdicts_(static_cast<std::size_t>(arms)), drives_(static_cast<std::size_t>(arms), nullptr) {}
 
 void SeparationMonitor::cycle(const Monitor& m, const PersonSet& persons) {
   ++counters_.cycles;
@@ -57,6 +121,9 @@ void SeparationMonitor::cycle(const Monitor& m, const PersonSet& persons) {
     double& v = speed[m.capsuleArm(i)];
     v = std::max({v, caps[i].va.norm(), caps[i].vb.norm()});
   }
+  // every body part's power-and-force speed limit once (pfl)
+  std::array<double, kBodyParts> pfl{};
+  for (int k = 0; k < kBodyParts; ++k) pfl[k] = pflSpeedLimit(cfg_, bodyParts()[k].region);
   // every person's capsules once
   std::vector<std::array<Capsule, kBodyParts>> body(static_cast<std::size_t>(persons.size()));
   for (int p = 0; p < persons.size(); ++p)
@@ -67,8 +134,15 @@ void SeparationMonitor::cycle(const Monitor& m, const PersonSet& persons) {
     v.robotSpeed = speed[a];
     // the top speed a binary monitor must assume: declared, or faster if the arm is seen faster
     const double topSpeed = std::max(cfg_.robotSpeed, speed[a]);
+    // the graded responses with the drive known: its program speed now and the one it would brake from
+    const ArmDrive* drive = cfg_.response == SsmResponse::Stop ? nullptr : drives_[a];
+    const double sNow = drive ? drive->speed() : 1.0, sBrake = drive ? drive->brakingSpeed() : 1.0;
     double worstSlack = std::numeric_limits<double>::infinity();
     bool touching = false, stopBinary = false;
+    // pfl: the allowed speed per pair is the larger of S_p's and the region's contact limit
+    double pflAllowed = std::numeric_limits<double>::infinity();
+    bool pflBreak = false;  // a pair below S_p at the present speed, faster than its region's limit
+    double touchLimit = std::numeric_limits<double>::infinity();  // smallest limit of a touched region
     for (int i = 0; i < nc; ++i) {
       if (m.capsuleArm(i) != a) continue;
       for (int p = 0; p < persons.size(); ++p) {
@@ -76,7 +150,7 @@ void SeparationMonitor::cycle(const Monitor& m, const PersonSet& persons) {
         for (int k = 0; k < kBodyParts; ++k) {
           const double vh = bodyParts()[k].hand ? cfg_.handSpeed : cfg_.bodySpeed;
           const double d = distance(caps[i].c, body[p][k]);
-          const SeparationTerms terms = protectiveSeparation(cfg_, vh, speed[a]);
+          const SeparationTerms terms = protectiveSeparation(cfg_, vh, speed[a], sNow, sBrake);
           const double slack = d - terms.total();
           if (slack < worstSlack) {
             worstSlack = slack;
@@ -87,9 +161,18 @@ void SeparationMonitor::cycle(const Monitor& m, const PersonSet& persons) {
             v.armBody = m.capsuleBody(i);
           }
           v.separation = std::min(v.separation, d);
-          v.allowedSpeed = std::min(v.allowedSpeed, allowedRobotSpeed(cfg_, vh, d));
+          const double allowed = drive ? allowedDrivenSpeed(cfg_, vh, d) : allowedRobotSpeed(cfg_, vh, d);
+          v.allowedSpeed = std::min(v.allowedSpeed, allowed);
+          pflAllowed = std::min(pflAllowed, std::max(allowed, pfl[k]));
+          if (slack < 0.0) {
+            v.pflLimit = std::min(v.pflLimit, pfl[k]);
+            if (speed[a] > pfl[k]) pflBreak = true;
+          }
           if (d < protectiveSeparation(cfg_, vh, topSpeed).total()) stopBinary = true;
-          if (d <= 0.0) touching = true;
+          if (d <= 0.0) {
+            touching = true;
+            touchLimit = std::min(touchLimit, pfl[k]);
+          }
         }
       }
     }
@@ -99,6 +182,15 @@ void SeparationMonitor::cycle(const Monitor& m, const PersonSet& persons) {
       if (cfg_.response == SsmResponse::Stop) {
         v.stop = stopBinary;
         v.factor = v.stop ? 0.0 : 1.0;
+      } else if (cfg_.response == SsmResponse::Pfl) {
+        // below S_p is allowed where the arm is no faster than every such region's contact limit;
+        // the factor heads for the larger of S_p's speed and the limit, pair by pair
+        v.pflAllowed = v.violated && !pflBreak;
+        v.violated = pflBreak;
+        v.allowedSpeed = pflAllowed;
+        v.factor = std::clamp(pflAllowed / cfg_.robotSpeed, 0.0, 1.0);
+        v.stop = v.violated;
+        if (v.stop) v.factor = 0.0;
       } else {
         // the factor heads the drive for rest before S_p breaks; STOP only where it broke anyway
         v.factor = std::clamp(v.allowedSpeed / cfg_.robotSpeed, 0.0, 1.0);
@@ -109,7 +201,12 @@ void SeparationMonitor::cycle(const Monitor& m, const PersonSet& persons) {
     if (v.stop) ++counters_.stopCycles;
     else if (v.factor < 1.0) ++counters_.scaledCycles;
     if (v.violated && !v.stop) ++counters_.violations;
-    if (touching && speed[a] > 0.0) ++counters_.contacts;
+    if (v.pflAllowed) ++counters_.pflCycles;
+    if (touching && speed[a] > 0.0) {
+      ++counters_.contacts;
+      if (speed[a] <= touchLimit) ++counters_.contactsWithinLimit;
+      else ++counters_.contactsAboveLimit;
+    }
     counters_.minSeparation = std::min(counters_.minSeparation, v.separation);
     verdicts_[a] = v;
   }

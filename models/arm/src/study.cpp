@@ -130,6 +130,8 @@ StudyResult stoppingStudy(const StudyConfig& cfg) {
 
 void separationStep(const Monitor& m, PersonSet& persons, SeparationMonitor& ssm, ClosedLoopSensor* drive) {
   persons.pose(m.time());
+  if (drive)
+    for (int a = 0; a < m.armCount(); ++a) ssm.setDrive(a, &drive->drive(a));
   ssm.cycle(m, persons);
   if (drive) drive->observe(m, m.time(), &ssm);
 }
@@ -155,6 +157,9 @@ CoexistenceOutcome runCoexistence(Scenario s, SsmResponse response,
   const SsmCounters& c = ssm.counters();
   o.cycles = stats.cycles;
   o.contacts = c.contacts;
+  o.contactsWithinLimit = c.contactsWithinLimit;
+  o.contactsAboveLimit = c.contactsAboveLimit;
+  o.pflCycles = c.pflCycles;
   o.violations = c.violations;
   o.stopCycles = c.stopCycles;
   o.scaledCycles = c.scaledCycles;

@@ -48,6 +48,10 @@ class ArmDrive {
   // Program time at cycle time t (t not decreasing); first call starts the clock with tau = t.
   double advance(double t);
   double speed() const { return s_; }  // s at the last advance
+  // The program speed a STOP observed at the last advance would brake from (it is held until
+  // braking starts `delay` later): s now while following, scaled or braking; on a resume ramp the
+  // ramp's speed at that start; 0 stopped.
+  double brakingSpeed() const;
   double tau() const { return tau_; }
   DriveMode mode() const { return mode_; }
   // The monitor's verdict of the cycle at t: warned (a threat), stop (STOP held). `rate` is the

@@ -18,6 +18,17 @@
 // speed towards the person), C the intrusion distance (ISO 13855: reach beyond what the sensor
 // sees), Z_d the person's position uncertainty (the tracker), Z_r the robot's (its encoders and
 // capsule fit). The person's capsules grown by S_h are their reachable set over T_r + T_s.
+//
+// Power and force limiting (ISO/TS 15066 §5.5.5, Annex A): a transient contact of the robot with
+// a body region is allowed up to the relative speed at which the energy the region absorbs,
+// E = F^2 / (2 k) (A.5), equals the kinetic energy of the two-body collision, E = mu v_rel^2 / 2
+// (A.6), with mu = (1/m_H + 1/m_R)^-1 the reduced mass (A.3) and m_R = M / 2 + m_L the robot's
+// effective mass (A.4, M the arm's moving mass, m_L its payload):
+//
+//   v_rel,max = F_max / sqrt(mu k)                                                 (A.7)
+//
+// with F_max the region's transient force limit (twice the quasi-static one, Table A.2's
+// multiplier) and k, m_H the region's effective spring constant and mass (Table A.3).
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -29,10 +40,13 @@
 namespace st::arm {
 
 class Monitor;
+class ArmDrive;
 
 enum class SsmResponse {
   Stop,     // binary: STOP while the separation is below S_p at the arm's top speed
   Scaling,  // graded: the largest speed factor keeping S_p; STOP only where the present speed breaks S_p
+  Pfl,      // scaling, and where S_p cannot be kept the arm may go on at the power-and-force limit
+            // of the body region it may touch instead of stopping
 };
 const char* toString(SsmResponse r);
 
@@ -46,8 +60,31 @@ struct SsmConfig {
   double personUncertainty = 0.05;  // Z_d, m: the skeleton tracker's error
   double robotUncertainty = 0.01;   // Z_r, m: joint encoders and capsule fit
   double robotSpeed = 1.0;          // m/s, the arm's top speed: speed factor 1
+  double armMass = 18.0;            // M, kg: the arm's moving mass (Panda: 18 kg, its whole weight, on the safe side)
+  double payload = 1.0;             // m_L, kg: what the arm carries (gripper and part)
   SsmResponse response = SsmResponse::Scaling;
 };
+
+// ISO/TS 15066:2016 Annex A per body region: Table A.2's maximum permissible quasi-static force
+// (the transient limit is twice it: the table's multiplier) and Table A.3's effective spring
+// constant and effective mass of the body region.
+struct RegionLimits {
+  double force;      // N, quasi-static F_max
+  double springK;    // N/m (Table A.3 gives N/mm)
+  double mass;       // kg, m_H
+  bool transient;    // transient contact allowed under the pfl response (never with the head)
+};
+const RegionLimits& regionLimits(BodyRegion r);
+// m_R = M / 2 + m_L                                                                  (A.4)
+double robotEffectiveMass(double armMass, double payload);
+// mu = (1 / m_H + 1 / m_R)^-1                                                        (A.3)
+double reducedMass(double humanMass, double robotMass);
+// v_rel,max = F / sqrt(mu k) for a transient contact force limit F (N)               (A.7)
+double transientSpeedLimit(double force, double springK, double mu);
+// The largest robot speed (m/s) for a transient contact with region r under the config's masses:
+// (A.7) with F = 2 x the quasi-static F_max; 0 where the region takes no transient contact. The
+// person is taken at rest: their own approach speed is not added to v_rel.
+double pflSpeedLimit(const SsmConfig& c, BodyRegion r);
 
 // The terms of formula (1), each in metres.
 struct SeparationTerms {
@@ -58,6 +95,14 @@ struct SeparationTerms {
 
 // Formulae (1)-(4) for a person part at speed vh and the robot at speed vr.
 SeparationTerms protectiveSeparation(const SsmConfig& c, double vh, double vr);
+// The same with the drive's state known (the closed loop): the program speed s now and s_b, the
+// one a STOP now would brake from (ArmDrive::brakingSpeed). The drive brakes at 1 / T_s of
+// program speed per second, so from s_b it stops in s_b T_s, not T_s; and until braking starts
+// the arm is no faster than v_b = v_r + (s_b - s) R (its path's speed is at most R = robot_speed
+// per unit of program speed):
+//   S_r = v_b T_r,   S_s = v_b s_b T_s / 2                                   (3), (4) with the drive's T_s
+// With s = s_b = 1 (following, or the drive unknown) these are (3) and (4) as above.
+SeparationTerms protectiveSeparation(const SsmConfig& c, double vh, double vr, double s, double sb);
 // The largest robot speed (m/s) that keeps S_p at the next cycle: after one more cycle T_c the
 // person may be vh T_c and the robot v T_c closer, so S_p(v) <= d - (vh + v) T_c:
 //   v = (d - vh T_c - S_p(vh, 0)) / (T_r + T_s / 2 + T_c).
@@ -65,6 +110,12 @@ SeparationTerms protectiveSeparation(const SsmConfig& c, double vh, double vr);
 // fast can still outrun the factor: then S_p at the arm's present speed breaks and the verdict
 // is STOP, in time by formula (1).
 double allowedRobotSpeed(const SsmConfig& c, double vh, double d);
+// The same with the drive's stopping time known: an arm held at speed factor f (speed <= f R)
+// stops in f T_s, so S_p(f) <= d - (vh + f R) T_c needs, with room = d - vh T_c - S_p(vh, 0),
+//   R f (T_r + T_c) + R f^2 T_s / 2 <= room,
+//   f = 2 room / R / ((T_r + T_c) + sqrt((T_r + T_c)^2 + 2 T_s room / R)),
+// returned as the speed f R (negative where room is: no speed keeps S_p).
+double allowedDrivenSpeed(const SsmConfig& c, double vh, double d);
 
 struct SsmVerdict {
   double separation = std::numeric_limits<double>::infinity();  // m, nearest person capsule to the arm
@@ -75,7 +126,9 @@ struct SsmVerdict {
   double allowedSpeed = std::numeric_limits<double>::infinity();  // m/s
   double factor = 1.0;        // speed factor for the arm (0..1 of SsmConfig::robotSpeed)
   bool stop = false;
-  bool violated = false;      // separation < S_p at the arm's present speed
+  bool violated = false;      // separation < S_p at the arm's present speed (pfl: and above the region's limit)
+  bool pflAllowed = false;    // pfl: below S_p, but at or below the power-and-force limit of every region so near
+  double pflLimit = std::numeric_limits<double>::infinity();  // m/s, pfl: the limit of the regions below S_p
   int person = -1, part = -1, armBody = -1;  // the binding pair (-1: no person present)
 };
 
@@ -85,6 +138,9 @@ struct SsmCounters {
   std::uint64_t scaledCycles = 0;  // arm cycles with 0 < factor < 1
   std::uint64_t violations = 0;    // arm cycles with separation < S_p and no STOP verdict
   std::uint64_t contacts = 0;      // arm cycles with a person capsule touching a moving arm capsule
+  std::uint64_t contactsWithinLimit = 0;  // of those, the arm at or below the touched regions' PFL limit
+  std::uint64_t contactsAboveLimit = 0;   // of those, the arm faster than a touched region's PFL limit
+  std::uint64_t pflCycles = 0;     // arm cycles below S_p allowed by power and force limiting
   double minSeparation = std::numeric_limits<double>::infinity();
 };
 
@@ -111,6 +167,10 @@ class SeparationMonitor {
   SeparationMonitor(SsmConfig cfg, int arms);
   // The cycle's verdicts from the monitor's arm capsules (at its cycle time) and the posed persons.
   void cycle(const Monitor& m, const PersonSet& persons);
+  // The arm's drive, when this process runs it (the closed loop): its program speed sets the
+  // stopping time in S_p and the allowed speed (scaling, pfl). Unknown (null, the default): the
+  // drive is taken at full program speed, formulae (3) and (4) as written.
+  void setDrive(int arm, const ArmDrive* drive) { drives_[arm] = drive; }
   const SsmVerdict& verdict(int arm) const { return verdicts_[arm]; }
   const SsmConfig& config() const { return cfg_; }
   const SsmCounters& counters() const { return counters_; }
@@ -118,6 +178,7 @@ class SeparationMonitor {
  private:
   SsmConfig cfg_;
   std::vector<SsmVerdict> verdicts_;
+  std::vector<const ArmDrive*> drives_;
   SsmCounters counters_;
 };
 

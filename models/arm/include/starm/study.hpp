@@ -67,6 +67,8 @@ StudyResult stoppingStudy(const StudyConfig& cfg);
 struct CoexistenceOutcome {
   std::uint64_t cycles = 0;
   std::uint64_t contacts = 0;      // arm cycles with a person capsule touching a moving arm capsule
+  std::uint64_t contactsWithinLimit = 0, contactsAboveLimit = 0;  // of those, by the touched regions' PFL limits
+  std::uint64_t pflCycles = 0;     // arm cycles below S_p allowed by power and force limiting (pfl)
   std::uint64_t violations = 0;    // arm cycles below S_p at the arm's speed without a STOP verdict
   std::uint64_t stopCycles = 0, scaledCycles = 0;
   int stops = 0;                   // STOPs the drives obeyed
