@@ -56,6 +56,7 @@ struct Options {
   double cellSize = 1.2;      // cells kind: cell edge in diameters
   double margin = 0.0;        // SimulatorConfig::marginFactor when given, else kCellsMargin / simulator's
   bool marginGiven = false;
+  double shell = 0.0;         // SimulatorConfig::neighborShell (cells, none, single)
   int decomposition = 5;      // tree kind: decomposition factor
   double interior = -1.0;     // interior margin w in diameters; <0: automatic
   bool json = false;
@@ -204,6 +205,7 @@ Result runPoint(const Point& pt, const Options& opt) {
   cfg.rule.minChildSizeRatio = 1.0;  // dense clusters would otherwise split down to maxDepth
   if (opt.marginGiven) cfg.marginFactor = opt.margin;
   else if (pt.kind == st::SpaceKind::Cells) cfg.marginFactor = kCellsMargin[D - 2];
+  if (pt.kind != st::SpaceKind::Tree) cfg.neighborShell = opt.shell;
   st::Aabb<D> box{Vec<D>::Zero(), Vec<D>::Constant(L)};
   st::Simulator<D> sim(box, cfg);
   for (int a = 0; a < D; ++a) {
@@ -389,7 +391,7 @@ Result runAny(const Point& p, const Options& o) {
 const char* kUsage =
     "usage: hard_disks [--dim 2|3] [--n N] [--phi PHI] [--space none|single|tree|cells]\n"
     "                  [--collisions K] [--warmup W] [--seed S] [--cell-size C] [--margin M]\n"
-    "                  [--df F] [--interior W] [--max-dz PCT] [--json]\n"
+    "                  [--df F] [--shell S] [--interior W] [--max-dz PCT] [--json]\n"
     "Hard disks (2-D) / spheres (3-D), diameter 1, mass 1, kT 1, in a walled box, from a lattice.\n"
     "Axes not given run over the grid: dim {2,3}, N {1e3,1e4,1e5,1e6}, phi {0.1,0.3,0.5,0.7},\n"
     "space {none,single,tree,cells} (none and single only up to N=1e4); each grid point runs in its\n"
@@ -401,6 +403,8 @@ const char* kUsage =
     "  --margin M      fat-box margin as a fraction of the radius (default: cells 0.2 in 2-D,\n"
     "                  0.02 in 3-D; other kinds the simulator's 0.5)\n"
     "  --df F          tree kind: decomposition factor (default 5)\n"
+    "  --shell S       neighbour lists with a shell of S radii (0.5: Smallenburg's 1.5 diameters;\n"
+    "                  default 0, none; not for the tree kind)\n"
     "  --interior W    pressure measured in the box shrunk by W diameters (default max(5, L/10))\n"
     "  --max-dz PCT    exit 1 if a point's Z is more than PCT % off its reference (Henderson in\n"
     "                  2-D, Carnahan-Starling in 3-D; fluids only: below phi 0.7 / 0.49)\n"
@@ -463,6 +467,9 @@ Options parse(int argc, char** argv) {
     } else if (a == "--margin") {
       o.margin = number(value());
       o.marginGiven = true;
+    } else if (a == "--shell") {
+      o.shell = number(value());
+      if (!(o.shell >= 0.0 && o.shell <= 10.0)) usageError("--shell must be in [0, 10]");
     } else if (a == "--df") {
       o.decomposition = static_cast<int>(number(value()));
     } else if (a == "--interior") {

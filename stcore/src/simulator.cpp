@@ -33,13 +33,19 @@ const char* toString(EventKind kind) {
 
 template <int D>
 Simulator<D>::Simulator(const Aabb<D>& bounds, const SimulatorConfig& config)
-    : config_(config), bounds_(bounds), space_(config.spaceKind, bounds, config.rule) {
+    : config_(config), bounds_(bounds), space_(config.spaceKind, bounds, config.rule), lists_(config.neighborShell) {
   // A ball's box in the space must be strictly larger than the ball: with no margin a moving ball
   // touches the edge of its membership at once, and each Boundary event schedules the next at the
   // same instant (a livelock). Any margin well above position rounding gives progress. (The brute
   // force lists no boxes.)
   if (config_.spaceKind != SpaceKind::None && !(config_.marginFactor > 0.0))
     throw std::invalid_argument("simulator margin factor must be positive when a space is used");
+  if (!(config_.neighborShell >= 0.0) || !std::isfinite(config_.neighborShell))
+    throw std::invalid_argument("simulator neighbour shell must be finite and >= 0");
+  // a tree re-files balls by where they are (relisted, widened), where the lists need them listed
+  // by their list centres
+  if (lists_.enabled() && config_.spaceKind == SpaceKind::Tree)
+    throw std::invalid_argument("neighbour lists need a space of kind none, single or cells");
 }
 
 template <int D>
@@ -64,8 +70,14 @@ int Simulator<D>::addBall(const Vec<D>& p, const Vec<D>& v, double radius, doubl
   motion_.push_back(Motion{b.p, b.v, b.t, b.radius});
   next_.push_back(Next{});
   mark_.push_back(0u);
-  space_.insert(i, boxOf(i, now_), spaceMargin(i));
-  settleSpace();
+  if (lists_.enabled()) {
+    lists_.add(i, radius);
+    space_.insert(i, boxOf(i, now_), lists_.listingMargin(radius));
+    rebuildList(i, now_);
+  } else {
+    space_.insert(i, boxOf(i, now_), spaceMargin(i));
+    settleSpace();
+  }
   predict(i);
   return i;
 }
@@ -142,6 +154,7 @@ void Simulator<D>::deactivate(int i) {
   b.active = false;
   ++b.gen;
   heap_.remove(i);
+  if (lists_.enabled()) lists_.remove(i);
   space_.remove(i);
   settleSpace();
 }
@@ -174,7 +187,18 @@ double Simulator<D>::spaceMargin(int i) const {
 
 template <int D>
 void Simulator<D>::spaceUpdate(int i) {
+  if (lists_.enabled()) return;  // listed by its list centre, which moves only at a rebuild
   space_.update(i, boxOf(i, balls_[i].t), spaceMargin(i));
+}
+
+// Ball i's list centred where it is at time t: the space lists it there (its box grown by the
+// skin), and the balls sharing a cell with it are its candidates.
+template <int D>
+void Simulator<D>::rebuildList(int i, double t) {
+  const BallState<D>& b = balls_[i];
+  const Vec<D> centre = b.positionAt(t);
+  space_.update(i, boundsOf<D>(centre, b.radius), lists_.listingMargin(b.radius));
+  lists_.rebuild(i, centre, [&](auto&& f) { space_.forEachNeighbor(i, f); });
 }
 
 // A space that does not name the neighbours an update brings (a tree): ball i's membership moves
@@ -295,8 +319,20 @@ void Simulator<D>::predict(int i) {
     // (the order candidates arrive in does not matter: consider() breaks every tie)
     constexpr int kGather = 256;
     int gathered[kGather];
-    int n = space_.gatherNeighbors(i, gathered, kGather);
-    if (n >= 0) {
+    int n = lists_.enabled() ? -2 : space_.gatherNeighbors(i, gathered, kGather);
+    if (n == -2) {
+      // neighbour lists: the list is the candidates
+      n = lists_.count(i);
+      const int* list = lists_.begin(i);
+      if (n > kGather) {
+        for (int k = kGather; k < n; ++k) pairCandidate(i, list[k], best);
+        n = kGather;
+      }
+      for (int k = 0; k < n; ++k) {
+        gathered[k] = list[k];
+        __builtin_prefetch(&motion_[list[k]]);
+      }
+    } else if (n >= 0) {
       for (int k = 0; k < n; ++k) __builtin_prefetch(&motion_[gathered[k]]);
     } else {
       n = 0;
@@ -364,6 +400,17 @@ void Simulator<D>::schedule(int i, const Next& best) {
 template <int D>
 double Simulator<D>::exitTime(int i) const {
   const BallState<D>& bi = balls_[i];
+  if (lists_.enabled()) {
+    // leaving the shell; while the ball slows, the straight path from now runs ahead of it along
+    // its one direction, so its exit is a safe (early) bound
+    if (accelerating(i)) {
+      const double t0 = std::max(now_, bi.t);
+      const double dt = lists_.exitTime(i, bi.positionAt(t0), bi.velocityAt(t0), bi.radius);
+      return dt < kInf ? t0 + dt : kInf;
+    }
+    const double dt = lists_.exitTime(i, bi.p, bi.v, bi.radius);
+    return dt < kInf ? bi.t + dt : kInf;
+  }
   if (space_.followsSlowingPaths()) {
     // exact along the path, quadratic while the ball slows
     BallPath<D> path{bi.p, bi.v, bi.radius};
@@ -501,7 +548,11 @@ void Simulator<D>::process(int i) {
   if (n.boundaryFirst()) {
     // membership follows the ball; its path is unchanged, so only its own prediction is redone
     now_ = std::max(now_, n.exit);
-    if (!space_.reportsGainedNeighbors()) {
+    if (lists_.enabled()) {
+      // left its shell: a new list, and every pair on it predicted again
+      rebuildList(i, n.exit);
+      predict(i);
+    } else if (!space_.reportsGainedNeighbors()) {
       refileGained(i);
     } else {
       space_.update(i, boxOf(i, n.exit), spaceMargin(i));

@@ -334,6 +334,14 @@ std::vector<std::pair<std::string, SimulatorConfig>> allConfigs() {
   add("cells 5 thin margin", SpaceKind::Cells, 5, 0, 5.0, 0.01);
   // cells narrower than most balls: every ball spans several, collisions straddle faces
   add("cells 0.7 thin margin", SpaceKind::Cells, 5, 0, 0.7, 0.02);
+  // neighbour lists: the shell of Smallenburg's EDMD, a thin one (many rebuilds) and a wide one,
+  // on cells and on the brute force
+  add("cells 2.5 lists 0.5", SpaceKind::Cells, 5, 0, 2.5, 0.5);
+  out.back().second.neighborShell = 0.5;
+  add("cells 0.7 lists 0.05", SpaceKind::Cells, 5, 0, 0.7, 0.5);
+  out.back().second.neighborShell = 0.05;
+  add("none lists 2", SpaceKind::None, 5, 0, 0, 0.5);
+  out.back().second.neighborShell = 2.0;
   return out;
 }
 
@@ -574,6 +582,101 @@ TEST(SimulatorModelEvents, OrderCancelAndClock) {
 
 TEST(Simulator, DeterministicAndSpaceIndependent2D) { deterministic<2>(3001); }
 TEST(Simulator, DeterministicAndSpaceIndependent3D) { deterministic<3>(3002); }
+
+// Neighbour lists in a running simulation, after every event: every ball within its skin of its
+// list centre; the lists symmetric and exactly the pairs whose centres are within reach (brute
+// force over the centres); and every pair of active balls not listed more than r_i + r_j apart.
+// Balls slowing under rolling resistance too (their exits bounded by the straight path).
+template <int D>
+void listsHoldEveryTouchingPair(unsigned seed, double friction) {
+  std::mt19937_64 rng(seed);
+  const System<D> sys = randomSystem<D>(rng, 40, false);
+  SimulatorConfig cfg;
+  cfg.spaceKind = SpaceKind::Cells;
+  cfg.rule.cellSize = 1.1;
+  cfg.neighborShell = 0.3;
+  Simulator<D> sim = makeSimulator(sys, cfg);
+  if (friction > 0)
+    for (int b = 0; b < static_cast<int>(sim.balls().size()); ++b) sim.setDeceleration(b, friction);
+  const NeighborLists<D>& lists = sim.neighborLists();
+  ASSERT_TRUE(lists.enabled());
+  const int n = static_cast<int>(sim.balls().size());
+  int events = 0, rebuilds = 0, listed = 0;
+  sim.run(20.0, [&](const EventRecord& e) {
+    ++events;
+    rebuilds += e.kind == EventKind::Boundary;
+    const double t = sim.now();
+    for (int i = 0; i < n; ++i) {
+      const BallState<D>& bi = sim.ball(i);
+      if (!bi.active) continue;
+      const double off = (bi.positionAt(t) - lists.centre(i)).norm();
+      ASSERT_LE(off, 0.3 * bi.radius * (1 + 1e-9) + 1e-12) << "event " << events << ": ball " << i << " left its shell";
+      const std::set<int> mine(lists.begin(i), lists.begin(i) + lists.count(i));
+      ASSERT_EQ(mine.size(), static_cast<std::size_t>(lists.count(i))) << "ball " << i << " listed twice";
+      for (int j = 0; j < n; ++j) {
+        const BallState<D>& bj = sim.ball(j);
+        if (j == i || !bj.active) continue;
+        const bool near = (lists.centre(i) - lists.centre(j)).norm() < 1.3 * (bi.radius + bj.radius);
+        const std::set<int> theirs(lists.begin(j), lists.begin(j) + lists.count(j));
+        ASSERT_EQ(mine.count(j), theirs.count(i)) << "event " << events << ": lists of " << i << " and " << j;
+        ASSERT_EQ(mine.count(j) == 1, near) << "event " << events << ": pair " << i << "/" << j;
+        listed += near;
+        if (!near) {
+          ASSERT_GT((bi.positionAt(t) - bj.positionAt(t)).norm(), bi.radius + bj.radius)
+              << "event " << events << ": unlisted pair " << i << "/" << j << " touches";
+        }
+      }
+    }
+  });
+  EXPECT_GT(events, 300);
+  EXPECT_GT(rebuilds, 100);
+  EXPECT_GT(listed, 1000);
+}
+
+TEST(SimulatorNeighborLists, ListsHoldEveryTouchingPair2D) { listsHoldEveryTouchingPair<2>(5001, 0.0); }
+TEST(SimulatorNeighborLists, ListsHoldEveryTouchingPair3D) { listsHoldEveryTouchingPair<3>(5002, 0.0); }
+TEST(SimulatorNeighborLists, ListsHoldEveryTouchingPairSlowing2D) { listsHoldEveryTouchingPair<2>(5003, 0.4); }
+
+// Rolling resistance with lists: the same history as the brute force without them (the lists'
+// exits are straight-path bounds while the balls slow).
+template <int D>
+void slowingListsAgainstBruteForce(unsigned seed) {
+  std::mt19937_64 rng(seed);
+  for (int k = 0; k < 6; ++k) {
+    const System<D> sys = randomSystem<D>(rng, 20 + static_cast<int>(rng() % 10), k % 2 == 0);
+    auto run = [&](const SimulatorConfig& cfg) {
+      Simulator<D> sim = makeSimulator(sys, cfg);
+      for (int b = 0; b < static_cast<int>(sim.balls().size()); ++b) sim.setDeceleration(b, 0.02 + 0.01 * (b % 3));
+      return runPhysical(sim, 220);
+    };
+    SimulatorConfig none;
+    none.spaceKind = SpaceKind::None;
+    const std::vector<EventRecord> want = run(none);
+    ASSERT_GE(want.size(), 100u) << "system " << k << " too quiet";
+    for (double shell : {0.05, 0.5}) {
+      SimulatorConfig cells;
+      cells.spaceKind = SpaceKind::Cells;
+      cells.rule.cellSize = 1.0;
+      cells.neighborShell = shell;
+      const std::vector<EventRecord> got = run(cells);
+      const std::size_t count = std::min<std::size_t>(200, want.size() - 10);
+      ASSERT_TRUE(sameHistory(got, want, count, 1e-9)) << "system " << k << ", shell " << shell;
+    }
+  }
+}
+
+TEST(SimulatorNeighborLists, SlowingBallsAgainstBruteForce2D) { slowingListsAgainstBruteForce<2>(5101); }
+TEST(SimulatorNeighborLists, SlowingBallsAgainstBruteForce3D) { slowingListsAgainstBruteForce<3>(5102); }
+
+TEST(SimulatorNeighborLists, RejectsATreeAndABadShell) {
+  SimulatorConfig cfg;
+  cfg.spaceKind = SpaceKind::Tree;
+  cfg.neighborShell = 0.5;
+  EXPECT_THROW(Simulator<2>(Aabb<2>{Vec2::Zero(), Vec2(10, 10)}, cfg), std::invalid_argument);
+  cfg.spaceKind = SpaceKind::Cells;
+  cfg.neighborShell = -1;
+  EXPECT_THROW(Simulator<2>(Aabb<2>{Vec2::Zero(), Vec2(10, 10)}, cfg), std::invalid_argument);
+}
 
 // ---- long run ---------------------------------------------------------------------------------
 

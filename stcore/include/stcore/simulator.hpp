@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <stcore/event_heap.hpp>
+#include <stcore/neighbor_lists.hpp>
 #include <stcore/shapes.hpp>
 #include <stcore/space.hpp>
 
@@ -101,6 +102,12 @@ struct SimulatorConfig {
   // means fewer membership events but more candidates. (A tree lists each ball by its box and
   // takes its events from the leaf walls, with tol::kRegionSlop against rounding.)
   double marginFactor = 0.5;
+  // Neighbour lists (neighbor_lists.hpp): a ball may move neighborShell * its radius from where its
+  // list was built; pairs are predicted from the lists, and the space (its box around the list
+  // centre, grown by that much) is searched only when a ball leaves its shell and rebuilds its
+  // list (a Boundary event). 0.5 is Smallenburg's shell of 1.5 diameters. 0: no lists, the
+  // space's neighbours are the candidates. Not with SpaceKind::Tree.
+  double neighborShell = 0.0;
 };
 
 enum class StopReason { TimeLimit, NothingLeft, EventLimit };
@@ -157,6 +164,8 @@ class Simulator {
   // every other.
   const Space<D>* space() const { return &space_; }
   const SimulatorCounters& counters() const { return counters_; }
+  // The neighbour lists (enabled() with SimulatorConfig::neighborShell > 0).
+  const NeighborLists<D>& neighborLists() const { return lists_; }
   // Time of the next event, or infinity.
   double nextEventTime() const;
 
@@ -207,6 +216,7 @@ class Simulator {
   void spaceUpdate(int i);
   void refileGained(int i);
   void settleSpace();
+  void rebuildList(int i, double t);
 
   // model events: a min-heap on (time, scheduling order); cancelled ones are skipped when they surface
   struct ModelEvent {
@@ -224,6 +234,7 @@ class Simulator {
   std::vector<BallState<D>> balls_;
   std::vector<Motion> motion_;
   std::vector<Next> next_;
+  NeighborLists<D> lists_;  // enabled with config_.neighborShell > 0
   EventHeap heap_;  // balls by next event
   std::vector<Wall<D>> walls_;
   std::vector<Vec<D>> points_;
