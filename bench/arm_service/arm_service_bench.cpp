@@ -14,6 +14,12 @@
 // of per batch of messages read together, and a floor: the same protocol and st::net server
 // answering each reading at once without a monitor.
 //
+// With a person: one Panda and one person (models/arm/scenarios/person_walkup.yaml), the sensor
+// client sending each cycle's READINGS and the person's SKELETONS (protocol version 3, the
+// scripted person's 17 joints), the service running the collision monitor and the speed and
+// separation check; beside it the same cycles in process (readings and pose applied, monitor +
+// SSM), and the ratio of its p99 to the echo floor's (1 client) of the same run.
+//
 // usage: arm_service_bench [CYCLES]   (default 3001: the whole trace, ~3 s per row)
 #include <time.h>
 
@@ -104,6 +110,43 @@ Stats inProcess(const Scenario& s, const std::vector<std::vector<Reading>>& cycl
   return stats(us);
 }
 
+// The person's skeleton at every cycle of the trace (the scenario's script).
+std::vector<Skeleton> recordPoses(const Scenario& s, const std::vector<std::vector<Reading>>& cycles) {
+  PersonSet persons = makePersons(s);
+  std::vector<Skeleton> poses;
+  for (const auto& c : cycles) {
+    persons.pose(c.front().t);
+    poses.push_back(persons.skeleton(0));
+  }
+  return poses;
+}
+
+// One arm and one person in process: readings and pose applied, the collision monitor's cycle and
+// the persons' check, as the service's cycle does them.
+Stats inProcessWithPerson(const Scenario& s, const std::vector<std::vector<Reading>>& cycles,
+                          const std::vector<Skeleton>& poses) {
+  std::vector<double> us;
+  for (int rep = 0; rep < 3; ++rep) {
+    Monitor m = makeMonitor(s);
+    PersonSet persons;
+    auto held = std::make_unique<HeldPerson>();
+    HeldPerson& tracker = *held;
+    persons.add(s.persons[0].name, std::move(held));
+    SeparationMonitor ssm(s.ssm, m.armCount());
+    for (std::size_t k = 0; k < cycles.size(); ++k) {
+      const auto t0 = Clock::now();
+      for (const Reading& r : cycles[k]) m.setJointState(r.arm, r.t, r.q.data(), r.qdot.data());
+      tracker.set(poses[k]);
+      m.cycle(cycles[k].front().t);
+      persons.pose(m.time());
+      ssm.cycle(m, persons);
+      const auto t1 = Clock::now();
+      if (rep > 0) us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+    }
+  }
+  return stats(us);
+}
+
 // One sensor client on the shared client thread: a socket, its reads parsed into frames, the
 // send time of every seq.
 struct SensorClient {
@@ -160,6 +203,7 @@ struct SensorClient {
 
 struct NetRow {
   Stats rtt;
+  std::vector<double> rttUs;  // every round trip, us
   std::size_t sent = 0, answered = 0;
   double serviceCpu = 0, clientCpu = 0, wall = 0;
   std::uint64_t cycles = 0;
@@ -204,7 +248,8 @@ class EchoService final : public net::Handler {
 };
 
 template <class Backend>
-NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& cycles, int clients, bool batch = true) {
+NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& cycles, int clients, bool batch = true,
+                    const std::vector<Skeleton>* poses = nullptr) {
   asio::io_context serviceIo;
   ServiceConfig cfg;
   cfg.batchCycles = batch;
@@ -254,7 +299,8 @@ NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& 
   // the messages, encoded before the clock starts: client 0 reports the arms (each arm has one
   // reporting connection); the others send a READINGS holding no arm at the same time (a sensor
   // of something else, heard and answered each cycle)
-  std::vector<std::string> msgs, others;
+  // (with poses: client 0 also sends the person's SKELETONS of the same seq and time each cycle)
+  std::vector<std::string> msgs, others, skeletons;
   for (std::size_t k = 0; k < cycles.size(); ++k) {
     proto::Readings m;
     m.seq = static_cast<std::uint32_t>(k + 1);
@@ -262,6 +308,13 @@ NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& 
     others.push_back(proto::encode(m));
     for (const Reading& r : cycles[k]) m.arms.push_back({static_cast<std::uint16_t>(r.arm), r.q, r.qdot});
     msgs.push_back(proto::encode(m));
+    if (poses) {
+      proto::Skeletons sk;
+      sk.seq = m.seq;
+      sk.t = m.t;
+      sk.persons.push_back({0, std::vector<Vec3>((*poses)[k].p.begin(), (*poses)[k].p.end())});
+      skeletons.push_back(proto::encode(sk));
+    }
   }
   const std::uint64_t cycles0 = service.counters().cycles;
   asio::steady_timer tick(io);
@@ -275,6 +328,7 @@ NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& 
       for (std::size_t i = 0; i < cs.size(); ++i) {
         cs[i]->sentAt.push_back(Clock::now());
         cs[i]->send(i == 0 ? msgs[k] : others[k]);
+        if (i == 0 && poses) cs[i]->send(skeletons[k]);
       }
       ++row.sent;
       if (++k < msgs.size()) next();
@@ -296,6 +350,7 @@ NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& 
   row.serviceCpu = serviceCpu1 - serviceCpu0;
   row.cycles = service.counters().cycles - cycles0;
   row.rtt = stats(rtt);
+  row.rttUs = std::move(rtt);
   return row;
 }
 
@@ -314,6 +369,27 @@ int main(int argc, char** argv) {
   for (int n : {8, 64}) perMessage.emplace_back(n, overLoopback<ArmService>(s, cycles, n, false));
   std::vector<std::pair<int, NetRow>> floor;
   for (int n : {1, 8}) floor.emplace_back(n, overLoopback<EchoService>(s, cycles, n));
+  // one arm and one person: SKELETONS every cycle beside the READINGS
+  const Scenario sp = loadScenario(std::string(STSIM_SOURCE_DIR) + "/models/arm/scenarios/person_walkup.yaml");
+  const auto personCycles = recordCycles(sp, limit);
+  const auto poses = recordPoses(sp, personCycles);
+  const Stats localPerson = inProcessWithPerson(sp, personCycles, poses);
+  // its floor: the echo server sent the same messages (READINGS answered, SKELETONS read), the two
+  // rows alternated five times so both see the same machine; each pair's ratio, and the ratio of
+  // the pooled round trips (all five floor rows against all five service rows)
+  constexpr int kPairs = 5;
+  std::vector<std::pair<NetRow, NetRow>> personPairs;
+  std::vector<double> pooledFloor, pooledService;
+  for (int rep = 0; rep < kPairs; ++rep) {
+    personPairs.emplace_back(overLoopback<EchoService>(sp, personCycles, 1, true, &poses),
+                             overLoopback<ArmService>(sp, personCycles, 1, true, &poses));
+    pooledFloor.insert(pooledFloor.end(), personPairs.back().first.rttUs.begin(), personPairs.back().first.rttUs.end());
+    pooledService.insert(pooledService.end(), personPairs.back().second.rttUs.begin(), personPairs.back().second.rttUs.end());
+  }
+  const Stats personFloor = stats(pooledFloor), personService = stats(pooledService);
+  std::vector<double> pairRatios;
+  for (const auto& pr : personPairs) pairRatios.push_back(pr.second.rtt.p99 / pr.first.rtt.p99);
+  std::sort(pairRatios.begin(), pairRatios.end());
 
   // the stream client at real time (one client, blocking, as `stsim arm stream --rate 1` runs)
   StreamResult sr;
@@ -375,6 +451,18 @@ int main(int argc, char** argv) {
                 100.0 * static_cast<double>(r.answered) / static_cast<double>(std::max<std::size_t>(1, r.sent)),
                 100.0 * r.serviceCpu / r.wall, 100.0 * r.clientCpu / r.wall);
   }
+  std::printf("%-44s %8zu %8.2f %8.2f %8.1f %9s %12s %12s\n", "in process: 1 arm + 1 person, monitor + SSM",
+              localPerson.n, localPerson.p50, localPerson.p99, localPerson.max, "-", "-", "-");
+  for (std::size_t i = 0; i < personPairs.size(); ++i) {
+    for (const NetRow* r : {&personPairs[i].first, &personPairs[i].second}) {
+      char name[64];
+      std::snprintf(name, sizeof name, "%s %zu: 1 arm + 1 person, 1 client", r == &personPairs[i].first ? "floor" : "service",
+                    i + 1);
+      std::printf("%-44s %8zu %8.2f %8.2f %8.1f %8.2f%% %11.1f%% %11.1f%%\n", name, r->sent, r->rtt.p50, r->rtt.p99,
+                  r->rtt.max, 100.0 * static_cast<double>(r->answered) / static_cast<double>(std::max<std::size_t>(1, r->sent)),
+                  100.0 * r->serviceCpu / r->wall, 100.0 * r->clientCpu / r->wall);
+    }
+  }
   std::printf("%-44s %8zu %8.2f %8.2f %8.1f %8.2f%% %12s %12s\n", "loopback, stsim arm stream --rate 1 (1 client)",
               sr.cycles, stream.p50, stream.p99, stream.max,
               100.0 * static_cast<double>(sr.verdicts) / static_cast<double>(std::max<std::uint64_t>(1, sr.cycles)), "-", "-");
@@ -386,6 +474,15 @@ int main(int argc, char** argv) {
               rows[2].second.rtt.p50 / local.p50);
   std::printf("target at 1 kHz with 8 clients: p50 <= 50 us (%.2f: %s), p99 <= 250 us (%.2f: %s)\n", eight.rtt.p50,
               eight.rtt.p50 <= 50 ? "met" : "NOT met", eight.rtt.p99, eight.rtt.p99 <= 250 ? "met" : "NOT met");
+  std::printf("1 arm + 1 person over loopback against its echo floor (1 client, %d pairs alternated): pooled p50 %.2f / "
+              "%.2f us = %.2fx, pooled p99 %.2f / %.2f us = %.2fx (target p99 <= 1.1x: %s); per pair p99 ratio %.2fx .. "
+              "%.2fx (median %.2fx)\n",
+              kPairs, personService.p50, personFloor.p50, personService.p50 / personFloor.p50, personService.p99,
+              personFloor.p99, personService.p99 / personFloor.p99,
+              personService.p99 <= 1.1 * personFloor.p99 ? "met" : "NOT met", pairRatios.front(), pairRatios.back(),
+              pairRatios[pairRatios.size() / 2]);
+  std::printf("in process monitor + SSM, 1 arm + 1 person: p99 %.2f us (target <= 100 us: %s)\n", localPerson.p99,
+              localPerson.p99 <= 100.0 ? "met" : "NOT met");
   std::printf("CPU: per cent of one core over the row's wall time (service thread; all client sockets on one thread)\n");
   return 0;
 }
