@@ -554,6 +554,14 @@ TEST(Ssm, BadPersonInputIsNamed) {
   expectError("fast.yaml", arm + "persons:\n  - {name: p, start: {xy: [2, 0]}, script: [{walk: {to: [1, 0], speed: 3}}]}\n",
               ":4: persons[0].script[0].walk.speed: 3 m/s is beyond ssm.body_speed 1.6 m/s");
   expectError("resp.yaml", arm + "ssm: {response: maybe}\n", ":3: ssm.response: expected stop, scaling or pfl");
+  expectError("payload.yaml", arm + "ssm: {response: pfl, payload: -1}\n", ":3: ssm.payload: expected 0..1000 kg");
+  expectError("mass.yaml", arm + "ssm: {response: pfl, arm_mass: 0}\n", ":3: ssm.arm_mass: must be positive");
+  // the keys read: (b)'s masses give (b)'s hand limit worked out by hand above
+  const fs::path ok = write("pfl.yaml", arm + "ssm: {response: pfl, arm_mass: 30, payload: 5}\n");
+  const Scenario s = loadScenario(ok.string());
+  EXPECT_EQ(s.ssm.response, SsmResponse::Pfl);
+  EXPECT_NEAR(pflSpeedLimit(s.ssm, BodyRegion::Hand), 1.33958534214468, 1e-9);
+  fs::remove(ok);
   expectError("nostart.yaml", arm + "persons:\n  - {name: p, script: []}\n", "persons[0].start: missing");
   expectError("hand.yaml", arm + "persons:\n  - {start: {xy: [2, 0]}, script: [{reach: {hand: third, to: [1, 0, 1], speed: 1}}]}\n",
               "persons[0].script[0].reach.hand: expected right or left");

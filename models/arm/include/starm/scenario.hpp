@@ -18,8 +18,8 @@
 //   persons: [{name, start: {xy: [x, y], heading}, script: [{walk: {to: [x, y], speed}} |
 //              {reach: {hand: right|left, to: [x, y, z], speed}} | {wait: s}]} | {name, trace: file.csv},
 //              sensor: {period, jitter, drift}]
-//   ssm: {response: scaling|stop, body_speed, hand_speed, intrusion, person_uncertainty,
-//         robot_uncertainty, robot_speed}
+//   ssm: {response: scaling|stop|pfl, body_speed, hand_speed, intrusion, person_uncertainty,
+//         robot_uncertainty, robot_speed, arm_mass, payload}
 #include <chrono>
 #include <functional>
 #include <memory>
