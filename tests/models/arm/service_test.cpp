@@ -806,6 +806,49 @@ TEST(ArmService, AVersionFourClaimDeclaresItsSensorsRate) {
   EXPECT_GT(stops, verdicts / 2) << "the scenario's rate (no drift) did not come back";
 }
 
+TEST(ArmService, UnderPflARestingArmIsSlowedNotStoppedAsInProcess) {
+  // the same walk-in under ssm.response pfl: the verdicts equal the in-process check's pose by
+  // pose; the arm at rest (0 m/s, within every region's limit) is never STOPped for the person,
+  // below S_p is allowed, and the arm is slowed (the torso's and legs' limits, below its top speed)
+  Scenario s = loadScenario(scenarioPath("person_walkup"));
+  s.ssm.response = SsmResponse::Pfl;
+  Service svc(s, {});
+  Peer p(svc.service.port());
+  Monitor mon = makeMonitor(s);
+  PersonSet persons;
+  auto held = std::make_unique<HeldPerson>();
+  HeldPerson* h = held.get();
+  persons.add("visitor", std::move(held));
+  SeparationMonitor ssm(s.ssm, 1);
+  std::uint32_t seq = 0;
+  bool allowed = false, slowed = false;
+  for (int k = 0; k <= 24; ++k) {
+    const double t = 0.001 * k, x = 3.0 - 0.1 * k;
+    p.c.send(proto::encode(skeletonAt(++seq, t, x)));
+    proto::Readings r = pandaReading(++seq, t);
+    p.c.send(proto::encode(r));
+    std::optional<proto::Message> m;
+    const proto::Verdict* v = nullptr;
+    while ((m = p.next()) && (!(v = std::get_if<proto::Verdict>(&*m)) || v->ack < seq)) {
+    }
+    ASSERT_TRUE(v) << k;
+    mon.setJointState(0, t, r.arms[0].q.data(), r.arms[0].qdot.data());
+    mon.cycle(t);
+    h->set(standingSkeleton(Vec3(x, 0, 0), 3.141592653589793));
+    persons.pose(t);
+    ssm.cycle(mon, persons);
+    const SsmVerdict& ref = ssm.verdict(0);
+    EXPECT_EQ(v->arms[0].factor, ref.factor) << k;
+    EXPECT_EQ(v->arms[0].personSeparation, ref.separation) << k;
+    EXPECT_FALSE(ref.stop) << k;
+    EXPECT_NE(v->arms[0].cause, proto::Cause::Person) << k;
+    allowed = allowed || ref.pflAllowed;
+    slowed = slowed || (ref.factor > 0.0 && ref.factor < 1.0);
+  }
+  EXPECT_TRUE(allowed);
+  EXPECT_TRUE(slowed);
+}
+
 TEST(ArmService, ASkeletonSlowsAndStopsTheArmInVersionThree) {
   // person_walkup's Panda at rest at its home pose, its person reported by SKELETONS walking in:
   // factor 1 far away, a factor between 0 and 1 nearer, STOP (cause person) closest; the
