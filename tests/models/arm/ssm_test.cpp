@@ -514,6 +514,34 @@ TEST(Ssm, ClosedLoopNoPersonTouchesAMovingArm) {
   EXPECT_GE(summed[1] / summed[0], 1.4) << summed[0] << " " << summed[1];
 }
 
+TEST(Ssm, AStoppedArmTravelsNoFartherThanSrPlusSs) {
+  // independent of the formulae: from every STOP verdict of every response, the arm's
+  // fastest end point's travel until the drive is at rest (its speed summed over the cycles)
+  // against S_r + S_s of that cycle, which bound it by (3) and (4) with the drive's stopping time
+  int stopsSeen = 0;
+  for (const char* name : {"person_walkup", "person_walkpast", "person_reach"}) {
+    const Scenario s = loadScenario(scenarioPath(name));
+    for (SsmResponse r : {SsmResponse::Stop, SsmResponse::Scaling, SsmResponse::Pfl}) {
+      double budget = -1.0, travel = 0.0;
+      runCoexistence(s, r, [&](const Monitor& m, const SeparationMonitor& ssm) {
+        const SsmVerdict& v = ssm.verdict(0);
+        if (budget >= 0.0) {
+          travel += v.robotSpeed * s.safety.cycleTime;
+          if (v.robotSpeed == 0.0) {
+            EXPECT_LE(travel, budget) << name << " " << toString(r) << " at " << m.time();
+            budget = -1.0;
+          }
+        } else if (v.stop && v.robotSpeed > 0.0) {
+          budget = v.terms.sr + v.terms.ss;
+          travel = 0.0;
+          ++stopsSeen;
+        }
+      });
+    }
+  }
+  EXPECT_GT(stopsSeen, 0);
+}
+
 TEST(Person, CsvTraceIsInterpolatedBetweenLines) {
   auto row = [](double t, const Skeleton& s) {
     std::ostringstream r;
