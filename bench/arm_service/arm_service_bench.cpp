@@ -175,6 +175,11 @@ struct SensorClient {
     out.push_back(net::frame(payload));
     write();
   }
+  // several messages in one write: the service reads them in one pass, one cycle
+  void sendTogether(const std::string& a, const std::string& b) {
+    out.push_back(net::frame(a) + net::frame(b));
+    write();
+  }
   void read() {
     socket.async_read_some(asio::buffer(in.data() + have, in.size() - have),
                            [this](const boost::system::error_code& ec, std::size_t n) {
@@ -299,7 +304,8 @@ NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& 
   // the messages, encoded before the clock starts: client 0 reports the arms (each arm has one
   // reporting connection); the others send a READINGS holding no arm at the same time (a sensor
   // of something else, heard and answered each cycle)
-  // (with poses: client 0 also sends the person's SKELETONS of the same seq and time each cycle)
+  // (with poses: client 0 sends the person's SKELETONS of the same seq and time with its READINGS,
+  // in one write: the service reads both in one pass and runs one cycle on them)
   std::vector<std::string> msgs, others, skeletons;
   for (std::size_t k = 0; k < cycles.size(); ++k) {
     proto::Readings m;
@@ -327,8 +333,8 @@ NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& 
       if (ec) return;
       for (std::size_t i = 0; i < cs.size(); ++i) {
         cs[i]->sentAt.push_back(Clock::now());
-        cs[i]->send(i == 0 ? msgs[k] : others[k]);
-        if (i == 0 && poses) cs[i]->send(skeletons[k]);
+        if (i == 0 && poses) cs[i]->sendTogether(skeletons[k], msgs[k]);
+        else cs[i]->send(i == 0 ? msgs[k] : others[k]);
       }
       ++row.sent;
       if (++k < msgs.size()) next();
