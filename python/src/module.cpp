@@ -7,6 +7,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <sthighway/report.hpp>
 #include <stsim/version.hpp>
 
 #include "monitor.hpp"
@@ -118,6 +119,68 @@ PYBIND11_MODULE(_stsim, m) {
         f.name, [field = f.field](const hw::Warning& w) { return conflictNumber(w.*field); }, f.doc);
 
 
+  // conflicts.csv's row (sthighway/monitor.hpp, Conflict): every column an attribute of the same
+  // name, None where the file leaves the cell empty
+  auto conflictClass = py::class_<hw::Conflict>(
+      m, "Conflict",
+      "One conflict for the analyst, as a row of conflicts.csv: an unordered pair and one encounter below TTC*,\n"
+      "first and second vehicle as SSAM names them (docs/outputs.md, conflicts.csv).");
+  conflictClass.def_readonly("first", &hw::Conflict::first)
+      .def_readonly("second", &hw::Conflict::second)
+      .def_property_readonly("type", [](const hw::Conflict& c) { return hw::toString(c.type); },
+                             "SSAM's class: rear_end, lane_change, crossing or pedestrian")
+      .def_readonly("begin", &hw::Conflict::begin)
+      .def_readonly("end", &hw::Conflict::end)
+      .def_readonly("min_ttc", &hw::Conflict::minTtc)
+      .def_readonly("min_ttc_time", &hw::Conflict::minTtcTime)
+      .def_readonly("first_lane", &hw::Conflict::firstLane, "lane id, '' if unknown")
+      .def_readonly("second_lane", &hw::Conflict::secondLane)
+      .def_property_readonly("first_class", [](const hw::Conflict& c) { return hw::toString(c.firstClass); })
+      .def_property_readonly("second_class", [](const hw::Conflict& c) { return hw::toString(c.secondClass); })
+      .def_readonly("first_length", &hw::Conflict::firstLength)
+      .def_readonly("second_length", &hw::Conflict::secondLength)
+      .def_readonly("first_width", &hw::Conflict::firstWidth)
+      .def_readonly("second_width", &hw::Conflict::secondWidth)
+      .def_readonly("open", &hw::Conflict::open, "still going on when the run ended")
+      .def("__repr__", [](const hw::Conflict& c) {
+        return "<Conflict " + c.first + " / " + c.second + " " + hw::toString(c.type) + " [" + std::to_string(c.begin) +
+               ", " + std::to_string(c.end) + "] min_ttc " + std::to_string(c.minTtc) + ">";
+      });
+  struct ConflictField {
+    const char* name;
+    double hw::Conflict::*field;
+  };
+  static constexpr ConflictField kConflictFields[] = {
+      {"pet", &hw::Conflict::pet}, {"drac", &hw::Conflict::drac}, {"max_s", &hw::Conflict::maxSpeed},
+      {"delta_s", &hw::Conflict::deltaSpeed}, {"dr", &hw::Conflict::dr}, {"max_d", &hw::Conflict::maxD},
+      {"max_delta_v", &hw::Conflict::maxDeltaV}, {"first_delta_v", &hw::Conflict::firstDeltaV},
+      {"second_delta_v", &hw::Conflict::secondDeltaV}, {"conflict_angle", &hw::Conflict::conflictAngle},
+      {"clock_angle", &hw::Conflict::clockAngle}, {"post_crash_speed", &hw::Conflict::postCrashSpeed},
+      {"post_crash_heading", &hw::Conflict::postCrashHeading}, {"conflict_x", &hw::Conflict::conflictX},
+      {"conflict_y", &hw::Conflict::conflictY}, {"first_x", &hw::Conflict::firstX}, {"first_y", &hw::Conflict::firstY},
+      {"second_x", &hw::Conflict::secondX}, {"second_y", &hw::Conflict::secondY},
+      {"first_speed", &hw::Conflict::firstSpeed}, {"second_speed", &hw::Conflict::secondSpeed},
+      {"first_start_x", &hw::Conflict::firstStartX}, {"first_start_y", &hw::Conflict::firstStartY},
+      {"first_end_x", &hw::Conflict::firstEndX}, {"first_end_y", &hw::Conflict::firstEndY},
+      {"second_start_x", &hw::Conflict::secondStartX}, {"second_start_y", &hw::Conflict::secondStartY},
+      {"second_end_x", &hw::Conflict::secondEndX}, {"second_end_y", &hw::Conflict::secondEndY},
+      {"tet", &hw::Conflict::tet}, {"tit", &hw::Conflict::tit}};
+  for (const ConflictField& f : kConflictFields)
+    conflictClass.def_property_readonly(f.name,
+                                        [field = f.field](const hw::Conflict& c) { return conflictNumber(c.*field); });
+  // the columns of stsim highway's tables, from the writers' own headers (one source)
+  auto columns = [](const std::string& header) {
+    py::list out;
+    std::size_t from = 0;
+    for (std::size_t comma; (comma = header.find(',', from)) != std::string::npos; from = comma + 1)
+      out.append(header.substr(from, comma - from));
+    out.append(header.substr(from));
+    return py::tuple(out);
+  };
+  m.attr("WARNING_COLUMNS") = columns(hw::warningsCsvHeader());
+  m.attr("CONFLICT_COLUMNS") = columns(hw::conflictsCsvHeader());
+  m.attr("EVENT_COLUMNS") = columns(hw::eventsCsvHeader());
+
   py::class_<PyAlert>(m, "Alert", "An equipped car's worst current threat at the last step.")
       .def_readonly("vehicle", &PyAlert::vehicle, "index into the last step's vehicles")
       .def_readonly("ego", &PyAlert::ego)
@@ -161,6 +224,9 @@ PYBIND11_MODULE(_stsim, m) {
       .def("take_events", &Monitor::takeEvents,
            "Near misses and unsignalled crossings hindsight found since the last call (HindsightEvent).")
       .def("open_warnings", &Monitor::openWarnings, "Episodes still going on at the last step (WarningEpisode, open).")
+      .def("take_conflicts", &Monitor::takeConflicts,
+           "Conflicts (conflicts.csv's rows: Conflict) settled since the last call; a conflict waits up to 5 s after\n"
+           "its end for its PET, and finish() settles the rest.")
       .def("alerts", &Monitor::alerts, "Each warned car's worst current threat at the last step (Alert).")
       .def_property_readonly("counters", &Monitor::counters, "The monitor's work counters (pair tests, cells, ...), by name.")
       .def_property_readonly("last_time", &Monitor::lastTime, "The last step's time (s).")

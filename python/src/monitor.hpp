@@ -74,6 +74,11 @@ class Monitor {
     monitor_.takeEvents(out);
     return out;
   }
+  std::vector<hw::Conflict> takeConflicts() {
+    std::vector<hw::Conflict> out;
+    monitor_.takeConflicts(out);
+    return out;
+  }
   std::vector<hw::Warning> openWarnings() const { return monitor_.openWarnings(); }
   std::vector<PyAlert> alerts() const {
     std::vector<PyAlert> out;

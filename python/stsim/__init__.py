@@ -20,30 +20,51 @@ import os
 if "SUMO_HOME" not in os.environ and os.path.isdir("/usr/share/sumo/data/xsd"):
     os.environ["SUMO_HOME"] = "/usr/share/sumo"
 
-from ._stsim import Alert, FcdReader, InputError, Monitor, WarningEpisode, __version__
-from .sumo import TraciMonitor, TraciVehicleReader, read_traci_lanes, read_traci_vehicles
+from ._stsim import (CONFLICT_COLUMNS, EVENT_COLUMNS, WARNING_COLUMNS, Alert, Conflict, FcdReader, HindsightEvent,
+                     InputError, Monitor, WarningEpisode, __version__)
+from .sumo import TraciMonitor, TraciVehicleReader, read_traci_lanes, read_traci_persons, read_traci_vehicles
 
-__all__ = ["Alert", "FcdReader", "InputError", "Monitor", "WarningEpisode", "TraciMonitor", "TraciVehicleReader", "read_traci_lanes",
-           "read_traci_vehicles", "warnings_table", "WARNING_COLUMNS", "__version__"]
+__all__ = ["Alert", "Conflict", "FcdReader", "HindsightEvent", "InputError", "Monitor", "WarningEpisode", "TraciMonitor",
+           "TraciVehicleReader", "read_traci_lanes", "read_traci_persons", "read_traci_vehicles", "warnings_table",
+           "conflicts_table", "events_table", "alerts_table", "WARNING_COLUMNS", "CONFLICT_COLUMNS", "EVENT_COLUMNS",
+           "ALERT_COLUMNS", "__version__"]
 
-# the columns of stsim's warnings.csv, in its order: the episode, hindsight, the conflict record
-# (models/highway/README.md); a WarningEpisode has each as an attribute
-WARNING_COLUMNS = ("ego", "foe", "kind", "zone", "begin", "end", "min_ttc", "min_ttc_time", "safe_time", "open",
-                   "verdict", "clearance", "clearance_time", "deceleration", "crossed", "signalled",
-                   "conflict_x", "conflict_y", "foe_x", "foe_y", "max_s", "delta_s", "dr", "max_d", "conflict_angle",
-                   "clock_angle", "start_x", "start_y", "end_x", "end_y", "post_crash_speed", "post_crash_heading", "pet",
-                   "x", "y", "lane", "ego_speed", "foe_speed", "heading_angle", "type", "drac", "max_delta_v", "line",
-                   "lateral_speed")
+# WARNING_COLUMNS, CONFLICT_COLUMNS, EVENT_COLUMNS: the columns of stsim highway's warnings.csv,
+# conflicts.csv and events.csv, in their order, taken from the C++ writers' headers; a
+# WarningEpisode, Conflict and HindsightEvent has each as an attribute (docs/outputs.md says what
+# each means). An Alert has ALERT_COLUMNS.
+ALERT_COLUMNS = ("vehicle", "ego", "kind", "zone", "ttc", "safe_time", "foe", "foe_vehicle")
 
 
-def warnings_table(warnings):
-    """Warning episodes as a table with warnings.csv's columns: a pandas DataFrame when pandas is
-    installed, else a dict of lists (which pandas.DataFrame() also takes). A cell warnings.csv
-    leaves empty (the column does not apply, or the episode is not judged) is None (NaN in a
-    pandas number column)."""
-    columns = {c: [getattr(w, c) for w in warnings] for c in WARNING_COLUMNS}
+def _table(records, columns):
+    """records as a table with the given columns: a pandas DataFrame when pandas is installed,
+    else a dict of lists (which pandas.DataFrame() also takes). A cell the CSV file leaves empty
+    (the column does not apply, or the record is not judged) is None (NaN in a pandas number
+    column)."""
+    data = {c: [getattr(r, c) for r in records] for c in columns}
     try:
         import pandas
     except ImportError:
-        return columns
-    return pandas.DataFrame(columns)
+        return data
+    return pandas.DataFrame(data)  # the dict keeps the columns in order
+
+
+def warnings_table(warnings):
+    """Warning episodes (WarningEpisode) as a table with warnings.csv's columns."""
+    return _table(warnings, WARNING_COLUMNS)
+
+
+def conflicts_table(conflicts):
+    """Conflicts (Conflict, Monitor.take_conflicts) as a table with conflicts.csv's columns."""
+    return _table(conflicts, CONFLICT_COLUMNS)
+
+
+def events_table(events):
+    """Near misses and unsignalled crossings (HindsightEvent, Monitor.take_events) as a table with
+    events.csv's columns."""
+    return _table(events, EVENT_COLUMNS)
+
+
+def alerts_table(alerts):
+    """Alerts (Monitor.alerts) as a table with ALERT_COLUMNS."""
+    return _table(alerts, ALERT_COLUMNS)

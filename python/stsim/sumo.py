@@ -4,7 +4,9 @@ monitor in SUMO's conventions (front bumper, navigational degrees), where they a
 the same code as stsim's own SUMO coupling. The reads follow the coupling's: position, angle,
 speed, lateral speed; acceleration only for the constant-acceleration motion model, turn signals
 only when the road is checked, the route only for the road prediction; size, class and the
-vType's "mass" param once per type."""
+vType's "mass" param once per type; the next traffic light's link state and distance (with the
+route, on a network with lights: each light's state once a step, its links once); the persons on
+foot (position, angle, speed), after the vehicles, never equipped."""
 import math
 
 from ._stsim import Monitor
@@ -49,6 +51,49 @@ def _vehicle_type(conn, type_id):
 # TraCI's variable ids (traci.constants; libsumo has the same), so that this module needs neither
 _POSITION, _ANGLE, _SPEED, _LATERAL_SPEED = 0x42, 0x43, 0x40, 0x32
 _ACCELERATION, _SIGNALS, _TYPE, _ROUTE_ID, _ROUTE_INDEX = 0x72, 0x5b, 0x4f, 0x53, 0x69
+_LANE_ID, _LANE_POSITION, _PERSON_VEHICLE = 0x51, 0x56, 0xc3
+
+
+class _SignalBook:
+    """Each vehicle's next traffic light, as the C++ coupling reads it (cosim's SignalBook): the
+    state of the link its route takes at the end of its lane and the distance to that lane's end
+    (the stop line), from the lights' controlled links read once and each light's state read once
+    a step. A vehicle inside a junction, on a lane that ends at no light, or at the end of its
+    route has none."""
+
+    def __init__(self, conn):
+        self.ids = list(conn.trafficlight.getIDList())
+        self.links = {}        # (from edge, to edge) -> (light, link index): the first link between them
+        self.lane_length = {}  # lanes ending at a light -> their length (m)
+        for k, tls in enumerate(self.ids):
+            for i, links in enumerate(conn.trafficlight.getControlledLinks(tls)):
+                for link in links:
+                    from_lane, to_lane = link[0], link[1]
+                    if not from_lane or not to_lane:
+                        continue
+                    self.links.setdefault((conn.lane.getEdgeID(from_lane), conn.lane.getEdgeID(to_lane)), (k, i))
+                    if from_lane not in self.lane_length:
+                        self.lane_length[from_lane] = conn.lane.getLength(from_lane)
+        self.states = []
+
+    def read_states(self, conn):
+        self.states = [conn.trafficlight.getRedYellowGreenState(t) for t in self.ids]
+
+    def next(self, route, where):
+        """(link state letter, m to the stop line) or (None, 0.0); route: the edges from the
+        vehicle's current one on; where(): its lane id and position on it, asked only when the
+        route's next step passes a light."""
+        if route is None or len(route) < 2:
+            return None, 0.0
+        link = self.links.get((route[0], route[1]))
+        if link is None:
+            return None, 0.0
+        lane, position = where()
+        length = self.lane_length.get(lane)
+        state = self.states[link[0]]
+        if length is None or link[1] >= len(state):  # inside the junction already (or off its route's lane)
+            return None, 0.0
+        return state[link[1]], max(0.0, length - position)
 
 
 def _is_libsumo(conn):
@@ -67,11 +112,15 @@ class TraciVehicleReader:
     subscriptions over a TraCI socket (a call is a round trip). Both read the same values, bit for
     bit (tests/python/test_sumo.py)."""
 
-    def __init__(self, conn, acceleration=True, signals=True, route=True, subscribe=None):
+    def __init__(self, conn, acceleration=True, signals=True, route=True, subscribe=None, lights=True, persons=True):
         self.conn = conn
-        self.acceleration, self.signals, self.route = acceleration, signals, route
+        self.acceleration, self.signals, self.route, self.persons = acceleration, signals, route, persons
         self.subscribe = (not _is_libsumo(conn)) if subscribe is None else bool(subscribe)
         self.types = {}
+        # the lights matter only along a route (the stop line ahead on it)
+        self.lights = _SignalBook(conn) if lights and route else None
+        if self.lights is not None and not self.lights.ids:
+            self.lights = None
         self._variables = [_POSITION, _ANGLE, _SPEED, _LATERAL_SPEED, _TYPE]
         if acceleration:
             self._variables.append(_ACCELERATION)
@@ -79,12 +128,41 @@ class TraciVehicleReader:
             self._variables.append(_SIGNALS)
         if route:
             self._variables += [_ROUTE_ID, _ROUTE_INDEX]
+        if self.lights is not None:
+            self._variables += [_LANE_ID, _LANE_POSITION]
         self._routes = {}  # vehicle id -> (route id, its edges)
 
     def read(self):
-        """Every vehicle's state now, as read_traci_vehicles returns it."""
+        """Every vehicle's state now, as read_traci_vehicles returns it, followed by the persons on
+        foot (read_traci_persons) when there are any."""
+        if self.lights is not None:
+            self.lights.read_states(self.conn)
+        vehicles = self._read_vehicles()
+        if not self.persons:
+            return vehicles
+        persons = self._read_persons()
+        if not persons:
+            return vehicles
+        rows = vehicles if isinstance(vehicles, list) else [dict(zip(vehicles, v)) for v in zip(*vehicles.values())]
+        return rows + persons
+
+    def _read_persons(self):
         if not self.subscribe:
-            return read_traci_vehicles(self.conn, self.types, self.acceleration, self.signals, self.route)
+            return read_traci_persons(self.conn, self.types)
+        p = self.conn.person
+        ids = list(p.getIDList())
+        results = p.getAllSubscriptionResults()
+        for pid in ids:
+            if pid not in results:
+                p.subscribe(pid, [_POSITION, _ANGLE, _SPEED, _TYPE, _PERSON_VEHICLE])
+        results = p.getAllSubscriptionResults()
+        return _person_rows(self.conn, [pid for pid in ids if not results[pid][_PERSON_VEHICLE]], self.types,
+                            lambda pid: (results[pid][_POSITION], results[pid][_ANGLE], results[pid][_SPEED],
+                                         results[pid][_TYPE]))
+
+    def _read_vehicles(self):
+        if not self.subscribe:
+            return read_traci_vehicles(self.conn, self.types, self.acceleration, self.signals, self.route, self.lights)
         v = self.conn.vehicle
         ids = list(v.getIDList())
         results = v.getAllSubscriptionResults()
@@ -103,31 +181,62 @@ class TraciVehicleReader:
                 if known is None or known[0] != r[_ROUTE_ID]:  # a reroute gives the vehicle a new route id
                     known = self._routes[vid] = (r[_ROUTE_ID], list(v.getRoute(vid)))
                 route = known[1][max(0, r[_ROUTE_INDEX]):]
+            light = (self.lights.next(route, lambda: (r[_LANE_ID], r[_LANE_POSITION]))
+                     if self.lights is not None else None)
             return (r[_POSITION], r[_ANGLE], r[_SPEED], r[_LATERAL_SPEED],
                     r[_ACCELERATION] if self.acceleration else None, r[_SIGNALS] if self.signals else None,
-                    route, r[_TYPE])
+                    route, r[_TYPE], light)
 
-        return _columns(self.conn, ids, self.types, self.acceleration, self.signals, self.route, state)
+        return _columns(self.conn, ids, self.types, self.acceleration, self.signals, self.route, state,
+                        self.lights is not None)
 
 
-def read_traci_vehicles(conn, types=None, acceleration=True, signals=True, route=True):
+def read_traci_vehicles(conn, types=None, acceleration=True, signals=True, route=True, lights=None):
     """Every vehicle's state now, as columns in SUMO's conventions (Monitor.step_sumo takes them),
     read by one getter per variable and vehicle (TraciVehicleReader reads the same by subscription).
     `types` caches the vTypes between calls (a dict, filled here). With `route`, each vehicle's
-    route from its current edge on (what the road prediction follows through junctions)."""
+    route from its current edge on (what the road prediction follows through junctions). `lights`
+    (TraciVehicleReader's, its states read this step) adds next_signal and next_signal_distance."""
     v = conn.vehicle
 
     def state(vid):
+        edges = list(v.getRoute(vid))[max(0, v.getRouteIndex(vid)):] if route else None
+        light = (lights.next(edges, lambda: (v.getLaneID(vid), v.getLanePosition(vid)))
+                 if lights is not None else None)
         return (v.getPosition(vid), v.getAngle(vid), v.getSpeed(vid), v.getLateralSpeed(vid),
                 v.getAcceleration(vid) if acceleration else None, v.getSignals(vid) if signals else None,
-                list(v.getRoute(vid))[max(0, v.getRouteIndex(vid)):] if route else None, v.getTypeID(vid))
+                edges, v.getTypeID(vid), light)
 
-    return _columns(conn, list(v.getIDList()), {} if types is None else types, acceleration, signals, route, state)
+    return _columns(conn, list(v.getIDList()), {} if types is None else types, acceleration, signals, route, state,
+                    lights is not None)
 
 
-# `state(vid)`: (position, angle, speed, lateral speed, acceleration, signals, route, type id), None
-# where not read
-def _columns(conn, ids, types, acceleration, signals, route, state):
+def read_traci_persons(conn, types=None):
+    """The persons on foot now (a person riding a vehicle is its vehicle's), as rows in SUMO's
+    conventions: id, x, y, angle, speed and their vType's size and class (pedestrian, unless the
+    type says otherwise), never equipped, as the C++ coupling reads them."""
+    p = conn.person
+    ids = [pid for pid in p.getIDList() if not p.getVehicle(pid)]
+    return _person_rows(conn, ids, {} if types is None else types,
+                        lambda pid: (p.getPosition(pid), p.getAngle(pid), p.getSpeed(pid), p.getTypeID(pid)))
+
+
+def _person_rows(conn, ids, types, state):
+    rows = []
+    for pid in ids:
+        (x, y), angle, speed, type_id = state(pid)
+        t = types.get(type_id)
+        if t is None:
+            t = types[type_id] = _vehicle_type(conn, type_id)
+        row = {"id": pid, "x": x, "y": y, "angle": angle, "speed": speed, "equipped": False}
+        row.update(t)
+        rows.append(row)
+    return rows
+
+
+# `state(vid)`: (position, angle, speed, lateral speed, acceleration, signals, route, type id,
+# (next light's state, distance) or None), None where not read
+def _columns(conn, ids, types, acceleration, signals, route, state, lights=False):
     cols = {k: [] for k in ("x", "y", "angle", "speed", "lateral_speed", "length", "width", "decel", "vehicle_class")}
     cols["id"] = ids
     if acceleration:
@@ -136,9 +245,15 @@ def _columns(conn, ids, types, acceleration, signals, route, state):
         cols["signals"] = []
     if route:
         cols["route"] = []
+    if lights:
+        cols["next_signal"] = []
+        cols["next_signal_distance"] = []
     masses = []
     for vid in ids:
-        (x, y), angle, speed, lateral, accel, sig, edges, type_id = state(vid)
+        (x, y), angle, speed, lateral, accel, sig, edges, type_id, light = state(vid)
+        if lights:
+            cols["next_signal"].append(light[0])
+            cols["next_signal_distance"].append(light[1])
         cols["x"].append(x)
         cols["y"].append(y)
         cols["angle"].append(angle)
@@ -183,8 +298,10 @@ class TraciMonitor:
     TraciMonitor(conn, net=None, subscribe=None, **settings): conn is `traci`, a `traci.Connection`
     or `libsumo`; the road comes from `net` (a .net.xml) or, without it, from the lanes SUMO has
     loaded; `subscribe` as TraciVehicleReader's (None: subscriptions over TraCI, getters with
-    libsumo); settings are Monitor's. take_finished(), take_events(), open_warnings(), alerts(), counters, finish() as
-    Monitor's (finish() without a time closes at SUMO's current time)."""
+    libsumo); settings are Monitor's. take_finished(), take_conflicts(), take_events(), open_warnings(),
+    alerts(), counters, settings, finish() as Monitor's (finish() without a time closes at SUMO's
+    current time). It reads what the C++ coupling reads: the lights on the way (with the road
+    prediction) and the persons on foot."""
 
     def __init__(self, conn, net=None, subscribe=None, **settings):
         # a clear word for a connection that is not one (None raised a raw AttributeError later)
@@ -211,6 +328,10 @@ class TraciMonitor:
         """Episodes that ended since the last call (WarningEpisode), in order of ending."""
         return self.monitor.take_finished()
 
+    def take_conflicts(self):
+        """Conflicts (Conflict: conflicts.csv's rows) settled since the last call."""
+        return self.monitor.take_conflicts()
+
     def take_events(self):
         """Near misses and unsignalled crossings hindsight found since the last call (HindsightEvent)."""
         return self.monitor.take_events()
@@ -228,3 +349,8 @@ class TraciMonitor:
     def counters(self):
         """The monitor's work counters, by name."""
         return self.monitor.counters
+
+    @property
+    def settings(self):
+        """Every setting in effect, by its scenario key (as Monitor.settings)."""
+        return self.monitor.settings

@@ -1,7 +1,10 @@
 """SUMO's conventions (step_sumo, TraciMonitor): checked against the conversion done by hand, and
 TraciMonitor over Python's libsumo against stsim's own C++ SUMO coupling on the shipped motorway,
-the sublane network and SUMO's grid6; a route given through Python is followed through a junction."""
+the sublane network and SUMO's grid6, and with traffic lights and persons on foot on the signalised
+intersection and its crosswalks (warnings, conflicts.csv and events.csv alike); a route given
+through Python is followed through a junction."""
 import csv
+import json
 import math
 import pathlib
 import sys
@@ -141,10 +144,11 @@ def test_traci_monitor_equals_the_cxx_coupling(stsim_binary, tmp_path, network, 
 
 
 # the subscription reader against the getters, step by step: the motorway (mass params, departures
-# every step) and grid6 (routes through junctions, route indices that advance); over a TraCI socket
+# every step), grid6 (routes through junctions, route indices that advance, lights) and the
+# crosswalk (persons on foot, lights); over a TraCI socket
 # every 8th step (a getter is a round trip there), the subscriptions live between the reads
 @pytest.mark.parametrize("backend", ["libsumo", "traci"])
-@pytest.mark.parametrize("network", ["motorway/motorway", "experiments/real_networks/grid6"])
+@pytest.mark.parametrize("network", ["motorway/motorway", "experiments/real_networks/grid6", "crosswalk/crosswalk"])
 def test_the_subscription_reader_reads_what_the_getters_read(network, backend):
     cfg = network_config(network)
     conn = libsumo_module() if backend == "libsumo" else traci_module()
@@ -153,7 +157,7 @@ def test_the_subscription_reader_reads_what_the_getters_read(network, backend):
     try:
         reader = stsim.TraciVehicleReader(conn, subscribe=True)
         types = {}
-        reads = vehicles = route_moves = 0
+        reads = vehicles = route_moves = walking = signalled = 0
         last_route = {}
         step = 0
         while conn.simulation.getMinExpectedNumber() > 0 and conn.simulation.getTime() < end - 0.01:
@@ -162,19 +166,129 @@ def test_the_subscription_reader_reads_what_the_getters_read(network, backend):
             if backend == "traci" and step % 8:
                 continue
             got = reader.read()
-            want = stsim.read_traci_vehicles(conn, types)
+            want = stsim.read_traci_vehicles(conn, types, lights=reader.lights)  # the light states read() took
+            persons = stsim.read_traci_persons(conn, types)
+            if persons:  # after the vehicles, as rows
+                want = (want if isinstance(want, list) else [dict(zip(want, v)) for v in zip(*want.values())]) + persons
             assert got == want, f"t = {conn.simulation.getTime()}"
             rows = got if isinstance(got, list) else [dict(zip(got, v)) for v in zip(*got.values())]
             reads += 1
             vehicles += len(rows)
             for row in rows:
-                route_moves += last_route.get(row["id"], row["route"]) != row["route"]
-                last_route[row["id"]] = row["route"]
+                walking += row["vehicle_class"] == "pedestrian"
+                signalled += row.get("next_signal") is not None
+                route_moves += last_route.get(row["id"], row.get("route")) != row.get("route")
+                last_route[row["id"]] = row.get("route")
     finally:
         conn.close()
-    assert reads >= 10 and vehicles >= 20 * reads
-    if network.endswith("grid6"):
+    assert reads >= 10 and vehicles >= (5 if network.startswith("crosswalk") else 20) * reads
+    if not network.startswith("motorway"):
         assert route_moves > 10  # vehicles went from edge to edge along their routes
+        assert signalled > 10  # ... facing lights
+    assert (walking > 10) == network.startswith("crosswalk")  # persons on foot, read both ways
+
+
+# conflicts.csv's cells as Python gives them: text, a flag, a measure worked out to 0.001, else in full
+CONFLICT_TEXT = ("first", "second", "type", "first_lane", "second_lane", "first_class", "second_class")
+CONFLICT_DERIVED = ("pet", "drac", "delta_s", "dr", "max_d", "max_delta_v", "first_delta_v", "second_delta_v",
+                    "conflict_angle", "post_crash_speed", "post_crash_heading", "conflict_x", "conflict_y", "tet", "tit")
+
+
+def conflict_cell(column, text):
+    if column in CONFLICT_TEXT:
+        return text
+    if column == "open":
+        return text == "1"
+    return None if text == "" else float(text)
+
+
+def conflict_as_written(column, value):
+    if column in CONFLICT_DERIVED and value is not None and math.isfinite(value):
+        return float("%.3f" % value) + 0.0  # -0.000 is written 0
+    return value
+
+
+# Lights and persons, read by TraciMonitor as the C++ coupling reads them: the signalised
+# intersection (a car facing red is predicted to stop at its line) and the same with crosswalks and
+# persons on foot (pedestrian conflicts), over libsumo and over a TraCI socket; every warning,
+# conflict and event equal
+@pytest.mark.parametrize("network,backend", [("crosswalk/crosswalk", "libsumo"), ("crosswalk/crosswalk", "traci"),
+                                             ("intersection/intersection", "libsumo")])
+def test_traci_monitor_reads_lights_and_persons_as_the_cxx_coupling(stsim_binary, tmp_path, network, backend):
+    cfg = network_config(network)
+    end = 200.0
+    r = run_stsim(stsim_binary, "highway", cfg, "--end", end, "--action", "none", "--out", tmp_path / "cxx")
+    if "built without SUMO support" in r.stderr:
+        pytest.skip("stsim built without SUMO (-DSTSIM_WITH_SUMO=OFF)")
+    assert r.returncode == 0, r.stderr
+    with open(tmp_path / "cxx" / "warnings.csv", newline="") as f:
+        want = sorted((tuple(cell(c, r[c]) for c in stsim.WARNING_COLUMNS) for r in csv.DictReader(f)), key=episode)
+    with open(tmp_path / "cxx" / "conflicts.csv", newline="") as f:
+        reader = csv.DictReader(f)
+        assert tuple(reader.fieldnames) == stsim.CONFLICT_COLUMNS
+        want_conflicts = sorted(tuple(conflict_cell(c, r[c]) for c in stsim.CONFLICT_COLUMNS) for r in reader)
+    with open(tmp_path / "cxx" / "events.csv", newline="") as f:
+        want_events = [tuple(r[c] for c in stsim.EVENT_COLUMNS) for r in csv.DictReader(f)]
+    with open(tmp_path / "cxx" / "summary.json") as f:
+        summary = json.load(f)
+    assert len(want) > 10 and len(want_conflicts) > 3
+    if network.startswith("crosswalk"):
+        assert summary["persons"] > 20
+        assert "pedestrian" in {c[2] for c in want_conflicts}
+
+    conn = libsumo_module() if backend == "libsumo" else traci_module()
+    conn.start(sumo_args(cfg, end))
+    red = 0
+    try:
+        monitor = stsim.TraciMonitor(conn)
+        assert monitor.reader.lights is not None and monitor.reader.persons
+        dt = conn.simulation.getDeltaT()
+        events, conflicts = [], []
+        while conn.simulation.getMinExpectedNumber() > 0 and conn.simulation.getTime() < end - 0.5 * dt:
+            conn.simulationStep()
+            monitor.step()
+            events += monitor.take_events()
+            conflicts += monitor.take_conflicts()
+            red += sum(1 for light in monitor.reader.lights.states for s in light if s == "r")
+        monitor.finish()
+        conflicts += monitor.take_conflicts()
+        got = sorted((tuple(as_written(c, getattr(w, c)) for c in stsim.WARNING_COLUMNS)
+                      for w in monitor.take_finished()), key=episode)
+        counters = monitor.counters
+        assert monitor.settings == stsim.Monitor().settings  # the defaults, as the C++ run's
+    finally:
+        conn.close()
+    assert red > 0
+    assert counters["persons_seen"] == summary["persons"]
+    assert got == want  # bit for bit
+    assert sorted(tuple(conflict_as_written(c, getattr(k, c)) for c in stsim.CONFLICT_COLUMNS)
+                  for k in conflicts) == want_conflicts
+    table = stsim.events_table(events)
+    rows = table.to_dict("list") if hasattr(table, "to_dict") else table
+
+    def event_cell(column, text):
+        if column in ("kind", "ego", "foe", "lane"):
+            return text
+        if column == "warned":
+            return text == "1"
+        return None if text == "" else float(text)
+
+    def value(v):  # pandas gives a missing number as NaN
+        return None if isinstance(v, float) and math.isnan(v) else v
+
+    written = [tuple(value(v) for v in r) for r in zip(*(rows[c] for c in stsim.EVENT_COLUMNS))]
+    assert written == [tuple(event_cell(c, t) for c, t in zip(stsim.EVENT_COLUMNS, r)) for r in want_events]
+
+def test_tables_have_the_files_columns():
+    # every table of the module has its CSV file's columns, in order, and each record has each
+    for make, columns in ((stsim.warnings_table, stsim.WARNING_COLUMNS), (stsim.conflicts_table, stsim.CONFLICT_COLUMNS),
+                          (stsim.events_table, stsim.EVENT_COLUMNS), (stsim.alerts_table, stsim.ALERT_COLUMNS)):
+        table = make([])
+        assert list(table.keys() if isinstance(table, dict) else table.columns) == list(columns)
+    for cls, columns in ((stsim.WarningEpisode, stsim.WARNING_COLUMNS), (stsim.Conflict, stsim.CONFLICT_COLUMNS),
+                         (stsim.HindsightEvent, stsim.EVENT_COLUMNS), (stsim.Alert, stsim.ALERT_COLUMNS)):
+        missing = [c for c in columns if not hasattr(cls, c)]
+        assert not missing, (cls.__name__, missing)
 
 
 def test_a_route_is_followed_through_a_junction():

@@ -195,8 +195,9 @@ std::string eventCsvRow(const HindsightEvent& e) {
   return os.str();
 }
 
-EventsCsvWriter::EventsCsvWriter(const std::filesystem::path& path)
-    : CsvRowWriter(path, "time,kind,ego,foe,x,y,lane,speed,gap,lateral_speed,warned,lead") {}
+std::string eventsCsvHeader() { return "time,kind,ego,foe,x,y,lane,speed,gap,lateral_speed,warned,lead"; }
+
+EventsCsvWriter::EventsCsvWriter(const std::filesystem::path& path) : CsvRowWriter(path, eventsCsvHeader()) {}
 void EventsCsvWriter::write(std::span<const HindsightEvent> events) {
   for (const HindsightEvent& e : events) row(eventCsvRow(e));
 }

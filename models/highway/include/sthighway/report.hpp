@@ -44,6 +44,7 @@ class EventsCsvWriter : public CsvRowWriter {
   explicit EventsCsvWriter(const std::filesystem::path& path);
   void write(std::span<const HindsightEvent> events);
 };
+std::string eventsCsvHeader();
 std::string eventCsvRow(const HindsightEvent& e);
 
 // conflicts.csv: one row per conflict (Conflict: an unordered pair and one encounter below TTC*),
