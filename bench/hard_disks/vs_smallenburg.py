@@ -13,7 +13,11 @@ wall hits left out. Both warm up first and time only what follows, over the same
 collisions.
 
 usage: vs_smallenburg.py --edmd DIR [--hard-disks build/bench/hard_disks/hard_disks] [--n 4000 32000]
-                         [--phi 0.3] [--rounds 2]
+                         [--phi 0.3] [--rounds 2] [--before OLD_HARD_DISKS] [--stsim-args "--shell 0"]
+
+--before runs a second hard_disks (an older build) in the same alternation and prints its ratio
+too (a hot-path change measured before/after and against the reference in one run); --stsim-args
+are passed to both hard_disks runs.
 """
 import argparse
 import json
@@ -72,11 +76,11 @@ def run_reference(md, n, warm, measure, cwd):
     return int(m.group(1)) / float(m.group(2))
 
 
-def run_stsim(exe, n, phi, warm, measure):
+def run_stsim(exe, n, phi, warm, measure, extra=()):
     # hard_disks counts ball-ball + ball-wall; ask for enough that the ball-ball ones reach `measure`
     out = subprocess.run([exe, "--dim", "3", "--n", str(n), "--phi", str(phi), "--space", "cells", "--collisions",
-                          str(int(measure * 1.15)), "--warmup", str(warm), "--json"], check=True, capture_output=True,
-                         text=True).stdout
+                          str(int(measure * 1.15)), "--warmup", str(warm), "--json", *extra], check=True,
+                         capture_output=True, text=True).stdout
     j = json.loads(out.strip().splitlines()[-1])
     return j["ball_ball"] / j["cpu_seconds"], j["collisions"] / j["cpu_seconds"]
 
@@ -88,24 +92,33 @@ def main():
     ap.add_argument("--n", type=int, nargs="+", default=[4000, 32000, 256000])
     ap.add_argument("--phi", type=float, default=0.3)
     ap.add_argument("--rounds", type=int, default=2)
+    ap.add_argument("--before", help="an older hard_disks, run alternating with the others")
+    ap.add_argument("--stsim-args", default="", help="extra hard_disks arguments (both builds)")
     a = ap.parse_args()
+    extra = a.stsim_args.split()
     with tempfile.TemporaryDirectory() as scratch:
         md = build_reference(a.edmd, a.phi, scratch)
         print("3-D spheres, phi %.3g, pair collisions per CPU second (M/s); runs alternate, %d rounds" % (a.phi, a.rounds))
-        print("%8s %22s %22s %16s %22s" % ("N", "Smallenburg Single", "stsim cells (pairs)", "ratio", "stsim incl. walls"))
+        print("%8s %22s %22s %16s %22s" % ("N", "Smallenburg Single", "stsim cells (pairs)", "ratio", "stsim incl. walls")
+              + ("%22s %16s" % ("before (pairs)", "before ratio") if a.before else ""))
         for n in a.n:
             n = fcc_n(n)
             measure = min(max(2_000_000, 10 * n), 4_000_000)
             warm = max(1_000_000, 5 * n)
-            ref, ours, walls = [], [], []
+            ref, ours, walls, old = [], [], [], []
             for _ in range(a.rounds):
                 ref.append(run_reference(md, n, warm, measure, os.path.dirname(md)) / 1e6)
-                pairs, all_ = run_stsim(a.hard_disks, n, a.phi, warm, measure)
+                pairs, all_ = run_stsim(a.hard_disks, n, a.phi, warm, measure, extra)
                 ours.append(pairs / 1e6)
                 walls.append(all_ / 1e6)
+                if a.before:
+                    old.append(run_stsim(a.before, n, a.phi, warm, measure, extra)[0] / 1e6)
             rng = lambda v: "%.3f-%.3f" % (min(v), max(v))
             ratios = [o / r for o, r in zip(ours, ref)]
-            print("%8d %22s %22s %16s %22s" % (n, rng(ref), rng(ours), rng(ratios) + "x", rng(walls)))
+            line = "%8d %22s %22s %16s %22s" % (n, rng(ref), rng(ours), rng(ratios) + "x", rng(walls))
+            if a.before:
+                line += "%22s %16s" % (rng(old), rng([o / r for o, r in zip(old, ref)]) + "x")
+            print(line)
             sys.stdout.flush()
 
 

@@ -1,6 +1,7 @@
 #include <stcore/simulator.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <functional>
@@ -72,7 +73,8 @@ int Simulator<D>::addBall(const Vec<D>& p, const Vec<D>& v, double radius, doubl
   mark_.push_back(0u);
   if (lists_.enabled()) {
     lists_.add(i, radius);
-    space_.insert(i, boxOf(i, now_), lists_.listingMargin(radius));
+    nearWalls_.push_back(0u);
+    space_.insert(i, boundsOf<D>(p, 0.0), 0.0);
     rebuildList(i, now_);
   } else {
     space_.insert(i, boxOf(i, now_), spaceMargin(i));
@@ -85,7 +87,11 @@ int Simulator<D>::addBall(const Vec<D>& p, const Vec<D>& v, double radius, doubl
 template <int D>
 int Simulator<D>::addWall(const Wall<D>& w) {
   walls_.push_back({w.normal.normalized(), w.offset / w.normal.norm()});
-  return static_cast<int>(walls_.size()) - 1;
+  const int k = static_cast<int>(walls_.size()) - 1;
+  // the balls' lists were built without it: every ball checks it until its next rebuild
+  if (k < 32)
+    for (std::uint32_t& m : nearWalls_) m |= 1u << k;
+  return k;
 }
 
 template <int D>
@@ -191,14 +197,30 @@ void Simulator<D>::spaceUpdate(int i) {
   space_.update(i, boxOf(i, balls_[i].t), spaceMargin(i));
 }
 
-// Ball i's list centred where it is at time t: the space lists it there (its box grown by the
-// skin), and the balls sharing a cell with it are its candidates.
+// Ball i's list centred where it is at time t: the space lists its centre (one cell), and the
+// centres in the box of the search radius around it are its candidates. The walls it may reach
+// before it leaves its shell are marked.
 template <int D>
 void Simulator<D>::rebuildList(int i, double t) {
   const BallState<D>& b = balls_[i];
   const Vec<D> centre = b.positionAt(t);
-  space_.update(i, boundsOf<D>(centre, b.radius), lists_.listingMargin(b.radius));
-  lists_.rebuild(i, centre, [&](auto&& f) { space_.forEachNeighbor(i, f); });
+  space_.update(i, boundsOf<D>(centre, 0.0), 0.0);
+  const Aabb<D> search = boundsOf<D>(centre, lists_.searchRadius(i));
+  constexpr int kRoom = 512;
+  int found[kRoom];
+  const int n = space_.gatherInBox(search, found, kRoom);
+  if (n >= 0) {
+    lists_.rebuild(i, centre, [&](auto&& f) {
+      for (int k = 0; k < n; ++k) f(found[k]);
+    });
+  } else {
+    lists_.rebuild(i, centre, [&](auto&& f) { space_.forEachInBox(search, f); });
+  }
+  const double reach = b.radius + lists_.skin(b.radius) + tol::kRegionSlop;
+  std::uint32_t near = 0;
+  for (int w = 0; w < std::min(32, static_cast<int>(walls_.size())); ++w)
+    near |= static_cast<std::uint32_t>(std::abs(walls_[w].normal.dot(centre) - walls_[w].offset) < reach) << w;
+  nearWalls_[i] = near;
 }
 
 // A space that does not name the neighbours an update brings (a tree): ball i's membership moves
@@ -297,8 +319,9 @@ inline void Simulator<D>::pairCandidate(int i, int j, Next& best) {
 }
 
 // Ball i against ball j on straight paths.
+// A contact later than `limit` (absolute) may be skipped: the caller has an event by then.
 template <int D>
-inline void Simulator<D>::pairStraight(int i, int j, Next& best) const {
+inline void Simulator<D>::pairStraight(int i, int j, Next& best, double limit) const {
   const Motion& mi = motion_[i];
   const Motion& mj = motion_[j];
   const double t0 = std::max(mi.t, mj.t);
@@ -306,14 +329,23 @@ inline void Simulator<D>::pairStraight(int i, int j, Next& best) const {
   const Vec<D> p_rel = (mj.p + mj.v * (t0 - mj.t)) - (mi.p + mi.v * (t0 - mi.t));
   const Vec<D> v_rel = mj.v - mi.v;
   // toiBalls acts only on closing pairs (p_rel . v_rel < 0): skip the rest before its square root
-  if (!(p_rel.dot(v_rel) < 0.0)) return;
-  const Impact hit = toiBalls<D>(p_rel, v_rel, mi.radius + mj.radius);
+  const double b = p_rel.dot(v_rel);
+  if (!(b < 0.0)) return;
+  const double sigma = mi.radius + mj.radius;
+  // Smallenburg's early out: |p + v t|^2 - sigma^2 >= |p|^2 - sigma^2 + 2 b t, a falling line; if
+  // it is still positive at the horizon h (widened against rounding), no contact comes before it
+  const double h = (limit - t0) * (1.0 + 1e-9) + 1e-12;
+  if (p_rel.squaredNorm() - sigma * sigma + 2.0 * b * h > 1e-12 * sigma * sigma) return;
+  const Impact hit = toiBalls<D>(p_rel, v_rel, sigma);
   if (hit.acts()) consider(best, t0 + hit.actTime(), EventKind::BallBall, j);
 }
 
 template <int D>
 void Simulator<D>::predict(int i) {
   Next best;
+  // with lists, the ball rebuilds (and predicts again) when it leaves its shell: a contact after
+  // that need not be found, and the exit bounds every pair's search
+  const double exit = lists_.enabled() ? std::max(exitTime(i), now_) : kInf;
   {
     // gather, then predict: the neighbours' motion comes from memory while the cells are walked
     // (the order candidates arrive in does not matter: consider() breaks every tie)
@@ -359,7 +391,7 @@ void Simulator<D>::predict(int i) {
         m += static_cast<int>(p_rel.dot(mj.v - mi.v) < 0.0);
       }
       counters_.pairChecks += static_cast<std::uint64_t>(n);
-      for (int k = 0; k < m; ++k) pairStraight(i, closing[k], best);
+      for (int k = 0; k < m; ++k) pairStraight(i, closing[k], best, std::min(exit, best.t));
     } else {
       for (int k = 0; k < n; ++k) pairCandidate(i, gathered[k], best);
     }
@@ -367,7 +399,8 @@ void Simulator<D>::predict(int i) {
   if (accelerating(i)) predictObstaclesAccelerated(i, best);
   else predictObstacles(i, best);
   if (best.kind == EventKind::BallBall) best.otherGen = balls_[best.other].gen;
-  schedule(i, best);
+  if (lists_.enabled()) schedule(i, best, exit);
+  else schedule(i, best);
 }
 
 // After a Boundary event: the path is unchanged, so the physical prediction stands (a partner that
@@ -386,10 +419,15 @@ void Simulator<D>::predictGained(int i) {
 // The boundary time, then the heap.
 template <int D>
 void Simulator<D>::schedule(int i, const Next& best) {
+  schedule(i, best, std::max(exitTime(i), now_));
+}
+
+template <int D>
+void Simulator<D>::schedule(int i, const Next& best, double exit) {
   // field by field: a copy of the whole struct after writing exit into it stalls on store forwarding
   Next& n = next_[i];
   n.t = best.t;
-  n.exit = std::max(exitTime(i), now_);
+  n.exit = exit;
   n.other = best.other;
   n.otherGen = best.otherGen;
   n.kind = best.kind;
@@ -435,10 +473,17 @@ template <int D>
 void Simulator<D>::predictObstacles(int i, Next& best) {
   const BallState<D>& bi = balls_[i];
   const Ball<D> me{bi.p, bi.radius};
-  for (int w = 0; w < static_cast<int>(walls_.size()); ++w) {
+  auto wall = [&](int w) {
     ++counters_.staticChecks;
     const Impact hit = toiBallPlane<D>(me, bi.v, walls_[w].normal, walls_[w].offset);
     if (hit.acts()) consider(best, bi.t + hit.actTime(), EventKind::BallWall, w);
+  };
+  if (lists_.enabled()) {
+    // only the walls within reach of its shell (the rest cannot be touched before its rebuild)
+    for (std::uint32_t near = nearWalls_[i]; near != 0; near &= near - 1) wall(std::countr_zero(near));
+    for (int w = 32; w < static_cast<int>(walls_.size()); ++w) wall(w);
+  } else {
+    for (int w = 0; w < static_cast<int>(walls_.size()); ++w) wall(w);
   }
   if constexpr (D == 2) {
     for (int s = 0; s < static_cast<int>(segments_.size()); ++s) {

@@ -189,6 +189,13 @@ template <int D>
     s.forEachInBox(box, [&](int other) { got.push_back(other); });
     const std::set<int> gotSet(got.begin(), got.end());
     if (gotSet.size() != got.size()) return ::testing::AssertionFailure() << "box query reported an object twice";
+    if (cells) {  // the gathered box query is the visited one
+      std::vector<int> gathered(1 << 16);
+      const int n = s.gatherInBox(box, gathered.data(), static_cast<int>(gathered.size()));
+      if (n < 0) return ::testing::AssertionFailure() << "box query does not fit 2^16";
+      gathered.resize(static_cast<std::size_t>(n));
+      if (gathered != got) return ::testing::AssertionFailure() << "gathered box query differs from visited";
+    }
     const Aabb<D> clamped = clampTo(box, bounds);
     std::set<int> expected;
     for (int leaf : leaves)

@@ -196,6 +196,11 @@ template <class B>
 concept GathersNeighbors = requires(const B cb, int id, int* out) {
   { cb.gatherNeighbors(id, out, id) } -> std::same_as<int>;
 };
+// writes the objects forEachInBox visits to an array, in its order [-1: visit them]
+template <class B, int D>
+concept GathersInBox = requires(const B cb, const Aabb<D>& box, int* out) {
+  { cb.gatherInBox(box, out, 0) } -> std::same_as<int>;
+};
 // names the objects an update may have brought as neighbours [every neighbour]
 template <class B>
 concept ReportsGainedNeighbors = requires(const B cb, int id) { cb.forEachNeighborGained(id, [](int) {}); };

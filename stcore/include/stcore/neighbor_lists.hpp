@@ -29,9 +29,9 @@ class NeighborLists {
   bool enabled() const { return shell_ > 0.0; }
   // How far the ball may move from its centre (m).
   double skin(double radius) const { return shell_ * radius; }
-  // The margin a space lists a ball's centre box with, so that any two balls whose centres are
-  // within listing distance share a cell: the skin and the pair test's slop.
-  double listingMargin(double radius) const { return skin(radius) + tol::kRegionSlop; }
+  // How far from ball i's centre another ball's centre may lie and still be listed: a search of
+  // the centres within this distance finds every neighbour.
+  double searchRadius(int i) const { return reach_[i] + maxReach_ + tol::kRegionSlop; }
 
   // Ball i joins with an empty list (link it with rebuild).
   void add(int i, double radius) {
@@ -43,15 +43,18 @@ class NeighborLists {
     }
     count_[i] = 0;
     reach_[i] = (1.0 + shell_) * radius;
+    maxReach_ = std::max(maxReach_, reach_[i]);
   }
 
   // Ball i's list centred at `centre`: out of its old neighbours' lists, then into those of every
-  // candidate within reach. forEachCandidate(f) calls f(j) for a superset of them (j != i), each once.
+  // candidate within reach. forEachCandidate(f) calls f(j) for a superset of them, each once (i
+  // itself may be among them).
   template <class Candidates>
   void rebuild(int i, const Vec<D>& centre, Candidates&& forEachCandidate) {
     unlink(i);
     centre_[i] = centre;
     forEachCandidate([&](int j) {
+      if (j == i) return;
       // the slop: a pair exactly at reach after rounding in the exit times stays listed
       const double reach = reach_[i] + reach_[j] + tol::kRegionSlop;
       if ((centre_[j] - centre).squaredNorm() < reach * reach) {
@@ -116,6 +119,7 @@ class NeighborLists {
   std::vector<int> count_;
   std::vector<Vec<D>> centre_;
   std::vector<double> reach_;  // (1 + shell) r
+  double maxReach_ = 0.0;
 };
 
 }  // namespace st

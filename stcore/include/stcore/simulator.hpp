@@ -199,13 +199,14 @@ class Simulator {
   void predict(int i);
   void predictGained(int i);
   void pairCandidate(int i, int j, Next& best);
-  void pairStraight(int i, int j, Next& best) const;
+  void pairStraight(int i, int j, Next& best, double limit = std::numeric_limits<double>::infinity()) const;
   void pairCandidateAccelerated(int i, int j, Next& best);
   void predictObstacles(int i, Next& best);
   void predictObstaclesAccelerated(int i, Next& best);
   void consider(Next& best, double t, EventKind kind, int other) const;
   double exitTime(int i) const;
   void schedule(int i, const Next& best);
+  void schedule(int i, const Next& best, double exit);
   void process(int i);
   void advance(int i, double t);
   void redirect(int i, const Vec<D>& v);
@@ -235,6 +236,8 @@ class Simulator {
   std::vector<Motion> motion_;
   std::vector<Next> next_;
   NeighborLists<D> lists_;  // enabled with config_.neighborShell > 0
+  // with lists: per ball, bit w set if wall w (< 32) may be within reach before its list expires
+  std::vector<std::uint32_t> nearWalls_;
   EventHeap heap_;  // balls by next event
   std::vector<Wall<D>> walls_;
   std::vector<Vec<D>> points_;

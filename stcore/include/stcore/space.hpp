@@ -76,6 +76,14 @@ class Space {
       else return -1;
     });
   }
+  // Cells: the objects forEachInBox would visit, written to out in its order; how many, or -1 if
+  // more than `room` entries had to be looked at. Other kinds: -1 (visit them instead).
+  int gatherInBox(const Box& box, int* out, int room) const {
+    return visit([&](const auto& s) {
+      if constexpr (GathersInBox<std::decay_t<decltype(s)>, D>) return s.gatherInBox(box, out, room);
+      else return -1;
+    });
+  }
   // True if forEachNeighborGained names fewer than every neighbour (cells): a caller then checks
   // those after an update; otherwise it compares the leaves before and after (leavesOf).
   bool reportsGainedNeighbors() const { return reportsGains_; }

@@ -45,6 +45,10 @@ class UniformGrid {
   // The objects forEachNeighbor would visit, written to out in its order without a branch per
   // entry; how many, or -1 if more than `room` entries had to be looked at.
   int gatherNeighbors(int id, int* out, int room) const;
+  // The objects forEachInBox would visit, written to out in its order, a row of cells along the
+  // first axis at a time (contiguous cells, the other axes' corner bits fixed); how many, or -1 if
+  // more than `room` entries had to be looked at.
+  int gatherInBox(const Box& box, int* out, int room) const;
   // The objects of the cells entered by id's last update: a superset of its new neighbours.
   template <class F>
   void forEachNeighborGained(int id, F&& f) const;
@@ -182,6 +186,36 @@ inline int UniformGrid<D>::gatherNeighbors(int id, int* out, int room) const {
     }
   });
   return fits ? n : -1;
+}
+
+template <int D>
+inline int UniformGrid<D>::gatherInBox(const Box& box, int* out, int room) const {
+  constexpr int kAll = (1 << D) - 1;
+  Index lo, hi;
+  cellRange(detail::clampBox(box, bounds_), lo, hi);
+  int n = 0;
+  Index c = lo;
+  while (true) {
+    int rowBits = 0;
+    for (int k = 1; k < D; ++k) rowBits |= (c[k] == lo[k] ? 1 : 0) << k;
+    const int* cell = cellData_.data() + static_cast<std::ptrdiff_t>(cellIndex(c)) * stride_;
+    for (int x = lo[0]; x <= hi[0]; ++x, cell += stride_) {
+      const int count = cell[0];
+      if (n + count > room) return -1;
+      const int bits = rowBits | (x == lo[0] ? 1 : 0);
+      for (int k = 1; k <= count; ++k) {
+        out[n] = cell[k] >> D;
+        n += static_cast<int>(((cell[k] | bits) & kAll) == kAll);
+      }
+    }
+    int k = 1;
+    for (; k < D; ++k) {
+      if (++c[k] <= hi[k]) break;
+      c[k] = lo[k];
+    }
+    if (k == D) break;
+  }
+  return n;
 }
 
 template <int D>
