@@ -43,12 +43,10 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // cells of 1.2 diameters at phi 0.1-0.7 (stcore/README.md): a Boundary event re-checks only the
 // cells entered, so thin margins (more boundary events, fewer neighbours) pay, more so in 3-D.
 constexpr double kCellsMargin[2] = {0.2, 0.02};
-// Cells kind's default neighbour shell (SimulatorConfig::neighborShell) and cell edge in 2-D and
-// 3-D: spheres predict from neighbour lists with Smallenburg's shell of 1.5 diameters, their
-// centres in cells of 1.5 diameters (bench/RESULTS.md, issue 53); disks keep the thin-margin
-// cells, which measured faster than lists in 2-D.
-constexpr double kCellsShell[2] = {0.0, 0.5};
-constexpr double kCellsSize[2] = {1.2, 1.5};
+// Cells kind's default cell edge (diameters) in 2-D and 3-D. Neighbour lists (--shell) are off by
+// default: with Smallenburg's shell (--shell 0.5 --cell-size 1.5) spheres ran faster at N 4000,
+// even at 32 000 and slower at 256 000, and disks slower at 10^4 (bench/RESULTS.md, issue 53).
+constexpr double kCellsSize[2] = {1.2, 1.2};
 
 struct Options {
   std::vector<int> dims{2, 3};
@@ -62,7 +60,7 @@ struct Options {
   double cellSize = 0.0;      // cells kind: cell edge in diameters (0: kCellsSize)
   double margin = 0.0;        // SimulatorConfig::marginFactor when given, else kCellsMargin / simulator's
   bool marginGiven = false;
-  double shell = -1.0;        // SimulatorConfig::neighborShell (cells, none, single); <0: kCellsShell
+  double shell = 0.0;         // SimulatorConfig::neighborShell (cells, none, single)
   int decomposition = 5;      // tree kind: decomposition factor
   double interior = -1.0;     // interior margin w in diameters; <0: automatic
   bool json = false;
@@ -211,8 +209,7 @@ Result runPoint(const Point& pt, const Options& opt) {
   cfg.rule.minChildSizeRatio = 1.0;  // dense clusters would otherwise split down to maxDepth
   if (opt.marginGiven) cfg.marginFactor = opt.margin;
   else if (pt.kind == st::SpaceKind::Cells) cfg.marginFactor = kCellsMargin[D - 2];
-  if (opt.shell >= 0.0) cfg.neighborShell = pt.kind == st::SpaceKind::Tree ? 0.0 : opt.shell;
-  else if (pt.kind == st::SpaceKind::Cells) cfg.neighborShell = kCellsShell[D - 2];
+  if (pt.kind != st::SpaceKind::Tree) cfg.neighborShell = opt.shell;
   st::Aabb<D> box{Vec<D>::Zero(), Vec<D>::Constant(L)};
   st::Simulator<D> sim(box, cfg);
   for (int a = 0; a < D; ++a) {
@@ -406,12 +403,12 @@ const char* kUsage =
     "  --collisions K  measured collisions (ball-ball + ball-wall); default 10*N within [2e5, 1e6]\n"
     "                  (at 5e4 for none/single, which cost O(N) per prediction)\n"
     "  --warmup W      collisions discarded first (lattice melting); default K/2\n"
-    "  --cell-size C   cells kind: cell edge in diameters (default 1.2 in 2-D, 1.5 in 3-D)\n"
+    "  --cell-size C   cells kind: cell edge in diameters (default 1.2)\n"
     "  --margin M      fat-box margin as a fraction of the radius (default: cells 0.2 in 2-D,\n"
     "                  0.02 in 3-D; other kinds the simulator's 0.5)\n"
     "  --df F          tree kind: decomposition factor (default 5)\n"
     "  --shell S       neighbour lists with a shell of S radii (0.5: Smallenburg's 1.5 diameters;\n"
-    "                  default: cells 0 (none) in 2-D, 0.5 in 3-D; not for the tree kind)\n"
+    "                  default 0, none; not for the tree kind)\n"
     "  --interior W    pressure measured in the box shrunk by W diameters (default max(5, L/10))\n"
     "  --max-dz PCT    exit 1 if a point's Z is more than PCT % off its reference (Henderson in\n"
     "                  2-D, Carnahan-Starling in 3-D; fluids only: below phi 0.7 / 0.49)\n"
