@@ -84,7 +84,8 @@ void writeSummary(const fs::path& file, const std::string& scenario, const arm::
       << ", \"min_separation_m\": " << num(sc.minSeparation) << "},\n";
   }
   j << "  \"broadphase\": " << io::jsonString(broadphase) << ",\n";
-  if (const Space<3>* sp = m.space()) {
+  // the brute force (--broadphase none) has no regions to report
+  if (const Space<3>* sp = m.space(); sp->kind() != SpaceKind::None) {
     j << "  \"octree\": {\"decomposition_factor\": " << sp->rule().decompositionFactor
       << ", \"max_depth\": " << sp->rule().maxDepth << ", \"subdivisions\": " << sp->counters().subdivisions
       << ", \"reunions\": " << sp->counters().reunions << ", \"transfers\": " << sp->counters().transfers

@@ -176,15 +176,15 @@ Monitor::Monitor(std::vector<ArmInstance> arms, std::vector<Obstacle> obstacles,
     for (int o : moving_) sizes.push_back((swept_[nc + o].max - swept_[nc + o].min).maxCoeff() + 2.0 * broad_.margin);
     broad_.rule.maxDepth = depthFromScene(bounds_, sizes);
   }
-  if (broad_.kind != SpaceKind::None) {
-    space_.emplace(broad_.kind, bounds_, broad_.rule);
-    for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o) {
-      const int id = nc + o;
-      const double margin = obstacles_[o].moving() ? broad_.margin : 0.0;
-      fat_[id] = {swept_[id].min.array() - margin, swept_[id].max.array() + margin};
-      space_->insert(id, swept_[id], margin);
-      filedAt_[id] = ++fileClock_;
-    }
+  // SpaceKind::None is the brute force behind the same interface: every object a neighbour of
+  // every other, so the cycle below never asks which kind it has
+  space_ = Space<3>(broad_.kind, bounds_, broad_.rule);
+  for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o) {
+    const int id = nc + o;
+    const double margin = obstacles_[o].moving() ? broad_.margin : 0.0;
+    fat_[id] = {swept_[id].min.array() - margin, swept_[id].max.array() + margin};
+    space_.insert(id, swept_[id], margin);
+    filedAt_[id] = ++fileClock_;
   }
 }
 
@@ -282,13 +282,13 @@ MovingCapsule Monitor::movingCapsule(int i) const {
 void Monitor::refile(int id) {
   const double m = broad_.margin;
   fat_[id] = {swept_[id].min.array() - m, swept_[id].max.array() + m};
-  if (space_->contains(id)) space_->update(id, swept_[id], m);
-  else space_->insert(id, swept_[id], m);
+  if (space_.contains(id)) space_.update(id, swept_[id], m);
+  else space_.insert(id, swept_[id], m);
   ++counters_.refiled;
   filedAt_[id] = ++fileClock_;
   std::vector<int>& nb = neighbours_[id];
   nb.clear();
-  space_->forEachNeighbor(id, [&](int j) { nb.push_back(j); });
+  space_.forEachNeighbor(id, [&](int j) { nb.push_back(j); });
 }
 
 void Monitor::cycle(double t) {
@@ -313,13 +313,13 @@ void Monitor::cycle(double t) {
   for (int o : moving_) {
     obstaclesNow_[o] = advanced(obstacles_[o], t - t0_);
     swept_[nc + o] = obstacleSweep(obstaclesNow_[o], h, grow);
-    if (space_ && (!started_ || !inside(swept_[nc + o], fat_[nc + o]))) refile(nc + o);
+    if (!started_ || !inside(swept_[nc + o], fat_[nc + o])) refile(nc + o);
   }
   // arm capsules: swept boxes over the look-ahead; re-filed in the space only on leaving the fat box
   for (int i = 0; i < nc; ++i) {
     const MovingCapsule c = movingCapsule(i);
     swept_[i] = pointsBox({c.c.a, c.c.b, c.c.a + h * c.va, c.c.b + h * c.vb}, c.c.radius + grow);
-    if (space_ && (!started_ || !inside(swept_[i], fat_[i]))) refile(i);
+    if (!started_ || !inside(swept_[i], fat_[i])) refile(i);
   }
   started_ = true;
 
@@ -334,25 +334,18 @@ void Monitor::cycle(double t) {
   armWorst_.assign(arms_.size(), Warning{});
   for (Warning& w : armWorst_) w.t = t, w.distance = w.ttc = std::numeric_limits<double>::infinity(), w.outcome = Approach::Clear;
   for (ArmState& a : arms_) a.warned = false;
-  const int no = static_cast<int>(obstacles_.size());
-  if (space_) {
-    // each candidate pair from the neighbour list of its more recently filed member
-    for (int i = 0; i < nc; ++i) {
-      for (int j : neighbours_[i]) {
-        if (filedAt_[j] > filedAt_[i]) continue;
-        if (j >= nc) testObstacle(i, j - nc, t);
-        else testPair(std::min(i, j), std::max(i, j), t);
-      }
+  // each candidate pair from the neighbour list of its more recently filed member (the brute
+  // force lists every other object: all pairs, each once)
+  for (int i = 0; i < nc; ++i) {
+    for (int j : neighbours_[i]) {
+      if (filedAt_[j] > filedAt_[i]) continue;
+      if (j >= nc) testObstacle(i, j - nc, t);
+      else testPair(std::min(i, j), std::max(i, j), t);
     }
-    for (int o : moving_) {
-      for (int i : neighbours_[nc + o])
-        if (i < nc && filedAt_[i] < filedAt_[nc + o]) testObstacle(i, o, t);
-    }
-  } else {
-    for (int i = 0; i < nc; ++i) {
-      for (int j = i + 1; j < nc; ++j) testPair(i, j, t);
-      for (int o = 0; o < no; ++o) testObstacle(i, o, t);
-    }
+  }
+  for (int o : moving_) {
+    for (int i : neighbours_[nc + o])
+      if (i < nc && filedAt_[i] < filedAt_[nc + o]) testObstacle(i, o, t);
   }
   // STOP: issued on an arm's first warned cycle, held while warnings continue
   for (int ai = 0; ai < armCount(); ++ai) {

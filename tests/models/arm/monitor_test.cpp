@@ -116,6 +116,28 @@ TEST_P(Scenarios, OctreeInvariantsWhileMoving) {
 
 INSTANTIATE_TEST_SUITE_P(Shipped, Scenarios, ::testing::Values("two_pandas", "iiwa_truss", "panda_clutter"));
 
+// "none" is the brute force behind the Space interface (no null space): every pair that is not
+// allowed is a candidate, each once per cycle, on every shipped scenario.
+TEST_P(Scenarios, NoneIsTheBruteForceSpaceWithEveryPairOncePerCycle) {
+  Scenario s = loadScenario(scenarioPath(GetParam()));
+  s.broad.kind = SpaceKind::None;
+  Monitor m = makeMonitor(s);
+  ASSERT_NE(m.space(), nullptr);
+  EXPECT_EQ(m.space()->kind(), SpaceKind::None);
+  const int nc = m.capsuleCount();
+  std::uint64_t pairs = 0;
+  for (int i = 0; i < nc; ++i) {
+    for (int j = i + 1; j < nc; ++j) {
+      const int a = m.capsuleArm(i);
+      if (a != m.capsuleArm(j) || !m.arm(a).model.isAllowed(m.capsuleBody(i), m.capsuleBody(j))) ++pairs;
+    }
+  }
+  for (int a = 0; a < m.armCount(); ++a) ASSERT_TRUE(m.arm(a).allowedObstacles.empty()) << "count them below";
+  pairs += static_cast<std::uint64_t>(nc) * m.obstacles().size();
+  for (int k = 0; k < 3; ++k) m.cycle(0.001 * k);
+  EXPECT_EQ(m.counters().candidatePairs, 3 * pairs);
+}
+
 TEST(TwoPandas, StopBeforeFirstContact) {
   const Scenario s = loadScenario(scenarioPath("two_pandas"));
   Monitor m = makeMonitor(s);

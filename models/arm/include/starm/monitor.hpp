@@ -189,7 +189,8 @@ class Monitor {
   // capsule midpoint, box centre) at `position` at time t, moving at `velocity` from then on.
   void setObstaclePose(int o, double t, const Vec3& position, const Vec3& velocity);
   const MonitorCounters& counters() const { return counters_; }
-  const Space<3>* space() const { return space_ ? &*space_ : nullptr; }
+  // The broadphase, never null: SpaceKind::None is the brute force (every pair a candidate).
+  const Space<3>* space() const { return &space_; }
   Aabb3 spaceBounds() const { return bounds_; }
 
   // Introspection (tests, viewers): global capsule i of the arms at the current cycle time.
@@ -242,7 +243,8 @@ class Monitor {
   SafetyConfig safety_;
   BroadphaseConfig broad_;
   Aabb3 bounds_;
-  std::optional<Space<3>> space_;
+  // assigned its kind, bounds and rule once the constructor has found them
+  Space<3> space_{SpaceKind::None, Aabb3{Vec3::Constant(-1.0), Vec3::Constant(1.0)}, SpaceRule{}};
   double now_ = 0.0;
   double t0_ = 0.0;  // time the obstacles are given at
   bool started_ = false;
