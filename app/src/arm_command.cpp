@@ -6,11 +6,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <ranges>
+#include <set>
 #include <sstream>
 
 #include <starm/replay.hpp>
 #include <starm/scenario.hpp>
 #include <starm/service.hpp>
+#include <starm/settings.hpp>
 #include <starm/stream.hpp>
 #include <starm/study.hpp>
 #include <starm/urdf.hpp>
@@ -98,6 +101,55 @@ void writeSummary(const fs::path& file, const std::string& scenario, const arm::
   io::writeTextFile(file, j.str());
 }
 
+// The settings a command line gives (starm/settings.hpp): --set KEY=VALUE[,...] and the options
+// that stand for one key (--response: ssm.response). Each is checked by the table when the
+// scenario is read, over the file's values; unknown keys and keys given twice are named here.
+std::vector<arm::SettingOverride> settingOverrides(const Args& args) {
+  std::vector<arm::SettingOverride> out;
+  std::set<std::string> given;
+  auto add = [&](const std::string& key, const std::string& text, const std::string& option) {
+    const arm::Setting* s = arm::findSetting(key);
+    if (!s) throw UsageError(option + ": unknown setting '" + key + "' (stsim arm --settings lists them)");
+    // one key twice is a mistake to name, not to pass over: which value would count?
+    if (!given.insert(s->key).second) throw UsageError(option + ": " + key + " given twice");
+    out.push_back({s->key, text, option});
+  };
+  if (args.has("response")) add("ssm.response", args.get("response"), "--response");
+  if (args.has("set")) {
+    if (args.get("set").empty()) throw UsageError("--set needs KEY=VALUE[,...], got nothing");
+    for (const auto part : std::views::split(args.get("set"), ',')) {
+      const std::string item(part.begin(), part.end());
+      const auto eq = item.find('=');
+      if (eq == std::string::npos) throw UsageError("--set needs KEY=VALUE, got '" + item + "'");
+      add(item.substr(0, eq), item.substr(eq + 1), "--set " + item.substr(0, eq));
+    }
+  }
+  return out;
+}
+
+// A scenario with the command line's settings over its own: a bad value names its option.
+arm::Scenario loadWithSettings(const std::string& path, const std::vector<arm::SettingOverride>& overrides) {
+  try {
+    return arm::loadScenario(path, overrides);
+  } catch (const arm::SettingError& e) {
+    for (const arm::SettingOverride& o : overrides)
+      if (o.key == e.key()) throw UsageError(o.option + ": " + e.problem());
+    throw UsageError("--set " + e.key() + ": " + e.problem());
+  }
+}
+
+// An option that stands for a number key of the table (its default, its checks, its words).
+double settingOption(const Args& args, const std::string& option, const char* key) {
+  const arm::Setting& s = *arm::findSetting(key);
+  arm::Scenario scratch;
+  try {
+    arm::applySettingText(scratch, s, args.get(option));
+  } catch (const arm::SettingError& e) {
+    throw UsageError("--" + option + ": " + e.problem());
+  }
+  return std::get<double>(s.get(scratch));
+}
+
 // Persons beside working arms: binary STOP against speed scaling, closed loop, on each scenario.
 int runCoexistenceStudy(const Args& args) {
   std::vector<std::string> files;
@@ -166,8 +218,7 @@ int runStudy(const Args& args) {
   cfg.randomCourses = static_cast<int>(args.getInt("courses"));
   if (cfg.randomCourses < 0 || cfg.randomCourses > 100000) throw UsageError("--courses: expected 0..100000");
   cfg.seed = static_cast<std::uint64_t>(args.getInt("seed"));
-  cfg.stoppingTime = args.getDouble("stopping-time");
-  if (!(cfg.stoppingTime >= 0.0)) throw UsageError("--stopping-time: expected a time >= 0 (s)");
+  cfg.stoppingTime = settingOption(args, "stopping-time", "braking.stopping_time");
   if (!args.has("no-shipped")) {
     const fs::path dir = args.get("shipped");
     for (const char* n : {"two_pandas", "iiwa_truss", "panda_clutter"}) {
@@ -232,13 +283,6 @@ long intIn(const Args& args, const std::string& name, long lo, long hi) {
   return v;
 }
 
-// A time option in seconds, >= 0 and at most an hour.
-double secondsIn(const Args& args, const std::string& name) {
-  const double v = args.getDouble(name);
-  if (!(v >= 0.0 && v <= 3600.0)) throw UsageError("--" + name + ": expected a time in 0..3600 s, got " + args.get(name));
-  return v;
-}
-
 net::HostPort hostPort(const std::string& option, const std::string& text) {
   const auto hp = net::parseHostPort(text);
   if (!hp) throw UsageError("--" + option + ": expected HOST:PORT, got '" + text + "'");
@@ -261,6 +305,7 @@ int runServe(int argc, const char* const* argv) {
   args.option("frame-timeout", "MS", "time a client has to finish a frame it has begun", "2000");
   args.option("budget-us", "US", "a cycle computing longer than this is STOP for every arm (cause deadline); "
               "default the scenario's cycle time, 0: not watched", "");
+  args.option("set", "KEY=VALUE,...", "settings over the scenario's (stsim arm --settings lists them)", "");
   if (!args.parse(argc, argv)) {
     std::cout << args.help();
     return 0;
@@ -275,7 +320,7 @@ int runServe(int argc, const char* const* argv) {
   cfg.net.frameTimeout = std::chrono::milliseconds(intIn(args, "frame-timeout", 1, 3600000));
   cfg.token = args.get("token");
   cfg.logDir = args.get("out");
-  const arm::Scenario sc = arm::loadScenario(*args.positionalValue(0));
+  const arm::Scenario sc = loadWithSettings(*args.positionalValue(0), settingOverrides(args));
   cfg.cycleBudgetUs = args.get("budget-us").empty() ? sc.safety.cycleTime * 1e6 : args.getDouble("budget-us");
   if (!(cfg.cycleBudgetUs >= 0.0 && cfg.cycleBudgetUs <= 3.6e9))
     throw UsageError("--budget-us: expected a time in 0..3.6e9 us, got " + args.get("budget-us"));
@@ -300,8 +345,9 @@ int runStreamCommand(int argc, const char* const* argv) {
   args.option("connect", "HOST:PORT", "the service", "");
   args.option("rate", "X", "replay speed (1: real time; 0: as fast as the verdicts come back)", "1");
   args.option("token", "TEXT", "shared token of the service", "");
-  args.option("stopping-time", "S", "how this replay brakes on STOP (s)", "0.2");
-  args.option("delay", "S", "from a STOP verdict to braking (s)", "0.01");
+  args.option("stopping-time", "S", "how this replay brakes on STOP (s; as braking.stopping_time)",
+              arm::defaultText("braking.stopping_time"));
+  args.option("delay", "S", "from a STOP verdict to braking (s; as braking.delay)", arm::defaultText("braking.delay"));
   args.flag("open-loop", "record verdicts but do not brake");
   args.option("out", "DIR", "folder of stream_verdicts.csv", "arm-stream");
   if (!args.parse(argc, argv)) {
@@ -321,8 +367,8 @@ int runStreamCommand(int argc, const char* const* argv) {
   if (!(cfg.rate == 0.0 || (cfg.rate >= 1e-3 && cfg.rate <= 1e6)))
     throw UsageError("--rate: expected 0 (as fast as possible) or a speed in 0.001..1e6, got " + args.get("rate"));
   cfg.closedLoop = !args.has("open-loop");
-  cfg.braking.stoppingTime = secondsIn(args, "stopping-time");
-  cfg.braking.delay = secondsIn(args, "delay");
+  cfg.braking.stoppingTime = settingOption(args, "stopping-time", "braking.stopping_time");
+  cfg.braking.delay = settingOption(args, "delay", "braking.delay");
   cfg.outDir = args.get("out");
   arm::StreamResult r;
   auto report = [&] {
@@ -428,15 +474,31 @@ int runArm(int argc, const char* const* argv) {
               "person_*.yaml in --shipped)", "");
   args.option("courses", "N", "--study: random two-Panda courses", "200");
   args.option("seed", "N", "--study: seed of the random courses", "1");
-  args.option("stopping-time", "S", "--study: the arms' real stopping time (s)", "0.2");
+  args.option("stopping-time", "S", "--study: the arms' real stopping time (s; as braking.stopping_time)",
+              arm::defaultText("braking.stopping_time"));
   args.option("shipped", "DIR", "--study: folder of the shipped scenarios", "models/arm/scenarios");
   args.flag("no-shipped", "--study: random courses only");
   args.option("budget-us", "US", "compute budget of a cycle (readings + detection + persons); default the cycle "
               "time. Cycles over it are counted, listed in deadlines.csv and flagged", "");
   args.option("response", "R", "persons: stop (binary), scaling (speed factor) or pfl (scaling, contact within ISO/TS 15066 Annex A's limits), instead of the scenario's ssm.response", "");
   args.option("record-trace", "FILE", "write the readings applied as a CSV sensor trace (for stsim arm stream)", "");
+  args.option("set", "KEY=VALUE,...", "settings over the scenario's, e.g. safety.stopping_time=0.3 (checked as "
+              "in the YAML; --settings lists them)", "");
+  args.flag("settings", "print every setting (key, range, default, what it sets) and exit; with SCENARIO and "
+            "--set, the values in effect");
   if (!args.parse(argc, argv)) {
     std::cout << args.help();
+    return 0;
+  }
+  if (args.has("settings")) {
+    const std::vector<arm::SettingOverride> overrides = settingOverrides(args);
+    if (!args.positionalValue(0)) {
+      if (!overrides.empty()) throw UsageError("--settings: " + overrides.front().option + " needs a SCENARIO");
+      std::cout << arm::settingsReferenceMarkdown();
+      return 0;
+    }
+    const arm::Scenario sc = loadWithSettings(*args.positionalValue(0), overrides);
+    std::cout << arm::settingsReferenceMarkdown(&sc, "in effect");
     return 0;
   }
   if (args.has("study")) {
@@ -448,7 +510,7 @@ int runArm(int argc, const char* const* argv) {
   const std::string path = *args.positionalValue(0);
   if (fs::path(path).extension() == ".urdf") return describeUrdf(path);
   const bool closedLoop = !args.has("open-loop");
-  arm::Scenario sc = arm::loadScenario(path);
+  arm::Scenario sc = loadWithSettings(path, settingOverrides(args));
   const std::string bp = args.get("broadphase");
   if (bp == "none") sc.broad.kind = SpaceKind::None;
   else if (!bp.empty() && bp != "octree" && bp != "tree") throw UsageError("--broadphase: expected octree or none");
@@ -468,13 +530,6 @@ int runArm(int argc, const char* const* argv) {
   arm::SensorSource& sensor = *chosen;
   Watch watch;
   // persons: speed and separation monitoring beside the collision monitor
-  if (!args.get("response").empty()) {
-    const std::string r = args.get("response");
-    if (r == "stop") sc.ssm.response = arm::SsmResponse::Stop;
-    else if (r == "scaling") sc.ssm.response = arm::SsmResponse::Scaling;
-    else if (r == "pfl") sc.ssm.response = arm::SsmResponse::Pfl;
-    else throw UsageError("--response: expected stop, scaling or pfl, got '" + r + "'");
-  }
   arm::PersonSet persons = arm::makePersons(sc);
   arm::DeadlineWatch deadline;
   deadline.budgetUs = args.get("budget-us").empty() ? sc.safety.cycleTime * 1e6 : args.getDouble("budget-us");

@@ -5,10 +5,13 @@
 #include <exception>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <random>
+#include <set>
 
 #include <yaml-cpp/yaml.h>
 
+#include <starm/settings.hpp>
 #include <starm/urdf.hpp>
 #include <stio/format.hpp>
 #include <stio/yaml.hpp>
@@ -20,7 +23,6 @@ namespace {
 // Bounds on the work one scenario may ask for (s; cycles).
 constexpr double kMaxLookAhead = 60.0;
 constexpr double kMaxCycles = 1e7;
-constexpr double kMaxSeparation = 10.0;  // m
 constexpr double kMaxBaseOffset = 100.0;  // m: an arm's base from the workcell's origin, per axis
 
 // Error helpers: every message is "file:line: key: what".
@@ -99,10 +101,13 @@ struct Yaml {
     return true;
   }
   void knownKeys(const YAML::Node& n, const std::string& key, std::initializer_list<const char*> keys) const {
-    if (!n.IsMap()) fail(n, key, "expected a mapping");
-    io::Yaml<InputError>(file).onlyKeys(n, key, [&](const std::string& k) {
+    knownKeysIf(n, key, [&](const std::string& k) {
       return std::find_if(keys.begin(), keys.end(), [&](const char* s) { return k == s; }) != keys.end();
     });
+  }
+  void knownKeysIf(const YAML::Node& n, const std::string& key, const std::function<bool(const std::string&)>& known) const {
+    if (!n.IsMap()) fail(n, key, "expected a mapping");
+    io::Yaml<InputError>(file).onlyKeys(n, key, known);
   }
 };
 
@@ -292,33 +297,10 @@ void parseSsm(const Yaml& y, const YAML::Node& root, Scenario& s) {
   c.cycleTime = s.safety.cycleTime;
   c.reactionTime = s.safety.cycleTime + s.braking.delay;
   c.stoppingTime = s.braking.stoppingTime;
-  if (const YAML::Node n = root["ssm"]) {
-    y.knownKeys(n, "ssm", {"response", "body_speed", "hand_speed", "intrusion", "person_uncertainty", "robot_uncertainty",
-                           "robot_speed", "arm_mass", "payload"});
-    if (n["response"]) {
-      const std::string r = y.text(n["response"], "ssm.response");
-      if (r == "stop") c.response = SsmResponse::Stop;
-      else if (r == "scaling") c.response = SsmResponse::Scaling;
-      else if (r == "pfl") c.response = SsmResponse::Pfl;
-      else y.fail(n["response"], "ssm.response", "expected stop, scaling or pfl, got '" + r + "'");
-    }
-    c.bodySpeed = y.positive(n, "body_speed", "ssm", c.bodySpeed);
-    c.handSpeed = y.positive(n, "hand_speed", "ssm", c.handSpeed);
-    c.robotSpeed = y.positive(n, "robot_speed", "ssm", c.robotSpeed);
-    c.armMass = y.positive(n, "arm_mass", "ssm", c.armMass);
-    c.payload = y.number(n, "payload", "ssm", c.payload);
-    if (!(c.payload >= 0.0 && c.payload <= 1000.0)) y.fail(n["payload"], "ssm.payload", "expected 0..1000 kg");
-    for (const auto& [name, field] : {std::pair{"intrusion", &c.intrusion}, std::pair{"person_uncertainty", &c.personUncertainty},
-                                      std::pair{"robot_uncertainty", &c.robotUncertainty}}) {
-      *field = y.number(n, name, "ssm", *field);
-      if (*field < 0.0 || *field > kMaxSeparation)
-        y.fail(n[name], std::string("ssm.") + name, "expected 0.." + io::number(kMaxSeparation) + " m");
-    }
-  }
   const YAML::Node persons = y.list(root["persons"], "persons");
   if (!persons) return;
   if (s.braking.deceleration > 0.0)
-    y.fail(root["braking"]["deceleration"], "braking.deceleration",
+    y.fail(root["braking"] ? root["braking"]["deceleration"] : root, "braking.deceleration",
            "persons need the drive's stopping time (braking.stopping_time) for S_s, not a deceleration");
   for (std::size_t i = 0; i < persons.size(); ++i) {
     const std::string key = "persons[" + std::to_string(i) + "]";
@@ -405,93 +387,73 @@ void parseSsm(const Yaml& y, const YAML::Node& root, Scenario& s) {
   }
 }
 
-Scenario parseScenario(const std::string& path, const YAML::Node& root) {
+// The node of a nested key ("safety.cycle_time") under root; an undefined node if absent.
+YAML::Node settingNode(const YAML::Node& root, const std::string& key) {
+  const auto dot = key.find('.');
+  const YAML::Node section = root[key.substr(0, dot)];
+  if (!section || !section.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
+  return section[key.substr(dot + 1)];
+}
+
+// The settings of the table (starm/settings.hpp): the YAML's, then the command line's over them,
+// each checked and worded by the table; then the keys that follow another, then what no single
+// key can check. A YAML value's error names its file, line and key; a command-line value's is a
+// SettingError the front end words with its option.
+void applySettings(const Yaml& y, const YAML::Node& root, const std::vector<SettingOverride>& overrides, Scenario& s) {
+  // the sections hold the table's keys (and octree's bounds, a box, read apart)
+  for (const char* section : {"safety", "braking", "octree", "ssm"}) {
+    const YAML::Node n = root[section];
+    if (!n) continue;
+    const std::string prefix = std::string(section) + ".";
+    y.knownKeysIf(n, section, [&](const std::string& k) {
+      return findSetting(prefix + k) != nullptr || prefix + k == "octree.bounds";
+    });
+  }
+  std::map<std::string, YAML::Node> fromYaml;
+  for (const Setting& setting : armSettings()) {
+    const YAML::Node n = settingNode(root, setting.key);
+    if (!n) continue;
+    if (!n.IsScalar()) y.fail(n, setting.key, "must be " + expected(setting));
+    try {
+      applySettingText(s, setting, n.Scalar());
+    } catch (const SettingError& e) {
+      y.fail(n, e.key(), e.problem());
+    }
+    fromYaml[setting.key] = n;
+  }
+  std::set<std::string> fromCli;
+  for (const SettingOverride& o : overrides) {
+    const Setting* setting = findSetting(o.key);
+    if (!setting) throw SettingError(o.key, "is not a setting (stsim arm --settings lists them)");
+    applySettingText(s, *setting, o.text);
+    fromCli.insert(setting->key);
+  }
+  auto given = [&](std::string_view k) { return fromYaml.count(std::string(k)) > 0 || fromCli.count(std::string(k)) > 0; };
+  // a problem of key k: the option's if the command line gave it, else the YAML line's
+  auto fail = [&](const std::string& k, const std::string& problem) {
+    if (fromCli.count(k)) throw SettingError(k, problem);
+    const auto it = fromYaml.find(k);
+    const YAML::Node section = root[k.substr(0, k.find('.'))];
+    y.fail(it != fromYaml.end() ? it->second : section ? section : root, k, problem);
+  };
+  if (given("braking.stopping_time") && given("braking.deceleration"))
+    fail("braking.deceleration", "give either stopping_time or deceleration, not both");
+  followDefaults(s, given);
+  try {
+    checkSettings(s);
+  } catch (const SettingError& e) {
+    fail(e.key(), e.problem());
+  }
+}
+
+Scenario parseScenario(const std::string& path, const YAML::Node& root, const std::vector<SettingOverride>& overrides) {
   const Yaml y{path};
   y.knownKeys(root, "", {"safety", "octree", "models", "arms", "trace", "duration", "obstacles", "random_obstacles", "name",
                          "description", "braking", "persons", "ssm"});
   Scenario s;
   s.file = path;
-  if (const YAML::Node n = root["safety"]) {
-    y.knownKeys(n, "safety", {"cycle_time", "reaction_time", "stopping_time", "min_separation", "horizon", "latch_stale"});
-    if (n["latch_stale"]) s.safety.latchStale = y.boolean(n["latch_stale"], "safety.latch_stale");
-    s.safety.cycleTime = y.positive(n, "cycle_time", "safety", s.safety.cycleTime);
-    s.safety.reactionTime = y.number(n, "reaction_time", "safety", s.safety.reactionTime);
-    s.safety.stoppingTime = y.number(n, "stopping_time", "safety", s.safety.stoppingTime);
-    s.safety.minSeparation = y.number(n, "min_separation", "safety", s.safety.minSeparation);
-    s.safety.horizon = y.number(n, "horizon", "safety", 0.0);
-    if (s.safety.reactionTime < 0) y.fail(n["reaction_time"], "safety.reaction_time", "must not be negative");
-    if (s.safety.stoppingTime < 0) y.fail(n["stopping_time"], "safety.stopping_time", "must not be negative");
-    if (s.safety.minSeparation < 0) y.fail(n["min_separation"], "safety.min_separation", "must not be negative");
-    // every object is grown by half of it: 1e300 made every pair a warning (1.3 M of them)
-    if (s.safety.minSeparation > kMaxSeparation)
-      y.fail(n["min_separation"], "safety.min_separation",
-             io::number(s.safety.minSeparation) + " m is more than " + io::number(kMaxSeparation) + " m (a workcell's size)");
-    // each term of the safe time within the look-ahead bound on its own, so the one too long is
-    // the one named (stopping_time: 1e300 was blamed on the look-ahead or the horizon)
-    for (const auto& [name, value] : {std::pair{"cycle_time", s.safety.cycleTime}, std::pair{"reaction_time", s.safety.reactionTime},
-                                      std::pair{"stopping_time", s.safety.stoppingTime}})
-      if (value > kMaxLookAhead)
-        y.fail(n[name], std::string("safety.") + name,
-               io::number(value) + " s is more than the " + std::to_string(static_cast<int>(kMaxLookAhead)) +
-                   " s look-ahead limit");
-    if (s.safety.horizon != 0.0 && s.safety.horizon < s.safety.safeTime())
-      y.fail(n["horizon"], "safety.horizon", "must be at least the safe time (cycle + reaction + stopping)");
-    // the work of a cycle grows with the look-ahead: 1e300 ran for minutes and wrote nothing
-    if (s.safety.lookAhead() > kMaxLookAhead)
-      y.fail(n["horizon"] ? n["horizon"] : n, n["horizon"] ? "safety.horizon" : "safety",
-             "the look-ahead (horizon, or cycle + reaction + stopping) must be at most " +
-                 std::to_string(static_cast<int>(kMaxLookAhead)) + " s");
-  }
-  // closed loop braking; defaults follow the safety terms
-  s.braking.stoppingTime = s.safety.stoppingTime;
-  s.braking.delay = s.safety.reactionTime;
-  if (const YAML::Node n = root["braking"]) {
-    y.knownKeys(n, "braking", {"stopping_time", "deceleration", "delay", "resume"});
-    if (n["stopping_time"] && n["deceleration"])
-      y.fail(n["deceleration"], "braking.deceleration", "give either stopping_time or deceleration, not both");
-    s.braking.stoppingTime = y.number(n, "stopping_time", "braking", s.braking.stoppingTime);
-    if (s.braking.stoppingTime < 0) y.fail(n["stopping_time"], "braking.stopping_time", "must not be negative");
-    if (n["deceleration"]) s.braking.deceleration = y.positive(n, "deceleration", "braking", 0.0);
-    s.braking.delay = y.number(n, "delay", "braking", s.braking.delay);
-    if (s.braking.delay < 0) y.fail(n["delay"], "braking.delay", "must not be negative");
-    if (const YAML::Node r = n["resume"]) {
-      if (r.IsScalar() && r.Scalar() == "never") {
-        s.braking.resumeAfter = std::numeric_limits<double>::infinity();
-      } else {
-        if (!r.IsScalar()) y.fail(r, "braking.resume", "expected never or a time (s)");
-        double v = 0.0;
-        try {
-          v = r.as<double>();
-        } catch (const YAML::Exception&) {
-          y.fail(r, "braking.resume", "expected never or a time (s), got '" + r.Scalar() + "'");
-        }
-        if (!std::isfinite(v) || v < 0) y.fail(r, "braking.resume", "expected never or a time >= 0 (s)");
-        s.braking.resumeAfter = v;
-      }
-    }
-  }
+  applySettings(y, root, overrides, s);
   if (const YAML::Node n = root["octree"]) {
-    y.knownKeys(n, "octree", {"kind", "decomposition_factor", "max_depth", "margin", "bounds", "cell_size"});
-    if (n["kind"]) {
-      const std::string k = y.text(n["kind"], "octree.kind");
-      if (!parseSpaceKind(k, s.broad.kind)) y.fail(n["kind"], "octree.kind", "unknown space kind '" + k + "'");
-    }
-    const YAML::Node dfNode = n["decomposition_factor"];
-    if (dfNode && dfNode.IsScalar() && dfNode.Scalar() == "auto") {
-      s.broad.rule.autoFactor = true;  // the space picks it as it runs (stcore/factor_tuner.hpp)
-    } else {
-      const double df = y.number(n, "decomposition_factor", "octree", s.broad.rule.decompositionFactor);
-      if (df < 1 || df != std::floor(df)) y.fail(n["decomposition_factor"], "octree.decomposition_factor", "expected an integer >= 1 or auto");
-      s.broad.rule.decompositionFactor = static_cast<int>(df);
-    }
-    const double md = y.number(n, "max_depth", "octree", s.broad.rule.maxDepth);
-    if (md < 0 || md > 20 || md != std::floor(md)) y.fail(n["max_depth"], "octree.max_depth", "expected an integer 0..20");
-    s.broad.rule.maxDepth = static_cast<int>(md);
-    if (n["max_depth"]) s.broad.depthFromScene = false;
-    s.broad.margin = y.number(n, "margin", "octree", s.broad.margin);
-    if (s.broad.margin < 0) y.fail(n["margin"], "octree.margin", "must not be negative");
-    s.broad.rule.cellSize = y.number(n, "cell_size", "octree", 0.25);
-    if (!(s.broad.rule.cellSize > 0)) y.fail(n["cell_size"], "octree.cell_size", "must be positive");
     if (const YAML::Node b = n["bounds"]) {
       y.knownKeys(b, "octree.bounds", {"min", "max"});
       s.broad.bounds = Aabb3{y.vec3(b["min"], "octree.bounds.min"), y.vec3(b["max"], "octree.bounds.max")};
@@ -643,10 +605,10 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root) {
 
 }  // namespace
 
-Scenario loadScenario(const std::string& path) {
+Scenario loadScenario(const std::string& path, const std::vector<SettingOverride>& overrides) {
   const YAML::Node root = io::Yaml<InputError>(path).load(path);
   try {
-    return parseScenario(path, root);
+    return parseScenario(path, root, overrides);
   } catch (const YAML::Exception& e) {
     // a shape the checks above did not foresee: still one line naming the file and line
     throw InputError(io::place(path, e.mark) + ": " + e.msg);

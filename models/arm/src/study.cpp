@@ -22,8 +22,6 @@ Scenario randomCourse(std::uint64_t seed, int index) {
   Scenario s;
   s.file = "random:" + std::to_string(seed) + "/" + std::to_string(index);
   s.safety = SafetyConfig{};
-  s.safety.stoppingTime = 0.2;
-  s.safety.horizon = 0.0;
   s.broad.kind = SpaceKind::Tree;
   s.broad.rule.maxDepth = 4;
   s.broad.depthFromScene = false;
@@ -48,8 +46,7 @@ Scenario randomCourse(std::uint64_t seed, int index) {
     s.arms.push_back(std::move(inst));
   }
   s.duration = 3.0;
-  s.braking.stoppingTime = s.safety.stoppingTime;
-  s.braking.delay = s.safety.reactionTime;
+  followDefaults(s);  // braking as the safety terms, as a scenario file without braking:
   return s;
 }
 

@@ -14,6 +14,7 @@
 #include <utility>
 
 #include <starm/scenario.hpp>
+#include <starm/settings.hpp>
 
 namespace st::arm {
 namespace {
@@ -326,7 +327,7 @@ TEST(ArmCli, OutOfRangeServiceOptionsAreRefusedNamingTheOption) {
       {"serve " + scenario("two_pandas") + " --hello-timeout 0", "--hello-timeout: expected 1..3600000, got 0"},
       {"stream --connect 127.0.0.1:1 " + (d / "t.csv").string() + " --rate 1e-20",
        "--rate: expected 0 (as fast as possible) or a speed in 0.001..1e6, got 1e-20"},
-      {"stream --connect 127.0.0.1:1 " + (d / "t.csv").string() + " --delay -1", "--delay: expected a time in 0..3600 s"},
+      {"stream --connect 127.0.0.1:1 " + (d / "t.csv").string() + " --delay -1", "--delay: must not be negative, got -1"},
   };
   for (const auto& [args, why] : cases) {
     const std::string cmd = "timeout 5 " + std::string(STSIM_BINARY) + " arm " + args + " --out " + (d / "o").string() +
@@ -359,6 +360,50 @@ TEST(ArmCli, SignalsStopAtAWholeCycleWithASummary) {
     for (std::string row; std::getline(in, row);) EXPECT_EQ(std::count(row.begin(), row.end(), ','), 8) << row;
     fs::remove_all(d);
   }
+}
+
+// stsim arm --settings prints the table; --set refuses what the YAML refuses, in its words, naming
+// the option; a value it accepts is the value in effect.
+TEST(ArmCli, SettingsPrintsTheTableAndSetSpeaksTheYamlsWords) {
+  const fs::path d = tempDir("settings");
+  Result r = stsim("--settings", d);
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out, settingsReferenceMarkdown());
+  for (const Setting& s : armSettings()) {
+    // beyond its range, or a word it does not take
+    const std::string bad = s.type == SettingType::Number || s.type == SettingType::Integer ? "1e9" : "nonsense";
+    Scenario scratch;
+    std::string problem;
+    try {
+      applySettingText(scratch, s, bad);
+    } catch (const SettingError& e) {
+      problem = e.problem();
+    }
+    ASSERT_FALSE(problem.empty()) << s.key;
+    r = stsim(scenario("two_pandas") + " --out " + (d / "o").string() + " --set " + s.key + "=" + bad, d);
+    EXPECT_EQ(r.code, 2) << s.key;
+    EXPECT_EQ(r.err, "stsim arm: --set " + std::string(s.key) + ": " + problem + "\n");
+  }
+  // the values in effect: the scenario's, the command line's over them (two_pandas gives no braking:
+  // braking.stopping_time follows the command line's safety.stopping_time)
+  r = stsim("--settings " + scenario("two_pandas") + " --set safety.stopping_time=0.25,ssm.response=pfl", d);
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("| `safety.stopping_time` | number in [0, 60] s | 0.25 |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| `braking.stopping_time` | number in [0, 60] s | 0.25 |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| `ssm.response` | one of stop, scaling, pfl | pfl |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| in effect |"), std::string::npos) << r.out;
+  // --response is ssm.response: its words, its option
+  r = stsim(scenario("person_walkup") + " --out " + (d / "o").string() + " --response maybe", d);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "stsim arm: --response: must be one of stop, scaling, pfl, got 'maybe'\n");
+  // an unknown key, a key twice
+  r = stsim(scenario("two_pandas") + " --set safety.cycle=1", d);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("unknown setting 'safety.cycle'"), std::string::npos) << r.err;
+  r = stsim(scenario("two_pandas") + " --set safety.horizon=1,safety.horizon=2", d);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("safety.horizon given twice"), std::string::npos) << r.err;
+  fs::remove_all(d);
 }
 
 }  // namespace

@@ -254,7 +254,7 @@ TEST(Scenario, BrakingKeys) {
   };
   EXPECT_NE(error("braking: {stopping_time: 0.1, deceleration: 3}\n").find(":2: braking.deceleration: give either"),
             std::string::npos);
-  EXPECT_NE(error("braking: {resume: sometimes}\n").find(":2: braking.resume: expected never or a time"), std::string::npos);
+  EXPECT_NE(error("braking: {resume: sometimes}\n").find(":2: braking.resume: must be a number or never, got 'sometimes'"), std::string::npos);
   EXPECT_NE(error("braking: {stoping_time: 0.1}\n").find("braking.stoping_time: unknown key"), std::string::npos);
   EXPECT_NE(error("braking: {delay: -1}\n").find("braking.delay: must not be negative"), std::string::npos);
   fs::remove(p);

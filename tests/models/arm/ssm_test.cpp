@@ -581,8 +581,8 @@ TEST(Ssm, BadPersonInputIsNamed) {
   const std::string arm = "arms:\n  - {name: a, model: panda, waypoints: [{t: 0, q: [0, 0, 0, -1, 0, 1, 0]}]}\n";
   expectError("fast.yaml", arm + "persons:\n  - {name: p, start: {xy: [2, 0]}, script: [{walk: {to: [1, 0], speed: 3}}]}\n",
               ":4: persons[0].script[0].walk.speed: 3 m/s is beyond ssm.body_speed 1.6 m/s");
-  expectError("resp.yaml", arm + "ssm: {response: maybe}\n", ":3: ssm.response: expected stop, scaling or pfl");
-  expectError("payload.yaml", arm + "ssm: {response: pfl, payload: -1}\n", ":3: ssm.payload: expected 0..1000 kg");
+  expectError("resp.yaml", arm + "ssm: {response: maybe}\n", ":3: ssm.response: must be one of stop, scaling, pfl, got 'maybe'");
+  expectError("payload.yaml", arm + "ssm: {response: pfl, payload: -1}\n", ":3: ssm.payload: must not be negative, got -1");
   expectError("mass.yaml", arm + "ssm: {response: pfl, arm_mass: 0}\n", ":3: ssm.arm_mass: must be positive");
   // the keys read: (b)'s masses give (b)'s hand limit worked out by hand above
   const fs::path ok = write("pfl.yaml", arm + "ssm: {response: pfl, arm_mass: 30, payload: 5}\n");

@@ -11,6 +11,7 @@
 #include <memory>
 #include <vector>
 
+#include <starm/monitor.hpp>
 #include <starm/sensor.hpp>
 
 namespace st::arm {
@@ -19,9 +20,10 @@ class Monitor;
 class SeparationMonitor;
 
 struct BrakeConfig {
-  double stoppingTime = 0.2;   // s, full speed to rest (used when deceleration is 0)
+  // the defaults follow the monitor's safety terms (settings: braking.* follows safety.*)
+  double stoppingTime = SafetyConfig{}.stoppingTime;  // s, full speed to rest (used when deceleration is 0)
   double deceleration = 0.0;   // rad/s^2, > 0: the fastest joint brakes at this; stopping time from it
-  double delay = 0.010;        // s, STOP cycle to the start of braking (at least the next reading)
+  double delay = SafetyConfig{}.reactionTime;  // s, STOP cycle to the start of braking (at least the next reading)
   // resume once no warning for this long (s); infinity: never
   double resumeAfter = std::numeric_limits<double>::infinity();
   bool resumes() const { return resumeAfter < std::numeric_limits<double>::infinity(); }

@@ -1,6 +1,8 @@
 #pragma once
 // Scenario files (YAML) and the run loop that drives a monitor from a sensor source.
 //
+// The scalar keys of safety, braking, octree and ssm are the settings table's (starm/settings.hpp,
+// docs/arm_settings.md: ranges, defaults, docs); the shape of a file:
 //   safety: {cycle_time: 0.001, reaction_time: 0.01, stopping_time: 0.2, min_separation: 0.02, horizon: 0.3}
 //   octree: {kind: tree|cells|single, decomposition_factor: 4, max_depth: 8, margin: 0.05, cell_size: 0.25,
 //            bounds: {min: [..], max: [..]}}
@@ -29,6 +31,7 @@
 #include <starm/drive.hpp>
 #include <starm/monitor.hpp>
 #include <starm/sensor.hpp>
+#include <starm/settings.hpp>
 #include <starm/ssm.hpp>
 
 namespace st::arm {
@@ -60,8 +63,10 @@ struct Scenario {
   SsmConfig ssm;
 };
 
-// Throws InputError naming the file, line and key.
-Scenario loadScenario(const std::string& path);
+// Throws InputError naming the file, line and key. The overrides set keys of the settings table
+// (starm/settings.hpp) over the file's, with the same checks; a bad one throws SettingError (the
+// front end names its option).
+Scenario loadScenario(const std::string& path, const std::vector<SettingOverride>& overrides = {});
 std::unique_ptr<SensorSource> makeSensor(const Scenario& s);
 Monitor makeMonitor(const Scenario& s);
 // The scenario's persons, scripted or traced (a trace is read here: InputError naming its line).

@@ -30,7 +30,7 @@ CourseOutcome runCourse(const Scenario& s, bool closedLoop);
 struct StudyConfig {
   int randomCourses = 200;
   std::uint64_t seed = 1;
-  double stoppingTime = 0.2;  // s, the arms' real braking (braking.stopping_time for every course)
+  double stoppingTime = BrakeConfig{}.stoppingTime;  // s, the arms' real braking (braking.stopping_time for every course)
   // the monitor's stopping term (safe time = cycle + reaction + this), one row each
   std::vector<double> assumedStopping{0.0, 0.025, 0.05, 0.075, 0.1, 0.15, 0.2, 0.3};
   std::vector<std::string> shipped;  // scenario files run besides the random courses

@@ -1,0 +1,307 @@
+#include <starm/settings.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+
+#include <starm/scenario.hpp>
+
+namespace st::arm {
+
+namespace {
+
+// the bound of a look-ahead term (s): the work of a cycle grows with the look-ahead
+constexpr double kMaxLookAhead = 60.0;
+constexpr const char* kLookAheadWhy = "the 60 s look-ahead limit";
+
+std::string fmtNumber(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.15g", x);
+  return buf;
+}
+
+double number(const SettingValue& v) { return std::get<double>(v); }
+bool isWord(const SettingValue& v) { return std::holds_alternative<std::string>(v); }
+const std::string& word(const SettingValue& v) { return std::get<std::string>(v); }
+
+std::vector<std::string_view> wordsOf(const char* words) {
+  std::vector<std::string_view> out;
+  std::string_view s(words);
+  while (!s.empty()) {
+    const auto bar = s.find('|');
+    out.push_back(s.substr(0, bar));
+    if (bar == std::string_view::npos) break;
+    s.remove_prefix(bar + 1);
+  }
+  return out;
+}
+
+std::string rangeText(const Setting& s) {
+  std::string out = s.aboveMin ? "(" : "[";
+  out += fmtNumber(s.min) + ", " + fmtNumber(s.max) + "]";
+  if (*s.unit) out.append(" ").append(s.unit);
+  return out;
+}
+
+// A plain number key of a struct field: Setting{key, Number, unit, min, max, ...} with set/get.
+#define ST_ARM_NUMBER(KEY, UNIT, MIN, MAX, ABOVE, WHY, FOLLOWS, DOC, FIELD)                           \
+  Setting {                                                                                           \
+    KEY, SettingType::Number, UNIT, MIN, MAX, ABOVE, "", WHY, FOLLOWS, DOC,                           \
+        [](Scenario& s, const SettingValue& v) { s.FIELD = number(v); },                               \
+        [](const Scenario& s) { return SettingValue(s.FIELD); }                                        \
+  }
+
+std::vector<Setting> makeTable() {
+  using T = SettingType;
+  return {
+      ST_ARM_NUMBER("safety.cycle_time", "s", 0.0, kMaxLookAhead, true, kLookAheadWhy, "",
+                    "the sensor period: one cycle of the monitor (a term of the safe time)", safety.cycleTime),
+      ST_ARM_NUMBER("safety.reaction_time", "s", 0.0, kMaxLookAhead, false, kLookAheadWhy, "",
+                    "from a warning to the start of braking (a term of the safe time)", safety.reactionTime),
+      ST_ARM_NUMBER("safety.stopping_time", "s", 0.0, kMaxLookAhead, false, kLookAheadWhy, "",
+                    "braking to rest, as the monitor assumes it (a term of the safe time)", safety.stoppingTime),
+      ST_ARM_NUMBER("safety.min_separation", "m", 0.0, 10.0, false, "10 m (a workcell's size)", "",
+                    "every object is grown by half of it: a pair closer than this is a contact", safety.minSeparation),
+      ST_ARM_NUMBER("safety.horizon", "s", 0.0, kMaxLookAhead, false, kLookAheadWhy, "",
+                    "look-ahead of the time-to-collision search, at least the safe time; 0: the safe time "
+                    "(cycle + reaction + stopping)",
+                    safety.horizon),
+      {"safety.latch_stale", T::Boolean, "", 0, 0, false, "", "", "",
+       "a STOP because an arm's sensor fell silent holds until reset (a deliberate restart); false: it clears itself",
+       [](Scenario& s, const SettingValue& v) { s.safety.latchStale = std::get<bool>(v); },
+       [](const Scenario& s) { return SettingValue(s.safety.latchStale); }},
+      ST_ARM_NUMBER("braking.stopping_time", "s", 0.0, kMaxLookAhead, false, kLookAheadWhy, "safety.stopping_time",
+                    "closed loop: how long a STOPped arm takes to rest (the drive's own, T_s of the persons' "
+                    "separation)",
+                    braking.stoppingTime),
+      {"braking.deceleration", T::Number, "rad/s^2", 0.0, 1e6, true, "", "", "",
+       "closed loop, instead of braking.stopping_time: the fastest joint brakes at this (0: not given)",
+       [](Scenario& s, const SettingValue& v) { s.braking.deceleration = number(v); },
+       [](const Scenario& s) { return SettingValue(s.braking.deceleration); }},
+      ST_ARM_NUMBER("braking.delay", "s", 0.0, kMaxLookAhead, false, kLookAheadWhy, "safety.reaction_time",
+                    "closed loop: from a STOP cycle to the start of braking", braking.delay),
+      {"braking.resume", T::Number, "s", 0.0, 3600.0, false, "never", "", "",
+       "closed loop: a STOPped arm resumes once no warning for this long; never: it stays stopped",
+       [](Scenario& s, const SettingValue& v) {
+         s.braking.resumeAfter = isWord(v) ? std::numeric_limits<double>::infinity() : number(v);
+       },
+       [](const Scenario& s) {
+         return s.braking.resumes() ? SettingValue(s.braking.resumeAfter) : SettingValue(std::string("never"));
+       }},
+      {"octree.kind", T::Choice, "", 0, 0, false, "tree|octree|quadtree|cells|single|none", "", "",
+       "the broadphase: the dynamic octree (tree, octree, quadtree), uniform cells, one list, or none (the brute force: every pair)",
+       [](Scenario& s, const SettingValue& v) { parseSpaceKind(word(v), s.broad.kind); },
+       [](const Scenario& s) { return SettingValue(std::string(toString(s.broad.kind))); }},
+      {"octree.decomposition_factor", T::Integer, "", 1.0, 1e6, false, "auto", "", "",
+       "a leaf holding more objects than this divides; auto: the space picks it as it runs",
+       [](Scenario& s, const SettingValue& v) {
+         s.broad.rule.autoFactor = isWord(v);
+         if (!isWord(v)) s.broad.rule.decompositionFactor = static_cast<int>(number(v));
+       },
+       [](const Scenario& s) {
+         return s.broad.rule.autoFactor ? SettingValue(std::string("auto"))
+                                        : SettingValue(static_cast<double>(s.broad.rule.decompositionFactor));
+       }},
+      {"octree.max_depth", T::Integer, "", 0.0, 20.0, false, "scene", "", "",
+       "deepest division of the octree; scene: from the moving objects' sizes and the bounds",
+       [](Scenario& s, const SettingValue& v) {
+         s.broad.depthFromScene = isWord(v);
+         if (!isWord(v)) s.broad.rule.maxDepth = static_cast<int>(number(v));
+       },
+       [](const Scenario& s) {
+         return s.broad.depthFromScene ? SettingValue(std::string("scene"))
+                                       : SettingValue(static_cast<double>(s.broad.rule.maxDepth));
+       }},
+      ST_ARM_NUMBER("octree.margin", "m", 0.0, 10.0, false, "", "",
+                    "fat-box margin: a capsule is re-filed in the space only when it leaves its box grown by this",
+                    broad.margin),
+      ST_ARM_NUMBER("octree.cell_size", "m", 0.0, 10.0, true, "", "", "edge of a cell (kind cells)",
+                    broad.rule.cellSize),
+      {"ssm.response", T::Choice, "", 0, 0, false, "stop|scaling|pfl", "", "",
+       "persons: binary STOP, speed scaling, or scaling with contact within ISO/TS 15066 Annex A's limits (pfl)",
+       [](Scenario& s, const SettingValue& v) {
+         const std::string& r = word(v);
+         s.ssm.response = r == "stop" ? SsmResponse::Stop : r == "pfl" ? SsmResponse::Pfl : SsmResponse::Scaling;
+       },
+       [](const Scenario& s) { return SettingValue(std::string(toString(s.ssm.response))); }},
+      ST_ARM_NUMBER("ssm.body_speed", "m/s", 0.0, 100.0, true, "", "", "v_h of a person's body (ISO 13855: walking)",
+                    ssm.bodySpeed),
+      ST_ARM_NUMBER("ssm.hand_speed", "m/s", 0.0, 100.0, true, "", "", "v_h of a hand (ISO 13855: hand and arm approach)",
+                    ssm.handSpeed),
+      ST_ARM_NUMBER("ssm.robot_speed", "m/s", 0.0, 100.0, true, "", "", "the arm's top speed: speed factor 1",
+                    ssm.robotSpeed),
+      ST_ARM_NUMBER("ssm.arm_mass", "kg", 0.0, 10000.0, true, "", "", "M: the arm's moving mass (ISO/TS 15066 A.4)",
+                    ssm.armMass),
+      ST_ARM_NUMBER("ssm.payload", "kg", 0.0, 1000.0, false, "", "", "m_L: what the arm carries (gripper and part)",
+                    ssm.payload),
+      ST_ARM_NUMBER("ssm.intrusion", "m", 0.0, 10.0, false, "", "", "C: how far a person reaches unseen beyond the body capsules",
+                    ssm.intrusion),
+      ST_ARM_NUMBER("ssm.person_uncertainty", "m", 0.0, 10.0, false, "", "", "Z_d: the skeleton tracker's error",
+                    ssm.personUncertainty),
+      ST_ARM_NUMBER("ssm.robot_uncertainty", "m", 0.0, 10.0, false, "", "", "Z_r: joint encoders and capsule fit",
+                    ssm.robotUncertainty),
+  };
+}
+
+#undef ST_ARM_NUMBER
+
+}  // namespace
+
+std::span<const Setting> armSettings() {
+  static const std::vector<Setting> table = makeTable();
+  return table;
+}
+
+const Setting* findSetting(std::string_view key) {
+  for (const Setting& s : armSettings())
+    if (key == s.key) return &s;
+  return nullptr;
+}
+
+std::string expected(const Setting& s) {
+  switch (s.type) {
+    case SettingType::Number: return *s.words ? std::string("a number or ") + s.words : "a number";
+    case SettingType::Integer: return *s.words ? std::string("a whole number or ") + s.words : "a whole number";
+    case SettingType::Boolean: return "true or false";
+    case SettingType::Choice: {
+      std::string out = "one of ";
+      const auto w = wordsOf(s.words);
+      for (std::size_t i = 0; i < w.size(); ++i) out.append(i ? ", " : "").append(w[i]);
+      return out;
+    }
+  }
+  return "";
+}
+
+std::string valuesText(const Setting& s) {
+  switch (s.type) {
+    case SettingType::Number:
+    case SettingType::Integer: {
+      std::string out = (s.type == SettingType::Number ? "number in " : "whole number in ") + rangeText(s);
+      if (*s.words) out.append(", or ").append(s.words);
+      return out;
+    }
+    case SettingType::Boolean: return "true or false";
+    case SettingType::Choice: return expected(s);
+  }
+  return "";
+}
+
+std::string settingText(const SettingValue& v) {
+  if (const double* x = std::get_if<double>(&v)) return fmtNumber(*x);
+  if (const bool* b = std::get_if<bool>(&v)) return *b ? "true" : "false";
+  return std::get<std::string>(v);
+}
+
+void applySetting(Scenario& sc, const Setting& s, const SettingValue& v) {
+  switch (s.type) {
+    case SettingType::Number:
+    case SettingType::Integer: {
+      if (isWord(v)) {
+        if (!*s.words || word(v) != s.words) throw SettingError(s.key, "must be " + expected(s) + ", got '" + word(v) + "'");
+        break;
+      }
+      if (!std::holds_alternative<double>(v)) throw SettingError(s.key, "must be " + expected(s));
+      const double x = number(v);
+      const std::string got = ", got " + fmtNumber(x);
+      if (!std::isfinite(x)) throw SettingError(s.key, "must be a finite number" + got);
+      // below the range: "must not be negative" / "must be positive" where the range starts at 0
+      if (x < s.min || (s.aboveMin && x == s.min)) {
+        if (s.min == 0.0) throw SettingError(s.key, (s.aboveMin ? "must be positive" : "must not be negative") + got);
+        throw SettingError(s.key, "must be in " + rangeText(s) + got);
+      }
+      if (x > s.max) {
+        if (*s.maxWhy) throw SettingError(s.key, fmtNumber(x) + (*s.unit ? std::string(" ") + s.unit : "") + " is more than " + s.maxWhy);
+        throw SettingError(s.key, "must be in " + rangeText(s) + got);
+      }
+      if (s.type == SettingType::Integer && x != std::floor(x)) throw SettingError(s.key, "must be a whole number" + got);
+      break;
+    }
+    case SettingType::Boolean:
+      if (!std::holds_alternative<bool>(v)) throw SettingError(s.key, "must be true or false");
+      break;
+    case SettingType::Choice: {
+      if (!isWord(v)) throw SettingError(s.key, "must be " + expected(s));
+      bool known = false;
+      for (std::string_view w : wordsOf(s.words)) known = known || w == word(v);
+      if (!known) throw SettingError(s.key, "must be " + expected(s) + ", got '" + word(v) + "'");
+      break;
+    }
+  }
+  s.set(sc, v);
+}
+
+void applySettingText(Scenario& sc, const Setting& s, std::string_view text) {
+  const std::string t(text);
+  switch (s.type) {
+    case SettingType::Number:
+    case SettingType::Integer: {
+      if (*s.words && t == s.words) return applySetting(sc, s, t);
+      std::size_t used = 0;
+      double x = 0.0;
+      try {
+        x = std::stod(t, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      // stod skips leading blanks: " 1" is no number here, as in YAML
+      if (t.empty() || used != t.size() || std::isspace(static_cast<unsigned char>(t.front())))
+        throw SettingError(s.key, "must be " + expected(s) + ", got '" + t + "'");
+      return applySetting(sc, s, x);
+    }
+    case SettingType::Boolean:
+      if (t == "true") return applySetting(sc, s, true);
+      if (t == "false") return applySetting(sc, s, false);
+      throw SettingError(s.key, "must be true or false, got '" + t + "'");
+    case SettingType::Choice:
+      return applySetting(sc, s, t);
+  }
+}
+
+void followDefaults(Scenario& sc, const std::function<bool(std::string_view)>& given) {
+  for (const Setting& s : armSettings()) {
+    if (!*s.follows || (given && given(s.key))) continue;
+    s.set(sc, findSetting(s.follows)->get(sc));
+  }
+}
+
+void checkSettings(const Scenario& sc) {
+  const SafetyConfig& safety = sc.safety;
+  if (safety.horizon != 0.0 && safety.horizon < safety.safeTime())
+    throw SettingError("safety.horizon", "must be at least the safe time (cycle + reaction + stopping)");
+  // each term within the bound on its own (the table's ranges); their sum too, blamed on the
+  // horizon if given, else on the longest term
+  if (safety.lookAhead() > kMaxLookAhead) {
+    const char* key = safety.horizon != 0.0 ? "safety.horizon"
+                      : safety.stoppingTime >= std::max(safety.cycleTime, safety.reactionTime) ? "safety.stopping_time"
+                      : safety.reactionTime >= safety.cycleTime ? "safety.reaction_time"
+                                                                 : "safety.cycle_time";
+    throw SettingError(key, "the look-ahead (horizon, or cycle + reaction + stopping) must be at most " +
+                                fmtNumber(kMaxLookAhead) + " s");
+  }
+}
+
+std::string defaultText(std::string_view key) {
+  Scenario sc;
+  followDefaults(sc);
+  return settingText(findSetting(key)->get(sc));
+}
+
+std::string settingsReferenceMarkdown(const Scenario* values, const char* column) {
+  Scenario defaults;
+  followDefaults(defaults);
+  const Scenario& v = values ? *values : defaults;
+  std::ostringstream os;
+  os << "| key | value | " << column << " | what it sets |\n| --- | --- | --- | --- |\n";
+  for (const Setting& s : armSettings()) {
+    std::string doc = s.doc;
+    if (*s.follows) doc += " (default: " + std::string(s.follows) + ")";
+    os << "| `" << s.key << "` | " << valuesText(s) << " | " << settingText(s.get(v)) << " | " << doc << " |\n";
+  }
+  return os.str();
+}
+
+}  // namespace st::arm
