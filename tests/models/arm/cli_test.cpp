@@ -396,6 +396,10 @@ TEST(ArmCli, SettingsPrintsTheTableAndSetSpeaksTheYamlsWords) {
   r = stsim(scenario("person_walkup") + " --out " + (d / "o").string() + " --response maybe", d);
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err, "stsim arm: --response: must be one of stop, scaling, pfl, got 'maybe'\n");
+  // the service reads its scenario alike
+  r = stsim("serve " + scenario("two_pandas") + " --out " + (d / "o").string() + " --set safety.cycle_time=99", d);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "stsim arm: --set safety.cycle_time: 99 s is more than the 60 s look-ahead limit\n");
   // an unknown key, a key twice
   r = stsim(scenario("two_pandas") + " --set safety.cycle=1", d);
   EXPECT_EQ(r.code, 2);
