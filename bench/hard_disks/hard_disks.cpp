@@ -61,6 +61,7 @@ struct Options {
   double margin = 0.0;        // SimulatorConfig::marginFactor when given, else kCellsMargin / simulator's
   bool marginGiven = false;
   double shell = 0.0;         // SimulatorConfig::neighborShell (cells, none, single)
+  double calendar = 0.0;      // SimulatorConfig::eventsPerBlock (0: one heap)
   int decomposition = 5;      // tree kind: decomposition factor
   double interior = -1.0;     // interior margin w in diameters; <0: automatic
   bool json = false;
@@ -210,6 +211,7 @@ Result runPoint(const Point& pt, const Options& opt) {
   if (opt.marginGiven) cfg.marginFactor = opt.margin;
   else if (pt.kind == st::SpaceKind::Cells) cfg.marginFactor = kCellsMargin[D - 2];
   if (pt.kind != st::SpaceKind::Tree) cfg.neighborShell = opt.shell;
+  cfg.eventsPerBlock = opt.calendar;
   st::Aabb<D> box{Vec<D>::Zero(), Vec<D>::Constant(L)};
   st::Simulator<D> sim(box, cfg);
   for (int a = 0; a < D; ++a) {
@@ -395,7 +397,7 @@ Result runAny(const Point& p, const Options& o) {
 const char* kUsage =
     "usage: hard_disks [--dim 2|3] [--n N] [--phi PHI] [--space none|single|tree|cells]\n"
     "                  [--collisions K] [--warmup W] [--seed S] [--cell-size C] [--margin M]\n"
-    "                  [--df F] [--shell S] [--interior W] [--max-dz PCT] [--json]\n"
+    "                  [--df F] [--shell S] [--calendar K] [--interior W] [--max-dz PCT] [--json]\n"
     "Hard disks (2-D) / spheres (3-D), diameter 1, mass 1, kT 1, in a walled box, from a lattice.\n"
     "Axes not given run over the grid: dim {2,3}, N {1e3,1e4,1e5,1e6}, phi {0.1,0.3,0.5,0.7},\n"
     "space {none,single,tree,cells} (none and single only up to N=1e4); each grid point runs in its\n"
@@ -409,6 +411,8 @@ const char* kUsage =
     "  --df F          tree kind: decomposition factor (default 5)\n"
     "  --shell S       neighbour lists with a shell of S radii (0.5: Smallenburg's 1.5 diameters;\n"
     "                  default 0, none; not for the tree kind)\n"
+    "  --calendar K    event calendar sized for about K updates per time block (default 0: one\n"
+    "                  heap of every ball's event; the same history either way)\n"
     "  --interior W    pressure measured in the box shrunk by W diameters (default max(5, L/10))\n"
     "  --max-dz PCT    exit 1 if a point's Z is more than PCT % off its reference (Henderson in\n"
     "                  2-D, Carnahan-Starling in 3-D; fluids only: below phi 0.7 / 0.49)\n"
@@ -474,6 +478,9 @@ Options parse(int argc, char** argv) {
     } else if (a == "--shell") {
       o.shell = number(value());
       if (!(o.shell >= 0.0 && o.shell <= 10.0)) usageError("--shell must be in [0, 10]");
+    } else if (a == "--calendar") {
+      o.calendar = number(value());
+      if (!(o.calendar >= 0.0 && o.calendar <= 1e6)) usageError("--calendar must be in [0, 1e6]");
     } else if (a == "--df") {
       o.decomposition = static_cast<int>(number(value()));
     } else if (a == "--interior") {

@@ -34,13 +34,15 @@ const char* toString(EventKind kind) {
 
 template <int D>
 Simulator<D>::Simulator(const Aabb<D>& bounds, const SimulatorConfig& config)
-    : config_(config), bounds_(bounds), space_(config.spaceKind, bounds, config.rule), lists_(config.neighborShell) {
+    : config_(config), bounds_(bounds), space_(config.spaceKind, bounds, config.rule), lists_(config.neighborShell), heap_(config.eventsPerBlock) {
   // A ball's box in the space must be strictly larger than the ball: with no margin a moving ball
   // touches the edge of its membership at once, and each Boundary event schedules the next at the
   // same instant (a livelock). Any margin well above position rounding gives progress. (The brute
   // force lists no boxes.)
   if (config_.spaceKind != SpaceKind::None && !(config_.marginFactor > 0.0))
     throw std::invalid_argument("simulator margin factor must be positive when a space is used");
+  if (!(config_.eventsPerBlock >= 0.0) || !std::isfinite(config_.eventsPerBlock))
+    throw std::invalid_argument("simulator events per block must be finite and >= 0");
   if (!(config_.neighborShell >= 0.0) || !std::isfinite(config_.neighborShell))
     throw std::invalid_argument("simulator neighbour shell must be finite and >= 0");
   // a tree re-files balls by where they are (relisted, widened), where the lists need them listed

@@ -330,6 +330,12 @@ std::vector<std::pair<std::string, SimulatorConfig>> allConfigs() {
   if (D == 3) add("tree df3 four divisions", SpaceKind::Tree, 3, 4, 0, 0.5);
   add("tree df auto", SpaceKind::Tree, 5, 0, 0, 0.5);
   out.back().second.rule.autoFactor = true;
+  // the event calendar at a fraction of an update per block (blocks, lists, overflow and re-filings
+  // all busy) and at a few: the same history as the heap's
+  add("tree df2 calendar 0.5", SpaceKind::Tree, 2, 0, 0, 0.5);
+  out.back().second.eventsPerBlock = 0.5;
+  add("cells 2.5 calendar 4", SpaceKind::Cells, 5, 0, 2.5, 0.5);
+  out.back().second.eventsPerBlock = 4.0;
   add("cells 2.5", SpaceKind::Cells, 5, 0, 2.5, 0.5);
   add("cells 5 thin margin", SpaceKind::Cells, 5, 0, 5.0, 0.01);
   // cells narrower than most balls: every ball spans several, collisions straddle faces
@@ -582,6 +588,50 @@ TEST(SimulatorModelEvents, OrderCancelAndClock) {
 
 TEST(Simulator, DeterministicAndSpaceIndependent2D) { deterministic<2>(3001); }
 TEST(Simulator, DeterministicAndSpaceIndependent3D) { deterministic<3>(3002); }
+
+// The event calendar pops the heap's order exactly: every record (time, kind, balls) of a run with
+// the heap (eventsPerBlock 0) equals the calendar's, bit for bit, at block sizes from a fraction of
+// an update to hundreds; with obstacles, rolling resistance (rest events, then infinite times) and
+// model events set from the observer, in every space kind and with neighbour lists.
+template <int D>
+void calendarReplaysHeap(unsigned seed) {
+  std::mt19937_64 rng(seed);
+  for (int k = 0; k < 4; ++k) {
+    const System<D> sys = randomSystem<D>(rng, 60, k % 2 == 0);
+    const bool slowing = k >= 2;
+    for (const auto& [name, base] : allConfigs<D>()) {
+      if (base.eventsPerBlock != 0.0) continue;
+      auto history = [&, &cfgBase = base](double perBlock) {
+        SimulatorConfig cfg = cfgBase;
+        cfg.eventsPerBlock = perBlock;
+        Simulator<D> sim = makeSimulator(sys, cfg);
+        if (slowing)
+          for (int b = 0; b < static_cast<int>(sim.balls().size()); ++b) sim.setDeceleration(b, 0.05 + 0.02 * (b % 3));
+        sim.scheduleEvent(0.5, 7);
+        std::vector<EventRecord> out;
+        int ticks = 0;
+        sim.run(kInf, [&](const EventRecord& e) {
+          out.push_back(e);
+          if (e.kind == EventKind::Model && ++ticks < 40) sim.scheduleEvent(e.t + 0.37, 7);
+        }, 6000);
+        return out;
+      };
+      const std::vector<EventRecord> heap = history(0.0);
+      ASSERT_GT(heap.size(), 200u) << name;
+      for (double perBlock : {0.25, 3.0, 200.0}) {
+        const std::vector<EventRecord> cal = history(perBlock);
+        ASSERT_EQ(cal.size(), heap.size()) << name << " per block " << perBlock;
+        for (std::size_t i = 0; i < heap.size(); ++i)
+          ASSERT_TRUE(cal[i].t == heap[i].t && cal[i].kind == heap[i].kind && cal[i].a == heap[i].a && cal[i].b == heap[i].b)
+              << name << " system " << k << " per block " << perBlock << " differs at event " << i << ": "
+              << describe(cal[i]) << " vs " << describe(heap[i]);
+      }
+    }
+  }
+}
+
+TEST(Simulator, EventCalendarReplaysTheHeap2D) { calendarReplaysHeap<2>(3101); }
+TEST(Simulator, EventCalendarReplaysTheHeap3D) { calendarReplaysHeap<3>(3102); }
 
 // Neighbour lists in a running simulation, after every event: every ball within its skin of its
 // list centre; the lists symmetric and exactly the pairs whose centres are within reach (brute

@@ -42,6 +42,8 @@ class EventHeap {
   int top() const { return item_[kPad]; }
   double topTime() const { return time_[kPad]; }
   bool contains(int item) const { return item < static_cast<int>(pos_.size()) && pos_[item] >= 0; }
+  // An item's key (contains(item)).
+  double timeOf(int item) const { return time_[kPad + pos_[item]]; }
 
   // Gives item the key t (inserting it if absent). t must not be NaN.
   void set(int item, double t) {

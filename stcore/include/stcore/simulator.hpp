@@ -14,7 +14,7 @@
 #include <memory>
 #include <vector>
 
-#include <stcore/event_heap.hpp>
+#include <stcore/event_calendar.hpp>
 #include <stcore/neighbor_lists.hpp>
 #include <stcore/shapes.hpp>
 #include <stcore/space.hpp>
@@ -108,6 +108,10 @@ struct SimulatorConfig {
   // list (a Boundary event). 0.5 is Smallenburg's shell of 1.5 diameters. 0: no lists, the
   // space's neighbours are the candidates. Not with SpaceKind::Tree.
   double neighborShell = 0.0;
+  // The event queue (event_calendar.hpp): 0 sorts every ball's event in one heap; K > 0 an event
+  // calendar (Smallenburg's), sorting only the current time block, sized for about K updates per
+  // block, later events unsorted in one list per block. The same order either way.
+  double eventsPerBlock = 0.0;
 };
 
 enum class StopReason { TimeLimit, NothingLeft, EventLimit };
@@ -238,7 +242,7 @@ class Simulator {
   NeighborLists<D> lists_;  // enabled with config_.neighborShell > 0
   // with lists: per ball, bit w set if wall w (< 32) may be within reach before its list expires
   std::vector<std::uint32_t> nearWalls_;
-  EventHeap heap_;  // balls by next event
+  EventCalendar heap_;  // balls by next event
   std::vector<Wall<D>> walls_;
   std::vector<Vec<D>> points_;
   std::vector<Segment> segments_;
