@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <regex>
 #include <vector>
 
 #include <stcosim/scenario.hpp>
@@ -47,6 +48,11 @@ TEST(SsmValidation, BoxTtcMatchesSsmAndDetectorsRecallEveryConflict) {
   EXPECT_GT(matched, 10000.0);
   EXPECT_GE(jsonNumber(v, "matched_samples") / jsonNumber(v, "ssm_samples"), 0.99);
   EXPECT_GE(jsonNumber(v, "within_fraction"), 0.99) << v;
+  // the largest difference is named, as ego>foe@t (where an analyst looks first)
+  const auto worst = v.find("\"worst\": \"", v.find("\"following\""));
+  ASSERT_LT(worst, v.find("without_time_shift")) << v;
+  const std::string named = v.substr(worst + 10, v.find('"', worst + 10) - worst - 10);
+  EXPECT_TRUE(std::regex_match(named, std::regex(R"([^>@]+>[^>@]+@[0-9.]+)"))) << named;
   // without the one-step time shift the match fails: the shift is real, not a tolerance artefact
   const auto shift = v.find("without_time_shift");
   EXPECT_LT(jsonNumber(v, "within_tolerance", shift) / jsonNumber(v, "matched_samples", shift), 0.5) << v;

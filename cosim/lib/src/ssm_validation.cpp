@@ -219,18 +219,16 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
         if (!std::isfinite(box)) continue;
         const double err = std::abs(box - c.ttc[i]);
         if (shifted) {
-          r.ttc.add(err);
+          std::ostringstream what;
+          what << c.ego << ">" << c.foe << "@" << t;
+          r.ttc.add(err, what.str());
           if (i < c.drac.size() && std::isfinite(c.drac[i])) {
             // ours as conflicts.csv's: the rate the centre distance shrinks over twice the TTC
             r.dracSamples++;
             const Vec2 rel = foe->body.position - ego->body.position, vrel = foe->body.velocity - ego->body.velocity;
             const double dist = rel.norm();
             const double ours = hw::decelerationToAvoid(dist > 0.0 ? -rel.dot(vrel) / dist : vrel.norm(), box);
-            if (std::isfinite(ours)) {
-              std::ostringstream what;
-              what << c.ego << ">" << c.foe << "@" << t;
-              r.drac.add(std::abs(ours - c.drac[i]), what.str());
-            }
+            if (std::isfinite(ours)) r.drac.add(std::abs(ours - c.drac[i]), what.str());
           }
         } else {
           r.matchedUnshifted++;
@@ -439,7 +437,7 @@ std::string toJson(const ValidationReport& r) {
      << ",\n  \"following\": {\n    \"ssm_samples\": " << r.followingSamples << ",\n    \"matched_samples\": "
      << r.ttc.matched << ",\n    \"tolerance_s\": " << num(r.ttc.tolerance) << ",\n    \"within_tolerance\": " << r.ttc.within
      << ",\n    \"within_fraction\": " << num(r.ttc.withinFraction()) << ",\n    \"max_abs_error_s\": " << num(r.ttc.maxAbsError)
-     << ",\n    \"mean_abs_error_s\": " << num(r.ttc.meanAbsError())
+     << ",\n    \"mean_abs_error_s\": " << num(r.ttc.meanAbsError()) << ",\n    \"worst\": " << io::jsonString(r.ttc.worst)
      << ",\n    \"without_time_shift\": {\"matched_samples\": " << r.matchedUnshifted
      << ", \"within_tolerance\": " << r.withinUnshifted << "}\n  },\n  \"drac\": {\"ssm_samples\": " << r.dracSamples
      << ", " << agreementJson(r.drac, "m_s2") << "},\n  \"pet\": {\"ssm_pets\": " << r.ssmPets
