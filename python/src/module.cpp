@@ -135,6 +135,7 @@ PYBIND11_MODULE(_stsim, m) {
       .def_readonly("min_ttc_time", &hw::Conflict::minTtcTime)
       .def_readonly("first_lane", &hw::Conflict::firstLane, "lane id, '' if unknown")
       .def_readonly("second_lane", &hw::Conflict::secondLane)
+      .def_readonly("junction", &hw::Conflict::junction, "the SUMO junction either lane lies in, '' for none")
       .def_property_readonly("first_class", [](const hw::Conflict& c) { return hw::toString(c.firstClass); })
       .def_property_readonly("second_class", [](const hw::Conflict& c) { return hw::toString(c.secondClass); })
       .def_readonly("first_length", &hw::Conflict::firstLength)

@@ -189,7 +189,7 @@ def test_the_subscription_reader_reads_what_the_getters_read(network, backend):
 
 
 # conflicts.csv's cells as Python gives them: text, a flag, a measure worked out to 0.001, else in full
-CONFLICT_TEXT = ("first", "second", "type", "first_lane", "second_lane", "first_class", "second_class")
+CONFLICT_TEXT = ("first", "second", "type", "first_lane", "second_lane", "junction", "first_class", "second_class")
 CONFLICT_DERIVED = ("pet", "drac", "delta_s", "dr", "max_d", "max_delta_v", "first_delta_v", "second_delta_v",
                     "conflict_angle", "post_crash_speed", "post_crash_heading", "conflict_x", "conflict_y", "tet", "tit")
 
@@ -235,6 +235,18 @@ def test_traci_monitor_reads_lights_and_persons_as_the_cxx_coupling(stsim_binary
     if network.startswith("crosswalk"):
         assert summary["persons"] > 20
         assert "pedestrian" in {c[2] for c in want_conflicts}
+    # per junction: a crossing conflict's point lies in junction C's shape (SUMO's net), and so
+    # does its junction; the summary counts by junction as the rows say
+    at = {c: i for i, c in enumerate(stsim.CONFLICT_COLUMNS)}
+    shape = junction_shape(SOURCE / f"networks/{network}.net.xml", "C")
+    crossings = [c for c in want_conflicts if c[at["type"]] == "crossing" and c[at["conflict_x"]] is not None]
+    assert crossings
+    for c in crossings:
+        assert inside((c[at["conflict_x"]], c[at["conflict_y"]]), shape) and c[at["junction"]] == "C", c
+    counted = summary["conflicts"]["by_junction"]
+    assert set(counted) <= {"C"} and counted["C"]["count"] == sum(c[at["junction"]] == "C" for c in want_conflicts)
+    assert counted["C"]["crossing"] == sum(c[at["junction"]] == "C" and c[at["type"]] == "crossing" for c in want_conflicts)
+    assert summary["conflicts"]["outside_junctions"] == sum(c[at["junction"]] == "" for c in want_conflicts)
 
     conn = libsumo_module() if backend == "libsumo" else traci_module()
     conn.start(sumo_args(cfg, end))
@@ -278,6 +290,29 @@ def test_traci_monitor_reads_lights_and_persons_as_the_cxx_coupling(stsim_binary
 
     written = [tuple(value(v) for v in r) for r in zip(*(rows[c] for c in stsim.EVENT_COLUMNS))]
     assert written == [tuple(event_cell(c, t) for c, t in zip(stsim.EVENT_COLUMNS, r)) for r in want_events]
+
+def junction_shape(net, junction):
+    import xml.etree.ElementTree as ET
+    for j in ET.parse(net).getroot().iter("junction"):
+        if j.get("id") == junction:
+            return [tuple(map(float, p.split(","))) for p in j.get("shape").split()]
+    raise AssertionError(f"no junction {junction} in {net}")
+
+
+def inside(p, polygon):
+    """Ray casting: p in the polygon (its edges count as in, within 1 cm)."""
+    x, y = p
+    n, hit = len(polygon), False
+    for i in range(n):
+        (x1, y1), (x2, y2) = polygon[i], polygon[(i + 1) % n]
+        dx, dy = x2 - x1, y2 - y1
+        t = max(0.0, min(1.0, ((x - x1) * dx + (y - y1) * dy) / (dx * dx + dy * dy or 1.0)))
+        if math.hypot(x1 + t * dx - x, y1 + t * dy - y) < 0.01:
+            return True
+        if (y1 > y) != (y2 > y) and x < x1 + (y - y1) * dx / dy:
+            hit = not hit
+    return hit
+
 
 def test_tables_have_the_files_columns():
     # every table of the module has its CSV file's columns, in order, and each record has each

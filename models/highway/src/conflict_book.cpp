@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include <sthighway/sumo_conversion.hpp>
 #include <sthighway/tolerances.hpp>
 
 namespace st::highway::detail {
@@ -251,6 +252,8 @@ void ConflictBook::close(Encounter& en, double end, bool open) {
   k.secondEndY = ts.last.y();
   k.firstLane = c.laneId(aFirst ? en.laneA : en.laneB);
   k.secondLane = c.laneId(aFirst ? en.laneB : en.laneA);
+  k.junction = junctionOfLane(k.firstLane);
+  if (k.junction.empty()) k.junction = junctionOfLane(k.secondLane);
   k.firstClass = c.vclass[f];
   k.secondClass = c.vclass[s];
   k.firstLength = bf.length;
@@ -276,6 +279,7 @@ void ConflictBook::settle(Conflict&& k, double pet) {
     return;
   }
   ++counters_->conflictsByType[static_cast<int>(k.type)];
+  if (!k.junction.empty()) ++counters_->conflictsByJunction[k.junction][static_cast<int>(k.type)];
   counters_->conflictTet += k.tet;
   counters_->conflictTit += k.tit;
   settled_.push_back(std::move(k));

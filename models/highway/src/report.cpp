@@ -72,7 +72,7 @@ std::string conflictsCsvHeader() {
   return "first,second,type,begin,end,min_ttc,min_ttc_time,pet,drac,max_s,delta_s,dr,max_d,max_delta_v,"
          "first_delta_v,second_delta_v,conflict_angle,clock_angle,post_crash_speed,post_crash_heading,conflict_x,conflict_y,"
          "first_x,first_y,second_x,second_y,first_speed,second_speed,first_start_x,first_start_y,first_end_x,first_end_y,"
-         "second_start_x,second_start_y,second_end_x,second_end_y,first_lane,second_lane,first_class,second_class,"
+         "second_start_x,second_start_y,second_end_x,second_end_y,first_lane,second_lane,junction,first_class,second_class,"
          "first_length,second_length,first_width,second_width,tet,tit,open";
 }
 
@@ -91,6 +91,7 @@ std::string conflictCsvRow(const Conflict& c) {
      << conflictField(c.firstStartY) << ',' << conflictField(c.firstEndX) << ',' << conflictField(c.firstEndY) << ','
      << conflictField(c.secondStartX) << ',' << conflictField(c.secondStartY) << ',' << conflictField(c.secondEndX) << ','
      << conflictField(c.secondEndY) << ',' << csvField(c.firstLane) << ',' << csvField(c.secondLane) << ','
+     << csvField(c.junction) << ','
      << toString(c.firstClass) << ',' << toString(c.secondClass) << ',' << num(c.firstLength) << ','
      << num(c.secondLength) << ',' << num(c.firstWidth) << ',' << num(c.secondWidth) << ',' << derivedField(c.tet)
      << ',' << derivedField(c.tit) << ',' << (c.open ? 1 : 0);
@@ -134,7 +135,20 @@ std::string conflictsJson(const MonitorCounters& c, const ConflictConfig& config
        << num(km > 0 ? static_cast<double>(c.conflictsByType[static_cast<int>(t)]) / km : 0.0);
     firstType = false;
   }
-  os << "},\n    \"tet_s\": " << num(c.conflictTet) << ", \"tit_s2\": " << num(c.conflictTit)
+  os << "},\n    \"by_junction\": {";
+  bool firstJunction = true;
+  std::uint64_t inJunctions = 0;
+  for (const auto& [junction, byType] : c.conflictsByJunction) {
+    std::uint64_t count = 0;
+    for (auto k : byType) count += k;
+    inJunctions += count;
+    os << (firstJunction ? "" : ", ") << jsonString(junction) << ": {\"count\": " << count;
+    for (ConflictType t : kConflictTypes) os << ", " << jsonString(toString(t)) << ": " << byType[static_cast<int>(t)];
+    os << "}";
+    firstJunction = false;
+  }
+  os << "}, \"outside_junctions\": " << n - inJunctions;
+  os << ",\n    \"tet_s\": " << num(c.conflictTet) << ", \"tit_s2\": " << num(c.conflictTit)
      << ", \"over_max_pet\": " << c.conflictsOverMaxPet << "}";
   return os.str();
 }

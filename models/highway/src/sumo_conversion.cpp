@@ -113,4 +113,13 @@ void toVehicleState(const SumoVehicleRecord& v, const VehicleTypeInfo& type, Veh
   s.stopDistance = stopDistanceOf(v, type.decel);
 }
 
+std::string junctionOfLane(const std::string& laneId) {
+  if (laneId.size() < 2 || laneId[0] != ':') return "";
+  const std::size_t index = laneId.rfind('_');
+  if (index == std::string::npos || index < 2) return "";
+  const std::size_t link = laneId.rfind('_', index - 1);
+  if (link == std::string::npos || link < 2) return "";
+  return laneId.substr(1, link - 1);
+}
+
 }  // namespace st::highway

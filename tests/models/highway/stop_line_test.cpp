@@ -112,3 +112,17 @@ TEST(StopLine, SumoLightStatesToStopDistances) {
 
 }  // namespace
 }  // namespace st::highway
+
+// SUMO's internal lanes, crossings and walking areas name their junction; a junction id may hold
+// '_' itself; a lane between junctions (or an unknown one) lies in none
+TEST(JunctionOfLane, SumosInternalLaneNames) {
+  EXPECT_EQ(st::highway::junctionOfLane(":C_12_0"), "C");
+  EXPECT_EQ(st::highway::junctionOfLane(":C_c0_0"), "C");
+  EXPECT_EQ(st::highway::junctionOfLane(":C_w1_0"), "C");
+  EXPECT_EQ(st::highway::junctionOfLane(":cluster_1_2_5_0"), "cluster_1_2");
+  EXPECT_EQ(st::highway::junctionOfLane(":J10_3_1"), "J10");
+  EXPECT_EQ(st::highway::junctionOfLane("s_in_1"), "");
+  EXPECT_EQ(st::highway::junctionOfLane(":C_0"), "");
+  EXPECT_EQ(st::highway::junctionOfLane(""), "");
+  EXPECT_EQ(st::highway::junctionOfLane(":"), "");
+}

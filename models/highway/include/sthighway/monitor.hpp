@@ -11,6 +11,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <memory>
 #include <span>
 #include <string>
@@ -156,6 +157,7 @@ struct Conflict {
   double firstStartX = kNone, firstStartY = kNone, firstEndX = kNone, firstEndY = kNone;    // m, at begin and at end (its last tick)
   double secondStartX = kNone, secondStartY = kNone, secondEndX = kNone, secondEndY = kNone;
   std::string firstLane, secondLane;  // lane ids, empty if unknown
+  std::string junction;               // SUMO junction either lane lies in (the first's, else the second's); "" for none
   VehicleClass firstClass = VehicleClass::Passenger, secondClass = VehicleClass::Passenger;
   double firstLength = 0.0, secondLength = 0.0, firstWidth = 0.0, secondWidth = 0.0;  // m
   double tet = 0.0;                   // s, time exposed: the ticks with TTC <= TTC*, each the time since the previous tick
@@ -266,6 +268,8 @@ struct MonitorCounters {
   // Conflicts (Conflict, conflicts.csv) counted by type, their TET and TIT against TTC* summed,
   // and the encounters below TTC* left out because their PET exceeded PET*.
   std::array<std::uint64_t, kConflictTypeCount> conflictsByType{};
+  // ... by the junction they were in (Conflict::junction), junctions with none left out
+  std::map<std::string, std::array<std::uint64_t, kConflictTypeCount>> conflictsByJunction;
   double conflictTet = 0.0;
   double conflictTit = 0.0;
   std::uint64_t conflictsOverMaxPet = 0;

@@ -85,6 +85,11 @@ double stopDistanceOf(const SumoVehicleRecord& v, double decel);
 
 std::uint8_t toTurnSignals(int sumoSignals);
 
+// The junction a lane lies in: SUMO names a junction's internal lanes, crossings and walking areas
+// ":<junction>_<n>_<index>" (":C_12_0", ":C_c0_0", ":C_w1_0"; a junction id may hold '_'
+// itself, as "cluster_1_2"); "" for a lane between junctions or an unknown one.
+std::string junctionOfLane(const std::string& laneId);
+
 // Writes the record's motion and the type's body into `s`; its id, handle, lane, route and
 // `equipped` are the caller's and left as they are.
 void toVehicleState(const SumoVehicleRecord& v, const VehicleTypeInfo& type, VehicleState& s);
