@@ -95,6 +95,17 @@ def network_config(network):
     return cfg
 
 
+def cxx_warnings(stsim_binary, cfg, end, out):
+    """The C++ coupling's run of cfg to `end` (no action) into `out`: its warnings.csv rows, every
+    column (hindsight, the conflict record), None where the cell is empty, in episode order."""
+    r = run_stsim(stsim_binary, "highway", cfg, "--end", end, "--action", "none", "--out", out)
+    if "built without SUMO support" in r.stderr:
+        pytest.skip("stsim built without SUMO (-DSTSIM_WITH_SUMO=OFF)")
+    assert r.returncode == 0, r.stderr
+    with open(out / "warnings.csv", newline="") as f:
+        return sorted((tuple(cell(c, r[c]) for c in stsim.WARNING_COLUMNS) for r in csv.DictReader(f)), key=episode)
+
+
 # the motorway (trucks with a mass param, cars without), the sublane network (lateral speeds) and
 # SUMO's grid6 (junctions, lanes drawn longer than their length; its turns are signalled, so the
 # route changes no warning there: test_a_route_is_followed_through_a_junction checks the route);
@@ -105,13 +116,7 @@ def network_config(network):
 def test_traci_monitor_equals_the_cxx_coupling(stsim_binary, tmp_path, network, backend):
     cfg = network_config(network)
     end = 200.0 if network.endswith("grid6") else 60.0  # grid6 fills slowly
-    r = run_stsim(stsim_binary, "highway", cfg, "--end", end, "--action", "none", "--out", tmp_path / "cxx")
-    if "built without SUMO support" in r.stderr:
-        pytest.skip("stsim built without SUMO (-DSTSIM_WITH_SUMO=OFF)")
-    assert r.returncode == 0, r.stderr
-    with open(tmp_path / "cxx" / "warnings.csv", newline="") as f:
-        # every column (hindsight, the conflict record), None where the cell is empty
-        want = sorted((tuple(cell(c, r[c]) for c in stsim.WARNING_COLUMNS) for r in csv.DictReader(f)), key=episode)
+    want = cxx_warnings(stsim_binary, cfg, end, tmp_path / "cxx")
     assert len(want) > 10
     assert {"confirmed", "nuisance"} <= {w[10] for w in want}
 
@@ -217,12 +222,7 @@ def conflict_as_written(column, value):
 def test_traci_monitor_reads_lights_and_persons_as_the_cxx_coupling(stsim_binary, tmp_path, network, backend):
     cfg = network_config(network)
     end = 200.0
-    r = run_stsim(stsim_binary, "highway", cfg, "--end", end, "--action", "none", "--out", tmp_path / "cxx")
-    if "built without SUMO support" in r.stderr:
-        pytest.skip("stsim built without SUMO (-DSTSIM_WITH_SUMO=OFF)")
-    assert r.returncode == 0, r.stderr
-    with open(tmp_path / "cxx" / "warnings.csv", newline="") as f:
-        want = sorted((tuple(cell(c, r[c]) for c in stsim.WARNING_COLUMNS) for r in csv.DictReader(f)), key=episode)
+    want = cxx_warnings(stsim_binary, cfg, end, tmp_path / "cxx")
     with open(tmp_path / "cxx" / "conflicts.csv", newline="") as f:
         reader = csv.DictReader(f)
         assert tuple(reader.fieldnames) == stsim.CONFLICT_COLUMNS
