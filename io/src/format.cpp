@@ -22,6 +22,17 @@ std::string number(double x, int digits) {
   return buf;
 }
 
+std::vector<std::string_view> split(std::string_view s, char separator) {
+  std::vector<std::string_view> out;
+  while (!s.empty()) {
+    const auto at = s.find(separator);
+    out.push_back(s.substr(0, at));
+    if (at == std::string_view::npos) break;
+    s.remove_prefix(at + 1);
+  }
+  return out;
+}
+
 std::string jsonNumber(double x, int digits) { return std::isfinite(x) ? number(x, digits) : "null"; }
 
 std::string fixed(double x, int decimals) {

@@ -195,3 +195,13 @@ TEST(IoCsv, FormulaLikeFieldsAreNeutralisedAndReadBack) {
 }
 
 }  // namespace
+
+// a choices list ("a|b|c") into its words, as the settings tables read theirs
+TEST(IoSplit, PiecesBetweenTheSeparators) {
+  using V = std::vector<std::string_view>;
+  EXPECT_EQ(st::io::split("stop|scaling|pfl", '|'), (V{"stop", "scaling", "pfl"}));
+  EXPECT_EQ(st::io::split("one", '|'), (V{"one"}));
+  EXPECT_EQ(st::io::split("", '|'), V{});
+  EXPECT_EQ(st::io::split("a||b", '|'), (V{"a", "", "b"}));
+  EXPECT_EQ(st::io::split("a|", '|'), (V{"a"}));
+}

@@ -12,6 +12,9 @@ namespace st::io {
 // "inf" and "-inf".
 std::string number(double x, int digits = 0);
 
+// The pieces of s between the separators ("a|b|c" -> a, b, c; "" -> none): views into s.
+std::vector<std::string_view> split(std::string_view s, char separator);
+
 // number() for JSON, which has no NaN or infinity: those are written as null.
 std::string jsonNumber(double x, int digits = 0);
 

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include <starm/scenario.hpp>
+#include <stio/format.hpp>
 
 namespace st::arm {
 
@@ -17,31 +18,13 @@ namespace {
 constexpr double kMaxLookAhead = 60.0;
 constexpr const char* kLookAheadWhy = "the 60 s look-ahead limit";
 
-std::string fmtNumber(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.15g", x);
-  return buf;
-}
-
 double number(const SettingValue& v) { return std::get<double>(v); }
 bool isWord(const SettingValue& v) { return std::holds_alternative<std::string>(v); }
 const std::string& word(const SettingValue& v) { return std::get<std::string>(v); }
 
-std::vector<std::string_view> wordsOf(const char* words) {
-  std::vector<std::string_view> out;
-  std::string_view s(words);
-  while (!s.empty()) {
-    const auto bar = s.find('|');
-    out.push_back(s.substr(0, bar));
-    if (bar == std::string_view::npos) break;
-    s.remove_prefix(bar + 1);
-  }
-  return out;
-}
-
 std::string rangeText(const Setting& s) {
   std::string out = s.aboveMin ? "(" : "[";
-  out += fmtNumber(s.min) + ", " + fmtNumber(s.max) + "]";
+  out += io::number(s.min, 15) + ", " + io::number(s.max, 15) + "]";
   if (*s.unit) out.append(" ").append(s.unit);
   return out;
 }
@@ -168,7 +151,7 @@ std::string expected(const Setting& s) {
     case SettingType::Boolean: return "true or false";
     case SettingType::Choice: {
       std::string out = "one of ";
-      const auto w = wordsOf(s.words);
+      const auto w = io::split(s.words, '|');
       for (std::size_t i = 0; i < w.size(); ++i) out.append(i ? ", " : "").append(w[i]);
       return out;
     }
@@ -191,7 +174,7 @@ std::string valuesText(const Setting& s) {
 }
 
 std::string settingText(const SettingValue& v) {
-  if (const double* x = std::get_if<double>(&v)) return fmtNumber(*x);
+  if (const double* x = std::get_if<double>(&v)) return io::number(*x, 15);
   if (const bool* b = std::get_if<bool>(&v)) return *b ? "true" : "false";
   return std::get<std::string>(v);
 }
@@ -206,7 +189,7 @@ void applySetting(Scenario& sc, const Setting& s, const SettingValue& v) {
       }
       if (!std::holds_alternative<double>(v)) throw SettingError(s.key, "must be " + expected(s));
       const double x = number(v);
-      const std::string got = ", got " + fmtNumber(x);
+      const std::string got = ", got " + io::number(x, 15);
       if (!std::isfinite(x)) throw SettingError(s.key, "must be a finite number" + got);
       // below the range: "must not be negative" / "must be positive" where the range starts at 0
       if (x < s.min || (s.aboveMin && x == s.min)) {
@@ -214,7 +197,7 @@ void applySetting(Scenario& sc, const Setting& s, const SettingValue& v) {
         throw SettingError(s.key, "must be in " + rangeText(s) + got);
       }
       if (x > s.max) {
-        if (*s.maxWhy) throw SettingError(s.key, fmtNumber(x) + (*s.unit ? std::string(" ") + s.unit : "") + " is more than " + s.maxWhy);
+        if (*s.maxWhy) throw SettingError(s.key, io::number(x, 15) + (*s.unit ? std::string(" ") + s.unit : "") + " is more than " + s.maxWhy);
         throw SettingError(s.key, "must be in " + rangeText(s) + got);
       }
       if (s.type == SettingType::Integer && x != std::floor(x)) throw SettingError(s.key, "must be a whole number" + got);
@@ -226,7 +209,7 @@ void applySetting(Scenario& sc, const Setting& s, const SettingValue& v) {
     case SettingType::Choice: {
       if (!isWord(v)) throw SettingError(s.key, "must be " + expected(s));
       bool known = false;
-      for (std::string_view w : wordsOf(s.words)) known = known || w == word(v);
+      for (std::string_view w : io::split(s.words, '|')) known = known || w == word(v);
       if (!known) throw SettingError(s.key, "must be " + expected(s) + ", got '" + word(v) + "'");
       break;
     }
@@ -280,7 +263,7 @@ void checkSettings(const Scenario& sc) {
                       : safety.reactionTime >= safety.cycleTime ? "safety.reaction_time"
                                                                  : "safety.cycle_time";
     throw SettingError(key, "the look-ahead (horizon, or cycle + reaction + stopping) must be at most " +
-                                fmtNumber(kMaxLookAhead) + " s");
+                                io::number(kMaxLookAhead, 15) + " s");
   }
 }
 

@@ -6,16 +6,11 @@
 #include <vector>
 
 #include <sthighway/detector.hpp>
+#include <stio/format.hpp>
 
 namespace st::highway {
 
 namespace {
-
-std::string fmtNumber(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.15g", x);
-  return buf;
-}
 
 double number(const SettingValue& v) { return std::get<double>(v); }
 const std::string& text(const SettingValue& v) { return std::get<std::string>(v); }
@@ -164,23 +159,11 @@ std::vector<Setting> makeTable() {
   return t;
 }
 
-std::vector<std::string_view> words(const char* choices) {
-  std::vector<std::string_view> out;
-  std::string_view s(choices);
-  while (!s.empty()) {
-    const auto bar = s.find('|');
-    out.push_back(s.substr(0, bar));
-    if (bar == std::string_view::npos) break;
-    s.remove_prefix(bar + 1);
-  }
-  return out;
-}
-
 std::string rangeText(const Setting& s) {
   std::string out = "[";
-  out += fmtNumber(s.min);
+  out += io::number(s.min, 15);
   out += ", ";
-  out += fmtNumber(s.max);
+  out += io::number(s.max, 15);
   out += "]";
   if (*s.unit) out.append(" ").append(s.unit);
   return out;
@@ -213,7 +196,7 @@ std::string expected(const Setting& s) {
     case SettingType::Boolean: return "true or false";
     case SettingType::Choice: {
       std::string out = "one of ";
-      const auto w = words(s.choices);
+      const auto w = io::split(s.choices, '|');
       for (std::size_t i = 0; i < w.size(); ++i) out.append(i ? ", " : "").append(w[i]);
       return out;
     }
@@ -227,9 +210,9 @@ void applySetting(MonitorConfig& cfg, const Setting& s, const SettingValue& v) {
     case SettingType::Integer: {
       if (!std::holds_alternative<double>(v)) throw SettingError(s.key, "must be " + expected(s));
       const double x = std::get<double>(v);
-      if (!(x >= s.min && x <= s.max)) throw SettingError(s.key, "must be in " + rangeText(s) + ", got " + fmtNumber(x));
+      if (!(x >= s.min && x <= s.max)) throw SettingError(s.key, "must be in " + rangeText(s) + ", got " + io::number(x, 15));
       if (s.type == SettingType::Integer && x != std::floor(x))
-        throw SettingError(s.key, "must be a whole number, got " + fmtNumber(x));
+        throw SettingError(s.key, "must be a whole number, got " + io::number(x, 15));
       break;
     }
     case SettingType::Boolean:
@@ -238,7 +221,7 @@ void applySetting(MonitorConfig& cfg, const Setting& s, const SettingValue& v) {
     case SettingType::Choice: {
       if (!std::holds_alternative<std::string>(v)) throw SettingError(s.key, "must be " + expected(s));
       bool known = false;
-      for (std::string_view w : words(s.choices)) known = known || w == std::get<std::string>(v);
+      for (std::string_view w : io::split(s.choices, '|')) known = known || w == std::get<std::string>(v);
       if (!known) throw SettingError(s.key, "must be " + expected(s) + ", got '" + std::get<std::string>(v) + "'");
       break;
     }
@@ -274,7 +257,7 @@ void applySettingText(MonitorConfig& cfg, const Setting& s, std::string_view tex
 }
 
 std::string settingText(const SettingValue& v) {
-  if (const double* x = std::get_if<double>(&v)) return fmtNumber(*x);
+  if (const double* x = std::get_if<double>(&v)) return io::number(*x, 15);
   if (const bool* b = std::get_if<bool>(&v)) return *b ? "true" : "false";
   return std::get<std::string>(v);
 }
