@@ -219,16 +219,19 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
         if (!std::isfinite(box)) continue;
         const double err = std::abs(box - c.ttc[i]);
         if (shifted) {
-          std::ostringstream what;
-          what << c.ego << ">" << c.foe << "@" << t;
-          r.ttc.add(err, what.str());
+          // the sample's name only where it may become the worst (tens of thousands of samples)
+          auto what = [&] { return c.ego + ">" + c.foe + "@" + io::number(t, 6); };  // as the other labels
+          r.ttc.add(err, err > r.ttc.maxAbsError || r.ttc.matched == 0 ? what() : std::string());
           if (i < c.drac.size() && std::isfinite(c.drac[i])) {
             // ours as conflicts.csv's: the rate the centre distance shrinks over twice the TTC
             r.dracSamples++;
             const Vec2 rel = foe->body.position - ego->body.position, vrel = foe->body.velocity - ego->body.velocity;
             const double dist = rel.norm();
             const double ours = hw::decelerationToAvoid(dist > 0.0 ? -rel.dot(vrel) / dist : vrel.norm(), box);
-            if (std::isfinite(ours)) r.drac.add(std::abs(ours - c.drac[i]), what.str());
+            if (std::isfinite(ours)) {
+              const double dracErr = std::abs(ours - c.drac[i]);
+              r.drac.add(dracErr, dracErr > r.drac.maxAbsError || r.drac.matched == 0 ? what() : std::string());
+            }
           }
         } else {
           r.matchedUnshifted++;
