@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <ranges>
 #include <set>
 #include <sstream>
 
@@ -20,6 +19,7 @@
 #include <stnet/frame.hpp>
 #include <stio/format.hpp>
 #include <stio/output.hpp>
+#include <stio/settings_table.hpp>
 #include <stsim/cli.hpp>
 #include <stsim/commands.hpp>
 
@@ -116,13 +116,13 @@ std::vector<arm::SettingOverride> settingOverrides(const Args& args) {
   };
   if (args.has("response")) add("ssm.response", args.get("response"), "--response");
   if (args.has("set")) {
-    if (args.get("set").empty()) throw UsageError("--set needs KEY=VALUE[,...], got nothing");
-    for (const auto part : std::views::split(args.get("set"), ',')) {
-      const std::string item(part.begin(), part.end());
-      const auto eq = item.find('=');
-      if (eq == std::string::npos) throw UsageError("--set needs KEY=VALUE, got '" + item + "'");
-      add(item.substr(0, eq), item.substr(eq + 1), "--set " + item.substr(0, eq));
+    std::vector<io::Assignment> items;
+    try {
+      items = io::splitAssignments(args.get("set"));
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--set ") + e.what());
     }
+    for (const io::Assignment& a : items) add(a.key, a.text, "--set " + a.key);
   }
   return out;
 }

@@ -1,11 +1,7 @@
 #include <starm/settings.hpp>
 
 #include <algorithm>
-#include <cctype>
-#include <cmath>
-#include <cstdio>
 #include <limits>
-#include <sstream>
 
 #include <starm/scenario.hpp>
 #include <stio/format.hpp>
@@ -22,20 +18,19 @@ double number(const SettingValue& v) { return std::get<double>(v); }
 bool isWord(const SettingValue& v) { return std::holds_alternative<std::string>(v); }
 const std::string& word(const SettingValue& v) { return std::get<std::string>(v); }
 
-std::string rangeText(const Setting& s) {
-  std::string out = s.aboveMin ? "(" : "[";
-  out += io::number(s.min, 15) + ", " + io::number(s.max, 15) + "]";
-  if (*s.unit) out.append(" ").append(s.unit);
-  return out;
+using SetFn = void (*)(Scenario&, const SettingValue&);
+using GetFn = SettingValue (*)(const Scenario&);
+
+// A row of the table: the key's spec, how it is stored, the key it follows ("" for none).
+Setting row(const io::SettingSpec& spec, SetFn set, GetFn get, const char* follows = "") {
+  return Setting{{spec, set, get}, follows};
 }
 
-// A plain number key of a struct field: Setting{key, Number, unit, min, max, ...} with set/get.
+// A plain number key of a struct field, with set/get.
 #define ST_ARM_NUMBER(KEY, UNIT, MIN, MAX, ABOVE, WHY, FOLLOWS, DOC, FIELD)                           \
-  Setting {                                                                                           \
-    KEY, SettingType::Number, UNIT, MIN, MAX, ABOVE, "", WHY, FOLLOWS, DOC,                           \
-        [](Scenario& s, const SettingValue& v) { s.FIELD = number(v); },                               \
-        [](const Scenario& s) { return SettingValue(s.FIELD); }                                        \
-  }
+  row({KEY, SettingType::Number, UNIT, MIN, MAX, ABOVE, "", WHY, DOC},                                \
+      [](Scenario& s, const SettingValue& v) { s.FIELD = number(v); },                                 \
+      [](const Scenario& s) { return SettingValue(s.FIELD); }, FOLLOWS)
 
 std::vector<Setting> makeTable() {
   using T = SettingType;
@@ -52,34 +47,34 @@ std::vector<Setting> makeTable() {
                     "look-ahead of the time-to-collision search, at least the safe time; 0: the safe time "
                     "(cycle + reaction + stopping)",
                     safety.horizon),
-      {"safety.latch_stale", T::Boolean, "", 0, 0, false, "", "", "",
-       "a STOP because an arm's sensor fell silent holds until reset (a deliberate restart); false: it clears itself",
+      row({"safety.latch_stale", T::Boolean, "", 0, 0, false, "", "",
+       "a STOP because an arm's sensor fell silent holds until reset (a deliberate restart); false: it clears itself"},
        [](Scenario& s, const SettingValue& v) { s.safety.latchStale = std::get<bool>(v); },
-       [](const Scenario& s) { return SettingValue(s.safety.latchStale); }},
+       [](const Scenario& s) { return SettingValue(s.safety.latchStale); }),
       ST_ARM_NUMBER("braking.stopping_time", "s", 0.0, kMaxLookAhead, false, kLookAheadWhy, "safety.stopping_time",
                     "closed loop: how long a STOPped arm takes to rest (the drive's own, T_s of the persons' "
                     "separation)",
                     braking.stoppingTime),
-      {"braking.deceleration", T::Number, "rad/s^2", 0.0, 1e6, true, "", "", "",
-       "closed loop, instead of braking.stopping_time: the fastest joint brakes at this (0: not given)",
+      row({"braking.deceleration", T::Number, "rad/s^2", 0.0, 1e6, true, "", "",
+       "closed loop, instead of braking.stopping_time: the fastest joint brakes at this (0: not given)"},
        [](Scenario& s, const SettingValue& v) { s.braking.deceleration = number(v); },
-       [](const Scenario& s) { return SettingValue(s.braking.deceleration); }},
+       [](const Scenario& s) { return SettingValue(s.braking.deceleration); }),
       ST_ARM_NUMBER("braking.delay", "s", 0.0, kMaxLookAhead, false, kLookAheadWhy, "safety.reaction_time",
                     "closed loop: from a STOP cycle to the start of braking", braking.delay),
-      {"braking.resume", T::Number, "s", 0.0, 3600.0, false, "never", "", "",
-       "closed loop: a STOPped arm resumes once no warning for this long; never: it stays stopped",
+      row({"braking.resume", T::Number, "s", 0.0, 3600.0, false, "never", "",
+       "closed loop: a STOPped arm resumes once no warning for this long; never: it stays stopped"},
        [](Scenario& s, const SettingValue& v) {
          s.braking.resumeAfter = isWord(v) ? std::numeric_limits<double>::infinity() : number(v);
        },
        [](const Scenario& s) {
          return s.braking.resumes() ? SettingValue(s.braking.resumeAfter) : SettingValue(std::string("never"));
-       }},
-      {"octree.kind", T::Choice, "", 0, 0, false, "tree|octree|quadtree|cells|single|none", "", "",
-       "the broadphase: the dynamic octree (tree, octree, quadtree), uniform cells, one list, or none (the brute force: every pair)",
+       }),
+      row({"octree.kind", T::Choice, "", 0, 0, false, "tree|octree|quadtree|cells|single|none", "",
+       "the broadphase: the dynamic octree (tree, octree, quadtree), uniform cells, one list, or none (the brute force: every pair)"},
        [](Scenario& s, const SettingValue& v) { parseSpaceKind(word(v), s.broad.kind); },
-       [](const Scenario& s) { return SettingValue(std::string(toString(s.broad.kind))); }},
-      {"octree.decomposition_factor", T::Integer, "", 1.0, 1e6, false, "auto", "", "",
-       "a leaf holding more objects than this divides; auto: the space picks it as it runs",
+       [](const Scenario& s) { return SettingValue(std::string(toString(s.broad.kind))); }),
+      row({"octree.decomposition_factor", T::Integer, "", 1.0, 1e6, false, "auto", "",
+       "a leaf holding more objects than this divides; auto: the space picks it as it runs"},
        [](Scenario& s, const SettingValue& v) {
          s.broad.rule.autoFactor = isWord(v);
          if (!isWord(v)) s.broad.rule.decompositionFactor = static_cast<int>(number(v));
@@ -87,9 +82,9 @@ std::vector<Setting> makeTable() {
        [](const Scenario& s) {
          return s.broad.rule.autoFactor ? SettingValue(std::string("auto"))
                                         : SettingValue(static_cast<double>(s.broad.rule.decompositionFactor));
-       }},
-      {"octree.max_depth", T::Integer, "", 0.0, 20.0, false, "scene", "", "",
-       "deepest division of the octree; scene: from the moving objects' sizes and the bounds",
+       }),
+      row({"octree.max_depth", T::Integer, "", 0.0, 20.0, false, "scene", "",
+       "deepest division of the octree; scene: from the moving objects' sizes and the bounds"},
        [](Scenario& s, const SettingValue& v) {
          s.broad.depthFromScene = isWord(v);
          if (!isWord(v)) s.broad.rule.maxDepth = static_cast<int>(number(v));
@@ -97,19 +92,19 @@ std::vector<Setting> makeTable() {
        [](const Scenario& s) {
          return s.broad.depthFromScene ? SettingValue(std::string("scene"))
                                        : SettingValue(static_cast<double>(s.broad.rule.maxDepth));
-       }},
+       }),
       ST_ARM_NUMBER("octree.margin", "m", 0.0, 10.0, false, "", "",
                     "fat-box margin: a capsule is re-filed in the space only when it leaves its box grown by this",
                     broad.margin),
       ST_ARM_NUMBER("octree.cell_size", "m", 0.0, 10.0, true, "", "", "edge of a cell (kind cells)",
                     broad.rule.cellSize),
-      {"ssm.response", T::Choice, "", 0, 0, false, "stop|scaling|pfl", "", "",
-       "persons: binary STOP, speed scaling, or scaling with contact within ISO/TS 15066 Annex A's limits (pfl)",
+      row({"ssm.response", T::Choice, "", 0, 0, false, "stop|scaling|pfl", "",
+       "persons: binary STOP, speed scaling, or scaling with contact within ISO/TS 15066 Annex A's limits (pfl)"},
        [](Scenario& s, const SettingValue& v) {
          const std::string& r = word(v);
          s.ssm.response = r == "stop" ? SsmResponse::Stop : r == "pfl" ? SsmResponse::Pfl : SsmResponse::Scaling;
        },
-       [](const Scenario& s) { return SettingValue(std::string(toString(s.ssm.response))); }},
+       [](const Scenario& s) { return SettingValue(std::string(toString(s.ssm.response))); }),
       ST_ARM_NUMBER("ssm.body_speed", "m/s", 0.0, 100.0, true, "", "", "v_h of a person's body (ISO 13855: walking)",
                     ssm.bodySpeed),
       ST_ARM_NUMBER("ssm.hand_speed", "m/s", 0.0, 100.0, true, "", "", "v_h of a hand (ISO 13855: hand and arm approach)",
@@ -138,111 +133,11 @@ std::span<const Setting> armSettings() {
   return table;
 }
 
-const Setting* findSetting(std::string_view key) {
-  for (const Setting& s : armSettings())
-    if (key == s.key) return &s;
-  return nullptr;
-}
+const Setting* findSetting(std::string_view key) { return io::findSetting(armSettings(), key); }
 
-std::string expected(const Setting& s) {
-  switch (s.type) {
-    case SettingType::Number: return *s.words ? std::string("a number or ") + s.words : "a number";
-    case SettingType::Integer: return *s.words ? std::string("a whole number or ") + s.words : "a whole number";
-    case SettingType::Boolean: return "true or false";
-    case SettingType::Choice: {
-      std::string out = "one of ";
-      const auto w = io::split(s.words, '|');
-      for (std::size_t i = 0; i < w.size(); ++i) out.append(i ? ", " : "").append(w[i]);
-      return out;
-    }
-  }
-  return "";
-}
+void applySetting(Scenario& sc, const Setting& s, const SettingValue& v) { io::applySetting<Scenario>(sc, s, v); }
 
-std::string valuesText(const Setting& s) {
-  switch (s.type) {
-    case SettingType::Number:
-    case SettingType::Integer: {
-      std::string out = (s.type == SettingType::Number ? "number in " : "whole number in ") + rangeText(s);
-      if (*s.words) out.append(", or ").append(s.words);
-      return out;
-    }
-    case SettingType::Boolean: return "true or false";
-    case SettingType::Choice: return expected(s);
-  }
-  return "";
-}
-
-std::string settingText(const SettingValue& v) {
-  if (const double* x = std::get_if<double>(&v)) return io::number(*x, 15);
-  if (const bool* b = std::get_if<bool>(&v)) return *b ? "true" : "false";
-  return std::get<std::string>(v);
-}
-
-void applySetting(Scenario& sc, const Setting& s, const SettingValue& v) {
-  switch (s.type) {
-    case SettingType::Number:
-    case SettingType::Integer: {
-      if (isWord(v)) {
-        if (!*s.words || word(v) != s.words) throw SettingError(s.key, "must be " + expected(s) + ", got '" + word(v) + "'");
-        break;
-      }
-      if (!std::holds_alternative<double>(v)) throw SettingError(s.key, "must be " + expected(s));
-      const double x = number(v);
-      const std::string got = ", got " + io::number(x, 15);
-      if (!std::isfinite(x)) throw SettingError(s.key, "must be a finite number" + got);
-      // below the range: "must not be negative" / "must be positive" where the range starts at 0
-      if (x < s.min || (s.aboveMin && x == s.min)) {
-        if (s.min == 0.0) throw SettingError(s.key, (s.aboveMin ? "must be positive" : "must not be negative") + got);
-        throw SettingError(s.key, "must be in " + rangeText(s) + got);
-      }
-      if (x > s.max) {
-        if (*s.maxWhy) throw SettingError(s.key, io::number(x, 15) + (*s.unit ? std::string(" ") + s.unit : "") + " is more than " + s.maxWhy);
-        throw SettingError(s.key, "must be in " + rangeText(s) + got);
-      }
-      if (s.type == SettingType::Integer && x != std::floor(x)) throw SettingError(s.key, "must be a whole number" + got);
-      break;
-    }
-    case SettingType::Boolean:
-      if (!std::holds_alternative<bool>(v)) throw SettingError(s.key, "must be true or false");
-      break;
-    case SettingType::Choice: {
-      if (!isWord(v)) throw SettingError(s.key, "must be " + expected(s));
-      bool known = false;
-      for (std::string_view w : io::split(s.words, '|')) known = known || w == word(v);
-      if (!known) throw SettingError(s.key, "must be " + expected(s) + ", got '" + word(v) + "'");
-      break;
-    }
-  }
-  s.set(sc, v);
-}
-
-void applySettingText(Scenario& sc, const Setting& s, std::string_view text) {
-  const std::string t(text);
-  switch (s.type) {
-    case SettingType::Number:
-    case SettingType::Integer: {
-      if (*s.words && t == s.words) return applySetting(sc, s, t);
-      std::size_t used = 0;
-      double x = 0.0;
-      try {
-        x = std::stod(t, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      // stod skips leading blanks: " 1" is no number here, as in YAML
-      if (t.empty() || used != t.size() || std::isspace(static_cast<unsigned char>(t.front())))
-        throw SettingError(s.key, "must be " + expected(s) + ", got '" + t + "'");
-      return applySetting(sc, s, x);
-    }
-    case SettingType::Boolean:
-      if (t == "true") return applySetting(sc, s, true);
-      if (t == "false") return applySetting(sc, s, false);
-      throw SettingError(s.key, "must be true or false, got '" + t + "'");
-    case SettingType::Choice:
-      return applySetting(sc, s, t);
-  }
-}
+void applySettingText(Scenario& sc, const Setting& s, std::string_view text) { s.set(sc, io::settingValue(s, text)); }
 
 void followDefaults(Scenario& sc, const std::function<bool(std::string_view)>& given) {
   for (const Setting& s : armSettings()) {
@@ -277,14 +172,13 @@ std::string settingsReferenceMarkdown(const Scenario* values, const char* column
   Scenario defaults;
   followDefaults(defaults);
   const Scenario& v = values ? *values : defaults;
-  std::ostringstream os;
-  os << "| key | value | " << column << " | what it sets |\n| --- | --- | --- | --- |\n";
+  std::string out = io::referenceHeading(column);
   for (const Setting& s : armSettings()) {
     std::string doc = s.doc;
     if (*s.follows) doc += " (default: " + std::string(s.follows) + ")";
-    os << "| `" << s.key << "` | " << valuesText(s) << " | " << settingText(s.get(v)) << " | " << doc << " |\n";
+    out += io::referenceRow(s, s.get(v), doc);
   }
-  return os.str();
+  return out;
 }
 
 }  // namespace st::arm

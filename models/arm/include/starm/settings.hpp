@@ -15,42 +15,23 @@
 #include <variant>
 #include <vector>
 
+#include <stio/settings_table.hpp>
+
 namespace st::arm {
 
 struct Scenario;
 
-enum class SettingType { Number, Integer, Boolean, Choice };
+using io::SettingType;
+using io::SettingValue;
+using io::SettingError;
+using io::expected;
+using io::valuesText;
+using io::settingText;
 
-// A value as read: a number, a bool, or a word (a choice; "never", "auto" or "scene" for the
-// numbers that take one).
-using SettingValue = std::variant<double, bool, std::string>;
-
-struct Setting {
-  const char* key;   // the YAML's nested name, e.g. "safety.cycle_time"
-  SettingType type;
-  const char* unit;  // "s", "m", "m/s", "kg", "rad/s^2" or "" (none)
-  double min;        // Number, Integer: the range, inclusive of max
-  double max;
-  bool aboveMin;     // the range excludes min: (min, max]
-  const char* words; // Choice: "stop|scaling|pfl"; Number, Integer: a word taken instead ("never"), or ""
-  const char* maxWhy;   // what the upper bound is ("the 60 s look-ahead limit"), worded in its error; or ""
-  const char* follows;  // the key whose value is the default of this one, or ""
-  const char* doc;
-  void (*set)(Scenario&, const SettingValue&);  // stores a value applySetting checked
-  SettingValue (*get)(const Scenario&);         // the value it holds
-};
-
-// The error of a bad value: what() is "KEY PROBLEM"; problem() without the key, for the front
-// ends that name the key their own way ("file:line: KEY: PROBLEM", "--set KEY: PROBLEM").
-class SettingError : public std::invalid_argument {
- public:
-  SettingError(std::string key, std::string problem)
-      : std::invalid_argument(key + " " + problem), key_(std::move(key)), problem_(std::move(problem)) {}
-  const std::string& key() const { return key_; }
-  const std::string& problem() const { return problem_; }
-
- private:
-  std::string key_, problem_;
+// A key of the table (stio/settings_table.hpp: key, type, unit, range, words, doc, set, get), and
+// the key whose value is the default of this one, or "".
+struct Setting : io::Setting<Scenario> {
+  const char* follows;
 };
 
 // A value given on the command line for a key, as text (stsim arm --set KEY=VALUE).
@@ -64,12 +45,6 @@ struct SettingOverride {
 std::span<const Setting> armSettings();
 // The setting named key; null if none.
 const Setting* findSetting(std::string_view key);
-// What a value of s must be, for a type error: "a number", "a number or never", "one of a, b".
-std::string expected(const Setting& s);
-// The values s takes, as the reference gives them: "number in (0, 60] s", "one of a, b".
-std::string valuesText(const Setting& s);
-// A value as the YAML would write it: 0.5, true, never.
-std::string settingText(const SettingValue& v);
 // The default of a key as text (a scenario with no settings given), for an option's default.
 std::string defaultText(std::string_view key);
 

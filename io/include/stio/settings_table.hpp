@@ -1,0 +1,96 @@
+#pragma once
+// The core every model's settings table shares (starm/settings.hpp, stpool/settings.hpp): a key's
+// type, unit, range and doc; reading a value as text (a YAML scalar, a command-line value), its
+// checks and their words, the reference's rows and --set's KEY=VALUE list. A model's table adds
+// what a key sets (Setting<Config>'s set and get); this layer knows no model.
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+namespace st::io {
+
+enum class SettingType { Number, Integer, Boolean, Choice };
+
+// A value as read: a number, a bool, or a word (a choice; a word a number key takes instead, as
+// "auto" or "never").
+using SettingValue = std::variant<double, bool, std::string>;
+
+// What a key takes, whatever it sets.
+struct SettingSpec {
+  const char* key;    // the YAML's nested name, e.g. "safety.cycle_time"
+  SettingType type;
+  const char* unit;   // "s", "m", "m/s", "kg", "rad/s^2" or "" (none)
+  double min;         // Number, Integer: the range, inclusive of max
+  double max;
+  bool aboveMin;      // the range excludes min: (min, max]
+  const char* words;  // Choice: "stop|scaling|pfl"; Number, Integer: a word taken instead ("never"), or ""
+  const char* maxWhy; // what the upper bound is ("the 60 s look-ahead limit"), worded in its error; or ""
+  const char* doc;
+};
+
+// A key of a model's table: its spec, and how it sets and reads Config's value.
+template <class Config>
+struct Setting : SettingSpec {
+  void (*set)(Config&, const SettingValue&);  // stores a value checkSetting passed
+  SettingValue (*get)(const Config&);         // the value it holds
+};
+
+// The error of a bad value: what() is "KEY PROBLEM"; problem() without the key, for the front
+// ends that name the key their own way ("file:line: KEY: PROBLEM", "--set KEY: PROBLEM").
+class SettingError : public std::invalid_argument {
+ public:
+  SettingError(std::string key, std::string problem)
+      : std::invalid_argument(key + " " + problem), key_(std::move(key)), problem_(std::move(problem)) {}
+  const std::string& key() const { return key_; }
+  const std::string& problem() const { return problem_; }
+
+ private:
+  std::string key_, problem_;
+};
+
+// What a value of s must be, for a type error: "a number", "a number or never", "one of a, b".
+std::string expected(const SettingSpec& s);
+// The values s takes, as the reference gives them: "number in (0, 60] s", "one of a, b".
+std::string valuesText(const SettingSpec& s);
+// A value as the YAML would write it: 0.5, true, never.
+std::string settingText(const SettingValue& v);
+
+// Throws SettingError unless v is a value of s (type, finite, range, whole, word).
+void checkSetting(const SettingSpec& s, const SettingValue& v);
+// Text as s's type, a command-line value or a YAML scalar alike: a number, true/false or a word;
+// checked by checkSetting. Throws SettingError.
+SettingValue settingValue(const SettingSpec& s, std::string_view text);
+
+// The setting named key in a table; null if none.
+template <class S>
+const S* findSetting(std::span<const S> table, std::string_view key) {
+  for (const S& s : table)
+    if (key == s.key) return &s;
+  return nullptr;
+}
+
+// Checks v for s and stores it in c.
+template <class Config>
+void applySetting(Config& c, const Setting<Config>& s, const SettingValue& v) {
+  checkSetting(s, v);
+  s.set(c, v);
+}
+
+// A key and its value as text, from --set KEY=VALUE[,KEY=VALUE...].
+struct Assignment {
+  std::string key;
+  std::string text;
+};
+// The assignments of --set's text; throws std::invalid_argument with the problem ("needs
+// KEY=VALUE, got 'x'") for a piece without '=' or an empty text.
+std::vector<Assignment> splitAssignments(std::string_view text);
+
+// The reference, a Markdown table: the heading (key, value, `column`, what it sets), then one row
+// per key (its values, its value v, its doc).
+std::string referenceHeading(std::string_view column);
+std::string referenceRow(const SettingSpec& s, const SettingValue& v, std::string_view doc);
+
+}  // namespace st::io
