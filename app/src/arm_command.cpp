@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <set>
 #include <sstream>
 
 #include <starm/replay.hpp>
@@ -19,10 +18,10 @@
 #include <stnet/frame.hpp>
 #include <stio/format.hpp>
 #include <stio/output.hpp>
-#include <stio/settings_table.hpp>
 #include <stsim/cli.hpp>
 #include <stsim/commands.hpp>
 
+#include "setting_options.hpp"
 #include "stop_signals.hpp"
 
 namespace st::cli {
@@ -102,29 +101,12 @@ void writeSummary(const fs::path& file, const std::string& scenario, const arm::
 }
 
 // The settings a command line gives (starm/settings.hpp): --set KEY=VALUE[,...] and the options
-// that stand for one key (--response: ssm.response). Each is checked by the table when the
-// scenario is read, over the file's values; unknown keys and keys given twice are named here.
+// that stand for one key (--response: ssm.response), checked by the table when the scenario is
+// read, over the file's values.
 std::vector<arm::SettingOverride> settingOverrides(const Args& args) {
-  std::vector<arm::SettingOverride> out;
-  std::set<std::string> given;
-  auto add = [&](const std::string& key, const std::string& text, const std::string& option) {
-    const arm::Setting* s = arm::findSetting(key);
-    if (!s) throw UsageError(option + ": unknown setting '" + key + "' (stsim arm --settings lists them)");
-    // one key twice is a mistake to name, not to pass over: which value would count?
-    if (!given.insert(s->key).second) throw UsageError(option + ": " + key + " given twice");
-    out.push_back({s->key, text, option});
-  };
-  if (args.has("response")) add("ssm.response", args.get("response"), "--response");
-  if (args.has("set")) {
-    std::vector<io::Assignment> items;
-    try {
-      items = io::splitAssignments(args.get("set"));
-    } catch (const std::invalid_argument& e) {
-      throw UsageError(std::string("--set ") + e.what());
-    }
-    for (const io::Assignment& a : items) add(a.key, a.text, "--set " + a.key);
-  }
-  return out;
+  return cli::settingOverrides(args, {{"response", "ssm.response"}},
+                               [](std::string_view key) -> const io::SettingSpec* { return arm::findSetting(key); },
+                               "arm", "");
 }
 
 // A scenario with the command line's settings over its own: a bad value names its option.
@@ -132,9 +114,7 @@ arm::Scenario loadWithSettings(const std::string& path, const std::vector<arm::S
   try {
     return arm::loadScenario(path, overrides);
   } catch (const arm::SettingError& e) {
-    for (const arm::SettingOverride& o : overrides)
-      if (o.key == e.key()) throw UsageError(o.option + ": " + e.problem());
-    throw UsageError("--set " + e.key() + ": " + e.problem());
+    overrideError(overrides, e, "");
   }
 }
 

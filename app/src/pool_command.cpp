@@ -12,11 +12,14 @@
 #include <stpool/game.hpp>
 #include <stpool/report.hpp>
 #include <stpool/scenario.hpp>
+#include <stpool/settings.hpp>
 #include <stpool/study.hpp>
 #include <stio/format.hpp>
 #include <stio/input.hpp>
 #include <stio/output.hpp>
+#include <stio/settings_table.hpp>
 
+#include "setting_options.hpp"
 #include "stop_signals.hpp"
 #ifdef STSIM_HAVE_POOL_SERVE
 #include <boost/asio/io_context.hpp>
@@ -34,6 +37,24 @@ namespace {
 // events.csv (and 7 MB of animation.html); box100's 10 s make 13 600.
 constexpr std::size_t kDefaultMaxEvents = 200'000;
 constexpr std::size_t kMaxPage = 16u << 20;  // bytes: the shipped page is 60 KB
+
+// The settings a command line gives (stpool/settings.hpp): --set KEY=VALUE[,...] and the options
+// that stand for one key (--space: space.kind, --df: space.decomposition_factor), checked by the
+// table when the scenario is read, over the file's values.
+std::vector<pool::SettingOverride> settingOverrides(const Args& args) {
+  return cli::settingOverrides(args, {{"space", "space.kind"}, {"df", "space.decomposition_factor"}},
+                               [](std::string_view key) -> const io::SettingSpec* { return pool::findSetting(key); },
+                               "pool", "option ");
+}
+
+// A scenario with the command line's settings over its own: a bad value names its option.
+pool::Scenario loadWithSettings(const std::string& path, const std::vector<pool::SettingOverride>& overrides) {
+  try {
+    return pool::loadScenario(path, overrides);
+  } catch (const pool::SettingError& e) {
+    overrideError(overrides, e, "option ");
+  }
+}
 
 void printSummary(std::ostream& os, const pool::RunRecord& run, const pool::Game& game) {
   const auto& c = game.simulator().counters();
@@ -112,10 +133,29 @@ int runServe(int argc, const char* const* argv) {
 }
 #endif
 
-int runPool(int argc, const char* const* argv) {
-#ifdef STSIM_HAVE_POOL_SERVE
-  if (argc > 0 && std::string(argv[0]) == "serve") return runServe(argc - 1, argv + 1);
-#endif
+// events.csv (and animation.html) grow with the events: a runaway time limit (until 1e12 on
+// box100) wrote 269 MB before the library's own bound stopped it
+std::size_t maxEventsOption(const Args& args) {
+  if (!args.has("max-events")) return kDefaultMaxEvents;
+  const long n = args.getInt("max-events");
+  if (n < 1 || static_cast<std::size_t>(n) > pool::kMaxEvents)
+    throw UsageError("option --max-events: expected 1.." + std::to_string(pool::kMaxEvents) + ", got " +
+                     args.get("max-events"));
+  return static_cast<std::size_t>(n);
+}
+
+// --until: every shot's time limit (its own too), checked as the key until; -1: none given
+double untilOption(const Args& args) {
+  if (!args.has("until")) return -1.0;
+  try {
+    return std::get<double>(io::settingValue(*pool::findSetting("until"), args.get("until")));
+  } catch (const pool::SettingError& e) {
+    throw UsageError("option --until: " + e.problem());
+  }
+}
+
+// stsim pool's options
+Args poolArgs() {
   Args args("pool",
             "Plays a pool scenario on the event-driven simulator (the report's OOSPG) and writes\n"
             "events.csv, summary.json, table.svg and animation.html to --out; or, with --study fig13,\n"
@@ -123,76 +163,83 @@ int runPool(int argc, const char* const* argv) {
             "  stsim pool serve [SCENARIO.yaml] --listen 127.0.0.1:8080   play it in the browser (pool serve --help)");
   args.positional("SCENARIO.yaml", "the scenario (models/pool/README.md documents its keys)", false)
       .option("out", "DIR", "write the run's files to this directory (created if missing); with --study, fig13.txt")
-      .option("space", "KIND", "override space.kind: none, single, quadtree or cells")
-      .option("df", "N|auto", "override space.decomposition_factor (quadtree only): an integer >= 1, or auto")
-      .option("until", "T", "override every shot's time limit (s)")
+      .option("space", "KIND", "override space.kind: " + pool::expected(*pool::findSetting("space.kind")))
+      .option("df", "N|auto", "override space.decomposition_factor (quadtree only): " +
+                                  pool::valuesText(*pool::findSetting("space.decomposition_factor")))
+      .option("until", "T", "override every shot's time limit (s), checked as the key until")
+      .option("set", "KEY=VALUE,...", "settings over the scenario's, e.g. space.cell_size=0.2 (checked as in the YAML;\n"
+                                      "--settings lists them)")
+      .flag("settings", "print every setting (key, range, default, what it sets) and exit; with SCENARIO and\n"
+                        "--set, --space, --df, the values in effect")
       .option("max-events", "N", "stop the run after N events, an error naming events.csv (default 200000, about\n"
                                  "27 MB of events.csv; at most 2000000)")
       .option("study", "NAME", "run a study instead of a scenario: fig13")
       .option("counting", "HOW", "with --study fig13: events (the simulator's own checks, the default) or report\n"
                                  "(the report's per-step counting as well, side by side)");
+  return args;
+}
+
+// --settings: the table, with the defaults or the values in effect
+int printSettings(const Args& args) {
+  const std::vector<pool::SettingOverride> overrides = settingOverrides(args);
+  if (!args.positionalValue(0)) {
+    if (!overrides.empty()) throw UsageError("--settings: option " + overrides.front().option + " needs a SCENARIO");
+    std::cout << pool::settingsReferenceMarkdown();
+    return 0;
+  }
+  const pool::Scenario sc = loadWithSettings(*args.positionalValue(0), overrides);
+  std::cout << pool::settingsReferenceMarkdown(&sc, "in effect");
+  return 0;
+}
+
+// --study fig13: the report's collision-check study
+int runStudy(const Args& args) {
+  if (args.get("study") != "fig13") throw UsageError("unknown study '" + args.get("study") + "' (fig13)");
+  if (args.positionalValue(0)) throw UsageError("--study takes no scenario file");
+  pool::Counting counting = pool::Counting::Events;
+  if (args.has("counting")) {
+    if (args.get("counting") == "report") counting = pool::Counting::Report;
+    else if (args.get("counting") != "events")
+      throw UsageError("option --counting: unknown counting '" + args.get("counting") + "' (events, report)");
+  }
+  if (!args.has("out")) {
+    pool::printFig13Study(std::cout, counting);
+    return 0;
+  }
+  // the folder first: a minute of study is not run for a folder that cannot be made
+  const std::filesystem::path dir = args.get("out");
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw std::runtime_error(dir.string() + ": cannot create the folder: " + ec.message());
+  std::ostringstream study;
+  pool::printFig13Study(study, counting);
+  io::writeTextFile(dir / "fig13.txt", study.str());
+  std::cout << study.str() << "  wrote fig13.txt to " << dir.string() << "\n";
+  return 0;
+}
+
+int runPool(int argc, const char* const* argv) {
+#ifdef STSIM_HAVE_POOL_SERVE
+  if (argc > 0 && std::string(argv[0]) == "serve") return runServe(argc - 1, argv + 1);
+#endif
+  Args args = poolArgs();
   if (!args.parse(argc, argv)) {
     std::cout << args.help();
     return 0;
   }
+  if (args.has("settings")) return printSettings(args);
   if (args.has("counting") && !args.has("study")) throw UsageError("option --counting needs --study fig13");
-  if (args.has("study")) {
-    if (args.get("study") != "fig13") throw UsageError("unknown study '" + args.get("study") + "' (fig13)");
-    if (args.positionalValue(0)) throw UsageError("--study takes no scenario file");
-    pool::Counting counting = pool::Counting::Events;
-    if (args.has("counting")) {
-      if (args.get("counting") == "report") counting = pool::Counting::Report;
-      else if (args.get("counting") != "events")
-        throw UsageError("option --counting: unknown counting '" + args.get("counting") + "' (events, report)");
-    }
-    if (!args.has("out")) {
-      pool::printFig13Study(std::cout, counting);
-      return 0;
-    }
-    // the folder first: a minute of study is not run for a folder that cannot be made
-    const std::filesystem::path dir = args.get("out");
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec) throw std::runtime_error(dir.string() + ": cannot create the folder: " + ec.message());
-    std::ostringstream study;
-    pool::printFig13Study(study, counting);
-    io::writeTextFile(dir / "fig13.txt", study.str());
-    std::cout << study.str() << "  wrote fig13.txt to " << dir.string() << "\n";
-    return 0;
-  }
+  if (args.has("study")) return runStudy(args);
   const auto path = args.positionalValue(0);
   if (!path) throw UsageError("missing argument SCENARIO.yaml (see stsim pool --help)");
 
-  pool::Scenario scenario = pool::loadScenario(*path);
-  // the overrides are checked by the code that checks their YAML keys (pool::SettingError), the
-  // problem named at the flag: `--space cells --df 7` is refused as `kind: cells` with a
-  // decomposition_factor is. --space sets the file's keys of its old kind aside.
-  auto setting = [&](const char* flag, auto&& set) {
-    try {
-      return set();
-    } catch (const pool::SettingError& e) {
-      throw UsageError(std::string("option --") + flag + ": " + e.what());
-    }
-  };
-  if (args.has("space")) setting("space", [&] { scenario.space.kind = pool::spaceKindSetting(args.get("space")); });
-  if (args.has("df"))
-    setting("df", [&] {
-      pool::checkKeyForKind(scenario.space, "space.decomposition_factor");
-      pool::setDecompositionFactor(scenario.space, args.get("df"));
-    });
-  double until = -1.0;
-  if (args.has("until")) until = setting("until", [&] { return pool::untilSetting(args.get("until")); });
+  // the overrides are checked by the settings table as their YAML keys are, the problem named at
+  // the option: `--space cells --df 7` is refused as `kind: cells` with a decomposition_factor is.
+  // --space sets the file's keys of its old kind aside.
+  const pool::Scenario scenario = loadWithSettings(*path, settingOverrides(args));
+  const double until = untilOption(args);
 
-  // events.csv (and animation.html) grow with the events: a runaway time limit (until 1e12 on
-  // box100) wrote 269 MB before the library's own bound stopped it
-  std::size_t maxEvents = kDefaultMaxEvents;
-  if (args.has("max-events")) {
-    const long n = args.getInt("max-events");
-    if (n < 1 || static_cast<std::size_t>(n) > pool::kMaxEvents)
-      throw UsageError("option --max-events: expected 1.." + std::to_string(pool::kMaxEvents) + ", got " +
-                       args.get("max-events"));
-    maxEvents = static_cast<std::size_t>(n);
-  }
+  const std::size_t maxEvents = maxEventsOption(args);
 
   pool::Game game(scenario, pool::simulatorConfig(scenario));
   // Ctrl-C, SIGTERM, SIGHUP: stop at the next event and write what was played (never a cut row)

@@ -79,6 +79,14 @@ void applySetting(Config& c, const Setting<Config>& s, const SettingValue& v) {
   s.set(c, v);
 }
 
+// A value given on the command line for a key, as text (stsim arm --set KEY=VALUE), to be read
+// over the scenario file's.
+struct SettingOverride {
+  std::string key;
+  std::string text;
+  std::string option;  // how the front end names it: "--set safety.cycle_time", "--response"
+};
+
 // A key and its value as text, from --set KEY=VALUE[,KEY=VALUE...].
 struct Assignment {
   std::string key;

@@ -1,15 +1,11 @@
 #include <stpool/scenario.hpp>
 
 #include <algorithm>
-#include <cctype>
-#include <charconv>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <numbers>
 #include <set>
-#include <sstream>
 
 #include <yaml-cpp/yaml.h>
 
@@ -19,87 +15,35 @@
 #include <stio/yaml.hpp>
 
 #include <stpool/rack.hpp>
+#include <stpool/settings.hpp>
 
 namespace st::pool {
 
 namespace {
 
-constexpr double kMaxTableSide = 100.0;  // m; a snooker table is 3.6
-constexpr double kMaxFriction = 100.0;   // m/s^2; cloth's rolling resistance is about 0.1
-constexpr long kMaxFactor = 1000000000;  // a factor past any ball count: taken as this
-
-// The whole text as a number (a leading '+' allowed, as YAML and strtod allow it).
-template <class T>
-bool wholeNumber(const std::string& text, T& out) {
-  const char* b = text.data();
-  const char* e = b + text.size();
-  if (b != e && *b == '+') ++b;
-  const auto [ptr, ec] = std::from_chars(b, e, out);
-  return b != e && ec == std::errc() && ptr == e;
-}
-
-}  // namespace
-
-SpaceKind spaceKindSetting(const std::string& text) {
-  SpaceKind kind = SpaceKind::Tree;
-  if (!parseSpaceKind(text, kind)) throw SettingError("unknown space kind '" + text + "' (none, single, quadtree, cells)");
-  return kind;
-}
-
-void setDecompositionFactor(SpaceSpec& space, const std::string& text) {
-  if (text == "auto") {
-    space.autoFactor = true;  // the space picks it as it runs (stcore/factor_tuner.hpp)
-    return;
-  }
-  long df = 0;
-  if (!wholeNumber(text, df)) throw SettingError("must be an integer or auto, got '" + text + "'");
-  if (df < 1) throw SettingError("must be at least 1 (or auto), got " + text);
-  space.decompositionFactor = static_cast<int>(std::min(df, kMaxFactor));
-  space.autoFactor = false;
-}
-
-void checkKeyForKind(const SpaceSpec& space, const std::string& key) {
-  const bool tree = key == "space.decomposition_factor" || key == "space.divisions" || key == "space.max_depth";
-  const bool cells = key == "space.cell_size" || key == "space.margin";
-  if (!tree && !cells) return;
-  if (space.kind == (tree ? SpaceKind::Tree : SpaceKind::Cells)) return;
-  const char* kindName = space.kind == SpaceKind::Tree ? "quadtree" : toString(space.kind);
-  throw SettingError(std::string("only for kind ") + (tree ? "quadtree" : "cells") + " (this space is " + kindName + ")");
-}
-
-double untilSetting(const std::string& text) {
-  double v = 0.0;
-  if (!wholeNumber(text, v)) {
-    std::string low;
-    for (const char c : text) low += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    // YAML's own spellings of infinity and NaN
-    if (low == ".inf" || low == "+.inf" || low == "-.inf" || low == ".nan") throw SettingError("must be finite");
-    throw SettingError("must be a number, got '" + text + "'");
-  }
-  if (!std::isfinite(v)) throw SettingError("must be finite");
-  if (!(v > 0.0)) throw SettingError("must be positive, got " + text);
-  return v;
-}
-
-namespace {
-
-// Where a key sits, for messages: "file:line:col: key".
+// Where a key sits, for messages: "file:line:col: key"; or that the command line gave it.
 struct Where {
   std::string source;
   std::string key;
   YAML::Mark mark;
+  bool fromCli = false;
   std::string str() const { return io::place(source, mark, true) + ": " + key; }
 };
 
-[[noreturn]] void fail(const Where& w, const std::string& problem) { throw ScenarioError(w.str() + ": " + problem); }
+// A key's problem: at its line, or, when the command line gave the key, a SettingError the front
+// end words with its option.
+[[noreturn]] void fail(const Where& w, const std::string& problem) {
+  if (w.fromCli) throw SettingError(w.key, problem);
+  throw ScenarioError(w.str() + ": " + problem);
+}
 
-// One of the settings above, its problem named at the key that gave it.
+// A setting's check (stpool/settings.hpp), its problem named at the key that gave it.
 template <class F>
-auto setting(const Where& w, F&& f) {
+auto named(const Where& w, F&& f) {
   try {
     return f();
   } catch (const SettingError& e) {
-    fail(w, e.what());
+    fail(w, e.problem());
   }
 }
 
@@ -111,10 +55,13 @@ class Reader {
 
   // Checks that map node n (named key) has only the allowed keys.
   void onlyKeys(const YAML::Node& n, const std::string& key, std::initializer_list<const char*> allowed) const {
-    if (!n.IsMap()) fail(at(n, key), "must be a map");
-    const io::KeyProblem p = io::checkKeys(n, key, [&](const std::string& k) {
+    onlyKeysIf(n, key, [&](const std::string& k) {
       return std::any_of(allowed.begin(), allowed.end(), [&](const char* a) { return k == a; });
     });
+  }
+  void onlyKeysIf(const YAML::Node& n, const std::string& key, const std::function<bool(const std::string&)>& allowed) const {
+    if (!n.IsMap()) fail(at(n, key), "must be a map");
+    const io::KeyProblem p = io::checkKeys(n, key, allowed);
     if (!p.key.empty()) fail(at(p.at, p.key), p.what);
   }
 
@@ -145,14 +92,6 @@ class Reader {
     }
   }
 
-  bool boolean(const YAML::Node& n, const std::string& key) const {
-    try {
-      return n.as<bool>();
-    } catch (const YAML::Exception&) {
-      fail(at(n, key), "must be true or false");
-    }
-  }
-
   std::string text(const YAML::Node& n, const std::string& key) const {
     if (!n.IsScalar()) fail(at(n, key), "must be a string");
     return n.Scalar();
@@ -175,8 +114,12 @@ using Locate = std::function<Where(const std::string& key, int ball)>;
 // `ballsKey`: "balls" for a ball list, or the key that generated them ("rack", "random"), which
 // is then named instead of a balls[i] key the file does not have.
 void validate(const Scenario& s, const Locate& where, const std::string& ballsKey = "balls") {
-  if (s.table.width > kMaxTableSide) fail(where("table.width", -1), "must be at most " + io::number(kMaxTableSide) + " m");
-  if (s.table.height > kMaxTableSide) fail(where("table.height", -1), "must be at most " + io::number(kMaxTableSide) + " m");
+  // every setting in its range: a scenario built in code is held to the table as a file is
+  try {
+    checkSettings(s);
+  } catch (const SettingError& e) {
+    fail(where(e.key(), -1), e.problem());
+  }
   const bool listed = ballsKey == "balls";
   auto ballKey = [&](int i, const char* field) {
     return listed ? indexed("balls", static_cast<std::size_t>(i)) + field : ballsKey;
@@ -232,239 +175,238 @@ void validate(const Scenario& s, const Locate& where, const std::string& ballsKe
     if (s.shots[k].velocity.norm() > kMaxSpeed)
       fail(where(indexed("shots", k), -1), "speed must be at most " + std::to_string(static_cast<int>(kMaxSpeed)) + " m/s");
   }
-  if (!(s.until > 0.0)) fail(where("until", -1), "must be positive");
-  if (!(s.friction >= 0.0) || !std::isfinite(s.friction)) fail(where("friction", -1), "must be zero or positive");
-  // a deceleration beyond any cloth's: 1e308 was blamed on until (the event limit)
-  if (s.friction > kMaxFriction)
-    fail(where("friction", -1), io::number(s.friction) + " m/s^2 is more than any cloth's rolling resistance (at most " +
-                                    io::number(kMaxFriction) + " m/s^2)");
   const SpaceSpec& sp = s.space;
-  if (sp.decompositionFactor < 1) fail(where("space.decomposition_factor", -1), "must be at least 1");
-  if (sp.divisions != 2 && sp.divisions != 4) fail(where("space.divisions", -1), "must be 2 or 4");
-  if (sp.maxDepth < -1 || sp.maxDepth > 30) fail(where("space.max_depth", -1), "must be between 0 and 30 (or -1: automatic)");
-  if (sp.kind == SpaceKind::Cells && !(sp.cellSize > 0.0)) fail(where("space.cell_size", -1), "must be positive");
   // stcore's cells space holds at most 5e7 cells: say which key asks for more
   if (sp.kind == SpaceKind::Cells && std::isfinite(sp.cellSize) &&
       std::floor(s.table.width / sp.cellSize) * std::floor(s.table.height / sp.cellSize) > 5e7)
     fail(where("space.cell_size", -1), "too small for the table: more than 5e7 cells (the table is " +
                                            std::to_string(s.table.width) + " x " + std::to_string(s.table.height) + " m)");
-  if (!(sp.marginFactor() > 0.0) || !std::isfinite(sp.marginFactor())) fail(where("space.margin", -1), "must be positive");
 }
 
-Scenario parse(const YAML::Node& root, const std::string& source) {
-  Reader rd(source);
-  Scenario s;
-  s.name = source;
-  if (!root.IsMap()) fail(Where{source, "(top level)", root.Mark()}, "a scenario must be a YAML map");
-  rd.onlyKeys(root, "", {"name", "table", "balls", "rack", "random", "shots", "space", "until", "friction", "seed"});
-  // where each key was found, so validation can name its line
+// Where the keys were found, so validation names the line of the one at fault, or the option when
+// the command line gave it.
+struct Places {
   std::map<std::string, YAML::Mark> marks;
-  std::vector<YAML::Mark> ballMarks;
-  auto mark = [&](const std::string& key, const YAML::Node& n) { marks[key] = n.Mark(); };
+  std::vector<YAML::Mark> balls;  // each ball's (a rack's or random layout's: that key's)
+  std::set<std::string> fromCli;
+};
 
-  if (root["name"]) s.name = rd.text(root["name"], "name");
-  if (root["seed"]) {
-    const long seed = rd.integer(root["seed"], "seed");
-    if (seed < 0) fail(rd.at(root["seed"], "seed"), "must not be negative");
-    s.seed = static_cast<std::uint64_t>(seed);
-  }
-  if (const YAML::Node n = root["until"]) {
-    if (!n.IsScalar()) fail(rd.at(n, "until"), "must be a number");
-    s.until = setting(rd.at(n, "until"), [&] { return untilSetting(n.Scalar()); });
-  }
-  if (root["friction"]) {
-    mark("friction", root["friction"]);
-    s.friction = rd.number(root["friction"], "friction");
-    if (s.friction < 0.0) fail(rd.at(root["friction"], "friction"), "must be zero or positive");
-  }
+// The node of a setting's key ("space.cell_size", "until") under root; an undefined node if absent.
+YAML::Node settingNode(const YAML::Node& root, const std::string& key) {
+  const auto dot = key.find('.');
+  if (dot == std::string::npos) return root[key];
+  const YAML::Node section = root[key.substr(0, dot)];
+  if (!section || !section.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
+  return section[key.substr(dot + 1)];
+}
 
-  // table
+// The sections' keys: those of the settings table. The table and its size are given in every
+// scenario (a table's size is no default to forget).
+void checkSections(const Reader& rd, const YAML::Node& root, const std::string& source) {
+  rd.onlyKeys(root, "", {"name", "table", "balls", "rack", "random", "shots", "space", "until", "friction", "seed"});
   const YAML::Node table = root["table"];
   if (!table) fail(Where{source, "table", root.Mark()}, io::missingKeyText());
-  mark("table", table);
-  rd.onlyKeys(table, "table", {"width", "height", "pockets", "corner_mouth", "side_mouth"});
+  for (const char* section : {"table", "space"}) {
+    const YAML::Node n = root[section];
+    if (!n) continue;
+    const std::string prefix = std::string(section) + ".";
+    rd.onlyKeysIf(n, section, [&](const std::string& k) { return findSetting(prefix + k) != nullptr; });
+  }
   if (!table["width"]) fail(rd.at(table, "table.width"), io::missingKeyText());
   if (!table["height"]) fail(rd.at(table, "table.height"), io::missingKeyText());
-  s.table.width = rd.positive(table["width"], "table.width");
-  s.table.height = rd.positive(table["height"], "table.height");
-  // named here, before a rack is placed on it (1e300 was reported as the rack's overlap)
-  for (const auto& [key, v] : {std::pair{"table.width", s.table.width}, std::pair{"table.height", s.table.height}})
-    if (v > kMaxTableSide)
-      fail(rd.at(table[std::string(key).substr(6)], key), io::number(v) + " m is more than any table's (at most " +
-                                                               io::number(kMaxTableSide) + " m)");
-  if (table["pockets"]) s.table.pockets = rd.boolean(table["pockets"], "table.pockets");
-  if (table["corner_mouth"]) s.table.cornerMouth = rd.positive(table["corner_mouth"], "table.corner_mouth");
-  if (table["side_mouth"]) s.table.sideMouth = rd.positive(table["side_mouth"], "table.side_mouth");
+}
+
+// The settings (stpool/settings.hpp): the file's, then the command line's over them, each checked
+// and worded by the table. A space key of another kind is refused against the kind of the front
+// end that gave it: the file's against the file's kind (--space sets them aside), an option's
+// against the kind in effect (`--space cells --df 7` as `kind: cells` with a decomposition_factor).
+void readSettings(const Reader& rd, const YAML::Node& root, const std::vector<SettingOverride>& overrides, Scenario& s,
+                  Places& at) {
+  for (const Setting& setting : poolSettings()) {
+    const YAML::Node n = settingNode(root, setting.key);
+    if (!n) continue;
+    const Where w = rd.at(n, setting.key);
+    if (!n.IsScalar()) fail(w, "must be " + expected(setting));
+    // space.kind comes first in its section: the file's kind is known here
+    named(w, [&] {
+      checkKeyForKind(s, setting.key);
+      applySettingText(s, setting, n.Scalar());
+    });
+    at.marks[setting.key] = n.Mark();
+  }
+  for (const SettingOverride& o : overrides) {
+    const Setting* setting = findSetting(o.key);
+    if (!setting) throw SettingError(o.key, "is not a setting (stsim pool --settings lists them)");
+    applySettingText(s, *setting, o.text);
+    at.fromCli.insert(setting->key);
+  }
+  for (const std::string& key : at.fromCli) checkKeyForKind(s, key);
+}
+
+// rack: the standard triangle (a scalar "standard", or its keys)
+std::vector<BallSpec> readRack(const Reader& rd, const YAML::Node& rack, const Table& built, Rng& rng) {
+  RackSpec spec;
+  if (rack.IsScalar()) {
+    if (rack.Scalar() != "standard") fail(rd.at(rack, "rack"), "unknown rack '" + rack.Scalar() + "' (standard)");
+    return standardRack(built, spec, rng);
+  }
+  rd.onlyKeys(rack, "rack", {"kind", "gap", "apex", "cue_ball", "radius", "mass"});
+  if (rack["kind"] && rd.text(rack["kind"], "rack.kind") != "standard")
+    fail(rd.at(rack["kind"], "rack.kind"), "unknown rack '" + rack["kind"].Scalar() + "' (standard)");
+  if (rack["gap"]) {
+    spec.gap = rd.number(rack["gap"], "rack.gap");
+    if (spec.gap < 0.0) fail(rd.at(rack["gap"], "rack.gap"), "must be zero or positive");
+  }
+  if (rack["apex"]) spec.apex = rd.vec2(rack["apex"], "rack.apex");
+  if (rack["cue_ball"]) spec.cueBall = rd.vec2(rack["cue_ball"], "rack.cue_ball");
+  if (rack["radius"]) spec.radius = rd.positive(rack["radius"], "rack.radius");
+  if (rack["mass"]) spec.mass = rd.positive(rack["mass"], "rack.mass");
+  return standardRack(built, spec, rng);
+}
+
+// random: seeded non-overlapping balls
+std::vector<BallSpec> readRandom(const Reader& rd, const YAML::Node& rnd, const Table& built, Rng& rng) {
+  rd.onlyKeys(rnd, "random", {"count", "speed", "radius", "mass", "clearance"});
+  if (!rnd["count"]) fail(rd.at(rnd, "random.count"), io::missingKeyText());
+  const long count = rd.integer(rnd["count"], "random.count");
+  if (count < 1 || count > 1000000) fail(rd.at(rnd["count"], "random.count"), "must be between 1 and 1000000");
+  const double speed = rnd["speed"] ? rd.number(rnd["speed"], "random.speed") : 1.0;
+  if (speed < 0.0 || speed > kMaxSpeed)
+    fail(rd.at(rnd["speed"], "random.speed"), "must be between 0 and " + std::to_string(static_cast<int>(kMaxSpeed)) + " m/s");
+  const double radius = rnd["radius"] ? rd.positive(rnd["radius"], "random.radius") : kBallRadius;
+  const double mass = rnd["mass"] ? rd.positive(rnd["mass"], "random.mass") : kBallMass;
+  const double clearance = rnd["clearance"] ? rd.number(rnd["clearance"], "random.clearance") : 0.0;
+  if (clearance < 0.0) fail(rd.at(rnd["clearance"], "random.clearance"), "must be zero or positive");
+  try {
+    return randomBalls(built, static_cast<int>(count), speed, radius, mass, clearance, rng);
+  } catch (const std::invalid_argument& e) {
+    fail(rd.at(rnd, "random"), e.what());
+  }
+}
+
+// balls: a list, each ball by its number and position
+BallSpec readBall(const Reader& rd, const YAML::Node& b, const std::string& key) {
+  rd.onlyKeys(b, key, {"number", "position", "velocity", "radius", "mass", "colour", "color", "pattern"});
+  if (!b["number"]) fail(rd.at(b, key + ".number"), io::missingKeyText());
+  if (!b["position"]) fail(rd.at(b, key + ".position"), io::missingKeyText());
+  const long number = rd.integer(b["number"], key + ".number");
+  if (number < 0 || number > 1000000) fail(rd.at(b["number"], key + ".number"), "must be between 0 and 1000000");
+  BallSpec spec = makeBall(static_cast<int>(number), rd.vec2(b["position"], key + ".position"));
+  if (b["velocity"]) spec.velocity = rd.vec2(b["velocity"], key + ".velocity");
+  if (b["radius"]) spec.radius = rd.positive(b["radius"], key + ".radius");
+  if (b["mass"]) spec.mass = rd.positive(b["mass"], key + ".mass");
+  for (const char* ck : {"colour", "color"}) {
+    if (!b[ck]) continue;
+    const auto c = parseColour(rd.text(b[ck], key + "." + ck));
+    if (!c) fail(rd.at(b[ck], key + "." + ck), "unknown colour '" + b[ck].Scalar() + "'");
+    spec.colour = *c;
+  }
+  if (b["pattern"]) {
+    const auto p = parsePattern(rd.text(b["pattern"], key + ".pattern"));
+    if (!p) fail(rd.at(b["pattern"], key + ".pattern"), "unknown pattern '" + b["pattern"].Scalar() + "' (solid, striped)");
+    spec.pattern = *p;
+  }
+  return spec;
+}
+
+// The balls: exactly one of balls / rack / random. Returns the key that gave them.
+std::string readBalls(const Reader& rd, const YAML::Node& root, const std::string& source, Scenario& s, Places& at) {
+  const int sources = (root["balls"] ? 1 : 0) + (root["rack"] ? 1 : 0) + (root["random"] ? 1 : 0);
+  if (sources == 0) fail(Where{source, "balls", root.Mark()}, io::missingKeyText("give balls, rack or random"));
+  if (sources > 1) fail(Where{source, "balls", root.Mark()}, "give only one of balls, rack and random");
   Table built;
   try {
     built = makeTable(s.table);
   } catch (const std::invalid_argument& e) {
-    fail(rd.at(table, "table"), e.what());
+    fail(Where{source, "table", root["table"].Mark()}, e.what());
   }
-
-  // balls: exactly one of balls / rack / random
-  const int sources = (root["balls"] ? 1 : 0) + (root["rack"] ? 1 : 0) + (root["random"] ? 1 : 0);
-  if (sources == 0) fail(Where{source, "balls", root.Mark()}, io::missingKeyText("give balls, rack or random"));
-  if (sources > 1) fail(Where{source, "balls", root.Mark()}, "give only one of balls, rack and random");
   Rng rng(s.seed);
-  if (const YAML::Node rack = root["rack"]) {
-    RackSpec spec;
-    if (rack.IsScalar()) {
-      if (rack.Scalar() != "standard") fail(rd.at(rack, "rack"), "unknown rack '" + rack.Scalar() + "' (standard)");
-    } else {
-      rd.onlyKeys(rack, "rack", {"kind", "gap", "apex", "cue_ball", "radius", "mass"});
-      if (rack["kind"] && rd.text(rack["kind"], "rack.kind") != "standard")
-        fail(rd.at(rack["kind"], "rack.kind"), "unknown rack '" + rack["kind"].Scalar() + "' (standard)");
-      if (rack["gap"]) {
-        spec.gap = rd.number(rack["gap"], "rack.gap");
-        if (spec.gap < 0.0) fail(rd.at(rack["gap"], "rack.gap"), "must be zero or positive");
-      }
-      if (rack["apex"]) spec.apex = rd.vec2(rack["apex"], "rack.apex");
-      if (rack["cue_ball"]) spec.cueBall = rd.vec2(rack["cue_ball"], "rack.cue_ball");
-      if (rack["radius"]) spec.radius = rd.positive(rack["radius"], "rack.radius");
-      if (rack["mass"]) spec.mass = rd.positive(rack["mass"], "rack.mass");
-    }
-    s.balls = standardRack(built, spec, rng);
-    ballMarks.assign(s.balls.size(), rack.Mark());
-  } else if (const YAML::Node rnd = root["random"]) {
-    rd.onlyKeys(rnd, "random", {"count", "speed", "radius", "mass", "clearance"});
-    if (!rnd["count"]) fail(rd.at(rnd, "random.count"), io::missingKeyText());
-    const long count = rd.integer(rnd["count"], "random.count");
-    if (count < 1 || count > 1000000) fail(rd.at(rnd["count"], "random.count"), "must be between 1 and 1000000");
-    const double speed = rnd["speed"] ? rd.number(rnd["speed"], "random.speed") : 1.0;
-    if (speed < 0.0 || speed > kMaxSpeed)
-      fail(rd.at(rnd["speed"], "random.speed"), "must be between 0 and " + std::to_string(static_cast<int>(kMaxSpeed)) + " m/s");
-    const double radius = rnd["radius"] ? rd.positive(rnd["radius"], "random.radius") : kBallRadius;
-    const double mass = rnd["mass"] ? rd.positive(rnd["mass"], "random.mass") : kBallMass;
-    const double clearance = rnd["clearance"] ? rd.number(rnd["clearance"], "random.clearance") : 0.0;
-    if (clearance < 0.0) fail(rd.at(rnd["clearance"], "random.clearance"), "must be zero or positive");
-    try {
-      s.balls = randomBalls(built, static_cast<int>(count), speed, radius, mass, clearance, rng);
-    } catch (const std::invalid_argument& e) {
-      fail(rd.at(rnd, "random"), e.what());
-    }
-    ballMarks.assign(s.balls.size(), rnd.Mark());
-  } else {
-    const YAML::Node balls = root["balls"];
-    if (!balls.IsSequence() || balls.size() == 0) fail(rd.at(balls, "balls"), "must be a non-empty list");
-    for (std::size_t i = 0; i < balls.size(); ++i) {
-      const YAML::Node b = balls[i];
-      const std::string key = indexed("balls", i);
-      rd.onlyKeys(b, key, {"number", "position", "velocity", "radius", "mass", "colour", "color", "pattern"});
-      if (!b["number"]) fail(rd.at(b, key + ".number"), io::missingKeyText());
-      if (!b["position"]) fail(rd.at(b, key + ".position"), io::missingKeyText());
-      const long number = rd.integer(b["number"], key + ".number");
-      if (number < 0 || number > 1000000) fail(rd.at(b["number"], key + ".number"), "must be between 0 and 1000000");
-      BallSpec spec = makeBall(static_cast<int>(number), rd.vec2(b["position"], key + ".position"));
-      if (b["velocity"]) spec.velocity = rd.vec2(b["velocity"], key + ".velocity");
-      if (b["radius"]) spec.radius = rd.positive(b["radius"], key + ".radius");
-      if (b["mass"]) spec.mass = rd.positive(b["mass"], key + ".mass");
-      for (const char* ck : {"colour", "color"}) {
-        if (!b[ck]) continue;
-        const auto c = parseColour(rd.text(b[ck], key + "." + ck));
-        if (!c) fail(rd.at(b[ck], key + "." + ck), "unknown colour '" + b[ck].Scalar() + "'");
-        spec.colour = *c;
-      }
-      if (b["pattern"]) {
-        const auto p = parsePattern(rd.text(b["pattern"], key + ".pattern"));
-        if (!p) fail(rd.at(b["pattern"], key + ".pattern"), "unknown pattern '" + b["pattern"].Scalar() + "' (solid, striped)");
-        spec.pattern = *p;
-      }
-      s.balls.push_back(spec);
-      // point validation messages at the position (the usual culprit)
-      ballMarks.push_back(b["position"].Mark());
-    }
+  for (const char* key : {"rack", "random"}) {
+    const YAML::Node n = root[key];
+    if (!n) continue;
+    s.balls = key == std::string("rack") ? readRack(rd, n, built, rng) : readRandom(rd, n, built, rng);
+    at.balls.assign(s.balls.size(), n.Mark());
+    return key;
   }
-
-  // shots
-  if (const YAML::Node shots = root["shots"]) {
-    if (!shots.IsSequence()) fail(rd.at(shots, "shots"), "must be a list");
-    for (std::size_t k = 0; k < shots.size(); ++k) {
-      const YAML::Node n = shots[k];
-      const std::string key = indexed("shots", k);
-      rd.onlyKeys(n, key, {"ball", "cue", "speed", "angle", "velocity", "until"});
-      Shot shot;
-      mark(key, n);
-      if (n["ball"]) shot.ball = static_cast<int>(rd.integer(n["ball"], key + ".ball"));
-      mark(key + ".ball", n["ball"] ? n["ball"] : n);
-      const bool cue = static_cast<bool>(n["cue"]);
-      const bool polar = n["speed"] || n["angle"];
-      const bool direct = static_cast<bool>(n["velocity"]);
-      if ((cue ? 1 : 0) + (polar ? 1 : 0) + (direct ? 1 : 0) != 1)
-        fail(rd.at(n, key), "give one of cue, speed and angle, or velocity");
-      if (direct) {
-        // the velocity as the Game takes it: what a recorded game (writeScenarioYaml) replays bit for bit
-        shot.velocity = rd.vec2(n["velocity"], key + ".velocity");
-      } else if (cue) {
-        const YAML::Node c = n["cue"];
-        rd.onlyKeys(c, key + ".cue", {"from", "to", "scale"});
-        if (!c["from"]) fail(rd.at(c, key + ".cue.from"), io::missingKeyText());
-        if (!c["to"]) fail(rd.at(c, key + ".cue.to"), io::missingKeyText());
-        const Vec2 from = rd.vec2(c["from"], key + ".cue.from");
-        const Vec2 to = rd.vec2(c["to"], key + ".cue.to");
-        // the report: velocity proportional to the cue vector, in its direction (§2.3)
-        const double scale = c["scale"] ? rd.positive(c["scale"], key + ".cue.scale") : 1.0;
-        shot.velocity = scale * (to - from);
-      } else {
-        if (!n["speed"]) fail(rd.at(n, key + ".speed"), io::missingKeyText());
-        if (!n["angle"]) fail(rd.at(n, key + ".angle"), io::missingKeyText());
-        const double speed = rd.number(n["speed"], key + ".speed");
-        if (speed < 0.0) fail(rd.at(n["speed"], key + ".speed"), "must be zero or positive");
-        const double deg = rd.number(n["angle"], key + ".angle");
-        // 1e308 made the direction NaN, blamed on the speed
-        if (!(std::abs(deg) <= 360.0)) fail(rd.at(n["angle"], key + ".angle"), "must be between -360 and 360 degrees");
-        const double rad = deg * std::numbers::pi / 180.0;
-        shot.velocity = speed * Vec2(std::cos(rad), std::sin(rad));
-      }
-      if (const YAML::Node u = n["until"]) {
-        if (!u.IsScalar()) fail(rd.at(u, key + ".until"), "must be a number");
-        shot.until = setting(rd.at(u, key + ".until"), [&] { return untilSetting(u.Scalar()); });
-      }
-      s.shots.push_back(shot);
-    }
+  const YAML::Node balls = root["balls"];
+  if (!balls.IsSequence() || balls.size() == 0) fail(rd.at(balls, "balls"), "must be a non-empty list");
+  for (std::size_t i = 0; i < balls.size(); ++i) {
+    s.balls.push_back(readBall(rd, balls[i], indexed("balls", i)));
+    // point validation messages at the position (the usual culprit)
+    at.balls.push_back(balls[i]["position"].Mark());
   }
+  return "balls";
+}
 
-  // space
-  if (const YAML::Node sp = root["space"]) {
-    mark("space", sp);
-    rd.onlyKeys(sp, "space", {"kind", "decomposition_factor", "divisions", "max_depth", "cell_size", "margin"});
-    if (sp["kind"]) {
-      const std::string k = rd.text(sp["kind"], "space.kind");
-      s.space.kind = setting(rd.at(sp["kind"], "space.kind"), [&] { return spaceKindSetting(k); });
-    }
-    // a key of another kind would be taken and do nothing: refused, naming the kind it is for
-    for (const char* k : {"decomposition_factor", "divisions", "max_depth", "cell_size", "margin"})
-      if (sp[k]) setting(rd.at(sp[k], std::string("space.") + k), [&] { checkKeyForKind(s.space, std::string("space.") + k); });
-    auto intKey = [&](const char* k, int& out) {
-      if (!sp[k]) return;
-      const std::string key = std::string("space.") + k;
-      mark(key, sp[k]);
-      out = static_cast<int>(std::clamp(rd.integer(sp[k], key), -1L, 1000000000L));
-    };
-    if (const YAML::Node df = sp["decomposition_factor"]) {
-      mark("space.decomposition_factor", df);
-      const Where w = rd.at(df, "space.decomposition_factor");
-      if (!df.IsScalar()) fail(w, "must be an integer or auto");
-      setting(w, [&] { setDecompositionFactor(s.space, df.Scalar()); });
-    }
-    intKey("divisions", s.space.divisions);
-    intKey("max_depth", s.space.maxDepth);
-    if (sp["cell_size"]) {
-      mark("space.cell_size", sp["cell_size"]);
-      s.space.cellSize = rd.number(sp["cell_size"], "space.cell_size");
-    }
-    if (sp["margin"]) {
-      mark("space.margin", sp["margin"]);
-      s.space.margin = rd.number(sp["margin"], "space.margin");
-      if (!(s.space.margin > 0.0)) fail(rd.at(sp["margin"], "space.margin"), "must be positive");
-    }
+// A shot's velocity: from a cue vector, a speed and angle, or given as it is.
+Vec2 shotVelocity(const Reader& rd, const YAML::Node& n, const std::string& key) {
+  const bool cue = static_cast<bool>(n["cue"]);
+  const bool polar = n["speed"] || n["angle"];
+  const bool direct = static_cast<bool>(n["velocity"]);
+  if ((cue ? 1 : 0) + (polar ? 1 : 0) + (direct ? 1 : 0) != 1) fail(rd.at(n, key), "give one of cue, speed and angle, or velocity");
+  // the velocity as the Game takes it: what a recorded game (writeScenarioYaml) replays bit for bit
+  if (direct) return rd.vec2(n["velocity"], key + ".velocity");
+  if (cue) {
+    const YAML::Node c = n["cue"];
+    rd.onlyKeys(c, key + ".cue", {"from", "to", "scale"});
+    if (!c["from"]) fail(rd.at(c, key + ".cue.from"), io::missingKeyText());
+    if (!c["to"]) fail(rd.at(c, key + ".cue.to"), io::missingKeyText());
+    const Vec2 from = rd.vec2(c["from"], key + ".cue.from");
+    const Vec2 to = rd.vec2(c["to"], key + ".cue.to");
+    // the report: velocity proportional to the cue vector, in its direction (§2.3)
+    const double scale = c["scale"] ? rd.positive(c["scale"], key + ".cue.scale") : 1.0;
+    return scale * (to - from);
   }
+  if (!n["speed"]) fail(rd.at(n, key + ".speed"), io::missingKeyText());
+  if (!n["angle"]) fail(rd.at(n, key + ".angle"), io::missingKeyText());
+  const double speed = rd.number(n["speed"], key + ".speed");
+  if (speed < 0.0) fail(rd.at(n["speed"], key + ".speed"), "must be zero or positive");
+  const double deg = rd.number(n["angle"], key + ".angle");
+  // 1e308 made the direction NaN, blamed on the speed
+  if (!(std::abs(deg) <= 360.0)) fail(rd.at(n["angle"], key + ".angle"), "must be between -360 and 360 degrees");
+  const double rad = deg * std::numbers::pi / 180.0;
+  return speed * Vec2(std::cos(rad), std::sin(rad));
+}
 
+void readShots(const Reader& rd, const YAML::Node& shots, Scenario& s, Places& at) {
+  if (!shots.IsSequence()) fail(rd.at(shots, "shots"), "must be a list");
+  const Setting& until = *findSetting("until");
+  for (std::size_t k = 0; k < shots.size(); ++k) {
+    const YAML::Node n = shots[k];
+    const std::string key = indexed("shots", k);
+    rd.onlyKeys(n, key, {"ball", "cue", "speed", "angle", "velocity", "until"});
+    Shot shot;
+    at.marks[key] = n.Mark();
+    if (n["ball"]) shot.ball = static_cast<int>(rd.integer(n["ball"], key + ".ball"));
+    at.marks[key + ".ball"] = (n["ball"] ? n["ball"] : n).Mark();
+    shot.velocity = shotVelocity(rd, n, key);
+    // a shot's own limit, checked as the scenario's until is
+    if (const YAML::Node u = n["until"]) {
+      const Where w = rd.at(u, key + ".until");
+      if (!u.IsScalar()) fail(w, "must be " + expected(until));
+      shot.until = named(w, [&] { return std::get<double>(io::settingValue(until, u.Scalar())); });
+    }
+    s.shots.push_back(shot);
+  }
+}
+
+Scenario parse(const YAML::Node& root, const std::string& source, const std::vector<SettingOverride>& overrides) {
+  const Reader rd(source);
+  Scenario s;
+  s.name = source;
+  if (!root.IsMap()) fail(Where{source, "(top level)", root.Mark()}, "a scenario must be a YAML map");
+  checkSections(rd, root, source);
+  if (root["name"]) s.name = rd.text(root["name"], "name");
+  Places at;
+  at.marks["table"] = root["table"].Mark();
+  readSettings(rd, root, overrides, s, at);
+  const std::string ballsKey = readBalls(rd, root, source, s, at);
+  if (const YAML::Node shots = root["shots"]) readShots(rd, shots, s, at);
   validate(s, [&](const std::string& key, int ball) {
-    if (ball >= 0 && ball < static_cast<int>(ballMarks.size())) return Where{source, key, ballMarks[ball]};
-    auto it = marks.find(key);
-    return Where{source, key, it != marks.end() ? it->second : root.Mark()};
-  }, root["rack"] ? "rack" : root["random"] ? "random" : "balls");
+    if (ball >= 0 && ball < static_cast<int>(at.balls.size())) return Where{source, key, at.balls[ball]};
+    const auto it = at.marks.find(key);
+    return Where{source, key, it != at.marks.end() ? it->second : root.Mark(), at.fromCli.count(key) > 0};
+  }, ballsKey);
   return s;
 }
 
@@ -474,7 +416,7 @@ void validateScenario(const Scenario& s, const std::string& source) {
   validate(s, [&](const std::string& key, int) { return Where{source, key, YAML::Mark::null_mark()}; });
 }
 
-Scenario parseScenario(const std::string& yamlText, const std::string& source) {
+Scenario parseScenario(const std::string& yamlText, const std::string& source, const std::vector<SettingOverride>& overrides) {
   YAML::Node root;
   try {
     root = io::loadOneDocument(yamlText);
@@ -482,20 +424,20 @@ Scenario parseScenario(const std::string& yamlText, const std::string& source) {
     fail(Where{source, "(syntax)", e.mark}, e.msg);
   }
   try {
-    return parse(root, source);
+    return parse(root, source, overrides);
   } catch (const YAML::Exception& e) {
     // a shape the checks in parse() did not foresee: still one line naming the file and place
     fail(Where{source, "(scenario)", e.mark}, e.msg);
   }
 }
 
-Scenario loadScenario(const std::string& path) {
+Scenario loadScenario(const std::string& path, const std::vector<SettingOverride>& overrides) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw ScenarioError(path + ": is a directory, not a YAML file");
   if (!std::filesystem::exists(path, ec)) throw ScenarioError(path + ": cannot open the scenario file");
   std::string text, error;
   if (!io::readTextFile(path, text, error)) throw ScenarioError(error);
-  return parseScenario(text, path);
+  return parseScenario(text, path, overrides);
 }
 
 }  // namespace st::pool

@@ -107,13 +107,13 @@ balls:
 
 TEST(Scenario, UnknownSpaceKindNamed) {
   EXPECT_EQ(errorOf(std::string(kGood) + "space: {kind: octopus}\n"),
-            "s.yaml:7:15: space.kind: unknown space kind 'octopus' (none, single, quadtree, cells)");
+            "s.yaml:7:15: space.kind: must be one of quadtree, cells, single, none, got 'octopus'");
 }
 
 TEST(Scenario, OtherBadInputsNamed) {
   EXPECT_EQ(errorOf(std::string(kGood) + "until: -3\n"), "s.yaml:7:8: until: must be positive, got -3");
   EXPECT_EQ(errorOf(std::string(kGood) + "frobnicate: 1\n"), "s.yaml:7:1: frobnicate: unknown key");
-  EXPECT_EQ(errorOf(std::string(kGood) + "space: {divisions: 3}\n"), "s.yaml:7:20: space.divisions: must be 2 or 4");
+  EXPECT_EQ(errorOf(std::string(kGood) + "space: {divisions: 3}\n"), "s.yaml:7:20: space.divisions: must be one of 2, 4, got '3'");
   EXPECT_EQ(errorOf(std::string(kGood) + "friction: lots\n"), "s.yaml:7:11: friction: must be a number, got 'lots'");
   EXPECT_EQ(errorOf(R"(table: {width: 2.54, height: 1.27}
 balls: [{number: 0, position: [0.6, 0.6]}]
@@ -193,7 +193,7 @@ balls: [{number: 0, position: [0.6, 0.6], velocity: [0, -2000]}]
             "s.yaml:2:31: balls[0].velocity: speed must be at most 1000 m/s");
   EXPECT_EQ(errorOf("table: {width: 2.54, height: 1.27}\nrandom: {count: 3, speed: 1e4}\n"),
             "s.yaml:2:27: random.speed: must be between 0 and 1000 m/s");
-  EXPECT_EQ(errorOf(std::string(kGood) + "space: {kind: cells, margin: 0}\n"), "s.yaml:7:30: space.margin: must be positive");
+  EXPECT_EQ(errorOf(std::string(kGood) + "space: {kind: cells, margin: 0}\n"), "s.yaml:7:30: space.margin: must be positive, got 0");
   // the limit itself is accepted
   EXPECT_EQ(errorOf(R"(table: {width: 2.54, height: 1.27}
 balls: [{number: 0, position: [0.6, 0.6]}]
@@ -319,15 +319,15 @@ TEST(PoolCommand, OverridesAreCheckedAsTheirYamlKeys) {
   EXPECT_EQ(errorOf(std::string(kGood) + "space: {kind: cells, decomposition_factor: 7}\n"),
             "s.yaml:7:44: space.decomposition_factor: only for kind quadtree (this space is cells)");
   // the same words as the YAML's, for each flag
-  EXPECT_EQ(runStsim("pool " + scen + " --df 0").out, "stsim pool: option --df: must be at least 1 (or auto), got 0\n");
+  EXPECT_EQ(runStsim("pool " + scen + " --df 0").out, "stsim pool: option --df: must be in [1, 1000000000], got 0\n");
   EXPECT_EQ(runStsim("pool " + scen + " --df 2.5").out,
-            "stsim pool: option --df: must be an integer or auto, got '2.5'\n");
+            "stsim pool: option --df: must be a whole number, got 2.5\n");
   EXPECT_EQ(runStsim("pool " + scen + " --space octopus").out,
-            "stsim pool: option --space: unknown space kind 'octopus' (none, single, quadtree, cells)\n");
+            "stsim pool: option --space: must be one of quadtree, cells, single, none, got 'octopus'\n");
   EXPECT_EQ(runStsim("pool " + scen + " --until -3").out, "stsim pool: option --until: must be positive, got -3\n");
-  EXPECT_EQ(runStsim("pool " + scen + " --until inf").out, "stsim pool: option --until: must be finite\n");
+  EXPECT_EQ(runStsim("pool " + scen + " --until inf").out, "stsim pool: option --until: must be a finite number, got inf\n");
   EXPECT_EQ(errorOf(std::string(kGood) + "space: {decomposition_factor: 0}\n"),
-            "s.yaml:7:31: space.decomposition_factor: must be at least 1 (or auto), got 0");
+            "s.yaml:7:31: space.decomposition_factor: must be in [1, 1000000000], got 0");
   // --df auto runs, as the YAML's auto does; and a number after the YAML's auto turns it off
   const Ran aut = runStsim("pool " + scen + " --df auto --until 0.5");
   EXPECT_EQ(aut.code, 0) << aut.out;

@@ -24,6 +24,7 @@ struct Scenario;
 using io::SettingType;
 using io::SettingValue;
 using io::SettingError;
+using io::SettingOverride;
 using io::expected;
 using io::valuesText;
 using io::settingText;
@@ -34,12 +35,6 @@ struct Setting : io::Setting<Scenario> {
   const char* follows;
 };
 
-// A value given on the command line for a key, as text (stsim arm --set KEY=VALUE).
-struct SettingOverride {
-  std::string key;
-  std::string text;
-  std::string option;  // how the front end names it: "--set safety.cycle_time", "--response"
-};
 
 // Every setting, in the order the reference lists them.
 std::span<const Setting> armSettings();

@@ -1,6 +1,6 @@
 #pragma once
 // A pool scenario: table, balls, shots, space and run limits, read from YAML (models/pool/README.md
-// documents every key).
+// documents every key; docs/pool_settings.md the settings among them, stpool/settings.hpp).
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -8,6 +8,7 @@
 
 #include <stcore/simulator.hpp>
 #include <stpool/ball.hpp>
+#include <stpool/settings.hpp>
 #include <stpool/table.hpp>
 
 namespace st::pool {
@@ -51,28 +52,13 @@ struct ScenarioError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// The settings `stsim pool` overrides on its command line (--space, --df, --until) are parsed and
-// range-checked here, by the code the YAML reader uses for their keys, so both refuse the same
-// values in the same words. A bad value throws SettingError with the problem alone; the caller
-// names the place: the reader "FILE:LINE:COL: space.decomposition_factor: ...", the command line
-// "option --df: ...".
-struct SettingError : std::invalid_argument {
-  using std::invalid_argument::invalid_argument;
-};
-
-// space.kind: none, single, quadtree or cells.
-SpaceKind spaceKindSetting(const std::string& text);
-// space.decomposition_factor: an integer, at least 1, or auto (the space picks its own as it runs).
-void setDecompositionFactor(SpaceSpec& space, const std::string& text);
-// A space key ("space.decomposition_factor") given for a space of another kind: taken, it would
-// do nothing, so it is refused, naming the kind it is for.
-void checkKeyForKind(const SpaceSpec& space, const std::string& key);
-// until (the scenario's or a shot's): seconds, positive and finite.
-double untilSetting(const std::string& text);
-
-Scenario loadScenario(const std::string& path);
+// The scenario of a file, with the command line's settings over the file's (stpool/settings.hpp).
+// A bad value in the file throws ScenarioError; a bad override, SettingError naming its key (the
+// front end names the option that gave it).
+Scenario loadScenario(const std::string& path, const std::vector<SettingOverride>& overrides = {});
 // Same from YAML text; `source` names it in messages.
-Scenario parseScenario(const std::string& yamlText, const std::string& source);
+Scenario parseScenario(const std::string& yamlText, const std::string& source,
+                       const std::vector<SettingOverride>& overrides = {});
 
 // Rejects a scenario whose balls overlap, leave the table, have non-positive size, share a
 // number, or whose shots name a missing ball. `source` prefixes messages. Throws ScenarioError.
