@@ -77,6 +77,21 @@ std::string settingText(const SettingValue& v) {
   return std::get<std::string>(v);
 }
 
+std::string_view keySection(std::string_view key) {
+  const auto dot = key.find('.');
+  return dot == std::string_view::npos ? std::string_view() : key.substr(0, dot);
+}
+
+std::string_view keyName(std::string_view key) {
+  const auto dot = key.find('.');
+  return dot == std::string_view::npos ? key : key.substr(dot + 1);
+}
+
+std::string exactSettingText(const SettingValue& v) {
+  if (const double* x = std::get_if<double>(&v)) return number(*x);
+  return settingText(v);
+}
+
 void checkSetting(const SettingSpec& s, const SettingValue& v) {
   switch (s.type) {
     case SettingType::Number:

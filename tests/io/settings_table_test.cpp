@@ -40,6 +40,16 @@ TEST(SettingsTable, TextIsReadAsTheKeysTypeAndChecked) {
   EXPECT_EQ(referenceRow(kFactor, 5.0, "doc"), "| `space.factor` | whole number in [1, 100], or auto | 5 | doc |\n");
 }
 
+TEST(SettingsTable, KeysSplitIntoSectionAndName) {
+  EXPECT_EQ(keySection("space.cell_size"), "space");
+  EXPECT_EQ(keyName("space.cell_size"), "cell_size");
+  EXPECT_EQ(keySection("until"), "");
+  EXPECT_EQ(keyName("until"), "until");
+  // the text a file is written with reads back to the same double; the reference's is shorter
+  EXPECT_EQ(exactSettingText(0.1 / 3.0), "0.03333333333333333");
+  EXPECT_EQ(settingText(0.1 / 3.0), "0.0333333333333333");
+}
+
 TEST(SettingsTable, SetSplitsIntoAssignments) {
   const auto a = splitAssignments("a.b=1,c=x=y");
   ASSERT_EQ(a.size(), 2u);

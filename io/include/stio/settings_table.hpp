@@ -55,14 +55,21 @@ class SettingError : public std::invalid_argument {
 std::string expected(const SettingSpec& s);
 // The values s takes, as the reference gives them: "number in (0, 60] s", "one of a, b".
 std::string valuesText(const SettingSpec& s);
-// A value as the YAML would write it: 0.5, true, never.
+// A value as the YAML would write it: 0.5, true, never (numbers to 15 digits, for people).
 std::string settingText(const SettingValue& v);
+// The same with numbers in the shortest text that reads back to the same double (a file written
+// to be read again: a recorded game replays from the same bits).
+std::string exactSettingText(const SettingValue& v);
 
 // Throws SettingError unless v is a value of s (type, finite, range, whole, word).
 void checkSetting(const SettingSpec& s, const SettingValue& v);
 // Text as s's type, a command-line value or a YAML scalar alike: a number, true/false or a word;
 // checked by checkSetting. Throws SettingError.
 SettingValue settingValue(const SettingSpec& s, std::string_view text);
+
+// A nested key's section and name: "space.cell_size" -> "space", "cell_size"; "until" -> "", "until".
+std::string_view keySection(std::string_view key);
+std::string_view keyName(std::string_view key);
 
 // The setting named key in a table; null if none.
 template <class S>

@@ -192,12 +192,12 @@ struct Places {
 };
 
 // The node of a setting's key ("space.cell_size", "until") under root; an undefined node if absent.
-YAML::Node settingNode(const YAML::Node& root, const std::string& key) {
-  const auto dot = key.find('.');
-  if (dot == std::string::npos) return root[key];
-  const YAML::Node section = root[key.substr(0, dot)];
+YAML::Node settingNode(const YAML::Node& root, std::string_view key) {
+  const std::string name(io::keyName(key));
+  if (io::keySection(key).empty()) return root[name];
+  const YAML::Node section = root[std::string(io::keySection(key))];
   if (!section || !section.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
-  return section[key.substr(dot + 1)];
+  return section[name];
 }
 
 // The sections' keys: those of the settings table. The table and its size are given in every

@@ -3,6 +3,8 @@
 #include <ostream>
 
 #include <stio/format.hpp>
+#include <stio/settings_table.hpp>
+#include <stpool/settings.hpp>
 
 namespace st::pool {
 
@@ -20,18 +22,23 @@ std::string pair(const Vec2& v) {
   return s;
 }
 
+// The settings of one section ("table", "space"; "" for the top level's) as the reader takes them,
+// from the settings table: a space key of another kind is left out (the reader refuses it).
+void writeSettings(std::ostream& os, const Scenario& s, const std::string& section) {
+  if (!section.empty()) os << section << ":\n";
+  for (const Setting& setting : poolSettings()) {
+    if (io::keySection(setting.key) != section || !keyForKind(s, setting.key)) continue;
+    os << (section.empty() ? "" : "  ") << io::keyName(setting.key) << ": " << io::exactSettingText(setting.get(s)) << "\n";
+  }
+}
+
 }  // namespace
 
 void writeScenarioYaml(std::ostream& os, const Scenario& s) {
   // a JSON string literal is a YAML double-quoted scalar with the same escapes
   os << "name: " << io::jsonString(s.name) << "\n";
-  os << "seed: " << s.seed << "\n";
-  os << "table:\n";
-  os << "  width: " << num(s.table.width) << "\n";
-  os << "  height: " << num(s.table.height) << "\n";
-  os << "  pockets: " << (s.table.pockets ? "true" : "false") << "\n";
-  os << "  corner_mouth: " << num(s.table.cornerMouth) << "\n";
-  os << "  side_mouth: " << num(s.table.sideMouth) << "\n";
+  writeSettings(os, s, "");
+  writeSettings(os, s, "table");
   // every ball listed as it stands (a rack or random layout is written out, not regenerated)
   os << "balls:\n";
   for (const BallSpec& b : s.balls) {
@@ -40,20 +47,7 @@ void writeScenarioYaml(std::ostream& os, const Scenario& s) {
     os << ", radius: " << num(b.radius) << ", mass: " << num(b.mass) << ", colour: " << toString(b.colour)
        << ", pattern: " << toString(b.pattern) << "}\n";
   }
-  os << "space:\n";
-  os << "  kind: " << (s.space.kind == SpaceKind::Tree ? "quadtree" : toString(s.space.kind)) << "\n";
-  // only the keys of its kind (the reader refuses the others)
-  if (s.space.kind == SpaceKind::Tree) {
-    if (s.space.autoFactor) os << "  decomposition_factor: auto\n";
-    else os << "  decomposition_factor: " << s.space.decompositionFactor << "\n";
-    os << "  divisions: " << s.space.divisions << "\n";
-    os << "  max_depth: " << s.space.maxDepth << "\n";
-  } else if (s.space.kind == SpaceKind::Cells) {
-    os << "  cell_size: " << num(s.space.cellSize) << "\n";
-    if (s.space.margin > 0.0) os << "  margin: " << num(s.space.margin) << "\n";
-  }
-  os << "until: " << num(s.until) << "\n";
-  os << "friction: " << num(s.friction) << "\n";
+  writeSettings(os, s, "space");
   if (s.shots.empty()) return;
   // the velocity the Game was given, not the angle and speed it came from: cos/sin are not redone
   os << "shots:\n";

@@ -96,12 +96,25 @@ void checkSettings(const Scenario& sc) {
   for (const Setting& s : poolSettings()) io::checkSetting(s, s.get(sc));
 }
 
+namespace {
+
+bool treeKey(std::string_view key) {
+  return key == "space.decomposition_factor" || key == "space.divisions" || key == "space.max_depth";
+}
+bool cellsKey(std::string_view key) { return key == "space.cell_size" || key == "space.margin"; }
+
+}  // namespace
+
+bool keyForKind(const Scenario& sc, std::string_view key) {
+  if (treeKey(key)) return sc.space.kind == SpaceKind::Tree;
+  if (cellsKey(key)) return sc.space.kind == SpaceKind::Cells;
+  return true;
+}
+
 void checkKeyForKind(const Scenario& sc, std::string_view key) {
-  const bool tree = key == "space.decomposition_factor" || key == "space.divisions" || key == "space.max_depth";
-  const bool cells = key == "space.cell_size" || key == "space.margin";
-  if (!tree && !cells) return;
+  if (keyForKind(sc, key)) return;
+  const bool tree = treeKey(key);
   const SpaceKind kind = sc.space.kind;
-  if (kind == (tree ? SpaceKind::Tree : SpaceKind::Cells)) return;
   const char* kindName = kind == SpaceKind::Tree ? "quadtree" : toString(kind);
   throw SettingError(std::string(key), std::string("only for kind ") + (tree ? "quadtree" : "cells") + " (this space is " +
                                            kindName + ")");

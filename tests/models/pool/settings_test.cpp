@@ -8,9 +8,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <stio/format.hpp>
 #include <stpool/scenario.hpp>
+#include <stpool/scenario_writer.hpp>
 #include <stpool/settings.hpp>
 
 #include "pool_test_util.hpp"
@@ -123,6 +125,20 @@ TEST(PoolSettings, EveryKeyRefusesABadValueAlikeInTheYamlAndOnTheCommandLine) {
       const std::string tail = ": " + std::string(s.key) + ": " + problem;
       EXPECT_EQ(yamlError.substr(yamlError.size() - std::min(yamlError.size(), tail.size())), tail) << yamlError;
     }
+  }
+}
+
+// The recorded game's writer (writeScenarioYaml) writes every key from the table: read back, the
+// same value, whatever its kind's keys.
+TEST(PoolSettings, EveryKeyIsWrittenAndReadBackAlike) {
+  for (const Setting& s : poolSettings()) {
+    const std::string v = validText(s);
+    const Scenario sc = parseScenario(scenarioText(s.key, &v), "s.yaml");
+    std::ostringstream os;
+    writeScenarioYaml(os, sc);
+    Scenario back;
+    ASSERT_NO_THROW(back = parseScenario(os.str(), "written.yaml")) << os.str();
+    EXPECT_EQ(settingText(s.get(back)), v) << s.key << "\n" << os.str();
   }
 }
 

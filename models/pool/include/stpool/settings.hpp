@@ -34,8 +34,11 @@ const Setting* findSetting(std::string_view key);
 void applySettingText(Scenario& sc, const Setting& s, std::string_view text);
 // Every value in its range (for a scenario built in code); throws SettingError naming the key.
 void checkSettings(const Scenario& sc);
-// A space key ("space.decomposition_factor") of another kind than sc's: taken, it would do
-// nothing, so it is refused, naming the kind it is for. Throws SettingError.
+// Whether key applies to sc's space kind: a quadtree's (space.decomposition_factor, divisions,
+// max_depth) and cells' keys (space.cell_size, margin) to that kind only, every other key always.
+bool keyForKind(const Scenario& sc, std::string_view key);
+// A space key of another kind than sc's: taken, it would do nothing, so it is refused, naming the
+// kind it is for. Throws SettingError.
 void checkKeyForKind(const Scenario& sc, std::string_view key);
 
 // The reference: one Markdown table row per setting (key, values, its value in `values` under the
