@@ -7,10 +7,12 @@
 
 #include <cmath>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <sthighway/monitor.hpp>
 #include <sthighway/settings.hpp>
+#include <sthighway/sumo_conversion.hpp>
 #include <sthighway/sumo_files.hpp>
 #include <stio/format.hpp>
 
@@ -43,6 +45,8 @@ class Monitor {
     for (std::size_t i = 0; i < states_.size(); ++i)
       if (const std::string why = implausible(states_[i]); !why.empty())
         throw py::value_error("vehicle " + std::to_string(i) + " ('" + states_[i].id + "'): " + why);
+    if (c == Convention::Sumo)  // bodies along their paths, as the SUMO coupling has them
+      for (hw::VehicleState& s : states_) bodies_.fit(bodyKeys_.try_emplace(s.id, bodyKeys_.size()).first->second, t, s);
     {
       py::gil_scoped_release free;
       monitor_.step(t, states_);
@@ -162,6 +166,8 @@ class Monitor {
   LaneIndex lanes_;                       // lane id -> index into the road's lanes
   EdgeIndex edges_;                       // edge id -> index into edgeIds(road)
   std::vector<hw::VehicleState> states_;  // the last step's, for the alerts' ids
+  hw::PathBodies bodies_;                 // SUMO's bodies along their paths (step_sumo)
+  std::unordered_map<std::string, std::size_t> bodyKeys_;  // vehicle id -> its key in bodies_
   hw::FcdChecks bounds_;                  // the road's box (bounded when it has lanes)
 
   // What no vehicle has, refused as the CLI refuses it in a trace (sthighway/sumo_files.hpp's

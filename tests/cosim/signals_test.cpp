@@ -76,6 +76,12 @@ TEST(Signals, NoCrossingWarningWithACarThatThenStoppedBeforeTheJunction) {
     return false;
   };
 
+  auto movingAt = [&](const std::string& id, double t) {
+    for (const Sample& s : trace[id])
+      if (std::abs(s.t - t) < 0.05) return s.speed >= 0.1;
+    return false;
+  };
+
   // a run's vehicle and crossing warnings, and those of its crossings with a car that then stood at
   // its red
   struct Count {
@@ -101,7 +107,11 @@ TEST(Signals, NoCrossingWarningWithACarThatThenStoppedBeforeTheJunction) {
       if (f[type] != "crossing") continue;
       ++c.crossing;
       const double t = std::stod(f[begin]);
-      if (stoppedAtRed(f[ego], t - 0.1) || stoppedAtRed(f[foe], t - 0.1))
+      // a car still moving when warned of that then stood at its red: predicted through its red
+      // (one already standing there is in no such error: a turning truck's body may sweep its
+      // front, as wn.3's passed 0.34 m from ns.14's at 252.5 in SUMO's own bodies)
+      const auto thenStopped = [&](const std::string& id) { return movingAt(id, t) && stoppedAtRed(id, t - 0.1); };
+      if (thenStopped(f[ego]) || thenStopped(f[foe]))
         c.atRed.push_back(f[ego] + " x " + f[foe] + " at " + f[begin]);
     }
     return c;

@@ -130,6 +130,7 @@ void HighwayPlugin::prepare() {
     const SumoVehicle& v = vehicles[i];
     const TypeInfo& t = typeInfo(v.typeIndex);
     toVehicleState(v, t.info, states_[i]);
+    bodies_.fit(v.serial, time_, states_[i]);
     serials_[i] = v.serial;
     if (v.serial >= perVehicle_.size()) perVehicle_.resize(v.serial + 1);
     PerVehicle& pv = perVehicle_[v.serial];

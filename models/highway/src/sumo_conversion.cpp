@@ -6,6 +6,8 @@
 #include <limits>
 #include <string_view>
 
+#include <sthighway/tolerances.hpp>
+
 namespace st::highway {
 
 namespace {
@@ -111,6 +113,54 @@ void toVehicleState(const SumoVehicleRecord& v, const VehicleTypeInfo& type, Veh
   s.acceleration = v.acceleration;
   s.signals = toTurnSignals(v.signals);
   s.stopDistance = stopDistanceOf(v, type.decel);
+}
+
+void PathBodies::fit(std::size_t key, double t, VehicleState& s) {
+  if (s.vehicleClass == VehicleClass::Pedestrian) return;
+  if (key >= trails_.size()) trails_.resize(key + 1);
+  Trail& trail = trails_[key];
+  std::vector<Vec2>& fronts = trail.fronts;
+  const Vec2 u = s.direction();
+  const Vec2 front = s.position + 0.5 * s.length * u;
+  if (!front.allFinite() || !std::isfinite(t)) return;  // the caller refuses it
+  if (!(t > trail.time)) fronts.clear();  // time went back: another run
+  trail.time = t;
+  if (!fronts.empty()) {
+    const Vec2 step = front - fronts.back();
+    if (step.norm() > tol::kTrailBreak) {
+      fronts.clear();
+    } else {
+      // sideways of the way it was going: its last step's direction (its heading before it has
+      // made a step long enough to tell one)
+      const Vec2 last = fronts.size() >= 2 ? Vec2(fronts.back() - fronts[fronts.size() - 2]) : Vec2::Zero();
+      const Vec2 way = last.norm() >= 0.1 * tol::kLaneJump ? Vec2(last.normalized()) : u;
+      const double sideways = cross(way, step);
+      if (std::abs(sideways) > tol::kLaneJump) {
+        const Vec2 shift = sideways * Vec2(-way.y(), way.x());
+        for (Vec2& p : fronts) p += shift;
+      }
+    }
+  }
+  if (fronts.empty() || front != fronts.back()) fronts.push_back(front);
+  // the point `length` of path behind the front
+  double left = s.length;
+  for (std::size_t i = fronts.size() - 1; i > 0; --i) {
+    const Vec2 a = fronts[i], b = fronts[i - 1];
+    const double seg = (a - b).norm();
+    if (seg < left) {
+      left -= seg;
+      continue;
+    }
+    const Vec2 back = a + (left / seg) * (b - a);
+    // what is older than this segment is never needed again (a few points kept: fewer erases)
+    if (i > 16) fronts.erase(fronts.begin(), fronts.begin() + static_cast<std::ptrdiff_t>(i - 1));
+    const Vec2 r = front - back;
+    const double along = r.dot(u);
+    if (along >= s.length - tol::kChordSlack || along <= 0.0 || std::abs(cross(u, r)) > tol::kBackOffLine) return;
+    s.length = along;
+    s.position = front - 0.5 * along * u;
+    return;
+  }
 }
 
 std::string junctionOfLane(const std::string& laneId) {

@@ -241,6 +241,7 @@ struct FcdReader::Impl {
   std::unordered_map<std::string, Last> last;
   std::unordered_map<std::string, Last> lastPerson;  // persons have ids of their own
   int nextHandle = 0;
+  PathBodies bodies;  // each vehicle's body along its path, by its handle
   double lastTime = -std::numeric_limits<double>::infinity();
   FcdChecks checks;
   bool anyStep = false;
@@ -461,6 +462,7 @@ bool FcdReader::next(FcdFrame& frame) {
       v.equipped = false;  // a foe, as the live run has it
     }
     v.handle = it != seen.end() ? it->second.handle : m.nextHandle++;
+    if (!person) m.bodies.fit(static_cast<std::size_t>(v.handle), frame.time, v);  // as the live run
     Impl::Last& last = it != seen.end() ? it->second : seen[v.id];
     last.time = frame.time;
     last.posLat = posLat;

@@ -168,6 +168,7 @@ class HighwayPlugin {
   highway::HighwayMonitor monitor_;
   std::unordered_map<std::string, int> edgeIndex_;  // SUMO edge id -> index into edgeIds(road)
   std::vector<highway::VehicleState> states_;
+  highway::PathBodies bodies_;  // each vehicle's body along its path, by its serial
   std::size_t vehicleStates_ = 0;  // states_[0, this) are vehicles, the rest persons
   double time_ = 0.0;  // s, of states_
   // per vType (by the backend's type index): converted once, and whether it is a smart type

@@ -3,7 +3,8 @@
 // libtraci through cosim, FCD traces through FcdReader, Python's step_sumo), so a replay or a
 // script sees what the live run saw. SUMO's conventions and ours:
 //   position  SUMO reports the centre of the front bumper; we use the centre of the body:
-//             centre = front - L/2 * (cos h, sin h).
+//             centre = front - L/2 * (cos h, sin h). On a curve the body is the chord from
+//             SUMO's back to its front, shorter than L (PathBodies below).
 //   heading   SUMO's angle is navigational degrees (0 = north, clockwise); ours is radians
 //             counter-clockwise from +x: h = (90 - angle) * pi / 180.
 //   velocity  SUMO's angle already turns with the vehicle's lateral motion in the sublane model
@@ -20,10 +21,12 @@
 //             SUMO 1.15's default for the vClass where the vType sets none (what a live run reads
 //             back from SUMO), and its mass from <param key="mass" value="kg"/> (or a mass
 //             attribute) if present, else the per-class default of classDefaults.
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <sthighway/vehicle.hpp>
 
@@ -93,5 +96,29 @@ std::string junctionOfLane(const std::string& laneId);
 // Writes the record's motion and the type's body into `s`; its id, handle, lane, route and
 // `equipped` are the caller's and left as they are.
 void toVehicleState(const SumoVehicleRecord& v, const VehicleTypeInfo& type, VehicleState& s);
+
+// SUMO lays a vehicle along the lanes it drives: its back is where its front was `length` metres
+// of path before, and its angle points from that back to its front (MSVehicle::computeAngle); its
+// junction collision check and the SSM device use that straight body. On a curve the chord is
+// shorter than the vehicle: a 10 m truck on a 5.6 m corner is 8.8 m from back to front, and laid
+// at full length along SUMO's angle it would reach 1.2 m past SUMO's back into the next lane.
+// PathBodies keeps each vehicle's recent fronts (moved sideways with it when it changes lanes in
+// one step) and gives the body the chord from the trail's point `length` behind to the front. The
+// full length stays where the trail does not reach that far (just inserted) or its point is off the
+// line of SUMO's angle (a sublane turn, a trace sampled too coarsely to follow the curve).
+class PathBodies {
+ public:
+  // Fits s, a vehicle converted by toVehicleState at time t, to its chord. key: the caller's dense
+  // index for the vehicle (a serial, a trace handle), never another vehicle's while it is on the
+  // road. Persons are left as they are.
+  void fit(std::size_t key, double t, VehicleState& s);
+
+ private:
+  struct Trail {
+    std::vector<Vec2> fronts;  // oldest first
+    double time = -std::numeric_limits<double>::infinity();
+  };
+  std::vector<Trail> trails_;
+};
 
 }  // namespace st::highway

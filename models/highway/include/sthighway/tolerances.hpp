@@ -76,4 +76,19 @@ inline constexpr double kCompactBrakeRatio = 0.08;
 inline constexpr double kCompactExtent = 3.5;
 inline constexpr double kCompactLateralSpeed = 0.5;
 
+// SUMO's bodies along their paths (sumo_conversion.hpp PathBodies):
+// - a front that moves more than kLaneJump sideways of its last step's direction in one step has
+//   changed lanes at once (SUMO without the sublane model), and its back with it (m; a lane is at
+//   least 2.5 m wide, a front on a 5 m corner at 8 m/s turns its step by 0.1 m);
+// - one that moves more than kTrailBreak in a step was teleported: its trail starts again (m);
+// - a back-to-front chord within kChordSlack of the length is a straight body (m: on a 500 m
+//   motorway curve a 5 m car's chord is 2e-5 m short, and such bodies stay exactly as before);
+// - the point of the trail a length of path behind the front is SUMO's back only if it lies within
+//   kBackOffLine of the line SUMO's angle draws through the front (m: a trail sampled every 1 m
+//   on a 5.6 m corner strays 0.02 m from the lane, a lane change 3 m, a 1 s trace metres).
+inline constexpr double kLaneJump = 1.0;
+inline constexpr double kTrailBreak = 100.0;
+inline constexpr double kChordSlack = 1e-3;
+inline constexpr double kBackOffLine = 0.25;
+
 }  // namespace st::highway::tol
