@@ -12,6 +12,7 @@
 #include <stcore/tolerances.hpp>
 #include <stio/format.hpp>
 #include <stpool/scenario_writer.hpp>
+#include <stpool/settings.hpp>
 
 namespace st::pool {
 
@@ -111,6 +112,20 @@ long integer(const json& j, const char* key) {
   const json& v = j.at(key);
   if (!v.is_number_integer()) throw FieldError{key, "must be an integer"};
   return v.get<long>();
+}
+
+// A field that is a key of the pool's settings table (the YAML's and stsim pool's), checked there
+// in their words, then against this server's own bound: a shot's work grows with it.
+double settingField(double v, const char* field, const char* key, double serverMax) {
+  const Setting& s = *findSetting(key);
+  try {
+    io::checkSetting(s, v);
+  } catch (const SettingError& e) {
+    throw FieldError{field, e.problem()};
+  }
+  if (v > serverMax)
+    throw FieldError{field, "must be at most " + io::number(serverMax) + (*s.unit ? std::string(" ") + s.unit : "") + " on this server"};
+  return v;
 }
 
 Vec2 vec2(const json& j, const char* key) {
@@ -280,9 +295,7 @@ void SessionMessages::shoot(PlaySession& s, const json& j, std::vector<std::stri
   if (v.norm() > kMaxSpeed) throw FieldError{"speed", "must be at most " + std::to_string(static_cast<int>(kMaxSpeed)) + " m/s"};
   Shot shot{cueBall, v, -1.0};
   if (j.contains("until")) {
-    shot.until = number(j, "until");
-    if (!(shot.until > 0.0) || shot.until > s.limits_.maxUntil)
-      throw FieldError{"until", "must be in (0, " + io::number(s.limits_.maxUntil) + "] s"};
+    shot.until = settingField(number(j, "until"), "until", "until", s.limits_.maxUntil);
   }
   const double limit = shot.until > 0.0 ? shot.until : s.layout_.until;
 
@@ -415,21 +428,15 @@ void SessionMessages::edit(PlaySession& s, const json& j, const std::string& typ
       next.space.kind = v == 1 ? SpaceKind::Single : SpaceKind::Tree;
     }
     if (j.contains("df")) {
-      const long df = integer(j, "df");
-      if (df < 1 || df > s.limits_.maxDecompositionFactor)
-        throw FieldError{"df", "must be between 1 and " + std::to_string(s.limits_.maxDecompositionFactor)};
-      next.space.decompositionFactor = static_cast<int>(df);
+      const double df = static_cast<double>(integer(j, "df"));
+      next.space.decompositionFactor =
+          static_cast<int>(settingField(df, "df", "space.decomposition_factor", s.limits_.maxDecompositionFactor));
     }
     if (j.contains("friction")) {
-      const double f = number(j, "friction");
-      if (f < 0.0 || f > s.limits_.maxFriction)
-        throw FieldError{"friction", "must be between 0 and " + io::number(s.limits_.maxFriction) + " m/s^2"};
-      next.friction = f;
+      next.friction = settingField(number(j, "friction"), "friction", "friction", s.limits_.maxFriction);
     }
     if (j.contains("until")) {
-      const double u = number(j, "until");
-      if (!(u > 0.0) || u > s.limits_.maxUntil) throw FieldError{"until", "must be in (0, " + io::number(s.limits_.maxUntil) + "] s"};
-      next.until = u;
+      next.until = settingField(number(j, "until"), "until", "until", s.limits_.maxUntil);
     }
   }
   try {

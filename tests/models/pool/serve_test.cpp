@@ -127,6 +127,19 @@ TEST(PlaySession, BadMessagesNameTheFieldAndTheGameGoesOn) {
   EXPECT_EQ(g.shotsTaken(), 1);
 }
 
+// The page's settings (df, friction, until) are keys of the pool's settings table: refused in the
+// words of the YAML and of stsim pool, and past this server's own bounds with that said.
+TEST(PlaySession, SettingsSpeakTheSettingsTablesWords) {
+  PlaySession g(practice());
+  auto problem = [&](const std::string& message) { return one(g, message).value("message", ""); };
+  EXPECT_EQ(problem(R"({"type":"settings","friction":-1})"), "must not be negative, got -1");
+  EXPECT_EQ(problem(R"({"type":"settings","df":0})"), "must be in [1, 1000000000], got 0");
+  EXPECT_EQ(problem(R"({"type":"settings","until":0})"), "must be positive, got 0");
+  EXPECT_EQ(problem(R"({"type":"settings","until":1e9})"), "must be at most 120 s on this server");
+  EXPECT_EQ(problem(R"({"type":"shoot","angle":0,"speed":1,"until":1e9})"), "must be at most 120 s on this server");
+  EXPECT_EQ(problem(R"({"type":"settings","friction":20})"), "must be at most 10 m/s^2 on this server");
+}
+
 // fuzz_pool_session (fuzz/corpus/pool_session/invalid_utf8_in_error.txt): the JSON library's
 // error quotes the bytes it stopped at, and a byte that is not UTF-8 went out raw: a text frame a
 // browser refuses (it closes the socket), a reply no JSON reader takes. It is U+FFFD now.
