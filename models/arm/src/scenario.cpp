@@ -446,120 +446,113 @@ void applySettings(const Yaml& y, const YAML::Node& root, const std::vector<Sett
   }
 }
 
-Scenario parseScenario(const std::string& path, const YAML::Node& root, const std::vector<SettingOverride>& overrides) {
-  const Yaml y{path};
-  y.knownKeys(root, "", {"safety", "octree", "models", "arms", "trace", "duration", "obstacles", "random_obstacles", "name",
-                         "description", "braking", "persons", "ssm"});
-  Scenario s;
-  s.file = path;
-  applySettings(y, root, overrides, s);
-  if (const YAML::Node n = root["octree"]) {
-    if (const YAML::Node b = n["bounds"]) {
-      y.knownKeys(b, "octree.bounds", {"min", "max"});
-      s.broad.bounds = Aabb3{y.vec3(b["min"], "octree.bounds.min"), y.vec3(b["max"], "octree.bounds.max")};
-      if (!(s.broad.bounds->min.array() < s.broad.bounds->max.array()).all())
-        y.fail(b["max"], "octree.bounds.max", "must exceed octree.bounds.min on every axis");
-    }
-  }
-  const YAML::Node arms = root["arms"];
-  // an absent key of a const node is invalid: IsSequence() would throw yaml-cpp's "invalid node"
-  if (!arms.IsDefined()) y.fail(root, "arms", "missing key (the list of arms)");
-  if (!arms.IsSequence() || arms.size() == 0) y.fail(arms, "arms", "expected a list of arms");
-  bool anyWaypoints = false;
-  struct ObstacleAllow {
-    YAML::Node node;
-    std::string key, name;
-  };
-  std::vector<ObstacleAllow> obstacleAllows;
-  for (std::size_t i = 0; i < arms.size(); ++i) {
-    const std::string key = "arms[" + std::to_string(i) + "]";
-    const YAML::Node a = arms[i];
-    y.knownKeys(a, key, {"name", "model", "base", "allow", "check", "waypoints", "sensor"});
-    ArmInstance inst;
-    inst.name = a["name"] ? y.text(a["name"], key + ".name") : "arm" + std::to_string(i);
-    for (const ArmInstance& other : s.arms)
-      if (other.name == inst.name) y.fail(a["name"], key + ".name", "duplicate arm name '" + inst.name + "'");
-    if (!a["model"] || !a["model"].IsScalar()) y.fail(a, key + ".model", "expected an arm model name");
-    const std::string model = a["model"].Scalar();
-    if (auto b = builtinModel(model)) {
-      inst.model = *b;
-    } else if (root["models"] && y.mapping(root["models"], "models") && root["models"][model]) {
-      inst.model = parseModel(y, root["models"][model], "models." + model, model);
-    } else {
-      y.fail(a["model"], key + ".model", "unknown arm model '" + model + "' (built in: panda, iiwa14)");
-    }
-    inst.base = y.pose(a["base"], key + ".base");
-    if (const YAML::Node sn = a["sensor"]) {
-      // its joint sensor's rate: a reading older than period + jitter is stale (STOP)
-      y.knownKeys(sn, key + ".sensor", {"period", "jitter", "drift"});
-      if (!sn["period"]) y.fail(sn, key + ".sensor.period", "missing: the sensor's period (s)");
-      inst.sensorPeriod = y.positive(sn, "period", key + ".sensor", 0.0);
-      inst.sensorJitter = y.number(sn, "jitter", key + ".sensor", 0.0);
-      if (!(inst.sensorJitter >= 0.0 && inst.sensorJitter < inst.sensorPeriod))
-        y.fail(sn["jitter"], key + ".sensor.jitter", "must be at least 0 and less than the period");
-      if (inst.sensorPeriod > kMaxLookAhead) y.fail(sn["period"], key + ".sensor.period", "must be at most 60 s");
-      // how far its clock may run from the monitor's (a ratio: 0.02 is 2 %)
-      inst.sensorDrift = y.number(sn, "drift", key + ".sensor", 0.0);
-      if (!(inst.sensorDrift >= 0.0 && inst.sensorDrift < 0.5))
-        y.fail(sn["drift"], key + ".sensor.drift", "must be at least 0 and less than 0.5 (a ratio: 0.02 is 2 %)");
-    }
-    // a base kilometres away is no workcell: 1e300 was accepted ("first contact at 0 s")
-    if (const Vec3 at = inst.base.translation(); !(at.cwiseAbs().maxCoeff() <= kMaxBaseOffset))
-      y.fail(a["base"]["xyz"], key + ".base.xyz",
-             "[" + io::number(at.x()) + ", " + io::number(at.y()) + ", " + io::number(at.z()) + "] is farther than " +
-                 io::number(kMaxBaseOffset) + " m from the workcell's origin");
-    for (const char* which : {"allow", "check"}) {
-      const YAML::Node pairs = y.list(a[which], key + "." + which);
-      if (!pairs) continue;
-      const bool allow = std::string(which) == "allow";
-      for (std::size_t k = 0; k < pairs.size(); ++k) {
-        const std::string pk = key + "." + which + "[" + std::to_string(k) + "]";
-        const int nb = inst.model.bodies();
-        if (!pairs[k].IsSequence() || pairs[k].size() != 2)
-          y.fail(pairs[k], pk, "expected [body, body] with bodies 0.." + std::to_string(nb - 1) + " or link names");
-        const PairSide s0 = pairSide(y, pairs[k][0], pk + "[0]", inst.model, allow);
-        const PairSide s1 = pairSide(y, pairs[k][1], pk + "[1]", inst.model, allow);
-        if (s0.body < 0 && s1.body < 0) y.fail(pairs[k], pk, "expected a link of the arm and an obstacle");
-        if (s0.body >= 0 && s1.body >= 0) {
-          inst.model.setAllowed(s0.body, s1.body, allow);
-        } else {
-          // arm vs a named obstacle (checked against the obstacles below)
-          inst.allowedObstacles.emplace_back(s0.body >= 0 ? s0.body : s1.body, s0.body >= 0 ? s1.obstacle : s0.obstacle);
-          obstacleAllows.push_back({pairs[k], pk, inst.allowedObstacles.back().second});
-        }
+// Where an arm allows or checks a pair with an obstacle by name: checked once the obstacles are read.
+struct ObstacleAllow {
+  YAML::Node node;
+  std::string key, name;
+};
+
+// An arm's joint sensor (sensor: {period, jitter, drift}).
+void readSensor(const Yaml& y, const YAML::Node& sn, const std::string& key, ArmInstance& inst) {
+  // its joint sensor's rate: a reading older than period + jitter is stale (STOP)
+  y.knownKeys(sn, key + ".sensor", {"period", "jitter", "drift"});
+  if (!sn["period"]) y.fail(sn, key + ".sensor.period", "missing: the sensor's period (s)");
+  inst.sensorPeriod = y.positive(sn, "period", key + ".sensor", 0.0);
+  inst.sensorJitter = y.number(sn, "jitter", key + ".sensor", 0.0);
+  if (!(inst.sensorJitter >= 0.0 && inst.sensorJitter < inst.sensorPeriod))
+    y.fail(sn["jitter"], key + ".sensor.jitter", "must be at least 0 and less than the period");
+  if (inst.sensorPeriod > kMaxLookAhead) y.fail(sn["period"], key + ".sensor.period", "must be at most 60 s");
+  // how far its clock may run from the monitor's (a ratio: 0.02 is 2 %)
+  inst.sensorDrift = y.number(sn, "drift", key + ".sensor", 0.0);
+  if (!(inst.sensorDrift >= 0.0 && inst.sensorDrift < 0.5))
+    y.fail(sn["drift"], key + ".sensor.drift", "must be at least 0 and less than 0.5 (a ratio: 0.02 is 2 %)");
+}
+
+// allow / check: pairs of an arm's bodies (or a body and an obstacle by name) never / always checked.
+void readPairs(const Yaml& y, const YAML::Node& a, const std::string& key, ArmInstance& inst,
+               std::vector<ObstacleAllow>& obstacleAllows) {
+  for (const char* which : {"allow", "check"}) {
+    const YAML::Node pairs = y.list(a[which], key + "." + which);
+    if (!pairs) continue;
+    const bool allow = std::string(which) == "allow";
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      const std::string pk = key + "." + which + "[" + std::to_string(k) + "]";
+      const int nb = inst.model.bodies();
+      if (!pairs[k].IsSequence() || pairs[k].size() != 2)
+        y.fail(pairs[k], pk, "expected [body, body] with bodies 0.." + std::to_string(nb - 1) + " or link names");
+      const PairSide s0 = pairSide(y, pairs[k][0], pk + "[0]", inst.model, allow);
+      const PairSide s1 = pairSide(y, pairs[k][1], pk + "[1]", inst.model, allow);
+      if (s0.body < 0 && s1.body < 0) y.fail(pairs[k], pk, "expected a link of the arm and an obstacle");
+      if (s0.body >= 0 && s1.body >= 0) {
+        inst.model.setAllowed(s0.body, s1.body, allow);
+      } else {
+        // arm vs a named obstacle (checked against the obstacles below)
+        inst.allowedObstacles.emplace_back(s0.body >= 0 ? s0.body : s1.body, s0.body >= 0 ? s1.obstacle : s0.obstacle);
+        obstacleAllows.push_back({pairs[k], pk, inst.allowedObstacles.back().second});
       }
     }
-    if (const YAML::Node w = a["waypoints"]) {
-      anyWaypoints = true;
-      Script sc;
-      sc.arm = static_cast<int>(i);
-      sc.where = path + ": " + key + ".waypoints";
-      if (!w.IsSequence() || w.size() == 0) y.fail(w, key + ".waypoints", "expected a list of {t, q}");
-      for (std::size_t k = 0; k < w.size(); ++k) {
-        const std::string wk = key + ".waypoints[" + std::to_string(k) + "]";
-        y.knownKeys(w[k], wk, {"t", "q"});
-        Waypoint wp;
-        wp.t = y.number(w[k]["t"], wk + ".t");
-        wp.q = y.numbers(w[k]["q"], wk + ".q");
-        if (!sc.waypoints.empty() && !(wp.t > sc.waypoints.back().t)) y.fail(w[k]["t"], wk + ".t", "times must increase");
-        // every interpolated angle lies between two checked waypoints; the rate is the slope
-        // of the piece that ends here
-        Reading r{wp.t, sc.arm, wp.q, std::vector<double>(wp.q.size(), 0.0), ""};
-        if (!sc.waypoints.empty() && sc.waypoints.back().q.size() == wp.q.size())
-          for (std::size_t j = 0; j < wp.q.size(); ++j)
-            r.qdot[j] = (wp.q[j] - sc.waypoints.back().q[j]) / (wp.t - sc.waypoints.back().t);
-        try {
-          validateReading(inst.model, r);
-        } catch (const InputError& e) {
-          y.fail(w[k]["q"], wk + ".q", std::string(e.what()).substr(2));
-        }
-        sc.waypoints.push_back(wp);
-      }
-      s.duration = std::max(s.duration, sc.waypoints.back().t);
-      s.scripts.push_back(sc);
-    }
-    s.arms.push_back(inst);
   }
+}
+
+// An arm's waypoints: {t, q} at increasing times, each a valid reading of the arm.
+Script readWaypoints(const Yaml& y, const YAML::Node& w, const std::string& path, const std::string& key, int arm,
+                     const ArmModel& model) {
+  Script sc;
+  sc.arm = arm;
+  sc.where = path + ": " + key + ".waypoints";
+  if (!w.IsSequence() || w.size() == 0) y.fail(w, key + ".waypoints", "expected a list of {t, q}");
+  for (std::size_t k = 0; k < w.size(); ++k) {
+    const std::string wk = key + ".waypoints[" + std::to_string(k) + "]";
+    y.knownKeys(w[k], wk, {"t", "q"});
+    Waypoint wp;
+    wp.t = y.number(w[k]["t"], wk + ".t");
+    wp.q = y.numbers(w[k]["q"], wk + ".q");
+    if (!sc.waypoints.empty() && !(wp.t > sc.waypoints.back().t)) y.fail(w[k]["t"], wk + ".t", "times must increase");
+    // every interpolated angle lies between two checked waypoints; the rate is the slope
+    // of the piece that ends here
+    Reading r{wp.t, sc.arm, wp.q, std::vector<double>(wp.q.size(), 0.0), ""};
+    if (!sc.waypoints.empty() && sc.waypoints.back().q.size() == wp.q.size())
+      for (std::size_t j = 0; j < wp.q.size(); ++j)
+        r.qdot[j] = (wp.q[j] - sc.waypoints.back().q[j]) / (wp.t - sc.waypoints.back().t);
+    try {
+      validateReading(model, r);
+    } catch (const InputError& e) {
+      y.fail(w[k]["q"], wk + ".q", std::string(e.what()).substr(2));
+    }
+    sc.waypoints.push_back(wp);
+  }
+  return sc;
+}
+
+// arms[i]: its model, base, sensor, pairs and waypoints.
+ArmInstance readArm(const Yaml& y, const YAML::Node& root, const YAML::Node& a, const std::string& key,
+                    const Scenario& s, std::vector<ObstacleAllow>& obstacleAllows) {
+  ArmInstance inst;
+  inst.name = a["name"] ? y.text(a["name"], key + ".name") : "arm" + std::to_string(s.arms.size());
+  for (const ArmInstance& other : s.arms)
+    if (other.name == inst.name) y.fail(a["name"], key + ".name", "duplicate arm name '" + inst.name + "'");
+  if (!a["model"] || !a["model"].IsScalar()) y.fail(a, key + ".model", "expected an arm model name");
+  const std::string model = a["model"].Scalar();
+  if (auto b = builtinModel(model)) {
+    inst.model = *b;
+  } else if (root["models"] && y.mapping(root["models"], "models") && root["models"][model]) {
+    inst.model = parseModel(y, root["models"][model], "models." + model, model);
+  } else {
+    y.fail(a["model"], key + ".model", "unknown arm model '" + model + "' (built in: panda, iiwa14)");
+  }
+  inst.base = y.pose(a["base"], key + ".base");
+  if (const YAML::Node sn = a["sensor"]) readSensor(y, sn, key, inst);
+  // a base kilometres away is no workcell: 1e300 was accepted ("first contact at 0 s")
+  if (const Vec3 at = inst.base.translation(); !(at.cwiseAbs().maxCoeff() <= kMaxBaseOffset))
+    y.fail(a["base"]["xyz"], key + ".base.xyz",
+           "[" + io::number(at.x()) + ", " + io::number(at.y()) + ", " + io::number(at.z()) + "] is farther than " +
+               io::number(kMaxBaseOffset) + " m from the workcell's origin");
+  readPairs(y, a, key, inst, obstacleAllows);
+  return inst;
+}
+
+// A trace or waypoints, and the duration (the waypoints' end unless given).
+void readTiming(const Yaml& y, const YAML::Node& root, const std::string& path, bool anyWaypoints, Scenario& s) {
   if (root["trace"]) {
     if (anyWaypoints) y.fail(root["trace"], "trace", "give either a trace or waypoints, not both");
     std::filesystem::path p = y.text(root["trace"], "trace");
@@ -584,6 +577,10 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root, const st
     y.fail(root["safety"] && root["safety"]["cycle_time"] ? root["safety"]["cycle_time"] : root, "safety.cycle_time",
            "the waypoints' " + io::number(s.duration) + " s would take more than 1e7 cycles at this cycle time");
   }
+}
+
+// obstacles and random_obstacles, each name once; the arms' pairs with an obstacle name one.
+void readObstacles(const Yaml& y, const YAML::Node& root, const std::vector<ObstacleAllow>& obstacleAllows, Scenario& s) {
   if (const YAML::Node obs = y.list(root["obstacles"], "obstacles")) {
     for (std::size_t i = 0; i < obs.size(); ++i) {
       const std::string key = "obstacles[" + std::to_string(i) + "]";
@@ -599,6 +596,42 @@ Scenario parseScenario(const std::string& path, const YAML::Node& root, const st
   for (const ObstacleAllow& oa : obstacleAllows)
     if (std::none_of(s.obstacles.begin(), s.obstacles.end(), [&](const Obstacle& o) { return o.name == oa.name; }))
       y.fail(oa.node, oa.key, "no obstacle named '" + oa.name + "'");
+}
+
+Scenario parseScenario(const std::string& path, const YAML::Node& root, const std::vector<SettingOverride>& overrides) {
+  const Yaml y{path};
+  y.knownKeys(root, "", {"safety", "octree", "models", "arms", "trace", "duration", "obstacles", "random_obstacles", "name",
+                         "description", "braking", "persons", "ssm"});
+  Scenario s;
+  s.file = path;
+  applySettings(y, root, overrides, s);
+  if (const YAML::Node n = root["octree"]) {
+    if (const YAML::Node b = n["bounds"]) {
+      y.knownKeys(b, "octree.bounds", {"min", "max"});
+      s.broad.bounds = Aabb3{y.vec3(b["min"], "octree.bounds.min"), y.vec3(b["max"], "octree.bounds.max")};
+      if (!(s.broad.bounds->min.array() < s.broad.bounds->max.array()).all())
+        y.fail(b["max"], "octree.bounds.max", "must exceed octree.bounds.min on every axis");
+    }
+  }
+  const YAML::Node arms = root["arms"];
+  // an absent key of a const node is invalid: IsSequence() would throw yaml-cpp's "invalid node"
+  if (!arms.IsDefined()) y.fail(root, "arms", "missing key (the list of arms)");
+  if (!arms.IsSequence() || arms.size() == 0) y.fail(arms, "arms", "expected a list of arms");
+  bool anyWaypoints = false;
+  std::vector<ObstacleAllow> obstacleAllows;
+  for (std::size_t i = 0; i < arms.size(); ++i) {
+    const std::string key = "arms[" + std::to_string(i) + "]";
+    const YAML::Node a = arms[i];
+    y.knownKeys(a, key, {"name", "model", "base", "allow", "check", "waypoints", "sensor"});
+    s.arms.push_back(readArm(y, root, a, key, s, obstacleAllows));
+    if (const YAML::Node w = a["waypoints"]) {
+      anyWaypoints = true;
+      s.scripts.push_back(readWaypoints(y, w, path, key, static_cast<int>(i), s.arms.back().model));
+      s.duration = std::max(s.duration, s.scripts.back().waypoints.back().t);
+    }
+  }
+  readTiming(y, root, path, anyWaypoints, s);
+  readObstacles(y, root, obstacleAllows, s);
   parseSsm(y, root, s);
   return s;
 }
