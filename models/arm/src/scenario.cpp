@@ -292,6 +292,109 @@ void randomObstacles(const Yaml& y, const YAML::Node& n, Scenario& s) {
 namespace {
 
 // ssm: and persons: (after braking:, whose times are the drive's T_r and T_s)
+// A sensor's rate (an arm's joint sensor, a person's tracker: sensor: {period, jitter, drift}): a
+// reading older than period + jitter is stale (STOP). `what` names the sensor in a missing period.
+struct SensorRate {
+  double period = 0.0, jitter = 0.0, drift = 0.0;
+};
+SensorRate readSensorRate(const Yaml& y, const YAML::Node& sn, const std::string& key, const char* what) {
+  SensorRate r;
+  y.knownKeys(sn, key + ".sensor", {"period", "jitter", "drift"});
+  if (!sn["period"]) y.fail(sn, key + ".sensor.period", std::string("missing: the ") + what + "'s period (s)");
+  r.period = y.positive(sn, "period", key + ".sensor", 0.0);
+  r.jitter = y.number(sn, "jitter", key + ".sensor", 0.0);
+  if (!(r.jitter >= 0.0 && r.jitter < r.period))
+    y.fail(sn["jitter"] ? sn["jitter"] : sn, key + ".sensor.jitter", "must be at least 0 and less than the period");
+  if (r.period > kMaxLookAhead) y.fail(sn["period"], key + ".sensor.period", "must be at most 60 s");
+  // how far its clock may run from the monitor's (a ratio: 0.02 is 2 %)
+  r.drift = y.number(sn, "drift", key + ".sensor", 0.0);
+  if (!(r.drift >= 0.0 && r.drift < 0.5))
+    y.fail(sn["drift"], key + ".sensor.drift", "must be at least 0 and less than 0.5 (a ratio: 0.02 is 2 %)");
+  return r;
+}
+
+// One action of a person's script: walk, reach or wait; a speed within the one S_h assumes.
+PersonAction readAction(const Yaml& y, const YAML::Node& a, const std::string& ak, const SsmConfig& c) {
+  y.knownKeys(a, ak, {"walk", "reach", "wait"});
+  if (a.size() != 1) y.fail(a, ak, "expected one of walk, reach, wait");
+  PersonAction act;
+  if (const YAML::Node wait = a["wait"]) {
+    act.kind = PersonAction::Wait;
+    act.duration = y.number(wait, ak + ".wait");
+    if (!(act.duration >= 0.0 && act.duration <= 3600.0)) y.fail(wait, ak + ".wait", "expected a time in 0..3600 s");
+    return act;
+  }
+  const bool walk = static_cast<bool>(a["walk"]);
+  const YAML::Node w = walk ? a["walk"] : a["reach"];
+  const std::string wk = ak + (walk ? ".walk" : ".reach");
+  y.knownKeys(w, wk, walk ? std::initializer_list<const char*>{"to", "speed"}
+                          : std::initializer_list<const char*>{"to", "speed", "hand"});
+  act.kind = walk ? PersonAction::Walk : PersonAction::Reach;
+  const double limit = walk ? c.bodySpeed : c.handSpeed;
+  if (!w["speed"]) y.fail(w, wk + ".speed", "missing (m/s)");
+  act.speed = y.positive(w, "speed", wk, 0.0);
+  // S_h bounds the person by these speeds: a script faster than them breaks the bound
+  if (act.speed > limit)
+    y.fail(w["speed"], wk + ".speed",
+           io::number(act.speed) + " m/s is beyond " + (walk ? "ssm.body_speed " : "ssm.hand_speed ") +
+               io::number(limit) + " m/s, the speed S_h assumes");
+  if (walk) {
+    const std::vector<double> to = y.numbers(w["to"], wk + ".to");
+    if (to.size() != 2) y.fail(w["to"], wk + ".to", "expected [x, y]");
+    act.to = Vec3(to[0], to[1], 0.0);
+  } else {
+    act.to = y.vec3(w["to"], wk + ".to");
+    const std::string hand = w["hand"] ? y.text(w["hand"], wk + ".hand") : "right";
+    if (hand != "right" && hand != "left") y.fail(w["hand"], wk + ".hand", "expected right or left, got '" + hand + "'");
+    act.rightHand = hand == "right";
+  }
+  if (!(act.to.cwiseAbs().maxCoeff() <= kMaxBaseOffset))
+    y.fail(w["to"], wk + ".to", "farther than " + io::number(kMaxBaseOffset) + " m from the workcell's origin");
+  return act;
+}
+
+// A person's script: where it stands first, then its actions.
+void readPersonScript(const Yaml& y, const YAML::Node& p, const std::string& key, const SsmConfig& c, PersonScript& sc) {
+  if (const YAML::Node st = p["start"]) {
+    y.knownKeys(st, key + ".start", {"xy", "heading"});
+    const std::vector<double> xy = y.numbers(st["xy"], key + ".start.xy");
+    if (xy.size() != 2) y.fail(st["xy"], key + ".start.xy", "expected [x, y]");
+    sc.start = Vec3(xy[0], xy[1], 0.0);
+    sc.heading = y.number(st, "heading", key + ".start", 0.0);
+  } else {
+    y.fail(p, key + ".start", "missing: where the person stands first ({xy: [x, y], heading})");
+  }
+  const YAML::Node script = y.list(p["script"], key + ".script");
+  for (std::size_t k = 0; script && k < script.size(); ++k)
+    sc.actions.push_back(readAction(y, script[k], key + ".script[" + std::to_string(k) + "]", c));
+}
+
+// persons[i]: a name, its tracker's rate, and a trace or a script.
+Scenario::Person readPerson(const Yaml& y, const YAML::Node& p, const std::string& key, const Scenario& s) {
+  y.knownKeys(p, key, {"name", "start", "script", "trace", "sensor"});
+  Scenario::Person person;
+  person.name = p["name"] ? y.text(p["name"], key + ".name") : "person" + std::to_string(s.persons.size());
+  for (const Scenario::Person& other : s.persons)
+    if (other.name == person.name) y.fail(p["name"], key + ".name", "duplicate person name '" + person.name + "'");
+  if (p["trace"] && (p["script"] || p["start"])) y.fail(p["trace"], key + ".trace", "give either a trace or start and script, not both");
+  if (const YAML::Node sn = p["sensor"]) {
+    // its tracker's rate over the service
+    const SensorRate r = readSensorRate(y, sn, key, "tracker");
+    person.sensorPeriod = r.period;
+    person.sensorJitter = r.jitter;
+    person.sensorDrift = r.drift;
+  }
+  if (p["trace"]) {
+    std::filesystem::path f = y.text(p["trace"], key + ".trace");
+    if (f.is_relative()) f = std::filesystem::path(s.file).parent_path() / f;
+    person.trace = f.string();
+    return person;
+  }
+  person.script.name = person.name;
+  readPersonScript(y, p, key, s.ssm, person.script);
+  return person;
+}
+
 void parseSsm(const Yaml& y, const YAML::Node& root, Scenario& s) {
   SsmConfig& c = s.ssm;
   c.cycleTime = s.safety.cycleTime;
@@ -302,89 +405,8 @@ void parseSsm(const Yaml& y, const YAML::Node& root, Scenario& s) {
   if (s.braking.deceleration > 0.0)
     y.fail(root["braking"] ? root["braking"]["deceleration"] : root, "braking.deceleration",
            "persons need the drive's stopping time (braking.stopping_time) for S_s, not a deceleration");
-  for (std::size_t i = 0; i < persons.size(); ++i) {
-    const std::string key = "persons[" + std::to_string(i) + "]";
-    const YAML::Node p = persons[i];
-    y.knownKeys(p, key, {"name", "start", "script", "trace", "sensor"});
-    Scenario::Person person;
-    person.name = p["name"] ? y.text(p["name"], key + ".name") : "person" + std::to_string(i);
-    for (const Scenario::Person& other : s.persons)
-      if (other.name == person.name) y.fail(p["name"], key + ".name", "duplicate person name '" + person.name + "'");
-    if (p["trace"] && (p["script"] || p["start"])) y.fail(p["trace"], key + ".trace", "give either a trace or start and script, not both");
-    if (const YAML::Node sn = p["sensor"]) {
-      // its tracker's rate over the service: a pose older than period + jitter is stale
-      y.knownKeys(sn, key + ".sensor", {"period", "jitter", "drift"});
-      if (!sn["period"]) y.fail(sn, key + ".sensor.period", "missing: the tracker's period (s)");
-      person.sensorPeriod = y.positive(sn, "period", key + ".sensor", 0.0);
-      person.sensorJitter = y.number(sn, "jitter", key + ".sensor", 0.0);
-      if (!(person.sensorJitter >= 0.0 && person.sensorJitter < person.sensorPeriod))
-        y.fail(sn["jitter"] ? sn["jitter"] : sn, key + ".sensor.jitter", "must be at least 0 and less than the period");
-      if (person.sensorPeriod > kMaxLookAhead) y.fail(sn["period"], key + ".sensor.period", "must be at most 60 s");
-      person.sensorDrift = y.number(sn, "drift", key + ".sensor", 0.0);
-      if (!(person.sensorDrift >= 0.0 && person.sensorDrift < 0.5))
-        y.fail(sn["drift"], key + ".sensor.drift", "must be at least 0 and less than 0.5 (a ratio: 0.02 is 2 %)");
-    }
-    if (p["trace"]) {
-      std::filesystem::path f = y.text(p["trace"], key + ".trace");
-      if (f.is_relative()) f = std::filesystem::path(s.file).parent_path() / f;
-      person.trace = f.string();
-      s.persons.push_back(person);
-      continue;
-    }
-    PersonScript& sc = person.script;
-    sc.name = person.name;
-    if (const YAML::Node st = p["start"]) {
-      y.knownKeys(st, key + ".start", {"xy", "heading"});
-      const std::vector<double> xy = y.numbers(st["xy"], key + ".start.xy");
-      if (xy.size() != 2) y.fail(st["xy"], key + ".start.xy", "expected [x, y]");
-      sc.start = Vec3(xy[0], xy[1], 0.0);
-      sc.heading = y.number(st, "heading", key + ".start", 0.0);
-    } else {
-      y.fail(p, key + ".start", "missing: where the person stands first ({xy: [x, y], heading})");
-    }
-    const YAML::Node script = y.list(p["script"], key + ".script");
-    for (std::size_t k = 0; script && k < script.size(); ++k) {
-      const std::string ak = key + ".script[" + std::to_string(k) + "]";
-      const YAML::Node a = script[k];
-      y.knownKeys(a, ak, {"walk", "reach", "wait"});
-      if (a.size() != 1) y.fail(a, ak, "expected one of walk, reach, wait");
-      PersonAction act;
-      if (const YAML::Node wait = a["wait"]) {
-        act.kind = PersonAction::Wait;
-        act.duration = y.number(wait, ak + ".wait");
-        if (!(act.duration >= 0.0 && act.duration <= 3600.0)) y.fail(wait, ak + ".wait", "expected a time in 0..3600 s");
-      } else {
-        const bool walk = static_cast<bool>(a["walk"]);
-        const YAML::Node w = walk ? a["walk"] : a["reach"];
-        const std::string wk = ak + (walk ? ".walk" : ".reach");
-        y.knownKeys(w, wk, walk ? std::initializer_list<const char*>{"to", "speed"}
-                                : std::initializer_list<const char*>{"to", "speed", "hand"});
-        act.kind = walk ? PersonAction::Walk : PersonAction::Reach;
-        const double limit = walk ? c.bodySpeed : c.handSpeed;
-        if (!w["speed"]) y.fail(w, wk + ".speed", "missing (m/s)");
-        act.speed = y.positive(w, "speed", wk, 0.0);
-        // S_h bounds the person by these speeds: a script faster than them breaks the bound
-        if (act.speed > limit)
-          y.fail(w["speed"], wk + ".speed",
-                 io::number(act.speed) + " m/s is beyond " + (walk ? "ssm.body_speed " : "ssm.hand_speed ") +
-                     io::number(limit) + " m/s, the speed S_h assumes");
-        if (walk) {
-          const std::vector<double> to = y.numbers(w["to"], wk + ".to");
-          if (to.size() != 2) y.fail(w["to"], wk + ".to", "expected [x, y]");
-          act.to = Vec3(to[0], to[1], 0.0);
-        } else {
-          act.to = y.vec3(w["to"], wk + ".to");
-          const std::string hand = w["hand"] ? y.text(w["hand"], wk + ".hand") : "right";
-          if (hand != "right" && hand != "left") y.fail(w["hand"], wk + ".hand", "expected right or left, got '" + hand + "'");
-          act.rightHand = hand == "right";
-        }
-        if (!(act.to.cwiseAbs().maxCoeff() <= kMaxBaseOffset))
-          y.fail(w["to"], wk + ".to", "farther than " + io::number(kMaxBaseOffset) + " m from the workcell's origin");
-      }
-      sc.actions.push_back(act);
-    }
-    s.persons.push_back(person);
-  }
+  for (std::size_t i = 0; i < persons.size(); ++i)
+    s.persons.push_back(readPerson(y, persons[i], "persons[" + std::to_string(i) + "]", s));
 }
 
 // The node of a nested key ("safety.cycle_time") under root; an undefined node if absent.
@@ -451,22 +473,6 @@ struct ObstacleAllow {
   YAML::Node node;
   std::string key, name;
 };
-
-// An arm's joint sensor (sensor: {period, jitter, drift}).
-void readSensor(const Yaml& y, const YAML::Node& sn, const std::string& key, ArmInstance& inst) {
-  // its joint sensor's rate: a reading older than period + jitter is stale (STOP)
-  y.knownKeys(sn, key + ".sensor", {"period", "jitter", "drift"});
-  if (!sn["period"]) y.fail(sn, key + ".sensor.period", "missing: the sensor's period (s)");
-  inst.sensorPeriod = y.positive(sn, "period", key + ".sensor", 0.0);
-  inst.sensorJitter = y.number(sn, "jitter", key + ".sensor", 0.0);
-  if (!(inst.sensorJitter >= 0.0 && inst.sensorJitter < inst.sensorPeriod))
-    y.fail(sn["jitter"], key + ".sensor.jitter", "must be at least 0 and less than the period");
-  if (inst.sensorPeriod > kMaxLookAhead) y.fail(sn["period"], key + ".sensor.period", "must be at most 60 s");
-  // how far its clock may run from the monitor's (a ratio: 0.02 is 2 %)
-  inst.sensorDrift = y.number(sn, "drift", key + ".sensor", 0.0);
-  if (!(inst.sensorDrift >= 0.0 && inst.sensorDrift < 0.5))
-    y.fail(sn["drift"], key + ".sensor.drift", "must be at least 0 and less than 0.5 (a ratio: 0.02 is 2 %)");
-}
 
 // allow / check: pairs of an arm's bodies (or a body and an obstacle by name) never / always checked.
 void readPairs(const Yaml& y, const YAML::Node& a, const std::string& key, ArmInstance& inst,
@@ -541,7 +547,12 @@ ArmInstance readArm(const Yaml& y, const YAML::Node& root, const YAML::Node& a, 
     y.fail(a["model"], key + ".model", "unknown arm model '" + model + "' (built in: panda, iiwa14)");
   }
   inst.base = y.pose(a["base"], key + ".base");
-  if (const YAML::Node sn = a["sensor"]) readSensor(y, sn, key, inst);
+  if (const YAML::Node sn = a["sensor"]) {
+    const SensorRate r = readSensorRate(y, sn, key, "sensor");
+    inst.sensorPeriod = r.period;
+    inst.sensorJitter = r.jitter;
+    inst.sensorDrift = r.drift;
+  }
   // a base kilometres away is no workcell: 1e300 was accepted ("first contact at 0 s")
   if (const Vec3 at = inst.base.translation(); !(at.cwiseAbs().maxCoeff() <= kMaxBaseOffset))
     y.fail(a["base"]["xyz"], key + ".base.xyz",
