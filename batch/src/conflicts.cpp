@@ -10,6 +10,7 @@
 
 #include <stbatch/stats.hpp>
 #include <stio/format.hpp>
+#include <stio/output.hpp>
 
 #include "files.hpp"
 
@@ -140,7 +141,7 @@ void writeConflictTables(const Experiment& e, const std::vector<RunResult>& resu
     }
     t << "\n";
   }
-  writeFileAtomically(outDir / "conflicts.csv", t.str());
+  io::writeFileAtomically(outDir / "conflicts.csv", t.str());
 
   std::ostringstream c;
   c << "compared,baseline";
@@ -169,7 +170,7 @@ void writeConflictTables(const Experiment& e, const std::vector<RunResult>& resu
       c << "\n";
     }
   }
-  writeFileAtomically(outDir / "conflicts_compared.csv", c.str());
+  io::writeFileAtomically(outDir / "conflicts_compared.csv", c.str());
 }
 
 }  // namespace st::batch

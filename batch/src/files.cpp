@@ -1,6 +1,5 @@
 #include "files.hpp"
 
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -11,22 +10,17 @@ namespace st::batch::detail {
 
 namespace fs = std::filesystem;
 
-void writeFileAtomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(tmp.string() + ": cannot write");
-    out << text;
-    if (!out.flush()) throw std::runtime_error(tmp.string() + ": write failed");
-  }
-  fs::rename(tmp, path);
-}
-
 std::string readFile(const fs::path& p) {
   // bounded: a run's log or a record is kilobytes; whatever else sits there is not read whole
   std::string text, error;
-  io::readFile(p, text, error);
+  if (!io::readFile(p, text, error)) throw std::runtime_error(error);
   return text;
+}
+
+std::string lastLogLine(const fs::path& p) {
+  std::string text, error;
+  if (!io::readFile(p, text, error)) return "(" + error + ")";
+  return lastLine(text);
 }
 
 std::string lastLine(const std::string& text) {

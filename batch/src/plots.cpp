@@ -26,7 +26,7 @@ bool writePlots(const fs::path& outDir, std::string& why) {
                           (outDir / "plots.log").string() + "' 2>&1";
   const int rc = std::system(cmd.c_str());
   if (rc != 0) {
-    why = "plotting failed: " + lastLine(readFile(outDir / "plots.log"));
+    why = "plotting failed: " + lastLogLine(outDir / "plots.log");
     return false;
   }
   return true;

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include <stbatch/tables.hpp>
+#include <stio/output.hpp>
 
 #include "files.hpp"
 
@@ -69,6 +70,16 @@ std::string analysisRecord(const Experiment& e) {
   return a;
 }
 
+// A run's folder, every file through io's checked writer: a full disk names the file.
+void copyRunDir(const fs::path& from, const fs::path& to) {
+  fs::create_directories(to);
+  for (const fs::directory_entry& entry : fs::recursive_directory_iterator(from)) {
+    const fs::path dst = to / fs::relative(entry.path(), from);
+    if (entry.is_directory()) fs::create_directories(dst);
+    else if (entry.is_regular_file()) io::copyFile(entry.path(), dst);
+  }
+}
+
 }  // namespace
 
 void checkResumable(const Experiment& e, const fs::path& outDir) {
@@ -83,7 +94,7 @@ void checkResumable(const Experiment& e, const fs::path& outDir) {
 void writeExperimentRecord(const Experiment& e, const fs::path& outDir) {
   checkResumable(e, outDir);
   fs::create_directories(outDir);
-  writeFileAtomically(outDir / "experiment.yaml", experimentRecord(e) + analysisRecord(e));
+  io::writeFileAtomically(outDir / "experiment.yaml", experimentRecord(e) + analysisRecord(e));
 }
 
 Experiment readExperimentRecord(const fs::path& outDir) {
@@ -116,7 +127,7 @@ std::vector<RunResult> mergeShards(const std::vector<fs::path>& dirs, const fs::
         const fs::path dst = runDir(outDir, spec);
         if (fs::weakly_canonical(runDir(d, spec)) != fs::weakly_canonical(dst)) {
           fs::remove_all(dst);
-          fs::copy(runDir(d, spec), dst, fs::copy_options::recursive);
+          copyRunDir(runDir(d, spec), dst);
         }
       }
     }

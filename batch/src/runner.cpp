@@ -15,6 +15,8 @@
 #include <map>
 #include <thread>
 
+#include <stio/output.hpp>
+
 #include "files.hpp"
 
 extern char** environ;
@@ -133,8 +135,9 @@ std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpe
     results[i] = loadRunResult(o.outDir, runs[i]);
     // a finished run is reused only if it ran the scenario this experiment makes of it now: the
     // run id names the parameters, not the base's content (an edited base left every old run "done")
+    const fs::path scenario = runDir(o.outDir, runs[i]) / "scenario.yaml";
     if (results[i].status == RunStatus::Done &&
-        readFile(runDir(o.outDir, runs[i]) / "scenario.yaml") != runScenarioYaml(e, runs[i])) {
+        (!fs::exists(scenario) || readFile(scenario) != runScenarioYaml(e, runs[i]))) {
       if (o.log) o.log(runs[i].id + " stale (its scenario changed since it ran): run again");
       results[i] = RunResult{};
       results[i].spec = runs[i];
@@ -161,7 +164,7 @@ std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpe
     const fs::path tmp = o.outDir / "runs" / (spec.id + ".tmp");
     fs::remove_all(tmp);
     fs::create_directories(tmp);
-    writeFileAtomically(tmp / "scenario.yaml", runScenarioYaml(e, spec));
+    io::writeFileAtomically(tmp / "scenario.yaml", runScenarioYaml(e, spec));
     const std::string exe = o.stsim.string(), scen = (tmp / "scenario.yaml").string(), out = tmp.string();
     std::vector<std::string> args = {exe, e.command, scen, "--out", out};
     // the report draws one conflict map per parameter combination, all seeds together (plots.py)
@@ -180,14 +183,13 @@ std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpe
     r = RunResult{};
     r.spec = runs[run.index];
     r.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - run.start).count();
-    const std::string log = readFile(run.tmp / "log.txt");
     if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && fs::exists(run.tmp / "summary.json")) {
       r.status = RunStatus::Done;
     } else {
       r.status = RunStatus::Failed;
       if (WIFSIGNALED(status)) r.error = "crashed with signal " + std::to_string(WTERMSIG(status));
       else r.error = "exit " + std::to_string(WEXITSTATUS(status));
-      if (std::string l = lastLine(log); !l.empty()) {
+      if (std::string l = lastLogLine(run.tmp / "log.txt"); !l.empty()) {
         // the run's folder is renamed below: name its files where they will be
         const std::string from = run.tmp.string(), to = runDir(o.outDir, r.spec).string();
         for (std::size_t at = l.find(from); at != std::string::npos; at = l.find(from, at + to.size()))
@@ -198,7 +200,7 @@ std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpe
     YAML::Emitter em;
     em << YAML::BeginMap << YAML::Key << "status" << YAML::Value << toString(r.status) << YAML::Key << "error"
        << YAML::Value << r.error << YAML::Key << "wall_seconds" << YAML::Value << r.wallSeconds << YAML::EndMap;
-    writeFileAtomically(run.tmp / "result.yaml", std::string(em.c_str()) + "\n");
+    io::writeFileAtomically(run.tmp / "result.yaml", std::string(em.c_str()) + "\n");
     // publish the finished run in one rename; a previous failed attempt is replaced
     const fs::path dir = runDir(o.outDir, r.spec);
     fs::remove_all(dir);

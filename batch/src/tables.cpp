@@ -9,6 +9,7 @@
 #include <stbatch/conflicts.hpp>
 #include <stbatch/rates.hpp>
 #include <stbatch/stats.hpp>
+#include <stio/output.hpp>
 
 #include "files.hpp"
 
@@ -194,7 +195,7 @@ void writeTables(const Experiment& e, std::vector<RunResult> results, const fs::
     for (const auto& c : metricCols) runs << "," << (m.count(c) && !std::isnan(m[c]) ? number(m[c]) : "");
     runs << "\n";
   }
-  writeFileAtomically(outDir / "runs.csv", runs.str());
+  io::writeFileAtomically(outDir / "runs.csv", runs.str());
 
   // summary over seeds: one row per parameter combination
   std::map<std::vector<std::string>, std::vector<const RunResult*>> groups;
@@ -229,10 +230,10 @@ void writeTables(const Experiment& e, std::vector<RunResult> results, const fs::
     }
     sum << "\n";
   }
-  writeFileAtomically(outDir / "summary.csv", sum.str());
-  writeFileAtomically(outDir / "paired.csv", pairedTable(e, results, metricCols));
+  io::writeFileAtomically(outDir / "summary.csv", sum.str());
+  io::writeFileAtomically(outDir / "paired.csv", pairedTable(e, results, metricCols));
   if (const std::string h = hindsightTable(e, order, groups, metricCols); !h.empty())
-    writeFileAtomically(outDir / "hindsight.csv", h);
+    io::writeFileAtomically(outDir / "hindsight.csv", h);
   if (e.command == "highway") writeConflictTables(e, results, outDir);
 }
 

@@ -1,10 +1,26 @@
 #include <stio/output.hpp>
 
+#include <cstdlib>
 #include <stdexcept>
 
 namespace st::io {
 
-CsvRowWriter::CsvRowWriter(const std::filesystem::path& path, const std::string& header) : path_(path), out_(path) {
+namespace {
+
+// Where an output's bytes go: the file itself, or /dev/full when the test seam names it
+// (STSIM_TEST_FULL_FILE, output.hpp). Errors still name the file the command meant to write.
+bool onFullDevice(const std::filesystem::path& path) {
+  const char* full = std::getenv("STSIM_TEST_FULL_FILE");
+  return full != nullptr && *full != '\0' && path.filename() == full;
+}
+std::filesystem::path target(const std::filesystem::path& path) {
+  return onFullDevice(path) ? std::filesystem::path("/dev/full") : path;
+}
+
+}  // namespace
+
+CsvRowWriter::CsvRowWriter(const std::filesystem::path& path, const std::string& header)
+    : path_(path), out_(target(path)) {
   if (!out_) throw std::runtime_error("cannot write " + path.string());
   if (!header.empty()) out_ << header << '\n';
   flush();
@@ -43,7 +59,7 @@ void CsvRowWriter::check() {
   if (out_) return;
   // what is still buffered cannot reach the file either; then the cut row goes
   out_.close();
-  trimToLastLine(path_);
+  trimToLastLine(target(path_));
   throw std::runtime_error("write failed: " + path_.string());
 }
 
@@ -53,7 +69,7 @@ CsvRowWriter::~CsvRowWriter() {
   if (out_) return;
   // the buffer went out in pieces: the cut row goes (a destructor does not throw)
   out_.close();
-  trimToLastLine(path_);
+  trimToLastLine(target(path_));
 }
 
 void CsvRowWriter::row(std::string_view line) {
@@ -72,20 +88,22 @@ void writeTextFile(const std::filesystem::path& path, std::string_view text) {
 }
 
 void writeRowsFile(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  const std::filesystem::path to = target(path);
+  std::ofstream out(to, std::ios::binary | std::ios::trunc);
   if (!out) throw std::runtime_error("cannot write " + path.string());
   write(out);
   out.flush();
   if (!out) {
     // what is still buffered cannot reach the file either; then the cut row goes
     out.close();
-    trimToLastLine(path);
+    trimToLastLine(to);
     throw std::runtime_error("write failed: " + path.string());
   }
 }
 
 void writeTextFile(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  const std::filesystem::path to = target(path);
+  std::ofstream out(to, std::ios::binary | std::ios::trunc);
   if (!out) throw std::runtime_error("cannot write " + path.string());
   write(out);
   out.flush();
@@ -93,8 +111,52 @@ void writeTextFile(const std::filesystem::path& path, const std::function<void(s
     // half a JSON document is no document: none is left rather than a cut one
     out.close();
     std::error_code ec;
-    if (std::filesystem::is_regular_file(path, ec)) std::filesystem::remove(path, ec);
+    if (std::filesystem::is_regular_file(to, ec)) std::filesystem::remove(to, ec);
     throw std::runtime_error("write failed: " + path.string());
+  }
+}
+
+void copyFile(const std::filesystem::path& from, const std::filesystem::path& to) {
+  std::ifstream in(from, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read " + from.string());
+  writeTextFile(to, [&](std::ostream& out) {
+    char buf[1 << 16];
+    while (in.read(buf, sizeof buf) || in.gcount() > 0) {
+      out.write(buf, in.gcount());
+      if (!out) return;  // writeTextFile names the file
+    }
+    if (in.bad()) throw std::runtime_error("cannot read " + from.string());
+  });
+}
+
+void writeFileAtomically(const std::filesystem::path& path, std::string_view text) {
+  std::error_code ec;
+  const std::filesystem::file_status st = std::filesystem::symlink_status(path, ec);
+  // a symlink or a device is written through, not replaced by a regular file beside it
+  if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st)) {
+    writeTextFile(path, text);
+    return;
+  }
+  std::filesystem::path tmp = path;
+  tmp += ".tmp";
+  {
+    // the seam fails the temporary file of PATH, the one that holds PATH's bytes
+    std::ofstream out(onFullDevice(path) ? target(path) : tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error("cannot write " + path.string());
+    out << text;
+    out.flush();
+    if (!out) {
+      out.close();
+      std::filesystem::remove(tmp, ec);
+      throw std::runtime_error("write failed: " + path.string());
+    }
+  }
+  if (onFullDevice(path)) return;  // unreachable: /dev/full fails every write
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    const std::string why = ec.message();
+    std::filesystem::remove(tmp, ec);
+    throw std::runtime_error("cannot write " + path.string() + ": " + why);
   }
 }
 

@@ -137,8 +137,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
   result.stopReason = loop.stopReason;
   if (validator && loop.error.empty()) {
     result.validation = validator->evaluate(readSsmOutput(start.ssmFile));
-    std::ofstream vj(out / "validation.json");
-    vj << toJson(*result.validation);
+    io::writeTextFile(out / "validation.json", toJson(*result.validation));
   }
 
   SummaryFacts facts;

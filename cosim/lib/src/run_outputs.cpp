@@ -86,11 +86,12 @@ void RunOutputs::flush() {
 }
 
 void writeCollisionWarnings(const fs::path& path, const std::vector<CollisionWarning>& leads) {
-  std::ofstream lc(path);
-  lc << "time,collider,victim,collider_warned,lead_time_s\n";
-  for (const CollisionWarning& w : leads)
-    lc << full(w.collision.time) << "," << io::csvField(w.collision.collider) << "," << io::csvField(w.collision.victim)
-       << "," << (w.leadTime ? 1 : 0) << "," << (w.leadTime ? derived(*w.leadTime) : std::string()) << "\n";
+  io::writeRowsFile(path, [&](std::ostream& lc) {
+    lc << "time,collider,victim,collider_warned,lead_time_s\n";
+    for (const CollisionWarning& w : leads)
+      lc << full(w.collision.time) << "," << io::csvField(w.collision.collider) << "," << io::csvField(w.collision.victim)
+         << "," << (w.leadTime ? 1 : 0) << "," << (w.leadTime ? derived(*w.leadTime) : std::string()) << "\n";
+  });
 }
 
 }  // namespace st::cosim

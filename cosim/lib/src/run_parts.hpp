@@ -6,7 +6,6 @@
 //   closeRun        close the episodes, flush, close SUMO (run_loop.cpp)
 //   writeSummary    collisions' leads, validation, summary.json (run_summary.cpp)
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
 #include <string>
