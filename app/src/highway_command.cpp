@@ -5,8 +5,6 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
-#include <ranges>
-#include <set>
 #include <string>
 #include <utility>
 
@@ -19,6 +17,7 @@
 #include <stsim/commands.hpp>
 
 #include "highway_options.hpp"
+#include "setting_options.hpp"
 
 #ifdef STSIM_HAVE_COSIM
 #include <stcosim/scenario.hpp>
@@ -79,7 +78,7 @@ int runTrace(const Args& a) {
   if (a.has("action")) throw UsageError("--action applies to SUMO runs (SCENARIO), not to --fcd");
   if (!a.has("net")) throw UsageError("--fcd needs --net NET.net.xml for the lane geometry");
   hw::MonitorConfig cfg;
-  applyMonitorOptions(a, cfg, false);
+  applyMonitorOptions(a, cfg);
   const double penetration = penetrationOption(a);
   // checked as for a SUMO run (-1 was taken: no frame, exit 0; a seed outside the draw's range)
   const long seed = seedOption(a);
@@ -232,7 +231,7 @@ int run(int argc, const char* const* argv) {
 #else
     if (scenario) throw std::runtime_error("cannot read " + *scenario + ": stsim was built without SUMO support (cosim)");
 #endif
-    applyMonitorOptions(a, cfg, true);
+    applyMonitorOptions(a, cfg);
     bool given = scenario.has_value() || a.has("set");
     for (const char* opt : {"detector", "layout", "motion", "broadphase", "prediction", "rear-end-below", "crossing-above"})
       given = given || a.has(opt);
@@ -255,40 +254,20 @@ int run(int argc, const char* const* argv) {
 
 }  // namespace
 
-void applyMonitorOptions(const Args& a, hw::MonitorConfig& cfg, bool givenOnly) {
-  // the short options, each one setting of sthighway/settings.hpp, checked and worded by it
-  static constexpr std::pair<const char*, const char*> kShort[] = {
+void applyMonitorOptions(const Args& a, hw::MonitorConfig& cfg) {
+  // the short options, each one setting of sthighway/settings.hpp, and --set: checked and worded
+  // by the table, an error naming the option that gave the value
+  static const std::vector<KeyOption> kShort = {
       {"detector", "detector"},   {"layout", "layout"},         {"motion", "motion"},
       {"broadphase", "broadphase"}, {"prediction", "prediction"}, {"rear-end-below", "conflict.rear_end_below"},
       {"crossing-above", "conflict.crossing_above"}};
-  auto apply = [&](const hw::Setting& s, const std::string& value, const std::string& option) {
-    try {
-      hw::applySettingText(cfg, s, value);
-    } catch (const hw::SettingError& e) {
-      throw UsageError(option + ": " + e.problem());
-    }
-  };
-  for (const auto& [opt, key] : kShort)
-    if (!givenOnly || a.has(opt)) apply(*hw::findSetting(key), a.get(opt), std::string("--") + opt);
-  if (a.has("set")) {
-    // nothing, or one key twice, is a mistake to name, not to pass over: which value would count?
-    if (a.get("set").empty()) throw UsageError("--set needs KEY=VALUE[,...], got nothing");
-    std::set<std::string> given;
-    for (const auto part : std::views::split(a.get("set"), ',')) {
-      const std::string item(part.begin(), part.end());
-      const auto eq = item.find('=');
-      if (eq == std::string::npos) throw UsageError("--set needs KEY=VALUE, got '" + item + "'");
-      const std::string key = item.substr(0, eq);
-      const hw::Setting* s = hw::findSetting(key);
-      if (!s) throw UsageError("--set: unknown setting '" + key + "' (stsim highway --settings lists them)");
-      if (!given.insert(std::string(s->key)).second) throw UsageError("--set " + std::string(s->key) + ": given twice");
-      apply(*s, item.substr(eq + 1), "--set " + std::string(s->key));
-    }
-  }
+  const auto find = [](std::string_view key) -> const io::SettingSpec* { return hw::findSetting(key); };
+  const std::vector<io::SettingOverride> overrides = settingOverrides(a, kShort, find, "highway", "");
   try {
+    for (const io::SettingOverride& o : overrides) hw::applySettingText(cfg, *hw::findSetting(o.key), o.text);
     hw::checkSettings(cfg);
-  } catch (const hw::SettingError& e) {
-    throw UsageError("--set " + e.key() + ": " + e.problem());
+  } catch (const io::SettingError& e) {
+    overrideError(overrides, e, "");
   }
 }
 

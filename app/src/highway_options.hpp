@@ -5,9 +5,10 @@
 
 namespace st::cli {
 
-// --detector, --broadphase, --layout, --motion, --rear-end-below, --crossing-above into cfg. With givenOnly, options not on the command
-// line leave cfg as it is (a scenario's settings); otherwise their defaults apply. Throws UsageError.
-void applyMonitorOptions(const Args& a, highway::MonitorConfig& cfg, bool givenOnly);
+// --detector, --broadphase, --layout, --motion, --rear-end-below, --crossing-above and --set into
+// cfg, over what it holds (the defaults, or a scenario's settings); an option not given leaves its
+// key as it is. Throws UsageError naming the option.
+void applyMonitorOptions(const Args& a, highway::MonitorConfig& cfg);
 
 // --penetration, checked to lie in [0, 1]. Throws UsageError.
 double penetrationOption(const Args& a);

@@ -48,7 +48,7 @@ TraciEndpoint parseTraci(const std::string& text) {
 
 // Command-line options override the scenario.
 void applyOptions(const st::cli::Args& a, Scenario& s) {
-  st::cli::applyMonitorOptions(a, s.plugin.monitor, true);
+  st::cli::applyMonitorOptions(a, s.plugin.monitor);
   if (a.has("penetration")) s.plugin.smart.penetration = st::cli::penetrationOption(a);
   if (a.has("action") && !parseAction(a.get("action"), s.plugin.actions.action))
     throw st::cli::UsageError("--action must be color, brake or none, got '" + a.get("action") + "'");

@@ -27,6 +27,8 @@ void checkNumber(const SettingSpec& s, const SettingValue& v) {
   if (!std::holds_alternative<double>(v)) throw SettingError(s.key, "must be " + expected(s));
   const double x = std::get<double>(v);
   const std::string got = ", got " + number(x, 15);
+  if (s.rangeWords && !(x >= s.min && x <= s.max && (!s.aboveMin || x > s.min)))
+    throw SettingError(s.key, "must be in " + rangeText(s) + got);
   if (!std::isfinite(x)) throw SettingError(s.key, "must be a finite number" + got);
   // below the range: "must not be negative" / "must be positive" where the range starts at 0
   if (x < s.min || (s.aboveMin && x == s.min)) {

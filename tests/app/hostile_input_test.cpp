@@ -88,7 +88,7 @@ TEST(HostileInput, SetWithNothingOrAKeyTwiceIsRefused) {
   const std::pair<std::string, std::string> cases[] = {
       {"", "stsim highway: --set needs KEY=VALUE[,...], got nothing\n"},
       {"safe_time.vehicle_reaction=1.2,safe_time.vehicle_reaction=3",
-       "stsim highway: --set safe_time.vehicle_reaction: given twice\n"},
+       "stsim highway: --set safe_time.vehicle_reaction: safe_time.vehicle_reaction given twice\n"},
   };
   for (const auto& [value, message] : cases) {
     std::vector<std::string> args = run;

@@ -40,6 +40,18 @@ TEST(SettingsTable, TextIsReadAsTheKeysTypeAndChecked) {
   EXPECT_EQ(referenceRow(kFactor, 5.0, "doc"), "| `space.factor` | whole number in [1, 100], or auto | 5 | doc |\n");
 }
 
+// a table that words every value outside its range alike (the highway's, the cosim scenario's)
+TEST(SettingsTable, RangeWordsNameTheRangeEitherSide) {
+  const SettingSpec kReaction{"safe_time.vehicle_reaction", SettingType::Number, "s", 0.0, 60.0, false, "", "", "doc", true};
+  EXPECT_EQ(problem(kReaction, "-1"), "must be in [0, 60] s, got -1");
+  EXPECT_EQ(problem(kReaction, "61"), "must be in [0, 60] s, got 61");
+  EXPECT_EQ(problem(kReaction, "nan"), "must be in [0, 60] s, got nan");
+  EXPECT_EQ(problem(kReaction, "x"), "must be a number, got 'x'");
+  const SettingSpec kEnd{"end", SettingType::Number, "s", 0.0, 1e9, true, "", "", "doc", true};
+  EXPECT_EQ(problem(kEnd, "0"), "must be in (0, 1000000000] s, got 0");
+  EXPECT_EQ(std::get<double>(settingValue(kEnd, "1e9")), 1e9);
+}
+
 TEST(SettingsTable, KeysSplitIntoSectionAndName) {
   EXPECT_EQ(keySection("space.cell_size"), "space");
   EXPECT_EQ(keyName("space.cell_size"), "cell_size");

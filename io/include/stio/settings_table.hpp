@@ -29,6 +29,10 @@ struct SettingSpec {
   const char* words;  // Choice: "stop|scaling|pfl"; Number, Integer: a word taken instead ("never"), or ""
   const char* maxWhy; // what the upper bound is ("the 60 s look-ahead limit"), worded in its error; or ""
   const char* doc;
+  // every value outside the range, below or above it or not finite, worded "must be in [min, max]
+  // UNIT, got x" (the highway monitor's and the cosim scenario's words since their first release),
+  // rather than "must be positive" / "must not be negative" / "must be a finite number"
+  bool rangeWords = false;
 };
 
 // A key of a model's table: its spec, and how it sets and reads Config's value.

@@ -1,8 +1,5 @@
 #include <sthighway/settings.hpp>
 
-#include <cmath>
-#include <cstdio>
-#include <sstream>
 #include <vector>
 
 #include <sthighway/detector.hpp>
@@ -15,6 +12,24 @@ namespace {
 double number(const SettingValue& v) { return std::get<double>(v); }
 const std::string& text(const SettingValue& v) { return std::get<std::string>(v); }
 
+// A row of the table as it is written below: a key of io's core (the range inclusive at both ends,
+// every value outside it worded "must be in [min, max]") with what it sets.
+struct Row {
+  const char* key;
+  SettingType type;
+  const char* unit;     // "s", "m", "m/s^2", "N", "deg", "dB", "dBm", or "" (none)
+  double min;           // Number, Integer: the range, inclusive
+  double max;
+  const char* choices;  // Choice: the words, "concentric|five|box"
+  const char* doc;
+  void (*set)(MonitorConfig&, const SettingValue&);
+  SettingValue (*get)(const MonitorConfig&);
+
+  operator Setting() const {
+    return Setting{{key, type, unit, min, max, false, choices, "", doc, true}, set, get};
+  }
+};
+
 template <int C>
 void setBrakeForce(MonitorConfig& c, const SettingValue& v) {
   c.safeTime.brakeForce[C] = number(v);
@@ -26,7 +41,7 @@ SettingValue getBrakeForce(const MonitorConfig& c) {
 
 // the class names in VehicleClass order, for the keys safe_time.brake_force.<class>
 template <int C>
-Setting brakeForce(const char* key) {
+Row brakeForce(const char* key) {
   return {key, SettingType::Number, "N", 1.0, 1e8, "",
           "braking force of the class (safe time: t_r + m v / (2 F))", setBrakeForce<C>, getBrakeForce<C>};
 }
@@ -45,7 +60,7 @@ const char* layoutWord(const FiveCircleLayout& l) {
 std::vector<Setting> makeTable() {
   static_assert(kVehicleClassCount == 8, "one safe_time.brake_force key per VehicleClass");
   using T = SettingType;
-  std::vector<Setting> t = {
+  const std::vector<Row> rows = {
       {"detector", T::Choice, "", 0, 0, "concentric|five|box",
        "the collision detector: the report's concentric circles, its five circles (Fig. 11), or the exact box",
        [](MonitorConfig& c, const SettingValue& v) { parseDetectorKind(text(v), c.detector.kind); },
@@ -153,20 +168,11 @@ std::vector<Setting> makeTable() {
        [](MonitorConfig& c, const SettingValue& v) { c.hindsight.nearMissTtc = number(v); },
        [](const MonitorConfig& c) { return SettingValue(c.hindsight.nearMissTtc); }},
   };
+  const std::vector<Setting> t(rows.begin(), rows.end());
   for (int c = 0; c < kVehicleClassCount; ++c)
     if (std::string(t[9 + c].key) != std::string("safe_time.brake_force.") + toString(static_cast<VehicleClass>(c)))
       throw std::logic_error("settings: brake_force keys out of VehicleClass order");
   return t;
-}
-
-std::string rangeText(const Setting& s) {
-  std::string out = "[";
-  out += io::number(s.min, 15);
-  out += ", ";
-  out += io::number(s.max, 15);
-  out += "]";
-  if (*s.unit) out.append(" ").append(s.unit);
-  return out;
 }
 
 }  // namespace
@@ -189,77 +195,10 @@ const Setting* findSetting(std::string_view key) {
   return nullptr;
 }
 
-std::string expected(const Setting& s) {
-  switch (s.type) {
-    case SettingType::Number: return "a number";
-    case SettingType::Integer: return "a whole number";
-    case SettingType::Boolean: return "true or false";
-    case SettingType::Choice: {
-      std::string out = "one of ";
-      const auto w = io::split(s.choices, '|');
-      for (std::size_t i = 0; i < w.size(); ++i) out.append(i ? ", " : "").append(w[i]);
-      return out;
-    }
-  }
-  return "";
-}
-
-void applySetting(MonitorConfig& cfg, const Setting& s, const SettingValue& v) {
-  switch (s.type) {
-    case SettingType::Number:
-    case SettingType::Integer: {
-      if (!std::holds_alternative<double>(v)) throw SettingError(s.key, "must be " + expected(s));
-      const double x = std::get<double>(v);
-      if (!(x >= s.min && x <= s.max)) throw SettingError(s.key, "must be in " + rangeText(s) + ", got " + io::number(x, 15));
-      if (s.type == SettingType::Integer && x != std::floor(x))
-        throw SettingError(s.key, "must be a whole number, got " + io::number(x, 15));
-      break;
-    }
-    case SettingType::Boolean:
-      if (!std::holds_alternative<bool>(v)) throw SettingError(s.key, "must be true or false");
-      break;
-    case SettingType::Choice: {
-      if (!std::holds_alternative<std::string>(v)) throw SettingError(s.key, "must be " + expected(s));
-      bool known = false;
-      for (std::string_view w : io::split(s.choices, '|')) known = known || w == std::get<std::string>(v);
-      if (!known) throw SettingError(s.key, "must be " + expected(s) + ", got '" + std::get<std::string>(v) + "'");
-      break;
-    }
-  }
-  s.set(cfg, v);
-}
+void applySetting(MonitorConfig& cfg, const Setting& s, const SettingValue& v) { io::applySetting(cfg, s, v); }
 
 void applySettingText(MonitorConfig& cfg, const Setting& s, std::string_view text) {
-  const std::string t(text);
-  switch (s.type) {
-    case SettingType::Number:
-    case SettingType::Integer: {
-      std::size_t used = 0;
-      double x = 0.0;
-      try {
-        x = std::stod(t, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (t.empty() || used != t.size()) throw SettingError(s.key, "must be " + expected(s) + ", got '" + t + "'");
-      applySetting(cfg, s, x);
-      return;
-    }
-    case SettingType::Boolean:
-      if (t == "true") applySetting(cfg, s, true);
-      else if (t == "false") applySetting(cfg, s, false);
-      else throw SettingError(s.key, "must be true or false, got '" + t + "'");
-      return;
-    case SettingType::Choice:
-      applySetting(cfg, s, t);
-      return;
-  }
-}
-
-std::string settingText(const SettingValue& v) {
-  if (const double* x = std::get_if<double>(&v)) return io::number(*x, 15);
-  if (const bool* b = std::get_if<bool>(&v)) return *b ? "true" : "false";
-  return std::get<std::string>(v);
+  s.set(cfg, io::settingValue(s, text));
 }
 
 void checkSettings(const MonitorConfig& cfg) {
@@ -278,21 +217,9 @@ void checkSettings(const MonitorConfig& cfg) {
 }
 
 std::string settingsReferenceMarkdown(const MonitorConfig& values, const char* column) {
-  std::ostringstream os;
-  os << "| key | value | " << column << " | what it sets |\n| --- | --- | --- | --- |\n";
-  for (const Setting& s : monitorSettings())
-    os << "| `" << s.key << "` | " << valuesText(s) << " | " << settingText(s.get(values)) << " | " << s.doc << " |\n";
-  return os.str();
-}
-
-std::string valuesText(const Setting& s) {
-  switch (s.type) {
-    case SettingType::Number: return "number in " + rangeText(s);
-    case SettingType::Integer: return "whole number in " + rangeText(s);
-    case SettingType::Boolean: return "true or false";
-    case SettingType::Choice: return expected(s);
-  }
-  return "";
+  std::string out = io::referenceHeading(column);
+  for (const Setting& s : monitorSettings()) out += io::referenceRow(s, s.get(values), s.doc);
+  return out;
 }
 
 }  // namespace st::highway
