@@ -1,9 +1,10 @@
 #include <stcore/region_tree.hpp>
 
-#include <cassert>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include <stcore/assert.hpp>
 
 namespace st {
 
@@ -239,7 +240,7 @@ bool RegionTree<D>::moveRec(int id, const Box& before) {
         m.leaves.push_back(n);
       } else {
         auto it = std::find(node.objects.begin(), node.objects.end(), id);
-        assert(it != node.objects.end());
+        STCORE_ASSERT(it != node.objects.end());
         *it = node.objects.back();
         node.objects.pop_back();
       }
@@ -288,7 +289,7 @@ void RegionTree<D>::removeRec(int id) {
     --node.count;
     if (node.firstChild < 0) {
       auto it = std::find(node.objects.begin(), node.objects.end(), id);
-      assert(it != node.objects.end());
+      STCORE_ASSERT(it != node.objects.end());
       *it = node.objects.back();
       node.objects.pop_back();
     } else {
@@ -414,7 +415,7 @@ void RegionTree<D>::collapse(int n) {
   }
   Node& node = nodes_[n];
   node.firstChild = -1;
-  assert(static_cast<int>(node.objects.size()) == node.count);
+  STCORE_ASSERT(static_cast<int>(node.objects.size()) == node.count);
   freeBlocks_.push_back(first);
   ++counters_.reunions;
   leafCount_ -= childCount_ - 1;

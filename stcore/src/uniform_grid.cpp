@@ -1,8 +1,9 @@
 #include <stcore/uniform_grid.hpp>
 
-#include <cassert>
 #include <cmath>
 #include <stdexcept>
+
+#include <stcore/assert.hpp>
 
 namespace st {
 
@@ -132,7 +133,7 @@ void UniformGrid<D>::update(int id, const Box& box, double margin) {
     if (now == old) return;
     int* cell = cellData_.data() + static_cast<std::ptrdiff_t>(idx) * stride_;
     int* it = std::find(cell + 1, cell + 1 + cell[0], old);
-    assert(it != cell + 1 + cell[0]);
+    STCORE_ASSERT(it != cell + 1 + cell[0]);
     *it = now;
   });
   forEachCell(lo, hi, [&](int idx, const Index& c) {
@@ -163,7 +164,7 @@ void UniformGrid<D>::cellErase(int idx, int entry) {
   int* cell = cellData_.data() + static_cast<std::ptrdiff_t>(idx) * stride_;
   int* last = cell + cell[0];
   int* it = std::find(cell + 1, last + 1, entry);
-  assert(it != last + 1);
+  STCORE_ASSERT(it != last + 1);
   *it = *last;  // order within a cell carries no meaning
   --cell[0];
 }
