@@ -12,6 +12,7 @@
 #include <sthighway/monitor.hpp>
 #include <sthighway/settings.hpp>
 #include <sthighway/report.hpp>
+#include <sthighway/run_settings.hpp>
 #include <sthighway/sumo_files.hpp>
 #include <stsim/cli.hpp>
 #include <stsim/commands.hpp>
@@ -21,6 +22,7 @@
 
 #ifdef STSIM_HAVE_COSIM
 #include <stcosim/scenario.hpp>
+#include <stcosim/scenario_settings.hpp>
 
 #include "highway_run.hpp"
 #define STSIM_HIGHWAY_COSIM 1
@@ -35,6 +37,41 @@ namespace hw = st::highway;
 // The default of a monitor setting, as the help shows it.
 std::string settingDefault(const char* key) {
   return hw::settingText(hw::findSetting(key)->get(hw::MonitorConfig{}));
+}
+
+// the options that stand for one key: the monitor's, then the run's (the scenario's table)
+const std::vector<KeyOption> kMonitorOptions = {
+    {"detector", "detector"},     {"layout", "layout"},         {"motion", "motion"},
+    {"broadphase", "broadphase"}, {"prediction", "prediction"}, {"rear-end-below", "conflict.rear_end_below"},
+    {"crossing-above", "conflict.crossing_above"}};
+const std::vector<KeyOption> kRunOptions = {
+    {"penetration", "penetration"}, {"action", "action"}, {"end", "end"}, {"scale", "demand_scale"}, {"seed", "seed"}};
+
+// A key of the monitor's table or the scenario's; without SUMO support, of the monitor's or the
+// three a replay reads.
+const io::SettingSpec* findHighwaySetting(std::string_view key) {
+  if (const hw::Setting* s = hw::findSetting(key)) return s;
+#ifdef STSIM_HIGHWAY_COSIM
+  return st::cosim::findScenarioSetting(key);
+#else
+  for (const io::SettingSpec* s : {&hw::kSeedSetting, &hw::kEndSetting, &hw::kPenetrationSetting})
+    if (key == s->key) return s;
+  return nullptr;
+#endif
+}
+
+// An option's help from its key's row: what it sets, its values, the key.
+std::string runOptionHelp(const char* key, const char* fallback) {
+  const io::SettingSpec* s = findHighwaySetting(key);
+  if (!s) return fallback;
+  return std::string(s->doc) + "; " + io::valuesText(*s) + " (scenario " + key + ")";
+}
+std::string runOptionDefault(const char* key) {
+#ifdef STSIM_HIGHWAY_COSIM
+  return io::settingText(st::cosim::findScenarioSetting(key)->get(st::cosim::Scenario{}));
+#else
+  return std::string(key) == "penetration" ? "1" : "";
+#endif
 }
 
 Args makeArgs() {
@@ -53,18 +90,19 @@ Args makeArgs() {
       .option("motion", "velocity|acceleration", "prediction: constant velocity, or constant acceleration", settingDefault("motion"))
       .option("broadphase", "cells|all-pairs", "neighbour search", settingDefault("broadphase"))
       .option("prediction", "road|straight", "motion along the lanes (lane-frame road checks), or straight lines", settingDefault("prediction"))
-      .option("set", "KEY=VALUE[,...]", "any monitor setting by its scenario key, e.g. safe_time.vehicle_reaction=1.2 (--settings lists them)")
+      .option("set", "KEY=VALUE[,...]", "any setting by its scenario key, e.g. safe_time.vehicle_reaction=1.2 or end=60 (--settings and --scenario-settings list them)")
       .flag("settings", "print every monitor setting (key, range, default, what it sets) and exit")
       .option("out", "DIR", "output directory (default: the scenario's out:, out/<config name>/ for a .sumocfg, . for --fcd)", ".")
-      .option("penetration", "P", "fraction of vehicles equipped with the smart-car system, 0..1", "1")
-      .option("action", "color|brake|none", "action on a warning (SUMO runs)", "color")
+      .option("penetration", "P", runOptionHelp("penetration", ""), runOptionDefault("penetration"))
+      .option("action", "none|color|brake", runOptionHelp("action", "action on a warning (SUMO runs)"), runOptionDefault("action"))
       .option("traci", "HOST:PORT", "attach to a running SUMO through TraCI instead of embedding libsumo")
       .flag("gui", "run sumo-gui and draw the cells (SUMO runs)")
-      .option("end", "SECONDS", "stop at this simulated time")
+      .option("end", "SECONDS", runOptionHelp("end", ""))
       .option("threads", "1|2", "2: detection beside SUMO's next step (--action none or color); default 2 when it can, else 1")
-      .option("scale", "FACTOR", "multiply the routes' demand (SUMO --scale; SUMO runs)")
-      .option("seed", "N", "seed for the equipped-vehicle draw and SUMO (default: the scenario's seed: 42, a .sumocfg's own)")
-      .flag("validate-ssm", "compare with SUMO's SSM device, writes validation.json (SUMO runs)")
+      .option("scale", "FACTOR", runOptionHelp("demand_scale", "multiply the routes' demand (SUMO --scale; SUMO runs)"))
+      .option("seed", "N", runOptionHelp("seed", "") + "; default: the scenario's, 42")
+      .flag("validate-ssm", "compare with SUMO's SSM device, writes validation.json (SUMO runs; scenario validate_ssm)")
+      .flag("scenario-settings", "print every scenario setting besides the monitor's (key, range, default) and exit")
       .flag("trajectories", "also write trajectories.csv: each episode's TTC and DRAC at every tick (as SSM's trajectories)")
       .option("rear-end-below", "DEG", "conflict type: rear-end below this heading angle (scenario conflict.rear_end_below)", settingDefault("conflict.rear_end_below"))
       .option("crossing-above", "DEG", "conflict type: crossing above this angle, lane change between (conflict.crossing_above)", settingDefault("conflict.crossing_above"))
@@ -73,17 +111,18 @@ Args makeArgs() {
 }
 
 int runTrace(const Args& a) {
-  for (const char* opt : {"traci", "gui", "validate-ssm", "scale", "threads"})
+  for (const char* opt : {"traci", "gui", "threads"})
     if (a.has(opt)) throw UsageError(std::string("--") + opt + " applies to SUMO runs (SCENARIO), not to --fcd");
-  if (a.has("action")) throw UsageError("--action applies to SUMO runs (SCENARIO), not to --fcd");
   if (!a.has("net")) throw UsageError("--fcd needs --net NET.net.xml for the lane geometry");
   hw::MonitorConfig cfg;
-  applyMonitorOptions(a, cfg);
-  const double penetration = penetrationOption(a);
+  const std::vector<io::SettingOverride> overrides = highwayOverrides(a);
+  applyMonitorOptions(overrides, cfg);
   // checked as for a SUMO run (-1 was taken: no frame, exit 0; a seed outside the draw's range)
-  const long seed = seedOption(a);
-  const bool hasEnd = a.has("end");
-  const double end = hasEnd ? endOption(a) : 0.0;
+  const ReplaySettings run = replaySettings(overrides);
+  const double penetration = run.penetration;
+  const long seed = run.seed;
+  const bool hasEnd = run.end.has_value();
+  const double end = run.end.value_or(0.0);
 
   const auto wallStart = std::chrono::steady_clock::now();
   std::vector<std::string> leftOut;
@@ -231,12 +270,19 @@ int run(int argc, const char* const* argv) {
 #else
     if (scenario) throw std::runtime_error("cannot read " + *scenario + ": stsim was built without SUMO support (cosim)");
 #endif
-    applyMonitorOptions(a, cfg);
+    applyMonitorOptions(highwayOverrides(a), cfg);
     bool given = scenario.has_value() || a.has("set");
     for (const char* opt : {"detector", "layout", "motion", "broadphase", "prediction", "rear-end-below", "crossing-above"})
       given = given || a.has(opt);
     std::cout << hw::settingsReferenceMarkdown(cfg, given ? "in effect" : "default");
     return 0;
+  }
+  if (a.has("scenario-settings")) {
+#ifdef STSIM_HIGHWAY_COSIM
+    return st::cosim::printScenarioSettings(a);
+#else
+    throw std::runtime_error("no scenario settings: stsim was built without SUMO support (cosim)");
+#endif
   }
   if (a.has("fcd")) {
     if (scenario) throw UsageError("give either --fcd TRACE (replay) or a SCENARIO (SUMO run), not both");
@@ -254,40 +300,48 @@ int run(int argc, const char* const* argv) {
 
 }  // namespace
 
-void applyMonitorOptions(const Args& a, hw::MonitorConfig& cfg) {
-  // the short options, each one setting of sthighway/settings.hpp, and --set: checked and worded
-  // by the table, an error naming the option that gave the value
-  static const std::vector<KeyOption> kShort = {
-      {"detector", "detector"},   {"layout", "layout"},         {"motion", "motion"},
-      {"broadphase", "broadphase"}, {"prediction", "prediction"}, {"rear-end-below", "conflict.rear_end_below"},
-      {"crossing-above", "conflict.crossing_above"}};
-  const auto find = [](std::string_view key) -> const io::SettingSpec* { return hw::findSetting(key); };
-  const std::vector<io::SettingOverride> overrides = settingOverrides(a, kShort, find, "highway", "");
+std::vector<io::SettingOverride> highwayOverrides(const Args& a) {
+  std::vector<KeyOption> options = kMonitorOptions;
+  options.insert(options.end(), kRunOptions.begin(), kRunOptions.end());
+  std::vector<io::SettingOverride> out = settingOverrides(a, options, findHighwaySetting, "highway", "");
+  if (a.has("validate-ssm")) {
+    for (const io::SettingOverride& o : out)
+      if (o.key == "validate_ssm") throw UsageError(o.option + ": validate_ssm given twice");
+    out.push_back({"validate_ssm", "true", "--validate-ssm"});
+  }
+  return out;
+}
+
+void applyMonitorOptions(const std::vector<io::SettingOverride>& overrides, hw::MonitorConfig& cfg) {
   try {
-    for (const io::SettingOverride& o : overrides) hw::applySettingText(cfg, *hw::findSetting(o.key), o.text);
+    for (const io::SettingOverride& o : overrides)
+      if (const hw::Setting* s = hw::findSetting(o.key)) hw::applySettingText(cfg, *s, o.text);
     hw::checkSettings(cfg);
   } catch (const io::SettingError& e) {
     overrideError(overrides, e, "");
   }
 }
 
-double endOption(const Args& a) {
-  const double e = a.getDouble("end");
-  if (e <= 0.0) throw UsageError("--end must be positive");
-  return e;
-}
-
-long seedOption(const Args& a) {
-  if (!a.has("seed")) return 42;  // a replay's draw (a SUMO run takes the scenario's when not given)
-  const long seed = a.getInt("seed");
-  if (seed < 0 || seed > 2147483647) throw UsageError("--seed must be in [0, 2^31 - 1]");
-  return seed;
-}
-
-double penetrationOption(const Args& a) {
-  const double p = a.getDouble("penetration");
-  if (p < 0.0 || p > 1.0) throw UsageError("--penetration must be in [0, 1]");
-  return p;
+ReplaySettings replaySettings(const std::vector<io::SettingOverride>& overrides) {
+  ReplaySettings out;
+  for (const io::SettingOverride& o : overrides) {
+    if (hw::findSetting(o.key)) continue;
+    try {
+      if (o.key == hw::kPenetrationSetting.key) {
+        out.penetration = std::get<double>(io::settingValue(hw::kPenetrationSetting, o.text));
+      } else if (o.key == hw::kSeedSetting.key) {
+        out.seed = static_cast<long>(std::get<double>(io::settingValue(hw::kSeedSetting, o.text)));
+      } else if (o.key == hw::kEndSetting.key) {
+        const io::SettingValue v = io::settingValue(hw::kEndSetting, o.text);
+        if (const double* x = std::get_if<double>(&v)) out.end = *x;  // sumocfg: to the trace's end
+      } else {
+        throw UsageError(o.option + " applies to SUMO runs (SCENARIO), not to --fcd");
+      }
+    } catch (const io::SettingError& e) {
+      overrideError(overrides, e, "");
+    }
+  }
+  return out;
 }
 
 Command highwayCommand() {

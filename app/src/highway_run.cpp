@@ -12,9 +12,11 @@
 
 #include <sthighway/report.hpp>
 #include <stcosim/run.hpp>
+#include <stcosim/scenario_settings.hpp>
 #include <stio/format.hpp>
 
 #include "highway_options.hpp"
+#include "setting_options.hpp"
 #include "stop_signals.hpp"
 
 namespace st::cosim {
@@ -46,30 +48,33 @@ TraciEndpoint parseTraci(const std::string& text) {
   return e;
 }
 
-// Command-line options override the scenario.
+// Command-line options override the scenario, each checked by its key's table.
 void applyOptions(const st::cli::Args& a, Scenario& s) {
-  st::cli::applyMonitorOptions(a, s.plugin.monitor);
-  if (a.has("penetration")) s.plugin.smart.penetration = st::cli::penetrationOption(a);
-  if (a.has("action") && !parseAction(a.get("action"), s.plugin.actions.action))
-    throw st::cli::UsageError("--action must be color, brake or none, got '" + a.get("action") + "'");
-  if (a.has("end")) s.end = st::cli::endOption(a);
-  if (a.has("scale")) {
-    const double d = a.getDouble("scale");
-    if (!(d >= 0.0 && d <= 1000.0)) throw st::cli::UsageError("--scale must be in [0, 1000]");
-    s.demandScale = d;
-  }
-  if (a.has("validate-ssm")) s.validateSsm = true;
-  if (a.has("seed")) {
-    const long seed = st::cli::seedOption(a);
-    s.seed = static_cast<std::uint64_t>(seed);
-    s.passSeed = true;
-    s.plugin.smart.seed = s.seed;
+  const std::vector<io::SettingOverride> overrides = st::cli::highwayOverrides(a);
+  st::cli::applyMonitorOptions(overrides, s.plugin.monitor);
+  try {
+    for (const io::SettingOverride& o : overrides)
+      if (const ScenarioSetting* setting = findScenarioSetting(o.key)) applyScenarioSettingText(s, *setting, o.text);
+    checkScenarioSettings(s);
+  } catch (const io::SettingError& e) {
+    st::cli::overrideError(overrides, e, "");
   }
 }
 
 std::string fmt(double v, int decimals = 2) { return io::fixed(v, decimals); }
 
 }  // namespace
+
+int printScenarioSettings(const st::cli::Args& a) {
+  // the values in effect: the defaults, a scenario's, then the options
+  Scenario s;
+  const auto scenario = a.positionalValue(0);
+  if (scenario) s = loadScenario(*scenario);
+  applyOptions(a, s);
+  const bool given = scenario.has_value() || !st::cli::highwayOverrides(a).empty();
+  std::cout << scenarioSettingsMarkdown(s, given ? "in effect" : "default");
+  return 0;
+}
 
 int runHighwayCommand(const st::cli::Args& a) {
   RunSetup setup;  // the wall clock starts before the scenario is read

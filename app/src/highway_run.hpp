@@ -2,7 +2,8 @@
 // `stsim highway SCENARIO.yaml|FILE.sumocfg [options]`: runs SUMO with the smart-car plugin and writes
 // warnings.csv, collisions.csv, summary.json (and validation.json with --validate-ssm) in --out.
 // Options (declared by app/src/highway_command.cpp) override the scenario's settings:
-//   --detector --layout --motion --broadphase --penetration --action --end --seed --out --gui
+//   --detector --layout --motion --broadphase --penetration --action --end --seed --scale --set
+//   (each checked by its key's table), --out --gui
 //   --traci HOST:PORT[:ORDER]   attach to a running SUMO as a TraCI client (ORDER: client order,
 //                               for a SUMO started with --num-clients N)
 //   --validate-ssm              equip every vehicle with SUMO's SSM device and compare
@@ -14,5 +15,8 @@
 namespace st::cosim {
 
 int runHighwayCommand(const st::cli::Args& args);
+// `stsim highway [SCENARIO] --scenario-settings [options]`: the scenario's table
+// (stcosim/scenario_settings.hpp) with the values in effect, as docs/scenario_settings.md.
+int printScenarioSettings(const st::cli::Args& args);
 
 }  // namespace st::cosim

@@ -8,17 +8,11 @@ import re
 import pytest
 
 import stsim
-from conftest import SOURCE, run_stsim
+from conftest import doc_table, run_stsim, scenario_yaml, setting_text as as_text, settings_rows
 
 
 def reference(binary, *args):
-    r = run_stsim(binary, "highway", "--settings", *args)
-    assert r.returncode == 0, r.stderr
-    rows = {}
-    for line in r.stdout.splitlines()[2:]:
-        cells = [c.strip() for c in line.strip("|").split("|")]
-        rows[cells[0].strip("`")] = {"value": cells[1], "current": cells[2]}
-    return rows, r.stdout
+    return settings_rows(binary, "--settings", *args)
 
 
 def parse_range(value):
@@ -43,14 +37,6 @@ def good_and_bad(row, default):
     return good, hi * 2.0 + 1.0
 
 
-def as_text(x):
-    if isinstance(x, bool):
-        return "true" if x else "false"
-    if isinstance(x, float):
-        return f"{x:.15g}"
-    return str(x)
-
-
 def nested(key, value):
     parts = key.split(".")
     out = value
@@ -60,19 +46,12 @@ def nested(key, value):
 
 
 def yaml_text(key, value):
-    parts = key.split(".")
-    lines = [f"sumocfg: {SOURCE / 'networks' / 'motorway' / 'motorway.sumocfg'}"]
-    for depth, p in enumerate(parts[:-1]):
-        lines.append("  " * depth + p + ":")
-    lines.append("  " * (len(parts) - 1) + f"{parts[-1]}: {as_text(value)}")
-    return "\n".join(lines) + "\n"
+    return scenario_yaml(key, as_text(value))[0]
 
 
 def test_docs_are_the_table(stsim_binary):
     _, printed = reference(stsim_binary)
-    doc = (SOURCE / "docs" / "settings.md").read_text()
-    table = "\n".join(line for line in doc.splitlines() if line.startswith("|")) + "\n"
-    assert table == printed, "docs/settings.md differs from `stsim highway --settings`: regenerate it"
+    assert doc_table("settings.md") == printed, "docs/settings.md differs from `stsim highway --settings`: regenerate it"
 
 
 def test_every_key_means_the_same_and_is_refused_alike_in_yaml_cli_and_python(stsim_binary, tmp_path):

@@ -1,4 +1,5 @@
 #include <stcosim/scenario.hpp>
+#include <stcosim/scenario_settings.hpp>
 
 #include <yaml-cpp/yaml.h>
 
@@ -148,25 +149,9 @@ class Reader {
     }
     return v;
   }
-  double integer(const YAML::Node& n, const std::string& key, double lo, double hi) const {
-    const double v = number(n, key, lo, hi);
-    if (v != std::floor(v)) {
-      std::ostringstream os;
-      os << "must be a whole number, got " << v;
-      fail(n, key, os.str());
-    }
-    return v;
-  }
   std::string text(const YAML::Node& n, const std::string& key) const {
     if (!n.IsScalar()) fail(n, key, "must be a string");
     return n.as<std::string>();
-  }
-  bool boolean(const YAML::Node& n, const std::string& key) const {
-    try {
-      return n.as<bool>();
-    } catch (const YAML::Exception&) {
-      fail(n, key, "must be true or false");
-    }
   }
   std::vector<std::string> list(const YAML::Node& n, const std::string& key) const {
     if (!n.IsSequence()) fail(n, key, "must be a list");
@@ -248,69 +233,65 @@ YAML::Node settingNode(const YAML::Node& map, std::string_view key) {
   return settingNode(child, key.substr(dot + 1));
 }
 
+// A YAML scalar as s's type: yaml-cpp's reading (1e3, yes/no as booleans) or, for a number key,
+// its word; a value of another type is worded as on the command line ("must be a number, got 'x'").
+io::SettingValue yamlValue(const YAML::Node& n, const io::SettingSpec& s) {
+  try {
+    switch (s.type) {
+      case io::SettingType::Number:
+      case io::SettingType::Integer:
+        if (*s.words && n.Scalar() == s.words) return n.Scalar();
+        return n.as<double>();
+      case io::SettingType::Boolean: return n.as<bool>();
+      case io::SettingType::Choice: return n.as<std::string>();
+    }
+  } catch (const YAML::Exception&) {
+  }
+  return io::settingValue(s, n.Scalar());  // throws SettingError, as for the same text on the command line
+}
+
+// Every key of a table the YAML gives, checked and stored, then what no single key can check;
+// each error names the file, line and key.
+template <class Config>
+void readSettings(const Reader& r, const YAML::Node& root, std::span<const io::Setting<Config>> table, Config& c,
+                  void (*checkAll)(const Config&)) {
+  for (const io::Setting<Config>& setting : table) {
+    const YAML::Node n = settingNode(root, setting.key);
+    if (!n) continue;
+    if (!n.IsScalar()) r.fail(n, setting.key, "must be " + io::expected(setting));
+    try {
+      io::applySetting(c, setting, yamlValue(n, setting));
+    } catch (const io::SettingError& e) {
+      r.fail(n, e.key(), e.problem());
+    }
+  }
+  try {
+    checkAll(c);
+  } catch (const io::SettingError& e) {
+    // the key if given, else its section ("brake": the default it is measured against), else the file
+    const YAML::Node n = settingNode(root, e.key());
+    const YAML::Node section = settingNode(root, io::keySection(e.key()));
+    r.fail(n ? n : section ? section : root, e.key(), e.problem());
+  }
+}
+
 void readYaml(const fs::path& path, Scenario& s) {
   const Reader r(path);
   const YAML::Node root = r.load(path);
   r.checkKeys(root, "", keysUnder(""));
   if (!root["sumocfg"]) r.missing(root, "sumocfg", "the SUMO configuration to run");
   s.sumocfg = path.parent_path() / r.text(root["sumocfg"], "sumocfg");
-  hw::MonitorConfig& m = s.plugin.monitor;
-  if (auto n = root["seed"]) s.seed = static_cast<std::uint64_t>(r.integer(n, "seed", 0, 2147483647));
-  if (auto n = root["end"]) s.end = r.number(n, "end", 0, kBig);
-  if (auto n = root["demand_scale"]) s.demandScale = r.number(n, "demand_scale", 0, 1000);
-  if (auto n = root["validate_ssm"]) s.validateSsm = r.boolean(n, "validate_ssm");
-  if (auto n = root["penetration"]) s.plugin.smart.penetration = r.number(n, "penetration", 0, 1);
   if (auto n = root["smart_types"]) s.plugin.smart.types = r.list(n, "smart_types");
-  if (auto n = root["action"])
-    if (!parseAction(r.text(n, "action"), s.plugin.actions.action)) r.fail(n, "action", "must be none, color or brake");
-  if (auto b = root["brake"]) {
+  if (const YAML::Node b = root["brake"]) {
     if (auto n = b["duration"])  // an early version's key: say what replaced it rather than "unknown"
       r.fail(n, "brake.duration", "no longer used: a braking car slows to its foe's speed (see brake.deceleration)");
-    r.checkKeys(b, "brake", keysUnder("brake"));
-    ActionConfig& a = s.plugin.actions;
-    if (auto n = b["deceleration"]) a.brakeDeceleration = r.number(n, "brake.deceleration", 0.1, 20);
-    if (auto n = b["max_deceleration"]) a.brakeMaxDeceleration = r.number(n, "brake.max_deceleration", 0.1, 50);
-    if (auto n = b["standstill_gap"]) a.brakeStandstillGap = r.number(n, "brake.standstill_gap", 0, 100);
-    if (a.brakeMaxDeceleration < a.brakeDeceleration)
-      r.fail(b, "brake.max_deceleration", "must be at least brake.deceleration");
   }
-  // the monitor's settings: one table (sthighway/settings.hpp) names, checks and words them
-  for (const char* section : {"safe_time", "safe_time.brake_force", "conflict", "concentric", "cells", "hindsight"})
+  // the scenario's settings and the monitor's: a table each (stcosim/scenario_settings.hpp,
+  // sthighway/settings.hpp) names, checks and words them
+  for (const char* section : {"brake", "safe_time", "safe_time.brake_force", "conflict", "concentric", "cells", "hindsight"})
     if (const YAML::Node node = settingNode(root, section)) r.checkKeys(node, section, keysUnder(section));
-  for (const hw::Setting& setting : hw::monitorSettings()) {
-    const YAML::Node n = settingNode(root, setting.key);
-    if (!n) continue;
-    if (!n.IsScalar()) r.fail(n, setting.key, "must be " + hw::expected(setting));
-    hw::SettingValue v;
-    try {
-      switch (setting.type) {
-        case hw::SettingType::Number:
-        case hw::SettingType::Integer: v = n.as<double>(); break;
-        case hw::SettingType::Boolean: v = n.as<bool>(); break;
-        case hw::SettingType::Choice: v = n.as<std::string>(); break;
-      }
-    } catch (const YAML::Exception&) {
-      r.fail(n, setting.key, "must be " + hw::expected(setting));
-    }
-    try {
-      hw::applySetting(m, setting, v);
-    } catch (const hw::SettingError& e) {
-      r.fail(n, e.key(), e.problem());
-    }
-  }
-  try {
-    hw::checkSettings(m);
-  } catch (const hw::SettingError& e) {
-    const YAML::Node n = settingNode(root, e.key());
-    r.fail(n ? n : root, e.key(), e.problem());
-  }
-  if (auto n = root["collision_action"]) {
-    s.collisionAction = r.text(n, "collision_action");
-    if (s.collisionAction != "warn" && s.collisionAction != "none" && s.collisionAction != "teleport" &&
-        s.collisionAction != "remove")
-      r.fail(n, "collision_action", "must be none, warn, teleport or remove");
-  }
-  if (auto n = root["collision_mingap_factor"]) s.collisionMinGapFactor = r.number(n, "collision_mingap_factor", 0, 10);
+  readSettings(r, root, scenarioSettings(), s, checkScenarioSettings);
+  readSettings(r, root, hw::monitorSettings(), s.plugin.monitor, hw::checkSettings);
   if (auto list = root["incidents"]) {
     if (!list.IsSequence()) r.fail(list, "incidents", "must be a list of {time, near: [x, y], speed, deceleration, hold}");
     int i = 0;
@@ -354,10 +335,9 @@ void readYaml(const fs::path& path, Scenario& s) {
 
 const std::vector<std::string>& scenarioKeys() {
   static const std::vector<std::string> keys = [] {
-    std::vector<std::string> k = {"sumocfg", "description", "seed", "end", "demand_scale", "validate_ssm",
-                                  "penetration", "smart_types", "action", "brake.deceleration",
-                                  "brake.max_deceleration", "brake.standstill_gap", "collision_action",
-                                  "collision_mingap_factor", "incidents", "sumo_args", "out"};
+    // the paths and lists only the YAML reader reads, then the two tables' keys
+    std::vector<std::string> k = {"sumocfg", "description", "smart_types", "incidents", "sumo_args", "out"};
+    for (const ScenarioSetting& setting : scenarioSettings()) k.push_back(setting.key);
     for (const hw::Setting& setting : hw::monitorSettings()) k.push_back(setting.key);
     return k;
   }();

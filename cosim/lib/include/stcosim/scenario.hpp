@@ -2,12 +2,15 @@
 // A co-simulation scenario: a SUMO configuration plus stsim's settings, read from a scenario YAML
 // (or defaults for a plain .sumocfg). Paths in the YAML are relative to the YAML file. Every key
 // below is shown at its default, or with "default:" beside it when the value shown is an example.
-// The monitor's settings (detector ... hindsight; all of them, with ranges and defaults) are the
-// table of docs/settings.md, which `stsim highway --settings` prints; only a few are shown here.
+// The scenario's own settings (seed, end, demand_scale, validate_ssm, penetration, action, brake.*,
+// collision_*) are the table of docs/scenario_settings.md (stcosim/scenario_settings.hpp, printed
+// by `stsim highway --scenario-settings`); the monitor's (detector ... hindsight) the table of
+// docs/settings.md (`stsim highway --settings`). Each key is checked by its table, in the YAML and
+// on the command line alike; only a few of the monitor's are shown here.
 //
 //   sumocfg: motorway.sumocfg        # required
 //   seed: 42                          # SUMO's seed and the smart-car draw
-//   end: 420                          # s of simulated time (default: the sumocfg's end)
+//   end: 420                          # s of simulated time (default sumocfg: the sumocfg's end)
 //   demand_scale: 1.0                 # SUMO's --scale: multiplies the routes' demand
 //   validate_ssm: false               # also run SUMO's SSM device and write validation.json
 //   detector: five                    # concentric | five | box
