@@ -110,6 +110,100 @@ Args makeArgs() {
   return a;
 }
 
+// A replay's output files, the buffers a frame's results pass through, and what it takes from the
+// monitor after each frame.
+struct TraceOutputs {
+  TraceOutputs(const std::filesystem::path& out, bool trajectories)
+      : csv(out / "warnings.csv"), conflictsCsv(out / "conflicts.csv"), eventsCsv(out / "events.csv") {
+    if (trajectories) seriesCsv.emplace(out / "trajectories.csv");
+  }
+  void write(hw::HighwayMonitor& monitor) {
+    monitor.takeFinished(ended);
+    csv.write(ended);
+    monitor.takeConflicts(conflicts);
+    conflictsCsv.write(conflicts);
+    monitor.takeEvents(events);
+    eventsCsv.write(events);
+    if (seriesCsv) {
+      monitor.takeTrajectories(series);
+      seriesCsv->write(series);
+    }
+  }
+  void flush() {
+    csv.flush();
+    conflictsCsv.flush();
+    eventsCsv.flush();
+    if (seriesCsv) seriesCsv->flush();
+  }
+
+  hw::WarningsCsvWriter csv;
+  hw::ConflictsCsvWriter conflictsCsv;
+  hw::EventsCsvWriter eventsCsv;
+  std::optional<hw::TrajectoriesCsvWriter> seriesCsv;
+  std::vector<hw::Warning> ended;
+  std::vector<hw::HindsightEvent> events;
+  std::vector<hw::Conflict> conflicts;
+  std::vector<hw::TrajectoryPoint> series;
+};
+
+// A replay's summary line and its conflict map.
+void reportTrace(const Args& a, const hw::MonitorCounters& c, const hw::RunInfo& info, double maxTtc) {
+  const std::filesystem::path out = a.get("out");
+  std::uint64_t total = 0;
+  for (auto n : c.warningsByKind) total += n;
+  std::cout << "highway: " << c.vehiclesSeen << " vehicles, "
+            << (c.personsSeen ? std::to_string(c.personsSeen) + " persons on foot, " : std::string())
+            << c.vehicleMeters / 1000.0 << " vehicle-km, " << total
+            << " warnings (vehicle " << c.warningsByKind[0] << ", curb " << c.warningsByKind[1] << ", lane_marker "
+            << c.warningsByKind[2] << ", hazard " << c.warningsByKind[3] << "; " << hw::conflictTypeBreakdown(c) << "), "
+            << hw::conflictCountText(c) << " conflicts (one per pair and encounter, TTC <= " << maxTtc
+            << " s: conflicts.csv), " << c.handoffs << " handoffs, " << info.wallSeconds << " s wall; wrote "
+            << (out / "warnings.csv").string() << ", " << (out / "conflicts.csv").string() << " and " << (out / "summary.json").string() << "\n";
+  if (a.has("no-map")) return;
+  const hw::ConflictMapOutcome map =
+      hw::drawConflictMap({out / "conflict_map", a.get("net"), {out / "conflicts.csv"}, "stsim highway"});
+  using State = hw::ConflictMapOutcome::State;
+  if (map.state == State::Drawn) std::cout << "  conflict map: " << (out / "conflict_map.png").string() << " (and .svg)\n";
+  // a map that could not be written (a full disk) fails the run as any output does; a missing tool does not
+  if (map.state == State::Failed) throw std::runtime_error((out / "conflict_map.png").string() + ": " + map.why);
+  if (map.state == State::Unavailable) std::cerr << "stsim highway: no conflict map: " << map.why << "\n";
+}
+
+// What a replay reads besides the trace: the network, the lights' recorded states, the vehicle
+// types (and routes, read once the trace is open); filled in place (the states refer to the links).
+struct TraceInputs {
+  hw::RoadGeometry road;
+  std::optional<hw::SignalLinks> signalLinks;
+  std::optional<hw::SignalStates> signalStates;
+  hw::FcdChecks checks;
+  hw::VehicleTypes types;
+  hw::VehicleRoutes routes;
+};
+
+void readTraceInputs(const Args& a, TraceInputs& in) {
+  std::vector<std::string> leftOut;
+  int lights = 0;
+  in.road = hw::readSumoNet(a.get("net"), &leftOut, &lights);
+  // a trace carries no light states: said once, as the junction results depend on it, unless
+  // SUMO's recorded states come with it
+  if (lights > 0 && !a.has("tls-states"))
+    std::cerr << "stsim highway: note: " << a.get("net") << " has " << lights
+              << " traffic light(s); an FCD trace carries no light states, so cars are predicted through red lights "
+                 "(a live run reads them; give SUMO's SaveTLSStates output with --tls-states)\n";
+  if (a.has("tls-states")) {
+    in.signalLinks.emplace(hw::readSignalLinks(a.get("net")));
+    in.signalStates.emplace(a.get("tls-states"), *in.signalLinks);
+  }
+  // the trace is checked against the network (bounds, lanes) and, with --vtypes, its types
+  in.checks = hw::fcdChecksFor(in.road, leftOut, a.get("net"));
+  if (a.has("vtypes")) {
+    in.types = hw::readSumoVehicleTypes(a.get("vtypes"));
+    if (in.types.empty()) throw hw::InputError(a.get("vtypes") + ": defines no <vType> (--vtypes wants a route or additional file)");
+    in.checks.typesComplete = true;
+    in.checks.typesFile = a.get("vtypes");
+  }
+}
+
 int runTrace(const Args& a) {
   for (const char* opt : {"traci", "gui", "threads"})
     if (a.has(opt)) throw UsageError(std::string("--") + opt + " applies to SUMO runs (SCENARIO), not to --fcd");
@@ -125,37 +219,14 @@ int runTrace(const Args& a) {
   const double end = run.end.value_or(0.0);
 
   const auto wallStart = std::chrono::steady_clock::now();
-  std::vector<std::string> leftOut;
-  int lights = 0;
-  const hw::RoadGeometry road = hw::readSumoNet(a.get("net"), &leftOut, &lights);
-  // a trace carries no light states: said once, as the junction results depend on it, unless
-  // SUMO's recorded states come with it
-  if (lights > 0 && !a.has("tls-states"))
-    std::cerr << "stsim highway: note: " << a.get("net") << " has " << lights
-              << " traffic light(s); an FCD trace carries no light states, so cars are predicted through red lights "
-                 "(a live run reads them; give SUMO's SaveTLSStates output with --tls-states)\n";
-  std::optional<hw::SignalLinks> signalLinks;
-  std::optional<hw::SignalStates> signalStates;
-  if (a.has("tls-states")) {
-    signalLinks.emplace(hw::readSignalLinks(a.get("net")));
-    signalStates.emplace(a.get("tls-states"), *signalLinks);
-  }
-  // the trace is checked against the network (bounds, lanes) and, with --vtypes, its types
-  hw::FcdChecks checks = hw::fcdChecksFor(road, leftOut, a.get("net"));
-  hw::VehicleTypes types;
-  if (a.has("vtypes")) {
-    types = hw::readSumoVehicleTypes(a.get("vtypes"));
-    if (types.empty()) throw hw::InputError(a.get("vtypes") + ": defines no <vType> (--vtypes wants a route or additional file)");
-    checks.typesComplete = true;
-    checks.typesFile = a.get("vtypes");
-  }
-  hw::HighwayMonitor monitor(road, cfg);
-  hw::FcdReader reader(a.get("fcd"), types, checks, &road);
-  if (signalStates) reader.useSignals(&*signalLinks, &*signalStates);
-  hw::VehicleRoutes routes;
+  TraceInputs in;
+  readTraceInputs(a, in);
+  hw::HighwayMonitor monitor(in.road, cfg);
+  hw::FcdReader reader(a.get("fcd"), in.types, in.checks, &in.road);
+  if (in.signalStates) reader.useSignals(&*in.signalLinks, &*in.signalStates);
   if (a.has("routes")) {
-    routes = hw::readSumoRoutes(a.get("routes"));
-    reader.useRoutes(&routes);
+    in.routes = hw::readSumoRoutes(a.get("routes"));
+    reader.useRoutes(&in.routes);
   }
 
   const std::filesystem::path out = a.get("out");
@@ -163,14 +234,8 @@ int runTrace(const Args& a) {
   std::filesystem::create_directories(out, ec);
   if (ec) throw std::runtime_error("cannot create output directory " + out.string() + ": " + ec.message());
   hw::removeRunOutputs(out);  // an earlier SUMO run's collisions.csv etc. are not this replay's
-  hw::WarningsCsvWriter csv(out / "warnings.csv");
-  hw::ConflictsCsvWriter conflictsCsv(out / "conflicts.csv");
-  hw::EventsCsvWriter eventsCsv(out / "events.csv");
-  std::optional<hw::TrajectoriesCsvWriter> seriesCsv;
-  if (a.has("trajectories")) {
-    seriesCsv.emplace(out / "trajectories.csv");
-    monitor.recordTrajectories(true);
-  }
+  TraceOutputs files(out, a.has("trajectories"));
+  if (a.has("trajectories")) monitor.recordTrajectories(true);
 
   hw::RunInfo info;
   info.source = a.get("fcd");
@@ -181,30 +246,11 @@ int runTrace(const Args& a) {
   info.conflict = cfg.conflict;
   double first = 0.0, last = 0.0;
   bool any = false;
-  std::vector<hw::Warning> ended;  // buffers for every frame
-  std::vector<hw::HindsightEvent> events;
-  std::vector<hw::Conflict> conflicts;
-  std::vector<hw::TrajectoryPoint> series;
-  auto writeOutputs = [&] {
-    monitor.takeFinished(ended);
-    csv.write(ended);
-    monitor.takeConflicts(conflicts);
-    conflictsCsv.write(conflicts);
-    monitor.takeEvents(events);
-    eventsCsv.write(events);
-    if (seriesCsv) {
-      monitor.takeTrajectories(series);
-      seriesCsv->write(series);
-    }
-  };
   // on any error: close what is open, write everything so far, then report the error
   auto flushAll = [&](const std::string& error) {
     monitor.finish(any ? last : 0.0);
-    writeOutputs();
-    csv.flush();
-    conflictsCsv.flush();
-    eventsCsv.flush();
-    if (seriesCsv) seriesCsv->flush();
+    files.write(monitor);
+    files.flush();
     info.simulatedSeconds = any ? last - first : 0.0;
     info.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
     if (!error.empty()) info.strings.emplace_back("error", error);
@@ -225,33 +271,14 @@ int runTrace(const Args& a) {
       if (!any) first = frame.time;
       any = true;
       last = frame.time;
-      writeOutputs();
+      files.write(monitor);
     }
   } catch (const std::exception& e) {
     flushAll(e.what());
     throw;
   }
   flushAll("");
-  const hw::MonitorCounters& c = monitor.counters();
-  std::uint64_t total = 0;
-  for (auto n : c.warningsByKind) total += n;
-  std::cout << "highway: " << c.vehiclesSeen << " vehicles, "
-            << (c.personsSeen ? std::to_string(c.personsSeen) + " persons on foot, " : std::string())
-            << c.vehicleMeters / 1000.0 << " vehicle-km, " << total
-            << " warnings (vehicle " << c.warningsByKind[0] << ", curb " << c.warningsByKind[1] << ", lane_marker "
-            << c.warningsByKind[2] << ", hazard " << c.warningsByKind[3] << "; " << hw::conflictTypeBreakdown(c) << "), "
-            << hw::conflictCountText(c) << " conflicts (one per pair and encounter, TTC <= " << cfg.conflict.maxTtc
-            << " s: conflicts.csv), " << c.handoffs << " handoffs, " << info.wallSeconds << " s wall; wrote "
-            << (out / "warnings.csv").string() << ", " << (out / "conflicts.csv").string() << " and " << (out / "summary.json").string() << "\n";
-  if (!a.has("no-map")) {
-    const hw::ConflictMapOutcome map =
-        hw::drawConflictMap({out / "conflict_map", a.get("net"), {out / "conflicts.csv"}, "stsim highway"});
-    using State = hw::ConflictMapOutcome::State;
-    if (map.state == State::Drawn) std::cout << "  conflict map: " << (out / "conflict_map.png").string() << " (and .svg)\n";
-    // a map that could not be written (a full disk) fails the run as any output does; a missing tool does not
-    if (map.state == State::Failed) throw std::runtime_error((out / "conflict_map.png").string() + ": " + map.why);
-    if (map.state == State::Unavailable) std::cerr << "stsim highway: no conflict map: " << map.why << "\n";
-  }
+  reportTrace(a, monitor.counters(), info, cfg.conflict.maxTtc);
   return 0;
 }
 
