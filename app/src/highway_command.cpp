@@ -297,10 +297,11 @@ int run(int argc, const char* const* argv) {
 #else
     if (scenario) throw std::runtime_error("cannot read " + *scenario + ": stsim was built without SUMO support (cosim)");
 #endif
-    applyMonitorOptions(highwayOverrides(a), cfg);
-    bool given = scenario.has_value() || a.has("set");
-    for (const char* opt : {"detector", "layout", "motion", "broadphase", "prediction", "rear-end-below", "crossing-above"})
-      given = given || a.has(opt);
+    const std::vector<io::SettingOverride> overrides = highwayOverrides(a);
+    applyMonitorOptions(overrides, cfg);
+    // "in effect" when a scenario or an option gave a monitor key (not --end, a scenario key)
+    bool given = scenario.has_value();
+    for (const io::SettingOverride& o : overrides) given = given || hw::findSetting(o.key) != nullptr;
     std::cout << hw::settingsReferenceMarkdown(cfg, given ? "in effect" : "default");
     return 0;
   }
