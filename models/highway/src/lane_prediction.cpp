@@ -564,6 +564,44 @@ void LanePrediction::predict(int slot, double t) {
   const double maxTtc = cfg_->conflict.maxTtc;
   auto turned = [&](const Vec2& axis) { return std::abs(std::atan2(cross2(pr.dir, axis), pr.dir.dot(axis))) > tol::kMergeBend; };
   bool merge = l.internal || l.merge || turned(b.axis);
+  // The centre line ahead (vertices at arcs S), as far as the body's front may reach. Behind the
+  // foot: the straight line to where the back is now, in the centre line's frame.
+  const double half = 0.5 * b.length;
+  lineS_.assign(1, 0.0);
+  linePt_.assign(1, foot);
+  for (int ln = lane, seg = pr.seg, at = routeAt; lineS_.back() < need + half;) {
+    const NetLane& cl = lanes_[ln];
+    const Vec2 dir = lineS_.size() == 1 ? pr.dir : Vec2((pt_[cl.first + seg + 1] - pt_[cl.first + seg]).normalized());
+    const Vec2 end = pt_[cl.first + seg + 1];
+    lineS_.push_back(lineS_.back() + std::max(0.0, (end - linePt_.back()).dot(dir)) / cl.scale);
+    linePt_.push_back(end);
+    if (++seg + 1 >= cl.count) {
+      ln = successor(slot, ln, at);
+      seg = 0;
+      if (ln < 0 || lanes_[ln].count < 2) break;
+    }
+  }
+  const Vec2 backLine = foot + chord * n0 - half * b.axis;
+  auto linePoint = [&](double S) -> Vec2 {
+    if (S <= 0.0) return foot + (half > 0.0 ? -S / half : 0.0) * (backLine - foot);
+    std::size_t k = 1;
+    while (k + 1 < lineS_.size() && lineS_[k] < S) ++k;
+    if (k >= lineS_.size()) return foot;  // no line ahead (a lane of one point)
+    const double len = lineS_[k] - lineS_[k - 1];
+    return linePt_[k - 1] + (len > 0.0 ? (S - lineS_[k - 1]) / len : 0.0) * (linePt_[k] - linePt_[k - 1]);
+  };
+  // the body centred at arc S (its centre line's point q, direction dir) laid on the chord where
+  // the line bends under it: its centre (in the line's frame) and axis; false: square to the lane
+  auto onChord = [&](double S, const Vec2& q, const Vec2& dir, Vec2& centre, Vec2& axis) {
+    const Vec2 ahead = linePoint(S + half), behind = linePoint(S - half);
+    const Vec2 span = ahead - behind, m = 0.5 * (ahead + behind);
+    if (!(span.norm() > 0.5 * half) || ((m - q).norm() <= tol::kChordOffset &&
+                                     std::abs(std::atan2(cross2(dir, span), dir.dot(span))) <= tol::kMergeBend))
+      return false;
+    centre = m;
+    axis = span.normalized();
+    return true;
+  };
   int ln = lane, seg = pr.seg;
   Vec2 q = foot;   // the path's point at arc S from the car
   double S = 0.0;  // arc from the car, in the source's lengths (Lane::length: times at the speed it gives)
@@ -575,10 +613,14 @@ void LanePrediction::predict(int slot, double t) {
     const double uk = std::max(0.0, u + acc * tk);
     const bool first = pieces_.size() == static_cast<std::size_t>(pieceBegin_[slot]);
     const double dk = straddles && ln != lane ? 0.0 : f.d + lateral * tk;
-    const Vec2 pk = first ? b.position : Vec2(off + q + dk * nk);
+    Vec2 pk = first ? b.position : Vec2(off + q + dk * nk);
     // the body as it is now, then square to its lane from the next vertex on: it follows the lane
-    // (a yaw against the lane's segment is mostly SUMO's front-to-rear chord across a joint)
-    const Vec2 axis = first && !bent ? b.axis : dir;
+    // (a yaw against the lane's segment is mostly SUMO's front-to-rear chord across a joint) ...
+    Vec2 axis = first && !bent ? b.axis : dir;
+    // ... or, where the lane bends under it, on SUMO's chord from its back to its front (turned
+    // about its centre, a 10 m truck's back would swing 1.5 m into the next lane on a 5.6 m corner)
+    const bool chorded = !first && onChord(S, q, dir, pk, axis);
+    if (chorded) pk += off + dk * nk;
     turns = turns || axis != b.axis;
     pieces_.push_back({tk, pk, dir, nk, axis, uk, lateral, cl.scale});
     maxScale = std::max(maxScale, cl.scale);
@@ -586,6 +628,23 @@ void LanePrediction::predict(int slot, double t) {
     // this piece ends at the segment's end, if the path goes on
     // (along it: a centre just past a lane's end, on its extension, has no segment left)
     const double segEnd = S + std::max(0.0, (pt_[cl.first + seg + 1] - q).dot(dir)) / cl.scale;
+    // a body on a bend's chord is laid again every quarter of its length until it is square to
+    // the lane (its heading turns as its back and front follow the bend); one square to it, once
+    // its front is a quarter length past the segment's end, if the line bends there
+    double subEnd = chorded ? S + 0.5 * half : segEnd - 0.75 * half;
+    Vec2 unusedCentre, unusedAxis;
+    if (!chorded && subEnd > S && !onChord(subEnd, q + ((subEnd - S) * cl.scale) * dir, dir, unusedCentre, unusedAxis))
+      subEnd = segEnd;
+    if (subEnd > S && subEnd < segEnd) {
+      const double tSub = subEnd < need ? timeToDrive(u, acc, subEnd) : std::numeric_limits<double>::infinity();
+      const double te = std::min(tSub, h);
+      deviation(pk + ((driven(u, acc, te) - S) * cl.scale) * dir + (lateral * (te - tk)) * nk, te, cl.scale);
+      if (!(tSub < h)) break;
+      q += ((subEnd - S) * cl.scale) * dir;
+      S = subEnd;
+      tk = tSub;
+      continue;
+    }
     int nln = ln, nseg = seg + 1;
     if (nseg + 1 >= cl.count) {
       nln = successor(slot, ln, routeAt);

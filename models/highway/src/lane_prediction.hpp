@@ -6,8 +6,9 @@
 // relative to the lane) and predicted along the lane's centre line, continued through junctions
 // along its route (VehicleState::route: SUMO gives it), else into the turn its signal shows, else
 // the straightest successor, at its speed along the lane (with its acceleration under the
-// constant-acceleration model), keeping its offset and lateral speed relative to the lane, its body
-// square to the lane from the next vertex on.
+// constant-acceleration model), keeping its offset and lateral speed relative to the lane. From
+// the next vertex on its body is square to the lane, or, where the lane bends under it, laid as
+// SUMO lays it: the chord from the centre line half a length behind to half a length ahead.
 //
 // The prediction is a list of path pieces: between two vertices of the path the car moves in a
 // straight line with a fixed heading, so the detectors' straight kernels apply piece by piece.
@@ -183,6 +184,10 @@ class LanePrediction {
   std::vector<char> prevBent_;  // its heading at the last tick was a junction's bend, not its motion (predict)
   std::vector<double> deviation_;  // deviation()
   std::vector<PathPiece> pieces_;
+  // predict's scratch: the centre line a path follows, its vertices at arcs from the centre's foot
+  // (the source's lengths) and their points
+  std::vector<double> lineS_;
+  std::vector<Vec2> linePt_;
 };
 
 }  // namespace st::highway::detail

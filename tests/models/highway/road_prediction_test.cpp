@@ -443,6 +443,58 @@ TEST(RoadPrediction, TheRouteIsFollowedThroughTheJunctionOverTheSignal) {
   EXPECT_TRUE(onEastLane(turnedAfter3s(kSignalNone, {"elsewhere"})));
 }
 
+// A 10 m truck predicted round turnJunction's 8 m left turn is laid as SUMO lays it: the chord
+// from its back to its front, both on the lanes' centre lines. Turned about its centre square to
+// each segment, its back would swing 1.4 m off them.
+TEST(RoadPrediction, ATruckRoundATurnHasItsBackAndFrontOnTheLanes) {
+  const RoadGeometry road = turnJunction();
+  const std::vector<std::string> edges = edgeIds(road);
+  MonitorConfig cfg;
+  MonitorCounters counters;
+  VehicleTable cars(cfg, counters);
+  LanePrediction paths(road, cfg, cars, counters);
+  VehicleState v;
+  v.id = "truck";
+  v.vehicleClass = VehicleClass::Truck;
+  v.length = 10.0;
+  v.width = 2.5;
+  v.position = Vec2(-10.0, 0.0);
+  v.speed = 10.0;
+  v.route[0] = static_cast<int>(std::find(edges.begin(), edges.end(), "in") - edges.begin());
+  v.route[1] = static_cast<int>(std::find(edges.begin(), edges.end(), "north") - edges.begin());
+  std::vector<VehicleState> tick = {v, v};
+  tick[1].id = "fast";  // a faster car sets a longer horizon for both
+  tick[1].position = Vec2(-80.0, 0.0);
+  tick[1].speed = 40.0;
+  tick[1].route.fill(-1);
+  cars.update(0.0, tick);
+  paths.update(0.0);
+  const int e = cars.active[0];
+  // the distance from the lanes it drives: in, the turn's polyline, north
+  auto offLanes = [&](const Vec2& p) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const char* edge : {"in", ":j_1", "north"})
+      for (const Lane& l : road.lanes)
+        if (l.edge == edge)
+          for (std::size_t k = 1; k < l.shape.size(); ++k) {
+            const Vec2 a = l.shape[k - 1], ab = l.shape[k] - a;
+            const double f = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+            best = std::min(best, (p - a - f * ab).norm());
+          }
+    return best;
+  };
+  // over its horizon (1.5 s: from 10 m before the turn to 5 m into it), every 0.02 s. A heading is
+  // held for a piece (a quarter of its length, or a polyline segment: 1.4 m here), so an end strays
+  // up to 0.85 m; turned square to each segment about its centre, 1.79 m.
+  ASSERT_GT(paths.horizon(e), 1.4);
+  double worst = 0.0;
+  for (double t = 0.0; t <= paths.horizon(e); t += 0.02) {
+    const Body at = LanePrediction::bodyAt(paths.path(e), cars.body[e], MotionModel::ConstantVelocity, t);
+    worst = std::max({worst, offLanes(at.position + 5.0 * at.axis), offLanes(at.position - 5.0 * at.axis)});
+  }
+  EXPECT_LT(worst, 1.0);
+}
+
 TEST(RoadPrediction, WithoutANetworkEveryCarGoesStraight) {
   // no lanes: the road prediction is the straight line, every update a fallback; the same TTC
   std::vector<VehicleState> cars(2);

@@ -91,4 +91,10 @@ inline constexpr double kTrailBreak = 100.0;
 inline constexpr double kChordSlack = 1e-3;
 inline constexpr double kBackOffLine = 0.25;
 
+// A predicted body whose chord (from the lanes' centre line half its length behind to half ahead)
+// has its middle within kChordOffset of the centre line and turns from the lane by at most
+// kMergeBend is laid square to the lane (lane_prediction.cpp; m: a 12 m truck on a motorway's
+// polyline joints of hundredths of a degree sits 2e-3 m inside, on a 5.6 m corner metres).
+inline constexpr double kChordOffset = 0.02;
+
 }  // namespace st::highway::tol
