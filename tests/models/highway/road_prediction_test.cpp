@@ -387,34 +387,46 @@ RoadGeometry turnJunction() {
   return road;
 }
 
+// turnJunction with a car 10 m before the junction at 10 m/s (its body and signal as given, its
+// route as edge ids from its own edge on) and a faster car behind, which sets a longer horizon for
+// both: the car's predicted path.
+struct TurnScene {
+  RoadGeometry road = turnJunction();
+  MonitorConfig cfg;
+  MonitorCounters counters;
+  VehicleTable cars{cfg, counters};
+  LanePrediction paths{road, cfg, cars, counters};
+  int e = -1;  // the car's slot
+
+  TurnScene(VehicleState v, const std::vector<std::string>& route) {
+    const std::vector<std::string> edges = edgeIds(road);
+    v.position = Vec2(-10.0, 0.0);
+    v.speed = 10.0;
+    for (std::size_t k = 0; k < route.size(); ++k)
+      v.route[k] = static_cast<int>(std::find(edges.begin(), edges.end(), route[k]) - edges.begin());
+    VehicleState fast = v;  // of the same kind
+    fast.id = "fast";
+    fast.signals = kSignalNone;
+    fast.route.fill(-1);
+    fast.position = Vec2(-80.0, 0.0);
+    fast.speed = 40.0;
+    const std::vector<VehicleState> tick = {v, fast};
+    cars.update(0.0, tick);
+    paths.update(0.0);
+    e = cars.active[0];
+  }
+  Body at(double t) const { return LanePrediction::bodyAt(paths.path(e), cars.body[e], MotionModel::ConstantVelocity, t); }
+};
+
 // Where a car 10 m before turnJunction's junction at 10 m/s is 3 s on, given its signal and route
 // (edge ids, from its own edge on).
 Body turnedAfter3s(std::uint8_t signal, const std::vector<std::string>& route, std::uint64_t* routePredicted = nullptr) {
-  const RoadGeometry road = turnJunction();
-  const std::vector<std::string> edges = edgeIds(road);
-  MonitorConfig cfg;
-  MonitorCounters counters;
-  VehicleTable cars(cfg, counters);
-  LanePrediction paths(road, cfg, cars, counters);
   VehicleState v;
   v.id = "car";
-  v.position = Vec2(-10.0, 0.0);
-  v.speed = 10.0;
   v.signals = signal;
-  for (std::size_t k = 0; k < route.size(); ++k)
-    v.route[k] = static_cast<int>(std::find(edges.begin(), edges.end(), route[k]) - edges.begin());
-  std::vector<VehicleState> tick = {v, v};
-  tick[1].id = "fast";  // a faster car sets a longer horizon for both
-  tick[1].position = Vec2(-80.0, 0.0);
-  tick[1].speed = 40.0;
-  tick[1].route = {};
-  tick[1].route.fill(-1);
-  tick[1].signals = kSignalNone;
-  cars.update(0.0, tick);
-  paths.update(0.0);
-  if (routePredicted) *routePredicted = counters.routePredicted;
-  const int e = cars.active[0];
-  return LanePrediction::bodyAt(paths.path(e), cars.body[e], MotionModel::ConstantVelocity, 3.0);  // 30 m on
+  const TurnScene scene(v, route);
+  if (routePredicted) *routePredicted = scene.counters.routePredicted;
+  return scene.at(3.0);  // 30 m on
 }
 
 bool onNorthLane(const Body& at) {
@@ -447,29 +459,13 @@ TEST(RoadPrediction, TheRouteIsFollowedThroughTheJunctionOverTheSignal) {
 // from its back to its front, both on the lanes' centre lines. Turned about its centre square to
 // each segment, its back would swing 1.4 m off them.
 TEST(RoadPrediction, ATruckRoundATurnHasItsBackAndFrontOnTheLanes) {
-  const RoadGeometry road = turnJunction();
-  const std::vector<std::string> edges = edgeIds(road);
-  MonitorConfig cfg;
-  MonitorCounters counters;
-  VehicleTable cars(cfg, counters);
-  LanePrediction paths(road, cfg, cars, counters);
   VehicleState v;
   v.id = "truck";
   v.vehicleClass = VehicleClass::Truck;
   v.length = 10.0;
   v.width = 2.5;
-  v.position = Vec2(-10.0, 0.0);
-  v.speed = 10.0;
-  v.route[0] = static_cast<int>(std::find(edges.begin(), edges.end(), "in") - edges.begin());
-  v.route[1] = static_cast<int>(std::find(edges.begin(), edges.end(), "north") - edges.begin());
-  std::vector<VehicleState> tick = {v, v};
-  tick[1].id = "fast";  // a faster car sets a longer horizon for both
-  tick[1].position = Vec2(-80.0, 0.0);
-  tick[1].speed = 40.0;
-  tick[1].route.fill(-1);
-  cars.update(0.0, tick);
-  paths.update(0.0);
-  const int e = cars.active[0];
+  const TurnScene scene(v, {"in", "north"});
+  const RoadGeometry& road = scene.road;
   // the distance from the lanes it drives: in, the turn's polyline, north
   auto offLanes = [&](const Vec2& p) {
     double best = std::numeric_limits<double>::infinity();
@@ -486,10 +482,10 @@ TEST(RoadPrediction, ATruckRoundATurnHasItsBackAndFrontOnTheLanes) {
   // over its horizon (1.5 s: from 10 m before the turn to 5 m into it), every 0.02 s. A heading is
   // held for a piece (a quarter of its length, or a polyline segment: 1.4 m here), so an end strays
   // up to 0.85 m; turned square to each segment about its centre, 1.79 m.
-  ASSERT_GT(paths.horizon(e), 1.4);
+  ASSERT_GT(scene.paths.horizon(scene.e), 1.4);
   double worst = 0.0;
-  for (double t = 0.0; t <= paths.horizon(e); t += 0.02) {
-    const Body at = LanePrediction::bodyAt(paths.path(e), cars.body[e], MotionModel::ConstantVelocity, t);
+  for (double t = 0.0; t <= scene.paths.horizon(scene.e); t += 0.02) {
+    const Body at = scene.at(t);
     worst = std::max({worst, offLanes(at.position + 5.0 * at.axis), offLanes(at.position - 5.0 * at.axis)});
   }
   EXPECT_LT(worst, 1.0);
