@@ -223,40 +223,45 @@ void writeAnimationHtml(std::ostream& os, const RunRecord& run, const Game& game
   const auto& specs = game.specs();
   // per ball: keyframes [t, x, y, vx, vy] at every change of velocity, and the time it left
   std::vector<double> gone(specs.size(), -1.0);
+  // JSON has no NaN or infinity: every number goes through io::jsonNumber (null for those), at 9
+  // significant digits for the table and 12 for the keyframes
+  const auto n9 = [](double x) { return io::jsonNumber(x, 9); };
+  const auto n12 = [](double x) { return io::jsonNumber(x, 12); };
+  const auto key = [&](double at, const Vec2& p, const Vec2& v) {
+    std::string s = "[";
+    for (const double x : {at, p.x(), p.y(), v.x(), v.y()}) (s += n12(x)) += ',';
+    s.back() = ']';
+    return s;
+  };
   std::ostringstream data;
-  data << std::setprecision(9);
-  data << "{\"width\":" << t.spec.width << ",\"height\":" << t.spec.height << ",\"end\":" << game.simulator().now()
-       << ",\"title\":" << jsonString(run.scenario + " (" + run.spaceDescription + ")") << ",\"cushions\":[";
+  data << "{\"width\":" << n9(t.spec.width) << ",\"height\":" << n9(t.spec.height) << ",\"end\":"
+       << n9(game.simulator().now()) << ",\"title\":" << jsonString(run.scenario + " (" + run.spaceDescription + ")")
+       << ",\"cushions\":[";
   for (std::size_t i = 0; i < t.cushions.size(); ++i)
-    data << (i ? "," : "") << "[" << t.cushions[i].a.x() << "," << t.cushions[i].a.y() << "," << t.cushions[i].b.x()
-         << "," << t.cushions[i].b.y() << "]";
+    data << (i ? "," : "") << "[" << n9(t.cushions[i].a.x()) << "," << n9(t.cushions[i].a.y()) << ","
+         << n9(t.cushions[i].b.x()) << "," << n9(t.cushions[i].b.y()) << "]";
   data << "],\"pockets\":[";
   for (std::size_t i = 0; i < t.pockets.size(); ++i)
-    data << (i ? "," : "") << "[" << t.pockets[i].center.x() << "," << t.pockets[i].center.y() << ","
-         << t.pockets[i].radius << "]";
+    data << (i ? "," : "") << "[" << n9(t.pockets[i].center.x()) << "," << n9(t.pockets[i].center.y()) << ","
+         << n9(t.pockets[i].radius) << "]";
   data << "],\"balls\":[";
   // keyframes from the event log
-  std::vector<std::ostringstream> k(specs.size());
-  for (std::size_t i = 0; i < specs.size(); ++i) {
-    k[i] << std::setprecision(12);
-    k[i] << "[0," << specs[i].position.x() << "," << specs[i].position.y() << "," << specs[i].velocity.x() << ","
-         << specs[i].velocity.y() << "]";
-  }
+  std::vector<std::string> k(specs.size());
+  for (std::size_t i = 0; i < specs.size(); ++i) k[i] = key(0.0, specs[i].position, specs[i].velocity);
   for (const auto& e : run.events) {
     if (e.kind == PoolEventKind::Boundary) continue;  // path unchanged
     if (e.kind == PoolEventKind::Pocket) {
       gone[e.ball] = e.t;
       continue;
     }
-    k[e.ball] << ",[" << e.t << "," << e.p.x() << "," << e.p.y() << "," << e.v.x() << "," << e.v.y() << "]";
-    if (e.kind == PoolEventKind::Ball)
-      k[e.other] << ",[" << e.t << "," << e.otherP.x() << "," << e.otherP.y() << "," << e.otherV.x() << ","
-                 << e.otherV.y() << "]";
+    (k[e.ball] += ',') += key(e.t, e.p, e.v);
+    if (e.kind == PoolEventKind::Ball) (k[e.other] += ',') += key(e.t, e.otherP, e.otherV);
   }
   for (std::size_t i = 0; i < specs.size(); ++i) {
-    data << (i ? "," : "") << "{\"n\":" << specs[i].number << ",\"r\":" << specs[i].radius << ",\"a\":" << game.friction() << ",\"c\":\""
-         << hexOf(specs[i].colour) << "\",\"s\":" << (specs[i].pattern == Pattern::Striped ? 1 : 0)
-         << ",\"gone\":" << (gone[i] < 0 ? std::string("null") : num(gone[i])) << ",\"k\":[" << k[i].str() << "]}";
+    data << (i ? "," : "") << "{\"n\":" << specs[i].number << ",\"r\":" << n9(specs[i].radius) << ",\"a\":"
+         << n9(game.friction()) << ",\"c\":\"" << hexOf(specs[i].colour)
+         << "\",\"s\":" << (specs[i].pattern == Pattern::Striped ? 1 : 0)
+         << ",\"gone\":" << (gone[i] < 0 ? std::string("null") : num(gone[i])) << ",\"k\":[" << k[i] << "]}";
   }
   data << "]}";
 
