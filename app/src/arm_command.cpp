@@ -17,6 +17,7 @@
 #include <starm/urdf.hpp>
 #include <stnet/frame.hpp>
 #include <stio/format.hpp>
+#include <stio/json.hpp>
 #include <stio/output.hpp>
 #include <stsim/cli.hpp>
 #include <stsim/commands.hpp>
@@ -49,43 +50,45 @@ void writeSummary(const fs::path& file, const std::string& scenario, const arm::
                   const std::string& broadphase, const std::string& error, bool closedLoop, const Watch& watch,
                   const arm::SeparationMonitor* ssm, const arm::DeadlineWatch& deadline) {
   const arm::MonitorCounters& c = m.counters();
-  std::ostringstream j;
-  j << "{\n  \"scenario\": " << io::jsonString(scenario) << ",\n";
-  j << "  \"status\": " << io::jsonString(!error.empty() ? "error" : st.interrupted ? "interrupted" : "ok") << ",\n";
-  if (!error.empty()) j << "  \"error\": " << io::jsonString(error) << ",\n";
-  if (st.interrupted) j << "  \"stopped_at_s\": " << num(m.time()) << ",\n";
-  j << "  \"loop\": " << io::jsonString(closedLoop ? "closed" : "open") << ",\n";
-  j << "  \"min_distance_m\": " << num(watch.minDistance) << ",\n  \"first_contact_s\": " << num(watch.firstContact)
+  io::JsonText j(9, io::Infinity::Text);
+  j << "{\n  \"scenario\": " << scenario << ",\n";
+  j << "  \"status\": " << std::string_view(!error.empty() ? "error" : st.interrupted ? "interrupted" : "ok") << ",\n";
+  if (!error.empty()) j << "  \"error\": " << error << ",\n";
+  if (st.interrupted) j << "  \"stopped_at_s\": " << m.time() << ",\n";
+  j << "  \"loop\": " << std::string_view(closedLoop ? "closed" : "open") << ",\n";
+  j << "  \"min_distance_m\": " << watch.minDistance << ",\n  \"first_contact_s\": " << watch.firstContact
     << ",\n";
   j << "  \"arms\": " << m.armCount() << ",\n  \"obstacles\": " << m.obstacles().size() << ",\n";
   j << "  \"capsules\": " << m.capsuleCount() << ",\n";
-  j << "  \"safe_time_s\": " << num(m.safety().safeTime()) << ",\n  \"horizon_s\": " << num(m.safety().lookAhead())
-    << ",\n  \"min_separation_m\": " << num(m.safety().minSeparation) << ",\n";
+  j << "  \"safe_time_s\": " << (m.safety().safeTime()) << ",\n  \"horizon_s\": " << (m.safety().lookAhead())
+    << ",\n  \"min_separation_m\": " << (m.safety().minSeparation) << ",\n";
   j << "  \"cycles\": " << st.cycles << ",\n  \"warnings\": " << c.warnings << ",\n  \"stops\": " << c.stops << ",\n";
   j << "  \"first_stop_s\": {";
-  for (int a = 0; a < m.armCount(); ++a)
-    j << (a ? ", " : "") << io::jsonString(m.arm(a).name) << ": " << num(a < static_cast<int>(st.firstStop.size()) ? st.firstStop[a] : NAN);
+  for (int a = 0; a < m.armCount(); ++a) {
+    if (a) j << ", ";
+    j << m.arm(a).name << ": " << (a < static_cast<int>(st.firstStop.size()) ? st.firstStop[a] : NAN);
+  }
   j << "},\n";
   double maxUs = 0.0, sum = 0.0;
   for (double v : st.latencyUs) maxUs = std::max(maxUs, v), sum += v;
-  j << "  \"latency_us\": {\"p50\": " << num(arm::percentile(st.latencyUs, 50)) << ", \"p99\": "
-    << num(arm::percentile(st.latencyUs, 99)) << ", \"max\": " << num(maxUs) << ", \"mean\": "
-    << num(st.latencyUs.empty() ? 0.0 : sum / static_cast<double>(st.latencyUs.size())) << "},\n";
-  j << "  \"deadline\": {\"budget_us\": " << num(deadline.budgetUs) << ", \"missed\": " << deadline.missed
+  j << "  \"latency_us\": {\"p50\": " << (arm::percentile(st.latencyUs, 50)) << ", \"p99\": "
+    << (arm::percentile(st.latencyUs, 99)) << ", \"max\": " << maxUs << ", \"mean\": "
+    << (st.latencyUs.empty() ? 0.0 : sum / static_cast<double>(st.latencyUs.size())) << "},\n";
+  j << "  \"deadline\": {\"budget_us\": " << deadline.budgetUs << ", \"missed\": " << deadline.missed
     << ", \"cycles\": " << deadline.cycles << ", \"first_miss_s\": "
-    << num(deadline.misses.empty() ? NAN : deadline.misses.front().first) << ", \"worst_us\": " << num(deadline.worstUs)
-    << ", \"worst_at_s\": " << num(deadline.worstT) << "},\n";
+    << (deadline.misses.empty() ? NAN : deadline.misses.front().first) << ", \"worst_us\": " << deadline.worstUs
+    << ", \"worst_at_s\": " << deadline.worstT << "},\n";
   if (ssm) {
     const arm::SsmCounters& sc = ssm->counters();
     const arm::SsmConfig& cf = ssm->config();
-    j << "  \"ssm\": {\"response\": " << io::jsonString(arm::toString(cf.response)) << ", \"T_r_s\": " << num(cf.reactionTime)
-      << ", \"T_s_s\": " << num(cf.stoppingTime) << ", \"stop_cycles\": " << sc.stopCycles << ", \"scaled_cycles\": "
+    j << "  \"ssm\": {\"response\": " << arm::toString(cf.response) << ", \"T_r_s\": " << cf.reactionTime
+      << ", \"T_s_s\": " << cf.stoppingTime << ", \"stop_cycles\": " << sc.stopCycles << ", \"scaled_cycles\": "
       << sc.scaledCycles << ", \"violations\": " << sc.violations << ", \"contacts\": " << sc.contacts
       << ", \"contacts_within_limit\": " << sc.contactsWithinLimit << ", \"contacts_above_limit\": "
       << sc.contactsAboveLimit << ", \"pfl_cycles\": " << sc.pflCycles
-      << ", \"min_separation_m\": " << num(sc.minSeparation) << "},\n";
+      << ", \"min_separation_m\": " << sc.minSeparation << "},\n";
   }
-  j << "  \"broadphase\": " << io::jsonString(broadphase) << ",\n";
+  j << "  \"broadphase\": " << broadphase << ",\n";
   // the brute force (--broadphase none) has no regions to report
   if (const Space<3>* sp = m.space(); sp->kind() != SpaceKind::None) {
     j << "  \"octree\": {\"decomposition_factor\": " << sp->rule().decompositionFactor
@@ -94,7 +97,7 @@ void writeSummary(const fs::path& file, const std::string& scenario, const arm::
       << ", \"leaves_at_end\": " << sp->leaves().size() << ", \"refiled\": " << c.refiled << "},\n";
   }
   j << "  \"candidate_pairs\": " << c.candidatePairs << ",\n  \"candidate_pairs_per_cycle\": "
-    << num(st.cycles ? static_cast<double>(c.candidatePairs) / static_cast<double>(st.cycles) : 0.0) << ",\n";
+    << (st.cycles ? static_cast<double>(c.candidatePairs) / static_cast<double>(st.cycles) : 0.0) << ",\n";
   j << "  \"exact_pairs\": " << c.exactPairs << ",\n  \"advance_steps\": " << c.advanceSteps
     << ",\n  \"capped_advances\": " << c.cappedAdvances << "\n}\n";
   io::writeTextFile(file, j.str());

@@ -1,13 +1,15 @@
 #include <stbatch/run_result.hpp>
 
-#include <boost/property_tree/json_parser.hpp>
-#include <boost/property_tree/ptree.hpp>
+#include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <limits>
+#include <optional>
+#include <stdexcept>
 
 #include "files.hpp"
 
@@ -27,31 +29,59 @@ const char* toString(RunStatus s) {
 
 namespace {
 
+using Json = nlohmann::ordered_json;  // the document's order is the columns' order
+
+// A JSON file parsed, or an exception naming it.
+Json readJson(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error(file.string() + ": cannot open");
+  try {
+    return Json::parse(in);
+  } catch (const Json::exception& ex) {
+    throw std::runtime_error(file.string() + ": " + ex.what());
+  }
+}
+
+// A leaf as a number: numbers as they are, true/false as 1/0, null as NaN (a figure with nothing
+// to count, a share of nothing, no lead time: the column is there and its cell empty, never 0 or
+// 1), a string that is a whole number as that number (the arm's infinite times, "inf"); none for
+// other strings.
+std::optional<double> leafNumber(const Json& v) {
+  if (v.is_number()) return v.get<double>();
+  if (v.is_boolean()) return v.get<bool>() ? 1.0 : 0.0;
+  if (v.is_null()) return std::numeric_limits<double>::quiet_NaN();
+  if (!v.is_string()) return std::nullopt;
+  const std::string& text = v.get_ref<const std::string&>();
+  char* end = nullptr;
+  const double d = std::strtod(text.c_str(), &end);
+  if (!text.empty() && end && *end == '\0') return d;
+  return std::nullopt;
+}
+
 // Numeric leaves of a JSON document as (dotted.key, value). An array element that is an object
 // naming itself ("detector" or "name", as validation.json's per-detector entries do) is reached
 // by that name; other array elements are skipped.
-void flatten(const boost::property_tree::ptree& t, const std::string& prefix,
-             std::vector<std::pair<std::string, double>>& out) {
-  for (const auto& [key, child] : t) {
-    std::string label = key;
-    if (label.empty()) {  // array element
-      for (const char* k : {"detector", "name"})
-        if (auto n = child.get_optional<std::string>(k); n && !n->empty() && label.empty()) label = *n;
-      if (label.empty()) continue;
-    }
+void flatten(const Json& t, const std::string& prefix, std::vector<std::pair<std::string, double>>& out) {
+  const auto visit = [&](const std::string& label, const Json& child) {
     const std::string name = prefix.empty() ? label : prefix + "." + label;
-    if (child.empty()) {
-      const std::string v = child.data();
-      char* end = nullptr;
-      const double d = std::strtod(v.c_str(), &end);
-      if (!v.empty() && end && *end == '\0') out.emplace_back(name, d);
-      else if (v == "true" || v == "false") out.emplace_back(name, v == "true" ? 1.0 : 0.0);
-      // null: a figure with nothing to count (a share of nothing, no lead time): kept as NaN, so
-      // the column is there and its cell empty, never 0 or 1
-      else if (v == "null") out.emplace_back(name, std::numeric_limits<double>::quiet_NaN());
-    } else {
+    if (child.is_structured()) {
       flatten(child, name, out);
+    } else if (const auto x = leafNumber(child)) {
+      out.emplace_back(name, *x);
     }
+  };
+  if (t.is_object()) {
+    for (auto it = t.begin(); it != t.end(); ++it) visit(it.key(), it.value());
+    return;
+  }
+  for (const Json& child : t) {  // array elements
+    if (!child.is_object()) continue;
+    std::string label;
+    for (const char* k : {"detector", "name"}) {
+      const auto n = child.find(k);
+      if (label.empty() && n != child.end() && n->is_string()) label = n->get<std::string>();
+    }
+    if (!label.empty()) visit(label, child);
   }
 }
 
@@ -84,15 +114,11 @@ RunResult loadRunResult(const fs::path& outDir, const RunSpec& spec) {
   }
   if (r.status == RunStatus::Done) {
     try {
-      boost::property_tree::ptree tree;
-      boost::property_tree::read_json((dir / "summary.json").string(), tree);
-      flatten(tree, "", r.metrics);
+      flatten(readJson(dir / "summary.json"), "", r.metrics);
       nullLeadTimes(r.metrics);
       // --validate-ssm / validate_ssm: the agreement with SUMO's SSM device, as ssm.*
       if (fs::exists(dir / "validation.json")) {
-        boost::property_tree::ptree validation;
-        boost::property_tree::read_json((dir / "validation.json").string(), validation);
-        flatten(validation, "ssm", r.metrics);
+        flatten(readJson(dir / "validation.json"), "ssm", r.metrics);
       }
     } catch (const std::exception& ex) {
       r.status = RunStatus::Failed;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stbatch/conflicts.hpp>
@@ -115,6 +116,47 @@ TEST(BatchTables, PairedSpreadIsTheDifferencesSpread) {
   EXPECT_NEAR(std::stod(rows[1][4]), -1.0, 1e-9);
   EXPECT_NEAR(std::stod(rows[1][5]), std::sqrt(2.0), 1e-6);
   EXPECT_NEAR(std::stod(rows[1][6]), 3.182446 * std::sqrt(2.0) / 2.0, 1e-4);
+  fs::remove_all(dir);
+}
+
+// A run's summary.json and validation.json as the batch reads them (nlohmann::json): numeric
+// leaves in the document's order under dotted keys, true/false as 1/0, a number written as a
+// string (the arm's infinite times, "inf") as that number, other strings and unnamed array
+// elements left out, a named array element (validation.json's detectors) reached by its name.
+// A summary.json that is not JSON fails the run with an error naming the file.
+TEST(BatchTables, RunResultReadsTheSummaryLeavesInDocumentOrder) {
+  const fs::path dir = fs::temp_directory_path() / ("stsim_tables_leaves_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  RunSpec spec;
+  spec.id = "r1";
+  const fs::path run = dir / "runs" / spec.id;
+  fs::create_directories(run);
+  std::ofstream(run / "result.yaml") << "status: done\nerror: \"\"\nwall_seconds: 1\n";
+  std::ofstream(run / "summary.json")
+      << "{\"zeta\": 2, \"name\": \"x\", \"alpha\": {\"ok\": true, \"t\": \"inf\", \"v\": [1, 2], \"big\": 1e300},"
+         " \"flag\": false, \"none\": null}\n";
+  std::ofstream(run / "validation.json")
+      << "{\"detectors\": [{\"detector\": \"five\", \"f1\": 0.5}, {\"name\": \"box\", \"f1\": 0.25}, {\"f1\": 9}]}";
+  const RunResult r = loadRunResult(dir, spec);
+  ASSERT_EQ(r.status, RunStatus::Done) << r.error;
+  std::vector<std::string> keys;
+  for (const auto& m : r.metrics) keys.push_back(m.first);
+  EXPECT_EQ(keys, (std::vector<std::string>{"zeta", "alpha.ok", "alpha.t", "alpha.big", "flag", "none",
+                                            "ssm.detectors.five.f1", "ssm.detectors.box.f1"}));
+  ASSERT_EQ(r.metrics.size(), 8u);
+  EXPECT_EQ(r.metrics[0].second, 2.0);
+  EXPECT_EQ(r.metrics[1].second, 1.0);
+  EXPECT_EQ(r.metrics[2].second, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(r.metrics[3].second, 1e300);
+  EXPECT_EQ(r.metrics[4].second, 0.0);
+  EXPECT_TRUE(std::isnan(r.metrics[5].second));
+  EXPECT_EQ(r.metrics[6].second, 0.5);
+  EXPECT_EQ(r.metrics[7].second, 0.25);
+
+  std::ofstream(run / "summary.json") << "{\"zeta\": 2,\n \"cut";
+  const RunResult bad = loadRunResult(dir, spec);
+  EXPECT_EQ(bad.status, RunStatus::Failed);
+  EXPECT_NE(bad.error.find((run / "summary.json").string() + ": "), std::string::npos) << bad.error;
   fs::remove_all(dir);
 }
 

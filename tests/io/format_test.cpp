@@ -1,11 +1,12 @@
-// The shared output formatting, checked against independent readers: strtod for numbers, Boost's
-// JSON parser for string literals, an RFC 4180 field reader for CSV.
+// The shared output formatting, checked against independent readers: strtod for numbers,
+// nlohmann::json for string literals and JsonText's documents, an RFC 4180 field reader for CSV.
 #include <stio/format.hpp>
+#include <stio/json.hpp>
 
 #include <gtest/gtest.h>
 
-#include <boost/property_tree/json_parser.hpp>
-#include <boost/property_tree/ptree.hpp>
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -66,10 +67,7 @@ TEST(IoNumber, FixedDigitsAndNonFinite) {
 }
 
 std::string parseJsonString(const std::string& literal) {
-  std::istringstream in("{\"k\": " + literal + "}");
-  boost::property_tree::ptree t;
-  boost::property_tree::read_json(in, t);
-  return t.get<std::string>("k");
+  return nlohmann::json::parse("{\"k\": " + literal + "}").at("k").get<std::string>();
 }
 
 TEST(IoJson, EveryByteSurvivesAJsonParser) {
@@ -204,4 +202,35 @@ TEST(IoSplit, PiecesBetweenTheSeparators) {
   EXPECT_EQ(st::io::split("", '|'), V{});
   EXPECT_EQ(st::io::split("a||b", '|'), (V{"a", "", "b"}));
   EXPECT_EQ(st::io::split("a|", '|'), (V{"a"}));
+}
+
+// JsonText: literals are structure, other text is a quoted value, doubles jsonNumber's; what it
+// writes is what a JSON parser reads back, NaN and infinities as null.
+TEST(IoJson, JsonTextWritesWhatAParserReadsBack) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::string name = "a \"quoted\"\n\x01name \xff";
+  const char* kind = "rest";  // a const char* from a toString: a value, not structure
+  JsonText inner(9);
+  inner << "[" << 1.0 / 3.0 << ", " << nan << "]";
+  JsonText j(17);
+  j << "{\n  \"name\": " << name << ",\n  \"kind\": " << kind << ",\n  \"x\": " << 0.1 << ", \"n\": " << -inf
+    << ", \"big\": " << std::uint64_t{18446744073709551615u} << ", \"i\": " << -7 << ", \"ok\": " << jsonBool(true)
+    << ", \"none\": " << jsonRaw("null") << ", \"inner\": " << inner << "\n}\n";
+  nlohmann::json d;
+  ASSERT_NO_THROW(d = nlohmann::json::parse(j.str())) << j.str();
+  EXPECT_EQ(d["name"].get<std::string>(), utf8(name));
+  EXPECT_EQ(d["kind"].get<std::string>(), "rest");
+  EXPECT_EQ(d["x"].get<double>(), 0.1);
+  EXPECT_TRUE(d["n"].is_null());
+  EXPECT_EQ(d["big"].get<std::uint64_t>(), 18446744073709551615u);
+  EXPECT_EQ(d["i"].get<int>(), -7);
+  EXPECT_EQ(d["ok"].get<bool>(), true);
+  EXPECT_TRUE(d["none"].is_null());
+  EXPECT_EQ(d["inner"][0].get<double>(), 0.333333333);  // 9 digits, the inner writer's
+  EXPECT_TRUE(d["inner"][1].is_null());
+  // the layout is the caller's, byte for byte
+  JsonText small;
+  small << "{\"a\": " << 1.5 << ", \"b\": " << std::string("x") << "}";
+  EXPECT_EQ(small.str(), "{\"a\": 1.5, \"b\": \"x\"}");
 }

@@ -11,6 +11,7 @@
 
 #include <stcore/tolerances.hpp>
 #include <stio/format.hpp>
+#include <stio/json.hpp>
 #include <stpool/scenario_writer.hpp>
 #include <stpool/settings.hpp>
 
@@ -57,20 +58,17 @@ std::string validUtf8(std::string_view s) {
 }
 
 std::string errorMessage(const std::string& field, const std::string& message) {
-  return "{\"type\":\"error\",\"field\":" + io::jsonString(validUtf8(field)) +
-         ",\"message\":" + io::jsonString(validUtf8(message)) + "}";
+  io::JsonText j;
+  j << "{\"type\":\"error\",\"field\":" << validUtf8(field) << ",\"message\":" << validUtf8(message) << "}";
+  return j.str();
 }
 
-// Shortest text that reads back to the same double in JavaScript too: the page shows the bits.
-std::string num(double x) { return io::jsonNumber(x); }
-// appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "[" + std::string
-std::string pair(const Vec2& v) {
-  std::string s(1, '[');
-  s += num(v.x());
-  s += ',';
-  s += num(v.y());
-  s += ']';
-  return s;
+// Numbers in the messages are the shortest text that reads back to the same double, in
+// JavaScript too (the page shows the bits): io::JsonText's default.
+io::JsonText pair(const Vec2& v) {
+  io::JsonText j;
+  j << "[" << v.x() << "," << v.y() << "]";
+  return j;
 }
 
 // Nesting deeper than any message needs is refused before parsing (bounded work on garbage).
@@ -138,22 +136,22 @@ Vec2 vec2(const json& j, const char* key) {
   return p;
 }
 
-std::string regionsJson(const Simulator<2>& sim) {
-  std::string out = "[";
+// each leaf as [x0,y0,x1,y1]
+io::JsonText regionsJson(const Simulator<2>& sim) {
+  io::JsonText out;
+  out << "[";
   // (none, the brute force, has no regions to draw)
   if (const Space<2>* sp = sim.space(); sp->kind() != SpaceKind::None) {
     bool first = true;
     for (int leaf : sp->leaves()) {
       const Rect b = sp->leafBounds(leaf);
-      if (!first) out += ',';
+      if (!first) out << ",";
       first = false;
-      const std::string lo = pair(b.min), hi = pair(b.max);  // [x0,y0] [x1,y1] -> [x0,y0,x1,y1]
-      out.append(lo, 0, lo.size() - 1);
-      out += ',';
-      out.append(hi, 1, std::string::npos);
+      out << "[" << b.min.x() << "," << b.min.y() << "," << b.max.x() << "," << b.max.y() << "]";
     }
   }
-  return out + "]";
+  out << "]";
+  return out;
 }
 
 // Subdivisions plus reunions: changes when the regions change.
@@ -306,14 +304,18 @@ void SessionMessages::shoot(PlaySession& s, const json& j, std::vector<std::stri
   const std::size_t pocketed0 = s.game_->pocketed().size();
   std::uint64_t regions = regionChanges(sim);
   std::deque<std::string> parts;
-  parts.push_back("{\"type\":\"shot\",\"index\":" + std::to_string(index) + ",\"ball\":" + std::to_string(cueBall) +
-                  ",\"velocity\":" + pair(v) + ",\"start\":" + num(sim.now()) + ",\"until\":" + num(limit) + "}");
-  std::string part;
+  io::JsonText head;
+  head << "{\"type\":\"shot\",\"index\":" << index << ",\"ball\":" << cueBall << ",\"velocity\":" << pair(v)
+       << ",\"start\":" << sim.now() << ",\"until\":" << limit << "}";
+  parts.push_back(head.str());
+  io::JsonText part;
   std::size_t count = 0;
   auto close = [&] {
     if (part.empty()) return;
-    parts.push_back("{\"type\":\"events\",\"index\":" + std::to_string(index) + ",\"events\":[" + part + "]}");
-    part.clear();
+    io::JsonText events;
+    events << "{\"type\":\"events\",\"index\":" << index << ",\"events\":[" << part << "]}";
+    parts.push_back(events.str());
+    part = io::JsonText();
   };
   ShotSummary summary;
   try {
@@ -321,18 +323,18 @@ void SessionMessages::shoot(PlaySession& s, const json& j, std::vector<std::stri
       if (++count > s.limits_.maxShotEvents)
         throw std::runtime_error("the shot needs more than " + std::to_string(s.limits_.maxShotEvents) +
                                  " events (lower until or raise friction)");
-      if (!part.empty()) part += ',';
-      part += "{\"t\":" + num(e.t) + ",\"k\":\"" + toString(e.kind) + "\",\"b\":" + std::to_string(e.ball) +
-              ",\"o\":" + std::to_string(e.other) + ",\"p\":" + pair(e.p) + ",\"v\":" + pair(e.v);
-      if (e.kind == PoolEventKind::Ball) part += ",\"op\":" + pair(e.otherP) + ",\"ov\":" + pair(e.otherV);
-      part += ",\"c\":" + std::to_string(sim.counters().pairChecks - checks0);
+      if (!part.empty()) part << ",";
+      part << "{\"t\":" << e.t << ",\"k\":" << toString(e.kind) << ",\"b\":" << e.ball << ",\"o\":" << e.other
+           << ",\"p\":" << pair(e.p) << ",\"v\":" << pair(e.v);
+      if (e.kind == PoolEventKind::Ball) part << ",\"op\":" << pair(e.otherP) << ",\"ov\":" << pair(e.otherV);
+      part << ",\"c\":" << sim.counters().pairChecks - checks0;
       // version II: the regions after every event that subdivided or reunited them
       if (const std::uint64_t r = regionChanges(sim); r != regions) {
         regions = r;
-        part += ",\"r\":" + regionsJson(sim);
+        part << ",\"r\":" << regionsJson(sim);
       }
-      part += '}';
-      if (part.size() > s.limits_.partBytes) close();
+      part << "}";
+      if (part.str().size() > s.limits_.partBytes) close();
     });
   } catch (const std::runtime_error& e) {
     // undo: the game as it was before the shot (replayed: the same bits)
@@ -346,15 +348,16 @@ void SessionMessages::shoot(PlaySession& s, const json& j, std::vector<std::stri
   close();
   s.layout_.shots.push_back(shot);
   ++s.shotsTaken_;
-  std::ostringstream end;
-  end << "{\"type\":\"shot_end\",\"index\":" << index << ",\"ending\":\"" << toString(summary.ending)
-      << "\",\"end\":" << num(summary.end) << ",\"events\":" << summary.events
+  io::JsonText end;
+  end << "{\"type\":\"shot_end\",\"index\":" << index << ",\"ending\":" << toString(summary.ending)
+      << ",\"end\":" << summary.end << ",\"events\":" << summary.events
       << ",\"checks\":" << sim.counters().pairChecks - checks0 << ",\"obstacle_checks\":" << sim.counters().staticChecks - obstacle0
-      << ",\"ke_start\":" << num(summary.keStart) << ",\"ke_end\":" << num(summary.keEnd)
-      << ",\"ke_pocketed\":" << num(summary.kePocketed) << ",\"energy_drift\":" << num(summary.energyDrift()) << ",\"pocketed\":[";
+      << ",\"ke_start\":" << summary.keStart << ",\"ke_end\":" << summary.keEnd
+      << ",\"ke_pocketed\":" << summary.kePocketed << ",\"energy_drift\":" << summary.energyDrift() << ",\"pocketed\":[";
   for (std::size_t k = pocketed0; k < s.game_->pocketed().size(); ++k) {
     const Pocketing& p = s.game_->pocketed()[k];
-    end << (k > pocketed0 ? "," : "") << "{\"number\":" << p.number << ",\"pocket\":" << p.pocket << ",\"t\":" << num(p.t) << "}";
+    if (k > pocketed0) end << ",";
+    end << "{\"number\":" << p.number << ",\"pocket\":" << p.pocket << ",\"t\":" << p.t << "}";
   }
   end << "]}";
   parts.push_back(end.str());
@@ -450,33 +453,40 @@ void SessionMessages::edit(PlaySession& s, const json& j, const std::string& typ
 std::string PlaySession::stateMessage() const {
   const Table& t = game_->table();
   const Simulator<2>& sim = game_->simulator();
-  std::ostringstream os;
-  os << "{\"type\":\"state\",\"table\":{\"width\":" << num(t.spec.width) << ",\"height\":" << num(t.spec.height)
-     << ",\"bounds\":[" << num(t.bounds().min.x()) << "," << num(t.bounds().min.y()) << "," << num(t.bounds().max.x())
-     << "," << num(t.bounds().max.y()) << "],\"cushions\":[";
-  for (std::size_t i = 0; i < t.cushions.size(); ++i)
-    os << (i ? "," : "") << "[" << num(t.cushions[i].a.x()) << "," << num(t.cushions[i].a.y()) << ","
-       << num(t.cushions[i].b.x()) << "," << num(t.cushions[i].b.y()) << "]";
+  io::JsonText os;
+  os << "{\"type\":\"state\",\"table\":{\"width\":" << t.spec.width << ",\"height\":" << t.spec.height
+     << ",\"bounds\":[" << t.bounds().min.x() << "," << t.bounds().min.y() << "," << t.bounds().max.x() << ","
+     << t.bounds().max.y() << "],\"cushions\":[";
+  for (std::size_t i = 0; i < t.cushions.size(); ++i) {
+    if (i) os << ",";
+    os << "[" << t.cushions[i].a.x() << "," << t.cushions[i].a.y() << "," << t.cushions[i].b.x() << ","
+       << t.cushions[i].b.y() << "]";
+  }
   os << "],\"pockets\":[";
-  for (std::size_t i = 0; i < t.pockets.size(); ++i)
-    os << (i ? "," : "") << "[" << num(t.pockets[i].center.x()) << "," << num(t.pockets[i].center.y()) << ","
-       << num(t.pockets[i].radius) << "]";
-  os << "]},\"t\":" << num(sim.now()) << ",\"balls\":[";
+  for (std::size_t i = 0; i < t.pockets.size(); ++i) {
+    if (i) os << ",";
+    os << "[" << t.pockets[i].center.x() << "," << t.pockets[i].center.y() << "," << t.pockets[i].radius << "]";
+  }
+  os << "]},\"t\":" << sim.now() << ",\"balls\":[";
   bool first = true;
   for (int i = 0; i < static_cast<int>(game_->specs().size()); ++i) {
     const BallSpec& b = game_->specs()[i];
     const BallState<2>& ball = sim.ball(i);
     if (!ball.active) continue;
-    os << (first ? "" : ",") << "{\"h\":" << i << ",\"n\":" << b.number << ",\"p\":" << pair(ball.positionAt(sim.now()))
-       << ",\"v\":" << pair(ball.velocityAt(sim.now())) << ",\"r\":" << num(b.radius) << ",\"m\":" << num(b.mass) << ",\"colour\":\"" << hexOf(b.colour)
-       << "\",\"striped\":" << (b.pattern == Pattern::Striped ? "true" : "false") << "}";
+    if (!first) os << ",";
+    os << "{\"h\":" << i << ",\"n\":" << b.number << ",\"p\":" << pair(ball.positionAt(sim.now()))
+       << ",\"v\":" << pair(ball.velocityAt(sim.now())) << ",\"r\":" << b.radius << ",\"m\":" << b.mass
+       << ",\"colour\":" << hexOf(b.colour) << ",\"striped\":" << io::jsonBool(b.pattern == Pattern::Striped) << "}";
     first = false;
   }
   os << "],\"regions\":" << regionsJson(sim) << ",\"settings\":{\"version\":" << version(layout_.space.kind)
-     << ",\"space\":\"" << toString(layout_.space.kind) << "\",\"df\":" << layout_.space.decompositionFactor
-     << ",\"friction\":" << num(layout_.friction) << ",\"until\":" << num(layout_.until) << "},\"shots\":" << shotsTaken_
+     << ",\"space\":" << toString(layout_.space.kind) << ",\"df\":" << layout_.space.decompositionFactor
+     << ",\"friction\":" << layout_.friction << ",\"until\":" << layout_.until << "},\"shots\":" << shotsTaken_
      << ",\"layout_shots\":" << layout_.shots.size() << ",\"pocketed\":[";
-  for (std::size_t k = 0; k < game_->pocketed().size(); ++k) os << (k ? "," : "") << game_->pocketed()[k].number;
+  for (std::size_t k = 0; k < game_->pocketed().size(); ++k) {
+    if (k) os << ",";
+    os << game_->pocketed()[k].number;
+  }
   os << "],\"limits\":{\"balls\":" << limits_.maxBalls << ",\"shots\":" << limits_.maxShots << "}}";
   return os.str();
 }

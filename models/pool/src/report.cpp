@@ -1,10 +1,12 @@
 #include <stpool/report.hpp>
 
 #include <stio/format.hpp>
+#include <stio/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace st::pool {
@@ -16,14 +18,8 @@ using io::jsonString;
 // one XML escaping for every output (st::io: UTF-8 and XML's forbidden characters too)
 std::string xmlEscape(const std::string& s) { return io::xmlText(s); }
 
-// JSON has no infinities or NaNs: null stands for them.
-std::string num(double x) { return io::jsonNumber(x, 17); }
-
-std::string vec(const Vec2& v) {
-  std::ostringstream os;
-  os << '[' << num(v.x()) << ", " << num(v.y()) << ']';
-  return os.str();
-}
+// a figure that does not apply (the energy drift of a run with friction): NaN, written as null
+constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
 
 // Table drawing in pixels: y up in the model, down on screen.
 struct View {
@@ -107,60 +103,74 @@ void writeSummaryJson(std::ostream& os, const RunRecord& run, const Game& game) 
   const Simulator<2>& sim = game.simulator();
   const SimulatorCounters& c = sim.counters();
   const auto counts = eventCounts(run.events);
-  os << "{\n";
-  os << "  \"scenario\": " << jsonString(run.scenario) << ",\n";
-  os << "  \"space\": " << jsonString(run.spaceDescription) << ",\n";
-  os << "  \"balls\": " << game.specs().size() << ",\n";
-  os << "  \"simulated_time_s\": " << num(sim.now()) << ",\n";
-  os << "  \"events\": {";
+  io::JsonText j(17);
+  const auto vec = [](const Vec2& v) {
+    io::JsonText p(17);
+    p << "[" << v.x() << ", " << v.y() << "]";
+    return p;
+  };
+  j << "{\n";
+  j << "  \"scenario\": " << run.scenario << ",\n";
+  j << "  \"space\": " << run.spaceDescription << ",\n";
+  j << "  \"balls\": " << game.specs().size() << ",\n";
+  j << "  \"simulated_time_s\": " << sim.now() << ",\n";
+  j << "  \"events\": {";
   std::uint64_t total = 0;
   for (int k = 0; k < static_cast<int>(PoolEventKind::Count); ++k) {
-    os << (k ? ", " : "") << jsonString(toString(static_cast<PoolEventKind>(k))) << ": " << counts[k];
+    if (k) j << ", ";
+    j << toString(static_cast<PoolEventKind>(k)) << ": " << counts[k];
     total += counts[k];
   }
-  os << ", \"total\": " << total << "},\n";
-  os << "  \"simulator_events\": " << c.totalEvents() << ",\n";
-  os << "  \"collision_checks\": " << c.pairChecks << ",\n";
-  os << "  \"obstacle_checks\": " << c.staticChecks << ",\n";
-  os << "  \"stale_predictions\": " << c.staleEvents << ",\n";
+  j << ", \"total\": " << total << "},\n";
+  j << "  \"simulator_events\": " << c.totalEvents() << ",\n";
+  j << "  \"collision_checks\": " << c.pairChecks << ",\n";
+  j << "  \"obstacle_checks\": " << c.staticChecks << ",\n";
+  j << "  \"stale_predictions\": " << c.staleEvents << ",\n";
   // (none, the brute force, has no regions to count)
   if (const Space<2>* sp = sim.space(); sp->kind() != SpaceKind::None) {
-    os << "  \"space_counters\": {\"subdivisions\": " << sp->counters().subdivisions
-       << ", \"reunions\": " << sp->counters().reunions << ", \"transfers\": " << sp->counters().transfers
-       << ", \"leaves_at_end\": " << sp->leaves().size() << "},\n";
+    j << "  \"space_counters\": {\"subdivisions\": " << sp->counters().subdivisions
+      << ", \"reunions\": " << sp->counters().reunions << ", \"transfers\": " << sp->counters().transfers
+      << ", \"leaves_at_end\": " << sp->leaves().size() << "},\n";
   }
-  os << "  \"pocketed\": [";
+  j << "  \"pocketed\": [";
   for (std::size_t i = 0; i < game.pocketed().size(); ++i) {
     const Pocketing& p = game.pocketed()[i];
-    os << (i ? ", " : "") << "{\"number\": " << p.number << ", \"shot\": " << p.shot << ", \"pocket\": " << p.pocket
-       << ", \"time_s\": " << num(p.t) << "}";
+    if (i) j << ", ";
+    j << "{\"number\": " << p.number << ", \"shot\": " << p.shot << ", \"pocket\": " << p.pocket
+      << ", \"time_s\": " << p.t << "}";
   }
-  os << "],\n";
-  os << "  \"shots\": [";
+  j << "],\n";
+  j << "  \"shots\": [";
   double worstDrift = 0.0;
   for (std::size_t i = 0; i < run.shots.size(); ++i) {
     const ShotSummary& s = run.shots[i];
     if (!s.friction) worstDrift = std::max(worstDrift, std::abs(s.energyDrift()));
-    os << (i ? "," : "") << "\n    {\"ball\": " << s.ball << ", \"start_s\": " << num(s.start) << ", \"end_s\": "
-       << num(s.end) << ", \"ending\": " << jsonString(toString(s.ending)) << ", \"events\": " << s.events
-       << ", \"kinetic_energy_initial_J\": " << num(s.keStart) << ", \"kinetic_energy_final_J\": " << num(s.keEnd)
-       << ", \"kinetic_energy_pocketed_J\": " << num(s.kePocketed) << ", \"momentum_initial\": "
-       << vec(s.momentumStart) << ", \"momentum_final\": " << vec(s.momentumEnd)
-       << ", \"energy_drift\": " << (s.friction ? std::string("null") : num(s.energyDrift()))
-       << ", \"energy_dissipated_J\": " << num(s.keStart - s.keEnd - s.kePocketed) << "}";
+    if (i) j << ",";
+    j << "\n    {\"ball\": " << s.ball << ", \"start_s\": " << s.start << ", \"end_s\": " << s.end
+      << ", \"ending\": " << toString(s.ending) << ", \"events\": " << s.events
+      << ", \"kinetic_energy_initial_J\": " << s.keStart << ", \"kinetic_energy_final_J\": " << s.keEnd
+      << ", \"kinetic_energy_pocketed_J\": " << s.kePocketed << ", \"momentum_initial\": " << vec(s.momentumStart)
+      << ", \"momentum_final\": " << vec(s.momentumEnd) << ", \"energy_drift\": "
+      << (s.friction ? kNone : s.energyDrift())
+      << ", \"energy_dissipated_J\": " << s.keStart - s.keEnd - s.kePocketed << "}";
   }
-  os << (run.shots.empty() ? "" : "\n  ") << "],\n";
+  if (!run.shots.empty()) j << "\n  ";
+  j << "],\n";
   const ShotSummary first = run.shots.empty() ? ShotSummary{} : run.shots.front();
   const ShotSummary last = run.shots.empty() ? ShotSummary{} : run.shots.back();
-  os << "  \"kinetic_energy_initial_J\": " << num(first.keStart) << ",\n";
-  os << "  \"kinetic_energy_final_J\": " << num(last.keEnd) << ",\n";
-  os << "  \"momentum_initial\": " << vec(first.momentumStart) << ",\n";
-  os << "  \"momentum_final\": " << vec(last.momentumEnd) << ",\n";
-  os << "  \"friction_m_per_s2\": " << num(game.friction()) << ",\n";
-  os << "  \"energy_drift_max\": " << (game.friction() > 0.0 ? std::string("null") : num(worstDrift)) << ",\n";
-  os << "  \"wall_time_s\": " << num(run.wallSeconds) << ",\n";
-  os << "  \"error\": " << (run.error.empty() ? "null" : jsonString(run.error)) << "\n";
-  os << "}\n";
+  j << "  \"kinetic_energy_initial_J\": " << first.keStart << ",\n";
+  j << "  \"kinetic_energy_final_J\": " << last.keEnd << ",\n";
+  j << "  \"momentum_initial\": " << vec(first.momentumStart) << ",\n";
+  j << "  \"momentum_final\": " << vec(last.momentumEnd) << ",\n";
+  j << "  \"friction_m_per_s2\": " << game.friction() << ",\n";
+  j << "  \"energy_drift_max\": " << (game.friction() > 0.0 ? kNone : worstDrift)
+    << ",\n";
+  j << "  \"wall_time_s\": " << run.wallSeconds << ",\n";
+  j << "  \"error\": ";
+  if (run.error.empty()) j << "null";
+  else j << run.error;
+  j << "\n}\n";
+  os << j.str();
 }
 
 void writeTableSvg(std::ostream& os, const Game& game, const std::string& title) {
@@ -223,45 +233,44 @@ void writeAnimationHtml(std::ostream& os, const RunRecord& run, const Game& game
   const auto& specs = game.specs();
   // per ball: keyframes [t, x, y, vx, vy] at every change of velocity, and the time it left
   std::vector<double> gone(specs.size(), -1.0);
-  // JSON has no NaN or infinity: every number goes through io::jsonNumber (null for those), at 9
-  // significant digits for the table and 12 for the keyframes
-  const auto n9 = [](double x) { return io::jsonNumber(x, 9); };
-  const auto n12 = [](double x) { return io::jsonNumber(x, 12); };
-  const auto key = [&](double at, const Vec2& p, const Vec2& v) {
-    std::string s = "[";
-    for (const double x : {at, p.x(), p.y(), v.x(), v.y()}) (s += n12(x)) += ',';
-    s.back() = ']';
-    return s;
-  };
-  std::ostringstream data;
-  data << "{\"width\":" << n9(t.spec.width) << ",\"height\":" << n9(t.spec.height) << ",\"end\":"
-       << n9(game.simulator().now()) << ",\"title\":" << jsonString(run.scenario + " (" + run.spaceDescription + ")")
-       << ",\"cushions\":[";
-  for (std::size_t i = 0; i < t.cushions.size(); ++i)
-    data << (i ? "," : "") << "[" << n9(t.cushions[i].a.x()) << "," << n9(t.cushions[i].a.y()) << ","
-         << n9(t.cushions[i].b.x()) << "," << n9(t.cushions[i].b.y()) << "]";
+  // the table at 9 significant digits, the keyframes at 12 (io::JsonText: NaN, infinities as null)
+  io::JsonText data(9);
+  data << "{\"width\":" << t.spec.width << ",\"height\":" << t.spec.height << ",\"end\":" << game.simulator().now()
+       << ",\"title\":" << run.scenario + " (" + run.spaceDescription + ")" << ",\"cushions\":[";
+  for (std::size_t i = 0; i < t.cushions.size(); ++i) {
+    if (i) data << ",";
+    data << "[" << t.cushions[i].a.x() << "," << t.cushions[i].a.y() << "," << t.cushions[i].b.x() << ","
+         << t.cushions[i].b.y() << "]";
+  }
   data << "],\"pockets\":[";
-  for (std::size_t i = 0; i < t.pockets.size(); ++i)
-    data << (i ? "," : "") << "[" << n9(t.pockets[i].center.x()) << "," << n9(t.pockets[i].center.y()) << ","
-         << n9(t.pockets[i].radius) << "]";
+  for (std::size_t i = 0; i < t.pockets.size(); ++i) {
+    if (i) data << ",";
+    data << "[" << t.pockets[i].center.x() << "," << t.pockets[i].center.y() << "," << t.pockets[i].radius << "]";
+  }
   data << "],\"balls\":[";
   // keyframes from the event log
-  std::vector<std::string> k(specs.size());
-  for (std::size_t i = 0; i < specs.size(); ++i) k[i] = key(0.0, specs[i].position, specs[i].velocity);
+  std::vector<io::JsonText> k(specs.size(), io::JsonText(12));
+  const auto key = [&](std::size_t ball, double at, const Vec2& p, const Vec2& v) {
+    if (!k[ball].empty()) k[ball] << ",";
+    k[ball] << "[" << at << "," << p.x() << "," << p.y() << "," << v.x() << "," << v.y() << "]";
+  };
+  for (std::size_t i = 0; i < specs.size(); ++i) key(i, 0.0, specs[i].position, specs[i].velocity);
   for (const auto& e : run.events) {
     if (e.kind == PoolEventKind::Boundary) continue;  // path unchanged
     if (e.kind == PoolEventKind::Pocket) {
       gone[e.ball] = e.t;
       continue;
     }
-    (k[e.ball] += ',') += key(e.t, e.p, e.v);
-    if (e.kind == PoolEventKind::Ball) (k[e.other] += ',') += key(e.t, e.otherP, e.otherV);
+    key(e.ball, e.t, e.p, e.v);
+    if (e.kind == PoolEventKind::Ball) key(e.other, e.t, e.otherP, e.otherV);
   }
   for (std::size_t i = 0; i < specs.size(); ++i) {
-    data << (i ? "," : "") << "{\"n\":" << specs[i].number << ",\"r\":" << n9(specs[i].radius) << ",\"a\":"
-         << n9(game.friction()) << ",\"c\":\"" << hexOf(specs[i].colour)
-         << "\",\"s\":" << (specs[i].pattern == Pattern::Striped ? 1 : 0)
-         << ",\"gone\":" << (gone[i] < 0 ? std::string("null") : num(gone[i])) << ",\"k\":[" << k[i] << "]}";
+    if (i) data << ",";
+    io::JsonText goneAt(17);  // the time the ball left the table: null if it stayed
+    goneAt << (gone[i] < 0 ? kNone : gone[i]);
+    data << "{\"n\":" << specs[i].number << ",\"r\":" << specs[i].radius << ",\"a\":" << game.friction()
+         << ",\"c\":" << hexOf(specs[i].colour) << ",\"s\":" << (specs[i].pattern == Pattern::Striped ? 1 : 0)
+         << ",\"gone\":" << goneAt << ",\"k\":[" << k[i] << "]}";
   }
   data << "]}";
 
