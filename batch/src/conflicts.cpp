@@ -29,11 +29,9 @@ struct Pool {
   std::map<std::string, std::vector<double>> values;  // measure -> its finite values
 };
 
-// Adds one run's conflicts (one row per conflict: a pair and an encounter, counted once); false
-// if the run wrote none.
-bool addRun(const fs::path& file, double warmup, Pool& pool, std::set<std::string>& measures) {
+// Adds one run's conflicts (one row per conflict: a pair and an encounter, counted once).
+void addRun(const fs::path& file, double warmup, Pool& pool, std::set<std::string>& measures) {
   const RunConflicts run = readRunConflicts(file, warmup);
-  if (!run.present) return false;
   measures.insert(run.measures.begin(), run.measures.end());
   ++pool.runs;
   for (const RunConflicts::Row& row : run.rows) {
@@ -42,7 +40,6 @@ bool addRun(const fs::path& file, double warmup, Pool& pool, std::set<std::strin
     for (std::size_t m = 0; m < run.measures.size(); ++m)
       if (std::isfinite(row.values[m])) pool.values[run.measures[m]].push_back(row.values[m]);
   }
-  return true;
 }
 
 struct Welch {
@@ -70,35 +67,25 @@ Welch welch(const std::vector<double>& x, const std::vector<double>& y) {
 }  // namespace
 
 RunConflicts readRunConflicts(const fs::path& file, double warmup) {
-  RunConflicts run;
-  std::ifstream in(file);
-  if (!in) return run;
-  std::string line;
-  if (!std::getline(in, line)) return run;
-  const std::vector<std::string> header = io::csvFields(line);
-  std::map<std::string, std::size_t> col;
-  for (std::size_t i = 0; i < header.size(); ++i) col[header[i]] = i;
-  if (!col.count("type")) throw std::runtime_error(file.string() + ": no type column (not a highway conflicts.csv)");
-  if (warmup > 0.0 && !col.count("begin"))
+  const CsvTable csv = readCsvTable(file);
+  const std::size_t type = csv.column("type", "not a highway conflicts.csv");
+  const int begin = csv.find("begin");
+  if (warmup > 0.0 && begin < 0)
     throw std::runtime_error(file.string() + ": no begin column, so warmup cannot be applied");
+  RunConflicts run;
   std::vector<std::size_t> at;
   for (const char* m : kConflictMeasures)
-    if (col.count(m)) run.measures.emplace_back(m), at.push_back(col[m]);
-  run.present = true;
-  auto value = [](const std::string& cell) {
-    char* end = nullptr;
-    const double v = std::strtod(cell.c_str(), &end);
-    return !cell.empty() && end && *end == '\0' && std::isfinite(v) ? v : std::nan("");
-  };
-  while (std::getline(in, line)) {
-    const std::vector<std::string> row = io::csvFields(line);
-    if (row.size() != header.size()) continue;  // a cut last row (the run was stopped)
-    const std::string& type = row[col["type"]];
-    if (std::find(std::begin(kConflictTypes), std::end(kConflictTypes), type) == std::end(kConflictTypes)) continue;
+    if (const int c = csv.find(m); c >= 0) run.measures.emplace_back(m), at.push_back(static_cast<std::size_t>(c));
+  for (std::size_t i = 0; i < csv.rows.size(); ++i) {
+    const std::string& kind = csv.rows[i][type];
+    if (std::find(std::begin(kConflictTypes), std::end(kConflictTypes), kind) == std::end(kConflictTypes)) continue;
     // the warm-up: an encounter that began before it is the warm-up's, left out whole
-    if (warmup > 0.0 && !(value(row[col["begin"]]) >= warmup)) continue;
-    RunConflicts::Row r{type, {}};
-    for (std::size_t i : at) r.values.push_back(value(row[i]));
+    if (warmup > 0.0 && !(csv.number(i, static_cast<std::size_t>(begin)) >= warmup)) continue;
+    RunConflicts::Row r{kind, {}};
+    for (std::size_t c : at) {
+      const double v = csv.number(i, c);
+      r.values.push_back(std::isfinite(v) ? v : std::nan(""));
+    }
     run.rows.push_back(std::move(r));
   }
   return run;
@@ -114,7 +101,9 @@ void writeConflictTables(const Experiment& e, const std::vector<RunResult>& resu
     for (const auto& [k, v] : r.spec.params) key.push_back(v);
     if (!pools.count(key)) order.push_back(key);
     Pool& p = pools[key];
-    if (r.status == RunStatus::Done) any = addRun(runDir(outDir, r.spec) / "conflicts.csv", e.warmup, p, present) || any;
+    if (r.status != RunStatus::Done) continue;
+    addRun(runDir(outDir, r.spec) / "conflicts.csv", e.warmup, p, present);
+    any = true;
   }
   if (!any) return;
   std::vector<std::string> measures;  // in kConflictMeasures' order

@@ -28,21 +28,14 @@ double metric(const RunResult& r, const std::string& name) {
 // exposure.csv's figures at the last tick at or before `t`: (vehicle_km, vehicles); zeros
 // before its first row.
 std::pair<double, double> exposureAt(const fs::path& file, double t) {
-  std::ifstream in(file);
-  std::string line;
-  if (!in || !std::getline(in, line))
-    throw std::runtime_error(file.string() + ": missing or empty; warmup needs it (live highway runs write it)");
-  const std::vector<std::string> header = io::csvFields(line);
-  std::map<std::string, std::size_t> col;
-  for (std::size_t i = 0; i < header.size(); ++i) col[header[i]] = i;
-  for (const char* c : {"time", "vehicle_km", "vehicles"})
-    if (!col.count(c)) throw std::runtime_error(file.string() + ": no " + c + " column");
+  const detail::CsvTable csv = detail::readCsvTable(file);
+  const std::string why = "warmup needs it";
+  const std::size_t time = csv.column("time", why), km = csv.column("vehicle_km", why),
+                    vehicles = csv.column("vehicles", why);
   std::pair<double, double> at{0.0, 0.0};
-  while (std::getline(in, line)) {
-    const std::vector<std::string> row = io::csvFields(line);
-    if (row.size() != header.size()) continue;
-    if (std::stod(row[col["time"]]) > t) break;
-    at = {std::stod(row[col["vehicle_km"]]), std::stod(row[col["vehicles"]])};
+  for (std::size_t i = 0; i < csv.rows.size(); ++i) {
+    if (csv.required(i, time) > t) break;
+    at = {csv.required(i, km), csv.required(i, vehicles)};
   }
   return at;
 }
@@ -73,7 +66,6 @@ void addRates(const Experiment& e, std::vector<RunResult>& results, const fs::pa
     if (r.status != RunStatus::Done) continue;
     const fs::path dir = detail::runDir(outDir, r.spec);
     const RunConflicts conflicts = readRunConflicts(dir / "conflicts.csv", e.warmup);
-    if (!conflicts.present) continue;
     const Exposure x = runExposure(r, dir, e.warmup);
     std::map<std::string, double> counted{{"all", 0.0}};
     for (const char* t : kConflictTypes) counted[t] = 0.0;

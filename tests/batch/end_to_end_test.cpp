@@ -525,6 +525,51 @@ TEST(BatchEndToEnd, SigtermToTheBatchAloneStopsItsRuns) {
   EXPECT_TRUE(fs::exists(out / "runs.csv"));
 }
 
+// A done run's files broken after the batch (cut short, a row of the wrong width, a cell that is
+// not a number, deleted): building the tables again (stsim batch merge) stops with exit 1 and one
+// line naming the file and the line, and writes no tables from the half it could read.
+TEST(BatchEndToEnd, BrokenRunFilesStopTheTablesNamingFileAndLine) {
+  const auto dir = freshDir("broken_files");
+  const fs::path file = dir / "experiment.yaml";
+  std::ofstream(file) << "name: broken\ncommand: highway\nbase: " << STSIM_SOURCE_DIR
+                      << "/networks/motorway/scenario.yaml\nfixed:\n  end: 30\n  action: none\nwarmup: 5\nseeds: 1\n";
+  std::string err;
+  ASSERT_EQ(runStsim({"batch", file.string(), "--out", (dir / "out").string(), "--no-plots"}, dir, &err), 0) << err;
+  fs::path run;
+  for (const auto& d : fs::directory_iterator(dir / "out/runs")) run = d.path();
+  const std::string conflicts = slurp(run / "conflicts.csv"), exposure = slurp(run / "exposure.csv");
+  const auto lines = [](const std::string& text) { return std::count(text.begin(), text.end(), '\n'); };
+  ASSERT_GE(lines(exposure), 3) << exposure;
+  struct Case {
+    const char* file;
+    std::string text;   // the file's new content
+    std::string error;  // after "<the file>"
+  };
+  const std::string exposureHead = exposure.substr(0, exposure.find('\n') + 1);
+  const std::vector<Case> cases{
+      {"conflicts.csv", conflicts.substr(0, conflicts.size() - 1),
+       std::string(":") += std::to_string(lines(conflicts)) + ": the last line is cut short (no line end)"},
+      {"exposure.csv", exposureHead + "0,0\n", ":2: 2 fields, the header has 3"},
+      {"exposure.csv", exposureHead + "0,0,0\n1,x,2\n", ":3: vehicle_km: \"x\" is not a number"},
+      {"conflicts.csv", "", ":1: empty, no header line"},
+  };
+  int k = 0;
+  for (const Case& c : cases) {
+    const std::string merged = (dir / "m").string() += std::to_string(k++);
+    fs::remove_all(merged);
+    const std::string keep = slurp(run / c.file);
+    std::ofstream(run / c.file, std::ios::binary) << c.text;
+    EXPECT_EQ(runStsim({"batch", "merge", (dir / "out").string(), "--out", merged, "--no-plots"}, dir, &err), 1) << c.error;
+    const std::string named = (fs::path(merged) / "runs" / run.filename() / c.file).string();
+    EXPECT_EQ(err, "stsim batch: error: " + named + c.error + "\n");
+    EXPECT_FALSE(fs::exists(fs::path(merged) / "runs.csv")) << c.error;
+    std::ofstream(run / c.file, std::ios::binary) << keep;
+  }
+  fs::remove(run / "conflicts.csv");
+  EXPECT_EQ(runStsim({"batch", "merge", (dir / "out").string(), "--out", (dir / "gone").string(), "--no-plots"}, dir, &err), 1);
+  EXPECT_EQ(err, "stsim batch: error: " + (dir / "gone/runs" / run.filename() / "conflicts.csv").string() + ": no such file\n");
+}
+
 TEST(BatchEndToEnd, MergeWithoutFoldersSaysWhatItNeeds) {
   const auto dir = freshDir("merge_none");
   std::string err;

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <stbatch/conflicts.hpp>
 #include <stbatch/run_result.hpp>
@@ -36,6 +37,7 @@ std::vector<std::vector<std::string>> readCsv(const fs::path& p) {
 
 TEST(BatchTables, PairedDifferencesMatchSeedBySeedArithmetic) {
   Experiment e;
+  e.command = "pool";  // the metrics' tables alone: a highway experiment reads each run's conflicts.csv too
   e.sweep = {{"action", {"none", "brake"}}, {"penetration", {"0.5", "1.0"}}};
   e.seeds = {1, 2, 3};
   std::vector<RunSpec> specs = expandRuns(e);
@@ -95,6 +97,7 @@ TEST(BatchTables, PairedDifferencesMatchSeedBySeedArithmetic) {
 // a difference that varies by seed: the sd and the t-based CI of the differences, by hand
 TEST(BatchTables, PairedSpreadIsTheDifferencesSpread) {
   Experiment e;
+  e.command = "pool";  // the metrics' tables alone
   e.sweep = {{"action", {"none", "brake"}}};
   e.seeds = {1, 2, 3, 4};
   const double diffs[] = {-1.0, 0.0, -3.0, 0.0};  // mean -1, sd sqrt(2), ci95 = 3.182 * sqrt(2) / 2
@@ -189,6 +192,7 @@ TEST(BatchTables, HindsightNullsStayEmptyAndSharesArePooledOverSeeds) {
     const bool failed = i == 3;
     std::ofstream(run / "result.yaml") << "status: " << (failed ? "failed" : "done") << "\nerror: \"\"\nwall_seconds: 1\n";
     if (!failed) {
+      std::ofstream(run / "conflicts.csv") << "first,second,type,begin,min_ttc\n";  // a done highway run writes one
       const Fig& f = figs[i];
       auto share = [](int part, int whole) { return whole ? std::to_string(static_cast<double>(part) / whole) : std::string("null"); };
       const std::string lead = std::string(f.lead) == "null" ? "null"
@@ -454,6 +458,76 @@ TEST(BatchTables, StudyRatesHonourTheWarmupAndMatchHandWorkedIntervals) {
   EXPECT_NEAR(std::stod(welch[1][column(welch, "min_ttc.t")]), diff / se, 1e-9);
   EXPECT_NEAR(std::stod(welch[1][column(welch, "min_ttc.diff_ci95")]), 2.262157 * se, 1e-6);
   EXPECT_NEAR(std::stod(welch[1][column(welch, "min_ttc.t")]), -1.5314296826704683, 1e-9);
+  fs::remove_all(dir);
+}
+
+// A done run's conflicts.csv and exposure.csv are read whole or not at all: a file missing, cut
+// short, with a row of the wrong width or a cell that is not a number is an error of one line
+// naming the file and the line, never rows skipped or zeros.
+TEST(BatchTables, BrokenRunFilesAreErrorsNamingFileAndLine) {
+  const fs::path dir = fs::temp_directory_path() / ("stsim_tables_broken_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path f = dir / "conflicts.csv";
+  const std::string head = "first,second,type,begin,min_ttc\n";
+  // the error reading f (after writing `text` to it, unless none)
+  auto error = [&](const std::optional<std::string>& text, double warmup) {
+    if (text) std::ofstream(f, std::ios::binary) << *text;
+    try {
+      readRunConflicts(f, warmup);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(read)");
+  };
+  // whole files read as they were
+  EXPECT_EQ(error(head + "a,b,rear_end,60,1\na,c,proximity,61,\n", 0.0), "(read)");
+  const RunConflicts ok = readRunConflicts(f, 0.0);
+  ASSERT_EQ(ok.rows.size(), 1u);  // proximity is not a conflict type
+  EXPECT_EQ(ok.rows[0].values, (std::vector<double>{1.0}));
+  EXPECT_EQ(error(head, 0.0), "(read)");  // no conflicts
+
+  EXPECT_EQ(error(head + "a,b,rear_end,60,1\na,b,rear_end,6", 0.0),
+            f.string() + ":3: the last line is cut short (no line end)");
+  EXPECT_EQ(error(head + "a,b,rear_end,60,1\na,b,rear_end,60\n", 0.0), f.string() + ":3: 4 fields, the header has 5");
+  EXPECT_EQ(error(head + "\na,b,rear_end,60,1\n", 0.0), f.string() + ":2: 1 fields, the header has 5");
+  EXPECT_EQ(error(head + "a,b,rear_end,60,1\na,b,lane_change,61,fast\n", 0.0),
+            f.string() + ":3: min_ttc: \"fast\" is not a number");
+  EXPECT_EQ(error(head + "a,b,crossing,sixty,1\n", 10.0), f.string() + ":2: begin: \"sixty\" is not a number");
+  EXPECT_EQ(error("first,second,begin\n", 0.0), f.string() + ": no type column (not a highway conflicts.csv)");
+  fs::remove(f);
+  fs::create_directories(f);  // not a file
+  EXPECT_EQ(error(std::nullopt, 0.0).rfind(f.string() + ": is a directory", 0), 0u) << error(std::nullopt, 0.0);
+  fs::remove(f);
+  EXPECT_EQ(error(std::nullopt, 0.0), f.string() + ": no such file");
+  EXPECT_EQ(error("", 0.0), f.string() + ":1: empty, no header line");
+
+  // exposure.csv: every cell a number (through a warm-up's writeTables)
+  Experiment e;
+  e.warmup = 50.0;
+  e.seeds = {1};
+  const std::vector<RunSpec> specs = expandRuns(e);
+  const fs::path run = dir / "runs" / specs[0].id;
+  fs::create_directories(run);
+  std::ofstream(run / "result.yaml") << "status: done\nerror: \"\"\nwall_seconds: 1\n";
+  std::ofstream(run / "summary.json") << "{\"vehicle_km\": 3, \"vehicles\": 9, \"simulated_s\": 400}\n";
+  std::ofstream(run / "conflicts.csv") << head << "a,b,rear_end,60,1\n";
+  std::ofstream(run / "exposure.csv") << "time,vehicle_km,vehicles\n0,0,0\n10,,1\n";
+  std::vector<RunResult> results{loadRunResult(dir, specs[0])};
+  try {
+    writeTables(e, results, dir);
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& ex) {
+    EXPECT_EQ(std::string(ex.what()), (run / "exposure.csv").string() + ":3: vehicle_km: empty");
+  }
+  fs::remove(run / "conflicts.csv");
+  e.warmup = 0.0;
+  try {
+    writeTables(e, results, dir);
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& ex) {
+    EXPECT_EQ(std::string(ex.what()), (run / "conflicts.csv").string() + ": no such file");
+  }
   fs::remove_all(dir);
 }
 

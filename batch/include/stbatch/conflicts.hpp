@@ -20,9 +20,8 @@ inline constexpr const char* kConflictTypes[] = {"rear_end", "lane_change", "cro
 
 // One run's conflicts.csv as the batch counts it: the rows of the conflict types whose encounter
 // began at or after `warmup` (s), each with the measures the file has (NaN where empty or not
-// finite). `present` is false when the run wrote no conflicts.csv.
+// finite).
 struct RunConflicts {
-  bool present = false;
   std::vector<std::string> measures;  // of kConflictMeasures, those the file's header names
   struct Row {
     std::string type;
@@ -30,14 +29,16 @@ struct RunConflicts {
   };
   std::vector<Row> rows;
 };
-// Throws std::runtime_error naming the file when its header lacks `type` or (warmup > 0) `begin`.
+// Throws std::runtime_error naming the file (and the line) when it is missing, cut short or not a
+// table (files.hpp's readCsvTable), when its header lacks `type` or (warmup > 0) `begin`, or when a
+// `begin` or measure cell holds text that is not a number: a done highway run always writes it whole.
 RunConflicts readRunConflicts(const std::filesystem::path& file, double warmup);
 
 // Writes conflicts.csv (per combination: the conflicts by type, and per measure its n, mean, sd and
 // 95 % CI over the pooled conflicts after the experiment's warm-up) and conflicts_compared.csv (each swept key's values against
 // its first, the other keys held: per measure the difference of the means with its Welch 95 % CI
-// and t, SSAM's t-test of two designs). Nothing is written when no done run has a conflicts.csv.
-// Throws std::runtime_error naming a conflicts.csv whose header lacks `type`.
+// and t, SSAM's t-test of two designs). Nothing is written when no run is done. Throws
+// readRunConflicts' errors.
 void writeConflictTables(const Experiment& e, const std::vector<RunResult>& results,
                          const std::filesystem::path& outDir);
 
