@@ -92,12 +92,12 @@ void readAnalysis(Experiment& e, const io::Yaml<ExperimentError>& y, const YAML:
   }
   if (const YAML::Node r = root["report"]) {
     if (e.command != "highway") fail(e, "report", r, "applies to highway experiments only");
-    if (!r.IsMap()) fail(e, "report", r, "must be a map: report: {headline: conflicts_per_vehicle_km}");
+    if (!r.IsMap()) y.wrongType(r, "report", "a mapping (report: {headline: conflicts_per_vehicle_km})");
     y.onlyKeys(r, "report", [](const std::string& k) { return k == "headline"; }, "expected headline");
     if (const YAML::Node h = r["headline"]) {
       std::string list;
       for (const char* k : kHeadlines) list.append(list.empty() ? "" : ", ").append(k);
-      if (!h.IsScalar()) fail(e, "report.headline", h, "must be one of " + list);
+      if (!h.IsScalar()) y.wrongType(h, "report.headline", "one of " + list);
       e.headline = h.as<std::string>();
       if (std::find(std::begin(kHeadlines), std::end(kHeadlines), e.headline) == std::end(kHeadlines))
         fail(e, "report.headline", h, "unknown headline '" + e.headline + "': expected one of " + list);
@@ -172,7 +172,7 @@ Experiment loadExperiment(const fs::path& file,
           if (!fixed.IsMap()) fail(e, where + ".fixed", fixed, "must map scenario keys to values");
           y.onlyKeys(fixed, where + ".fixed", [](const std::string&) { return true; });
           for (auto f = fixed.begin(); f != fixed.end(); ++f) {
-            if (!f->second.IsScalar()) fail(e, where + ".fixed." + f->first.Scalar(), f->second, "must be a scalar");
+            if (!f->second.IsScalar()) y.wrongType(f->second, where + ".fixed." + f->first.Scalar(), "a scalar");
             b.fixed[f->first.Scalar()] = scalarText(f->second);
           }
         }
@@ -219,7 +219,7 @@ Experiment loadExperiment(const fs::path& file,
     try {
       n = seeds.as<long>();
     } catch (const YAML::Exception&) {
-      fail(e, "seeds", seeds, "must be a count or a list of integers");
+      y.wrongType(seeds, "seeds", "a count or a list of integers");
     }
     if (n < 1 || n > 100000) fail(e, "seeds", seeds, "count must be between 1 and 100000");
     for (long s = 1; s <= n; ++s) e.seeds.push_back(s);
@@ -229,14 +229,14 @@ Experiment loadExperiment(const fs::path& file,
       try {
         e.seeds.push_back(s.as<std::int64_t>());
       } catch (const YAML::Exception&) {
-        fail(e, "seeds", s, "must be integers");
+        y.wrongType(s, "seeds", "a list of integers");
       }
       // two equal seeds would be one run id twice: the same run, written twice at once
       if (std::count(e.seeds.begin(), e.seeds.end(), e.seeds.back()) > 1)
         fail(e, "seeds", s, "seed " + std::to_string(e.seeds.back()) + " is given twice");
     }
   } else {
-    fail(e, "seeds", seeds, "must be a count or a list of integers");
+    y.wrongType(seeds, "seeds", "a count or a list of integers");
   }
 
   if (const YAML::Node sweep = root["sweep"]) {
@@ -256,13 +256,13 @@ Experiment loadExperiment(const fs::path& file,
         if (it->second.size() == 0) fail(e, "sweep." + k, it->second, "empty sweep: give at least one value");
         const YAML::Node values = it->second;  // a range-for over a temporary's member would dangle
         for (const auto& v : values) {
-          if (!v.IsScalar()) fail(e, "sweep." + k, v, "values must be scalars");
+          if (!v.IsScalar()) y.wrongType(v, "sweep." + k, "a list of scalars");
           axis.values.push_back(scalarText(v));
           if (std::count(axis.values.begin(), axis.values.end(), axis.values.back()) > 1)
             fail(e, "sweep." + k, v, "value " + axis.values.back() + " is given twice");
         }
       } else {
-        fail(e, "sweep." + k, it->second, "must be a value or a list of values");
+        y.wrongType(it->second, "sweep." + k, "a value or a list of values");
       }
       e.sweep.push_back(std::move(axis));
     }
@@ -279,12 +279,12 @@ Experiment loadExperiment(const fs::path& file,
       if (k == e.seedKey) fail(e, where, at, "the seeds are the top-level 'seeds' key");
     }
   if (const YAML::Node fixed = root["fixed"]) {
-    if (!fixed.IsMap()) fail(e, "fixed", fixed, "must map scenario keys to values");
+    if (!fixed.IsMap()) y.wrongType(fixed, "fixed", "a mapping of scenario keys to values");
     y.onlyKeys(fixed, "fixed", [](const std::string&) { return true; });
     for (auto it = fixed.begin(); it != fixed.end(); ++it) {
       const std::string k = it->first.as<std::string>();
       checkKey(k, it->first);
-      if (!it->second.IsScalar()) fail(e, "fixed." + k, it->second, "must be a scalar");
+      if (!it->second.IsScalar()) y.wrongType(it->second, "fixed." + k, "a scalar");
       e.fixed[k] = scalarText(it->second);
     }
   }

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <stio/format.hpp>
+#include <stio/yaml.hpp>
 
 namespace st::io {
 
@@ -21,10 +22,10 @@ std::string rangeText(const SettingSpec& s) {
 
 void checkNumber(const SettingSpec& s, const SettingValue& v) {
   if (isWord(v)) {
-    if (!*s.words || word(v) != s.words) throw SettingError(s.key, "must be " + expected(s) + ", got '" + word(v) + "'");
+    if (!*s.words || word(v) != s.words) throw SettingError(s.key, wrongTypeText(expected(s), word(v)));
     return;
   }
-  if (!std::holds_alternative<double>(v)) throw SettingError(s.key, "must be " + expected(s));
+  if (!std::holds_alternative<double>(v)) throw SettingError(s.key, wrongTypeText(expected(s)));
   const double x = std::get<double>(v);
   const std::string got = ", got " + number(x, 15);
   if (s.rangeWords && !(x >= s.min && x <= s.max && (!s.aboveMin || x > s.min)))
@@ -99,13 +100,13 @@ void checkSetting(const SettingSpec& s, const SettingValue& v) {
     case SettingType::Number:
     case SettingType::Integer: return checkNumber(s, v);
     case SettingType::Boolean:
-      if (!std::holds_alternative<bool>(v)) throw SettingError(s.key, "must be true or false");
+      if (!std::holds_alternative<bool>(v)) throw SettingError(s.key, wrongTypeText("true or false"));
       return;
     case SettingType::Choice: {
-      if (!isWord(v)) throw SettingError(s.key, "must be " + expected(s));
+      if (!isWord(v)) throw SettingError(s.key, wrongTypeText(expected(s)));
       bool known = false;
       for (std::string_view w : split(s.words, '|')) known = known || w == word(v);
-      if (!known) throw SettingError(s.key, "must be " + expected(s) + ", got '" + word(v) + "'");
+      if (!known) throw SettingError(s.key, wrongTypeText(expected(s), word(v)));
       return;
     }
   }
@@ -124,10 +125,10 @@ SettingValue settingValue(const SettingSpec& s, std::string_view text) {
     }
     // stod skips leading blanks: " 1" is no number here, as in YAML
     if (t.empty() || used != t.size() || std::isspace(static_cast<unsigned char>(t.front())))
-      throw SettingError(s.key, "must be " + expected(s) + ", got '" + t + "'");
+      throw SettingError(s.key, wrongTypeText(expected(s), t));
     v = x;
   } else if (s.type == SettingType::Boolean) {
-    if (t != "true" && t != "false") throw SettingError(s.key, "must be true or false, got '" + t + "'");
+    if (t != "true" && t != "false") throw SettingError(s.key, wrongTypeText("true or false", t));
     v = t == "true";
   }
   checkSetting(s, v);

@@ -39,6 +39,9 @@ std::string withHint(std::string text, std::string_view hint) {
 std::string unknownKeyText(std::string_view hint) { return withHint("unknown key", hint); }
 std::string missingKeyText(std::string_view hint) { return withHint("missing key", hint); }
 std::string wrongTypeText(std::string_view expected) { return "must be " + std::string(expected); }
+std::string wrongTypeText(std::string_view expected, std::string_view got) {
+  return wrongTypeText(expected).append(", got '").append(got).append("'");
+}
 std::string repeatedKeyText(const YAML::Node& first) {
   if (!first.IsDefined() || first.Mark().is_null()) return "repeated key";
   return "repeated key (first given at line " + std::to_string(first.Mark().line + 1) + ")";
@@ -47,7 +50,7 @@ std::string repeatedKeyText(const YAML::Node& first) {
 KeyProblem checkKeys(const YAML::Node& map, std::string_view where,
                      const std::function<bool(const std::string&)>& allowed, std::string_view unknownHint) {
   const std::string prefix = where.empty() ? std::string() : std::string(where) + ".";
-  if (!map.IsMap()) return {map, where.empty() ? std::string("(top level)") : std::string(where), "must be a mapping"};
+  if (!map.IsMap()) return {map, where.empty() ? std::string("(top level)") : std::string(where), wrongTypeText("a mapping")};
   std::map<std::string, YAML::Node> seen;
   for (const auto& kv : map) {
     if (!kv.first.IsScalar())

@@ -196,7 +196,8 @@ TEST(BatchExperiment, RepeatsEmptySweepsBadNamesAndSeedKeysAreErrors) {
 TEST(BatchExperiment, MalformedExperimentsNameTheKey) {
   EXPECT_NE(errorOf("base: base.yaml\nsweep:\n  detectr: [five]\n").find("detectr: unknown key"), std::string::npos);
   EXPECT_NE(errorOf("base: base.yaml\nsweep:\n  detector: []\n").find("sweep.detector: empty sweep"), std::string::npos);
-  EXPECT_NE(errorOf("base: base.yaml\nseeds: many\n").find("seeds: must be a count"), std::string::npos);
+  EXPECT_NE(errorOf("base: base.yaml\nseeds: many\n").find("bad.yaml:2: seeds: must be a count or a list of integers"),
+            std::string::npos);
   EXPECT_NE(errorOf("base: base.yaml\nsweeps:\n  detector: [five]\n").find("sweeps: unknown key"), std::string::npos);
   EXPECT_NE(errorOf("sweep:\n  detector: [five]\n").find("base: missing"), std::string::npos);
   EXPECT_NE(errorOf("base: nowhere.yaml\n").find("no such file"), std::string::npos);
@@ -222,7 +223,9 @@ TEST(BatchExperiment, WarmupAndHeadlineAreCheckedAndRecorded) {
   EXPECT_NE(errorOf("base: base.yaml\nreport: {headline: crashes}\n").find("report.headline: unknown headline 'crashes'"),
             std::string::npos);
   EXPECT_NE(errorOf("base: base.yaml\nreport: {headlin: conflicts_per_hour}\n").find("headlin"), std::string::npos);
-  EXPECT_NE(errorOf("base: base.yaml\nreport: conflicts_per_hour\n").find("report: must be a map"), std::string::npos);
+  EXPECT_NE(errorOf("base: base.yaml\nreport: conflicts_per_hour\n")
+                .find("bad.yaml:2: report: must be a mapping (report: {headline: conflicts_per_vehicle_km})"),
+            std::string::npos);
   EXPECT_NE(errorOf("command: pool\nbase: base.yaml\nwarmup: 10\n").find("warmup: applies to highway"), std::string::npos);
   const fs::path out = writeExperiment("d2.yaml", "").parent_path() / "analysis_record";
   fs::remove_all(out);

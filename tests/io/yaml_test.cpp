@@ -42,6 +42,8 @@ TEST(IoYaml, PlacesNameLineAndColumn) {
   const Yaml<TestError> y("f.yaml");
   EXPECT_EQ(errorOf([&] { y.missingKey(root["b"], "b.d", "the d"); }), "f.yaml:3: b.d: missing key (the d)");  // a block map starts at its first key
   EXPECT_EQ(errorOf([&] { y.wrongType(root["a"], "a", "a string"); }), "f.yaml:1: a: must be a string");
+  EXPECT_EQ(wrongTypeText("a number", "lots"), "must be a number, got 'lots'");
+  EXPECT_EQ(wrongTypeText("a number", ""), "must be a number, got ''");  // text given, even empty, is quoted
   EXPECT_EQ(errorOf([&] { y.unknownKey(root["a"], "a"); }), "f.yaml:1: a: unknown key");
 }
 

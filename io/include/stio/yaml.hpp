@@ -19,7 +19,11 @@ std::string place(std::string_view file, const YAML::Node& node, bool column = f
 // The problems every reader meets, in one wording each. A hint, when given, follows in parentheses.
 std::string unknownKeyText(std::string_view hint = {});   // "unknown key"
 std::string missingKeyText(std::string_view hint = {});   // "missing key"
-std::string wrongTypeText(std::string_view expected);     // "must be <expected>"
+// "must be <expected>", and ", got '<got>'" when the text given is known: every reader's and the
+// settings tables' one wording of a value of the wrong type ("must be a mapping", "must be a
+// number, got 'lots'")
+std::string wrongTypeText(std::string_view expected);
+std::string wrongTypeText(std::string_view expected, std::string_view got);
 std::string repeatedKeyText(const YAML::Node& first);     // "repeated key (first given at line N)"
 
 // The first key of a mapping that is not a scalar, not allowed or given twice, with what is wrong;

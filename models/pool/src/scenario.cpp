@@ -60,18 +60,18 @@ class Reader {
     });
   }
   void onlyKeysIf(const YAML::Node& n, const std::string& key, const std::function<bool(const std::string&)>& allowed) const {
-    if (!n.IsMap()) fail(at(n, key), "must be a map");
+    if (!n.IsMap()) fail(at(n, key), io::wrongTypeText("a mapping"));
     const io::KeyProblem p = io::checkKeys(n, key, allowed);
     if (!p.key.empty()) fail(at(p.at, p.key), p.what);
   }
 
   double number(const YAML::Node& n, const std::string& key) const {
-    if (!n.IsScalar()) fail(at(n, key), "must be a number");
+    if (!n.IsScalar()) fail(at(n, key), io::wrongTypeText("a number"));
     double v = 0;
     try {
       v = n.as<double>();
     } catch (const YAML::Exception&) {
-      fail(at(n, key), "must be a number, got '" + n.Scalar() + "'");
+      fail(at(n, key), io::wrongTypeText("a number", n.Scalar()));
     }
     if (!std::isfinite(v)) fail(at(n, key), "must be finite");
     return v;
@@ -84,21 +84,21 @@ class Reader {
   }
 
   long integer(const YAML::Node& n, const std::string& key) const {
-    if (!n.IsScalar()) fail(at(n, key), "must be an integer");
+    if (!n.IsScalar()) fail(at(n, key), io::wrongTypeText("an integer"));
     try {
       return n.as<long>();
     } catch (const YAML::Exception&) {
-      fail(at(n, key), "must be an integer, got '" + n.Scalar() + "'");
+      fail(at(n, key), io::wrongTypeText("an integer", n.Scalar()));
     }
   }
 
   std::string text(const YAML::Node& n, const std::string& key) const {
-    if (!n.IsScalar()) fail(at(n, key), "must be a string");
+    if (!n.IsScalar()) fail(at(n, key), io::wrongTypeText("a string"));
     return n.Scalar();
   }
 
   Vec2 vec2(const YAML::Node& n, const std::string& key) const {
-    if (!n.IsSequence() || n.size() != 2) fail(at(n, key), "must be a pair [x, y]");
+    if (!n.IsSequence() || n.size() != 2) fail(at(n, key), io::wrongTypeText("a pair [x, y]"));
     return Vec2(number(n[0], key + "[0]"), number(n[1], key + "[1]"));
   }
 
@@ -329,7 +329,7 @@ std::string readBalls(const Reader& rd, const YAML::Node& root, const std::strin
     return key;
   }
   const YAML::Node balls = root["balls"];
-  if (!balls.IsSequence() || balls.size() == 0) fail(rd.at(balls, "balls"), "must be a non-empty list");
+  if (!balls.IsSequence() || balls.size() == 0) fail(rd.at(balls, "balls"), io::wrongTypeText("a non-empty list"));
   for (std::size_t i = 0; i < balls.size(); ++i) {
     s.balls.push_back(readBall(rd, balls[i], indexed("balls", i)));
     // point validation messages at the position (the usual culprit)
@@ -369,7 +369,7 @@ Vec2 shotVelocity(const Reader& rd, const YAML::Node& n, const std::string& key)
 }
 
 void readShots(const Reader& rd, const YAML::Node& shots, Scenario& s, Places& at) {
-  if (!shots.IsSequence()) fail(rd.at(shots, "shots"), "must be a list");
+  if (!shots.IsSequence()) fail(rd.at(shots, "shots"), io::wrongTypeText("a list"));
   const Setting& until = *findSetting("until");
   for (std::size_t k = 0; k < shots.size(); ++k) {
     const YAML::Node n = shots[k];

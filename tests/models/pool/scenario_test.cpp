@@ -115,6 +115,9 @@ TEST(Scenario, OtherBadInputsNamed) {
   EXPECT_EQ(errorOf(std::string(kGood) + "frobnicate: 1\n"), "s.yaml:7:1: frobnicate: unknown key");
   EXPECT_EQ(errorOf(std::string(kGood) + "space: {divisions: 3}\n"), "s.yaml:7:20: space.divisions: must be one of 2, 4, got '3'");
   EXPECT_EQ(errorOf(std::string(kGood) + "friction: lots\n"), "s.yaml:7:11: friction: must be a number, got 'lots'");
+  // io::wrongTypeText's one wording, as the cosim scenario's and the batch experiment's readers say it
+  EXPECT_EQ(errorOf(std::string(kGood) + "space: cells\n"), "s.yaml:7:8: space: must be a mapping");
+  EXPECT_EQ(errorOf("table: {width: 2.54, height: 1.27}\nrack: standard\nshots: 3\n"), "s.yaml:3:8: shots: must be a list");
   EXPECT_EQ(errorOf(R"(table: {width: 2.54, height: 1.27}
 balls: [{number: 0, position: [0.6, 0.6]}]
 shots: [{ball: 5, speed: 1, angle: 0}]
