@@ -88,12 +88,14 @@ void ConflictBook::observe(double t, double lastT) {
   const VehicleTable& c = *cars_;
   sweep_.clear();
   double vmax = 0.0, hmax = 0.0;
+  // each body's half diagonal and speed once a tick, not once a pair (std::hypot is slow)
   for (int s : c.active) {
-    sweep_.emplace_back(c.centre[s].x(), s);
-    vmax = std::max(vmax, c.vel[s].norm());
-    hmax = std::max(hmax, halfDiagonal(c.body[s]));
+    sweep_.push_back({c.centre[s].x(), s, halfDiagonal(c.body[s]), c.vel[s].norm()});
+    vmax = std::max(vmax, sweep_.back().speed);
+    hmax = std::max(hmax, sweep_.back().halfDiagonal);
   }
-  std::sort(sweep_.begin(), sweep_.end());
+  std::sort(sweep_.begin(), sweep_.end(),
+            [](const SweepEntry& p, const SweepEntry& q) { return p.x < q.x || (p.x == q.x && p.slot < q.slot); });
   // two bodies touching within TTC* are at most their half diagonals plus the way both cover apart
   // (along their lanes, at a merge: each path departs from its straight line by its deviation at most)
   double devMax = 0.0;
@@ -101,13 +103,14 @@ void ConflictBook::observe(double t, double lastT) {
     for (int s : c.active) devMax = std::max(devMax, paths_->deviation(s));
   const double reachX = 2.0 * hmax + 2.0 * vmax * maxTtc + 2.0 * devMax + kReachMargin;
   for (std::size_t i = 0; i < sweep_.size(); ++i) {
-    const int a = sweep_[i].second;
-    for (std::size_t j = i + 1; j < sweep_.size() && sweep_[j].first - sweep_[i].first <= reachX; ++j) {
-      const int b = sweep_[j].second;
+    const SweepEntry& ea = sweep_[i];
+    const int a = ea.slot;
+    for (std::size_t j = i + 1; j < sweep_.size() && sweep_[j].x - ea.x <= reachX; ++j) {
+      const SweepEntry& eb = sweep_[j];
+      const int b = eb.slot;
       if (!c.equipped[a] && !c.equipped[b]) continue;
       const double dev = paths_->alongLanes() ? paths_->deviation(a) + paths_->deviation(b) : 0.0;
-      const double reach = halfDiagonal(c.body[a]) + halfDiagonal(c.body[b]) +
-                           (c.vel[a].norm() + c.vel[b].norm()) * maxTtc + dev + kReachMargin;
+      const double reach = ea.halfDiagonal + eb.halfDiagonal + (ea.speed + eb.speed) * maxTtc + dev + kReachMargin;
       if ((c.centre[b] - c.centre[a]).squaredNorm() > reach * reach) continue;
       // in the order of first appearance, whatever the input order
       const bool ab = c.slots[a].serial < c.slots[b].serial;

@@ -109,7 +109,12 @@ class ConflictBook {
   std::map<Key, Encounter> open_;  // ordered: closing order is the serials', deterministic
   std::vector<Waiting> waiting_;
   std::vector<Conflict> settled_;
-  std::vector<std::pair<double, int>> sweep_;  // scratch: (x, slot)
+  struct SweepEntry {
+    double x;  // the centre's
+    int slot;
+    double halfDiagonal, speed;
+  };
+  std::vector<SweepEntry> sweep_;  // scratch
 };
 
 }  // namespace st::highway::detail

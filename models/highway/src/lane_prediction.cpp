@@ -448,6 +448,29 @@ void LanePrediction::update(double t) {
   }
 }
 
+double QuietLine::angleBound(const Vec2& unit) const {
+  const double along = dir_.dot(unit);
+  return along > 0.0 ? std::abs(cross2(dir_, unit)) / along : std::numeric_limits<double>::infinity();
+}
+
+void QuietLine::add(const Vec2& e, double dS, const Vec2& laneDir, double scale, double gap) {
+  if (!open_) return;
+  arc_ += dS;
+  const double len = e.norm();
+  angle_ = std::max({angle_, angleBound(laneDir), len > 0.0 ? angleBound(e / len) : std::numeric_limits<double>::infinity()});
+  const double r = dS > 0.0 ? len / dS : std::numeric_limits<double>::infinity();
+  rMin_ = std::min(rMin_, r);
+  rMax_ = std::max(rMax_, r);
+  sMin_ = std::min(sMin_, scale);
+  gaps_ += gap;
+  const double a = 2.0 * angle_, reach = half_ * rMax_;
+  const double offset = gaps_ * (1.0 + rMax_ / sMin_) + reach * a + 0.25 * reach * a * a + 0.5 * half_ * (rMax_ - rMin_);
+  if (offset <= 0.5 * tol::kChordOffset && a <= 0.5 * tol::kMergeBend)
+    end_ = arc_;
+  else
+    open_ = false;
+}
+
 void LanePrediction::predict(int slot, double t) {
   VehicleTable& c = *cars_;
   const Body& b = c.body[slot];
@@ -569,11 +592,17 @@ void LanePrediction::predict(int slot, double t) {
   const double half = 0.5 * b.length;
   lineS_.assign(1, 0.0);
   linePt_.assign(1, foot);
+  // up to quiet.end() the line is too straight for onChord to lay a body on a chord
+  QuietLine quiet(pr.dir, half);
   for (int ln = lane, seg = pr.seg, at = routeAt; lineS_.back() < need + half;) {
     const NetLane& cl = lanes_[ln];
     const Vec2 dir = lineS_.size() == 1 ? pr.dir : Vec2((pt_[cl.first + seg + 1] - pt_[cl.first + seg]).normalized());
     const Vec2 end = pt_[cl.first + seg + 1];
-    lineS_.push_back(lineS_.back() + std::max(0.0, (end - linePt_.back()).dot(dir)) / cl.scale);
+    const Vec2 e = end - linePt_.back();
+    const double dS = std::max(0.0, e.dot(dir)) / cl.scale;
+    if (quiet.open())
+      quiet.add(e, dS, dir, cl.scale, lineS_.size() > 1 ? (pt_[cl.first + seg] - linePt_.back()).norm() : 0.0);
+    lineS_.push_back(lineS_.back() + dS);
     linePt_.push_back(end);
     if (++seg + 1 >= cl.count) {
       ln = successor(slot, ln, at);
@@ -581,6 +610,8 @@ void LanePrediction::predict(int slot, double t) {
       if (ln < 0 || lanes_[ln].count < 2) break;
     }
   }
+  quiet.finish();
+  const double quietEnd = quiet.end();
   const Vec2 backLine = foot + chord * n0 - half * b.axis;
   auto linePoint = [&](double S) -> Vec2 {
     if (S <= 0.0) return foot + (half > 0.0 ? -S / half : 0.0) * (backLine - foot);
@@ -593,6 +624,7 @@ void LanePrediction::predict(int slot, double t) {
   // the body centred at arc S (its centre line's point q, direction dir) laid on the chord where
   // the line bends under it: its centre (in the line's frame) and axis; false: square to the lane
   auto onChord = [&](double S, const Vec2& q, const Vec2& dir, Vec2& centre, Vec2& axis) {
+    if (S >= half && S + half <= quietEnd) return false;
     const Vec2 ahead = linePoint(S + half), behind = linePoint(S - half);
     const Vec2 span = ahead - behind, m = 0.5 * (ahead + behind);
     if (!(span.norm() > 0.5 * half) || ((m - q).norm() <= tol::kChordOffset &&

@@ -47,6 +47,43 @@ struct PathPiece {
   double scale = 1.0;    // metres along dir per metre of that speed (Lane::length)
 };
 
+// Where a predicted body may be left square to its lane without working out its chord: fed the
+// pieces of the centre line ahead of a car (from the centre's foot, in order), it tells how far the
+// line stays too straight for a body of half length `half` centred at arc S (S >= half, S + half
+// <= end()) to be laid on a chord: the chord's middle within kChordOffset of the line's point at S
+// and turned from the lane's segment there by at most kMergeBend. Most lines are straight, and
+// this costs a few operations a piece. The bound: every piece of the line and of the lanes it
+// follows turns from the car's lane (dir) by at most a/2 (a tan bounds an angle), the pieces have
+// between rMin and rMax metres per unit of arc (sMin: the lanes' least scale), and the lanes'
+// joints leave gaps in the line; then the chord's middle is within gaps (1 + rMax / sMin) + h a
+// + h a^2 / 4 + half (rMax - rMin) / 2 of the point (h = half rMax, the reach) and turns by at most
+// a. Half the thresholds: room for rounding.
+class QuietLine {
+ public:
+  QuietLine(const Vec2& dir, double half) : dir_(dir), half_(half) {}
+  // The next piece: the line's vector e over arc dS, the lane segment's direction laneDir it
+  // follows, its lane's scale, and the gap between the line and the lane where the piece begins
+  // (0 but where the line crosses a joint between lanes).
+  void add(const Vec2& e, double dS, const Vec2& laneDir, double scale, double gap);
+  // Whether every piece added so far is quiet (more are worth adding).
+  bool open() const { return open_; }
+  // The line is quiet up to this arc; after finish(), beyond its end too if every piece is (the
+  // line runs on along its last piece).
+  double end() const { return end_; }
+  void finish() {
+    if (open_ && arc_ > 0.0) end_ = std::numeric_limits<double>::infinity();
+  }
+
+ private:
+  double angleBound(const Vec2& unit) const;
+  Vec2 dir_;
+  double half_;
+  bool open_ = true;
+  double arc_ = 0.0, end_ = 0.0;
+  double angle_ = 0.0, rMin_ = std::numeric_limits<double>::infinity(), rMax_ = 0.0;
+  double sMin_ = std::numeric_limits<double>::infinity(), gaps_ = 0.0;
+};
+
 // A car in its lane's frame.
 struct LaneFrame {
   int lane = -1;         // index into RoadGeometry::lanes; -1: predicted in a straight line
