@@ -15,8 +15,6 @@ stsim=$1
 src=$2
 work=$(mktemp -d "${TMPDIR:-/tmp}/stsim_faults.XXXXXX")
 ro=$work/ro
-fails=0
-pids=()
 cleanup() {
   for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done
   mountpoint -q "$ro" 2>/dev/null && umount "$ro"
@@ -24,25 +22,7 @@ cleanup() {
   rm -rf "$work"
 }
 trap cleanup EXIT
-
-cases=0
-bad() {
-  echo "FAIL $*"
-  fails=$((fails + 1))
-}
-
-# Every CSV ends on a whole row (its last byte a newline), every JSON parses.
-whole() {
-  local dir=$1 what=$2 depth=${3:-99} f
-  [ -d "$dir" ] || return 0
-  while IFS= read -r -d '' f; do
-    [ -s "$f" ] || continue
-    case $f in
-      *.csv) [ "$(tail -c 1 "$f" | od -An -c | tr -d ' ')" = '\n' ] || bad "$what: $f ends in a cut row" ;;
-      *.json) python3 -m json.tool "$f" >/dev/null 2>&1 || bad "$what: $f is not valid JSON" ;;
-    esac
-  done < <(find "$dir" -maxdepth "$depth" -type f \( -name '*.csv' -o -name '*.json' \) -print0)
-}
+. "$(dirname "$0")/fault_lib.sh"
 
 # expect_named WHAT CODE ERRFILE PATH: exit non-zero, the last line of stderr names PATH
 expect_named() {
@@ -64,14 +44,7 @@ fi
 sed 's/^duration: 3.0/duration: 3000/' "$src/models/arm/scenarios/two_pandas.yaml" >"$work/arm_long.yaml"
 "$stsim" arm "$src/models/arm/scenarios/two_pandas.yaml" --out "$work/rec" --record-trace "$work/sensors.csv" >/dev/null ||
   bad "recording the sensor trace"
-cat >"$work/batch.yaml" <<EOF
-name: faults
-command: pool
-base: $src/models/pool/scenarios/break.yaml
-sweep:
-  until: [5.0]
-seeds: 2
-EOF
+pool_experiment "$work/batch.yaml" faults
 fcd="--fcd $src/tests/data/highway/motorway_merge.fcd.xml --net $src/networks/motorway/motorway.net.xml"
 
 # name -> command line with OUT for its output folder; LONG: the same, running long enough to be
@@ -141,20 +114,6 @@ done
 
 # the arm service and its client: a service to stream to, the client on a full disk; then the
 # service on a full disk, and stopped by a signal while it logs
-serve() {  # serve OUT [ulimit KiB]: starts `arm serve`, sets $serve_pid and $port
-  local out=$1 lim=${2:-unlimited}
-  (ulimit -f "$lim"; trap '' XFSZ; exec timeout 300 "$stsim" arm serve "$src/models/arm/scenarios/two_pandas.yaml" \
-    --listen 127.0.0.1:0 --out "$out") >"$work/serve.out" 2>"$work/serve.err" &
-  serve_pid=$!
-  pids+=("$serve_pid")
-  port=
-  for _ in $(seq 1 100); do
-    port=$(sed -n 's/.*listening on 127.0.0.1:\([0-9]*\).*/\1/p' "$work/serve.out")
-    [ -n "$port" ] && break
-    sleep 0.1
-  done
-  [ -n "$port" ] || bad "arm serve did not start: $(cat "$work/serve.err")"
-}
 stream() {  # stream OUT [ulimit KiB] [rate]
   local out=$1 lim=${2:-unlimited} rate=${3:-0}
   (ulimit -f "$lim"; trap '' XFSZ; exec timeout 120 "$stsim" arm stream --connect "127.0.0.1:$port" "$work/sensors.csv" \
@@ -210,8 +169,4 @@ for sig in INT TERM HUP; do
   whole "$work/${sig}_serve" "arm serve SIG$sig"
 done
 
-if [ $fails -gt 0 ]; then
-  echo "$fails fault check(s) failed in $cases cases"
-  exit 1
-fi
-echo "fault matrix: $cases cases, every one held"
+finish "fault matrix"

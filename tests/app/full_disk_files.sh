@@ -15,26 +15,9 @@ set -uo pipefail
 stsim=$1
 src=$2
 work=$(mktemp -d "${TMPDIR:-/tmp}/stsim_full_files.XXXXXX")
-trap 'rm -rf "$work"' EXIT
-fails=0
-cases=0
-bad() {
-  echo "FAIL $*"
-  fails=$((fails + 1))
-}
+trap 'for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done; rm -rf "$work"' EXIT
+. "$(dirname "$0")/fault_lib.sh"
 others='^(ssm\.xml|sumo\.log|sumo_collisions\.xml|conflict_map\..*|log\.txt|\.batch\.lock)$'
-
-# Every CSV ends on a whole row, every JSON parses.
-whole() {
-  local dir=$1 what=$2 f
-  while IFS= read -r -d '' f; do
-    [ -s "$f" ] || continue
-    case $f in
-      *.csv) [ "$(tail -c 1 "$f" | od -An -c | tr -d ' ')" = '\n' ] || bad "$what: $f ends in a cut row" ;;
-      *.json) python3 -m json.tool "$f" >/dev/null 2>&1 || bad "$what: $f is not valid JSON" ;;
-    esac
-  done < <(find "$dir" -type f \( -name '*.csv' -o -name '*.json' \) -print0)
-}
 
 # each NAME LINE [FILES]: LINE is the command line with OUT for its output folder; FILES, when
 # given, the files it writes (for a run too long to make twice: no reference run)
@@ -74,14 +57,7 @@ each() {
   done
 }
 
-cat >"$work/batch.yaml" <<EOF
-name: full_files
-command: pool
-base: $src/models/pool/scenarios/break.yaml
-sweep:
-  until: [5.0]
-seeds: 2
-EOF
+pool_experiment "$work/batch.yaml" full_files
 
 each pool "pool $src/models/pool/scenarios/break.yaml --out OUT"
 each arm "arm $src/models/arm/scenarios/two_pandas.yaml --out OUT --record-trace OUT/sensors.csv"
@@ -101,18 +77,8 @@ each batch_merge "batch merge $work/ref_batch --no-plots --out OUT"
 
 # the arm service's logs, and its client's: a service to stream to (recorded sensors from the
 # arm's reference run above)
-(exec timeout 300 "$stsim" arm serve "$src/models/arm/scenarios/two_pandas.yaml" --listen 127.0.0.1:0 \
-  --out "$work/ref_serve") >"$work/serve.out" 2>"$work/serve.err" &
-serve_pid=$!
-port=
-for _ in $(seq 1 100); do
-  port=$(sed -n 's/.*listening on 127.0.0.1:\([0-9]*\).*/\1/p' "$work/serve.out")
-  [ -n "$port" ] && break
-  sleep 0.1
-done
-if [ -z "$port" ]; then
-  bad "arm serve did not start: $(cat "$work/serve.err")"
-else
+serve "$work/ref_serve"
+if [ -n "$port" ]; then
   each arm_stream "arm stream --connect 127.0.0.1:$port $work/ref_arm/sensors.csv --out OUT"
   kill -TERM "$serve_pid"
   wait "$serve_pid"
@@ -133,8 +99,4 @@ else
   done
 fi
 
-if [ $fails -gt 0 ]; then
-  echo "$fails of $cases full-disk cases failed"
-  exit 1
-fi
-echo "full disk, file by file: $cases cases, every one held"
+finish "full disk, file by file"

@@ -461,6 +461,26 @@ TEST(BatchTables, StudyRatesHonourTheWarmupAndMatchHandWorkedIntervals) {
   fs::remove_all(dir);
 }
 
+// A done highway run's folder as the batch leaves it: result.yaml, summary.json and conflicts.csv.
+fs::path doneRun(const fs::path& dir, const RunSpec& spec, const std::string& conflicts) {
+  const fs::path run = dir / "runs" / spec.id;
+  fs::create_directories(run);
+  std::ofstream(run / "result.yaml") << "status: done\nerror: \"\"\nwall_seconds: 1\n";
+  std::ofstream(run / "summary.json") << "{\"vehicle_km\": 3, \"vehicles\": 9, \"simulated_s\": 400}\n";
+  std::ofstream(run / "conflicts.csv") << conflicts;
+  return run;
+}
+
+// writeTables' error, or "(written)"
+std::string tablesError(const Experiment& e, const std::vector<RunResult>& results, const fs::path& dir) {
+  try {
+    writeTables(e, results, dir);
+  } catch (const std::runtime_error& ex) {
+    return ex.what();
+  }
+  return "(written)";
+}
+
 // A done run's conflicts.csv and exposure.csv are read whole or not at all: a file missing, cut
 // short, with a row of the wrong width or a cell that is not a number is an error of one line
 // naming the file and the line, never rows skipped or zeros.
@@ -507,27 +527,13 @@ TEST(BatchTables, BrokenRunFilesAreErrorsNamingFileAndLine) {
   e.warmup = 50.0;
   e.seeds = {1};
   const std::vector<RunSpec> specs = expandRuns(e);
-  const fs::path run = dir / "runs" / specs[0].id;
-  fs::create_directories(run);
-  std::ofstream(run / "result.yaml") << "status: done\nerror: \"\"\nwall_seconds: 1\n";
-  std::ofstream(run / "summary.json") << "{\"vehicle_km\": 3, \"vehicles\": 9, \"simulated_s\": 400}\n";
-  std::ofstream(run / "conflicts.csv") << head << "a,b,rear_end,60,1\n";
+  const fs::path run = doneRun(dir, specs[0], head + "a,b,rear_end,60,1\n");
   std::ofstream(run / "exposure.csv") << "time,vehicle_km,vehicles\n0,0,0\n10,,1\n";
-  std::vector<RunResult> results{loadRunResult(dir, specs[0])};
-  try {
-    writeTables(e, results, dir);
-    ADD_FAILURE() << "no error";
-  } catch (const std::runtime_error& ex) {
-    EXPECT_EQ(std::string(ex.what()), (run / "exposure.csv").string() + ":3: vehicle_km: empty");
-  }
+  const std::vector<RunResult> results{loadRunResult(dir, specs[0])};
+  EXPECT_EQ(tablesError(e, results, dir), (run / "exposure.csv").string() + ":3: vehicle_km: empty");
   fs::remove(run / "conflicts.csv");
   e.warmup = 0.0;
-  try {
-    writeTables(e, results, dir);
-    ADD_FAILURE() << "no error";
-  } catch (const std::runtime_error& ex) {
-    EXPECT_EQ(std::string(ex.what()), (run / "conflicts.csv").string() + ": no such file");
-  }
+  EXPECT_EQ(tablesError(e, results, dir), (run / "conflicts.csv").string() + ": no such file");
   fs::remove_all(dir);
 }
 
@@ -541,25 +547,12 @@ TEST(BatchTables, WarmupWithoutExposureNamesTheFile) {
   const std::vector<RunSpec> specs = expandRuns(e);
   const fs::path dir = fs::temp_directory_path() / ("stsim_warmup_test_" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  const fs::path run = dir / "runs" / specs[0].id;
-  fs::create_directories(run);
-  std::ofstream(run / "result.yaml") << "status: done\nerror: \"\"\nwall_seconds: 1\n";
-  std::ofstream(run / "summary.json") << "{\"vehicle_km\": 3, \"vehicles\": 9, \"simulated_s\": 400}\n";
-  std::ofstream(run / "conflicts.csv") << "first,second,type,begin,min_ttc\na,b,rear_end,60,1\n";
-  std::vector<RunResult> results{loadRunResult(dir, specs[0])};
-  try {
-    writeTables(e, results, dir);
-    ADD_FAILURE() << "no error";
-  } catch (const std::runtime_error& ex) {
-    EXPECT_NE(std::string(ex.what()).find((run / "exposure.csv").string()), std::string::npos) << ex.what();
-  }
+  const fs::path run = doneRun(dir, specs[0], "first,second,type,begin,min_ttc\na,b,rear_end,60,1\n");
+  const std::vector<RunResult> results{loadRunResult(dir, specs[0])};
+  EXPECT_EQ(tablesError(e, results, dir), (run / "exposure.csv").string() + ": no such file");
   e.warmup = 400.0;
-  try {
-    writeTables(e, results, dir);
-    ADD_FAILURE() << "no error";
-  } catch (const std::runtime_error& ex) {
-    EXPECT_NE(std::string(ex.what()).find("not longer than the experiment's warmup"), std::string::npos) << ex.what();
-  }
+  const std::string late = tablesError(e, results, dir);
+  EXPECT_NE(late.find("not longer than the experiment's warmup"), std::string::npos) << late;
   fs::remove_all(dir);
 }
 

@@ -112,4 +112,17 @@ std::vector<Assignment> splitAssignments(std::string_view text);
 std::string referenceHeading(std::string_view column);
 std::string referenceRow(const SettingSpec& s, const SettingValue& v, std::string_view doc);
 
+// The names a model's settings table takes from this core, in one list: a model's settings header
+// says `using namespace io::setting_names;` in its namespace, so pool::SettingError is
+// io::SettingError (a value's type, its error and the words of both, shared by every table).
+namespace setting_names {
+using io::expected;
+using io::SettingError;
+using io::SettingOverride;
+using io::settingText;
+using io::SettingType;
+using io::SettingValue;
+using io::valuesText;
+}  // namespace setting_names
+
 }  // namespace st::io

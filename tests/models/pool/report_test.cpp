@@ -12,13 +12,18 @@
 #include <stpool/report.hpp>
 #include <stpool/scenario.hpp>
 
+#include "pool_test_util.hpp"
+
 namespace st::pool {
 namespace {
 
-const char* kOneBall = R"(table: {width: 2.54, height: 1.27, pockets: false}
-balls: [{number: 0, position: [0.6, 0.6], velocity: [3.0, 0.0]}]
-until: 1
-)";
+// one ball crossing the table for a second, no pockets
+Scenario oneBall() {
+  Scenario s = test::oneTable(false);
+  s.balls.push_back(test::ball(0, Vec2(0.6, 0.6), Vec2(3.0, 0.0)));
+  s.until = 1.0;
+  return s;
+}
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -40,6 +45,16 @@ RunRecord brokenRun(Game& game, const Scenario& s) {
   return run;
 }
 
+// what `write` makes of a played one-ball run broken by brokenRun
+std::string brokenOutput(void (*write)(std::ostream&, const RunRecord&, const Game&)) {
+  const Scenario s = oneBall();
+  Game game(s, simulatorConfig(s));
+  const RunRecord run = brokenRun(game, s);
+  std::ostringstream os;
+  write(os, run, game);
+  return os.str();
+}
+
 // the text between "const D = " and the ";" that ends its line
 std::string animationData(const std::string& html) {
   const std::string head = "const D = ";
@@ -50,13 +65,9 @@ std::string animationData(const std::string& html) {
 }
 
 TEST(PoolReport, SummaryJsonWritesNonFiniteNumbersAsNull) {
-  const Scenario s = parseScenario(kOneBall, "s.yaml");
-  Game game(s, simulatorConfig(s));
-  const RunRecord run = brokenRun(game, s);
-  std::ostringstream os;
-  writeSummaryJson(os, run, game);
+  const std::string text = brokenOutput(writeSummaryJson);
   nlohmann::json j;
-  ASSERT_NO_THROW(j = nlohmann::json::parse(os.str())) << os.str();
+  ASSERT_NO_THROW(j = nlohmann::json::parse(text)) << text;
   EXPECT_TRUE(j["wall_time_s"].is_null());
   EXPECT_TRUE(j["shots"][0]["kinetic_energy_final_J"].is_null());
   EXPECT_TRUE(j["shots"][0]["momentum_final"][0].is_null());
@@ -65,13 +76,9 @@ TEST(PoolReport, SummaryJsonWritesNonFiniteNumbersAsNull) {
 }
 
 TEST(PoolReport, AnimationDataIsJsonWithNonFiniteNumbersAsNull) {
-  const Scenario s = parseScenario(kOneBall, "s.yaml");
-  Game game(s, simulatorConfig(s));
-  const RunRecord run = brokenRun(game, s);
-  std::ostringstream os;
-  writeAnimationHtml(os, run, game);
+  const std::string data = animationData(brokenOutput(writeAnimationHtml));
   nlohmann::json d;
-  ASSERT_NO_THROW(d = nlohmann::json::parse(animationData(os.str()))) << animationData(os.str());
+  ASSERT_NO_THROW(d = nlohmann::json::parse(data)) << data;
   EXPECT_EQ(d["width"].get<double>(), 2.54);
   EXPECT_EQ(d["height"].get<double>(), 1.27);
   // the broken keyframe is the ball's last: [0.25, null, 0.5, null, null]

@@ -17,12 +17,7 @@ namespace st::highway {
 // The core every settings table shares (stio/settings_table.hpp): a key's type, unit, range,
 // words and doc, how a value is read and checked, and the words of its error ("KEY PROBLEM":
 // "safe_time.vehicle_reaction must be in [0, 60] s, got 99"; problem() without the key).
-using io::SettingType;
-using io::SettingValue;
-using io::SettingError;
-using io::expected;
-using io::valuesText;
-using io::settingText;
+using namespace io::setting_names;
 using Setting = io::Setting<MonitorConfig>;
 
 // Every setting, in the order the reference lists them.

@@ -16,13 +16,7 @@ namespace st::pool {
 
 struct Scenario;
 
-using io::SettingError;
-using io::SettingOverride;
-using io::SettingType;
-using io::SettingValue;
-using io::expected;
-using io::settingText;
-using io::valuesText;
+using namespace io::setting_names;
 using Setting = io::Setting<Scenario>;
 
 
