@@ -105,113 +105,107 @@ void readAnalysis(Experiment& e, const io::Yaml<ExperimentError>& y, const YAML:
   }
 }
 
-}  // namespace
+using Reader = io::Yaml<ExperimentError>;
 
-Experiment loadExperiment(const fs::path& file, const std::vector<std::string>& optionalKeys) {
-  return loadExperiment(file, [&](const std::string&) { return optionalKeys; });
-}
-
-Experiment loadExperiment(const fs::path& file,
-                          const std::function<std::vector<std::string>(const std::string&)>& optionalKeysFor) {
-  Experiment e;
-  e.file = file;
-  const io::Yaml<ExperimentError> y(file.string());
-  const YAML::Node root = y.load(file);
-  if (!root.IsMap()) throw ExperimentError(file.string() + ": an experiment is a YAML map (base, sweep, seeds, ...)");
-  static const std::set<std::string> known = {"name", "command", "base",     "sweep", "fixed",
-                                              "seeds", "seed_key", "warmup", "report"};
-  y.onlyKeys(root, "", [](const std::string& k) { return known.count(k) > 0; },
-             "expected one of name, command, base, sweep, fixed, seeds, seed_key, warmup, report");
+// name:, command: and seed_key:
+void readHeader(Experiment& e, const Reader& y, const YAML::Node& root) {
   if (root["name"] && !root["name"].IsScalar()) fail(e, "name", root["name"], "must be a plain folder name, got a list or map");
-  e.name = root["name"] ? root["name"].as<std::string>() : file.stem().string();
+  e.name = root["name"] ? root["name"].as<std::string>() : e.file.stem().string();
   // the name is the default output folder out/<name>: one plain folder name, never a path
   if (e.name.empty() || e.name == "." || e.name == ".." || e.name.find_first_of("/\\") != std::string::npos)
     fail(e, "name", root["name"] ? root["name"] : root,
          "must be a plain folder name (no '/', not '.' or '..'), got '" + e.name + "'");
   if (root["command"]) {
-    if (!root["command"].IsScalar()) fail(e, "command", root["command"], "must be a command name");
+    if (!root["command"].IsScalar()) y.wrongType(root["command"], "command", "a command name");
     e.command = root["command"].as<std::string>();
     if (e.command != "highway" && e.command != "pool" && e.command != "arm")
       fail(e, "command", root["command"], "must be highway, pool or arm");
   }
-  readAnalysis(e, y, root);
   if (root["seed_key"]) {
-    if (!root["seed_key"].IsScalar()) fail(e, "seed_key", root["seed_key"], "must be a key name");
+    if (!root["seed_key"].IsScalar()) y.wrongType(root["seed_key"], "seed_key", "a key name");
     e.seedKey = root["seed_key"].as<std::string>();
   }
-  // base: one scenario file, or a map name -> file (several bases: a sweep axis over the names)
+}
+
+// A base scenario file named at `at`, relative to the experiment's folder, made absolute.
+fs::path baseFile(const Experiment& e, const Reader& y, const YAML::Node& at, const std::string& key) {
+  if (!at.IsScalar()) y.wrongType(at, key, "a scenario file");
+  fs::path p = at.as<std::string>();
+  if (p.is_relative()) p = e.file.parent_path() / p;
+  if (!fs::exists(p)) fail(e, key, at, "no such file: " + p.string());
+  return fs::weakly_canonical(p);
+}
+
+// One entry of a base map: a file, or {scenario: FILE, fixed: {key: value}}.
+NamedBase namedBase(const Experiment& e, const Reader& y, const std::string& name, const YAML::Node& n) {
+  NamedBase b{name, {}, {}};
+  const std::string where = "base." + name;
+  if (!n.IsMap()) {
+    b.file = baseFile(e, y, n, where);
+    return b;
+  }
+  y.onlyKeys(n, where, [](const std::string& k) { return k == "scenario" || k == "fixed"; },
+             "expected scenario (the file) and fixed (this base's overrides)");
+  if (!n["scenario"]) y.missingKey(n, where + ".scenario", "the base scenario file");
+  b.file = baseFile(e, y, n["scenario"], where + ".scenario");
+  if (const YAML::Node fixed = n["fixed"]) {
+    if (!fixed.IsMap()) y.wrongType(fixed, where + ".fixed", "a mapping of scenario keys to values");
+    y.onlyKeys(fixed, where + ".fixed", [](const std::string&) { return true; });
+    for (auto f = fixed.begin(); f != fixed.end(); ++f) {
+      if (!f->second.IsScalar()) y.wrongType(f->second, where + ".fixed." + f->first.Scalar(), "a scalar");
+      b.fixed[f->first.Scalar()] = scalarText(f->second);
+    }
+  }
+  return b;
+}
+
+// base: one scenario file, or a map name -> file (several bases: a sweep axis over the names)
+void readBases(Experiment& e, const Reader& y, const YAML::Node& root) {
   const YAML::Node baseNode = root["base"];
   if (!baseNode) y.missingKey(root, "base", "the base scenario file");
   if (!baseNode.IsScalar() && !baseNode.IsMap())
-    fail(e, "base", baseNode, "must be a scenario file, or a map of names to scenario files");
-  auto baseFile = [&](const YAML::Node& at, const std::string& key) {
-    if (!at.IsScalar()) fail(e, key, at, "must be a scenario file");
-    fs::path p = at.as<std::string>();
-    if (p.is_relative()) p = file.parent_path() / p;
-    if (!fs::exists(p)) fail(e, key, at, "no such file: " + p.string());
-    return fs::weakly_canonical(p);
-  };
-  std::vector<std::pair<fs::path, YAML::Node>> bases;  // every base, loaded, to check keys against
+    y.wrongType(baseNode, "base", "a scenario file, or a map of names to scenario files");
   if (baseNode.IsScalar()) {
-    e.base = baseFile(baseNode, "base");
-  } else {
-    if (baseNode.size() == 0) fail(e, "base", baseNode, "empty map: name at least one base scenario");
-    y.onlyKeys(baseNode, "base", [](const std::string&) { return true; });
-    SweepAxis axis{kBaseAxis, {}};
-    for (auto it = baseNode.begin(); it != baseNode.end(); ++it) {
-      const std::string name = it->first.as<std::string>();
-      if (name.empty()) fail(e, "base", it->first, "a base's name must not be empty");
-      NamedBase b{name, {}, {}};
-      const std::string where = "base." + name;
-      if (it->second.IsMap()) {  // {scenario: FILE, fixed: {key: value}}
-        y.onlyKeys(it->second, where, [](const std::string& k) { return k == "scenario" || k == "fixed"; },
-                   "expected scenario (the file) and fixed (this base's overrides)");
-        if (!it->second["scenario"]) y.missingKey(it->second, where + ".scenario", "the base scenario file");
-        b.file = baseFile(it->second["scenario"], where + ".scenario");
-        if (const YAML::Node fixed = it->second["fixed"]) {
-          if (!fixed.IsMap()) fail(e, where + ".fixed", fixed, "must map scenario keys to values");
-          y.onlyKeys(fixed, where + ".fixed", [](const std::string&) { return true; });
-          for (auto f = fixed.begin(); f != fixed.end(); ++f) {
-            if (!f->second.IsScalar()) y.wrongType(f->second, where + ".fixed." + f->first.Scalar(), "a scalar");
-            b.fixed[f->first.Scalar()] = scalarText(f->second);
-          }
-        }
-      } else {
-        b.file = baseFile(it->second, where);
-      }
-      e.bases.push_back(std::move(b));
-      axis.values.push_back(name);
-    }
-    e.base = e.bases.front().file;
-    e.sweep.push_back(std::move(axis));
+    e.base = baseFile(e, y, baseNode, "base");
+    return;
   }
-  if (e.bases.empty()) bases.emplace_back(e.base, y.load(e.base));
-  for (const auto& b : e.bases) bases.emplace_back(b.file, y.load(b.file));
-  const std::vector<std::string> optionalKeys = optionalKeysFor(e.command);
-  auto optional = [&](const std::string& k) {
+  if (baseNode.size() == 0) fail(e, "base", baseNode, "empty map: name at least one base scenario");
+  y.onlyKeys(baseNode, "base", [](const std::string&) { return true; });
+  SweepAxis axis{kBaseAxis, {}};
+  for (auto it = baseNode.begin(); it != baseNode.end(); ++it) {
+    const std::string name = it->first.as<std::string>();
+    if (name.empty()) fail(e, "base", it->first, "a base's name must not be empty");
+    e.bases.push_back(namedBase(e, y, name, it->second));
+    axis.values.push_back(name);
+  }
+  e.base = e.bases.front().file;
+  e.sweep.push_back(std::move(axis));
+}
+
+// Which scenario keys an experiment may set: a key every base has (a run of a base without it
+// would fail), or one the command documents as optional.
+struct ScenarioKeys {
+  std::vector<std::pair<fs::path, YAML::Node>> bases;  // every base, loaded
+  std::vector<std::string> optionalKeys;
+
+  bool optional(const std::string& k) const {
     return std::any_of(optionalKeys.begin(), optionalKeys.end(), [&](const std::string& o) { return o == k || o == "*"; });
-  };
-  // a key is accepted when every base has it (a run of a base without it would fail) or the
-  // command documents it as optional
-  auto lackingBase = [&](const std::string& k) -> const fs::path* {
+  }
+  // the first base that lacks k (and k not optional), or null
+  const fs::path* lackingBase(const std::string& k) const {
     if (optional(k)) return nullptr;
-    for (const auto& [path, node] : bases)
-      if (!hasKey(node, k)) return &path;
+    for (const auto& b : bases)
+      if (!hasKey(b.second, k)) return &b.first;
     return nullptr;
-  };
-  auto checkKey = [&](const std::string& k, const YAML::Node& at) {
+  }
+  void check(const Experiment& e, const std::string& k, const YAML::Node& at) const {
     if (const fs::path* lacking = lackingBase(k))
       fail(e, k, at, "unknown key: not in the base scenario " + lacking->filename().string());
-  };
+  }
+};
 
-  // every run sets the seed key: a key the scenarios do not have fails every run, so say it once here
-  if (const fs::path* lacking = lackingBase(e.seedKey))
-    fail(e, "seed_key", root["seed_key"] ? root["seed_key"] : root,
-         "'" + e.seedKey + "' is not a key of the base scenario " + lacking->filename().string() +
-             " (seed_key names the key each run's seed goes to)");
-
-  // seeds: a count (1..n) or an explicit list of integers
-  const YAML::Node seeds = root["seeds"];
+// seeds: a count (1..n) or an explicit list of integers
+void readSeeds(Experiment& e, const Reader& y, const YAML::Node& seeds) {
   if (!seeds) {
     e.seeds = {1};
   } else if (seeds.IsScalar()) {
@@ -238,56 +232,105 @@ Experiment loadExperiment(const fs::path& file,
   } else {
     y.wrongType(seeds, "seeds", "a count or a list of integers");
   }
+}
 
-  if (const YAML::Node sweep = root["sweep"]) {
-    if (!sweep.IsMap()) fail(e, "sweep", sweep, "must map scenario keys to lists of values");
-    if (sweep.size() == 0) fail(e, "sweep", sweep, "empty: give at least one key, or leave sweep out");
-    y.onlyKeys(sweep, "sweep", [](const std::string&) { return true; });
-    for (auto it = sweep.begin(); it != sweep.end(); ++it) {
-      const std::string k = it->first.as<std::string>();
-      if (k == kBaseAxis && !e.bases.empty())
-        fail(e, "sweep." + k, it->first, "the bases are swept by base: itself (a map of names to scenario files)");
-      checkKey(k, it->first);
-      if (k == e.seedKey) fail(e, k, it->first, "sweep seeds with the top-level 'seeds' key");
-      SweepAxis axis{k, {}};
-      if (it->second.IsScalar()) {
-        axis.values.push_back(scalarText(it->second));
-      } else if (it->second.IsSequence()) {
-        if (it->second.size() == 0) fail(e, "sweep." + k, it->second, "empty sweep: give at least one value");
-        const YAML::Node values = it->second;  // a range-for over a temporary's member would dangle
-        for (const auto& v : values) {
-          if (!v.IsScalar()) y.wrongType(v, "sweep." + k, "a list of scalars");
-          axis.values.push_back(scalarText(v));
-          if (std::count(axis.values.begin(), axis.values.end(), axis.values.back()) > 1)
-            fail(e, "sweep." + k, v, "value " + axis.values.back() + " is given twice");
-        }
-      } else {
-        y.wrongType(it->second, "sweep." + k, "a value or a list of values");
-      }
-      e.sweep.push_back(std::move(axis));
+// One swept key's values: a value, or a list of distinct scalars.
+SweepAxis sweepAxis(const Experiment& e, const Reader& y, const std::string& k, const YAML::Node& n) {
+  SweepAxis axis{k, {}};
+  if (n.IsScalar()) {
+    axis.values.push_back(scalarText(n));
+  } else if (n.IsSequence()) {
+    if (n.size() == 0) fail(e, "sweep." + k, n, "empty sweep: give at least one value");
+    for (const auto& v : n) {
+      if (!v.IsScalar()) y.wrongType(v, "sweep." + k, "a list of scalars");
+      axis.values.push_back(scalarText(v));
+      if (std::count(axis.values.begin(), axis.values.end(), axis.values.back()) > 1)
+        fail(e, "sweep." + k, v, "value " + axis.values.back() + " is given twice");
     }
+  } else {
+    y.wrongType(n, "sweep." + k, "a value or a list of values");
   }
-  // a base's own overrides: keys of that base, and not swept (the sweep would override them)
+  return axis;
+}
+
+void readSweep(Experiment& e, const Reader& y, const YAML::Node& sweep, const ScenarioKeys& keys) {
+  if (!sweep) return;
+  if (!sweep.IsMap()) y.wrongType(sweep, "sweep", "a mapping of scenario keys to lists of values");
+  if (sweep.size() == 0) fail(e, "sweep", sweep, "empty: give at least one key, or leave sweep out");
+  y.onlyKeys(sweep, "sweep", [](const std::string&) { return true; });
+  for (auto it = sweep.begin(); it != sweep.end(); ++it) {
+    const std::string k = it->first.as<std::string>();
+    if (k == kBaseAxis && !e.bases.empty())
+      fail(e, "sweep." + k, it->first, "the bases are swept by base: itself (a map of names to scenario files)");
+    keys.check(e, k, it->first);
+    if (k == e.seedKey) fail(e, k, it->first, "sweep seeds with the top-level 'seeds' key");
+    const YAML::Node values = it->second;  // a range-for over a temporary's member would dangle
+    e.sweep.push_back(sweepAxis(e, y, k, values));
+  }
+}
+
+// a base's own overrides: keys of that base, and not swept (the sweep would override them)
+void checkBaseOverrides(const Experiment& e, const YAML::Node& baseNode, const ScenarioKeys& keys) {
   for (std::size_t i = 0; i < e.bases.size(); ++i)
-    for (const auto& [k, v] : e.bases[i].fixed) {
+    for (const auto& kv : e.bases[i].fixed) {
+      const std::string& k = kv.first;
       const YAML::Node at = baseNode[e.bases[i].name]["fixed"];
       const std::string where = "base." + e.bases[i].name + ".fixed." + k;
-      if (!hasKey(bases[i].second, k) && !optional(k))
+      if (!hasKey(keys.bases[i].second, k) && !keys.optional(k))
         fail(e, where, at, "unknown key: not in the base scenario " + e.bases[i].file.filename().string());
       for (const auto& axis : e.sweep)
         if (axis.key == k) fail(e, where, at, "is swept: a base cannot fix it");
       if (k == e.seedKey) fail(e, where, at, "the seeds are the top-level 'seeds' key");
     }
-  if (const YAML::Node fixed = root["fixed"]) {
-    if (!fixed.IsMap()) y.wrongType(fixed, "fixed", "a mapping of scenario keys to values");
-    y.onlyKeys(fixed, "fixed", [](const std::string&) { return true; });
-    for (auto it = fixed.begin(); it != fixed.end(); ++it) {
-      const std::string k = it->first.as<std::string>();
-      checkKey(k, it->first);
-      if (!it->second.IsScalar()) y.wrongType(it->second, "fixed." + k, "a scalar");
-      e.fixed[k] = scalarText(it->second);
-    }
+}
+
+void readFixed(Experiment& e, const Reader& y, const YAML::Node& fixed, const ScenarioKeys& keys) {
+  if (!fixed) return;
+  if (!fixed.IsMap()) y.wrongType(fixed, "fixed", "a mapping of scenario keys to values");
+  y.onlyKeys(fixed, "fixed", [](const std::string&) { return true; });
+  for (auto it = fixed.begin(); it != fixed.end(); ++it) {
+    const std::string k = it->first.as<std::string>();
+    keys.check(e, k, it->first);
+    if (!it->second.IsScalar()) y.wrongType(it->second, "fixed." + k, "a scalar");
+    e.fixed[k] = scalarText(it->second);
   }
+}
+
+}  // namespace
+
+Experiment loadExperiment(const fs::path& file, const std::vector<std::string>& optionalKeys) {
+  return loadExperiment(file, [&](const std::string&) { return optionalKeys; });
+}
+
+Experiment loadExperiment(const fs::path& file,
+                          const std::function<std::vector<std::string>(const std::string&)>& optionalKeysFor) {
+  Experiment e;
+  e.file = file;
+  const Reader y(file.string());
+  const YAML::Node root = y.load(file);
+  if (!root.IsMap()) throw ExperimentError(file.string() + ": an experiment is a YAML map (base, sweep, seeds, ...)");
+  static const std::set<std::string> known = {"name", "command", "base",     "sweep", "fixed",
+                                              "seeds", "seed_key", "warmup", "report"};
+  y.onlyKeys(root, "", [](const std::string& k) { return known.count(k) > 0; },
+             "expected one of name, command, base, sweep, fixed, seeds, seed_key, warmup, report");
+  readHeader(e, y, root);
+  readAnalysis(e, y, root);
+  readBases(e, y, root);
+
+  ScenarioKeys keys;
+  if (e.bases.empty()) keys.bases.emplace_back(e.base, y.load(e.base));
+  for (const auto& b : e.bases) keys.bases.emplace_back(b.file, y.load(b.file));
+  keys.optionalKeys = optionalKeysFor(e.command);
+  // every run sets the seed key: a key the scenarios do not have fails every run, so say it once here
+  if (const fs::path* lacking = keys.lackingBase(e.seedKey))
+    fail(e, "seed_key", root["seed_key"] ? root["seed_key"] : root,
+         "'" + e.seedKey + "' is not a key of the base scenario " + lacking->filename().string() +
+             " (seed_key names the key each run's seed goes to)");
+
+  readSeeds(e, y, root["seeds"]);
+  readSweep(e, y, root["sweep"], keys);
+  checkBaseOverrides(e, root["base"], keys);
+  readFixed(e, y, root["fixed"], keys);
   return e;
 }
 
