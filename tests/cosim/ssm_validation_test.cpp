@@ -155,7 +155,7 @@ TEST(SsmValidation, NothingToCountIsReportedAsSuchNotAsOne) {
   // nor a PET or conflict-point agreement without a case both sides have
   EXPECT_TRUE(std::isnan(r.pet.withinFraction()));
   EXPECT_TRUE(std::isnan(r.point.withinFraction()));
-  EXPECT_NE(line.find("0 PETs, none on both sides; 0 conflict points, none on both sides;"), std::string::npos) << line;
+  EXPECT_NE(line.find("0 PETs, none on both sides; 0 conflicts' PETs, none on both sides; 0 conflict points, none on both sides;"), std::string::npos) << line;
   EXPECT_NE(json.find("\"pet\": {\"ssm_pets\": 0, \"stsim_pets\": 0, \"matched\": 0, \"tolerance_s\": 0.1, "
                       "\"within_tolerance\": 0, \"within_fraction\": null"), std::string::npos) << json;
 
@@ -361,6 +361,16 @@ TEST(SsmValidation, PetAndCrossingPointsAgreeWithSsmOnACrossing) {
   EXPECT_GE(jsonNumber(v, "within_fraction", pet), 0.99) << v;
   EXPECT_LT(jsonNumber(v, "max_abs_error_s", pet), 0.1) << v;
   EXPECT_NE(r.out.find(" PETs, 100.00 % within 0.1 s of SSM's;"), std::string::npos) << r.out;
+  // the analyst's: conflicts.csv's PETs against SSM's encounters of the same pair (each once)
+  const auto mine = v.find("\"conflicts\": {", pet);
+  ASSERT_NE(mine, std::string::npos) << v;
+  const double both = jsonNumber(v, "matched", mine);
+  EXPECT_GE(both, 5.0) << v;
+  EXPECT_EQ(both, jsonNumber(v, "conflict_pets", mine)) << v;
+  EXPECT_LT(jsonNumber(v, "ssm_encounters", mine), jsonNumber(v, "ssm_pets", pet)) << v;  // both devices' logs, once
+  EXPECT_GE(jsonNumber(v, "within_fraction", mine), 0.99) << v;
+  EXPECT_LT(jsonNumber(v, "max_abs_error_s", mine), 0.1) << v;
+  EXPECT_NE(r.out.find(" conflicts' PETs, 100.00 % within 0.1 s of SSM's;"), std::string::npos) << r.out;
 
   // the conflict point of the crossings: SSM's is where the follower enters the conflict area (the
   // leader's near side on its lane), ours the bodies' contact, on that side: the same place along

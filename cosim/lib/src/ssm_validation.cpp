@@ -142,6 +142,13 @@ struct SsmValidator::Impl {
   hw::MonitorConfig base;
   std::vector<hw::HighwayMonitor> monitors;
   std::vector<std::vector<hw::Warning>> warnings;
+  std::vector<hw::Conflict> conflicts;  // conflicts.csv's rows (the last monitor's: any finds them all)
+  std::vector<hw::Conflict> settled;    // scratch
+
+  void takeConflicts() {
+    monitors.back().takeConflicts(settled);
+    for (auto& c : settled) conflicts.push_back(std::move(c));
+  }
   std::unordered_map<std::string, int> ids;
   std::vector<Frame> frames;
 
@@ -190,6 +197,7 @@ void SsmValidator::record(double t, std::span<const hw::VehicleState> states) {
     impl_->monitors[i].step(t, states);
     for (auto& w : impl_->monitors[i].takeFinished()) impl_->warnings[i].push_back(std::move(w));
   }
+  impl_->takeConflicts();
 }
 
 void SsmValidator::finish(double t) {
@@ -197,6 +205,7 @@ void SsmValidator::finish(double t) {
     impl_->monitors[i].finish(t);
     for (auto& w : impl_->monitors[i].takeFinished()) impl_->warnings[i].push_back(std::move(w));
   }
+  impl_->takeConflicts();
 }
 
 ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflicts) const {
@@ -342,6 +351,28 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
     if (best) r.pet.add(std::abs(best->pet - c.pet), label(c.ego, c.foe, c.petTime + m.dt));
   }
 
+  // 4b. the analyst's PET: each SSM encounter with a PET (once per pair and PET time) against the
+  // conflict of the pair in conflicts.csv whose span holds SSM's PET time, the one beginning nearest
+  std::map<std::pair<std::string, std::string>, std::vector<const hw::Conflict*>> conflictPets;
+  for (const auto& c : m.conflicts)
+    if (std::isfinite(c.pet)) conflictPets[std::minmax(c.first, c.second)].push_back(&c), r.conflictPets++;
+  std::set<std::pair<std::pair<std::string, std::string>, long long>> petsSeen;
+  for (const auto& c : conflicts) {
+    if (!c.hasPet) continue;
+    const auto pair = std::minmax(c.ego, c.foe);
+    if (!petsSeen.insert({pair, std::llround(c.petTime / m.dt)}).second) continue;
+    r.ssmPetEncounters++;
+    const auto it = conflictPets.find(pair);
+    if (it == conflictPets.end()) continue;
+    const double at = c.petTime + m.dt;
+    const hw::Conflict* best = nullptr;
+    for (const hw::Conflict* k : it->second) {
+      if (at < k->begin - 1e-6 || at > k->end + hw::kPetHorizon + 1e-6) continue;
+      if (!best || std::abs(k->begin - at) < std::abs(best->begin - at)) best = k;
+    }
+    if (best) r.conflictPet.add(std::abs(best->pet - c.pet), label(pair.first, pair.second, at));
+  }
+
   // the sample of SSM's conflict of the ordered pair at our tick t (SSM's clock t - dt)
   auto sampleAt = [&](const hw::Warning& w, double t) -> std::pair<const SsmConflict*, std::size_t> {
     const auto it = byPair.find({w.ego, w.foe});
@@ -445,7 +476,8 @@ std::string toJson(const ValidationReport& r) {
      << ", \"within_tolerance\": " << r.withinUnshifted << "}\n  },\n  \"drac\": {\"ssm_samples\": " << r.dracSamples
      << ", " << agreementJson(r.drac, "m_s2") << "},\n  \"pet\": {\"ssm_pets\": " << r.ssmPets
      << ", \"stsim_pets\": " << r.stsimPets << ", " << agreementJson(r.pet, "s")
-     << "},\n  \"conflict_point\": {\"box_episodes\": " << r.pointEpisodes << ", \"ssm_following\": "
+     << ",\n    \"conflicts\": {\"ssm_encounters\": " << r.ssmPetEncounters << ", \"conflict_pets\": " << r.conflictPets
+     << ", " << agreementJson(r.conflictPet, "s") << "}},\n  \"conflict_point\": {\"box_episodes\": " << r.pointEpisodes << ", \"ssm_following\": "
      << r.pointAnyTtc.matched << ", " << agreementJson(r.point, "m") << ",\n    \"along_leader_path\": {"
      << agreementJson(r.pointAlong, "m") << "},\n    \"whatever_the_ttc\": {" << agreementJson(r.pointAnyTtc, "m")
      << "},\n    \"without_moving_on\": {\"matched\": " << r.pointUnconverted.matched << ", \"within_tolerance\": "
@@ -490,6 +522,8 @@ std::string summaryLine(const ValidationReport& r) {
   agreement(r.drac, "DRACs", "m/s²");
   os << ";";
   agreement(r.pet, "PETs", "s");
+  os << ";";
+  agreement(r.conflictPet, "conflicts' PETs", "s");
   os << ";";
   agreement(r.point, "conflict points", "m");
   if (r.point.matched > 0) os << " (along the leader's path " << io::fixed(100.0 * r.pointAlong.withinFraction(), 2) << " %)";

@@ -147,6 +147,12 @@ struct ValidationReport {
   // both have (same ordered pair, overlapping in time, the episode's PET horizon included)
   std::uint64_t ssmPets = 0, stsimPets = 0;
   Agreement pet{0.1};
+  // and the analyst's PET: SSM's encounters with a PET (each pair and PET time once: SSM logs an
+  // encounter from both vehicles' devices), conflicts.csv's conflicts with one, and the encounters
+  // both have (same pair, SSM's PET time within the conflict's begin and its end plus the PET
+  // horizon): |conflicts.csv's PET - SSM's| (s)
+  std::uint64_t ssmPetEncounters = 0, conflictPets = 0;
+  Agreement conflictPet{0.1};
   // 5. the conflict point (m): the box detector's episodes with a contact point; of those, the
   // rear_end ones SSM has as a following sample with a TTC at the minimum-TTC tick (the distance between
   // the points, whatever the TTCs), and of these the ones where both see the same approach, SSM's
