@@ -20,7 +20,8 @@
 // separation check; beside it the same cycles in process (readings and pose applied, monitor +
 // SSM), and the ratio of its p99 to the echo floor's (1 client) of the same run.
 //
-// usage: arm_service_bench [CYCLES]   (default 3001: the whole trace, ~3 s per row)
+// usage: arm_service_bench [CYCLES] [person]   (default 3001: the whole trace, ~3 s per row;
+//        "person": only the rows with a person, in process and the five floor/service pairs)
 #include <time.h>
 
 #include <algorithm>
@@ -364,17 +365,21 @@ NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& 
 
 int main(int argc, char** argv) {
   const std::size_t limit = argc > 1 ? static_cast<std::size_t>(std::stoul(argv[1])) : 3001;
+  const bool personOnly = argc > 2 && std::string(argv[2]) == "person";
   const Scenario s = loadScenario(std::string(STSIM_SOURCE_DIR) + "/models/arm/scenarios/two_pandas.yaml");
   const auto cycles = recordCycles(s, limit);
   std::printf("arm service: two_pandas, %zu cycles at 1 kHz per row, load average %.2f at start, 2 cores shared\n\n",
               cycles.size(), loadAverage());
-  const Stats local = inProcess(s, cycles);
+  Stats local;
   std::vector<std::pair<int, NetRow>> rows;
-  for (int n : {1, 8, 64}) rows.emplace_back(n, overLoopback<ArmService>(s, cycles, n));
   std::vector<std::pair<int, NetRow>> perMessage;
-  for (int n : {8, 64}) perMessage.emplace_back(n, overLoopback<ArmService>(s, cycles, n, false));
   std::vector<std::pair<int, NetRow>> floor;
-  for (int n : {1, 8}) floor.emplace_back(n, overLoopback<EchoService>(s, cycles, n));
+  if (!personOnly) {
+    local = inProcess(s, cycles);
+    for (int n : {1, 8, 64}) rows.emplace_back(n, overLoopback<ArmService>(s, cycles, n));
+    for (int n : {8, 64}) perMessage.emplace_back(n, overLoopback<ArmService>(s, cycles, n, false));
+    for (int n : {1, 8}) floor.emplace_back(n, overLoopback<EchoService>(s, cycles, n));
+  }
   // one arm and one person: SKELETONS every cycle beside the READINGS
   const Scenario sp = loadScenario(std::string(STSIM_SOURCE_DIR) + "/models/arm/scenarios/person_walkup.yaml");
   const auto personCycles = recordCycles(sp, limit);
@@ -399,7 +404,7 @@ int main(int argc, char** argv) {
 
   // the stream client at real time (one client, blocking, as `stsim arm stream --rate 1` runs)
   StreamResult sr;
-  {
+  if (!personOnly) {
     asio::io_context serviceIo;
     ServiceConfig cfg;
     cfg.net.handleSignals = false;
@@ -432,8 +437,9 @@ int main(int argc, char** argv) {
 
   std::printf("%-44s %8s %8s %8s %8s %9s %12s %12s\n", "case", "msgs", "p50 us", "p99 us", "max us", "answered",
               "service CPU", "client CPU");
-  std::printf("%-44s %8zu %8.2f %8.2f %8.1f %9s %12s %12s\n", "in process: readings applied + cycle", local.n, local.p50,
-              local.p99, local.max, "-", "-", "-");
+  if (!personOnly)
+    std::printf("%-44s %8zu %8.2f %8.2f %8.1f %9s %12s %12s\n", "in process: readings applied + cycle", local.n, local.p50,
+                local.p99, local.max, "-", "-", "-");
   for (const auto& [n, r] : rows) {
     char name[64];
     std::snprintf(name, sizeof name, "loopback, %d client%s at 1 kHz (%.2f cycles/ms)", n, n == 1 ? "" : "s",
@@ -469,6 +475,7 @@ int main(int argc, char** argv) {
                   100.0 * r->serviceCpu / r->wall, 100.0 * r->clientCpu / r->wall);
     }
   }
+  if (!personOnly) {
   std::printf("%-44s %8zu %8.2f %8.2f %8.1f %8.2f%% %12s %12s\n", "loopback, stsim arm stream --rate 1 (1 client)",
               sr.cycles, stream.p50, stream.p99, stream.max,
               100.0 * static_cast<double>(sr.verdicts) / static_cast<double>(std::max<std::uint64_t>(1, sr.cycles)), "-", "-");
@@ -480,6 +487,7 @@ int main(int argc, char** argv) {
               rows[2].second.rtt.p50 / local.p50);
   std::printf("target at 1 kHz with 8 clients: p50 <= 50 us (%.2f: %s), p99 <= 250 us (%.2f: %s)\n", eight.rtt.p50,
               eight.rtt.p50 <= 50 ? "met" : "NOT met", eight.rtt.p99, eight.rtt.p99 <= 250 ? "met" : "NOT met");
+  }
   std::printf("1 arm + 1 person over loopback against its echo floor (1 client, %d pairs alternated): pooled p50 %.2f / "
               "%.2f us = %.2fx, pooled p99 %.2f / %.2f us = %.2fx (target p99 <= 1.1x: %s); per pair p99 ratio %.2fx .. "
               "%.2fx (median %.2fx)\n",

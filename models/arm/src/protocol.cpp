@@ -175,6 +175,30 @@ bool readReadings(Reader& r, Readings& out) {
   return r.done();
 }
 
+// SKELETONS after the type byte, into out (its storage reused: a pose per message allocates
+// nothing once out has held as many persons).
+bool readSkeletons(Reader& r, std::uint8_t version, Skeletons& out) {
+  if (version < 3) return r.fail("needs protocol version 3 (this message says " + std::to_string(version) + ")");
+  r.what = "seq";
+  out.seq = r.u32();
+  r.what = "t";
+  out.t = r.f64();
+  r.what = "count";
+  const std::uint16_t n = r.u16();
+  if (r.error.empty() && n > kMaxPersons)
+    return r.fail(std::to_string(n) + " persons in one message (at most " + std::to_string(kMaxPersons) + ")");
+  r.what = "skeleton";
+  if (!r.need(static_cast<std::size_t>(n) * (2 + kSkeletonJoints * 24))) return false;
+  out.persons.resize(n);
+  for (PersonPose& p : out.persons) {
+    p.person = r.u16();
+    p.joints.resize(kSkeletonJoints);
+    for (Vec3& j : p.joints)
+      for (int i = 0; i < 3; ++i) j[i] = r.f64();
+  }
+  return r.done();
+}
+
 }  // namespace
 
 const char* toString(Level l) {
@@ -360,6 +384,16 @@ std::string decodeReadings(std::string_view payload, Readings& out) {
   return "";
 }
 
+std::string decodeSkeletons(std::string_view payload, Skeletons& out) {
+  Type t;
+  std::string err;
+  if (!peekType(payload, t, err)) return err;
+  if (t != Type::Skeletons) return std::string("expected SKELETONS, got ") + typeName(t);
+  Reader r{payload, 2, {}, ""};
+  if (!readSkeletons(r, static_cast<std::uint8_t>(payload[0]), out)) return std::string("SKELETONS: ") + r.error;
+  return "";
+}
+
 Decoded decode(std::string_view payload) {
   Decoded d;
   Type t;
@@ -507,29 +541,7 @@ Decoded decode(std::string_view payload) {
     }
     case Type::Skeletons: {
       Skeletons x;
-      if (static_cast<std::uint8_t>(payload[0]) < 3) {
-        r.fail("needs protocol version 3 (this message says " + std::to_string(static_cast<std::uint8_t>(payload[0])) + ")");
-        break;
-      }
-      r.what = "seq";
-      x.seq = r.u32();
-      r.what = "t";
-      x.t = r.f64();
-      r.what = "count";
-      const std::uint16_t n = r.u16();
-      if (r.error.empty() && n > kMaxPersons)
-        r.fail(std::to_string(n) + " persons in one message (at most " + std::to_string(kMaxPersons) + ")");
-      r.what = "skeleton";
-      if (r.error.empty() && r.need(static_cast<std::size_t>(n) * (2 + kSkeletonJoints * 24))) {
-        x.persons.resize(n);
-        for (PersonPose& p : x.persons) {
-          p.person = r.u16();
-          p.joints.resize(kSkeletonJoints);
-          for (Vec3& j : p.joints)
-            for (int i = 0; i < 3; ++i) j[i] = r.f64();
-        }
-      }
-      if (r.done()) d.message = std::move(x);
+      if (readSkeletons(r, static_cast<std::uint8_t>(payload[0]), x)) d.message = std::move(x);
       break;
     }
     case Type::Error: {

@@ -226,16 +226,18 @@ void ArmService::release(net::ConnectionId id) {
     }
 }
 
-std::string ArmService::checkTime(net::ConnectionId id, const Peer& p, const std::string& what, double t) const {
-  if (!std::isfinite(t)) return what + ": time is not a finite number";
-  if (std::abs(t) > kMaxClock) return what + ": time " + num(t) + " s is beyond any clock (at most 1e12 s either way)";
+std::string ArmService::checkTime(net::ConnectionId id, const Peer& p, const char* kind, std::uint32_t seqNo, double t) const {
+  // the message's name is only built for a refusal (none on the way of a message taken)
+  const auto name = [&] { return std::string(kind) + " seq " + std::to_string(seqNo); };
+  if (!std::isfinite(t)) return name() + ": time is not a finite number";
+  if (std::abs(t) > kMaxClock) return name() + ": time " + num(t) + " s is beyond any clock (at most 1e12 s either way)";
   // A connection with a clock of its own, or one that owns what it reports (CLAIM), is held to
   // its own clock alone: no other client's time may get a sensor refused (it would lose its arms
   // to whoever claims them next). A clock jumping ahead is a fault of this connection.
   if (std::isfinite(p.newestT) || p.owns) {
     if (!std::isfinite(p.newestT)) return "";
     if (t - p.newestT > cfg_.maxLead)
-      return what + ": time " + num(t) + " s jumps more than " + num(cfg_.maxLead) + " s ahead of this connection's last (" +
+      return name() + ": time " + num(t) + " s jumps more than " + num(cfg_.maxLead) + " s ahead of this connection's last (" +
              num(p.newestT) + " s)";
     return "";
   }
@@ -246,7 +248,7 @@ std::string ArmService::checkTime(net::ConnectionId id, const Peer& p, const std
     if (pid != id && q.stage != Stage::Leaving && std::isfinite(q.newestT) && now - q.lastHeard <= kTalking)
       fastest = std::max(fastest, q.newestT);
   if (std::isfinite(fastest) && std::abs(t - fastest) > cfg_.maxLead)
-    return what + ": time " + num(t) + " s is more than " + num(cfg_.maxLead) + " s " + (t > fastest ? "ahead of" : "behind") +
+    return name() + ": time " + num(t) + " s is more than " + num(cfg_.maxLead) + " s " + (t > fastest ? "ahead of" : "behind") +
            " a sensor that is talking (at " + num(fastest) + " s)";
   return "";
 }
@@ -367,7 +369,12 @@ std::string ArmService::mayReport(net::ConnectionId id, const Peer& p, std::vect
          " until that connection leaves)";
 }
 
+bool ArmService::mayReportAtOnce(net::ConnectionId id, const Peer& p, net::ConnectionId owner) {
+  return owner == id || (owner == kNobody && !p.claimed);
+}
+
 std::string ArmService::mayReportArm(net::ConnectionId id, const Peer& p, int a, const std::string& where) {
+  if (mayReportAtOnce(id, p, armOwner_[a])) return "";
   return mayReport(id, p, armOwner_, armDisputed_, static_cast<std::size_t>(a),
                    "arm " + std::to_string(a) + " (" + monitor_.arm(a).name + ")", where,
                    "one connection per arm; the arm is stopped");
@@ -441,35 +448,47 @@ std::string ArmService::onClaim(net::ConnectionId id, Peer& p, std::string_view 
 std::string ArmService::onReadings(net::ConnectionId id, Peer& p, std::string_view payload) {
   if (std::string e = proto::decodeReadings(payload, readings_); !e.empty()) return e;
   const proto::Readings& r = readings_;
-  const std::string seq = "READINGS seq " + std::to_string(r.seq);
-  if (std::string e = checkTime(id, p, seq, r.t); !e.empty()) return e;
+  // the message's name only for a refusal (a message taken builds no text)
+  const auto seqName = [&] { return "READINGS seq " + std::to_string(r.seq); };
+  if (std::string e = checkTime(id, p, "READINGS", r.seq, r.t); !e.empty()) return e;
   if (r.t < p.lastT)
-    return seq + ": time " + num(r.t) + " s goes backwards (this connection's last was " + num(p.lastT) + " s)";
+    return seqName() + ": time " + num(r.t) + " s goes backwards (this connection's last was " + num(p.lastT) + " s)";
   // whose arms: every one named that another connection owns is disputed, not just the first
   std::string owned;
   for (const proto::ArmReading& a : r.arms)
-    if (a.arm < monitor_.armCount())
-      if (std::string e = mayReportArm(id, p, a.arm, seq); !e.empty() && owned.empty()) owned = std::move(e);
+    if (a.arm < monitor_.armCount() && !mayReportAtOnce(id, p, armOwner_[a.arm]))
+      if (std::string e = mayReportArm(id, p, a.arm, seqName()); !e.empty() && owned.empty()) owned = std::move(e);
   if (!owned.empty()) return owned;
   // every reading checked before any is applied: a refused message leaves the monitor as it was
   for (std::size_t k = 0; k < r.arms.size(); ++k) {
     const proto::ArmReading& a = r.arms[k];
     if (a.arm >= monitor_.armCount())
-      return seq + ": unknown arm id " + std::to_string(a.arm) + " (the scenario has " +
+      return seqName() + ": unknown arm id " + std::to_string(a.arm) + " (the scenario has " +
              std::to_string(monitor_.armCount()) + " arms, ids 0.." + std::to_string(monitor_.armCount() - 1) + ")";
     // one arm, one time, one state (as in a trace: CsvSensor); the same reading twice is harmless
     for (std::size_t j = 0; j < k; ++j)
       if (r.arms[j].arm == a.arm && (r.arms[j].q != a.q || r.arms[j].qdot != a.qdot))
-        return seq + ": arm " + std::to_string(a.arm) + " is given twice with different joint values";
-    check_.t = r.t;
-    check_.arm = a.arm;
-    check_.q = a.q;
-    check_.qdot = a.qdot;
-    check_.where = seq + " arm " + std::to_string(a.arm);
-    try {
-      validateReading(monitor_.arm(a.arm).model, check_);
-    } catch (const InputError& e) {
-      return e.what();
+        return seqName() + ": arm " + std::to_string(a.arm) + " is given twice with different joint values";
+    // the reading as a trace's would be checked (validateReading); its name is made only for the
+    // reason of a refusal, the check run again with it
+    const ArmModel& model = monitor_.arm(a.arm).model;
+    bool valid = static_cast<int>(a.q.size()) == model.dof() && static_cast<int>(a.qdot.size()) == model.dof();
+    if (valid) try {
+        validateJointState(model, a.q.data(), a.qdot.data(), "");
+      } catch (const InputError&) {
+        valid = false;
+      }
+    if (!valid) {
+      check_.t = r.t;
+      check_.arm = a.arm;
+      check_.q = a.q;
+      check_.qdot = a.qdot;
+      check_.where = seqName() + " arm " + std::to_string(a.arm);
+      try {
+        validateReading(model, check_);
+      } catch (const InputError& e) {
+        return e.what();
+      }
     }
   }
   for (const proto::ArmReading& a : r.arms) {
@@ -501,7 +520,7 @@ std::string ArmService::onObstacles(net::ConnectionId id, Peer& p, std::string_v
   if (!d.ok) return d.error;
   const auto& m = std::get<proto::Obstacles>(d.message);
   const std::string seq = "OBSTACLES seq " + std::to_string(m.seq);
-  if (std::string e = checkTime(id, p, seq, m.t); !e.empty()) return e;
+  if (std::string e = checkTime(id, p, "OBSTACLES", m.seq, m.t); !e.empty()) return e;
   for (const proto::ObstaclePose& o : m.obstacles) {
     if (o.obstacle >= monitor_.obstacles().size())
       return seq + ": unknown obstacle id " + std::to_string(o.obstacle) + " (the scenario has " +
@@ -535,35 +554,34 @@ std::string ArmService::onObstacles(net::ConnectionId id, Peer& p, std::string_v
 std::string ArmService::onSkeletons(net::ConnectionId id, Peer& p, std::string_view payload) {
   if (p.version < 3)
     return "SKELETONS needs protocol version 3 (this connection said HELLO with version " + std::to_string(p.version) + ")";
-  const proto::Decoded d = proto::decode(payload);
-  if (!d.ok) return d.error;
-  const auto& m = std::get<proto::Skeletons>(d.message);
-  const std::string seq = "SKELETONS seq " + std::to_string(m.seq);
-  if (std::string e = checkTime(id, p, seq, m.t); !e.empty()) return e;
+  // decoded into storage kept from message to message; the message's name only for a refusal
+  if (std::string e = proto::decodeSkeletons(payload, skeletons_); !e.empty()) return e;
+  const proto::Skeletons& m = skeletons_;
+  const auto seqName = [&] { return "SKELETONS seq " + std::to_string(m.seq); };
+  if (std::string e = checkTime(id, p, "SKELETONS", m.seq, m.t); !e.empty()) return e;
   // every pose checked before any is taken
   for (const proto::PersonPose& pp : m.persons) {
     if (pp.person >= held_.size())
-      return seq + ": unknown person id " + std::to_string(pp.person) + " (the scenario has " + std::to_string(held_.size()) +
+      return seqName() + ": unknown person id " + std::to_string(pp.person) + " (the scenario has " + std::to_string(held_.size()) +
              " persons)";
     for (std::size_t j = 0; j < pp.joints.size(); ++j)
       if (!pp.joints[j].allFinite() || pp.joints[j].cwiseAbs().maxCoeff() > 1000.0)
-        return seq + ": person " + std::to_string(pp.person) + " joint " + jointName(static_cast<int>(j)) +
+        return seqName() + ": person " + std::to_string(pp.person) + " joint " + jointName(static_cast<int>(j)) +
                " is not a finite position within 1 km of the cell";
   }
   std::string owned;
   for (const proto::PersonPose& pp : m.persons)
-    if (std::string e = mayReport(id, p, personOwner_, personDisputed_, pp.person,
-                                  "person " + std::to_string(pp.person) + " (" + persons_.name(pp.person) + ")", seq,
-                                  "one connection per person; every arm is stopped");
-        !e.empty() && owned.empty())
-      owned = std::move(e);
+    if (!mayReportAtOnce(id, p, personOwner_[pp.person]))
+      if (std::string e = mayReport(id, p, personOwner_, personDisputed_, pp.person,
+                                    "person " + std::to_string(pp.person) + " (" + persons_.name(pp.person) + ")", seqName(),
+                                    "one connection per person; every arm is stopped");
+          !e.empty() && owned.empty())
+        owned = std::move(e);
   if (!owned.empty()) return owned;
   p.reported = true;
   for (const proto::PersonPose& pp : m.persons) {
     personOwner_[pp.person] = id;
-    Skeleton s;
-    for (std::size_t j = 0; j < pp.joints.size(); ++j) s.p[j] = pp.joints[j];
-    held_[pp.person]->set(s);
+    held_[pp.person]->set(pp.joints.data());
     if (std::isnan(personT_[pp.person]) || m.t > personT_[pp.person]) personNew_[pp.person] = 1;
     personT_[pp.person] = m.t;
   }

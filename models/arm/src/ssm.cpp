@@ -112,67 +112,111 @@ SeparationMonitor::SeparationMonitor(SsmConfig cfg, int arms)
 
 void SeparationMonitor::cycle(const Monitor& m, const PersonSet& persons) {
   ++counters_.cycles;
+  // a sphere holding a capsule (its segment's midpoint; half its length plus its radius): the
+  // distance of two capsules is at least that of their spheres, so a pair whose spheres are no
+  // nearer than the nearest pair found so far cannot be nearer and is not measured
+  const auto boundOf = [](const Capsule& c) { return Bound{0.5 * (c.a + c.b), 0.5 * (c.b - c.a).norm() + c.radius}; };
   const int nc = m.capsuleCount();
-  // the arms' capsules at the cycle time, and each arm's speed: its fastest capsule end point
-  std::vector<MovingCapsule> caps(static_cast<std::size_t>(nc));
-  std::vector<double> speed(verdicts_.size(), 0.0);
+  const int arms = static_cast<int>(verdicts_.size());
+  // the arms' capsules at the cycle time, by arm, and each arm's speed: its fastest capsule end
+  // point (the buffers are kept from cycle to cycle: no allocation once they have grown)
+  caps_.resize(static_cast<std::size_t>(nc));
+  capBound_.resize(static_cast<std::size_t>(nc));
+  speed_.assign(verdicts_.size(), 0.0);
+  armFirst_.assign(verdicts_.size() + 1, 0);
+  for (int i = 0; i < nc; ++i) ++armFirst_[m.capsuleArm(i) + 1];
+  for (int a = 0; a < arms; ++a) armFirst_[a + 1] += armFirst_[a];
+  armCaps_.resize(static_cast<std::size_t>(nc));
+  fill_.assign(armFirst_.begin(), armFirst_.end() - 1);
   for (int i = 0; i < nc; ++i) {
-    caps[i] = m.movingCapsule(i);
-    double& v = speed[m.capsuleArm(i)];
-    v = std::max({v, caps[i].va.norm(), caps[i].vb.norm()});
+    caps_[i] = m.movingCapsule(i);
+    capBound_[i] = boundOf(caps_[i].c);
+    double& v = speed_[m.capsuleArm(i)];
+    v = std::max({v, caps_[i].va.norm(), caps_[i].vb.norm()});
+    armCaps_[fill_[m.capsuleArm(i)]++] = i;  // in index order within each arm
   }
   // every body part's power-and-force speed limit once (pfl)
   std::array<double, kBodyParts> pfl{};
   for (int k = 0; k < kBodyParts; ++k) pfl[k] = pflSpeedLimit(cfg_, bodyParts()[k].region);
   // every person's capsules once
-  std::vector<std::array<Capsule, kBodyParts>> body(static_cast<std::size_t>(persons.size()));
+  body_.resize(static_cast<std::size_t>(persons.size()));
+  bodyBound_.resize(static_cast<std::size_t>(persons.size()));
   for (int p = 0; p < persons.size(); ++p)
-    if (persons.present(p)) body[p] = bodyCapsules(persons.skeleton(p));
+    if (persons.present(p)) {
+      body_[p] = bodyCapsules(persons.skeleton(p));
+      for (int k = 0; k < kBodyParts; ++k) bodyBound_[p][k] = boundOf(body_[p][k]);
+    }
 
-  for (int a = 0; a < static_cast<int>(verdicts_.size()); ++a) {
+  for (int a = 0; a < arms; ++a) {
     SsmVerdict v;
-    v.robotSpeed = speed[a];
+    v.robotSpeed = speed_[a];
     // the top speed a binary monitor must assume: declared, or faster if the arm is seen faster
-    const double topSpeed = std::max(cfg_.robotSpeed, speed[a]);
+    const double topSpeed = std::max(cfg_.robotSpeed, speed_[a]);
     // the graded responses with the drive known: its program speed now and the one it would brake from
     const ArmDrive* drive = cfg_.response == SsmResponse::Stop ? nullptr : drives_[a];
     const double sNow = drive ? drive->speed() : 1.0, sBrake = drive ? drive->brakingSpeed() : 1.0;
+    // S_p depends on the part only through v_h (hand or body): its terms once per kind
+    SeparationTerms terms[2];
+    double binary[2];
+    for (int hand = 0; hand < 2; ++hand) {
+      const double vh = hand ? cfg_.handSpeed : cfg_.bodySpeed;
+      terms[hand] = protectiveSeparation(cfg_, vh, speed_[a], sNow, sBrake);
+      binary[hand] = protectiveSeparation(cfg_, vh, topSpeed).total();
+    }
     double worstSlack = std::numeric_limits<double>::infinity();
+    int worstCap = nc;  // the arm capsule of the binding pair (ties: the lowest, as pair by pair)
     bool touching = false, stopBinary = false;
     // pfl: the allowed speed per pair is the larger of S_p's and the region's contact limit
     double pflAllowed = std::numeric_limits<double>::infinity();
     bool pflBreak = false;  // a pair below S_p at the present speed, faster than its region's limit
     double touchLimit = std::numeric_limits<double>::infinity();  // smallest limit of a touched region
-    for (int i = 0; i < nc; ++i) {
-      if (m.capsuleArm(i) != a) continue;
-      for (int p = 0; p < persons.size(); ++p) {
-        if (!persons.present(p)) continue;
-        for (int k = 0; k < kBodyParts; ++k) {
-          const double vh = bodyParts()[k].hand ? cfg_.handSpeed : cfg_.bodySpeed;
-          const double d = distance(caps[i].c, body[p][k]);
-          const SeparationTerms terms = protectiveSeparation(cfg_, vh, speed[a], sNow, sBrake);
-          const double slack = d - terms.total();
-          if (slack < worstSlack) {
-            worstSlack = slack;
-            v.required = terms.total();
-            v.terms = terms;
-            v.person = p;
-            v.part = k;
-            v.armBody = m.capsuleBody(i);
-          }
-          v.separation = std::min(v.separation, d);
-          const double allowed = drive ? allowedDrivenSpeed(cfg_, vh, d) : allowedRobotSpeed(cfg_, vh, d);
-          v.allowedSpeed = std::min(v.allowedSpeed, allowed);
-          pflAllowed = std::min(pflAllowed, std::max(allowed, pfl[k]));
-          if (slack < 0.0) {
-            v.pflLimit = std::min(v.pflLimit, pfl[k]);
-            if (speed[a] > pfl[k]) pflBreak = true;
-          }
-          if (d < protectiveSeparation(cfg_, vh, topSpeed).total()) stopBinary = true;
-          if (d <= 0.0) {
-            touching = true;
-            touchLimit = std::min(touchLimit, pfl[k]);
-          }
+    for (int p = 0; p < persons.size(); ++p) {
+      if (!persons.present(p)) continue;
+      for (int k = 0; k < kBodyParts; ++k) {
+        // the part's nearest capsule of the arm: every verdict below is monotone in the distance
+        // (S_p and the part's limit do not depend on which arm capsule), so the nearest decides
+        // what every pair of the part would (the first nearest in index order, as pair by pair)
+        // (the arm's capsules by their spheres' distance, nearest first: measured until the next
+        // sphere is farther than the nearest capsule found, which then no capsule left can beat)
+        const Bound& bb = bodyBound_[p][k];
+        order_.clear();
+        for (int j = armFirst_[a]; j < armFirst_[a + 1]; ++j) {
+          const int i = armCaps_[j];
+          order_.push_back({(capBound_[i].centre - bb.centre).norm() - capBound_[i].reach - bb.reach, i});
+        }
+        std::sort(order_.begin(), order_.end());
+        double d = std::numeric_limits<double>::infinity();
+        int nearest = -1;
+        for (const auto& [low, i] : order_) {
+          if (low > d) break;
+          const double dij = distance(caps_[i].c, body_[p][k]);
+          if (dij < d || (dij == d && i < nearest)) d = dij, nearest = i;
+        }
+        if (nearest < 0) continue;
+        const int hand = bodyParts()[k].hand ? 1 : 0;
+        const double vh = hand ? cfg_.handSpeed : cfg_.bodySpeed;
+        const double slack = d - terms[hand].total();
+        if (slack < worstSlack || (slack == worstSlack && nearest < worstCap)) {
+          worstSlack = slack;
+          worstCap = nearest;
+          v.required = terms[hand].total();
+          v.terms = terms[hand];
+          v.person = p;
+          v.part = k;
+          v.armBody = m.capsuleBody(nearest);
+        }
+        v.separation = std::min(v.separation, d);
+        const double allowed = drive ? allowedDrivenSpeed(cfg_, vh, d) : allowedRobotSpeed(cfg_, vh, d);
+        v.allowedSpeed = std::min(v.allowedSpeed, allowed);
+        pflAllowed = std::min(pflAllowed, std::max(allowed, pfl[k]));
+        if (slack < 0.0) {
+          v.pflLimit = std::min(v.pflLimit, pfl[k]);
+          if (speed_[a] > pfl[k]) pflBreak = true;
+        }
+        if (d < binary[hand]) stopBinary = true;
+        if (d <= 0.0) {
+          touching = true;
+          touchLimit = std::min(touchLimit, pfl[k]);
         }
       }
     }
@@ -202,9 +246,9 @@ void SeparationMonitor::cycle(const Monitor& m, const PersonSet& persons) {
     else if (v.factor < 1.0) ++counters_.scaledCycles;
     if (v.violated && !v.stop) ++counters_.violations;
     if (v.pflAllowed) ++counters_.pflCycles;
-    if (touching && speed[a] > 0.0) {
+    if (touching && speed_[a] > 0.0) {
       ++counters_.contacts;
-      if (speed[a] <= touchLimit) ++counters_.contactsWithinLimit;
+      if (speed_[a] <= touchLimit) ++counters_.contactsWithinLimit;
       else ++counters_.contactsAboveLimit;
     }
     counters_.minSeparation = std::min(counters_.minSeparation, v.separation);

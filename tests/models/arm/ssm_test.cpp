@@ -414,6 +414,90 @@ TEST(Ssm, SeparationEqualsBruteForceSampling) {
   }
 }
 
+TEST(Ssm, VerdictEqualsEveryPairOneByOne) {
+  // the monitor measures each body part against its nearest arm capsule only (spheres around the
+  // capsules skip the pairs that cannot be nearer); the verdict must be the one every pair taken
+  // one by one gives, (1)-(4) and (A.7) applied pair by pair as written (the drive unknown: formulae
+  // (3) and (4) at full program speed), for two persons near a moving Panda at random poses
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Monitor mon({ArmInstance{"panda", pandaModel(), Eigen::Isometry3d::Identity()}}, {}, SafetyConfig{});
+  const ArmModel& pm = mon.arm(0).model;
+  int stops = 0, scaled = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    std::vector<double> q(7), qd(7);
+    for (int k = 0; k < 7; ++k) {
+      q[k] = 0.5 * (pm.joints[k].lower + pm.joints[k].upper) + 0.4 * u(rng);
+      qd[k] = 0.8 * u(rng);
+    }
+    mon.setJointState(0, trial, q.data(), qd.data());
+    mon.cycle(trial);
+    PersonSet persons;
+    for (int p = 0; p < 2; ++p) {
+      PersonScript s;
+      s.start = Vec3(0.8 + 0.8 * std::abs(u(rng)), 0.8 * u(rng), 0);
+      s.heading = M_PI + 0.5 * u(rng);
+      s.actions = {{PersonAction::Reach, Vec3(0.4 + 0.3 * u(rng), 0.4 * u(rng), 0.5 + 0.4 * u(rng)), 2.0, 0.0, trial % 2 == 0}};
+      persons.add(p == 0 ? "first" : "second", std::make_unique<ScriptedPerson>(s));
+    }
+    persons.pose(10.0);
+    for (SsmResponse r : {SsmResponse::Stop, SsmResponse::Scaling, SsmResponse::Pfl}) {
+      SsmConfig cfg;
+      cfg.response = r;
+      SeparationMonitor ssm(cfg, 1);
+      ssm.cycle(mon, persons);
+      const SsmVerdict& v = ssm.verdict(0);
+      // pair by pair
+      double vr = 0.0;
+      for (int i = 0; i < mon.capsuleCount(); ++i)
+        vr = std::max({vr, mon.movingCapsule(i).va.norm(), mon.movingCapsule(i).vb.norm()});
+      double sep = INFINITY, worst = INFINITY, allowed = INFINITY, pflAllowed = INFINITY, required = 0.0;
+      int part = -1, person = -1, armBody = -1;
+      bool binary = false, pflBreak = false;
+      for (int i = 0; i < mon.capsuleCount(); ++i)
+        for (int p = 0; p < 2; ++p) {
+          const auto body = bodyCapsules(persons.skeleton(p));
+          for (int k = 0; k < kBodyParts; ++k) {
+            const double vh = bodyParts()[k].hand ? cfg.handSpeed : cfg.bodySpeed;
+            const double d = distance(mon.movingCapsule(i).c, body[k]);
+            const double sp = protectiveSeparation(cfg, vh, vr).total();
+            if (d - sp < worst) worst = d - sp, required = sp, part = k, person = p, armBody = mon.capsuleBody(i);
+            sep = std::min(sep, d);
+            const double a = allowedRobotSpeed(cfg, vh, d);
+            allowed = std::min(allowed, a);
+            pflAllowed = std::min(pflAllowed, std::max(a, pflSpeedLimit(cfg, bodyParts()[k].region)));
+            if (d - sp < 0.0 && vr > pflSpeedLimit(cfg, bodyParts()[k].region)) pflBreak = true;
+            if (d < protectiveSeparation(cfg, vh, std::max(cfg.robotSpeed, vr)).total()) binary = true;
+          }
+        }
+      std::ostringstream at;  // (not string +: GCC 12's -Wrestrict false positive)
+      at << "trial " << trial << " " << toString(r);
+      EXPECT_EQ(v.separation, sep) << at.str();
+      EXPECT_EQ(v.slack, worst) << at.str();
+      EXPECT_EQ(v.required, required) << at.str();
+      EXPECT_EQ(v.person, person) << at.str();
+      EXPECT_EQ(v.part, part) << at.str();
+      EXPECT_EQ(v.armBody, armBody) << at.str();
+      EXPECT_EQ(v.robotSpeed, vr) << at.str();
+      if (r == SsmResponse::Stop) {
+        EXPECT_EQ(v.stop, binary) << at.str();
+      } else if (r == SsmResponse::Scaling) {
+        EXPECT_EQ(v.allowedSpeed, allowed) << at.str();
+        EXPECT_EQ(v.stop, worst < 0.0) << at.str();
+        EXPECT_EQ(v.factor, v.stop ? 0.0 : std::clamp(allowed / cfg.robotSpeed, 0.0, 1.0)) << at.str();
+        stops += v.stop;
+        scaled += !v.stop && v.factor < 1.0;
+      } else {
+        EXPECT_EQ(v.allowedSpeed, pflAllowed) << at.str();
+        EXPECT_EQ(v.stop, pflBreak) << at.str();
+      }
+    }
+  }
+  // the trials cover both verdicts that matter
+  EXPECT_GT(stops, 0);
+  EXPECT_GT(scaled, 0);
+}
+
 TEST(ArmDrive, ScalingFollowsTheFactorAtTheBrakingRate) {
   BrakeConfig cfg;
   cfg.stoppingTime = 0.2;

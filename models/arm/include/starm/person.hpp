@@ -5,6 +5,7 @@
 // and the approach speed of ISO 13855 that bounds its motion: 2.0 m/s for a hand, 1.6 m/s for
 // the rest of the body. A skeleton comes from a script in the scenario (walk to a point, reach
 // into a volume, wait) or from a CSV trace; both are PersonTracks.
+#include <algorithm>
 #include <array>
 #include <fstream>
 #include <string>
@@ -141,6 +142,11 @@ class HeldPerson final : public PersonTrack {
  public:
   void set(const Skeleton& s) {
     s_ = s;
+    seen_ = true;
+  }
+  // the same from kSkeletonJoints positions in SkeletonJoint order (a decoded SKELETONS' pose)
+  void set(const Vec3* joints) {
+    std::copy(joints, joints + kSkeletonJoints, s_.p.begin());
     seen_ = true;
   }
   bool at(double, Skeleton& s) override {

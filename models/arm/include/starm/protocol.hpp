@@ -199,6 +199,8 @@ struct Decoded {
 Decoded decode(std::string_view payload);
 // Decodes READINGS into `out`, reusing its storage (the service's hot path). Error text or "".
 std::string decodeReadings(std::string_view payload, Readings& out);
+// The same for SKELETONS (the service's hot path with a person).
+std::string decodeSkeletons(std::string_view payload, Skeletons& out);
 // The type byte of a payload of a version served, or an error.
 bool peekType(std::string_view payload, Type& type, std::string& error);
 

@@ -122,6 +122,8 @@ class ArmService final : public net::Handler {
   void applyPersons(double t);
   // "" if `id` may report arm a (or obstacle o): it owns it, or it is free and `id` claims by
   // reporting; otherwise the reason, and another owner's arm is marked disputed
+  // true where that holds at once for an item whose owner is `owner` (no reason needs a name)
+  static bool mayReportAtOnce(net::ConnectionId id, const Peer& p, net::ConnectionId owner);
   std::string mayReportArm(net::ConnectionId id, const Peer& p, int a, const std::string& where);
   std::string mayReportObstacle(net::ConnectionId id, const Peer& p, int o, const std::string& where);
   std::string mayReport(net::ConnectionId id, const Peer& p, std::vector<net::ConnectionId>& owners,
@@ -129,7 +131,8 @@ class ArmService final : public net::Handler {
                         const char* stopped);
   // "" or why a message at time t from `id` cannot be taken: beyond any clock, a jump ahead of
   // its own last time, or (its first time) too far from the sensors that are talking
-  std::string checkTime(net::ConnectionId id, const Peer& p, const std::string& what, double t) const;
+  // (the reason names the message as "<kind> seq <seqNo>")
+  std::string checkTime(net::ConnectionId id, const Peer& p, const char* kind, std::uint32_t seqNo, double t) const;
   void heard(Peer& p, double t);
   void release(net::ConnectionId id);  // frees the arms and obstacles `id` owns
   void armHelloTimer();
@@ -181,6 +184,7 @@ class ArmService final : public net::Handler {
   double cycleT_ = 0.0;
   double lastCycleT_ = -1e300;
   proto::Readings readings_;  // reused
+  proto::Skeletons skeletons_;  // reused
   Reading check_;             // reused for validation
   proto::Verdict verdict_;
   std::string out_, logRow_;

@@ -33,9 +33,11 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <starm/person.hpp>
+#include <starm/ttc.hpp>
 
 namespace st::arm {
 
@@ -180,6 +182,18 @@ class SeparationMonitor {
   std::vector<SsmVerdict> verdicts_;
   std::vector<const ArmDrive*> drives_;
   SsmCounters counters_;
+  // the cycle's working state, kept so that a cycle allocates nothing once it has grown
+  struct Bound {  // a sphere holding a capsule
+    Vec3 centre;
+    double reach;  // m
+  };
+  std::vector<MovingCapsule> caps_;      // the arms' capsules at the cycle time
+  std::vector<Bound> capBound_;          // a sphere around each
+  std::vector<double> speed_;            // per arm, m/s
+  std::vector<int> armFirst_, armCaps_, fill_;  // capsule indices by arm: armCaps_[armFirst_[a] ..armFirst_[a+1])
+  std::vector<std::array<Capsule, kBodyParts>> body_;  // per person
+  std::vector<std::array<Bound, kBodyParts>> bodyBound_;
+  std::vector<std::pair<double, int>> order_;  // an arm's capsules by their spheres' distance to a part
 };
 
 }  // namespace st::arm
