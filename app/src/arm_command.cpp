@@ -436,10 +436,8 @@ int describeUrdf(const std::string& path) {
   return 0;
 }
 
-int runArm(int argc, const char* const* argv) {
-  if (argc > 0 && std::string(argv[0]) == "serve") return runServe(argc - 1, argv + 1);
-  if (argc > 0 && std::string(argv[0]) == "reset") return runResetCommand(argc - 1, argv + 1);
-  if (argc > 0 && std::string(argv[0]) == "stream") return runStreamCommand(argc - 1, argv + 1);
+// stsim arm's options
+Args armArgs() {
   Args args("arm",
             "Robot-arm collision monitor: forward kinematics, capsules in a dynamic octree, time to collision by "
             "conservative advancement, warnings and STOP per arm (closed loop: STOP brakes the arm). Writes "
@@ -469,6 +467,106 @@ int runArm(int argc, const char* const* argv) {
               "in the YAML; --settings lists them)", "");
   args.flag("settings", "print every setting (key, range, default, what it sets) and exit; with SCENARIO and "
             "--set, the values in effect");
+  return args;
+}
+
+// One ssm.csv row: arm a's verdict against its nearest person this cycle.
+std::string ssmRow(const arm::Monitor& m, int a, const arm::SsmVerdict& v, const arm::PersonSet& persons) {
+  const arm::SeparationTerms& T = v.terms;
+  std::ostringstream line;
+  line << num(m.time()) << ',' << io::csvField(m.arm(a).name) << ',' << io::csvField(arm::bodyName(m.arm(a).model, v.armBody))
+       << ',' << io::csvField(persons.name(v.person)) << ',' << arm::bodyParts()[v.part].name << ','
+       << arm::toString(arm::bodyParts()[v.part].region) << ',' << num(v.separation) << ',' << num(v.required) << ','
+       << num(T.sh) << ',' << num(T.sr) << ',' << num(T.ss) << ',' << num(T.c) << ',' << num(T.zd) << ',' << num(T.zr)
+       << ',' << T.dominant() << ',' << num(v.robotSpeed) << ',' << num(v.allowedSpeed) << ',' << num(v.factor) << ','
+       << (v.stop ? "STOP" : v.factor < 1.0 ? "SCALE" : "OK");
+  return line.str();
+}
+
+// One warnings.csv row.
+std::string warningRow(const arm::Monitor& m, const arm::Warning& w) {
+  std::ostringstream line;
+  line << num(w.t) << ',' << io::csvField(m.arm(w.arm).name) << ',' << io::csvField(arm::bodyName(m.arm(w.arm).model, w.body))
+       << ',' << w.capsule << ',' << io::csvField(arm::otherName(m, w)) << ',' << num(w.distance) << ',' << num(w.ttc)
+       << ',' << (w.outcome == arm::Approach::Touching ? "separation" : "ttc") << ',' << (w.stop ? "STOP" : "");
+  return line.str();
+}
+
+// The run's CSV files, written cycle by cycle.
+struct CycleLogs {
+  io::CsvRowWriter warnings, deadlines;
+  std::unique_ptr<io::CsvRowWriter> ssm;  // with persons only
+
+  CycleLogs(const fs::path& out, bool persons)
+      : warnings(out / "warnings.csv", "t_s,arm,link,capsule,other,distance_m,ttc_s,reason,stop"),
+        deadlines(out / "deadlines.csv", "t_s,compute_us,budget_us") {
+    if (persons)
+      ssm = std::make_unique<io::CsvRowWriter>(out / "ssm.csv",
+          "t_s,arm,link,person,part,region,separation_m,S_p_m,S_h_m,S_r_m,S_s_m,C_m,Z_d_m,Z_r_m,dominant,v_r_mps,"
+          "allowed_mps,factor,verdict");
+  }
+  void flush() {
+    warnings.flush();
+    deadlines.flush();
+    if (ssm) ssm->flush();
+  }
+};
+
+// The console's account of a finished run: one line, and one more when cycles missed their deadline.
+void printRun(const arm::Monitor& monitor, const arm::RunStats& stats, bool closedLoop, const Watch& watch,
+              const arm::SeparationMonitor* ssm, const arm::DeadlineWatch& deadline, const fs::path& out) {
+  const auto& c = monitor.counters();
+  std::cout << "arm (" << (closedLoop ? "closed" : "open") << " loop): " << stats.cycles << " cycles, " << c.warnings
+            << " warnings, " << c.stops << " STOPs, "
+            << (std::isnan(watch.firstContact) ? std::string("no contact") : "first contact at " + num(watch.firstContact) + " s")
+            << ", min distance " << num(watch.minDistance) << " m, latency p50 "
+            << num(arm::percentile(stats.latencyUs, 50)) << " us p99 " << num(arm::percentile(stats.latencyUs, 99))
+            << " us";
+  if (ssm) {
+    const arm::SsmCounters& k = ssm->counters();
+    std::cout << ", persons (" << arm::toString(ssm->config().response) << "): " << k.stopCycles << " STOP cycles, "
+              << k.scaledCycles << " scaled, " << k.violations << " below S_p unstopped, " << k.contacts
+              << " contacts (" << k.contactsAboveLimit << " above the PFL limit), min separation " << num(k.minSeparation)
+              << " m";
+  }
+  std::cout << " -> " << (out / "summary.json").string() << ", " << (out / "replay.html").string() << "\n";
+  if (deadline.missed > 0)
+    std::cout << "arm: DEADLINE MISSED: " << deadline.missed << " of " << deadline.cycles << " cycles over the "
+              << num(deadline.budgetUs) << " us budget (first at " << num(deadline.misses.front().first) << " s, worst "
+              << num(deadline.worstUs) << " us at " << num(deadline.worstT) << " s) -> "
+              << (out / "deadlines.csv").string() << "\n";
+}
+
+// The readings the monitor gets: the closed loop's drive (a STOP brakes the arm) or the scenario's
+// open sensor, recorded to a trace file when asked.
+struct Sensors {
+  std::unique_ptr<arm::ClosedLoopSensor> drive;  // closed loop only
+  std::unique_ptr<arm::SensorSource> open;       // open loop only
+  std::unique_ptr<arm::RecordingSensor> recorder;
+  arm::SensorSource* source = nullptr;  // what the monitor reads: one of the three
+};
+
+Sensors makeSensors(const arm::Scenario& sc, bool closedLoop, const std::string& recordTrace) {
+  Sensors s;
+  if (closedLoop) s.drive = arm::makeClosedLoopSensor(sc);
+  else s.open = arm::makeSensor(sc);
+  s.source = closedLoop ? static_cast<arm::SensorSource*>(s.drive.get()) : s.open.get();
+  if (!recordTrace.empty()) {
+    std::vector<std::string> names;
+    for (const arm::ArmInstance& a : sc.arms) names.push_back(a.name);
+    s.recorder = std::make_unique<arm::RecordingSensor>(*s.source, recordTrace, names);
+    s.source = s.recorder.get();
+  }
+  return s;
+}
+
+int runCourse(const Args& args, const std::string& path);
+
+int runArm(int argc, const char* const* argv) {
+  if (argc > 0 && std::string(argv[0]) == "serve") return runServe(argc - 1, argv + 1);
+  if (argc > 0 && std::string(argv[0]) == "reset") return runResetCommand(argc - 1, argv + 1);
+  if (argc > 0 && std::string(argv[0]) == "stream") return runStreamCommand(argc - 1, argv + 1);
+  Args args = armArgs();
   if (!args.parse(argc, argv)) {
     std::cout << args.help();
     return 0;
@@ -492,25 +590,19 @@ int runArm(int argc, const char* const* argv) {
   if (!args.positionalValue(0)) throw UsageError("missing argument SCENARIO (see stsim arm --help)");
   const std::string path = *args.positionalValue(0);
   if (fs::path(path).extension() == ".urdf") return describeUrdf(path);
+  return runCourse(args, path);
+}
+
+// A scenario's course run: the monitor cycle by cycle, its logs, summary.json and replay.html.
+int runCourse(const Args& args, const std::string& path) {
   const bool closedLoop = !args.has("open-loop");
   arm::Scenario sc = loadWithSettings(path, settingOverrides(args));
   const std::string bp = args.get("broadphase");
   if (bp == "none") sc.broad.kind = SpaceKind::None;
   else if (!bp.empty() && bp != "octree" && bp != "tree") throw UsageError("--broadphase: expected octree or none");
   arm::Monitor monitor = arm::makeMonitor(sc);
-  std::unique_ptr<arm::ClosedLoopSensor> drive;
-  std::unique_ptr<arm::SensorSource> openSensor;
-  if (closedLoop) drive = arm::makeClosedLoopSensor(sc);
-  else openSensor = arm::makeSensor(sc);
-  arm::SensorSource* chosen = closedLoop ? static_cast<arm::SensorSource*>(drive.get()) : openSensor.get();
-  std::unique_ptr<arm::RecordingSensor> recorder;
-  if (!args.get("record-trace").empty()) {
-    std::vector<std::string> names;
-    for (const arm::ArmInstance& a : sc.arms) names.push_back(a.name);
-    recorder = std::make_unique<arm::RecordingSensor>(*chosen, args.get("record-trace"), names);
-    chosen = recorder.get();
-  }
-  arm::SensorSource& sensor = *chosen;
+  const Sensors sensors = makeSensors(sc, closedLoop, args.get("record-trace"));
+  arm::ClosedLoopSensor* drive = sensors.drive.get();
   Watch watch;
   // persons: speed and separation monitoring beside the collision monitor
   arm::PersonSet persons = arm::makePersons(sc);
@@ -526,65 +618,35 @@ int runArm(int argc, const char* const* argv) {
 
   const fs::path out = args.get("out");
   fs::create_directories(out);
-  io::CsvRowWriter csv(out / "warnings.csv", "t_s,arm,link,capsule,other,distance_m,ttc_s,reason,stop");
-  io::CsvRowWriter deadlineCsv(out / "deadlines.csv", "t_s,compute_us,budget_us");
-  std::unique_ptr<io::CsvRowWriter> ssmCsv;
-  if (ssm)
-    ssmCsv = std::make_unique<io::CsvRowWriter>(out / "ssm.csv",
-        "t_s,arm,link,person,part,region,separation_m,S_p_m,S_h_m,S_r_m,S_s_m,C_m,Z_d_m,Z_r_m,dominant,v_r_mps,"
-        "allowed_mps,factor,verdict");
-  std::ostringstream line;
+  CycleLogs logs(out, ssm != nullptr);
   arm::RunStats stats;
   const std::string bpName = sc.broad.kind == SpaceKind::None ? "none" : toString(sc.broad.kind);
   // Ctrl-C, SIGTERM, SIGHUP: the run stops after a whole cycle and writes what it has
   StopSignals stopSignals;
   try {
-    arm::run(monitor, sensor, stats, [&](const arm::Monitor& m) {
+    arm::run(monitor, *sensors.source, stats, [&](const arm::Monitor& m) {
       if (ssm) {
         // the persons' check is part of the cycle's compute time
         const auto t0 = std::chrono::steady_clock::now();
-        arm::separationStep(m, persons, *ssm, drive.get());
+        arm::separationStep(m, persons, *ssm, drive);
         stats.latencyUs.back() += std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
-        for (int a = 0; a < m.armCount(); ++a) {
-          const arm::SsmVerdict& v = ssm->verdict(a);
-          if (v.person < 0) continue;
-          const arm::SeparationTerms& T = v.terms;
-          line.str("");
-          line << num(m.time()) << ',' << io::csvField(m.arm(a).name) << ','
-               << io::csvField(arm::bodyName(m.arm(a).model, v.armBody)) << ',' << io::csvField(persons.name(v.person)) << ','
-               << arm::bodyParts()[v.part].name << ',' << arm::toString(arm::bodyParts()[v.part].region) << ','
-               << num(v.separation) << ',' << num(v.required) << ',' << num(T.sh) << ',' << num(T.sr) << ',' << num(T.ss)
-               << ',' << num(T.c) << ',' << num(T.zd) << ',' << num(T.zr) << ',' << T.dominant() << ',' << num(v.robotSpeed)
-               << ',' << num(v.allowedSpeed) << ',' << num(v.factor) << ','
-               << (v.stop ? "STOP" : v.factor < 1.0 ? "SCALE" : "OK");
-          ssmCsv->row(line.str());
-        }
+        for (int a = 0; a < m.armCount(); ++a)
+          if (ssm->verdict(a).person >= 0) logs.ssm->row(ssmRow(m, a, ssm->verdict(a), persons));
       } else if (drive) {
         drive->observe(m, m.time());
       }
       deadline.see(m.time(), stats.latencyUs.back());
-      if (stats.latencyUs.back() > deadline.budgetUs) {
-        line.str("");
-        line << num(m.time()) << ',' << num(stats.latencyUs.back()) << ',' << num(deadline.budgetUs);
-        deadlineCsv.row(line.str());
-      }
+      if (stats.latencyUs.back() > deadline.budgetUs)
+        logs.deadlines.row(num(m.time()) + ',' + num(stats.latencyUs.back()) + ',' + num(deadline.budgetUs));
       watch.see(m);
       replay.see(m, persons.size() > 0 ? &persons : nullptr, ssm.get());
-      for (const arm::Warning& w : m.warnings()) {
-        line.str("");
-        line << num(w.t) << ',' << io::csvField(m.arm(w.arm).name) << ',' << io::csvField(arm::bodyName(m.arm(w.arm).model, w.body))
-             << ',' << w.capsule << ',' << io::csvField(arm::otherName(m, w)) << ',' << num(w.distance) << ',' << num(w.ttc)
-             << ',' << (w.outcome == arm::Approach::Touching ? "separation" : "ttc") << ',' << (w.stop ? "STOP" : "");
-        csv.row(line.str());
-      }
-      if (!m.warnings().empty()) csv.flush();
+      for (const arm::Warning& w : m.warnings()) logs.warnings.row(warningRow(m, w));
+      if (!m.warnings().empty()) logs.warnings.flush();
     }, StopSignals::requested);
   } catch (const std::exception& e) {
     // results so far stay on disk; the first failure is the one reported (a full disk fails both)
     try {
-      csv.flush();
-      deadlineCsv.flush();
-      if (ssmCsv) ssmCsv->flush();
+      logs.flush();
     } catch (const std::exception&) {
     }
     try {
@@ -594,31 +656,10 @@ int runArm(int argc, const char* const* argv) {
     }
     throw;
   }
-  csv.flush();
-  deadlineCsv.flush();
-  if (ssmCsv) ssmCsv->flush();
+  logs.flush();
   writeSummary(out / "summary.json", path, monitor, stats, bpName, "", closedLoop, watch, ssm.get(), deadline);
   replay.write(out / "replay.html", replayTitle);
-  const auto& c = monitor.counters();
-  std::cout << "arm (" << (closedLoop ? "closed" : "open") << " loop): " << stats.cycles << " cycles, " << c.warnings
-            << " warnings, " << c.stops << " STOPs, "
-            << (std::isnan(watch.firstContact) ? std::string("no contact") : "first contact at " + num(watch.firstContact) + " s")
-            << ", min distance " << num(watch.minDistance) << " m, latency p50 "
-            << num(arm::percentile(stats.latencyUs, 50)) << " us p99 " << num(arm::percentile(stats.latencyUs, 99))
-            << " us";
-  if (ssm) {
-    const arm::SsmCounters& k = ssm->counters();
-    std::cout << ", persons (" << arm::toString(sc.ssm.response) << "): " << k.stopCycles << " STOP cycles, "
-              << k.scaledCycles << " scaled, " << k.violations << " below S_p unstopped, " << k.contacts
-              << " contacts (" << k.contactsAboveLimit << " above the PFL limit), min separation " << num(k.minSeparation)
-              << " m";
-  }
-  std::cout << " -> " << (out / "summary.json").string() << ", " << (out / "replay.html").string() << "\n";
-  if (deadline.missed > 0)
-    std::cout << "arm: DEADLINE MISSED: " << deadline.missed << " of " << deadline.cycles << " cycles over the "
-              << num(deadline.budgetUs) << " us budget (first at " << num(deadline.misses.front().first) << " s, worst "
-              << num(deadline.worstUs) << " us at " << num(deadline.worstT) << " s) -> "
-              << (out / "deadlines.csv").string() << "\n";
+  printRun(monitor, stats, closedLoop, watch, ssm.get(), deadline, out);
   if (const int sig = StopSignals::signal()) {
     std::cout.flush();
     std::cerr << "stsim arm: " << StopSignals::name(sig) << ": "

@@ -228,7 +228,10 @@ void writeTableSvg(std::ostream& os, const Game& game, const std::string& title)
   os << "</svg>\n";
 }
 
-void writeAnimationHtml(std::ostream& os, const RunRecord& run, const Game& game) {
+namespace {
+
+// The animation's data (the page's const D): the table, and per ball its keyframes.
+io::JsonText animationData(const RunRecord& run, const Game& game) {
   const Table& t = game.table();
   const auto& specs = game.specs();
   // per ball: keyframes [t, x, y, vx, vy] at every change of velocity, and the time it left
@@ -273,7 +276,13 @@ void writeAnimationHtml(std::ostream& os, const RunRecord& run, const Game& game
          << ",\"gone\":" << goneAt << ",\"k\":[" << k[i] << "]}";
   }
   data << "]}";
+  return data;
+}
 
+}  // namespace
+
+void writeAnimationHtml(std::ostream& os, const RunRecord& run, const Game& game) {
+  const io::JsonText data = animationData(run, game);
   os << R"HTML(<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>stsim pool</title>
 <style>
