@@ -94,8 +94,8 @@ int runMerge(int argc, const char* const* argv) {
   return 0;
 }
 
-int runBatch(int argc, const char* const* argv) {
-  if (argc >= 1 && std::string(argv[0]) == "merge") return runMerge(argc - 1, argv + 1);
+// stsim batch's options
+Args batchArgs() {
   Args args("batch",
             "Runs an experiment: the cross product of a sweep over scenario keys and seeds, one process per run,\n"
             "in parallel and resumable; writes runs.csv, summary.csv (mean, sd, 95% CI over seeds), plots and\n"
@@ -110,36 +110,34 @@ int runBatch(int argc, const char* const* argv) {
       .option("max-runs", "N", "refuse an experiment of more runs than this (a runaway sweep)",
               std::to_string(batch::kDefaultMaxRuns))
       .flag("no-plots", "skip the PNG plots and report.md");
-  if (!args.parse(argc, argv)) {
-    std::cout << args.help();
-    return 0;
-  }
-  const fs::path expFile = *args.positionalValue(0);
-  const batch::Experiment e = batch::loadExperiment(expFile, optionalKeysFor);
+  return args;
+}
+
+// The runs this command makes: the experiment's (at most --max-runs), --shard's slice of them.
+std::vector<batch::RunSpec> selectRuns(const Args& args, const batch::Experiment& e) {
   const long maxRuns = args.getInt("max-runs");
   if (maxRuns < 1) throw UsageError("--max-runs: expected a count >= 1, got " + args.get("max-runs"));
   std::vector<batch::RunSpec> runs = batch::expandRuns(e, static_cast<std::uint64_t>(maxRuns));
-  // the options are checked before --list too: a list is what the same command would run
-  const long jobs = args.getInt("jobs");
-  if (jobs < 1 || jobs > 1024) throw UsageError("--jobs must be between 1 and 1024");
-  if (args.has("shard")) {
-    const std::string s = args.get("shard");
-    int i = 0, n = 0;
-    char tail = 0;
-    if (std::sscanf(s.c_str(), "%d/%d%c", &i, &n, &tail) != 2 || n < 1 || i < 1 || i > n)
-      throw UsageError("--shard wants I/N with 1 <= I <= N, got '" + s + "'");
-    runs = batch::shardRuns(runs, i, n);
-  }
-  if (args.has("list")) {
-    for (const auto& r : runs) {
-      std::cout << r.index << " " << r.id;
-      for (const auto& [k, v] : r.params) std::cout << " " << k << "=" << v;
-      std::cout << " " << e.seedKey << "=" << r.seed << "\n";
-    }
-    return 0;
-  }
-  const fs::path out = args.has("out") ? fs::path(args.get("out")) : fs::path("out") / e.name;
+  if (!args.has("shard")) return runs;
+  const std::string s = args.get("shard");
+  int i = 0, n = 0;
+  char tail = 0;
+  if (std::sscanf(s.c_str(), "%d/%d%c", &i, &n, &tail) != 2 || n < 1 || i < 1 || i > n)
+    throw UsageError("--shard wants I/N with 1 <= I <= N, got '" + s + "'");
+  return batch::shardRuns(runs, i, n);
+}
 
+// --list: a run a line, its index, id, parameters and seed
+void listRuns(const batch::Experiment& e, const std::vector<batch::RunSpec>& runs) {
+  for (const auto& r : runs) {
+    std::cout << r.index << " " << r.id;
+    for (const auto& kv : r.params) std::cout << " " << kv.first << "=" << kv.second;
+    std::cout << " " << e.seedKey << "=" << r.seed << "\n";
+  }
+}
+
+// How the runner reports: a progress bar on a terminal, a line a run otherwise.
+batch::BatchOptions runnerOptions(const fs::path& out, long jobs) {
   batch::BatchOptions o;
   o.outDir = out;
   o.stsim = fs::read_symlink("/proc/self/exe");
@@ -159,6 +157,27 @@ int runBatch(int argc, const char* const* argv) {
     // a run's error line may quote anything (a scenario name with escape sequences)
     o.log = [](const std::string& line) { std::cerr << "batch: " << io::printable(line) << "\n"; };
   }
+  return o;
+}
+
+int runBatch(int argc, const char* const* argv) {
+  if (argc >= 1 && std::string(argv[0]) == "merge") return runMerge(argc - 1, argv + 1);
+  Args args = batchArgs();
+  if (!args.parse(argc, argv)) {
+    std::cout << args.help();
+    return 0;
+  }
+  const batch::Experiment e = batch::loadExperiment(*args.positionalValue(0), optionalKeysFor);
+  const std::vector<batch::RunSpec> runs = selectRuns(args, e);
+  // the options are checked before --list too: a list is what the same command would run
+  const long jobs = args.getInt("jobs");
+  if (jobs < 1 || jobs > 1024) throw UsageError("--jobs must be between 1 and 1024");
+  if (args.has("list")) {
+    listRuns(e, runs);
+    return 0;
+  }
+  const fs::path out = args.has("out") ? fs::path(args.get("out")) : fs::path("out") / e.name;
+  batch::BatchOptions o = runnerOptions(out, jobs);
   // the guard installs its handlers without SA_RESTART: a signal wakes the runner's waitpid and
   // the runs are told to stop at once
   const StopSignals stopSignals;
