@@ -3,6 +3,7 @@
 #include <cmath>
 #include <iomanip>
 #include <numbers>
+#include <span>
 #include <string>
 
 #include <time.h>
@@ -126,6 +127,79 @@ StudyRun runBoxCase(int n, const SpaceSpec& space, std::uint64_t seed, double du
   return measure(s, duration);
 }
 
+namespace {
+
+// One Fig. 13 case summed over seeds 1..seeds.
+StudyRun sumOverSeeds(int mobile, const SpaceSpec& sp, bool report, int seeds, double duration) {
+  StudyRun sum;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    const StudyRun r = report ? runFig13CaseCounted(mobile, sp, static_cast<std::uint64_t>(seed), duration)
+                              : runFig13Case(mobile, sp, static_cast<std::uint64_t>(seed), duration);
+    sum.checks += r.checks;
+    sum.reportChecks += r.reportChecks;
+    sum.reportBoundaryChecks += r.reportBoundaryChecks;
+    sum.events += r.events;
+    sum.collisions += r.collisions;
+    sum.wallSeconds += r.wallSeconds;
+    sum.cpuSeconds += r.cpuSeconds;
+  }
+  return sum;
+}
+
+// The Fig. 13 runs' times: CPU per case, wall and events at 15 mobile, the report's figures.
+void printFig13Times(std::ostream& os, std::span<const SpaceSpec> spaces, const std::vector<std::vector<StudyRun>>& all) {
+  os << "\nCPU time (ms, this thread: the wall time on an idle core) for the same runs:\n" << std::left << std::setw(8)
+     << "mobile";
+  for (const auto& sp : spaces) os << std::right << std::setw(11) << label(sp);
+  os << "\n";
+  const int mobiles[] = {2, 3, 5, 10, 15};
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    os << std::left << std::setw(8) << mobiles[i] << std::right << std::fixed << std::setprecision(2);
+    for (const auto& r : all[i]) os << std::setw(11) << 1e3 * r.cpuSeconds;
+    os << std::defaultfloat << "\n";
+  }
+  os << "wall clock (ms, with any preemption) at 15 mobile:" << std::fixed << std::setprecision(2);
+  for (std::size_t j = 0; j < all.back().size(); ++j) os << " " << label(spaces[j]) << " " << 1e3 * all.back()[j].wallSeconds;
+  os << std::defaultfloat << "\n";
+  os << "events (collisions + region crossings) at 15 mobile:";
+  for (std::size_t j = 0; j < all.back().size(); ++j) os << " " << label(spaces[j]) << " " << all.back()[j].events;
+  os << "\nreport (Fig. 13) at 15 mobile: NS 16756, one space 17078, df 10 12081, df 5 10742, df 2 11210\n";
+}
+
+// Past the report: many balls in a box, every space kind and a range of decomposition factors.
+void printBoxStudy(std::ostream& os) {
+  os << "\nBeyond the report: n balls at 1 m/s in a square box with 10 % of its area covered, 1 s "
+        "simulated (about 4 collisions per ball), seed 1.\n";
+  const int dfs[] = {1, 2, 3, 5, 8, 12, 20, 40, 80};
+  for (int n : {100, 1000, 10000}) {
+    os << "\nn = " << n << "\n"
+       << std::left << std::setw(12) << "space" << std::right << std::setw(14) << "checks" << std::setw(10)
+       << "events" << std::setw(14) << "checks/event" << std::setw(12) << "wall ms" << std::setw(12) << "cpu ms"
+       << "\n";
+    std::vector<SpaceSpec> row = {spaceOf(SpaceKind::None), spaceOf(SpaceKind::Single)};
+    for (int df : dfs) row.push_back(spaceOf(SpaceKind::Tree, df));
+    SpaceSpec cells = spaceOf(SpaceKind::Cells);
+    cells.cellSize = 4.0 * kBallRadius;
+    row.push_back(cells);
+    double bestCpu = 1e300;
+    int bestDf = 0;
+    for (const auto& sp : row) {
+      const StudyRun r = runBoxCase(n, sp, 1, 1.0);
+      if (sp.kind == SpaceKind::Tree && r.cpuSeconds < bestCpu) {
+        bestCpu = r.cpuSeconds;
+        bestDf = sp.decompositionFactor;
+      }
+      os << std::left << std::setw(12) << (sp.kind == SpaceKind::Cells ? "cells 4r" : label(sp)) << std::right
+         << std::setw(14) << r.checks << std::setw(10) << r.events << std::setw(14) << std::fixed
+         << std::setprecision(2) << static_cast<double>(r.checks) / static_cast<double>(std::max<std::uint64_t>(r.events, 1))
+         << std::setw(12) << 1e3 * r.wallSeconds << std::setw(12) << 1e3 * r.cpuSeconds << std::defaultfloat << "\n";
+    }
+    os << "df minimising CPU time: " << bestDf << "\n";
+  }
+}
+
+}  // namespace
+
 void printFig13Study(std::ostream& os, Counting counting) {
   constexpr int kSeeds = 5;
   constexpr double kDuration = 10.0;
@@ -158,21 +232,7 @@ void printFig13Study(std::ostream& os, Counting counting) {
   std::vector<std::vector<StudyRun>> all;
   for (int mobile : {2, 3, 5, 10, 15}) {
     std::vector<StudyRun> row;
-    for (const auto& sp : spaces) {
-      StudyRun sum;
-      for (int seed = 1; seed <= kSeeds; ++seed) {
-        const StudyRun r = report ? runFig13CaseCounted(mobile, sp, static_cast<std::uint64_t>(seed), kDuration)
-                                  : runFig13Case(mobile, sp, static_cast<std::uint64_t>(seed), kDuration);
-        sum.checks += r.checks;
-        sum.reportChecks += r.reportChecks;
-        sum.reportBoundaryChecks += r.reportBoundaryChecks;
-        sum.events += r.events;
-        sum.collisions += r.collisions;
-        sum.wallSeconds += r.wallSeconds;
-        sum.cpuSeconds += r.cpuSeconds;
-      }
-      row.push_back(sum);
-    }
+    for (const auto& sp : spaces) row.push_back(sumOverSeeds(mobile, sp, report, kSeeds, kDuration));
     os << std::left << std::setw(8) << mobile << std::right;
     for (const auto& r : row) os << std::setw(11) << r.checks;
     if (report) {
@@ -190,52 +250,8 @@ void printFig13Study(std::ostream& os, Counting counting) {
     os << std::defaultfloat << "\n";
     all.push_back(row);
   }
-  os << "\nCPU time (ms, this thread: the wall time on an idle core) for the same runs:\n" << std::left << std::setw(8)
-     << "mobile";
-  for (const auto& sp : spaces) os << std::right << std::setw(11) << label(sp);
-  os << "\n";
-  const int mobiles[] = {2, 3, 5, 10, 15};
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    os << std::left << std::setw(8) << mobiles[i] << std::right << std::fixed << std::setprecision(2);
-    for (const auto& r : all[i]) os << std::setw(11) << 1e3 * r.cpuSeconds;
-    os << std::defaultfloat << "\n";
-  }
-  os << "wall clock (ms, with any preemption) at 15 mobile:" << std::fixed << std::setprecision(2);
-  for (std::size_t j = 0; j < all.back().size(); ++j) os << " " << label(spaces[j]) << " " << 1e3 * all.back()[j].wallSeconds;
-  os << std::defaultfloat << "\n";
-  os << "events (collisions + region crossings) at 15 mobile:";
-  for (std::size_t j = 0; j < all.back().size(); ++j) os << " " << label(spaces[j]) << " " << all.back()[j].events;
-  os << "\nreport (Fig. 13) at 15 mobile: NS 16756, one space 17078, df 10 12081, df 5 10742, df 2 11210\n";
-
-  // past the report: many balls
-  os << "\nBeyond the report: n balls at 1 m/s in a square box with 10 % of its area covered, 1 s "
-        "simulated (about 4 collisions per ball), seed 1.\n";
-  const int dfs[] = {1, 2, 3, 5, 8, 12, 20, 40, 80};
-  for (int n : {100, 1000, 10000}) {
-    os << "\nn = " << n << "\n"
-       << std::left << std::setw(12) << "space" << std::right << std::setw(14) << "checks" << std::setw(10)
-       << "events" << std::setw(14) << "checks/event" << std::setw(12) << "wall ms" << std::setw(12) << "cpu ms"
-       << "\n";
-    std::vector<SpaceSpec> row = {spaceOf(SpaceKind::None), spaceOf(SpaceKind::Single)};
-    for (int df : dfs) row.push_back(spaceOf(SpaceKind::Tree, df));
-    SpaceSpec cells = spaceOf(SpaceKind::Cells);
-    cells.cellSize = 4.0 * kBallRadius;
-    row.push_back(cells);
-    double bestCpu = 1e300;
-    int bestDf = 0;
-    for (const auto& sp : row) {
-      const StudyRun r = runBoxCase(n, sp, 1, 1.0);
-      if (sp.kind == SpaceKind::Tree && r.cpuSeconds < bestCpu) {
-        bestCpu = r.cpuSeconds;
-        bestDf = sp.decompositionFactor;
-      }
-      os << std::left << std::setw(12) << (sp.kind == SpaceKind::Cells ? "cells 4r" : label(sp)) << std::right
-         << std::setw(14) << r.checks << std::setw(10) << r.events << std::setw(14) << std::fixed
-         << std::setprecision(2) << static_cast<double>(r.checks) / static_cast<double>(std::max<std::uint64_t>(r.events, 1))
-         << std::setw(12) << 1e3 * r.wallSeconds << std::setw(12) << 1e3 * r.cpuSeconds << std::defaultfloat << "\n";
-    }
-    os << "df minimising CPU time: " << bestDf << "\n";
-  }
+  printFig13Times(os, spaces, all);
+  printBoxStudy(os);
 }
 
 }  // namespace st::pool
