@@ -136,6 +136,60 @@ Vec2 vec2(const json& j, const char* key) {
   return p;
 }
 
+// A shot's velocity as the scenario reader derives it: speed and angle, a cue vector, or given.
+Vec2 shotVelocity(const json& j) {
+  const int ways = (j.contains("angle") || j.contains("speed") ? 1 : 0) + (j.contains("cue") ? 1 : 0) +
+                   (j.contains("velocity") ? 1 : 0);
+  if (ways != 1) throw FieldError{"speed", "give one of angle and speed, cue, or velocity"};
+  Vec2 v = Vec2::Zero();
+  if (j.contains("cue")) {
+    const json& c = j["cue"];
+    if (!c.is_object()) throw FieldError{"cue", "must be an object {from, to, scale}"};
+    try {
+      onlyFields(c, {"from", "to", "scale"});
+      const double scale = c.contains("scale") ? number(c, "scale") : 1.0;
+      if (!(scale > 0.0)) throw FieldError{"scale", "must be positive"};
+      v = scale * (vec2(c, "to") - vec2(c, "from"));
+    } catch (const FieldError& e) {
+      throw FieldError{"cue." + e.field, e.message};
+    }
+  } else if (j.contains("velocity")) {
+    v = vec2(j, "velocity");
+  } else {
+    const double speed = number(j, "speed");
+    const double rad = number(j, "angle") * std::numbers::pi / 180.0;
+    v = speed * Vec2(std::cos(rad), std::sin(rad));
+  }
+  if (!v.allFinite()) throw FieldError{"speed", "must be finite"};
+  if (!(v.norm() > 0.0)) throw FieldError{"speed", "must be positive"};
+  if (v.norm() > kMaxSpeed) throw FieldError{"speed", "must be at most " + std::to_string(static_cast<int>(kMaxSpeed)) + " m/s"};
+  return v;
+}
+
+// The game's counts as a shot began: the shot_end message reports what the shot added.
+struct ShotStart {
+  std::uint64_t checks, obstacleChecks;
+  std::size_t pocketed;
+};
+
+// The shot_end message: how the shot ended, its work and energy, the balls it pocketed.
+std::string shotEndMessage(const Game& game, int index, const ShotSummary& summary, const ShotStart& at) {
+  const SimulatorCounters& c = game.simulator().counters();
+  io::JsonText end;
+  end << "{\"type\":\"shot_end\",\"index\":" << index << ",\"ending\":" << toString(summary.ending)
+      << ",\"end\":" << summary.end << ",\"events\":" << summary.events << ",\"checks\":" << c.pairChecks - at.checks
+      << ",\"obstacle_checks\":" << c.staticChecks - at.obstacleChecks << ",\"ke_start\":" << summary.keStart
+      << ",\"ke_end\":" << summary.keEnd << ",\"ke_pocketed\":" << summary.kePocketed
+      << ",\"energy_drift\":" << summary.energyDrift() << ",\"pocketed\":[";
+  for (std::size_t k = at.pocketed; k < game.pocketed().size(); ++k) {
+    const Pocketing& p = game.pocketed()[k];
+    if (k > at.pocketed) end << ",";
+    end << "{\"number\":" << p.number << ",\"pocket\":" << p.pocket << ",\"t\":" << p.t << "}";
+  }
+  end << "]}";
+  return end.str();
+}
+
 // each leaf as [x0,y0,x1,y1]
 io::JsonText regionsJson(const Simulator<2>& sim) {
   io::JsonText out;
@@ -265,33 +319,8 @@ void SessionMessages::shoot(PlaySession& s, const json& j, std::vector<std::stri
   const int h = s.game_->handleOf(cueBall);
   if (h < 0) throw FieldError{"ball", "no ball number " + std::to_string(cueBall)};
   if (!s.game_->simulator().ball(h).active) throw FieldError{"ball", "ball " + std::to_string(cueBall) + " was pocketed"};
-  // the velocity as the scenario reader derives it (speed and angle, a cue vector, or given)
-  const int ways = (j.contains("angle") || j.contains("speed") ? 1 : 0) + (j.contains("cue") ? 1 : 0) +
-                   (j.contains("velocity") ? 1 : 0);
-  if (ways != 1) throw FieldError{"speed", "give one of angle and speed, cue, or velocity"};
-  Vec2 v = Vec2::Zero();
-  if (j.contains("cue")) {
-    const json& c = j["cue"];
-    if (!c.is_object()) throw FieldError{"cue", "must be an object {from, to, scale}"};
-    try {
-      onlyFields(c, {"from", "to", "scale"});
-      const double scale = c.contains("scale") ? number(c, "scale") : 1.0;
-      if (!(scale > 0.0)) throw FieldError{"scale", "must be positive"};
-      v = scale * (vec2(c, "to") - vec2(c, "from"));
-    } catch (const FieldError& e) {
-      throw FieldError{"cue." + e.field, e.message};
-    }
-  } else if (j.contains("velocity")) {
-    v = vec2(j, "velocity");
-  } else {
-    const double speed = number(j, "speed");
-    const double rad = number(j, "angle") * std::numbers::pi / 180.0;
-    v = speed * Vec2(std::cos(rad), std::sin(rad));
-  }
-  if (!v.allFinite()) throw FieldError{"speed", "must be finite"};
-  if (!(v.norm() > 0.0)) throw FieldError{"speed", "must be positive"};
-  if (v.norm() > kMaxSpeed) throw FieldError{"speed", "must be at most " + std::to_string(static_cast<int>(kMaxSpeed)) + " m/s"};
-  Shot shot{cueBall, v, -1.0};
+  Shot shot{cueBall, shotVelocity(j), -1.0};
+  const Vec2 v = shot.velocity;
   if (j.contains("until")) {
     shot.until = settingField(number(j, "until"), "until", "until", s.limits_.maxUntil);
   }
@@ -348,19 +377,7 @@ void SessionMessages::shoot(PlaySession& s, const json& j, std::vector<std::stri
   close();
   s.layout_.shots.push_back(shot);
   ++s.shotsTaken_;
-  io::JsonText end;
-  end << "{\"type\":\"shot_end\",\"index\":" << index << ",\"ending\":" << toString(summary.ending)
-      << ",\"end\":" << summary.end << ",\"events\":" << summary.events
-      << ",\"checks\":" << sim.counters().pairChecks - checks0 << ",\"obstacle_checks\":" << sim.counters().staticChecks - obstacle0
-      << ",\"ke_start\":" << summary.keStart << ",\"ke_end\":" << summary.keEnd
-      << ",\"ke_pocketed\":" << summary.kePocketed << ",\"energy_drift\":" << summary.energyDrift() << ",\"pocketed\":[";
-  for (std::size_t k = pocketed0; k < s.game_->pocketed().size(); ++k) {
-    const Pocketing& p = s.game_->pocketed()[k];
-    if (k > pocketed0) end << ",";
-    end << "{\"number\":" << p.number << ",\"pocket\":" << p.pocket << ",\"t\":" << p.t << "}";
-  }
-  end << "]}";
-  parts.push_back(end.str());
+  parts.push_back(shotEndMessage(*s.game_, index, summary, {checks0, obstacle0, pocketed0}));
   parts.push_back(s.stateMessage());
   s.parts_ = std::move(parts);
   (void)out;  // the parts go out through nextPart, paced by the socket
