@@ -163,6 +163,13 @@ ScriptedPerson::ScriptedPerson(PersonScript script) : script_(std::move(script))
   }
 }
 
+bool PersonTrack::velocities(double t, double h, std::array<Vec3, kSkeletonJoints>& v) {
+  Skeleton now, before;
+  if (!(h > 0.0) || !at(t - h, before) || !at(t, now)) return false;
+  for (int j = 0; j < kSkeletonJoints; ++j) v[j] = (now.p[j] - before.p[j]) / h;
+  return true;
+}
+
 bool ScriptedPerson::at(double t, Skeleton& s) {
   if (segments_.empty()) {
     s = standingSkeleton(script_.start, script_.heading);

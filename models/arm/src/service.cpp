@@ -581,7 +581,7 @@ std::string ArmService::onSkeletons(net::ConnectionId id, Peer& p, std::string_v
   p.reported = true;
   for (const proto::PersonPose& pp : m.persons) {
     personOwner_[pp.person] = id;
-    held_[pp.person]->set(pp.joints.data());
+    held_[pp.person]->set(pp.joints.data(), m.t);
     if (std::isnan(personT_[pp.person]) || m.t > personT_[pp.person]) personNew_[pp.person] = 1;
     personT_[pp.person] = m.t;
   }

@@ -48,11 +48,32 @@ double reducedMass(double humanMass, double robotMass) { return 1.0 / (1.0 / hum
 
 double transientSpeedLimit(double force, double springK, double mu) { return force / std::sqrt(mu * springK); }
 
-double pflSpeedLimit(const SsmConfig& c, BodyRegion r) {
+double pflSpeedLimit(const SsmConfig& c, BodyRegion r) { return pflSpeedLimit(c, r, false, 0.0); }
+
+double pflSpeedLimit(const SsmConfig& c, BodyRegion r, bool clamped, double personSpeed) {
   const RegionLimits& l = regionLimits(r);
   if (!l.transient) return 0.0;
-  const double mu = reducedMass(l.mass, robotEffectiveMass(c.armMass, c.payload));
-  return transientSpeedLimit(2.0 * l.force, l.springK, mu);
+  const double mR = robotEffectiveMass(c.armMass, c.payload);
+  // clamped: the quasi-static force, and the region backed by the obstacle (mu = m_R)
+  const double vRel = clamped ? transientSpeedLimit(l.force, l.springK, mR)
+                              : transientSpeedLimit(2.0 * l.force, l.springK, reducedMass(l.mass, mR));
+  return std::max(0.0, vRel - personSpeed);
+}
+
+double clampGap(const SsmConfig& c) { return protectiveSeparation(c, 0.0, c.robotSpeed).total(); }
+
+double partSpeedInto(const SsmConfig& c, int part, const Capsule& body, const Capsule& arm, bool known,
+                     const std::array<Vec3, kSkeletonJoints>& v) {
+  const BodyPart& bp = bodyParts()[part];
+  if (!known) return bp.hand ? c.handSpeed : c.bodySpeed;
+  const Vec3& va = v[bp.a];
+  const Vec3& vb = v[bp.b];
+  const SegmentPair cp = closestSegmentSegment(body.a, body.b, arm.a, arm.b);
+  const Vec3 line = cp.q - cp.p;  // from the part's axis to the arm capsule's
+  const double n = line.norm();
+  if (!(n > body.radius + arm.radius)) return std::max(va.norm(), vb.norm());  // touching
+  const Vec3 u = line / n;
+  return std::max({0.0, va.dot(u), vb.dot(u)});
 }
 
 const char* SeparationTerms::dominant() const {
@@ -101,10 +122,15 @@ void PersonSet::add(std::string name, std::unique_ptr<PersonTrack> track) {
   tracks_.push_back(std::move(track));
   skeletons_.emplace_back();
   present_.push_back(0);
+  velocities_.emplace_back();
+  velocitiesKnown_.push_back(0);
 }
 
 void PersonSet::pose(double t) {
-  for (std::size_t i = 0; i < tracks_.size(); ++i) present_[i] = tracks_[i]->at(t, skeletons_[i]) ? 1 : 0;
+  for (std::size_t i = 0; i < tracks_.size(); ++i) {
+    present_[i] = tracks_[i]->at(t, skeletons_[i]) ? 1 : 0;
+    velocitiesKnown_[i] = present_[i] && tracks_[i]->velocities(t, velocityWindow_, velocities_[i]) ? 1 : 0;
+  }
 }
 
 SeparationMonitor::SeparationMonitor(SsmConfig cfg, int arms)
@@ -135,9 +161,11 @@ void SeparationMonitor::cycle(const Monitor& m, const PersonSet& persons) {
     v = std::max({v, caps_[i].va.norm(), caps_[i].vb.norm()});
     armCaps_[fill_[m.capsuleArm(i)]++] = i;  // in index order within each arm
   }
-  // every body part's power-and-force speed limit once (pfl)
-  std::array<double, kBodyParts> pfl{};
-  for (int k = 0; k < kBodyParts; ++k) pfl[k] = pflSpeedLimit(cfg_, bodyParts()[k].region);
+  // the fixed obstacles a body region can be pinned against (pfl: clamping), and how near
+  fixed_.clear();
+  for (const Obstacle& o : m.obstacles())
+    if (!o.tracked && !o.moving()) fixed_.push_back(&o);
+  const double gap = clampGap(cfg_);
   // every person's capsules once
   body_.resize(static_cast<std::size_t>(persons.size()));
   bodyBound_.resize(static_cast<std::size_t>(persons.size()));
@@ -146,6 +174,25 @@ void SeparationMonitor::cycle(const Monitor& m, const PersonSet& persons) {
       body_[p] = bodyCapsules(persons.skeleton(p));
       for (int k = 0; k < kBodyParts; ++k) bodyBound_[p][k] = boundOf(body_[p][k]);
     }
+
+  // a part's power-and-force limit (pfl, and the contact counters): clamped or not, less its
+  // speed (made only where needed: a response without pfl asks only for a touched part's)
+  const auto partLimit = [&](int p, int k, int armCapsule, bool& clamped) {
+    const BodyPart& part = bodyParts()[k];
+    clamped = false;
+    for (const Obstacle* o : fixed_) {
+      const Capsule& c = body_[p][k];
+      const double d = o->kind == ShapeKind::Sphere    ? distance(c, o->sphere)
+                       : o->kind == ShapeKind::Capsule ? distance(c, o->capsule)
+                                                       : distance(c, o->box);
+      if (d <= gap) {
+        clamped = true;
+        break;
+      }
+    }
+    const double vPart = partSpeedInto(cfg_, k, body_[p][k], caps_[armCapsule].c, persons.velocitiesKnown(p), persons.velocities(p));
+    return pflSpeedLimit(cfg_, part.region, clamped, vPart);
+  };
 
   for (int a = 0; a < arms; ++a) {
     SsmVerdict v;
@@ -208,15 +255,20 @@ void SeparationMonitor::cycle(const Monitor& m, const PersonSet& persons) {
         v.separation = std::min(v.separation, d);
         const double allowed = drive ? allowedDrivenSpeed(cfg_, vh, d) : allowedRobotSpeed(cfg_, vh, d);
         v.allowedSpeed = std::min(v.allowedSpeed, allowed);
-        pflAllowed = std::min(pflAllowed, std::max(allowed, pfl[k]));
-        if (slack < 0.0) {
-          v.pflLimit = std::min(v.pflLimit, pfl[k]);
-          if (speed_[a] > pfl[k]) pflBreak = true;
+        bool clamped = false;
+        const double limit = cfg_.response == SsmResponse::Pfl || d <= 0.0 ? partLimit(p, k, nearest, clamped) : 0.0;
+        if (cfg_.response == SsmResponse::Pfl) {
+          pflAllowed = std::min(pflAllowed, std::max(allowed, limit));
+          if (slack < 0.0) {
+            v.pflLimit = std::min(v.pflLimit, limit);
+            v.clamped = v.clamped || clamped;
+            if (speed_[a] > limit) pflBreak = true;
+          }
         }
         if (d < binary[hand]) stopBinary = true;
         if (d <= 0.0) {
           touching = true;
-          touchLimit = std::min(touchLimit, pfl[k]);
+          touchLimit = std::min(touchLimit, limit);
         }
       }
     }

@@ -241,6 +241,127 @@ TEST(Pfl, SpeedLimitsEqualAnnexAByHand) {
   EXPECT_NEAR(0.5 * reducedMass(2.0, 2.0) * std::pow(pflSpeedLimit(c, BodyRegion::LowerArm), 2), 1.28, 1e-9);
 }
 
+TEST(Pfl, ClampedAndMovingLimitsEqualAnnexAByHand) {
+  // Clamped (quasi-static): v = F / sqrt(m_R K), F Table A.2's quasi-static force (half the
+  // transient) and the region backed by the obstacle (mu -> m_R). A region moving into the arm at
+  // v_p: the robot's limit is v_rel,max - v_p, never below 0. Worked out on paper:
+  // (a) M = 18 kg, m_L = 1 kg: m_R = 10 kg
+  SsmConfig a;
+  // chest clamped: 140 / sqrt(10 * 25000) = 140 / 500 = 0.28
+  EXPECT_NEAR(pflSpeedLimit(a, BodyRegion::Chest, true, 0.0), 0.28, 1e-12);
+  // hand clamped: 140 / sqrt(10 * 75000) = 140 / 866.025404 = 0.161658075373095
+  EXPECT_NEAR(pflSpeedLimit(a, BodyRegion::Hand, true, 0.0), 0.161658075373095, 1e-9);
+  // chest transient, the person moving into the arm at 0.2 m/s: 0.626099033699941 - 0.2
+  EXPECT_NEAR(pflSpeedLimit(a, BodyRegion::Chest, false, 0.2), 0.426099033699941, 1e-9);
+  // a hand coming at 2.0 m/s is beyond its transient limit (1.359 m/s) on its own: 0
+  EXPECT_EQ(pflSpeedLimit(a, BodyRegion::Hand, false, 2.0), 0.0);
+  // the head takes no contact, clamped or not
+  EXPECT_EQ(pflSpeedLimit(a, BodyRegion::Skull, true, 0.0), 0.0);
+  // (b) M = 30 kg, m_L = 5 kg: m_R = 20 kg
+  SsmConfig b;
+  b.armMass = 30.0;
+  b.payload = 5.0;
+  // thigh clamped: 220 / sqrt(20 * 50000) = 220 / 1000 = 0.22
+  EXPECT_NEAR(pflSpeedLimit(b, BodyRegion::Thigh, true, 0.0), 0.22, 1e-12);
+  // lower leg clamped: 130 / sqrt(20 * 60000) = 130 / 1095.445115 = 0.118673220792786
+  EXPECT_NEAR(pflSpeedLimit(b, BodyRegion::LowerLeg, true, 0.0), 0.118673220792786, 1e-9);
+  // thigh transient moving in at 0.3 m/s: 0.495203661806601 - 0.3
+  EXPECT_NEAR(pflSpeedLimit(b, BodyRegion::Thigh, false, 0.3), 0.195203661806601, 1e-9);
+  // (c) M = 4 kg, m_L = 0: m_R = 2 kg
+  SsmConfig c;
+  c.armMass = 4.0;
+  c.payload = 0.0;
+  // lower arm clamped: 160 / sqrt(2 * 40000) = 160 / 282.842712 = 0.565685424949238
+  EXPECT_NEAR(pflSpeedLimit(c, BodyRegion::LowerArm, true, 0.0), 0.565685424949238, 1e-9);
+  // hand clamped, moving in at 0.1 m/s: 140 / sqrt(2 * 75000) - 0.1 = 0.361478445646026 - 0.1
+  EXPECT_NEAR(pflSpeedLimit(c, BodyRegion::Hand, true, 0.1), 0.261478445646026, 1e-9);
+  // upper arm transient moving in at 1.0 m/s: 300 / sqrt(1.2 * 30000) - 1 = 1.58113883008419 - 1
+  EXPECT_NEAR(pflSpeedLimit(c, BodyRegion::UpperArm, false, 1.0), 0.58113883008419, 1e-9);
+  // clamped is never above half the transient limit (the same region, at rest): F vs 2F, m_R >= mu
+  for (const SsmConfig* cfg : {&a, &b, &c})
+    for (int r = 0; r <= static_cast<int>(BodyRegion::LowerLeg); ++r)
+      EXPECT_LE(pflSpeedLimit(*cfg, BodyRegion(r), true, 0.0), 0.5 * pflSpeedLimit(*cfg, BodyRegion(r), false, 0.0) + 1e-15);
+  // the gap within which a fixed obstacle pins a region: R (T_r + T_s / 2) + C + Z_d + Z_r
+  // = 1.0 (0.011 + 0.1) + 0 + 0.05 + 0.01 = 0.171 m for the defaults
+  EXPECT_NEAR(clampGap(a), 0.171, 1e-12);
+}
+
+TEST(Pfl, PartSpeedIntoTheArmIsItsApproachComponent) {
+  // a hand (right wrist -> right hand) 0.5 m from an arm capsule along +x; its joints' velocities
+  SsmConfig cfg;
+  const int hand = 7;  // bodyParts()[7]: the right hand
+  ASSERT_EQ(bodyParts()[hand].region, BodyRegion::Hand);
+  ASSERT_EQ(bodyParts()[hand].a, kRightWrist);
+  ASSERT_EQ(bodyParts()[hand].b, kRightHand);
+  const Capsule body{Vec3(0, 0, 1), Vec3(0, 0.1, 1), 0.04};
+  const Capsule arm{Vec3(0.5, -1, 1), Vec3(0.5, 1, 1), 0.05};
+  std::array<Vec3, kSkeletonJoints> v;
+  v.fill(Vec3::Zero());
+  // moving straight at the arm at 1.2 m/s: all of it
+  v[kRightWrist] = v[kRightHand] = Vec3(1.2, 0, 0);
+  EXPECT_NEAR(partSpeedInto(cfg, hand, body, arm, true, v), 1.2, 1e-12);
+  // along the arm (past it) and away: nothing into it
+  v[kRightWrist] = v[kRightHand] = Vec3(0, 1.5, 0);
+  EXPECT_NEAR(partSpeedInto(cfg, hand, body, arm, true, v), 0.0, 1e-12);
+  v[kRightWrist] = v[kRightHand] = Vec3(-1.0, 0, 0);
+  EXPECT_EQ(partSpeedInto(cfg, hand, body, arm, true, v), 0.0);
+  // at 45 degrees, 2 m/s, only the hand joint: 2 cos 45 = 1.41421356237310
+  v[kRightWrist] = Vec3::Zero();
+  v[kRightHand] = Vec3(std::sqrt(2.0), std::sqrt(2.0), 0);
+  EXPECT_NEAR(partSpeedInto(cfg, hand, body, arm, true, v), 1.4142135623731, 1e-12);
+  // velocities unknown: the standard's hand speed
+  EXPECT_EQ(partSpeedInto(cfg, hand, body, arm, false, v), cfg.handSpeed);
+  // touching: the larger joint speed, whatever its direction (2 m/s)
+  const Capsule touching{Vec3(0.05, -1, 1), Vec3(0.05, 1, 1), 0.05};
+  EXPECT_NEAR(partSpeedInto(cfg, hand, body, touching, true, v), 2.0, 1e-12);
+}
+
+TEST(Pfl, AFixedObstacleNearARegionBelowSpClampsIt) {
+  // a post (as PostWalk's) and a person standing 0.45 m from it (every part below S_p, at rest),
+  // a sphere beside the right hand: within clampGap of it the verdict is clamped, beyond it not,
+  // and a tracked (movable) sphere never clamps
+  ArmModel m;
+  m.name = "post";
+  m.joints = {{0, 0, 0.1, 0, -1, 1}};
+  m.capsules = {{0, {0, 0, 0}, {0, 0, 1.5}, 0.1}};
+  m.resetAllowedToAdjacent();
+  PersonScript script;
+  script.start = Vec3(0.45, 0, 0);
+  script.heading = M_PI;
+  PersonSet persons;
+  persons.add("stander", std::make_unique<ScriptedPerson>(script));
+  persons.pose(0.5);
+  ASSERT_TRUE(persons.velocitiesKnown(0));
+  const Capsule handCap = bodyCapsules(persons.skeleton(0))[7];
+  SsmConfig cfg;
+  cfg.response = SsmResponse::Pfl;
+  const double gap = clampGap(cfg);
+  auto clampedWith = [&](double clearance, bool tracked) {
+    Obstacle o;
+    o.name = "table";
+    o.kind = ShapeKind::Sphere;
+    o.sphere.radius = 0.05;
+    // beside the hand's lower end, on its outer side (away from the body), `clearance` from the
+    // hand's surface: no other region is as near
+    const Vec3 low = handCap.a.z() < handCap.b.z() ? handCap.a : handCap.b;
+    const double side = low.y() >= 0.0 ? 1.0 : -1.0;
+    o.sphere.center = low + Vec3(0, side * (handCap.radius + clearance + o.sphere.radius), 0);
+    o.tracked = tracked;
+    Monitor mon({ArmInstance{"post", m, Eigen::Isometry3d::Identity()}}, {o}, SafetyConfig{});
+    const double q = 0.0, qd = 0.0;
+    mon.setJointState(0, 0.5, &q, &qd);
+    mon.cycle(0.5);
+    SeparationMonitor ssm(cfg, 1);
+    ssm.cycle(mon, persons);
+    EXPECT_LT(ssm.verdict(0).slack, 0.0);
+    return ssm.verdict(0).clamped;
+  };
+  EXPECT_TRUE(clampedWith(0.5 * gap, false));
+  EXPECT_TRUE(clampedWith(gap - 1e-6, false));
+  EXPECT_FALSE(clampedWith(gap + 1e-3, false));
+  EXPECT_FALSE(clampedWith(0.5 * gap, true));
+}
+
 TEST(Person, ReachableCapsuleHoldsEverySampledMotion) {
   // end points moving at most v (any direction, changing every 10 ms): every point of the moved
   // capsule stays inside the capsule grown by v t
@@ -349,14 +470,17 @@ TEST(Pfl, WalkingPersonSlowsTheArmByRegionAndNeverStopsAResting) {
     EXPECT_GT(t, tStar - 1e-9) << what;
     EXPECT_LE(t, tStar + PostWalk::dt + 1e-9) << what << " solved " << tStar;
   };
-  // the torso (chest, limit 0.626 m/s) slows the arm where S_p's own speed falls below 1.1 m/s at the
-  // torso: distance x - 0.27 = S0 + 1.6 T_c + 1.1 (T_r + T_s / 2 + T_c) (the hand, 1.36 m/s, and the
-  // arms, 1.14 and 1.24 m/s, are above the top speed and never slow it)
+  // the person walks into the post at 1 m/s: each region's limit is its transient one less its
+  // speed into the post: the torso (chest) 0.626 - 1 -> 0, the legs 0.662 / 0.357 - ~1 -> 0, the
+  // hand about 1.359 - 0.98, the arms about 1.140 / 1.239 - 0.98. The torso slows the arm where
+  // S_p's own speed falls below 1.1 m/s at the torso: x - 0.27 = S0 + 1.6 T_c + 1.1 (T_r + T_s / 2
+  // + T_c) = 0.792 m (the hand's and arms' S_p crossings for 1.1 m/s come later: 0.72 and 0.64 m)
   const double P = cfg.reactionTime + cfg.stoppingTime / 2.0 + cfg.cycleTime;
   expectAt(0.27 + S0 + 1.6 * cfg.cycleTime + 1.1 * P,
            PostWalk::first(SsmResponse::Pfl, [](const SsmVerdict& v) { return v.factor < 1.0; }, cfg), "pfl slows");
-  // factor 0 only where the head (no transient contact) leaves no speed: x - 0.21 = S0 + 1.6 T_c
-  expectAt(0.21 + S0 + 1.6 * cfg.cycleTime,
+  // factor 0 where a region of limit 0 leaves no speed: the torso (walking into the post faster
+  // than its limit) before the head: x - 0.27 = S0 + 1.6 T_c
+  expectAt(0.27 + S0 + 1.6 * cfg.cycleTime,
            PostWalk::first(SsmResponse::Pfl, [](const SsmVerdict& v) { return v.factor == 0.0; }, cfg), "pfl factor 0");
   // below S_p at rest first with the torso (x - 0.27 = S0): allowed by PFL, the post does not move
   expectAt(0.27 + S0, PostWalk::first(SsmResponse::Pfl, [](const SsmVerdict& v) { return v.pflAllowed; }, cfg),
@@ -596,6 +720,57 @@ TEST(Ssm, ClosedLoopNoPersonTouchesAMovingArm) {
   // the target over the study's cases (summed progress, as `stsim arm --study coexistence`
   // prints it): scaling completes the tasks >= 1.4x faster than binary STOP
   EXPECT_GE(summed[1] / summed[0], 1.4) << summed[0] << " " << summed[1];
+}
+
+// The clamped limits (quasi-static, mu = m_R) worked out by hand for the default masses (m_R =
+// 10 kg) as in Pfl.ClampedAndMovingLimitsEqualAnnexAByHand: F / sqrt(10 K), per body part in
+// bodyParts() order: head none; chest 140 / sqrt(250000); upper arm 150 / sqrt(300000); lower arm
+// 160 / sqrt(400000); hand 140 / sqrt(750000); thigh 220 / sqrt(500000); lower leg 130 / sqrt(600000).
+constexpr double kClampedByHand[kBodyParts] = {0.0, 0.28, 0.273861278752583, 0.252982212813470, 0.161658075373095,
+                                               0.273861278752583, 0.252982212813470, 0.161658075373095,
+                                               0.311126983722081, 0.167829278491384, 0.311126983722081, 0.167829278491384};
+
+TEST(Pfl, ClosedLoopAtATableNoContactAboveItsLimit) {
+  // person_reach with a table (a fixed box) between the person and the arm: the person stands
+  // against it and reaches over it, so hands, arms and hips can be pinned. Every cycle the arm
+  // runs below S_p under pfl, it is no faster than the limit of the regions below S_p, that limit
+  // is never above the hand-worked one of the binding region (its clamped one where clamped), and
+  // no contact (brute force, every capsule pair) is faster than the touched region's transient limit
+  Scenario s = loadScenario(scenarioPath("person_reach"));
+  Obstacle table;
+  table.name = "table";
+  table.kind = ShapeKind::Box;
+  table.box.center = Vec3(1.05, 0.0, 0.35);
+  table.box.halfExtents = Vec3(0.15, 0.6, 0.35);
+  s.obstacles.push_back(table);
+  std::uint64_t below = 0, clampedCycles = 0, pinnedCycles = 0, faster = 0, aboveByHand = 0, touchedFast = 0;
+  PersonSet persons = makePersons(s);
+  const CoexistenceOutcome o = runCoexistence(s, SsmResponse::Pfl, [&](const Monitor& m, const SeparationMonitor& ssm) {
+    const SsmVerdict& v = ssm.verdict(0);
+    if (v.slack < 0.0 && !v.stop) {
+      ++below;
+      if (v.clamped) ++clampedCycles;
+      if (v.robotSpeed > v.pflLimit) ++faster;
+      // the binding region pinned (by brute force: within clampGap of the table) or not
+      persons.pose(m.time());
+      const bool pinned = distance(bodyCapsules(persons.skeleton(0))[v.part], table.box) <= clampGap(s.ssm);
+      if (v.pflLimit > (pinned ? kClampedByHand[v.part] : kPflLimitsByHand[v.part]) + 1e-12) ++aboveByHand;
+      if (pinned) ++pinnedCycles;
+    }
+    persons.pose(m.time());
+    if (!persons.present(0) || v.robotSpeed <= 0.0) return;
+    const auto body = bodyCapsules(persons.skeleton(0));
+    for (int i = 0; i < m.capsuleCount(); ++i)
+      for (int part = 0; part < kBodyParts; ++part)
+        if (distance(m.movingCapsule(i).c, body[part]) <= 0.0 && v.robotSpeed > kPflLimitsByHand[part]) ++touchedFast;
+  });
+  EXPECT_GT(below, 0u);
+  EXPECT_GT(clampedCycles, 0u);  // the table does pin regions below S_p
+  EXPECT_GT(pinnedCycles, 0u);   // the binding one among them
+  EXPECT_EQ(faster, 0u);
+  EXPECT_EQ(aboveByHand, 0u);
+  EXPECT_EQ(touchedFast, 0u);
+  EXPECT_EQ(o.contactsAboveLimit, 0u);
 }
 
 TEST(Ssm, AStoppedArmTravelsNoFartherThanSrPlusSs) {

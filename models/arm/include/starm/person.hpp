@@ -72,6 +72,10 @@ class PersonTrack {
   virtual ~PersonTrack() = default;
   // The skeleton at time t; false when the track has no reading for t (before its first).
   virtual bool at(double t, Skeleton& s) = 0;
+  // Each joint's velocity at t (m/s, cell frame), by default over the last h seconds:
+  // (p(t) - p(t - h)) / h. False where the track cannot tell (no pose h before t): then the
+  // person is taken at the standard's approach speeds.
+  virtual bool velocities(double t, double h, std::array<Vec3, kSkeletonJoints>& v);
 };
 
 // A scripted person: from a standing start, a list of actions done one after the other.
@@ -138,24 +142,38 @@ class TracedPerson final : public PersonTrack {
 
 // A person whose skeleton is set from outside (a tracker over the network): there from its first
 // pose on, where it was last set.
+// Its joints' velocities are those between its last two stamped poses (a tracker's successive
+// frames); a pose set without a time leaves them unknown.
 class HeldPerson final : public PersonTrack {
  public:
   void set(const Skeleton& s) {
     s_ = s;
     seen_ = true;
+    stamped_ = 0;
   }
-  // the same from kSkeletonJoints positions in SkeletonJoint order (a decoded SKELETONS' pose)
-  void set(const Vec3* joints) {
+  // a pose at time t (s), from kSkeletonJoints positions in SkeletonJoint order (a decoded
+  // SKELETONS' pose); a later time than the last moves the last to the previous
+  void set(const Vec3* joints, double t) {
+    if (stamped_ > 0 && t > t_) prev_ = s_, prevT_ = t_, stamped_ = 2;
+    else if (stamped_ == 0) stamped_ = 1;
     std::copy(joints, joints + kSkeletonJoints, s_.p.begin());
+    t_ = t;
     seen_ = true;
   }
   bool at(double, Skeleton& s) override {
     if (seen_) s = s_;
     return seen_;
   }
+  bool velocities(double, double, std::array<Vec3, kSkeletonJoints>& v) override {
+    if (stamped_ < 2 || !(t_ > prevT_)) return false;
+    for (int j = 0; j < kSkeletonJoints; ++j) v[j] = (s_.p[j] - prev_.p[j]) / (t_ - prevT_);
+    return true;
+  }
 
  private:
-  Skeleton s_;
+  Skeleton s_, prev_;
+  double t_ = 0.0, prevT_ = 0.0;
+  int stamped_ = 0;  // stamped poses held (0, 1 or 2)
   bool seen_ = false;
 };
 

@@ -29,6 +29,21 @@
 //
 // with F_max the region's transient force limit (twice the quasi-static one, Table A.2's
 // multiplier) and k, m_H the region's effective spring constant and mass (Table A.3).
+//
+// Two refinements (Annex A's distinction of contacts and its relative speed):
+// - Clamping: a region that can be pinned between the arm and a fixed obstacle (the scenario's
+//   untracked, unmoving obstacles: a table, a wall) makes a quasi-static contact: held to the
+//   quasi-static F_max (half the transient force), and, backed by the obstacle, it cannot recoil
+//   with the impact, so (A.3)'s reduced mass becomes the robot's own (m_H -> infinity, mu = m_R):
+//     v_rel,max = F_max / sqrt(m_R k)                                               (A.7), clamped
+//   A region counts as pinnable where a fixed obstacle is within the arm's travel after a contact
+//   at top speed plus the uncertainties: S_p(v_h = 0, v_r = R) = R (T_r + T_s / 2) + C + Z_d + Z_r.
+// - The person's own motion: v_rel is the robot's speed plus the region's speed into the arm (a
+//   person moving into the arm), so the robot's limit is v_rel,max less that speed, 0 if that
+//   is negative. The region's speed into the arm: the larger of its two end joints' velocities
+//   along the line from the region to the nearest arm capsule (closest points), 0 if both move
+//   away; touching (no such line), their larger magnitude. Where the tracker cannot tell the
+//   velocities, the region moves into the arm at the standard's v_h.
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -42,6 +57,7 @@
 namespace st::arm {
 
 class Monitor;
+struct Obstacle;
 class ArmDrive;
 
 enum class SsmResponse {
@@ -85,8 +101,18 @@ double reducedMass(double humanMass, double robotMass);
 double transientSpeedLimit(double force, double springK, double mu);
 // The largest robot speed (m/s) for a transient contact with region r under the config's masses:
 // (A.7) with F = 2 x the quasi-static F_max; 0 where the region takes no transient contact. The
-// person is taken at rest: their own approach speed is not added to v_rel.
+// region free (not clamped) and at rest: the form below with (false, 0).
 double pflSpeedLimit(const SsmConfig& c, BodyRegion r);
+// The largest robot speed (m/s) for a contact with region r moving at personSpeed (m/s) towards
+// the arm, clamped (quasi-static: F_max, mu = m_R) or not (transient: 2 F_max, mu of (A.3)):
+// max(0, v_rel,max - personSpeed); 0 where the region takes no transient contact.
+double pflSpeedLimit(const SsmConfig& c, BodyRegion r, bool clamped, double personSpeed);
+// A body part's speed into an arm capsule (m/s): see above; known false: the part's v_h.
+double partSpeedInto(const SsmConfig& c, int part, const Capsule& body, const Capsule& arm, bool known,
+                     const std::array<Vec3, kSkeletonJoints>& v);
+// The distance (m) within which a fixed obstacle can pin a body region against the arm:
+// R (T_r + T_s / 2) + C + Z_d + Z_r, the arm's travel after a contact at top speed.
+double clampGap(const SsmConfig& c);
 
 // The terms of formula (1), each in metres.
 struct SeparationTerms {
@@ -131,6 +157,7 @@ struct SsmVerdict {
   bool violated = false;      // separation < S_p at the arm's present speed (pfl: and above the region's limit)
   bool pflAllowed = false;    // pfl: below S_p, but at or below the power-and-force limit of every region so near
   double pflLimit = std::numeric_limits<double>::infinity();  // m/s, pfl: the limit of the regions below S_p
+  bool clamped = false;       // pfl: one of those regions can be pinned against a fixed obstacle (quasi-static limit)
   int person = -1, part = -1, armBody = -1;  // the binding pair (-1: no person present)
 };
 
@@ -152,16 +179,24 @@ class PersonSet {
   void add(std::string name, std::unique_ptr<PersonTrack> track);
   int size() const { return static_cast<int>(names_.size()); }
   const std::string& name(int i) const { return names_[i]; }
-  // Poses every person at t; present(i) false when its track has nothing for t.
+  // Poses every person at t; present(i) false when its track has nothing for t. Each joint's
+  // velocity is its track's over the window (PersonTrack::velocities; default 1 ms, the cycle).
   void pose(double t);
   const Skeleton& skeleton(int i) const { return skeletons_[i]; }
   bool present(int i) const { return present_[i] != 0; }
+  // The joints' velocities (m/s) at the last pose; false where the track could not tell.
+  bool velocitiesKnown(int i) const { return velocitiesKnown_[i] != 0; }
+  const std::array<Vec3, kSkeletonJoints>& velocities(int i) const { return velocities_[i]; }
+  void setVelocityWindow(double h) { velocityWindow_ = h; }
 
  private:
   std::vector<std::string> names_;
   std::vector<std::unique_ptr<PersonTrack>> tracks_;
   std::vector<Skeleton> skeletons_;
   std::vector<char> present_;
+  std::vector<std::array<Vec3, kSkeletonJoints>> velocities_;
+  std::vector<char> velocitiesKnown_;
+  double velocityWindow_ = 0.001;  // s
 };
 
 class SeparationMonitor {
@@ -193,7 +228,8 @@ class SeparationMonitor {
   std::vector<int> armFirst_, armCaps_, fill_;  // capsule indices by arm: armCaps_[armFirst_[a] ..armFirst_[a+1])
   std::vector<std::array<Capsule, kBodyParts>> body_;  // per person
   std::vector<std::array<Bound, kBodyParts>> bodyBound_;
-  std::vector<std::pair<double, int>> order_;  // an arm's capsules by their spheres' distance to a part
+  std::vector<std::pair<double, int>> order_;
+  std::vector<const Obstacle*> fixed_;  // the untracked, unmoving obstacles (pfl: clamping)  // an arm's capsules by their spheres' distance to a part
 };
 
 }  // namespace st::arm
