@@ -127,14 +127,23 @@ FolderLock::~FolderLock() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpec>& runs, const BatchOptions& o) {
-  fs::create_directories(o.outDir / "runs");
-  std::vector<RunResult> results(runs.size());
+namespace {
+
+// A run in progress: its index in the batch's runs, its folder until it is published, its start.
+struct Running {
+  std::size_t index;
+  fs::path tmp;
+  std::chrono::steady_clock::time_point start;
+};
+
+// The runs' results as the folder holds them, and the indices of those to run: every one not done,
+// and every done one whose scenario this experiment makes differently now (the run id names the
+// parameters, not the base's content: an edited base left every old run "done").
+std::vector<std::size_t> runsToDo(const Experiment& e, const std::vector<RunSpec>& runs, const BatchOptions& o,
+                                  std::vector<RunResult>& results) {
   std::vector<std::size_t> todo;
   for (std::size_t i = 0; i < runs.size(); ++i) {
     results[i] = loadRunResult(o.outDir, runs[i]);
-    // a finished run is reused only if it ran the scenario this experiment makes of it now: the
-    // run id names the parameters, not the base's content (an edited base left every old run "done")
     const fs::path scenario = runDir(o.outDir, runs[i]) / "scenario.yaml";
     if (results[i].status == RunStatus::Done &&
         (!fs::exists(scenario) || readFile(scenario) != runScenarioYaml(e, runs[i]))) {
@@ -144,91 +153,103 @@ std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpe
     }
     if (results[i].status != RunStatus::Done) todo.push_back(i);  // failed runs are tried again
   }
+  return todo;
+}
+
+// Starts run i in its .tmp folder: its scenario written there, `stsim COMMAND scenario.yaml`.
+std::pair<pid_t, Running> launchRun(const Experiment& e, const std::vector<RunSpec>& runs, std::size_t i,
+                                    const BatchOptions& o) {
+  const RunSpec& spec = runs[i];
+  const fs::path tmp = o.outDir / "runs" / (spec.id + ".tmp");
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  io::writeFileAtomically(tmp / "scenario.yaml", runScenarioYaml(e, spec));
+  const std::string exe = o.stsim.string(), scen = (tmp / "scenario.yaml").string(), out = tmp.string();
+  std::vector<std::string> args = {exe, e.command, scen, "--out", out};
+  // the report draws one conflict map per parameter combination, all seeds together (plots.py)
+  if (e.command == "highway") args.emplace_back("--no-map");
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = spawnRun(exe, argv, (tmp / "log.txt").string());
+  return {pid, Running{i, tmp, std::chrono::steady_clock::now()}};
+}
+
+// A run that ended with `status`: its result.yaml written, its folder published in one rename
+// (a previous failed attempt replaced), its summary read when it is done.
+RunResult finishRun(const Running& run, const RunSpec& spec, int status, const BatchOptions& o) {
+  RunResult r;
+  r.spec = spec;
+  r.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - run.start).count();
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && fs::exists(run.tmp / "summary.json")) {
+    r.status = RunStatus::Done;
+  } else {
+    r.status = RunStatus::Failed;
+    if (WIFSIGNALED(status)) r.error = "crashed with signal " + std::to_string(WTERMSIG(status));
+    else r.error = "exit " + std::to_string(WEXITSTATUS(status));
+    if (std::string l = lastLogLine(run.tmp / "log.txt"); !l.empty()) {
+      // the run's folder is renamed below: name its files where they will be
+      const std::string from = run.tmp.string(), to = runDir(o.outDir, r.spec).string();
+      for (std::size_t at = l.find(from); at != std::string::npos; at = l.find(from, at + to.size()))
+        l.replace(at, from.size(), to);
+      r.error += ": " + l;
+    }
+  }
+  YAML::Emitter em;
+  em << YAML::BeginMap << YAML::Key << "status" << YAML::Value << toString(r.status) << YAML::Key << "error"
+     << YAML::Value << r.error << YAML::Key << "wall_seconds" << YAML::Value << r.wallSeconds << YAML::EndMap;
+  io::writeFileAtomically(run.tmp / "result.yaml", std::string(em.c_str()) + "\n");
+  const fs::path dir = runDir(o.outDir, r.spec);
+  fs::remove_all(dir);
+  fs::rename(run.tmp, dir);
+  if (r.status == RunStatus::Done) {
+    const RunResult loaded = loadRunResult(o.outDir, r.spec);
+    r.metrics = loaded.metrics;
+    if (loaded.status != RunStatus::Done) {
+      r.status = loaded.status;
+      r.error = loaded.error;
+    }
+    r.reused = false;
+  }
+  return r;
+}
+
+// an error in the loop (a file that cannot be written, a callback that throws) leaves with the runs stopped
+struct StopOnError {
+  std::map<pid_t, Running>& running;
+  ~StopOnError() {
+    if (running.empty()) return;
+    std::vector<pid_t> pids;
+    for (const auto& kv : running) pids.push_back(kv.first);
+    stopRuns(pids);
+  }
+};
+
+}  // namespace
+
+std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpec>& runs, const BatchOptions& o) {
+  fs::create_directories(o.outDir / "runs");
+  std::vector<RunResult> results(runs.size());
+  const std::vector<std::size_t> todo = runsToDo(e, runs, o, results);
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   int finished = static_cast<int>(runs.size() - todo.size());
   const int total = static_cast<int>(runs.size());
   if (o.progress) o.progress(finished, total, 0.0);
 
-  struct Running {
-    std::size_t index;
-    fs::path tmp;
-    std::chrono::steady_clock::time_point start;
-  };
   std::map<pid_t, Running> running;
   std::size_t next = 0;
   const int jobs = std::max(1, o.jobs);
-
-  auto launch = [&](std::size_t i) {
-    const RunSpec& spec = runs[i];
-    const fs::path tmp = o.outDir / "runs" / (spec.id + ".tmp");
-    fs::remove_all(tmp);
-    fs::create_directories(tmp);
-    io::writeFileAtomically(tmp / "scenario.yaml", runScenarioYaml(e, spec));
-    const std::string exe = o.stsim.string(), scen = (tmp / "scenario.yaml").string(), out = tmp.string();
-    std::vector<std::string> args = {exe, e.command, scen, "--out", out};
-    // the report draws one conflict map per parameter combination, all seeds together (plots.py)
-    if (e.command == "highway") args.emplace_back("--no-map");
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    const pid_t pid = spawnRun(exe, argv, (tmp / "log.txt").string());
-    running[pid] = Running{i, tmp, std::chrono::steady_clock::now()};
-  };
-
   auto finish = [&](pid_t pid, int status) {
     const Running run = running.at(pid);
     running.erase(pid);
     RunResult& r = results[run.index];
-    r = RunResult{};
-    r.spec = runs[run.index];
-    r.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - run.start).count();
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && fs::exists(run.tmp / "summary.json")) {
-      r.status = RunStatus::Done;
-    } else {
-      r.status = RunStatus::Failed;
-      if (WIFSIGNALED(status)) r.error = "crashed with signal " + std::to_string(WTERMSIG(status));
-      else r.error = "exit " + std::to_string(WEXITSTATUS(status));
-      if (std::string l = lastLogLine(run.tmp / "log.txt"); !l.empty()) {
-        // the run's folder is renamed below: name its files where they will be
-        const std::string from = run.tmp.string(), to = runDir(o.outDir, r.spec).string();
-        for (std::size_t at = l.find(from); at != std::string::npos; at = l.find(from, at + to.size()))
-          l.replace(at, from.size(), to);
-        r.error += ": " + l;
-      }
-    }
-    YAML::Emitter em;
-    em << YAML::BeginMap << YAML::Key << "status" << YAML::Value << toString(r.status) << YAML::Key << "error"
-       << YAML::Value << r.error << YAML::Key << "wall_seconds" << YAML::Value << r.wallSeconds << YAML::EndMap;
-    io::writeFileAtomically(run.tmp / "result.yaml", std::string(em.c_str()) + "\n");
-    // publish the finished run in one rename; a previous failed attempt is replaced
-    const fs::path dir = runDir(o.outDir, r.spec);
-    fs::remove_all(dir);
-    fs::rename(run.tmp, dir);
-    if (r.status == RunStatus::Done) {
-      const RunResult loaded = loadRunResult(o.outDir, r.spec);
-      r.metrics = loaded.metrics;
-      if (loaded.status != RunStatus::Done) {
-        r.status = loaded.status;
-        r.error = loaded.error;
-      }
-      r.reused = false;
-    }
+    r = finishRun(run, runs[run.index], status, o);
     ++finished;
     if (o.log) o.log(r.spec.id + " " + toString(r.status) + (r.error.empty() ? "" : " (" + r.error + ")"));
     if (o.progress) o.progress(finished, total, elapsed());
   };
-
-  // an error below (a file that cannot be written, a callback that throws) leaves with the runs stopped
-  struct StopOnError {
-    std::map<pid_t, Running>& running;
-    ~StopOnError() {
-      if (running.empty()) return;
-      std::vector<pid_t> pids;
-      for (const auto& [pid, run] : running) pids.push_back(pid);
-      stopRuns(pids);
-    }
-  } stopOnError{running};
+  const StopOnError stopOnError{running};
 
   bool forwarded = false;
   while (next < todo.size() || !running.empty()) {
@@ -236,10 +257,11 @@ std::vector<RunResult> executeRuns(const Experiment& e, const std::vector<RunSpe
     if (stopping && !forwarded) {
       // a SIGTERM sent to the batch alone reaches its runs too (Ctrl-C already reached the group):
       // each writes what it has and stops, instead of the batch waiting for them to finish
-      for (const auto& [pid, run] : running) ::kill(pid, SIGTERM);
+      for (const auto& kv : running) ::kill(kv.first, SIGTERM);
       forwarded = true;
     }
-    while (!stopping && next < todo.size() && static_cast<int>(running.size()) < jobs) launch(todo[next++]);
+    while (!stopping && next < todo.size() && static_cast<int>(running.size()) < jobs)
+      running.insert(launchRun(e, runs, todo[next++], o));
     if (running.empty()) break;
     int status = 0;
     const pid_t pid = waitpid(-1, &status, 0);
