@@ -460,7 +460,12 @@ def figures(r):
          % (xpet["ssm_pets"], xpet["stsim_pets"], xpet["matched"])),
         ("cosim/README.md", "| PET within 0.1 s of SSM's | **%.2f %%** (max %s s, mean %s s) |"
          % (100.0 * xpet["within_fraction"], sci(xpet["max_abs_error_s"]), sci(xpet["mean_abs_error_s"]))),
-        ("cosim/README.md", "episode (TTC below the safe time), hence %d of %d." % (xpet["stsim_pets"], xpet["ssm_pets"])),
+        ("cosim/README.md", "episode (TTC below the safe time) or a conflict (TTC below TTC*), hence %d of %d and %d of %d."
+         % (xpet["stsim_pets"], xpet["ssm_pets"], xpet["conflicts"]["conflict_pets"], xpet["conflicts"]["ssm_encounters"])),
+        ("cosim/README.md", "| the analyst's PETs: SSM's encounters (each pair once), conflicts.csv's conflicts with a PET, on both (`pet.conflicts`) | %d, %d, %d |"
+         % (xpet["conflicts"]["ssm_encounters"], xpet["conflicts"]["conflict_pets"], xpet["conflicts"]["matched"])),
+        ("cosim/README.md", "| conflicts.csv's PET within 0.1 s of SSM's | **%.2f %%** (max %s s) |"
+         % (100.0 * xpet["conflicts"]["within_fraction"], sci(xpet["conflicts"]["max_abs_error_s"]))),
         ("cosim/README.md", "| conflict points: box `lane_change`/`crossing` episodes with one, SSM crossing samples with a leader at their minimum-TTC tick | %d, %d |"
          % (xcp["box_episodes"], xcp["matched"])),
         ("cosim/README.md", "| along the follower's path within 0.5 m of SSM's (where the follower enters the conflict area) | **%s |"
