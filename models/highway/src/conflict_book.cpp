@@ -138,10 +138,10 @@ void ConflictBook::observe(double t, double lastT) {
     const bool here = c.inputOf[w.a] >= 0 && c.slots[w.a].serial == w.serialA && c.inputOf[w.b] >= 0 &&
                       c.slots[w.b].serial == w.serialB;
     if (here && t <= w.until) {
-      observePet(c.centre[w.a], c.centre[w.b], t, w.pet);
+      observePet(c.front(w.a), c.front(w.b), t, w.pet);
       observeRearPet(c.centre[w.a], c.centre[w.b], t, w.rearPet);
     }
-    if (!here || t > w.until || !std::isnan(w.petNow())) settle(std::move(w.conflict), w.petNow());
+    if (!here || t > w.until || !std::isnan(w.petNow())) settle(std::move(w.conflict), w.petNow(true));
     else if (kept != i) waiting_[kept++] = std::move(w);
     else ++kept;
   }
@@ -190,10 +190,10 @@ void ConflictBook::touch(int a, int b, double ttc, const Body& atA, const Body& 
     en.contactB = atB;
     en.laneA = paths_->reportedLane(a);
     en.laneB = paths_->reportedLane(b);
-    startPet(en.bodyA, en.bodyB, t, petAngles_, en.pet);
+    startPet(en.bodyA, en.bodyB, paths_->laneWidth(a), paths_->laneWidth(b), t, petAngles_, en.pet);
     startRearPet(en.bodyA, en.bodyB, atA, atB, t, c.slots[a].id < c.slots[b].id, en.rearPet);
   } else {
-    observePet(c.centre[a], c.centre[b], t, en.pet);
+    observePet(c.front(a), c.front(b), t, en.pet);
     observeRearPet(c.centre[a], c.centre[b], t, en.rearPet);
   }
 }
@@ -269,7 +269,7 @@ void ConflictBook::close(Encounter& en, double end, bool open) {
   // PET: once the first has left and the second arrived, or watched on for a while; of crossing
   // and merging paths across the area their bodies sweep, of a rear-end at the conflict point
   const bool rearEnd = k.type == ConflictType::RearEnd;
-  const double pet = rearEnd ? en.rearPet.pet() : en.pet.pet();
+  const double pet = rearEnd ? en.rearPet.pet() : en.pet.pet(open);
   if (open || !(rearEnd ? en.rearPet.active : en.pet.active) || !std::isnan(pet)) return settle(std::move(k), pet);
   waiting_.push_back({std::move(k), en.a, en.b, c.slots[en.a].serial, c.slots[en.b].serial, end + kPetHorizon, en.pet,
                       en.rearPet, rearEnd});
@@ -291,7 +291,7 @@ void ConflictBook::settle(Conflict&& k, double pet) {
 void ConflictBook::finish(double t) {
   for (auto& [key, en] : open_) close(en, t, true);
   open_.clear();
-  for (Waiting& w : waiting_) settle(std::move(w.conflict), w.petNow());
+  for (Waiting& w : waiting_) settle(std::move(w.conflict), w.petNow(true));
   waiting_.clear();
 }
 

@@ -88,7 +88,7 @@ class ConflictBook {
     PetWatch pet;
     RearPetWatch rearPet;
     bool rearEnd = false;  // which of the two watches gives its PET
-    double petNow() const { return rearEnd ? rearPet.pet() : pet.pet(); }
+    double petNow(bool settled = false) const { return rearEnd ? rearPet.pet() : pet.pet(settled); }
   };
   using Key = std::pair<std::uint64_t, std::uint64_t>;
 

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include <sthighway/conflict.hpp>
 #include <sthighway/monitor.hpp>
@@ -28,24 +29,42 @@ struct EpisodeTrack {
 };
 
 // PET, post-encroachment time, of two crossing or merging paths: the time from the first vehicle
-// leaving the conflict area to the second entering it (SUMO's SSM device; Allen et al. 1978). The
-// paths are the two vehicles' straight lines at the tick of the minimum TTC, their conflict area
-// the part both bodies sweep: a vehicle is in it while its centre lies within `r` of the lines'
-// crossing along its own line (half its length, and the other's half width and its own half width
-// across, over the sine of the angle). Measured from the positions the vehicles then take, each
-// crossing of the area's ends timed between ticks by linear interpolation. Paths closer than
-// SSAM's rear-end angle to parallel have no crossing to speak of (SSAM's rear-ends): inactive.
+// leaving the conflict area to the second entering it, as SUMO's SSM device has it (Allen et al.
+// 1978). The paths are the ones the two vehicles' fronts take (SUMO keeps a front on its lane's
+// centre line): from the tick of the minimum TTC on, behind that the straight line back along the
+// heading. The conflict point is where the two paths cross, and a vehicle is in the conflict area
+// from its front half the other's width before the point until its back, a length behind the front
+// along its path, is half the other's width past it, where paths cross at right angles. At other
+// angles the area begins where SSM's does (MSDevice_SSM: MSLink's lengths before the crossing): the
+// front at the other's lane border, over the sine of the crossing's angle, less half the lane's
+// width left beside the other vehicle, so the area runs from (W/2)/sin - (W - w)/2 before the point
+// to w + L past that (W: the other's lane width, w its width, L the vehicle's length). Until one
+// path has run over the other,
+// the point is where one's straight line ahead meets the other's path. Each passage is timed between
+// ticks by linear interpolation; one behind the tick of the minimum TTC happened by then at the
+// latest. Paths that start closer than SSAM's rear-end angle to parallel (SSAM's rear-ends: their
+// own PET), or cross at an acute angle of sine below 0.2 (SUMO's floor), are inactive. A turning car's
+// path is its own, so a left turn across oncoming traffic has its PET where the two really cross.
 struct PetWatch {
+  struct Point {
+    Vec2 p;
+    double arc;  // along the path from the front at the start (m; < 0: the line behind it)
+    double t;    // when the front was there (s; NaN: the line behind, never driven in the watch)
+  };
   bool active = false;
-  Vec2 x = Vec2::Zero();                      // the lines' crossing
-  std::array<Vec2, 2> dir{};                  // unit path directions: ego, foe
-  std::array<double, 2> r{}, s{};             // the area's half length along each path; the last position on it
+  bool crossed = false;                       // one's path has run over the other's: the point holds for good
+  std::array<std::vector<Point>, 2> path;     // ego, foe
+  std::array<double, 2> length{}, width{}, laneWidth{};
+  Vec2 x = Vec2::Zero();                      // the conflict point
+  std::array<double, 2> in{}, out{};          // the arcs along each path where its front enters, and leaves, the area
   std::array<double, 2> enter{}, exit{};      // s, NaN until seen
   double lastT = 0.0;
-  // PET (s) once known, else NaN: entry of the later-entering minus exit of the earlier
-  double pet() const {
+  // PET (s) once known, else NaN: entry of the later-entering minus exit of the earlier; known once
+  // the paths have crossed, or (settled: the watch is over) where one's line ahead meets the other's
+  // path (a vehicle that entered the area and stopped short of the crossing)
+  double pet(bool settled = false) const {
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    if (!active || std::isnan(enter[0]) || std::isnan(enter[1])) return nan;
+    if (!active || !(crossed || settled) || std::isnan(enter[0]) || std::isnan(enter[1])) return nan;
     const int first = enter[0] <= enter[1] ? 0 : 1;
     return std::isnan(exit[first]) ? nan : enter[1 - first] - exit[first];
   }
@@ -60,46 +79,16 @@ struct PetAngles {
   }
 };
 
-// A PET watch on the two bodies at time t (the tick of a new minimum TTC).
-inline void startPet(const Body& a, const Body& b, double t, const PetAngles& angles, PetWatch& w) {
-  w = PetWatch{};
-  const double sine = cross(a.axis, b.axis), cosine = a.axis.dot(b.axis);
-  if (std::abs(sine) < angles.minSine || cosine < -angles.maxNegCosine) return;
-  w.active = true;
-  // the crossing: a + s a_axis = b + u b_axis
-  const double sa = cross(b.position - a.position, b.axis) / sine;
-  w.x = a.position + sa * a.axis;
-  w.dir = {a.axis, b.axis};
-  w.r[0] = 0.5 * a.length + (0.5 * b.width + 0.5 * a.width * std::abs(cosine)) / std::abs(sine);
-  w.r[1] = 0.5 * b.length + (0.5 * a.width + 0.5 * b.width * std::abs(cosine)) / std::abs(sine);
-  const Body* bodies[2] = {&a, &b};
-  for (int i = 0; i < 2; ++i) {
-    w.s[i] = (bodies[i]->position - w.x).dot(w.dir[i]);
-    // already in the area (or past it): entered (and left) by now, at the latest
-    w.enter[i] = w.s[i] >= -w.r[i] ? t : std::numeric_limits<double>::quiet_NaN();
-    w.exit[i] = w.s[i] > w.r[i] ? t : std::numeric_limits<double>::quiet_NaN();
-  }
-  w.lastT = t;
-}
+// A PET watch on the two bodies at time t (the tick of a new minimum TTC), on lanes of those widths.
+void startPet(const Body& a, const Body& b, double laneWidthA, double laneWidthB, double t, const PetAngles& angles,
+              PetWatch& w);
 inline void startPet(const Body& a, const Body& b, double t, double minAngleDeg, PetWatch& w) {
-  startPet(a, b, t, PetAngles::of(minAngleDeg), w);
+  startPet(a, b, kSumoLaneWidth, kSumoLaneWidth, t, PetAngles::of(minAngleDeg), w);
 }
 
-// The vehicles' centres at a later tick t (NaN: that one is gone): the area's ends each has passed.
-inline void observePet(const Vec2& ca, const Vec2& cb, double t, PetWatch& w) {
-  if (!w.active || !(t > w.lastT)) return;
-  const Vec2* c[2] = {&ca, &cb};
-  for (int i = 0; i < 2; ++i) {
-    if (std::isnan(c[i]->x())) continue;
-    const double s = (*c[i] - w.x).dot(w.dir[i]), s0 = w.s[i];
-    // when it passed position `at` between the ticks
-    auto when = [&](double at) { return s == s0 ? t : w.lastT + (t - w.lastT) * (at - s0) / (s - s0); };
-    if (std::isnan(w.enter[i]) && s >= -w.r[i]) w.enter[i] = when(-w.r[i]);
-    if (std::isnan(w.exit[i]) && s > w.r[i]) w.exit[i] = when(w.r[i]);
-    w.s[i] = s;
-  }
-  w.lastT = t;
-}
+// The vehicles' fronts at a later tick t (NaN: that one is gone; VehicleTable::front): the paths
+// grow, their crossing is looked for, and the area's ends each has passed are timed.
+void observePet(const Vec2& fa, const Vec2& fb, double t, PetWatch& w);
 
 struct ConflictCapture {
   Body ego, foe;     // foe: vehicle threats

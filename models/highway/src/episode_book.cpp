@@ -68,12 +68,13 @@ int EpisodeBook::newCapture(int e, const Threat& th) {
   }
   capture(*cars_, paths_->reportedLane(e), e, th, captures_[c]);
   beginTrack(*cars_, e, th.kind == WarningKind::Vehicle ? th.foe : -1, captures_[c].track);
-  startPetAt(captures_[c], th.kind);
+  startPetAt(captures_[c], e, th);
   return c;
 }
 
-void EpisodeBook::startPetAt(ConflictCapture& c, WarningKind kind) const {
-  if (kind == WarningKind::Vehicle) startPet(c.ego, c.foe, tNow_, petAngles_, c.pet);
+void EpisodeBook::startPetAt(ConflictCapture& c, int e, const Threat& th) const {
+  if (th.kind == WarningKind::Vehicle)
+    startPet(c.ego, c.foe, paths_->laneWidth(e), paths_->laneWidth(th.foe), tNow_, petAngles_, c.pet);
 }
 
 void EpisodeBook::advance(int e, const Episode& ep, double t) {
@@ -82,7 +83,7 @@ void EpisodeBook::advance(int e, const Episode& ep, double t) {
   advanceTrack(*cars_, e, vehicle ? ep.foe : -1, c.track);
   if (vehicle) {
     const bool foeHere = cars_->inputOf[ep.foe] >= 0;
-    observePet(cars_->centre[e], foeHere ? cars_->centre[ep.foe] : Vec2::Constant(std::numeric_limits<double>::quiet_NaN()), t,
+    observePet(cars_->front(e), foeHere ? cars_->front(ep.foe) : Vec2::Constant(std::numeric_limits<double>::quiet_NaN()), t,
                c.pet);
   }
 }
@@ -158,7 +159,7 @@ void EpisodeBook::merge(int e, double t, std::vector<Threat>& threats) {
         ep.minTtcTime = t;
         ep.safeTimeAtMin = th.safe;
         capture(*cars_, paths_->reportedLane(e), e, th, captures_[ep.capture]);
-        startPetAt(captures_[ep.capture], th.kind);
+        startPetAt(captures_[ep.capture], e, th);
       }
       if (recordSeries_) record(e, th, ep.begin, t);
       continue;

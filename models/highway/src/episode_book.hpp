@@ -68,7 +68,7 @@ class EpisodeBook {
   void emit(int e, const Episode& ep);
   int newCapture(int e, const Threat& th);
   // a new minimum TTC of a vehicle episode: its PET watch starts over there
-  void startPetAt(ConflictCapture& c, WarningKind kind) const;
+  void startPetAt(ConflictCapture& c, int e, const Threat& th) const;
   // a later tick of episode ep (its ego e here at t): the track and the PET watch
   void advance(int e, const Episode& ep, double t);
   // the tick t of ego e's episode begun at `begin` against threat th, into the series

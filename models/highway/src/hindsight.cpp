@@ -251,9 +251,9 @@ void Hindsight::watchPets(double t) {
   for (std::size_t i = 0; i < livePets_.size();) {
     LivePet& p = livePets_[i];
     Window& w = windows_[p.window];
-    if (t <= p.until && alive(w)) observePet(cars_->centre[w.ego], cars_->centre[w.foe], t, p.watch);
+    if (t <= p.until && alive(w)) observePet(cars_->front(w.ego), cars_->front(w.foe), t, p.watch);
     if (t > p.until || !alive(w) || !std::isnan(p.watch.pet())) {
-      w.pet = p.watch.pet();
+      w.pet = p.watch.pet(true);
       w.petLive = false;
       livePets_[i] = livePets_.back();
       livePets_.pop_back();
@@ -421,7 +421,7 @@ void Hindsight::finishAll(std::vector<Warning>& out) {
   for (int id : live_) windows_[id].closed = true;
   live_.clear();
   for (const LivePet& p : livePets_) {
-    windows_[p.window].pet = p.watch.pet();
+    windows_[p.window].pet = p.watch.pet(true);
     windows_[p.window].petLive = false;
   }
   livePets_.clear();

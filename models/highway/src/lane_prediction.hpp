@@ -108,6 +108,11 @@ class LanePrediction {
   // the straight line (straight() is true for every car, vehicleTtc is the straight detector).
   // Lane frames are kept in either model (hindsight judges road warnings in them).
   bool alongLanes() const { return alongLanes_; }
+  // The width of the lane a car is reported on (SUMO's default where none is known).
+  double laneWidth(int slot) const {
+    const int l = reportedLane(slot);
+    return l >= 0 && l < static_cast<int>(lanes_.size()) ? lanes_[l].width : kSumoLaneWidth;
+  }
   // After the vehicle table's update: match lanes, predict paths, grow the envelopes.
   void update(double t);
 

@@ -58,6 +58,8 @@ struct VehicleTable {
   void release();
 
   int slotCount() const { return static_cast<int>(slots.size()); }
+  // the middle of the body's front edge (SUMO's position of a vehicle)
+  Vec2 front(int s) const { return centre[s] + 0.5 * body[s].length * body[s].axis; }
 
   const MonitorConfig* cfg;
   MonitorCounters* counters;

@@ -254,39 +254,93 @@ TEST(SsamMeasures, RoadWarningsLeaveTheColumnsEmpty) {
 }
 
 
-// The PET watch's conflict area against the rectangles themselves: at 60 degrees, the ego's body
-// touches the other's swept strip exactly while its centre is within r of the crossing.
-TEST(SsamKernels, PetAreaIsWhereTheBodyMeetsTheOthersStrip) {
-  for (double deg : {40.0, 60.0, 90.0, 135.0}) {
-    const double th = deg * kPi / 180.0;
-    Body a, b;
-    a.position = Vec2(-30.0, 0.0);
-    a.axis = Vec2(1.0, 0.0);
-    a.length = 5.0;
-    a.width = 1.8;
-    b.axis = Vec2(std::cos(th), std::sin(th));
-    b.position = -20.0 * b.axis;
-    b.length = 12.0;
-    b.width = 2.55;
-    detail::PetWatch w;
-    detail::startPet(a, b, 0.0, 30.0, w);
-    ASSERT_TRUE(w.active) << deg;
-    EXPECT_NEAR(w.x.norm(), 0.0, 1e-9) << deg;
-    // b's strip: a long rectangle of its width along its line through the crossing
-    const Box2 strip{Vec2::Zero(), b.axis, Vec2(1e3, 0.5 * b.width)};
-    for (double sgn : {-1.0, 1.0}) {
-      const Box2 in{sgn * (w.r[0] - 1e-6) * a.axis, a.axis, Vec2(0.5 * a.length, 0.5 * a.width)};
-      const Box2 out{sgn * (w.r[0] + 1e-6) * a.axis, a.axis, Vec2(0.5 * a.length, 0.5 * a.width)};
-      EXPECT_TRUE(overlaps(in, strip)) << deg;
-      EXPECT_FALSE(overlaps(out, strip)) << deg;
+// The PET watch's conflict area where two paths cross at 40 degrees, worked out by hand from
+// SUMO's junction model (MSLink: a conflict W (2 / sin a - 1) long on a lane crossing one of width
+// W, centred on the crossing) and SSM's area (from (W - w) / 2 into it, w + L long): with W 3.2 m,
+// w 1.8 m, L 4.6 m the area runs from 2.6783 m before the crossing to 3.7217 m past it. "a" drives
+// east at 10 m/s, its front 20 m before the crossing; "b" at 5 m/s along 40 degrees, 30 m before.
+// a: in at 1.73217 s, out at 2.37217 s; b: in at 5.46434 s. PET 3.09217 s.
+TEST(SsamKernels, PetAreaIsSsmsWhereLanesCrossAtAnAngle) {
+  const double th = 40.0 * kPi / 180.0;
+  const Vec2 ua(1.0, 0.0), ub(std::cos(th), std::sin(th));
+  Body a, b;
+  a.axis = ua;
+  b.axis = ub;
+  a.length = b.length = 4.6;
+  a.width = b.width = 1.8;
+  auto frontA = [&](double t) { return Vec2((-20.0 + 10.0 * t) * ua); };
+  auto frontB = [&](double t) { return Vec2((-30.0 + 5.0 * t) * ub); };
+  a.position = frontA(0.0) - 0.5 * a.length * ua;
+  b.position = frontB(0.0) - 0.5 * b.length * ub;
+  detail::PetWatch w;
+  detail::startPet(a, b, 3.2, 3.2, 0.0, detail::PetAngles::of(30.0), w);
+  ASSERT_TRUE(w.active);
+  double pet = std::numeric_limits<double>::quiet_NaN();
+  for (int k = 1; k <= 80 && std::isnan(pet); ++k) {
+    const double t = 0.1 * k;
+    detail::observePet(frontA(t), frontB(t), t, w);
+    pet = w.pet();
+  }
+  const double conflict = 3.2 * (2.0 / std::sin(th) - 1.0), before = 0.5 * conflict - 0.5 * (3.2 - 1.8);
+  EXPECT_NEAR(before, 2.6783, 1e-4);
+  EXPECT_NEAR(w.x.norm(), 0.0, 1e-9);
+  EXPECT_NEAR(w.enter[0], (20.0 - before) / 10.0, 1e-9);
+  EXPECT_NEAR(w.exit[0], (20.0 - before + 1.8 + 4.6) / 10.0, 1e-9);
+  EXPECT_NEAR(w.enter[1], (30.0 - before) / 5.0, 1e-9);
+  EXPECT_NEAR(pet, (30.0 - before) / 5.0 - (20.0 - before + 6.4) / 10.0, 1e-9);
+
+  // paths starting nearly parallel (a rear-end by SSAM's angle) have no crossing to time
+  Body c, d;
+  d.axis = Vec2(std::cos(0.2), std::sin(0.2));
+  detail::PetWatch n;
+  detail::startPet(c, d, 0.0, 30.0, n);
+  EXPECT_FALSE(n.active);
+}
+
+// A car turning left across another's path, timed on the path it takes. The front of "turner"
+// (4 m by 2 m) drives east along y = 0 at 5 m/s from x = 0 at t = 0, turns north at (10, 0) at t =
+// 2 s and goes on up x = 10; the front of "cross" (4 m by 2 m) drives west along y = 5 at 10 m/s from
+// x = 60. Their paths cross at (10, 5) at a right angle: each is in the area from its front 1 m
+// before the crossing until its back is 1 m past it. turner: arc 15 to the crossing, in from arc 14
+// to 20, t = 2.8 to 4.0 s; cross: arc 50, in at arc 49, t = 4.9 s. PET 4.9 - 4.0 = 0.9 s, known when
+// cross's front reaches turner's path (5.0 s). Straight lines from the start would be parallel
+// (y = 0 and y = 5): no PET at all.
+TEST(SsamKernels, PetOfATurnIsTimedOnThePathTaken) {
+  auto turner = [](double t) { return t <= 2.0 ? Vec2(5.0 * t, 0.0) : Vec2(10.0, 5.0 * (t - 2.0)); };
+  auto crosser = [](double t) { return Vec2(60.0 - 10.0 * t, 5.0); };
+  Body a, b;
+  a.axis = Vec2(1.0, 0.0);
+  b.axis = Vec2(-1.0, 0.0);
+  a.position = turner(0.0) - 2.0 * a.axis;
+  b.position = crosser(0.0) - 2.0 * b.axis;
+  a.length = b.length = 4.0;
+  a.width = b.width = 2.0;
+  detail::PetWatch w;
+  detail::startPet(a, b, 0.0, 30.0, w);  // head-on at the start: still watched
+  ASSERT_TRUE(w.active);
+  double pet = std::numeric_limits<double>::quiet_NaN();
+  for (int k = 1; k <= 60 && std::isnan(pet); ++k) {
+    const double t = 0.1 * k;
+    detail::observePet(turner(t), crosser(t), t, w);
+    pet = w.pet();
+    if (std::isnan(pet)) {
+      EXPECT_LT(t, 5.1 - 1e-9);  // known once cross's front is on turner's path (5.0 s; rounding: the tick after)
     }
   }
-  // nearly parallel paths (a rear-end by SSAM's angle) have no crossing to time
-  Body a, b;
-  b.axis = Vec2(std::cos(0.2), std::sin(0.2));
-  detail::PetWatch w;
-  detail::startPet(a, b, 0.0, 30.0, w);
-  EXPECT_FALSE(w.active);
+  EXPECT_NEAR(w.x.x(), 10.0, 1e-9);
+  EXPECT_NEAR(w.x.y(), 5.0, 1e-9);
+  EXPECT_NEAR(w.enter[0], 2.8, 1e-9);
+  EXPECT_NEAR(w.exit[0], 4.0, 1e-9);
+  EXPECT_NEAR(w.enter[1], 4.9, 1e-9);
+  EXPECT_NEAR(pet, 0.9, 1e-9);
+
+  // the same two head-on on one line (the crosser along y = 0) never cross at an angle: no PET
+  detail::PetWatch h;
+  b.position = Vec2(62.0, 0.0);
+  detail::startPet(a, b, 0.0, 30.0, h);
+  for (int k = 1; k <= 20; ++k)
+    detail::observePet(Vec2(5.0 * 0.1 * k, 0.0), Vec2(60.0 - 10.0 * 0.1 * k, 0.0), 0.1 * k, h);
+  EXPECT_TRUE(std::isnan(h.pet()));
 }
 
 // Two cars at right angles on a collision course until t = 0.3 s, when "east" speeds up to 20 m/s

@@ -10,12 +10,15 @@
 
 namespace st::highway {
 
+// SUMO's default lane width (m), the width of a lane whose file gives none.
+inline constexpr double kSumoLaneWidth = 3.2;
+
 struct Lane {
   std::string id;
   std::string edge;              // lanes of one edge form one road section
   int index = 0;                 // 0 is the rightmost lane (SUMO's convention)
   std::vector<Vec2> shape;       // centre line, in driving direction (m)
-  double width = 3.2;            // m
+  double width = kSumoLaneWidth;  // m
   bool internal = false;         // inside a junction: no curbs, markers or cell sites
   // Its length as the source measures positions and speeds along it (m; SUMO's `length`, which
   // may differ from the shape's: a car there moves shape / length times its speed); 0: the shape's.
