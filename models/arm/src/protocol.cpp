@@ -146,13 +146,18 @@ bool knownType(std::uint8_t b) {
   return false;
 }
 
-bool readReadings(Reader& r, Readings& out) {
+// A message's sequence number, time and count of what follows.
+std::uint16_t readStamp(Reader& r, std::uint32_t& seq, double& t) {
   r.what = "seq";
-  out.seq = r.u32();
+  seq = r.u32();
   r.what = "t";
-  out.t = r.f64();
+  t = r.f64();
   r.what = "count";
-  const std::uint16_t n = r.u16();
+  return r.u16();
+}
+
+bool readReadings(Reader& r, Readings& out) {
+  const std::uint16_t n = readStamp(r, out.seq, out.t);
   if (!r.error.empty()) return false;
   if (n > kMaxArms) return r.fail(std::to_string(n) + " readings in one message (at most " + std::to_string(kMaxArms) + ")");
   out.arms.resize(n);
@@ -179,12 +184,7 @@ bool readReadings(Reader& r, Readings& out) {
 // nothing once out has held as many persons).
 bool readSkeletons(Reader& r, std::uint8_t version, Skeletons& out) {
   if (version < 3) return r.fail("needs protocol version 3 (this message says " + std::to_string(version) + ")");
-  r.what = "seq";
-  out.seq = r.u32();
-  r.what = "t";
-  out.t = r.f64();
-  r.what = "count";
-  const std::uint16_t n = r.u16();
+  const std::uint16_t n = readStamp(r, out.seq, out.t);
   if (r.error.empty() && n > kMaxPersons)
     return r.fail(std::to_string(n) + " persons in one message (at most " + std::to_string(kMaxPersons) + ")");
   r.what = "skeleton";
