@@ -72,7 +72,7 @@ bool crossAt(PetWatch& w, int i, const Vec2& p0, const Vec2& p1, double arc0, do
     w.x = p0 + f * (p1 - p0);
     const double at[2] = {arc0 + f * (arc1 - arc0), q0.arc + g * (q1.arc - q0.arc)};
     // SUMO's junction model (MSLink): the conflict on a lane crossing another of width W at the
-    // acute angle a is W (2 / max(sin a, 0.2) - 1) long, centred on the crossing; SSM's area
+    // acute angle a is W (2 / sin a - 1) long (sin a >= 0.2, above), centred on the crossing; SSM's area
     // begins half the lane's room beside the other vehicle (W - w) / 2 after its start
     const double s = std::abs(sine);
     for (std::size_t v : {a, b}) {

@@ -70,13 +70,11 @@ struct PetWatch {
   }
 };
 
-// The paths a PET is measured for: at least the rear-end angle from parallel and from head-on,
-// as sine and cosine (worked out once: a watch starts at every new minimum TTC).
+// The paths a PET watch starts on: headed at least the rear-end angle apart, as a sine (worked
+// out once: a watch starts at every new minimum TTC).
 struct PetAngles {
-  double minSine = 0.0, maxNegCosine = 0.0;
-  static PetAngles of(double minAngleDeg) {
-    return {std::sin(toRadians(minAngleDeg)), std::cos(toRadians(minAngleDeg))};
-  }
+  double minSine = 0.0;
+  static PetAngles of(double minAngleDeg) { return {std::sin(toRadians(minAngleDeg))}; }
 };
 
 // A PET watch on the two bodies at time t (the tick of a new minimum TTC), on lanes of those widths.
