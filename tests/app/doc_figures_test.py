@@ -56,6 +56,12 @@ COMMANDS = {
     "onramp_short": ["highway", "networks/onramp/short.yaml", "--validate-ssm", "--no-map"],
     "onramp_long": ["highway", "networks/onramp/long.yaml", "--validate-ssm", "--no-map"],
     "ramp_lanedrop": ["highway", "networks/lanedrop/scenario.yaml", "--validate-ssm", "--no-map"],
+    # the junction networks of issue 51 against SSM (their READMEs' "Against SUMO's SSM device")
+    "actuated": ["highway", "networks/actuated/scenario.yaml", "--validate-ssm", "--no-map"],
+}
+# which of them each README quotes, in the same sentences (network_figures)
+NETWORK_READMES = {
+    "actuated": "networks/actuated/README.md",
 }
 
 
@@ -366,6 +372,42 @@ def by_type(run, t):
     return run["summary"]["warnings"]["by_type"].get(t, 0)
 
 
+def network_figures(r):
+    """The junction networks' READMEs: the run's counts and its validation against SSM, each in the
+    same sentences."""
+    out = []
+    for name, readme in NETWORK_READMES.items():
+        s, v = r[name]["summary"], r[name]["validation"]
+        box = {d["detector"]: d for d in v["detectors"]}["box"]
+        w, c = s["warnings"], s["conflicts"]
+
+        def types(d, keys=("rear_end", "lane_change", "crossing", "pedestrian")):
+            return ", ".join("%d %s" % (d[k], k.replace("_", "-").replace("lane-change", "lane change"))
+                             for k in keys if d.get(k))
+        fol, pet, cp = v["following"], v["pet"], v["conflict_point"]["crossing"]
+
+        def within(n):
+            return "none" if n == 0 else "%d" % n
+        out += [
+            (readme, "(box detector, %d vehicles): %d vehicle warnings (%s), %d conflicts in conflicts.csv (%s; %s at a junction, %d outside)"
+             % (s["vehicles"], w["by_kind"]["vehicle"], types(w["by_type"]), c["count"], types(c["by_type"]),
+                sum(j["count"] for j in c["by_junction"].values()), c["outside_junctions"])),
+            (readme, "SUMO reports %d collisions, %d warned ahead" % (s["sumo_collisions"], s["collisions_warned"])),
+            (readme, "the box warnings SSM also logs a TTC for are %d of %d (precision %.3f)"
+             % (box["confirmed_by_ssm"], box["warnings"], box["precision"])),
+            (readme, "Following TTC is within 0.02 s of SSM's on %.2f %% of %d matched samples (of %d); the largest difference (%.2f s, `following.worst` %s)"
+             % (100.0 * fol["within_fraction"], fol["matched_samples"], fol["ssm_samples"], fol["max_abs_error_s"], fol["worst"])),
+            (readme, "PETs: %d box warnings' PETs match SSM's (of its %d), %s within 0.1 s (mean difference %.2f s, largest %.2f s); "
+             "of conflicts.csv's %d PETs, %d match SSM's encounters (of %d), %s within 0.1 s."
+             % (pet["matched"], pet["ssm_pets"], within(pet["within_tolerance"]), pet["mean_abs_error_s"], pet["max_abs_error_s"],
+                pet["conflicts"]["conflict_pets"], pet["conflicts"]["matched"], pet["conflicts"]["ssm_encounters"],
+                within(pet["conflicts"]["within_tolerance"]))),
+            (readme, "Crossing conflict points: %d matched, %s within 0.5 m of SSM's along the follower's path (mean %.2f m, largest %.2f m)."
+             % (cp["matched"], within(cp["within_tolerance"]), cp["mean_abs_error_m"], cp["max_abs_error_m"])),
+        ]
+    return out
+
+
 def figures(r):
     """[(README, text)]: each quoted figure filled with what the commands wrote."""
     main, conc, box = r["main"], r["main_concentric"], r["main_box"]
@@ -438,7 +480,7 @@ def figures(r):
 
     cp, lcp, lfol = v["conflict_point"], ld["conflict_point"], ld["following"]
     raw = cp["without_moving_on"]
-    return ramp_figures + [
+    return ramp_figures + network_figures(r) + [
         ("cosim/README.md", "| PET on the pairs both have (SSM: merging and crossing encounters; ours: `lane_change`, `crossing`) | SSM %d, box %d: %s |"
          % (v["pet"]["ssm_pets"], v["pet"]["stsim_pets"], "none on both sides" if v["pet"]["matched"] == 0 else "%d on both" % v["pet"]["matched"])),
         ("cosim/README.md", "| conflict point: box episodes with one, `rear_end` ones SSM has as following at their minimum-TTC tick, with the same TTC | %s |"
