@@ -135,6 +135,10 @@ struct ValidationReport {
   std::uint64_t followingSamples = 0;   // SSM following-follower samples with a TTC
   // 1. of those, the samples where the box detector has a TTC too: |box - ssm| (s)
   Agreement ttc{0.02};
+  // ... split by the pair's headings: the same (a car following in its lane, where SSM's gap along
+  // the lanes is the straight one) or apart by more than kSameHeadingDeg (a turn: SSM's gap runs
+  // along the curved lanes, the box TTC is SSAM's, on straight lines, so they differ by definition)
+  Agreement ttcSameHeading{0.02}, ttcTurning{0.02};
   // and on those samples where SSM has a DRAC: ours (the closing speed of the centres over twice
   // the box TTC, conflicts.csv's) against SSM's (the speed difference squared over twice the gap),
   // |ours - SSM's| (m/s²)
