@@ -49,6 +49,7 @@ LABELS = {
     "exposure.vehicle_km": ("distance driven after the warm-up", "vehicle-km per run"),
     "exposure.hours": ("time simulated after the warm-up", "h per run"),
     "exposure.entering_vehicles": ("vehicles entering after the warm-up", "per run"),
+    "after_warmup.collisions.events": ("collisions (contacts) after the warm-up", "per run"),
     "vehicles": ("vehicles", "per run"),
     "collision_checks": ("collision checks", "per run"),
     "min_ttc": ("minimum TTC per warning episode", "s"),
@@ -257,6 +258,8 @@ class Batch:
             self.headline = self.headline_types[-1]
         # collisions are contacts (the bodies touch); SUMO's count holds its minGap violations too
         self.collisions = find_col(self.metrics, r"^contacts$", r"^sumo_collisions$", r"sumo.*collisions", r"collisions$")
+        if self.warmup and "after_warmup.collisions.events" in self.metrics:  # what the tables count
+            self.collisions = "after_warmup.collisions.events"
 
     def key(self, r):
         return tuple(r[p] for p in self.sweep)
@@ -609,10 +612,11 @@ def hindsight_figure(b, kinds, rows):
     return fig
 
 
-def write_misses(f, out, runs, sweep, samples=5):
+def write_misses(f, out, runs, sweep, samples=5, warmup=0.0):
     """report.md's missed events: per parameter combination, the near misses and unsignalled
-    crossings (each run's events.csv) that were not warned the lead time ahead, counted, and the
-    first few of them to look at (late: warned, but less than the lead time ahead)."""
+    crossings (each run's events.csv, at or after the warm-up) that were not warned the lead time
+    ahead, counted, and the first few of them to look at (late: warned, but less than the lead
+    time ahead)."""
     groups = {}
     for r in runs:
         path = os.path.join(out, "runs", r["run_id"], "events.csv")
@@ -620,6 +624,7 @@ def write_misses(f, out, runs, sweep, samples=5):
             continue
         g = groups.setdefault(tuple(r[p] for p in sweep), {"events": 0, "missed": []})
         _, rows = read_csv(path)
+        rows = [e for e in rows if warmup <= 0 or (num(e["time"]) or -1) >= warmup]
         g["events"] += len(rows)
         g["missed"] += [dict(e, run=r["run_id"]) for e in rows if e["warned"] != "1"]
     if not any(g["missed"] for g in groups.values()):
@@ -628,8 +633,9 @@ def write_misses(f, out, runs, sweep, samples=5):
     def cell(text):  # a marker's name joins its two lanes with "|"
         return text.replace("|", "\\|")
     f.write("## Missed events (from each run's events.csv)\n\n"
-            "Near misses and unsignalled crossings not warned the lead time ahead, per combination, and "
-            "the first %d of them: late (warned, but less than the lead time ahead) or not warned at all.\n\n" % samples)
+            "Near misses and unsignalled crossings%s not warned the lead time ahead, per combination, and "
+            "the first %d of them: late (warned, but less than the lead time ahead) or not warned at all.\n\n"
+            % (" after the %g s warm-up" % warmup if warmup > 0 else "", samples))
     f.write("| " + " | ".join(sweep + ["missed", "time (s)", "kind", "ego", "foe / line", "lane", "x, y (m)", "warned", "run"]) + " |\n")
     f.write("|" + "---|" * (len(sweep) + 9) + "\n")
     for key, g in groups.items():
@@ -763,7 +769,7 @@ def write_header(f, b):
                 if os.path.exists(os.path.join(b.out, "hindsight.csv")) else ""))
 
 
-def write_hindsight(f, sweep, kinds, rows):
+def write_hindsight(f, sweep, kinds, rows, warmup=0.0):
     """report.md's hindsight table: warnings per vehicle-km by kind, confirmed share (confirmed /
     judged) and recall (warned / events) with Wilson intervals, median lead time; n/a where
     nothing was counted."""
@@ -771,13 +777,14 @@ def write_hindsight(f, sweep, kinds, rows):
         k, n = num(r.get(part)), num(r.get(whole))
         return share_text(k or 0, n) if n else "n/a"
     f.write("## Hindsight (pooled over seeds; [hindsight.csv](hindsight.csv))\n\n"
-            "Warnings per vehicle-km by kind (the mean of the runs' rates over the seeds, as summary.csv's "
-            "`warnings.per_vehicle_km_by_kind`; the whole run, warnings have no warm-up); the confirmed share of each kind's warnings (what "
+            "Warnings per vehicle-km by kind (the mean of the runs' rates over the seeds%s); the confirmed share of each kind's warnings (what "
             "followed confirmed the conflict); the near misses' recall (warned at least the lead "
             "time before) and the median lead time; the same for the unsignalled line crossings and for the "
             "collisions, contacts with the bodies touching (the collider warned about the victim; SUMO's minGap "
-            "violations are none). Shares with their Wilson 95 % interval and "
-            "k/n; n/a: nothing to count.\n\n")
+            "violations are none). Shares with their Wilson 95 %% interval and "
+            "k/n; n/a: nothing to count.\n\n"
+            % (", after the %g s warm-up: warnings begun and events after it, over the distance driven after it" % warmup
+               if warmup > 0 else ", as summary.csv's `warnings.per_vehicle_km_by_kind`"))
     cols = sweep + ["%s /veh-km" % k for k in kinds] + ["%s confirmed" % k for k in kinds] + \
         ["near-miss recall", "median lead (s)", "crossing recall", "median lead (s)",
          "collision recall", "median lead (s)"]
@@ -990,8 +997,8 @@ def main(out):
         for name, title in plots:
             f.write("## %s\n\n![%s](%s)\n\n" % (title, title, name))
         if hrows:
-            write_hindsight(f, b.sweep, kinds, hrows)
-            write_misses(f, out, b.runs, b.sweep)
+            write_hindsight(f, b.sweep, kinds, hrows, warmup=b.warmup)
+            write_misses(f, out, b.runs, b.sweep, warmup=b.warmup)
         write_ssm(f, b.sweep, b.summary, b.metrics)
         write_conflicts(f, out, b.sweep)
         if maps:

@@ -1,5 +1,6 @@
 #include <stbatch/rates.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -84,6 +85,96 @@ void addRates(const Experiment& e, std::vector<RunResult>& results, const fs::pa
     for (const auto& t : types)
       r.metrics.emplace_back("rate.per_entering_vehicle." + t, rate(counted[t], x.enteringVehicles));
   }
+}
+
+namespace {
+
+// The median of `v` (sorted here); NaN when empty.
+double median(std::vector<double> v) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// Events after the warm-up: how many, how many warned, the warned ones' lead times.
+struct EventCount {
+  double events = 0.0, warned = 0.0;
+  std::vector<double> leads;
+  void add(const std::string& prefix, std::vector<std::pair<std::string, double>>& metrics) const {
+    metrics.emplace_back(prefix + ".events", events);
+    metrics.emplace_back(prefix + ".warned", warned);
+    metrics.emplace_back(prefix + ".lead_s.median", median(leads));
+  }
+};
+
+void addRunAfterWarmup(RunResult& r, const fs::path& dir, double warmup) {
+  const std::string byKind = "hindsight.by_kind.", judgedTail = ".judged";
+  std::vector<std::string> kinds;  // summary.json's, in its order
+  for (const auto& [k, v] : r.metrics)
+    if (k.rfind(byKind, 0) == 0 && k.size() > byKind.size() + judgedTail.size() &&
+        k.compare(k.size() - judgedTail.size(), judgedTail.size(), judgedTail) == 0)
+      kinds.push_back(k.substr(byKind.size(), k.size() - byKind.size() - judgedTail.size()));
+  if (kinds.empty()) return;  // hindsight off: nothing of its to count
+  const std::string why = "warmup needs it";
+  std::map<std::string, double> warnings, judged, confirmed;
+  {
+    const detail::CsvTable csv = detail::readCsvTable(dir / "warnings.csv");
+    const std::size_t kind = csv.column("kind", why), begin = csv.column("begin", why), verdict = csv.column("verdict", why);
+    for (std::size_t i = 0; i < csv.rows.size(); ++i) {
+      if (!(csv.required(i, begin) >= warmup)) continue;  // begun in the warm-up: the warm-up's
+      const std::string& k = csv.rows[i][kind];
+      warnings[k] += 1.0;
+      if (!csv.rows[i][verdict].empty()) judged[k] += 1.0;
+      if (csv.rows[i][verdict] == "confirmed") confirmed[k] += 1.0;
+    }
+  }
+  EventCount nearMisses, crossings;
+  {
+    const detail::CsvTable csv = detail::readCsvTable(dir / "events.csv");
+    const std::size_t time = csv.column("time", why), kind = csv.column("kind", why), warned = csv.column("warned", why),
+                      lead = csv.column("lead", why);
+    for (std::size_t i = 0; i < csv.rows.size(); ++i) {
+      if (!(csv.required(i, time) >= warmup)) continue;
+      const std::string& k = csv.rows[i][kind];
+      EventCount& c = k == "near_miss" ? nearMisses : crossings;
+      if (k != "near_miss" && k != "crossing")
+        throw std::runtime_error((dir / "events.csv").string() + ":" + std::to_string(i + 2) + ": kind: \"" + k +
+                                 "\" is neither near_miss nor crossing");
+      c.events += 1.0;
+      if (csv.required(i, warned) == 1.0) c.warned += 1.0, c.leads.push_back(csv.required(i, lead));
+    }
+  }
+  for (const auto& k : kinds) {
+    r.metrics.emplace_back("after_warmup.warnings.by_kind." + k, warnings[k]);
+    r.metrics.emplace_back("after_warmup.hindsight.by_kind." + k + ".judged", judged[k]);
+    r.metrics.emplace_back("after_warmup.hindsight.by_kind." + k + ".confirmed", confirmed[k]);
+  }
+  nearMisses.add("after_warmup.hindsight.near_misses", r.metrics);
+  crossings.add("after_warmup.hindsight.crossings", r.metrics);
+  // collisions: only a run that counts them (summary.json's collisions.events; not an attached one)
+  if (std::isnan(metric(r, "collisions.events"))) return;
+  const double leadNeeded = metric(r, "hindsight.lead_s");
+  EventCount collisions;
+  const detail::CsvTable csv = detail::readCsvTable(dir / "collision_warnings.csv");
+  const std::size_t time = csv.column("time", why), warned = csv.column("collider_warned", why),
+                    lead = csv.column("lead_time_s", why);
+  for (std::size_t i = 0; i < csv.rows.size(); ++i) {
+    if (!(csv.required(i, time) >= warmup)) continue;
+    collisions.events += 1.0;
+    // warned as hindsight counts it: the lead time ahead
+    if (csv.required(i, warned) == 1.0 && csv.required(i, lead) >= leadNeeded)
+      collisions.warned += 1.0, collisions.leads.push_back(csv.required(i, lead));
+  }
+  collisions.add("after_warmup.collisions", r.metrics);
+}
+
+}  // namespace
+
+void addWarnedAfterWarmup(const Experiment& e, std::vector<RunResult>& results, const fs::path& outDir) {
+  if (e.command != "highway" || !(e.warmup > 0.0)) return;
+  for (RunResult& r : results)
+    if (r.status == RunStatus::Done) addRunAfterWarmup(r, detail::runDir(outDir, r.spec), e.warmup);
 }
 
 }  // namespace st::batch

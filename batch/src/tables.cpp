@@ -80,12 +80,13 @@ std::string pairedTable(const Experiment& e, const std::vector<RunResult>& resul
 
 // hindsight.csv (highway runs): what hindsight made of the warnings, per parameter combination,
 // pooled over its done runs (seeds): per warning kind the warnings per vehicle-km (the mean of the
-// runs' rates, as summary.csv's mean of warnings.per_vehicle_km_by_kind), the judged and confirmed warnings and the confirmed share (precision);
+// runs' rates), the judged and confirmed warnings and the confirmed share (precision);
 // the near misses, those warned and the recall; the median of the runs' median lead times; the
 // same for the unsignalled crossings and SUMO's collisions (warned the lead time ahead). A
 // share of nothing (no warning judged, no near miss) and a lead time of no warned near miss are
 // empty, never 0 or 1. Pooling weighs each warning once, where summary.csv's mean of the runs'
-// shares would weigh a run with 3 warnings like one with 3000.
+// shares would weigh a run with 3 warnings like one with 3000. With a warm-up, all of it after the
+// warm-up (the runs' after_warmup.* over exposure.vehicle_km), else the whole runs.
 std::string hindsightTable(const Experiment& e, const std::vector<std::vector<std::string>>& order,
                            const std::map<std::vector<std::string>, std::vector<const RunResult*>>& groups,
                            const std::vector<std::string>& metricCols) {
@@ -96,6 +97,10 @@ std::string hindsightTable(const Experiment& e, const std::vector<std::vector<st
         c.compare(c.size() - judgedTail.size(), judgedTail.size(), judgedTail) == 0)
       kinds.push_back(c.substr(byKind.size(), c.size() - byKind.size() - judgedTail.size()));
   if (kinds.empty()) return "";
+  // with a warm-up, hindsight's figures after it (rates.hpp, addWarnedAfterWarmup) over the
+  // distance driven after it
+  const std::string pre = e.warmup > 0.0 ? "after_warmup." : "";
+  const std::string kmKey = e.warmup > 0.0 ? "exposure.vehicle_km" : "vehicle_km";
   auto cell = [](double part, double whole) { return whole > 0.0 ? number(part / whole) : std::string(); };
   std::ostringstream t;
   for (const auto& axis : e.sweep) t << csvField(axis.key) << ",";
@@ -124,20 +129,20 @@ std::string hindsightTable(const Experiment& e, const std::vector<std::vector<st
       ++done;
       double km = 0.0;
       for (const auto& [k, v] : r->metrics)
-        if (k == "vehicle_km") km = v;
+        if (k == kmKey) km = v;
       for (const auto& [k, v] : r->metrics)
         for (const auto& kind : kinds)
-          if (k == "warnings.by_kind." + kind && km > 0.0 && !std::isnan(v)) perKm[kind].push_back(v / km);
+          if (k == pre + "warnings.by_kind." + kind && km > 0.0 && !std::isnan(v)) perKm[kind].push_back(v / km);
       for (const auto& [k, v] : r->metrics) {
         if (std::isnan(v)) continue;
         bool lead = false;
         for (const Events& ev : events)
-          if (k == std::string(ev.metric) + ".lead_s.median") leads[ev.column].push_back(v), lead = true;
+          if (k == pre + ev.metric + ".lead_s.median") leads[ev.column].push_back(v), lead = true;
         if (!lead) total[k] += v;
       }
     }
     for (const auto& v : key) t << csvField(v) << ",";
-    const double km = total["vehicle_km"];
+    const double km = total[kmKey];
     t << done << "," << (done ? number(km) : "");
     // a rate has one definition in every table: the mean of the runs' rates over the seeds
     for (const auto& k : kinds) {
@@ -145,12 +150,12 @@ std::string hindsightTable(const Experiment& e, const std::vector<std::vector<st
       t << "," << (s.n ? number(s.mean) : "");
     }
     for (const auto& k : kinds) {
-      const double judged = total[byKind + k + ".judged"], confirmed = total[byKind + k + ".confirmed"];
+      const double judged = total[pre + byKind + k + ".judged"], confirmed = total[pre + byKind + k + ".confirmed"];
       t << "," << (done ? number(judged) : "") << "," << (done ? number(confirmed) : "") << "," << cell(confirmed, judged);
     }
     for (const Events& ev : events) {
       // a run without the figure (an attached run counts no collisions) leaves it empty
-      const std::string at = ev.metric;
+      const std::string at = pre + ev.metric;
       const bool counted = total.count(at + ".events") > 0;
       const double count = total[at + ".events"], warned = total[at + ".warned"];
       t << "," << (counted ? number(count) : "") << "," << (counted ? number(warned) : "") << "," << cell(warned, count) << ",";
@@ -170,6 +175,7 @@ std::string hindsightTable(const Experiment& e, const std::vector<std::vector<st
 
 void writeTables(const Experiment& e, std::vector<RunResult> results, const fs::path& outDir) {
   addRates(e, results, outDir);
+  addWarnedAfterWarmup(e, results, outDir);
   std::sort(results.begin(), results.end(), [](const RunResult& a, const RunResult& b) { return a.spec.index < b.spec.index; });
   // metric columns: first-seen order over runs in index order (deterministic for any job count)
   std::vector<std::string> metricCols;

@@ -107,7 +107,7 @@ def run_all(stsim, src, work, have_sumo):
          "--validate-ssm", "--out", "live"], work)
     with open(os.path.join(work, "batch.yaml"), "w") as f:
         f.write("name: outputs\ncommand: highway\nbase: %s\nsweep:\n  detector: [five, box]\n"
-                "fixed:\n  end: 20\n  action: none\n  validate_ssm: true\nseeds: 1\n"
+                "fixed:\n  end: 20\n  action: none\n  validate_ssm: true\nwarmup: 5\nseeds: 1\n"
                 % os.path.join(src, "networks/sublane/scenario.yaml"))
     run([stsim, "batch", "batch.yaml", "--jobs", "1", "--no-plots", "--out", "batch"], work)
 
@@ -250,6 +250,8 @@ def check(src, work, have_sumo):
     # the batch's own figures of a highway run (exposure.*, counted.*, rate.*), documented in runs.csv's table
     metrics += [pattern(n, placeholders, True) for n, _ in sections.get("batch/runs.csv", [])
                 if n.split(".")[0] in ("exposure", "counted", "rate")]
+    # ... and hindsight's figures after a warm-up, under summary.json's names (runs.csv's after_warmup.<metric>)
+    metrics += [re.escape("after_warmup.") + m for m in flat("highway/summary.json")]
     for section, files in FILES.items():
         if section not in sections:
             fails.append("%s: no table in docs/outputs.md" % section)

@@ -380,6 +380,85 @@ TEST(BatchEndToEnd, HindsightIsPooledPerCombinationAndReported) {
   EXPECT_EQ(slurp(dir / "out/hindsight.png").substr(0, 4), "\x89PNG");
 }
 
+// warmup: hindsight.csv counts the warnings begun and the events at or after it, over the distance
+// driven after it: against a recount of the run's own files, and less than the whole run's. The
+// collisions from a collision_warnings.csv written here (the run had none): at 10 s (in the
+// warm-up), 30 s warned 1.0 s ahead, 40 s warned 0.2 s ahead (less than hindsight's 0.5 s lead),
+// 50 s not warned: 3 collisions, 1 warned, median lead 1.0 s.
+TEST(BatchEndToEnd, WarmupLeavesWarningsAndEventsOutOfHindsight) {
+  const auto dir = freshDir("warmup_hindsight");
+  const fs::path file = dir / "experiment.yaml";
+  const double warmup = 20.0;
+  std::ofstream(file) << "name: warm\ncommand: highway\nbase: " << STSIM_SOURCE_DIR
+                      << "/networks/sublane/scenario.yaml\nfixed:\n  end: 60\n  action: none\n  detector: box\n"
+                         "warmup: 20\nseeds: 1\n";
+  std::string err;
+  ASSERT_EQ(runStsim({"batch", file.string(), "--out", (dir / "out").string(), "--no-plots"}, dir, &err), 0) << err;
+  fs::path run;
+  for (const auto& d : fs::directory_iterator(dir / "out/runs")) run = d.path();
+  std::ofstream(run / "collision_warnings.csv") << "time,collider,victim,collider_warned,lead_time_s\n"
+                                                   "10,a,b,1,2\n30,c,d,1,1\n40,e,f,1,0.2\n50,g,h,0,\n";
+  ASSERT_EQ(runStsim({"batch", "merge", (dir / "out").string(), "--out", (dir / "m").string(), "--no-plots"}, dir, &err), 0)
+      << err;
+  auto rows = [&](const fs::path& csv) {
+    std::vector<std::vector<std::string>> t;
+    std::istringstream in(slurp(csv));
+    for (std::string line; std::getline(in, line);) {
+      std::vector<std::string> cells;
+      std::istringstream ls(line);
+      for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+      if (!line.empty() && line.back() == ',') cells.emplace_back();
+      t.push_back(cells);
+    }
+    return t;
+  };
+  auto cell = [](const std::vector<std::vector<std::string>>& t, const std::string& name, std::size_t row = 1) {
+    const auto at = std::find(t[0].begin(), t[0].end(), name);
+    EXPECT_NE(at, t[0].end()) << name;
+    return at == t[0].end() ? std::string() : t[row][static_cast<std::size_t>(at - t[0].begin())];
+  };
+  // the recount: warnings.csv by begin, events.csv by time
+  const auto warnings = rows(run / "warnings.csv"), events = rows(run / "events.csv");
+  std::map<std::string, double> count, judged, confirmed, whole;
+  for (std::size_t i = 1; i < warnings.size(); ++i) {
+    const std::string kind = cell(warnings, "kind", i);
+    whole[kind] += 1;
+    if (std::stod(cell(warnings, "begin", i)) < warmup) continue;
+    count[kind] += 1;
+    judged[kind] += cell(warnings, "verdict", i).empty() ? 0 : 1;
+    confirmed[kind] += cell(warnings, "verdict", i) == "confirmed";
+  }
+  double crossings = 0, crossingsWarned = 0, allCrossings = 0;
+  for (std::size_t i = 1; i < events.size(); ++i) {
+    if (cell(events, "kind", i) != "crossing") continue;
+    allCrossings += 1;
+    if (std::stod(cell(events, "time", i)) < warmup) continue;
+    crossings += 1;
+    crossingsWarned += cell(events, "warned", i) == "1";
+  }
+  const auto h = rows(dir / "m/hindsight.csv"), runsCsv = rows(dir / "m/runs.csv");
+  ASSERT_EQ(h.size(), 2u);
+  const double km = std::stod(cell(runsCsv, "exposure.vehicle_km"));
+  EXPECT_LT(km, std::stod(cell(runsCsv, "vehicle_km")));
+  EXPECT_EQ(std::stod(cell(h, "vehicle_km")), km);
+  EXPECT_LT(count["lane_marker"], whole["lane_marker"]);  // the warm-up leaves something out
+  EXPECT_GT(count["lane_marker"], 0.0);
+  for (const char* kind : {"vehicle", "curb", "lane_marker"}) {
+    EXPECT_EQ(std::stod(cell(h, std::string(kind) + ".judged")), judged[kind]) << kind;
+    EXPECT_EQ(std::stod(cell(h, std::string(kind) + ".confirmed")), confirmed[kind]) << kind;
+    EXPECT_NEAR(std::stod(cell(h, std::string(kind) + ".per_vehicle_km")), count[kind] / km, 1e-9) << kind;
+  }
+  EXPECT_LT(crossings, allCrossings);
+  EXPECT_EQ(std::stod(cell(h, "crossings")), crossings);
+  EXPECT_EQ(std::stod(cell(h, "crossings_warned")), crossingsWarned);
+  EXPECT_EQ(cell(h, "collisions"), "3");
+  EXPECT_EQ(cell(h, "collisions_warned"), "1");
+  EXPECT_EQ(cell(h, "collision_lead_median_s"), "1");
+  // runs.csv keeps the whole run's figures beside them
+  EXPECT_EQ(std::stod(cell(runsCsv, "hindsight.crossings.events")), allCrossings);
+  EXPECT_EQ(std::stod(cell(runsCsv, "after_warmup.hindsight.crossings.events")), crossings);
+}
+
 // validate_ssm: the runs' agreement with SUMO's SSM device reaches runs.csv as ssm.* columns, the
 // same numbers as each run's validation.json.
 TEST(BatchEndToEnd, ResumingIntoAnotherExperimentsFolderIsRefused) {

@@ -33,4 +33,13 @@ Exposure runExposure(const RunResult& r, const std::filesystem::path& runDir, do
 // over no exposure is NaN (an empty cell).
 void addRates(const Experiment& e, std::vector<RunResult>& results, const std::filesystem::path& outDir);
 
+// With a warm-up, adds to each done highway run's metrics hindsight's figures of the warnings and
+// events after it, under summary.json's names with "after_warmup." before them (what hindsight.csv
+// then reads): per warning kind warnings.by_kind.<kind> and hindsight.by_kind.<kind>.judged and
+// .confirmed (warnings.csv's rows begun at or after the warm-up), hindsight.near_misses.* and
+// hindsight.crossings.* (events.csv's rows at or after it) and, for a run that counts them,
+// collisions.* (collision_warnings.csv's), each as events, warned (the lead time ahead) and
+// lead_s.median. Throws std::runtime_error naming the file and line of a broken row.
+void addWarnedAfterWarmup(const Experiment& e, std::vector<RunResult>& results, const std::filesystem::path& outDir);
+
 }  // namespace st::batch
