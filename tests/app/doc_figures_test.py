@@ -58,10 +58,12 @@ COMMANDS = {
     "ramp_lanedrop": ["highway", "networks/lanedrop/scenario.yaml", "--validate-ssm", "--no-map"],
     # the junction networks of issue 51 against SSM (their READMEs' "Against SUMO's SSM device")
     "actuated": ["highway", "networks/actuated/scenario.yaml", "--validate-ssm", "--no-map"],
+    "roundabout": ["highway", "networks/roundabout/scenario.yaml", "--validate-ssm", "--no-map"],
 }
 # which of them each README quotes, in the same sentences (network_figures)
 NETWORK_READMES = {
     "actuated": "networks/actuated/README.md",
+    "roundabout": "networks/roundabout/README.md",
 }
 
 
@@ -388,22 +390,31 @@ def network_figures(r):
 
         def within(n):
             return "none" if n == 0 else "%d" % n
+
+        def pet_text(pet):
+            pc = pet["conflicts"]
+            if not pet["matched"]:
+                return "PETs: SSM logs %d, the box warnings %d, none on both." % (pet["ssm_pets"], pet["stsim_pets"])
+            return ("PETs: %d box warnings' PETs match SSM's (of its %d), %s within 0.1 s (mean difference %.2f s, largest %.2f s); "
+                    "of conflicts.csv's %d PETs, %d match SSM's encounters (of %d), %s within 0.1 s."
+                    % (pet["matched"], pet["ssm_pets"], within(pet["within_tolerance"]), pet["mean_abs_error_s"],
+                       pet["max_abs_error_s"], pc["conflict_pets"], pc["matched"], pc["ssm_encounters"],
+                       within(pc["within_tolerance"])))
         out += [
             (readme, "(box detector, %d vehicles): %d vehicle warnings (%s), %d conflicts in conflicts.csv (%s; %s at a junction, %d outside)"
              % (s["vehicles"], w["by_kind"]["vehicle"], types(w["by_type"]), c["count"], types(c["by_type"]),
                 sum(j["count"] for j in c["by_junction"].values()), c["outside_junctions"])),
             (readme, "SUMO reports %d collisions, %d warned ahead" % (s["sumo_collisions"], s["collisions_warned"])),
-            (readme, "the box warnings SSM also logs a TTC for are %d of %d (precision %.3f)"
-             % (box["confirmed_by_ssm"], box["warnings"], box["precision"])),
+            (readme, "the box warnings SSM also logs a TTC for are %d of %d (precision %.3f); SSM's following "
+             "conflicts with a minimum TTC below the ego's safe time: %d, the box detector warned of %d"
+             % (box["confirmed_by_ssm"], box["warnings"], box["precision"], box["ssm_conflicts_below_safe_time"],
+                box["recalled"])),
             (readme, "Following TTC is within 0.02 s of SSM's on %.2f %% of %d matched samples (of %d); the largest difference (%.2f s, `following.worst` %s)"
              % (100.0 * fol["within_fraction"], fol["matched_samples"], fol["ssm_samples"], fol["max_abs_error_s"], fol["worst"])),
-            (readme, "PETs: %d box warnings' PETs match SSM's (of its %d), %s within 0.1 s (mean difference %.2f s, largest %.2f s); "
-             "of conflicts.csv's %d PETs, %d match SSM's encounters (of %d), %s within 0.1 s."
-             % (pet["matched"], pet["ssm_pets"], within(pet["within_tolerance"]), pet["mean_abs_error_s"], pet["max_abs_error_s"],
-                pet["conflicts"]["conflict_pets"], pet["conflicts"]["matched"], pet["conflicts"]["ssm_encounters"],
-                within(pet["conflicts"]["within_tolerance"]))),
-            (readme, "Crossing conflict points: %d matched, %s within 0.5 m of SSM's along the follower's path (mean %.2f m, largest %.2f m)."
-             % (cp["matched"], within(cp["within_tolerance"]), cp["mean_abs_error_m"], cp["max_abs_error_m"])),
+            (readme, pet_text(pet)),
+            (readme, "Crossing conflict points: %d matched, %s within 0.5 m of SSM's along the follower's path%s."
+             % (cp["matched"], within(cp["within_tolerance"]),
+                "" if not cp["matched"] else " (mean %.2f m, largest %.2f m)" % (cp["mean_abs_error_m"], cp["max_abs_error_m"]))),
         ]
     return out
 
