@@ -59,11 +59,13 @@ COMMANDS = {
     # the junction networks of issue 51 against SSM (their READMEs' "Against SUMO's SSM device")
     "actuated": ["highway", "networks/actuated/scenario.yaml", "--validate-ssm", "--no-map"],
     "roundabout": ["highway", "networks/roundabout/scenario.yaml", "--validate-ssm", "--no-map"],
+    "bicycles": ["highway", "networks/bicycles/scenario.yaml", "--validate-ssm", "--no-map"],
 }
 # which of them each README quotes, in the same sentences (network_figures)
 NETWORK_READMES = {
     "actuated": "networks/actuated/README.md",
     "roundabout": "networks/roundabout/README.md",
+    "bicycles": "networks/bicycles/README.md",
 }
 
 
