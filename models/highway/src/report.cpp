@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include <stio/format.hpp>
+#include <stio/json.hpp>
 
 #include <sstream>
 #include <stdexcept>
@@ -15,19 +17,54 @@ namespace {
 // JSON has no NaN or infinity: null stands for them (in warnings.csv too, which has always said so).
 std::string num(double x) { return io::jsonNumber(x); }
 using io::csvField;
-using io::jsonString;
+
+using io::JsonText;
 
 // a share, or null when there is nothing to count
-std::string share(std::uint64_t part, std::uint64_t whole) {
-  return whole ? num(static_cast<double>(part) / static_cast<double>(whole)) : "null";
+JsonText share(std::uint64_t part, std::uint64_t whole) {
+  JsonText j;
+  if (whole)
+    j << static_cast<double>(part) / static_cast<double>(whole);
+  else
+    j << io::jsonRaw("null");
+  return j;
 }
 
+// per vehicle-km (0 when no distance was driven)
+double perKm(std::uint64_t n, double km) { return km > 0 ? static_cast<double>(n) / km : 0.0; }
+
 // lead times: min, median, 90th percentile (null when none)
-std::string leadJson(std::vector<double> v) {
-  if (v.empty()) return "null";
+JsonText leadJson(std::vector<double> v) {
+  JsonText j;
+  if (v.empty()) {
+    j << io::jsonRaw("null");
+    return j;
+  }
   std::sort(v.begin(), v.end());
   auto q = [&](double f) { return v[static_cast<std::size_t>(f * static_cast<double>(v.size() - 1) + 0.5)]; };
-  return "{\"min\": " + num(v.front()) + ", \"median\": " + num(q(0.5)) + ", \"p90\": " + num(q(0.9)) + "}";
+  j << "{\"min\": " << v.front() << ", \"median\": " << q(0.5) << ", \"p90\": " << q(0.9) << "}";
+  return j;
+}
+
+// {"a": x, "b": y, ...}: each of keys by its name, x = value(its index): one line of summary.json
+template <class Enum, class Value>
+JsonText byEnum(std::span<const Enum> keys, Value value) {
+  JsonText j;
+  j << "{";
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    if (i) j << ", ";
+    j << toString(keys[i]) << ": " << value(static_cast<int>(keys[i]));
+  }
+  j << "}";
+  return j;
+}
+
+// The same over all of an enum's count values, in order.
+template <class Enum, class Value>
+JsonText byEnum(int count, Value value) {
+  std::vector<Enum> keys;
+  for (int k = 0; k < count; ++k) keys.push_back(static_cast<Enum>(k));
+  return byEnum(std::span<const Enum>(keys), value);
 }
 
 // a conflict column: empty where it does not apply (NaN), "inf" for an infinite DRAC
@@ -52,20 +89,25 @@ std::string derivedField(double x) {
 
 std::string hindsightJson(const MonitorCounters& c, const HindsightConfig& h) {
   if (!h.enabled) return "null";
-  std::ostringstream os;
-  os << "{\"clearance_m\": " << num(h.clearance) << ", \"evasive_deceleration\": " << num(h.evasiveDeceleration)
-     << ", \"lead_s\": " << num(h.lead) << ", \"near_miss_ttc_s\": " << num(h.nearMissTtc) << ",\n    \"by_kind\": {";
-  for (int k = 0; k < kWarningKindCount; ++k)
-    os << (k ? ", " : "") << jsonString(toString(static_cast<WarningKind>(k))) << ": {\"judged\": " << c.judged[k]
-       << ", \"confirmed\": " << c.confirmed[k] << ", \"precision\": " << share(c.confirmed[k], c.judged[k]) << "}";
-  os << "},\n    \"near_misses\": " << eventRecallJson(c.nearMisses, c.nearMissesWarned, c.nearMissLeads)
-     << ",\n    \"crossings\": " << eventRecallJson(c.crossings, c.crossingsWarned, c.crossingLeads) << "}";
-  return os.str();
+  JsonText j;
+  j << "{\"clearance_m\": " << h.clearance << ", \"evasive_deceleration\": " << h.evasiveDeceleration
+    << ", \"lead_s\": " << h.lead << ", \"near_miss_ttc_s\": " << h.nearMissTtc << ",\n    \"by_kind\": ";
+  j << byEnum<WarningKind>(kWarningKindCount, [&](int k) {
+    JsonText kind;
+    kind << "{\"judged\": " << c.judged[k] << ", \"confirmed\": " << c.confirmed[k]
+         << ", \"precision\": " << share(c.confirmed[k], c.judged[k]) << "}";
+    return kind;
+  });
+  j << ",\n    \"near_misses\": " << io::jsonRaw(eventRecallJson(c.nearMisses, c.nearMissesWarned, c.nearMissLeads))
+    << ",\n    \"crossings\": " << io::jsonRaw(eventRecallJson(c.crossings, c.crossingsWarned, c.crossingLeads)) << "}";
+  return j.str();
 }
 
 std::string eventRecallJson(std::uint64_t events, std::uint64_t warned, const std::vector<double>& leads) {
-  return "{\"events\": " + std::to_string(events) + ", \"warned\": " + std::to_string(warned) +
-         ", \"recall\": " + share(warned, events) + ", \"lead_s\": " + leadJson(leads) + "}";
+  JsonText j;
+  j << "{\"events\": " << events << ", \"warned\": " << warned << ", \"recall\": " << share(warned, events)
+    << ", \"lead_s\": " << leadJson(leads) << "}";
+  return j.str();
 }
 
 std::string conflictsCsvHeader() {
@@ -117,40 +159,40 @@ std::string conflictCountText(const MonitorCounters& c) {
   return s + ")";
 }
 
-std::string conflictsJson(const MonitorCounters& c, const ConflictConfig& config) {
-  const double km = c.vehicleMeters / 1000.0;
-  const std::uint64_t n = conflictCount(c);
-  std::ostringstream os;
-  os << "{\"count\": " << n << ", \"per_vehicle_km\": " << num(km > 0 ? static_cast<double>(n) / km : 0.0)
-     << ", \"max_ttc_s\": " << num(config.maxTtc) << ", \"max_pet_s\": " << num(config.maxPet) << ",\n    \"by_type\": {";
-  bool firstType = true;
-  for (ConflictType t : kConflictTypes) {
-    os << (firstType ? "" : ", ") << jsonString(toString(t)) << ": " << c.conflictsByType[static_cast<int>(t)];
-    firstType = false;
-  }
-  os << "},\n    \"per_vehicle_km_by_type\": {";
-  firstType = true;
-  for (ConflictType t : kConflictTypes) {
-    os << (firstType ? "" : ", ") << jsonString(toString(t)) << ": "
-       << num(km > 0 ? static_cast<double>(c.conflictsByType[static_cast<int>(t)]) / km : 0.0);
-    firstType = false;
-  }
-  os << "},\n    \"by_junction\": {";
-  bool firstJunction = true;
+// the conflicts' count per junction (each type and all), and the count outside junctions
+JsonText junctionsJson(const MonitorCounters& c, std::uint64_t total) {
+  JsonText j;
+  j << "{";
+  bool first = true;
   std::uint64_t inJunctions = 0;
   for (const auto& [junction, byType] : c.conflictsByJunction) {
     std::uint64_t count = 0;
     for (auto k : byType) count += k;
     inJunctions += count;
-    os << (firstJunction ? "" : ", ") << jsonString(junction) << ": {\"count\": " << count;
-    for (ConflictType t : kConflictTypes) os << ", " << jsonString(toString(t)) << ": " << byType[static_cast<int>(t)];
-    os << "}";
-    firstJunction = false;
+    if (!first) j << ", ";
+    j << junction << ": {\"count\": " << count;
+    for (ConflictType t : kConflictTypes) j << ", " << toString(t) << ": " << byType[static_cast<int>(t)];
+    j << "}";
+    first = false;
   }
-  os << "}, \"outside_junctions\": " << n - inJunctions;
-  os << ",\n    \"tet_s\": " << num(c.conflictTet) << ", \"tit_s2\": " << num(c.conflictTit)
-     << ", \"over_max_pet\": " << c.conflictsOverMaxPet << "}";
-  return os.str();
+  j << "}, \"outside_junctions\": " << total - inJunctions;
+  return j;
+}
+
+std::string conflictsJson(const MonitorCounters& c, const ConflictConfig& config) {
+  const double km = c.vehicleMeters / 1000.0;
+  const std::uint64_t n = conflictCount(c);
+  const std::span<const ConflictType> types(kConflictTypes);
+  JsonText j;
+  j << "{\"count\": " << n << ", \"per_vehicle_km\": " << perKm(n, km) << ", \"max_ttc_s\": " << config.maxTtc
+    << ", \"max_pet_s\": " << config.maxPet << ",\n    \"by_type\": "
+    << byEnum(types, [&](int k) { return c.conflictsByType[k]; })
+    << ",\n    \"per_vehicle_km_by_type\": "
+    << byEnum(types, [&](int k) { return perKm(c.conflictsByType[k], km); })
+    << ",\n    \"by_junction\": " << junctionsJson(c, n);
+  j << ",\n    \"tet_s\": " << c.conflictTet << ", \"tit_s2\": " << c.conflictTit
+    << ", \"over_max_pet\": " << c.conflictsOverMaxPet << "}";
+  return j.str();
 }
 
 std::string warningsCsvHeader() {
@@ -216,65 +258,57 @@ void EventsCsvWriter::write(std::span<const HindsightEvent> events) {
   for (const HindsightEvent& e : events) row(eventCsvRow(e));
 }
 
-std::string summaryJson(const MonitorCounters& c, const RunInfo& info) {
-  std::ostringstream os;
-  const double km = c.vehicleMeters / 1000.0;
+// summary.json's "warnings": total, by kind, zone and type, per vehicle-km
+JsonText warningsJson(const MonitorCounters& c, double km) {
   std::uint64_t total = 0;
   for (auto n : c.warningsByKind) total += n;
-  os << "{\n";
-  os << "  \"source\": " << jsonString(info.source) << ",\n";
-  os << "  \"detector\": " << jsonString(info.detector) << ",\n";
-  os << "  \"broadphase\": " << jsonString(info.broadphase) << ",\n";
-  os << "  \"prediction\": " << jsonString(info.prediction) << ",\n";
-  os << "  \"simulated_s\": " << num(info.simulatedSeconds) << ",\n";
-  os << "  \"ticks\": " << c.ticks << ",\n";
-  os << "  \"vehicles\": " << c.vehiclesSeen << ",\n";
-  os << "  \"persons\": " << c.personsSeen << ",\n";
-  os << "  \"vehicle_updates\": " << c.vehicleUpdates << ",\n";
-  os << "  \"vehicle_km\": " << num(km) << ",\n";
-  os << "  \"warnings\": {\n    \"total\": " << total << ",\n    \"per_vehicle_km\": " << num(km > 0 ? static_cast<double>(total) / km : 0.0)
-     << ",\n    \"by_kind\": {";
-  for (int k = 0; k < kWarningKindCount; ++k)
-    os << (k ? ", " : "") << jsonString(toString(static_cast<WarningKind>(k))) << ": " << c.warningsByKind[k];
-  os << "},\n    \"by_zone\": {";
-  for (int z = 0; z < kZoneCount; ++z)
-    os << (z ? ", " : "") << jsonString(toString(static_cast<Zone>(z))) << ": " << c.warningsByZone[z];
-  os << "},\n    \"conflicts\": " << conflictWarnings(c) << ",\n    \"by_type\": {";
-  for (int k = 0; k < kConflictTypeCount; ++k)
-    os << (k ? ", " : "") << jsonString(toString(static_cast<ConflictType>(k))) << ": " << c.warningsByType[k];
-  os << "},\n    \"per_vehicle_km_by_type\": {";
-  for (int k = 0; k < kConflictTypeCount; ++k)
-    os << (k ? ", " : "") << jsonString(toString(static_cast<ConflictType>(k))) << ": "
-       << num(km > 0 ? static_cast<double>(c.warningsByType[k]) / km : 0.0);
-  os << "},\n    \"per_vehicle_km_by_kind\": {";
-  for (int k = 0; k < kWarningKindCount; ++k)
-    os << (k ? ", " : "") << jsonString(toString(static_cast<WarningKind>(k))) << ": "
-       << num(km > 0 ? static_cast<double>(c.warningsByKind[k]) / km : 0.0);
-  os << "}\n  },\n";
-  os << "  \"conflicts\": " << conflictsJson(c, info.conflict) << ",\n";
-  os << "  \"tet_s\": {";
-  for (int k = 0; k < kWarningKindCount; ++k)
-    os << (k ? ", " : "") << jsonString(toString(static_cast<WarningKind>(k))) << ": " << num(c.tet[k]);
-  os << "},\n  \"tit_s2\": {";
-  for (int k = 0; k < kWarningKindCount; ++k)
-    os << (k ? ", " : "") << jsonString(toString(static_cast<WarningKind>(k))) << ": " << num(c.tit[k]);
-  os << "},\n";
-  os << "  \"hindsight\": " << hindsightJson(c, info.hindsight) << ",\n";
-  os << "  \"handoffs\": " << c.handoffs << ",\n";
-  os << "  \"subdivisions\": " << c.subdivisions << ",\n";
-  os << "  \"reunions\": " << c.reunions << ",\n";
-  os << "  \"candidate_pairs\": " << c.candidatePairs << ",\n";
-  os << "  \"toi_checks\": " << c.toiChecks << ",\n";
-  os << "  \"feature_checks\": " << c.featureChecks << ",\n";
+  JsonText j;
+  j << "{\n    \"total\": " << total << ",\n    \"per_vehicle_km\": " << perKm(total, km)
+    << ",\n    \"by_kind\": " << byEnum<WarningKind>(kWarningKindCount, [&](int k) { return c.warningsByKind[k]; })
+    << ",\n    \"by_zone\": " << byEnum<Zone>(kZoneCount, [&](int z) { return c.warningsByZone[z]; })
+    << ",\n    \"conflicts\": " << conflictWarnings(c)
+    << ",\n    \"by_type\": " << byEnum<ConflictType>(kConflictTypeCount, [&](int k) { return c.warningsByType[k]; })
+    << ",\n    \"per_vehicle_km_by_type\": "
+    << byEnum<ConflictType>(kConflictTypeCount, [&](int k) { return perKm(c.warningsByType[k], km); })
+    << ",\n    \"per_vehicle_km_by_kind\": "
+    << byEnum<WarningKind>(kWarningKindCount, [&](int k) { return perKm(c.warningsByKind[k], km); }) << "\n  }";
+  return j;
+}
+
+std::string summaryJson(const MonitorCounters& c, const RunInfo& info) {
+  const double km = c.vehicleMeters / 1000.0;
+  JsonText j;
+  j << "{\n";
+  j << "  \"source\": " << info.source << ",\n";
+  j << "  \"detector\": " << info.detector << ",\n";
+  j << "  \"broadphase\": " << info.broadphase << ",\n";
+  j << "  \"prediction\": " << info.prediction << ",\n";
+  j << "  \"simulated_s\": " << info.simulatedSeconds << ",\n";
+  j << "  \"ticks\": " << c.ticks << ",\n";
+  j << "  \"vehicles\": " << c.vehiclesSeen << ",\n";
+  j << "  \"persons\": " << c.personsSeen << ",\n";
+  j << "  \"vehicle_updates\": " << c.vehicleUpdates << ",\n";
+  j << "  \"vehicle_km\": " << km << ",\n";
+  j << "  \"warnings\": " << warningsJson(c, km) << ",\n";
+  j << "  \"conflicts\": " << io::jsonRaw(conflictsJson(c, info.conflict)) << ",\n";
+  j << "  \"tet_s\": " << byEnum<WarningKind>(kWarningKindCount, [&](int k) { return c.tet[k]; }) << ",\n";
+  j << "  \"tit_s2\": " << byEnum<WarningKind>(kWarningKindCount, [&](int k) { return c.tit[k]; }) << ",\n";
+  j << "  \"hindsight\": " << io::jsonRaw(hindsightJson(c, info.hindsight)) << ",\n";
+  j << "  \"handoffs\": " << c.handoffs << ",\n";
+  j << "  \"subdivisions\": " << c.subdivisions << ",\n";
+  j << "  \"reunions\": " << c.reunions << ",\n";
+  j << "  \"candidate_pairs\": " << c.candidatePairs << ",\n";
+  j << "  \"toi_checks\": " << c.toiChecks << ",\n";
+  j << "  \"feature_checks\": " << c.featureChecks << ",\n";
   // road prediction: updates predicted along a lane, and those in a straight line (no fitting lane, or stopped)
-  os << "  \"road_predicted_updates\": " << c.roadPredicted << ",\n";
-  os << "  \"route_predicted_updates\": " << c.routePredicted << ",\n";
-  os << "  \"straight_fallback_updates\": " << c.straightFallbacks << ",\n";
-  for (const auto& [k, v] : info.numbers) os << "  " << jsonString(k) << ": " << num(v) << ",\n";
-  for (const auto& [k, v] : info.strings) os << "  " << jsonString(k) << ": " << jsonString(v) << ",\n";
-  for (const auto& [k, v] : info.rawJson) os << "  " << jsonString(k) << ": " << v << ",\n";
-  os << "  \"wall_s\": " << num(info.wallSeconds) << "\n}\n";
-  return os.str();
+  j << "  \"road_predicted_updates\": " << c.roadPredicted << ",\n";
+  j << "  \"route_predicted_updates\": " << c.routePredicted << ",\n";
+  j << "  \"straight_fallback_updates\": " << c.straightFallbacks << ",\n";
+  for (const auto& [k, v] : info.numbers) j << "  " << k << ": " << v << ",\n";
+  for (const auto& [k, v] : info.strings) j << "  " << k << ": " << v << ",\n";
+  for (const auto& [k, v] : info.rawJson) j << "  " << k << ": " << io::jsonRaw(v) << ",\n";
+  j << "  \"wall_s\": " << info.wallSeconds << "\n}\n";
+  return j.str();
 }
 
 std::string conflictTypeBreakdown(const MonitorCounters& c) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <starm/monitor.hpp>
+#include <stio/json.hpp>
 
 namespace st::arm {
 
@@ -60,6 +61,10 @@ class ReplayRecorder {
     bool open;  // still growing: the last cycle's level
   };
   void keepFrame(const Monitor& m, const PersonSet* persons, bool forced);
+  // the page's data D: the run, the scene, the frames, the timeline's rows and the STOPs
+  io::JsonText dataJson(const std::string& title) const;
+  static io::JsonText rowsJson(const std::vector<std::vector<Segment>>& rows, double tEnd);
+  io::JsonText stopJson(std::size_t k) const;
   void thin();  // halves the regular frames once they exceed the cap
   static void level(std::vector<Segment>& row, int lvl, double t);
 
