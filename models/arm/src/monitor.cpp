@@ -89,39 +89,53 @@ Monitor::Monitor(std::vector<ArmInstance> arms, std::vector<Obstacle> obstacles,
   if (!(safety_.lookAhead() >= safety_.safeTime()))
     throw std::invalid_argument("look-ahead horizon shorter than the safe time");
   const double grow = 0.5 * safety_.minSeparation;
+  for (ArmInstance& inst : arms) addArm(std::move(inst));
+  restPoses();
+  obstaclesNow_ = obstacles_;
+  for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o)
+    if (obstacles_[o].moving()) moving_.push_back(o);
+  buildSpace(grow);
+}
+
+void Monitor::addArm(ArmInstance inst) {
   // arm capsules: struct of arrays, arms in order
-  for (ArmInstance& inst : arms) {
-    ArmState a;
-    a.firstCapsule = static_cast<int>(capA_.size());
-    a.frames.resize(inst.model.bodies());
-    for (int k = 0; k < static_cast<int>(inst.model.capsules.size()); ++k) {
-      capA_.emplace_back(Vec3::Zero());
-      capB_.emplace_back(Vec3::Zero());
-      capVa_.emplace_back(Vec3::Zero());
-      capVb_.emplace_back(Vec3::Zero());
-      capR_.push_back(inst.model.capsules[k].radius);
-      capArm_.push_back(static_cast<int>(arms_.size()));
-      capBody_.push_back(inst.model.capsules[k].body);
-      capLocal_.push_back(k);
-      // allowed obstacle pairs of this capsule's body, by obstacle index
-      std::vector<int> allowedObs;
-      for (const auto& allowed : inst.allowedObstacles) {
-        const auto& [body, name] = allowed;
-        if (body != inst.model.capsules[k].body) continue;
-        // (clang before 16 captures no structured binding)
-        const auto it = std::find_if(obstacles_.begin(), obstacles_.end(),
-                                     [&](const Obstacle& o) { return o.name == allowed.second; });
-        if (it == obstacles_.end()) throw std::invalid_argument("arm " + inst.name + ": allowed obstacle '" + name + "' is not an obstacle");
-        allowedObs.push_back(static_cast<int>(it - obstacles_.begin()));
-      }
-      capAllowedObstacles_.push_back(std::move(allowedObs));
-    }
-    if (!(inst.sensorDrift >= 0.0 && inst.sensorDrift < 0.5))
-      throw std::invalid_argument("arm " + inst.name + ": sensor drift must be in [0, 0.5)");
-    a.clock.drift = inst.sensorDrift;
-    a.inst = std::move(inst);
-    arms_.push_back(std::move(a));
+  ArmState a;
+  a.firstCapsule = static_cast<int>(capA_.size());
+  a.frames.resize(inst.model.bodies());
+  for (int k = 0; k < static_cast<int>(inst.model.capsules.size()); ++k) {
+    capA_.emplace_back(Vec3::Zero());
+    capB_.emplace_back(Vec3::Zero());
+    capVa_.emplace_back(Vec3::Zero());
+    capVb_.emplace_back(Vec3::Zero());
+    capR_.push_back(inst.model.capsules[k].radius);
+    capArm_.push_back(static_cast<int>(arms_.size()));
+    capBody_.push_back(inst.model.capsules[k].body);
+    capLocal_.push_back(k);
+    capAllowedObstacles_.push_back(allowedObstacles(inst, inst.model.capsules[k].body));
   }
+  if (!(inst.sensorDrift >= 0.0 && inst.sensorDrift < 0.5))
+    throw std::invalid_argument("arm " + inst.name + ": sensor drift must be in [0, 0.5)");
+  a.clock.drift = inst.sensorDrift;
+  a.inst = std::move(inst);
+  arms_.push_back(std::move(a));
+}
+
+std::vector<int> Monitor::allowedObstacles(const ArmInstance& inst, int body) const {
+  // allowed obstacle pairs of a capsule's body, by obstacle index
+  std::vector<int> allowedObs;
+  for (const auto& allowed : inst.allowedObstacles) {
+    const auto& [armBody, name] = allowed;
+    if (armBody != body) continue;
+    // (clang before 16 captures no structured binding)
+    const auto it = std::find_if(obstacles_.begin(), obstacles_.end(),
+                                 [&](const Obstacle& o) { return o.name == allowed.second; });
+    if (it == obstacles_.end()) throw std::invalid_argument("arm " + inst.name + ": allowed obstacle '" + name + "' is not an obstacle");
+    allowedObs.push_back(static_cast<int>(it - obstacles_.begin()));
+  }
+  return allowedObs;
+}
+
+void Monitor::restPoses() {
   // a valid pose until the first reading: zero, clamped into the limits
   for (int i = 0; i < armCount(); ++i) {
     const ArmModel& m = arms_[i].inst.model;
@@ -131,11 +145,9 @@ Monitor::Monitor(std::vector<ArmInstance> arms, std::vector<Obstacle> obstacles,
     arms_[i].read = false;  // a pose to file, not a reading: the arm is stale until its sensor reports
     arms_[i].markStamp = std::numeric_limits<double>::quiet_NaN();
   }
-  obstaclesNow_ = obstacles_;
-  for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o)
-    if (obstacles_[o].moving()) moving_.push_back(o);
+}
 
-  // the space covers what the arms can reach and the obstacles (objects outside are clamped)
+void Monitor::buildSpace(double grow) {
   const int nc = capsuleCount();
   const int total = nc + static_cast<int>(obstacles_.size());
   swept_.resize(total);
@@ -144,28 +156,7 @@ Monitor::Monitor(std::vector<ArmInstance> arms, std::vector<Obstacle> obstacles,
   filedAt_.assign(total, 0);
   const double h = safety_.lookAhead();
   for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o) swept_[nc + o] = obstacleSweep(obstacles_[o], h, grow);
-  if (broad_.bounds) {
-    bounds_ = *broad_.bounds;
-  } else {
-    bool first = true;
-    for (const ArmState& a : arms_) {
-      const ArmModel& m = a.inst.model;
-      double reach = m.flange.translation().norm();
-      for (const Joint& j : m.joints) reach += jointReach(j);
-      double extent = 0.0;
-      for (const LinkCapsule& c : m.capsules) extent = std::max({extent, c.a.norm() + c.radius, c.b.norm() + c.radius});
-      reach += extent + grow;
-      const Vec3 p = a.inst.base.translation();
-      const Aabb3 b{p.array() - reach, p.array() + reach};
-      bounds_ = first ? b : merge(bounds_, b);
-      first = false;
-    }
-    for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o) {
-      bounds_ = first ? swept_[nc + o] : merge(bounds_, swept_[nc + o]);
-      first = false;
-    }
-    if (first) bounds_ = {Vec3::Constant(-1.0), Vec3::Constant(1.0)};
-  }
+  bounds_ = broad_.bounds ? *broad_.bounds : sceneBounds(grow);
   if (broad_.depthFromScene) {
     // the moving objects' sizes: capsules in any pose, moving obstacles' swept boxes, fat
     std::vector<double> sizes;
@@ -186,6 +177,30 @@ Monitor::Monitor(std::vector<ArmInstance> arms, std::vector<Obstacle> obstacles,
     space_.insert(id, swept_[id], margin);
     filedAt_[id] = ++fileClock_;
   }
+}
+
+Aabb3 Monitor::sceneBounds(double grow) const {
+  // the space covers what the arms can reach and the obstacles (objects outside are clamped)
+  const int nc = capsuleCount();
+  Aabb3 bounds{Vec3::Constant(-1.0), Vec3::Constant(1.0)};
+  bool first = true;
+  for (const ArmState& a : arms_) {
+    const ArmModel& m = a.inst.model;
+    double reach = m.flange.translation().norm();
+    for (const Joint& j : m.joints) reach += jointReach(j);
+    double extent = 0.0;
+    for (const LinkCapsule& c : m.capsules) extent = std::max({extent, c.a.norm() + c.radius, c.b.norm() + c.radius});
+    reach += extent + grow;
+    const Vec3 p = a.inst.base.translation();
+    const Aabb3 b{p.array() - reach, p.array() + reach};
+    bounds = first ? b : merge(bounds, b);
+    first = false;
+  }
+  for (int o = 0; o < static_cast<int>(obstacles_.size()); ++o) {
+    bounds = first ? swept_[nc + o] : merge(bounds, swept_[nc + o]);
+    first = false;
+  }
+  return bounds;
 }
 
 double Monitor::staleAfter(int arm) const {

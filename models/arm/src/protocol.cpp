@@ -199,6 +199,236 @@ bool readSkeletons(Reader& r, std::uint8_t version, Skeletons& out) {
   return r.done();
 }
 
+bool readHello(Reader& r, Hello& h) {
+  r.what = "version";
+  h.version = r.u16();
+  r.what = "token";
+  h.token = r.str();
+  return r.done();
+}
+
+bool readObstacles(Reader& r, Obstacles& x) {
+  const std::uint16_t n = readStamp(r, x.seq, x.t);
+  if (r.error.empty() && n > kMaxObstacles) r.fail(std::to_string(n) + " obstacles in one message");
+  r.what = "pose";
+  if (r.error.empty() && r.need(static_cast<std::size_t>(n) * 50)) {
+    x.obstacles.resize(n);
+    for (ObstaclePose& o : x.obstacles) {
+      o.obstacle = r.u16();
+      for (int i = 0; i < 3; ++i) o.position[i] = r.f64();
+      for (int i = 0; i < 3; ++i) o.velocity[i] = r.f64();
+    }
+  }
+  return r.done();
+}
+
+bool readSubscribe(Reader& r, Subscribe& s) {
+  r.what = "flags";
+  s.flags = r.u8();
+  return r.done();
+}
+
+// CLAIM's sensor rates (version 4)
+void readRates(Reader& r, std::vector<SensorRate>& rates) {
+  r.what = "rates";
+  const std::uint16_t n = r.u16();
+  if (r.error.empty() && n > kMaxRates)
+    r.fail(std::to_string(n) + " rates in one CLAIM (at most " + std::to_string(kMaxRates) + ")");
+  if (!r.error.empty() || !r.need(static_cast<std::size_t>(n) * 27)) return;
+  rates.resize(n);
+  for (SensorRate& rate : rates) {
+    rate.kind = r.u8();
+    rate.id = r.u16();
+    rate.period = r.f64();
+    rate.jitter = r.f64();
+    rate.drift = r.f64();
+    if (rate.kind > SensorRate::Person && r.error.empty()) r.fail("rate kind " + std::to_string(rate.kind) + " (0 arm, 1 person)");
+  }
+}
+
+bool readClaim(Reader& r, std::uint8_t version, Claim& x) {
+  r.ids(x.arms, kMaxArms, "arms", "claimed");
+  r.ids(x.obstacles, kMaxObstacles, "obstacles", "claimed");
+  if (version >= 4 && r.error.empty()) readRates(r, x.rates);
+  return r.done();
+}
+
+bool readReset(Reader& r, Reset& x) {
+  r.ids(x.arms, kMaxArms, "arms", "to reset");
+  return r.done();
+}
+
+bool readWelcome(Reader& r, std::uint8_t version, Welcome& x) {
+  r.what = "welcome";
+  x.version = r.u16();
+  x.cycleTime = r.f64();
+  x.safeTime = r.f64();
+  const std::uint16_t n = r.u16();
+  for (std::uint16_t k = 0; k < n && r.error.empty(); ++k) {
+    x.armNames.push_back(r.str());
+    x.armDofs.push_back(r.u8());
+  }
+  const std::uint16_t no = r.u16();
+  for (std::uint16_t k = 0; k < no && r.error.empty(); ++k) x.obstacleNames.push_back(r.str());
+  if (version >= 3) {
+    const std::uint16_t np = r.u16();
+    for (std::uint16_t k = 0; k < np && r.error.empty(); ++k) x.personNames.push_back(r.str());
+  }
+  return r.done();
+}
+
+// a pair after its arm: body, other arm and body, obstacle, distance, TTC
+void readPair(Reader& r, Nearest& n) {
+  n.body = r.i16();
+  n.otherArm = r.i16();
+  n.otherBody = r.i16();
+  n.obstacle = r.i16();
+  n.distance = r.f64();
+  n.ttc = r.f64();
+}
+
+// arm k's verdict: its level and TTC; from version 2 its cause and pair, from 3 the persons' part
+void readArmVerdict(Reader& r, std::uint8_t version, std::size_t k, ArmVerdict& a) {
+  const std::uint8_t l = r.u8();
+  if (l > 2) r.fail("verdict level " + std::to_string(l));
+  a.level = static_cast<Level>(l);
+  a.minTtc = r.f64();
+  if (version < 2) return;
+  const std::uint8_t c = r.u8();
+  if (c > lastCause(version)) r.fail("verdict cause " + std::to_string(c));
+  a.cause = static_cast<Cause>(c);
+  a.pair.arm = static_cast<std::int16_t>(k);
+  readPair(r, a.pair);
+  if (version < 3) return;
+  a.factor = r.f64();
+  a.personSeparation = r.f64();
+  a.required = r.f64();
+  a.person = r.i16();
+  a.part = r.i16();
+}
+
+bool readVerdict(Reader& r, std::uint8_t version, Verdict& v) {
+  r.what = "verdict";
+  v.ack = r.u32();
+  v.cycle = r.u64();
+  v.t = r.f64();
+  const std::uint16_t n = r.u16();
+  const std::size_t armBytes = version >= 3 ? 62 : version >= 2 ? 34 : 9;
+  if (r.error.empty() && r.need(static_cast<std::size_t>(n) * armBytes)) {
+    v.arms.resize(n);
+    for (std::size_t k = 0; k < v.arms.size(); ++k) readArmVerdict(r, version, k, v.arms[k]);
+  }
+  r.what = "nearest";
+  v.nearest.arm = r.i16();
+  readPair(r, v.nearest);
+  return r.done();
+}
+
+bool readError(Reader& r, Error& e) {
+  r.what = "message";
+  e.message = r.str();
+  return r.done();
+}
+
+// Each message but VERDICT (encodeInto) after its head; the writer's version decides what an
+// older peer is sent.
+void writeMessage(Writer& w, const Hello& x) {
+  w.head(Type::Hello);
+  w.u16(x.version);
+  w.str(x.token);
+}
+
+void writeMessage(Writer& w, const Readings& x) {
+  w.head(Type::Readings);
+  w.u32(x.seq);
+  w.f64(x.t);
+  w.u16(static_cast<std::uint16_t>(x.arms.size()));
+  for (const ArmReading& a : x.arms) {
+    w.u16(a.arm);
+    w.u8(static_cast<std::uint8_t>(a.q.size()));
+    for (double v : a.q) w.f64(v);
+    for (std::size_t k = 0; k < a.q.size(); ++k) w.f64(k < a.qdot.size() ? a.qdot[k] : 0.0);
+  }
+}
+
+void writeMessage(Writer& w, const Obstacles& x) {
+  w.head(Type::Obstacles);
+  w.u32(x.seq);
+  w.f64(x.t);
+  w.u16(static_cast<std::uint16_t>(x.obstacles.size()));
+  for (const ObstaclePose& o : x.obstacles) {
+    w.u16(o.obstacle);
+    for (int i = 0; i < 3; ++i) w.f64(o.position[i]);
+    for (int i = 0; i < 3; ++i) w.f64(o.velocity[i]);
+  }
+}
+
+void writeMessage(Writer& w, const Subscribe& x) {
+  w.head(Type::Subscribe);
+  w.u8(x.flags);
+}
+
+void writeMessage(Writer& w, const Reset& x) {
+  w.head(Type::Reset);
+  w.ids(x.arms);
+}
+
+void writeMessage(Writer& w, const Claim& x) {
+  w.head(Type::Claim);
+  w.ids(x.arms);
+  w.ids(x.obstacles);
+  if (w.version < 4) return;
+  w.u16(static_cast<std::uint16_t>(x.rates.size()));
+  for (const SensorRate& rate : x.rates) {
+    w.u8(rate.kind);
+    w.u16(rate.id);
+    w.f64(rate.period);
+    w.f64(rate.jitter);
+    w.f64(rate.drift);
+  }
+}
+
+void writeMessage(Writer& w, const Welcome& x) {
+  w.head(Type::Welcome);
+  w.u16(x.version);
+  w.f64(x.cycleTime);
+  w.f64(x.safeTime);
+  w.u16(static_cast<std::uint16_t>(x.armNames.size()));
+  for (std::size_t k = 0; k < x.armNames.size(); ++k) {
+    w.str(x.armNames[k]);
+    w.u8(k < x.armDofs.size() ? x.armDofs[k] : 0);
+  }
+  w.u16(static_cast<std::uint16_t>(x.obstacleNames.size()));
+  for (const std::string& n : x.obstacleNames) w.str(n);
+  if (w.version < 3) return;
+  w.u16(static_cast<std::uint16_t>(x.personNames.size()));
+  for (const std::string& n : x.personNames) w.str(n);
+}
+
+void writeMessage(Writer& w, const Skeletons& x) {
+  w.head(Type::Skeletons);
+  w.u32(x.seq);
+  w.f64(x.t);
+  w.u16(static_cast<std::uint16_t>(x.persons.size()));
+  for (const PersonPose& p : x.persons) {
+    w.u16(p.person);
+    for (std::size_t j = 0; j < kSkeletonJoints; ++j)
+      for (int i = 0; i < 3; ++i) w.f64(j < p.joints.size() ? p.joints[j][i] : 0.0);
+  }
+}
+
+void writeMessage(Writer& w, const Error& x) {
+  w.head(Type::Error);
+  w.str(x.message);
+}
+
+// a message of type M as read(x) reads it, kept if it passed
+template <class M, class Read>
+void decodeAs(Decoded& d, Read read) {
+  M x;
+  if (read(x)) d.message = std::move(x);
+}
+
 }  // namespace
 
 const char* toString(Level l) {
@@ -268,86 +498,13 @@ void encodeInto(std::string& out, const Verdict& v, std::uint8_t version) {
 
 std::string encode(const Message& m, std::uint8_t version) {
   std::string out;
-  Writer w{out, version};
   std::visit(
       [&](const auto& x) {
-        using T = std::decay_t<decltype(x)>;
-        if constexpr (std::is_same_v<T, Hello>) {
-          w.head(Type::Hello);
-          w.u16(x.version);
-          w.str(x.token);
-        } else if constexpr (std::is_same_v<T, Readings>) {
-          w.head(Type::Readings);
-          w.u32(x.seq);
-          w.f64(x.t);
-          w.u16(static_cast<std::uint16_t>(x.arms.size()));
-          for (const ArmReading& a : x.arms) {
-            w.u16(a.arm);
-            w.u8(static_cast<std::uint8_t>(a.q.size()));
-            for (double v : a.q) w.f64(v);
-            for (std::size_t k = 0; k < a.q.size(); ++k) w.f64(k < a.qdot.size() ? a.qdot[k] : 0.0);
-          }
-        } else if constexpr (std::is_same_v<T, Obstacles>) {
-          w.head(Type::Obstacles);
-          w.u32(x.seq);
-          w.f64(x.t);
-          w.u16(static_cast<std::uint16_t>(x.obstacles.size()));
-          for (const ObstaclePose& o : x.obstacles) {
-            w.u16(o.obstacle);
-            for (int i = 0; i < 3; ++i) w.f64(o.position[i]);
-            for (int i = 0; i < 3; ++i) w.f64(o.velocity[i]);
-          }
-        } else if constexpr (std::is_same_v<T, Subscribe>) {
-          w.head(Type::Subscribe);
-          w.u8(x.flags);
-        } else if constexpr (std::is_same_v<T, Reset>) {
-          w.head(Type::Reset);
-          w.ids(x.arms);
-        } else if constexpr (std::is_same_v<T, Claim>) {
-          w.head(Type::Claim);
-          w.ids(x.arms);
-          w.ids(x.obstacles);
-          if (version >= 4) {
-            w.u16(static_cast<std::uint16_t>(x.rates.size()));
-            for (const SensorRate& rate : x.rates) {
-              w.u8(rate.kind);
-              w.u16(rate.id);
-              w.f64(rate.period);
-              w.f64(rate.jitter);
-              w.f64(rate.drift);
-            }
-          }
-        } else if constexpr (std::is_same_v<T, Welcome>) {
-          w.head(Type::Welcome);
-          w.u16(x.version);
-          w.f64(x.cycleTime);
-          w.f64(x.safeTime);
-          w.u16(static_cast<std::uint16_t>(x.armNames.size()));
-          for (std::size_t k = 0; k < x.armNames.size(); ++k) {
-            w.str(x.armNames[k]);
-            w.u8(k < x.armDofs.size() ? x.armDofs[k] : 0);
-          }
-          w.u16(static_cast<std::uint16_t>(x.obstacleNames.size()));
-          for (const std::string& n : x.obstacleNames) w.str(n);
-          if (version >= 3) {
-            w.u16(static_cast<std::uint16_t>(x.personNames.size()));
-            for (const std::string& n : x.personNames) w.str(n);
-          }
-        } else if constexpr (std::is_same_v<T, Skeletons>) {
-          w.head(Type::Skeletons);
-          w.u32(x.seq);
-          w.f64(x.t);
-          w.u16(static_cast<std::uint16_t>(x.persons.size()));
-          for (const PersonPose& p : x.persons) {
-            w.u16(p.person);
-            for (std::size_t j = 0; j < kSkeletonJoints; ++j)
-              for (int i = 0; i < 3; ++i) w.f64(j < p.joints.size() ? p.joints[j][i] : 0.0);
-          }
-        } else if constexpr (std::is_same_v<T, Verdict>) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(x)>, Verdict>) {
           encodeInto(out, x, version);
-        } else if constexpr (std::is_same_v<T, Error>) {
-          w.head(Type::Error);
-          w.str(x.message);
+        } else {
+          Writer w{out, version};
+          writeMessage(w, x);
         }
       },
       m);
@@ -399,158 +556,19 @@ Decoded decode(std::string_view payload) {
   Type t;
   if (!peekType(payload, t, d.error)) return d;
   Reader r{payload, 2, {}, ""};
+  const auto version = static_cast<std::uint8_t>(payload[0]);
+  // each type's reader reads its fields and the payload's end
   switch (t) {
-    case Type::Hello: {
-      Hello h;
-      r.what = "version";
-      h.version = r.u16();
-      r.what = "token";
-      h.token = r.str();
-      if (r.done()) d.message = h;
-      break;
-    }
-    case Type::Readings: {
-      Readings x;
-      if (readReadings(r, x)) d.message = std::move(x);
-      break;
-    }
-    case Type::Obstacles: {
-      Obstacles x;
-      r.what = "seq";
-      x.seq = r.u32();
-      r.what = "t";
-      x.t = r.f64();
-      r.what = "count";
-      const std::uint16_t n = r.u16();
-      if (r.error.empty() && n > kMaxObstacles) r.fail(std::to_string(n) + " obstacles in one message");
-      r.what = "pose";
-      if (r.error.empty() && r.need(static_cast<std::size_t>(n) * 50)) {
-        x.obstacles.resize(n);
-        for (ObstaclePose& o : x.obstacles) {
-          o.obstacle = r.u16();
-          for (int i = 0; i < 3; ++i) o.position[i] = r.f64();
-          for (int i = 0; i < 3; ++i) o.velocity[i] = r.f64();
-        }
-      }
-      if (r.done()) d.message = std::move(x);
-      break;
-    }
-    case Type::Subscribe: {
-      Subscribe s;
-      r.what = "flags";
-      s.flags = r.u8();
-      if (r.done()) d.message = s;
-      break;
-    }
-    case Type::Claim: {
-      Claim x;
-      r.ids(x.arms, kMaxArms, "arms", "claimed");
-      r.ids(x.obstacles, kMaxObstacles, "obstacles", "claimed");
-      if (static_cast<std::uint8_t>(payload[0]) >= 4 && r.error.empty()) {
-        r.what = "rates";
-        const std::uint16_t n = r.u16();
-        if (r.error.empty() && n > kMaxRates)
-          r.fail(std::to_string(n) + " rates in one CLAIM (at most " + std::to_string(kMaxRates) + ")");
-        if (r.error.empty() && r.need(static_cast<std::size_t>(n) * 27)) {
-          x.rates.resize(n);
-          for (SensorRate& rate : x.rates) {
-            rate.kind = r.u8();
-            rate.id = r.u16();
-            rate.period = r.f64();
-            rate.jitter = r.f64();
-            rate.drift = r.f64();
-            if (rate.kind > SensorRate::Person && r.error.empty()) r.fail("rate kind " + std::to_string(rate.kind) + " (0 arm, 1 person)");
-          }
-        }
-      }
-      if (r.done()) d.message = std::move(x);
-      break;
-    }
-    case Type::Reset: {
-      Reset x;
-      r.ids(x.arms, kMaxArms, "arms", "to reset");
-      if (r.done()) d.message = std::move(x);
-      break;
-    }
-    case Type::Welcome: {
-      Welcome x;
-      r.what = "welcome";
-      x.version = r.u16();
-      x.cycleTime = r.f64();
-      x.safeTime = r.f64();
-      const std::uint16_t n = r.u16();
-      for (std::uint16_t k = 0; k < n && r.error.empty(); ++k) {
-        x.armNames.push_back(r.str());
-        x.armDofs.push_back(r.u8());
-      }
-      const std::uint16_t no = r.u16();
-      for (std::uint16_t k = 0; k < no && r.error.empty(); ++k) x.obstacleNames.push_back(r.str());
-      if (static_cast<std::uint8_t>(payload[0]) >= 3) {
-        const std::uint16_t np = r.u16();
-        for (std::uint16_t k = 0; k < np && r.error.empty(); ++k) x.personNames.push_back(r.str());
-      }
-      if (r.done()) d.message = std::move(x);
-      break;
-    }
-    case Type::Verdict: {
-      Verdict v;
-      r.what = "verdict";
-      v.ack = r.u32();
-      v.cycle = r.u64();
-      v.t = r.f64();
-      const std::uint16_t n = r.u16();
-      const auto version = static_cast<std::uint8_t>(payload[0]);
-      const bool causes = version >= 2, persons = version >= 3;
-      if (r.error.empty() && r.need(static_cast<std::size_t>(n) * (persons ? 62 : causes ? 34 : 9))) {
-        v.arms.resize(n);
-        for (std::size_t k = 0; k < v.arms.size(); ++k) {
-          ArmVerdict& a = v.arms[k];
-          const std::uint8_t l = r.u8();
-          if (l > 2) r.fail("verdict level " + std::to_string(l));
-          a.level = static_cast<Level>(l);
-          a.minTtc = r.f64();
-          if (!causes) continue;
-          const std::uint8_t c = r.u8();
-          if (c > lastCause(version)) r.fail("verdict cause " + std::to_string(c));
-          a.cause = static_cast<Cause>(c);
-          a.pair.arm = static_cast<std::int16_t>(k);
-          a.pair.body = r.i16();
-          a.pair.otherArm = r.i16();
-          a.pair.otherBody = r.i16();
-          a.pair.obstacle = r.i16();
-          a.pair.distance = r.f64();
-          a.pair.ttc = r.f64();
-          if (!persons) continue;
-          a.factor = r.f64();
-          a.personSeparation = r.f64();
-          a.required = r.f64();
-          a.person = r.i16();
-          a.part = r.i16();
-        }
-      }
-      r.what = "nearest";
-      v.nearest.arm = r.i16();
-      v.nearest.body = r.i16();
-      v.nearest.otherArm = r.i16();
-      v.nearest.otherBody = r.i16();
-      v.nearest.obstacle = r.i16();
-      v.nearest.distance = r.f64();
-      v.nearest.ttc = r.f64();
-      if (r.done()) d.message = std::move(v);
-      break;
-    }
-    case Type::Skeletons: {
-      Skeletons x;
-      if (readSkeletons(r, static_cast<std::uint8_t>(payload[0]), x)) d.message = std::move(x);
-      break;
-    }
-    case Type::Error: {
-      Error e;
-      r.what = "message";
-      e.message = r.str();
-      if (r.done()) d.message = std::move(e);
-      break;
-    }
+    case Type::Hello: decodeAs<Hello>(d, [&](Hello& x) { return readHello(r, x); }); break;
+    case Type::Readings: decodeAs<Readings>(d, [&](Readings& x) { return readReadings(r, x); }); break;
+    case Type::Obstacles: decodeAs<Obstacles>(d, [&](Obstacles& x) { return readObstacles(r, x); }); break;
+    case Type::Subscribe: decodeAs<Subscribe>(d, [&](Subscribe& x) { return readSubscribe(r, x); }); break;
+    case Type::Claim: decodeAs<Claim>(d, [&](Claim& x) { return readClaim(r, version, x); }); break;
+    case Type::Reset: decodeAs<Reset>(d, [&](Reset& x) { return readReset(r, x); }); break;
+    case Type::Welcome: decodeAs<Welcome>(d, [&](Welcome& x) { return readWelcome(r, version, x); }); break;
+    case Type::Verdict: decodeAs<Verdict>(d, [&](Verdict& x) { return readVerdict(r, version, x); }); break;
+    case Type::Skeletons: decodeAs<Skeletons>(d, [&](Skeletons& x) { return readSkeletons(r, version, x); }); break;
+    case Type::Error: decodeAs<Error>(d, [&](Error& x) { return readError(r, x); }); break;
   }
   if (!r.error.empty()) {
     d.error = std::string(typeName(t)) + ": " + r.error;

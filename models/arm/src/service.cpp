@@ -653,6 +653,29 @@ void ArmService::runCycle() {
   pending_ = false;
   const double t = std::max(cycleT_, lastCycleT_);
   lastCycleT_ = t;
+  takeReadings();
+  monitor_.cycle(t);
+  ++counters_.cycles;
+  verdict_.cycle = counters_.cycles;
+  verdict_.t = t;
+  armVerdicts(t);
+  applyPersons(t);
+  applyDeadline(started);
+  const Warning& n = monitor_.nearest();
+  verdict_.nearest = {static_cast<std::int16_t>(n.arm), static_cast<std::int16_t>(n.body),
+                      static_cast<std::int16_t>(n.otherArm), static_cast<std::int16_t>(n.otherBody),
+                      static_cast<std::int16_t>(n.obstacle), n.distance, n.ttc};
+  sendVerdicts();
+  // the log row after the verdicts are on their way (the write is off the latency path)
+  if (verdictLog_) logVerdict(t);
+  for (net::ConnectionId id : inCycle_) {
+    const auto it = peers_.find(id);
+    if (it != peers_.end()) it->second.inCycle = false;
+  }
+  inCycle_.clear();
+}
+
+void ArmService::takeReadings() {
   for (int a = 0; a < monitor_.armCount(); ++a) {
     Pending& pa = pendingArm_[a];
     if (!pa.fresh) continue;
@@ -665,11 +688,10 @@ void ArmService::runCycle() {
       monitor_.forget(a);
     }
   }
-  monitor_.cycle(t);
-  ++counters_.cycles;
+}
+
+void ArmService::armVerdicts(double t) {
   // the verdict: per arm OK / WARN / STOP, the nearest pair and its time to collision
-  verdict_.cycle = counters_.cycles;
-  verdict_.t = t;
   // a tracked obstacle whose tracker fell silent may be anywhere near any arm: every arm stops
   bool obstacleLost = false;
   for (const double pt : poseT_) obstacleLost = obstacleLost || (!std::isnan(pt) && !(std::abs(t - pt) <= staleAfter_));
@@ -716,25 +738,26 @@ void ArmService::runCycle() {
       ++counters_.disputeStops;
     }
   }
-  applyPersons(t);
+}
+
+void ArmService::applyDeadline(Clock::time_point started) {
   // the deadline: a cycle that took longer than its budget fails safe, every arm STOP for it
-  if (cfg_.cycleBudgetUs > 0.0 &&
-      std::chrono::duration<double, std::micro>(Clock::now() - started).count() > cfg_.cycleBudgetUs) {
-    ++counters_.deadlineMisses;
-    for (int a = 0; a < monitor_.armCount(); ++a) {
-      proto::ArmVerdict& v = verdict_.arms[a];
-      if (v.level == proto::Level::Stop) continue;
-      v.level = proto::Level::Stop;
-      v.cause = proto::Cause::Deadline;
-      v.pair = proto::Nearest{};
-      v.pair.arm = static_cast<std::int16_t>(a);
-      v.factor = 0.0;
-    }
+  if (!(cfg_.cycleBudgetUs > 0.0 &&
+        std::chrono::duration<double, std::micro>(Clock::now() - started).count() > cfg_.cycleBudgetUs))
+    return;
+  ++counters_.deadlineMisses;
+  for (int a = 0; a < monitor_.armCount(); ++a) {
+    proto::ArmVerdict& v = verdict_.arms[a];
+    if (v.level == proto::Level::Stop) continue;
+    v.level = proto::Level::Stop;
+    v.cause = proto::Cause::Deadline;
+    v.pair = proto::Nearest{};
+    v.pair.arm = static_cast<std::int16_t>(a);
+    v.factor = 0.0;
   }
-  const Warning& n = monitor_.nearest();
-  verdict_.nearest = {static_cast<std::int16_t>(n.arm), static_cast<std::int16_t>(n.body),
-                      static_cast<std::int16_t>(n.otherArm), static_cast<std::int16_t>(n.otherBody),
-                      static_cast<std::int16_t>(n.obstacle), n.distance, n.ttc};
+}
+
+void ArmService::sendVerdicts() {
   for (auto& [id, p] : peers_) {
     if (!p.subscribed || (p.ownOnly && !p.inCycle)) continue;
     verdict_.ack = p.inCycle ? p.ack : 0;
@@ -742,35 +765,31 @@ void ArmService::runCycle() {
     proto::encodeInto(out_, verdict_, p.version);
     if (server_.send(id, out_)) ++counters_.verdictsSent;
   }
-  // the log row after the verdicts are on their way (the write is off the latency path)
-  if (verdictLog_) {
-    std::string& row = logRow_;
-    row = std::to_string(counters_.cycles) + ',' + num(t) + ',';
-    for (std::size_t k = 0; k < inCycle_.size(); ++k) (row += k ? " " : "") += std::to_string(inCycle_[k]);
-    for (int a = 0; a < monitor_.armCount(); ++a) {
-      const proto::ArmVerdict& v = verdict_.arms[a];
-      row += ',' + std::string(proto::toString(v.level)) + ',' + num(v.minTtc) + ',' + proto::toString(v.cause);
-      const Warning& w = monitor_.worst(a);
-      const bool pair = v.pair.body >= 0;
-      row += ',' + (pair ? io::csvField(monitor_.arm(a).name + "/" + bodyName(monitor_.arm(a).model, w.body)) : "") + ',' +
-             (pair ? io::csvField(otherName(monitor_, w)) : "") + ',' + num(v.pair.distance) + ',' + num(v.pair.ttc);
-    }
-    if (n.arm >= 0)
-      row += ',' + io::csvField(monitor_.arm(n.arm).name + "/" + bodyName(monitor_.arm(n.arm).model, n.body)) + ',' +
-             io::csvField(otherName(monitor_, n)) + ',' + num(n.distance) + ',' + num(n.ttc);
-    else row += ",,,inf,inf";
-    if (ssm_)
-      for (const proto::ArmVerdict& v : verdict_.arms)
-        row += ',' + num(v.factor) + ',' + num(v.personSeparation) + ',' + num(v.required) + ',' +
-               (v.person >= 0 ? io::csvField(persons_.name(v.person) + "/" + bodyParts()[v.part].name) : std::string());
-    verdictLog_->row(row);
-    verdictLog_->flush();
+}
+
+void ArmService::logVerdict(double t) {
+  const Warning& n = monitor_.nearest();
+  std::string& row = logRow_;
+  row = std::to_string(counters_.cycles) + ',' + num(t) + ',';
+  for (std::size_t k = 0; k < inCycle_.size(); ++k) (row += k ? " " : "") += std::to_string(inCycle_[k]);
+  for (int a = 0; a < monitor_.armCount(); ++a) {
+    const proto::ArmVerdict& v = verdict_.arms[a];
+    row += ',' + std::string(proto::toString(v.level)) + ',' + num(v.minTtc) + ',' + proto::toString(v.cause);
+    const Warning& w = monitor_.worst(a);
+    const bool pair = v.pair.body >= 0;
+    row += ',' + (pair ? io::csvField(monitor_.arm(a).name + "/" + bodyName(monitor_.arm(a).model, w.body)) : "") + ',' +
+           (pair ? io::csvField(otherName(monitor_, w)) : "") + ',' + num(v.pair.distance) + ',' + num(v.pair.ttc);
   }
-  for (net::ConnectionId id : inCycle_) {
-    const auto it = peers_.find(id);
-    if (it != peers_.end()) it->second.inCycle = false;
-  }
-  inCycle_.clear();
+  if (n.arm >= 0)
+    row += ',' + io::csvField(monitor_.arm(n.arm).name + "/" + bodyName(monitor_.arm(n.arm).model, n.body)) + ',' +
+           io::csvField(otherName(monitor_, n)) + ',' + num(n.distance) + ',' + num(n.ttc);
+  else row += ",,,inf,inf";
+  if (ssm_)
+    for (const proto::ArmVerdict& v : verdict_.arms)
+      row += ',' + num(v.factor) + ',' + num(v.personSeparation) + ',' + num(v.required) + ',' +
+             (v.person >= 0 ? io::csvField(persons_.name(v.person) + "/" + bodyParts()[v.part].name) : std::string());
+  verdictLog_->row(row);
+  verdictLog_->flush();
 }
 
 }  // namespace st::arm

@@ -136,12 +136,45 @@ void PersonSet::pose(double t) {
 SeparationMonitor::SeparationMonitor(SsmConfig cfg, int arms)
     : cfg_(cfg), verdicts_(static_cast<std::size_t>(arms)), drives_(static_cast<std::size_t>(arms), nullptr) {}
 
+// What one arm's scan over the persons' parts carries from part to part: its fixed inputs (the
+// S_p terms per kind of part, the drive) and what it has found so far.
+struct SeparationMonitor::ArmScan {
+  // S_p depends on the part only through v_h (hand or body): its terms once per kind
+  SeparationTerms terms[2];
+  double binary[2];  // S_p at the top speed a binary monitor must assume
+  const ArmDrive* drive = nullptr;
+  double worstSlack = std::numeric_limits<double>::infinity();
+  int worstCap = 0;  // the arm capsule of the binding pair (ties: the lowest, as pair by pair)
+  bool touching = false, stopBinary = false;
+  // pfl: the allowed speed per pair is the larger of S_p's and the region's contact limit
+  double pflAllowed = std::numeric_limits<double>::infinity();
+  bool pflBreak = false;  // a pair below S_p at the present speed, faster than its region's limit
+  double touchLimit = std::numeric_limits<double>::infinity();  // smallest limit of a touched region
+};
+
 void SeparationMonitor::cycle(const Monitor& m, const PersonSet& persons) {
   ++counters_.cycles;
-  // a sphere holding a capsule (its segment's midpoint; half its length plus its radius): the
-  // distance of two capsules is at least that of their spheres, so a pair whose spheres are no
-  // nearer than the nearest pair found so far cannot be nearer and is not measured
-  const auto boundOf = [](const Capsule& c) { return Bound{0.5 * (c.a + c.b), 0.5 * (c.b - c.a).norm() + c.radius}; };
+  placeArms(m);
+  placePersons(m, persons);
+  for (int a = 0; a < static_cast<int>(verdicts_.size()); ++a) {
+    ArmScan scan;
+    const SsmVerdict v = armVerdict(m, persons, a, scan);
+    count(v, scan, speed_[a]);
+    verdicts_[a] = v;
+  }
+}
+
+namespace {
+// a sphere holding a capsule (its segment's midpoint; half its length plus its radius): the
+// distance of two capsules is at least that of their spheres, so a pair whose spheres are no
+// nearer than the nearest pair found so far cannot be nearer and is not measured
+template <class Bound>
+Bound boundOf(const Capsule& c) {
+  return Bound{0.5 * (c.a + c.b), 0.5 * (c.b - c.a).norm() + c.radius};
+}
+}  // namespace
+
+void SeparationMonitor::placeArms(const Monitor& m) {
   const int nc = m.capsuleCount();
   const int arms = static_cast<int>(verdicts_.size());
   // the arms' capsules at the cycle time, by arm, and each arm's speed: its fastest capsule end
@@ -156,156 +189,164 @@ void SeparationMonitor::cycle(const Monitor& m, const PersonSet& persons) {
   fill_.assign(armFirst_.begin(), armFirst_.end() - 1);
   for (int i = 0; i < nc; ++i) {
     caps_[i] = m.movingCapsule(i);
-    capBound_[i] = boundOf(caps_[i].c);
+    capBound_[i] = boundOf<Bound>(caps_[i].c);
     double& v = speed_[m.capsuleArm(i)];
     v = std::max({v, caps_[i].va.norm(), caps_[i].vb.norm()});
     armCaps_[fill_[m.capsuleArm(i)]++] = i;  // in index order within each arm
   }
+}
+
+void SeparationMonitor::placePersons(const Monitor& m, const PersonSet& persons) {
   // the fixed obstacles a body region can be pinned against (pfl: clamping), and how near
   fixed_.clear();
   for (const Obstacle& o : m.obstacles())
     if (!o.tracked && !o.moving()) fixed_.push_back(&o);
-  const double gap = clampGap(cfg_);
+  gap_ = clampGap(cfg_);
   // every person's capsules once
   body_.resize(static_cast<std::size_t>(persons.size()));
   bodyBound_.resize(static_cast<std::size_t>(persons.size()));
   for (int p = 0; p < persons.size(); ++p)
     if (persons.present(p)) {
       body_[p] = bodyCapsules(persons.skeleton(p));
-      for (int k = 0; k < kBodyParts; ++k) bodyBound_[p][k] = boundOf(body_[p][k]);
+      for (int k = 0; k < kBodyParts; ++k) bodyBound_[p][k] = boundOf<Bound>(body_[p][k]);
     }
+}
 
+double SeparationMonitor::partLimit(const PersonSet& persons, int p, int k, int armCapsule, bool& clamped) const {
   // a part's power-and-force limit (pfl, and the contact counters): clamped or not, less its
   // speed (made only where needed: a response without pfl asks only for a touched part's)
-  const auto partLimit = [&](int p, int k, int armCapsule, bool& clamped) {
-    const BodyPart& part = bodyParts()[k];
-    clamped = false;
-    for (const Obstacle* o : fixed_) {
-      const Capsule& c = body_[p][k];
-      const double d = o->kind == ShapeKind::Sphere    ? distance(c, o->sphere)
-                       : o->kind == ShapeKind::Capsule ? distance(c, o->capsule)
-                                                       : distance(c, o->box);
-      if (d <= gap) {
-        clamped = true;
-        break;
-      }
+  const BodyPart& part = bodyParts()[k];
+  clamped = false;
+  for (const Obstacle* o : fixed_) {
+    const Capsule& c = body_[p][k];
+    const double d = o->kind == ShapeKind::Sphere    ? distance(c, o->sphere)
+                     : o->kind == ShapeKind::Capsule ? distance(c, o->capsule)
+                                                     : distance(c, o->box);
+    if (d <= gap_) {
+      clamped = true;
+      break;
     }
-    const double vPart = partSpeedInto(cfg_, k, body_[p][k], caps_[armCapsule].c, persons.velocitiesKnown(p), persons.velocities(p));
-    return pflSpeedLimit(cfg_, part.region, clamped, vPart);
-  };
-
-  for (int a = 0; a < arms; ++a) {
-    SsmVerdict v;
-    v.robotSpeed = speed_[a];
-    // the top speed a binary monitor must assume: declared, or faster if the arm is seen faster
-    const double topSpeed = std::max(cfg_.robotSpeed, speed_[a]);
-    // the graded responses with the drive known: its program speed now and the one it would brake from
-    const ArmDrive* drive = cfg_.response == SsmResponse::Stop ? nullptr : drives_[a];
-    const double sNow = drive ? drive->speed() : 1.0, sBrake = drive ? drive->brakingSpeed() : 1.0;
-    // S_p depends on the part only through v_h (hand or body): its terms once per kind
-    SeparationTerms terms[2];
-    double binary[2];
-    for (int hand = 0; hand < 2; ++hand) {
-      const double vh = hand ? cfg_.handSpeed : cfg_.bodySpeed;
-      terms[hand] = protectiveSeparation(cfg_, vh, speed_[a], sNow, sBrake);
-      binary[hand] = protectiveSeparation(cfg_, vh, topSpeed).total();
-    }
-    double worstSlack = std::numeric_limits<double>::infinity();
-    int worstCap = nc;  // the arm capsule of the binding pair (ties: the lowest, as pair by pair)
-    bool touching = false, stopBinary = false;
-    // pfl: the allowed speed per pair is the larger of S_p's and the region's contact limit
-    double pflAllowed = std::numeric_limits<double>::infinity();
-    bool pflBreak = false;  // a pair below S_p at the present speed, faster than its region's limit
-    double touchLimit = std::numeric_limits<double>::infinity();  // smallest limit of a touched region
-    for (int p = 0; p < persons.size(); ++p) {
-      if (!persons.present(p)) continue;
-      for (int k = 0; k < kBodyParts; ++k) {
-        // the part's nearest capsule of the arm: every verdict below is monotone in the distance
-        // (S_p and the part's limit do not depend on which arm capsule), so the nearest decides
-        // what every pair of the part would (the first nearest in index order, as pair by pair)
-        // (the arm's capsules by their spheres' distance, nearest first: measured until the next
-        // sphere is farther than the nearest capsule found, which then no capsule left can beat)
-        const Bound& bb = bodyBound_[p][k];
-        order_.clear();
-        for (int j = armFirst_[a]; j < armFirst_[a + 1]; ++j) {
-          const int i = armCaps_[j];
-          order_.push_back({(capBound_[i].centre - bb.centre).norm() - capBound_[i].reach - bb.reach, i});
-        }
-        std::sort(order_.begin(), order_.end());
-        double d = std::numeric_limits<double>::infinity();
-        int nearest = -1;
-        for (const auto& [low, i] : order_) {
-          if (low > d) break;
-          const double dij = distance(caps_[i].c, body_[p][k]);
-          if (dij < d || (dij == d && i < nearest)) d = dij, nearest = i;
-        }
-        if (nearest < 0) continue;
-        const int hand = bodyParts()[k].hand ? 1 : 0;
-        const double vh = hand ? cfg_.handSpeed : cfg_.bodySpeed;
-        const double slack = d - terms[hand].total();
-        if (slack < worstSlack || (slack == worstSlack && nearest < worstCap)) {
-          worstSlack = slack;
-          worstCap = nearest;
-          v.required = terms[hand].total();
-          v.terms = terms[hand];
-          v.person = p;
-          v.part = k;
-          v.armBody = m.capsuleBody(nearest);
-        }
-        v.separation = std::min(v.separation, d);
-        const double allowed = drive ? allowedDrivenSpeed(cfg_, vh, d) : allowedRobotSpeed(cfg_, vh, d);
-        v.allowedSpeed = std::min(v.allowedSpeed, allowed);
-        bool clamped = false;
-        const double limit = cfg_.response == SsmResponse::Pfl || d <= 0.0 ? partLimit(p, k, nearest, clamped) : 0.0;
-        if (cfg_.response == SsmResponse::Pfl) {
-          pflAllowed = std::min(pflAllowed, std::max(allowed, limit));
-          if (slack < 0.0) {
-            v.pflLimit = std::min(v.pflLimit, limit);
-            v.clamped = v.clamped || clamped;
-            if (speed_[a] > limit) pflBreak = true;
-          }
-        }
-        if (d < binary[hand]) stopBinary = true;
-        if (d <= 0.0) {
-          touching = true;
-          touchLimit = std::min(touchLimit, limit);
-        }
-      }
-    }
-    if (v.person >= 0) {
-      v.slack = worstSlack;
-      v.violated = worstSlack < 0.0;
-      if (cfg_.response == SsmResponse::Stop) {
-        v.stop = stopBinary;
-        v.factor = v.stop ? 0.0 : 1.0;
-      } else if (cfg_.response == SsmResponse::Pfl) {
-        // below S_p is allowed where the arm is no faster than every such region's contact limit;
-        // the factor heads for the larger of S_p's speed and the limit, pair by pair
-        v.pflAllowed = v.violated && !pflBreak;
-        v.violated = pflBreak;
-        v.allowedSpeed = pflAllowed;
-        v.factor = std::clamp(pflAllowed / cfg_.robotSpeed, 0.0, 1.0);
-        v.stop = v.violated;
-        if (v.stop) v.factor = 0.0;
-      } else {
-        // the factor heads the drive for rest before S_p breaks; STOP only where it broke anyway
-        v.factor = std::clamp(v.allowedSpeed / cfg_.robotSpeed, 0.0, 1.0);
-        v.stop = v.violated;
-        if (v.stop) v.factor = 0.0;
-      }
-    }
-    if (v.stop) ++counters_.stopCycles;
-    else if (v.factor < 1.0) ++counters_.scaledCycles;
-    if (v.violated && !v.stop) ++counters_.violations;
-    if (v.pflAllowed) ++counters_.pflCycles;
-    if (touching && speed_[a] > 0.0) {
-      ++counters_.contacts;
-      if (speed_[a] <= touchLimit) ++counters_.contactsWithinLimit;
-      else ++counters_.contactsAboveLimit;
-    }
-    counters_.minSeparation = std::min(counters_.minSeparation, v.separation);
-    verdicts_[a] = v;
   }
+  const double vPart = partSpeedInto(cfg_, k, body_[p][k], caps_[armCapsule].c, persons.velocitiesKnown(p), persons.velocities(p));
+  return pflSpeedLimit(cfg_, part.region, clamped, vPart);
+}
+
+SeparationMonitor::Nearest SeparationMonitor::nearestCapsule(int a, int p, int k) {
+  // the part's nearest capsule of the arm: every verdict is monotone in the distance (S_p and the
+  // part's limit do not depend on which arm capsule), so the nearest decides what every pair of
+  // the part would (the first nearest in index order, as pair by pair)
+  // (the arm's capsules by their spheres' distance, nearest first: measured until the next
+  // sphere is farther than the nearest capsule found, which then no capsule left can beat)
+  const Bound& bb = bodyBound_[p][k];
+  order_.clear();
+  for (int j = armFirst_[a]; j < armFirst_[a + 1]; ++j) {
+    const int i = armCaps_[j];
+    order_.push_back({(capBound_[i].centre - bb.centre).norm() - capBound_[i].reach - bb.reach, i});
+  }
+  std::sort(order_.begin(), order_.end());
+  Nearest n{std::numeric_limits<double>::infinity(), -1};
+  for (const auto& [low, i] : order_) {
+    if (low > n.d) break;
+    const double dij = distance(caps_[i].c, body_[p][k]);
+    if (dij < n.d || (dij == n.d && i < n.capsule)) n = {dij, i};
+  }
+  return n;
+}
+
+SsmVerdict SeparationMonitor::armVerdict(const Monitor& m, const PersonSet& persons, int a, ArmScan& s) {
+  SsmVerdict v;
+  v.robotSpeed = speed_[a];
+  // the top speed a binary monitor must assume: declared, or faster if the arm is seen faster
+  const double topSpeed = std::max(cfg_.robotSpeed, speed_[a]);
+  // the graded responses with the drive known: its program speed now and the one it would brake from
+  s.drive = cfg_.response == SsmResponse::Stop ? nullptr : drives_[a];
+  const double sNow = s.drive ? s.drive->speed() : 1.0, sBrake = s.drive ? s.drive->brakingSpeed() : 1.0;
+  for (int hand = 0; hand < 2; ++hand) {
+    const double vh = hand ? cfg_.handSpeed : cfg_.bodySpeed;
+    s.terms[hand] = protectiveSeparation(cfg_, vh, speed_[a], sNow, sBrake);
+    s.binary[hand] = protectiveSeparation(cfg_, vh, topSpeed).total();
+  }
+  s.worstCap = m.capsuleCount();
+  for (int p = 0; p < persons.size(); ++p) {
+    if (!persons.present(p)) continue;
+    for (int k = 0; k < kBodyParts; ++k) {
+      const Nearest n = nearestCapsule(a, p, k);
+      if (n.capsule >= 0) judgePart(m, persons, a, p, k, n, v, s);
+    }
+  }
+  if (v.person >= 0) respond(v, s);
+  return v;
+}
+
+void SeparationMonitor::judgePart(const Monitor& m, const PersonSet& persons, int a, int p, int k, Nearest n,
+                                  SsmVerdict& v, ArmScan& s) const {
+  const double d = n.d;
+  const int hand = bodyParts()[k].hand ? 1 : 0;
+  const double vh = hand ? cfg_.handSpeed : cfg_.bodySpeed;
+  const double slack = d - s.terms[hand].total();
+  if (slack < s.worstSlack || (slack == s.worstSlack && n.capsule < s.worstCap)) {
+    s.worstSlack = slack;
+    s.worstCap = n.capsule;
+    v.required = s.terms[hand].total();
+    v.terms = s.terms[hand];
+    v.person = p;
+    v.part = k;
+    v.armBody = m.capsuleBody(n.capsule);
+  }
+  v.separation = std::min(v.separation, d);
+  const double allowed = s.drive ? allowedDrivenSpeed(cfg_, vh, d) : allowedRobotSpeed(cfg_, vh, d);
+  v.allowedSpeed = std::min(v.allowedSpeed, allowed);
+  bool clamped = false;
+  const double limit = cfg_.response == SsmResponse::Pfl || d <= 0.0 ? partLimit(persons, p, k, n.capsule, clamped) : 0.0;
+  if (cfg_.response == SsmResponse::Pfl) {
+    s.pflAllowed = std::min(s.pflAllowed, std::max(allowed, limit));
+    if (slack < 0.0) {
+      v.pflLimit = std::min(v.pflLimit, limit);
+      v.clamped = v.clamped || clamped;
+      if (speed_[a] > limit) s.pflBreak = true;
+    }
+  }
+  if (d < s.binary[hand]) s.stopBinary = true;
+  if (d <= 0.0) {
+    s.touching = true;
+    s.touchLimit = std::min(s.touchLimit, limit);
+  }
+}
+
+void SeparationMonitor::respond(SsmVerdict& v, const ArmScan& s) const {
+  v.slack = s.worstSlack;
+  v.violated = s.worstSlack < 0.0;
+  if (cfg_.response == SsmResponse::Stop) {
+    v.stop = s.stopBinary;
+    v.factor = v.stop ? 0.0 : 1.0;
+  } else if (cfg_.response == SsmResponse::Pfl) {
+    // below S_p is allowed where the arm is no faster than every such region's contact limit;
+    // the factor heads for the larger of S_p's speed and the limit, pair by pair
+    v.pflAllowed = v.violated && !s.pflBreak;
+    v.violated = s.pflBreak;
+    v.allowedSpeed = s.pflAllowed;
+    v.factor = std::clamp(s.pflAllowed / cfg_.robotSpeed, 0.0, 1.0);
+    v.stop = v.violated;
+    if (v.stop) v.factor = 0.0;
+  } else {
+    // the factor heads the drive for rest before S_p breaks; STOP only where it broke anyway
+    v.factor = std::clamp(v.allowedSpeed / cfg_.robotSpeed, 0.0, 1.0);
+    v.stop = v.violated;
+    if (v.stop) v.factor = 0.0;
+  }
+}
+
+void SeparationMonitor::count(const SsmVerdict& v, const ArmScan& s, double speed) {
+  if (v.stop) ++counters_.stopCycles;
+  else if (v.factor < 1.0) ++counters_.scaledCycles;
+  if (v.violated && !v.stop) ++counters_.violations;
+  if (v.pflAllowed) ++counters_.pflCycles;
+  if (s.touching && speed > 0.0) {
+    ++counters_.contacts;
+    if (speed <= s.touchLimit) ++counters_.contactsWithinLimit;
+    else ++counters_.contactsAboveLimit;
+  }
+  counters_.minSeparation = std::min(counters_.minSeparation, v.separation);
 }
 
 }  // namespace st::arm

@@ -225,6 +225,13 @@ class Monitor {
     bool warned = false;
   };
 
+  // construction: the arms' capsules, their rest poses, the space and the obstacles filed in it
+  void addArm(ArmInstance inst);
+  std::vector<int> allowedObstacles(const ArmInstance& inst, int body) const;  // obstacle indices
+  void restPoses();
+  void buildSpace(double grow);
+  Aabb3 sceneBounds(double grow) const;  // what the arms can reach and the obstacles' swept boxes
+
   void updateArmCapsules(ArmState& a);
   void refile(int id);
   void testPair(int i, int j, double t);

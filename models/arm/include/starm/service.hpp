@@ -137,7 +137,14 @@ class ArmService final : public net::Handler {
   void release(net::ConnectionId id);  // frees the arms and obstacles `id` owns
   void armHelloTimer();
   void onHelloTimer();
+  // a cycle: the readings into the monitor, its cycle, each arm's verdict (geometry, then the
+  // fail-safe causes, the persons, the deadline), sent, then logged
   void runCycle();
+  void takeReadings();
+  void armVerdicts(double t);
+  void applyDeadline(Clock::time_point started);
+  void sendVerdicts();
+  void logVerdict(double t);
   void logConnection(net::ConnectionId id, const std::string& event, const std::string& detail);
 
   ServiceConfig cfg_;

@@ -228,8 +228,26 @@ class SeparationMonitor {
   std::vector<int> armFirst_, armCaps_, fill_;  // capsule indices by arm: armCaps_[armFirst_[a] ..armFirst_[a+1])
   std::vector<std::array<Capsule, kBodyParts>> body_;  // per person
   std::vector<std::array<Bound, kBodyParts>> bodyBound_;
-  std::vector<std::pair<double, int>> order_;
-  std::vector<const Obstacle*> fixed_;  // the untracked, unmoving obstacles (pfl: clamping)  // an arm's capsules by their spheres' distance to a part
+  std::vector<std::pair<double, int>> order_;  // an arm's capsules by their spheres' distance to a part
+  std::vector<const Obstacle*> fixed_;  // the untracked, unmoving obstacles (pfl: clamping)
+  double gap_ = 0.0;                    // m: a part this near a fixed obstacle is clamped
+
+  // the cycle's stages: place the arms and the persons, then per arm scan the persons' parts for
+  // its verdict and count it
+  struct ArmScan;
+  struct Nearest {
+    double d;     // m
+    int capsule;  // -1: the arm has none
+  };
+  void placeArms(const Monitor& m);
+  void placePersons(const Monitor& m, const PersonSet& persons);
+  SsmVerdict armVerdict(const Monitor& m, const PersonSet& persons, int arm, ArmScan& scan);
+  Nearest nearestCapsule(int arm, int person, int part);
+  void judgePart(const Monitor& m, const PersonSet& persons, int arm, int person, int part, Nearest nearest,
+                 SsmVerdict& v, ArmScan& scan) const;
+  double partLimit(const PersonSet& persons, int person, int part, int armCapsule, bool& clamped) const;
+  void respond(SsmVerdict& v, const ArmScan& scan) const;
+  void count(const SsmVerdict& v, const ArmScan& scan, double speed);
 };
 
 }  // namespace st::arm
