@@ -27,6 +27,14 @@
 // vehicle at once. Target (issue 36): stsim's time per vehicle-step at 10 000 within
 // 1.5x of its time at 1 000.
 //   usage: bench_cosim_overhead --scale [SIMULATED_SECONDS=60] [WORK_DIR=/tmp/stsim_cosim_scale]
+//
+// --junction: what reading the traffic lights and the persons costs where there are some
+// (networks/crosswalk: a fixed-time light, crosswalks, persons on foot) and where there are none
+// (the motorway main job), against stsim's own time there: the CPU inside the plugin's update
+// (conversions, the monitor, hindsight) beside the backend's reads by part (Backend::readCost),
+// each the least of 3 runs, alternated. Box detector, every vehicle equipped, actions off.
+// Target (issue 51): reading the lights and the persons <= 10 % of stsim's time.
+//   usage: bench_cosim_overhead --junction [SIMULATED_SECONDS=600]
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -272,6 +280,94 @@ int scaleMain(double seconds, const fs::path& dir) {
   return 0;
 }
 
+// One stsim run of `scenario` (box, actions off): its CPU by part (s), the least of `rounds`.
+struct JunctionCost {
+  double update = 1e300, vehicles = 1e300, lights = 1e300, persons = 1e300, step = 1e300;
+  double maxVehicles = 0.0, maxPersons = 0.0;
+};
+void junctionRound(const fs::path& scenario, double seconds, JunctionCost& c) {
+  Scenario s = loadScenario(scenario);
+  s.plugin.actions.action = Action::None;
+  s.plugin.smart.penetration = 1.0;
+  s.plugin.monitor.detector.kind = st::highway::DetectorKind::Box;
+  if (!s.end || *s.end > seconds) s.end = seconds;
+  const std::vector<std::string> args = sumoArguments(s);
+  auto b = startLibsumo(SumoLaunch{args, false, "", ""});
+  HighwayPlugin p(*b, s.plugin);
+  double update = 0.0, step = 0.0;
+  while (b->running()) {
+    const double c0 = threadCpu();
+    b->step();
+    const double c1 = threadCpu();
+    p.update();
+    update += threadCpu() - c1;
+    step += c1 - c0;
+    p.takeFinished();
+    c.maxVehicles = std::max(c.maxVehicles, static_cast<double>(b->vehicles().size()));
+    c.maxPersons = std::max(c.maxPersons, static_cast<double>(b->persons().size()));
+  }
+  p.finish();
+  const Backend::ReadCost r = b->readCost();
+  b->close();
+  c.update = std::min(c.update, update);
+  c.vehicles = std::min(c.vehicles, r.vehicles);
+  c.lights = std::min(c.lights, r.lights);
+  c.persons = std::min(c.persons, r.persons);
+  c.step = std::min(c.step, step - r.vehicles - r.lights - r.persons);
+}
+
+// The persons' floor on libsumo: their list and the three getters stsim needs of each (position,
+// angle, speed) a step, nothing else (no check for riders, no records), in CPU s; least of `rounds`.
+double personsFloor(const fs::path& scenario, double seconds) {
+  Scenario s = loadScenario(scenario);
+  if (!s.end || *s.end > seconds) s.end = seconds;
+  auto b = startLibsumo(SumoLaunch{sumoArguments(s), false, "", ""});
+  b->setReads(VehicleReads{false, false, false, false, false});
+  double cpu = 0.0, sink = 0.0;
+  while (b->running()) {
+    b->step();
+    const double c0 = threadCpu();
+    for (const std::string& id : libsumo::Person::getIDList()) {
+      const auto p = libsumo::Person::getPosition(id);
+      sink += p.x + libsumo::Person::getAngle(id) + libsumo::Person::getSpeed(id);
+    }
+    cpu += threadCpu() - c0;
+  }
+  b->close();
+  return sink == 0.5 ? -1.0 : cpu;  // sink: the getters' results are used
+}
+
+int junctionMain(double seconds) {
+  const fs::path src = STSIM_SOURCE_DIR;
+  const std::pair<const char*, fs::path> nets[] = {{"crosswalk", src / "networks/crosswalk/scenario.yaml"},
+                                                   {"motorway", src / "networks/motorway/scenario.yaml"}};
+  JunctionCost cost[2];
+  double floor = 1e300;
+  for (int round = 0; round < 3; ++round) {
+    for (int n = 0; n < 2; ++n) junctionRound(nets[n].second, seconds, cost[n]);
+    floor = std::min(floor, personsFloor(nets[0].second, seconds));
+  }
+  std::printf("cosim_overhead --junction: box detector, libsumo, every vehicle equipped, actions off, %.0f s simulated "
+              "(motorway: its own end); CPU s, least of 3 runs each, alternated\n",
+              seconds);
+  std::printf("%-10s %8s %8s %10s %12s %10s %10s %12s %14s\n", "network", "max veh", "max per", "SUMO step",
+              "vehicle rd", "lights rd", "persons rd", "stsim update", "lights+persons");
+  double worst = 0.0;
+  for (int n = 0; n < 2; ++n) {
+    const JunctionCost& c = cost[n];
+    const double share = (c.lights + c.persons) / c.update;
+    worst = std::max(worst, share);
+    std::printf("%-10s %8.0f %8.0f %10.3f %12.3f %10.4f %10.4f %12.3f %13.1f%%\n", nets[n].first, c.maxVehicles,
+                c.maxPersons, c.step, c.vehicles, c.lights, c.persons, c.update, 100.0 * share);
+  }
+  std::printf("crosswalk, the persons' floor on libsumo (their list and 3 getters each a step, nothing else): %.4f s = "
+              "%.1f %% of stsim's update\n",
+              floor, 100.0 * floor / cost[0].update);
+  std::printf("target: reading the lights and the persons %.1f %% of stsim's update at most (target <= 10 %%)\n",
+              100.0 * worst);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -279,6 +375,10 @@ int main(int argc, char** argv) {
     ensureSumoHome();
     return scaleMain(argc > 2 ? std::atof(argv[2]) : 60.0,
                      argc > 3 ? fs::path(argv[3]) : fs::temp_directory_path() / "stsim_cosim_scale");
+  }
+  if (argc > 1 && std::string(argv[1]) == "--junction") {
+    ensureSumoHome();
+    return junctionMain(argc > 2 ? std::atof(argv[2]) : 600.0);
   }
   const double seconds = argc > 1 ? std::atof(argv[1]) : 120.0;
   const fs::path dir = argc > 2 ? fs::path(argv[2]) : fs::temp_directory_path() / "stsim_cosim_overhead";

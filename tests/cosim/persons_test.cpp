@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <ctime>
 #include <map>
 #include <regex>
 #include <set>
@@ -51,10 +52,24 @@ TEST(Persons, BackendReadsTheWalkersOfSumosOwnTrace) {
   // SUMO labels an output with its step's begin time: what the backend reads after the step that
   // ends at t is the trace's row of t - step length
   std::map<long, std::vector<SumoVehicle>> read;
+  auto threadCpu = [] {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+  };
+  const Backend::ReadCost before = b->readCost();
+  const double c0 = threadCpu();
   while (b->running()) {
     b->step();
     read[std::lround((b->time() - b->deltaT()) * 1000.0)] = b->persons();
   }
+  const double loop = threadCpu() - c0;
+  // the reads' cost by part (bench/cosim_overhead --junction): each read here, within the loop's CPU
+  const Backend::ReadCost cost = b->readCost();
+  EXPECT_GT(cost.vehicles, before.vehicles);
+  EXPECT_GT(cost.lights, before.lights);
+  EXPECT_GT(cost.persons, before.persons);
+  EXPECT_LT(cost.vehicles + cost.lights + cost.persons - before.vehicles - before.lights - before.persons, loop);
   b->close();
   const auto truth = fcdPersons(fcd);
   std::size_t compared = 0;

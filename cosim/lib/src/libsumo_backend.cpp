@@ -3,6 +3,8 @@
 // map of shared_ptr results per vehicle and variable in every step and cost more than the getters;
 // each getter costs a lookup by id (std::map) in SUMO's vehicle dictionary, so only what is needed
 // is read (VehicleReads) and the id, type and serial are read once per vehicle.
+#include <ctime>
+
 #include <libsumo/libsumo.h>
 
 #include <memory>
@@ -13,6 +15,12 @@
 
 namespace st::cosim {
 namespace {
+
+double threadSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 
 class LibsumoBackend final : public Backend {
  public:
@@ -104,7 +112,7 @@ class LibsumoBackend final : public Backend {
   // the per-step values, in place
   void readVehicles() {
     const bool lights = reads_.nextSignal && signals_.any();
-    if (lights) signals_.readStates<libsumo::TrafficLight>();
+    const double t0 = threadSeconds();
     for (SumoVehicle& v : vehicles_) {
       const auto p = libsumo::Vehicle::getPosition(v.id);
       v.x = p.x;
@@ -123,11 +131,19 @@ class LibsumoBackend final : public Backend {
           v.routeVersion = ++routeReads_;
         }
       }
-      if (lights)
+    }
+    // the lights after the vehicles (each car's next light needs its route), timed apart
+    const double t1 = threadSeconds();
+    if (lights) {
+      signals_.readStates<libsumo::TrafficLight>();
+      for (SumoVehicle& v : vehicles_)
         signals_.next(v, [&] {
           return std::pair<std::string, double>(libsumo::Vehicle::getLaneID(v.id), libsumo::Vehicle::getLanePosition(v.id));
         });
     }
+    const double t2 = threadSeconds();
+    readCost_.vehicles += t1 - t0;
+    readCost_.lights += t2 - t1;
     if (!reads_.persons) return;
     applyPersons(detail::walkingPersons<libsumo::Person>());
     for (SumoVehicle& p : persons_) {
@@ -137,6 +153,7 @@ class LibsumoBackend final : public Backend {
       p.angle = libsumo::Person::getAngle(p.id);
       p.speed = libsumo::Person::getSpeed(p.id);
     }
+    readCost_.persons += threadSeconds() - t2;
   }
 
   bool owns_;

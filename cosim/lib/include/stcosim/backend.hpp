@@ -157,6 +157,13 @@ class Backend {
   // Serials are drawn with the vehicles' (one space: a person's never equals a vehicle's).
   const std::vector<SumoVehicle>& persons() const { return persons_; }
   const StepEvents& events() const { return events_; }
+  // CPU seconds (this thread's) the reads after each step took so far, by part: the vehicles'
+  // variables, the traffic lights (their states and each vehicle's next light) and the persons.
+  // Libsumo sessions only (a TraCI session's reads are SUMO's work behind the socket): zeros.
+  struct ReadCost {
+    double vehicles = 0.0, lights = 0.0, persons = 0.0;
+  };
+  const ReadCost& readCost() const { return readCost_; }
   // True while SUMO still expects vehicles or the end time is not reached.
   virtual bool running() = 0;
 
@@ -215,6 +222,7 @@ class Backend {
   StepEvents events_;
   VehicleReads reads_;
   std::uint64_t routeReads_ = 0;  // SumoVehicle::routeVersion's source
+  ReadCost readCost_;
 
  private:
   void appear(const std::string& id);
