@@ -401,7 +401,11 @@ def network_figures(r):
                     "of conflicts.csv's %d PETs, %d match SSM's encounters (of %d), %s within 0.1 s."
                     % (pet["matched"], pet["ssm_pets"], within(pet["within_tolerance"]), pet["mean_abs_error_s"],
                        pet["max_abs_error_s"], pc["conflict_pets"], pc["matched"], pc["ssm_encounters"],
-                       within(pc["within_tolerance"])))
+                       within(pc["within_tolerance"]))
+                    + " Of the %d box PETs, %d have SSM's PET position off the other vehicle's path (`pet.ssm_off_path`); "
+                    "%s on both paths, %s within 0.1 s."
+                    % (pet["matched"], pet["ssm_off_path"], within(pet["on_both_paths"]["matched"]),
+                       within(pet["on_both_paths"]["within_tolerance"])))
         out += [
             (readme, "(box detector, %d vehicles): %d vehicle warnings (%s), %d conflicts in conflicts.csv (%s; %s at a junction, %d outside)"
              % (s["vehicles"], w["by_kind"]["vehicle"], types(w["by_type"]), c["count"], types(c["by_type"]),

@@ -228,6 +228,9 @@ TEST(SsmValidation, ReadsPetAndConflictPoints) {
   EXPECT_DOUBLE_EQ(c[0].petTime, 1.137);
   EXPECT_EQ(c[0].petType, 17);
   EXPECT_DOUBLE_EQ(c[0].petPosition.y(), -2.0);
+  ASSERT_EQ(c[0].egoPositions.size(), 2u);
+  EXPECT_DOUBLE_EQ(c[0].egoPositions[1].x(), 11.0);
+  EXPECT_TRUE(std::isnan(c[0].foePositions[1].x()));
   EXPECT_FALSE(c[1].hasMin);
   EXPECT_FALSE(c[1].hasPet);
   EXPECT_TRUE(std::isnan(c[1].petPosition.x()));
@@ -245,6 +248,28 @@ TEST(SsmValidation, ReadsPetAndConflictPoints) {
     EXPECT_NE(what.find("15.4;-1.5"), std::string::npos) << what;
     EXPECT_EQ(what.find('\n'), std::string::npos) << what;
   }
+}
+
+// SSM's PET position against the two paths, worked by hand: a left turner's front from the west
+// (y = -1.6, turning north at x = 0) and a straight car's westbound on y = 4.8. The point where
+// they meet lies on both paths; SSM's (-4.8, -0.64) of the actuated network's wn.2 x ew.1 lies on
+// the turner's path 5.44 m from the straight car's, a PET of another place.
+TEST(SsmValidation, PetPositionOffTheOtherPathIsTold) {
+  SsmConflict c;
+  c.egoPositions = {{-20.0, -1.6}, {-4.8, -0.64}, {-2.0, 0.5}, {0.0, 3.0}, {0.5, 8.0}};
+  c.foePositions = {{20.0, 4.8}, {5.0, 4.8}, SsmConflict::kNoPoint, {-10.0, 4.8}};
+  c.petPosition = {-4.8, -0.64};
+  EXPECT_NEAR(c.petOffPath(), 4.8 + 0.64, 1e-12);
+  EXPECT_GT(c.petOffPath(), kSsmPetOffPath);
+  // a right-angle crossing's point: where the follower enters the area, half a body width (0.9 m)
+  // short of the leader's path, on its own
+  c.petPosition = {0.3, 3.9};
+  const double onEgo = std::abs((Vec2(0.3, 3.9) - Vec2(0.0, 3.0)).dot(Vec2(0.5, 5.0).normalized().unitOrthogonal()));
+  EXPECT_NEAR(c.petOffPath(), std::max(0.9, onEgo), 1e-12);
+  EXPECT_LE(c.petOffPath(), kSsmPetOffPath);
+  c.egoPositions.clear();
+  c.foePositions.clear();
+  EXPECT_TRUE(std::isnan(c.petOffPath()));  // no paths: not known, and not counted off
 }
 
 // The lane drop (the shipped merge, sublane model): where SSM sees the approach we see (the same
@@ -383,6 +408,9 @@ TEST(SsmValidation, PetAndCrossingPointsAgreeWithSsmOnACrossing) {
   EXPECT_GE(jsonNumber(v, "within_fraction", pet), 0.99) << v;
   EXPECT_LT(jsonNumber(v, "max_abs_error_s", pet), 0.1) << v;
   EXPECT_NE(r.out.find(" PETs, 100.00 % within 0.1 s of SSM's;"), std::string::npos) << r.out;
+  // at a right angle SSM's points lie where the two could meet: none off the other's path
+  EXPECT_EQ(jsonNumber(v, "ssm_off_path", pet), 0.0) << v;
+  EXPECT_EQ(jsonNumber(v, "matched", v.find("\"on_both_paths\"", pet)), matched) << v;
   // the analyst's: conflicts.csv's PETs against SSM's encounters of the same pair (each once)
   const auto mine = v.find("\"conflicts\": {", pet);
   ASSERT_NE(mine, std::string::npos) << v;

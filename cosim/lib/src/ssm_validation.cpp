@@ -59,6 +59,28 @@ bool sameHeading(const hw::Body& a, const hw::Body& b) {
 
 }  // namespace
 
+double SsmConflict::petOffPath() const {
+  // the distance from the PET position to a path of fronts (NaN: none known)
+  auto away = [&](const std::vector<Vec2>& path) {
+    double best = std::numeric_limits<double>::quiet_NaN();
+    const Vec2* last = nullptr;
+    for (const Vec2& q : path) {
+      if (!std::isfinite(q.x())) continue;
+      double d = (petPosition - q).norm();
+      if (last) {
+        const Vec2 seg = q - *last;
+        const double len2 = seg.squaredNorm();
+        const double u = len2 > 0.0 ? std::clamp((petPosition - *last).dot(seg) / len2, 0.0, 1.0) : 0.0;
+        d = (petPosition - (*last + u * seg)).norm();
+      }
+      if (!(d >= best)) best = d;
+      last = &q;
+    }
+    return best;
+  };
+  return std::max(away(egoPositions), away(foePositions));
+}
+
 std::vector<std::string> ssmArguments(const std::filesystem::path& file, double threshold) {
   std::ostringstream th;
   th << threshold;
@@ -102,6 +124,13 @@ std::vector<SsmConflict> readSsmOutput(const std::filesystem::path& path) {
     bool sameLengths = c.types.size() == c.times.size() && c.ttc.size() == c.times.size() &&
                        (c.drac.empty() || c.drac.size() == c.times.size());
     for (const auto& [name, into] : series) sameLengths = sameLengths && into->size() == c.times.size();
+    const std::pair<const char*, std::vector<Vec2>*> fronts[] = {{"egoPosition", &c.egoPositions},
+                                                                 {"foePosition", &c.foePositions}};
+    for (const auto& [name, into] : fronts) {
+      for (const auto& w : words(node.get<std::string>(std::string(name) + ".<xmlattr>.values", "")))
+        into->push_back(parsePoint(w, path));
+      sameLengths = sameLengths && (into->empty() || into->size() == c.times.size());
+    }
     if (!sameLengths)
       throw ScenarioError(path.string() + ": SSM conflict " + c.ego + "/" + c.foe +
                           " has time, type, TTC, conflict point and velocity series of different lengths (trajectories off?)");
@@ -358,7 +387,11 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
       if (w->begin > end + 1e-6 || w->end + hw::kPetHorizon < begin - 1e-6) continue;
       if (!best || std::abs(w->begin - begin) < std::abs(best->begin - begin)) best = w;
     }
-    if (best) r.pet.add(std::abs(best->pet - c.pet), label(c.ego, c.foe, c.petTime + m.dt));
+    if (!best) continue;
+    const std::string what = label(c.ego, c.foe, c.petTime + m.dt);
+    r.pet.add(std::abs(best->pet - c.pet), what);
+    if (c.petOffPath() > kSsmPetOffPath) r.petOffPath++;
+    else r.petOnPaths.add(std::abs(best->pet - c.pet), what);
   }
 
   // 4b. the analyst's PET: each SSM encounter with a PET (once per pair and PET time) against the
@@ -380,7 +413,10 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
       if (at < k->begin - 1e-6 || at > k->end + hw::kPetHorizon + 1e-6) continue;
       if (!best || std::abs(k->begin - at) < std::abs(best->begin - at)) best = k;
     }
-    if (best) r.conflictPet.add(std::abs(best->pet - c.pet), label(pair.first, pair.second, at));
+    if (!best) continue;
+    r.conflictPet.add(std::abs(best->pet - c.pet), label(pair.first, pair.second, at));
+    if (c.petOffPath() > kSsmPetOffPath) r.conflictPetOffPath++;
+    else r.conflictPetOnPaths.add(std::abs(best->pet - c.pet), label(pair.first, pair.second, at));
   }
 
   // the sample of SSM's conflict of the ordered pair at our tick t (SSM's clock t - dt)
@@ -486,9 +522,11 @@ std::string toJson(const ValidationReport& r) {
      << agreementJson(r.ttcTurning, "s") << "},\n    \"without_time_shift\": {\"matched_samples\": " << r.matchedUnshifted
      << ", \"within_tolerance\": " << r.withinUnshifted << "}\n  },\n  \"drac\": {\"ssm_samples\": " << r.dracSamples
      << ", " << agreementJson(r.drac, "m_s2") << "},\n  \"pet\": {\"ssm_pets\": " << r.ssmPets
-     << ", \"stsim_pets\": " << r.stsimPets << ", " << agreementJson(r.pet, "s")
-     << ",\n    \"conflicts\": {\"ssm_encounters\": " << r.ssmPetEncounters << ", \"conflict_pets\": " << r.conflictPets
-     << ", " << agreementJson(r.conflictPet, "s") << "}},\n  \"conflict_point\": {\"box_episodes\": " << r.pointEpisodes << ", \"ssm_following\": "
+     << ", \"stsim_pets\": " << r.stsimPets << ", " << agreementJson(r.pet, "s") << ", \"ssm_off_path\": " << r.petOffPath
+     << ",\n    \"on_both_paths\": {" << agreementJson(r.petOnPaths, "s") << "},"
+     << "\n    \"conflicts\": {\"ssm_encounters\": " << r.ssmPetEncounters << ", \"conflict_pets\": " << r.conflictPets
+     << ", " << agreementJson(r.conflictPet, "s") << ", \"ssm_off_path\": " << r.conflictPetOffPath
+     << ",\n      \"on_both_paths\": {" << agreementJson(r.conflictPetOnPaths, "s") << "}}},\n  \"conflict_point\": {\"box_episodes\": " << r.pointEpisodes << ", \"ssm_following\": "
      << r.pointAnyTtc.matched << ", " << agreementJson(r.point, "m") << ",\n    \"along_leader_path\": {"
      << agreementJson(r.pointAlong, "m") << "},\n    \"whatever_the_ttc\": {" << agreementJson(r.pointAnyTtc, "m")
      << "},\n    \"without_moving_on\": {\"matched\": " << r.pointUnconverted.matched << ", \"within_tolerance\": "
@@ -539,9 +577,18 @@ std::string summaryLine(const ValidationReport& r) {
   };
   agreement(r.drac, "DRACs", "m/s²");
   os << ";";
+  // the PETs whose SSM point lies off the other's path, said apart
+  auto offPath = [&](std::uint64_t off, const Agreement& on) {
+    if (off == 0) return;
+    os << " (" << off << " with SSM's point off the other's path; of the " << on.matched << " on both paths ";
+    if (on.matched == 0) os << "none to compare)";
+    else os << io::fixed(100.0 * on.withinFraction(), 2) << " % within)";
+  };
   agreement(r.pet, "PETs", "s");
+  offPath(r.petOffPath, r.petOnPaths);
   os << ";";
   agreement(r.conflictPet, "conflicts' PETs", "s");
+  offPath(r.conflictPetOffPath, r.conflictPetOnPaths);
   os << ";";
   agreement(r.point, "conflict points", "m");
   if (r.point.matched > 0) os << " (along the leader's path " << io::fixed(100.0 * r.pointAlong.withinFraction(), 2) << " %)";

@@ -60,6 +60,10 @@ inline constexpr int kSsmMergingFollower = 7;
 inline constexpr int kSsmCrossingLeader = 10;
 inline constexpr int kSsmCrossingFollower = 11;
 
+// SSM's PET position farther than this from one of the two paths (m): half SUMO's lane width,
+// beyond any point where the two bodies could meet (SsmConflict::petOffPath).
+inline constexpr double kSsmPetOffPath = 1.6;
+
 struct SsmConflict {
   std::string ego, foe;
   double begin = 0.0, end = 0.0;
@@ -70,6 +74,8 @@ struct SsmConflict {
   // per sample (trajectories), network x/y; NaN where "NA": the conflict point (the leader's back
   // on following types, the lanes' meeting point on merging and crossing) and the velocities
   std::vector<Vec2> conflictPoints, egoVelocities, foeVelocities;
+  // and the two fronts, per sample as above (empty when the file has none)
+  std::vector<Vec2> egoPositions, foePositions;
   double minTtc = 0.0, minTtcTime = 0.0;
   int minTtcType = -1;
   Vec2 minTtcPosition = kNoPoint;
@@ -80,6 +86,12 @@ struct SsmConflict {
   int petType = -1;
   Vec2 petPosition = kNoPoint;
   bool hasPet = false;
+  // How far SSM's PET position lies from the path the farther of the two fronts took over the
+  // encounter (m; NaN without positions). SSM's point is on one path; where they could meet it is
+  // within about half a body width of the other's (0.75-1.4 m measured on crossings). SUMO's
+  // left turns split at an internal junction put it on the turner's path 2.2-7.1 m from the
+  // other's: a PET of another place (networks/intersection/README.md).
+  double petOffPath() const;
   static inline const Vec2 kNoPoint{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
 };
 
@@ -151,12 +163,18 @@ struct ValidationReport {
   // both have (same ordered pair, overlapping in time, the episode's PET horizon included)
   std::uint64_t ssmPets = 0, stsimPets = 0;
   Agreement pet{0.1};
+  // ... of those, the ones whose SSM point lies off the other's path (SsmConflict::petOffPath
+  // beyond kSsmPetOffPath: a PET of another place) and the agreement on the rest
+  std::uint64_t petOffPath = 0;
+  Agreement petOnPaths{0.1};
   // and the analyst's PET: SSM's encounters with a PET (each pair and PET time once: SSM logs an
   // encounter from both vehicles' devices), conflicts.csv's conflicts with one, and the encounters
   // both have (same pair, SSM's PET time within the conflict's begin and its end plus the PET
   // horizon): |conflicts.csv's PET - SSM's| (s)
   std::uint64_t ssmPetEncounters = 0, conflictPets = 0;
   Agreement conflictPet{0.1};
+  std::uint64_t conflictPetOffPath = 0;  // as petOffPath, petOnPaths
+  Agreement conflictPetOnPaths{0.1};
   // 5. the conflict point (m): the box detector's episodes with a contact point; of those, the
   // rear_end ones SSM has as a following sample with a TTC at the minimum-TTC tick (the distance between
   // the points, whatever the TTCs), and of these the ones where both see the same approach, SSM's
