@@ -201,6 +201,18 @@ struct SsmValidator::Impl {
                                     [](const Rec& a, int v) { return a.vid < v; });
     return r != f.recs.end() && r->vid == it->second ? &*r : nullptr;
   }
+
+  // The evaluation's stages (SsmValidator::evaluate), each filling its part of the report.
+  using PairKey = std::pair<std::string, std::string>;
+  using SsmByPair = std::map<PairKey, std::vector<const SsmConflict*>>;
+  void followingSamples(const std::vector<SsmConflict>& ssm, ValidationReport& r) const;
+  void recall(std::size_t d, const std::vector<SsmConflict>& ssm, DetectorValidation& dv) const;
+  void precision(std::size_t d, const std::map<PairKey, std::vector<double>>& seen, DetectorValidation& dv) const;
+  void petAgreement(const std::vector<SsmConflict>& ssm, ValidationReport& r) const;
+  void conflictPetAgreement(const std::vector<SsmConflict>& ssm, ValidationReport& r) const;
+  std::pair<const SsmConflict*, std::size_t> sampleAt(const SsmByPair& byPair, const hw::Warning& w, double t) const;
+  void conflictPoints(const SsmByPair& byPair, ValidationReport& r) const;
+  void crossingPoints(const SsmByPair& byPair, ValidationReport& r) const;
 };
 
 SsmValidator::SsmValidator(const hw::RoadGeometry& road, const hw::MonitorConfig& base, double deltaT)
@@ -245,21 +257,25 @@ void SsmValidator::finish(double t) {
   impl_->takeConflicts();
 }
 
-ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflicts) const {
-  const Impl& m = *impl_;
-  ValidationReport r;
-  r.deltaT = m.dt;
-  r.ssmConflicts = conflicts.size();
+namespace {
+// "ego>foe@t", as every worst case names its sample
+std::string pairLabel(const std::string& ego, const std::string& foe, double t) {
+  std::ostringstream os;
+  os << ego << ">" << foe << "@" << t;
+  return os.str();
+}
+}  // namespace
 
+void SsmValidator::Impl::followingSamples(const std::vector<SsmConflict>& ssm, ValidationReport& r) const {
   // 1. following samples: box TTC at T + dt against SSM's TTC at T
-  for (const auto& c : conflicts) {
+  for (const auto& c : ssm) {
     for (std::size_t i = 0; i < c.times.size(); ++i) {
       if (c.types[i] != kSsmFollowingFollower || !std::isfinite(c.ttc[i])) continue;
       r.followingSamples++;
       for (int shifted = 1; shifted >= 0; --shifted) {
-        const double t = c.times[i] + (shifted ? m.dt : 0.0);
-        const auto* ego = m.find(c.ego, t);
-        const auto* foe = m.find(c.foe, t);
+        const double t = c.times[i] + (shifted ? dt : 0.0);
+        const auto* ego = find(c.ego, t);
+        const auto* foe = find(c.foe, t);
         if (!ego || !foe) continue;
         const double box = hw::boxTtc(ego->body, foe->body, hw::MotionModel::ConstantVelocity, kValidationHorizon);
         if (!std::isfinite(box)) continue;
@@ -288,157 +304,140 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
       }
     }
   }
+}
 
-  // SSM's finite-TTC sample times (our clock) per unordered pair, for precision
-  std::map<std::pair<std::string, std::string>, std::vector<double>> seen;
-  for (const auto& c : conflicts) {
-    auto& v = seen[std::minmax(c.ego, c.foe)];
-    for (std::size_t i = 0; i < c.times.size(); ++i)
-      if (std::isfinite(c.ttc[i])) v.push_back(c.times[i] + m.dt);
-  }
-  for (auto& [k, v] : seen) std::sort(v.begin(), v.end());
-
-  static const char* names[] = {"concentric", "five", "box"};
-  for (std::size_t d = 0; d < m.monitors.size(); ++d) {
-    DetectorValidation dv;
-    dv.detector = names[d];
-    // the car-car episodes of each ordered pair: (begin, end, one of SSAM's types)
-    struct Span {
-      double begin, end;
-      bool conflict;
-    };
-    std::map<std::pair<std::string, std::string>, std::vector<Span>> episodes;
-    for (const auto& w : m.warnings[d])
-      if (w.kind == hw::WarningKind::Vehicle) episodes[{w.ego, w.foe}].push_back({w.begin, w.end, hw::isSsamType(w.type)});
-
-    // 2. recall over SSM conflicts below the ego's safe time
-    for (const auto& c : conflicts) {
-      if (!c.hasMin || (c.minTtcType != kSsmFollowing && c.minTtcType != kSsmFollowingFollower &&
-                        c.minTtcType != kSsmFollowingLeader))
-        continue;
-      const double t = c.minTtcTime + m.dt;
-      const auto* ego = m.find(c.ego, t);
-      const auto* foe = m.find(c.foe, t);
-      if (!ego || !foe || !ego->equipped) continue;
-      const Vec2 p = foe->body.position - ego->body.position;
-      const Vec2 v = foe->body.velocity - ego->body.velocity;
-      const double closing = p.norm() > 0.0 ? -p.dot(v) / p.norm() : 0.0;
-      const double safe = m.base.safeTime.vehicleSafeTime(ego->mass, closing, ego->cls);
-      if (!(c.minTtc < safe)) continue;
-      dv.conflicts++;
-      bool hit = false, byConflict = false;
-      if (auto it = episodes.find({c.ego, c.foe}); it != episodes.end())
-        for (const Span& s : it->second)
-          if (s.begin <= t + 1e-6 && t <= s.end + 1e-6) {
-            hit = true;
-            byConflict = byConflict || s.conflict;
-          }
-      if (byConflict) dv.recalledByConflicts++;
-      if (hit) dv.recalled++;
-      else if (dv.missed.size() < 20) {
-        std::ostringstream os;
-        os << c.ego << ">" << c.foe << "@" << t << " ssm_ttc=" << c.minTtc << " safe=" << safe;
-        dv.missed.push_back(os.str());
-      }
-    }
-
-    // 3. precision over this detector's car-car warnings
-    for (const auto& w : m.warnings[d]) {
-      if (w.kind != hw::WarningKind::Vehicle) continue;
-      dv.warnings++;
-      bool confirmed = false;
-      if (auto it = seen.find(std::minmax(w.ego, w.foe)); it != seen.end()) {
-        const auto lo = std::lower_bound(it->second.begin(), it->second.end(), w.begin - m.dt - 1e-6);
-        confirmed = lo != it->second.end() && *lo <= w.end + m.dt + 1e-6;
-      }
-      if (confirmed) dv.confirmed++;
-      else dv.unseenByZone[static_cast<std::size_t>(w.zone)]++;
-      if (hw::isSsamType(w.type)) {
-        dv.conflictWarnings++;
-        if (confirmed) dv.conflictsConfirmed++;
-      }
-    }
-    r.detectors.push_back(std::move(dv));
-  }
-
-  // SSM's conflicts by ordered pair, and the box detector's car-car episodes
-  std::map<std::pair<std::string, std::string>, std::vector<const SsmConflict*>> byPair;
-  for (const auto& c : conflicts) byPair[{c.ego, c.foe}].push_back(&c);
-  const auto& boxWarnings = m.warnings.back();
-  auto label = [](const std::string& ego, const std::string& foe, double t) {
-    std::ostringstream os;
-    os << ego << ">" << foe << "@" << t;
-    return os.str();
+void SsmValidator::Impl::recall(std::size_t d, const std::vector<SsmConflict>& ssm, DetectorValidation& dv) const {
+  // the car-car episodes of each ordered pair: (begin, end, one of SSAM's types)
+  struct Span {
+    double begin, end;
+    bool conflict;
   };
+  std::map<PairKey, std::vector<Span>> episodes;
+  for (const auto& w : warnings[d])
+    if (w.kind == hw::WarningKind::Vehicle) episodes[{w.ego, w.foe}].push_back({w.begin, w.end, hw::isSsamType(w.type)});
+  // 2. recall over SSM conflicts below the ego's safe time
+  for (const auto& c : ssm) {
+    if (!c.hasMin || (c.minTtcType != kSsmFollowing && c.minTtcType != kSsmFollowingFollower &&
+                      c.minTtcType != kSsmFollowingLeader))
+      continue;
+    const double t = c.minTtcTime + dt;
+    const auto* ego = find(c.ego, t);
+    const auto* foe = find(c.foe, t);
+    if (!ego || !foe || !ego->equipped) continue;
+    const Vec2 p = foe->body.position - ego->body.position;
+    const Vec2 v = foe->body.velocity - ego->body.velocity;
+    const double closing = p.norm() > 0.0 ? -p.dot(v) / p.norm() : 0.0;
+    const double safe = base.safeTime.vehicleSafeTime(ego->mass, closing, ego->cls);
+    if (!(c.minTtc < safe)) continue;
+    dv.conflicts++;
+    bool hit = false, byConflict = false;
+    if (auto it = episodes.find({c.ego, c.foe}); it != episodes.end())
+      for (const Span& s : it->second)
+        if (s.begin <= t + 1e-6 && t <= s.end + 1e-6) {
+          hit = true;
+          byConflict = byConflict || s.conflict;
+        }
+    if (byConflict) dv.recalledByConflicts++;
+    if (hit) dv.recalled++;
+    else if (dv.missed.size() < 20) {
+      std::ostringstream os;
+      os << c.ego << ">" << c.foe << "@" << t << " ssm_ttc=" << c.minTtc << " safe=" << safe;
+      dv.missed.push_back(os.str());
+    }
+  }
+}
 
+void SsmValidator::Impl::precision(std::size_t d, const std::map<PairKey, std::vector<double>>& seen, DetectorValidation& dv) const {
+  // 3. precision over this detector's car-car warnings
+  for (const auto& w : warnings[d]) {
+    if (w.kind != hw::WarningKind::Vehicle) continue;
+    dv.warnings++;
+    bool confirmed = false;
+    if (auto it = seen.find(std::minmax(w.ego, w.foe)); it != seen.end()) {
+      const auto lo = std::lower_bound(it->second.begin(), it->second.end(), w.begin - dt - 1e-6);
+      confirmed = lo != it->second.end() && *lo <= w.end + dt + 1e-6;
+    }
+    if (confirmed) dv.confirmed++;
+    else dv.unseenByZone[static_cast<std::size_t>(w.zone)]++;
+    if (hw::isSsamType(w.type)) {
+      dv.conflictWarnings++;
+      if (confirmed) dv.conflictsConfirmed++;
+    }
+  }
+}
+
+void SsmValidator::Impl::petAgreement(const std::vector<SsmConflict>& ssm, ValidationReport& r) const {
   // 4. PET: each SSM PET against the box episode of the same ordered pair with a PET, overlapping
   // in time (its PET horizon included), the one beginning nearest
-  std::map<std::pair<std::string, std::string>, std::vector<const hw::Warning*>> boxPets;
-  for (const auto& w : boxWarnings)
+  std::map<PairKey, std::vector<const hw::Warning*>> boxPets;
+  for (const auto& w : warnings.back())
     if (w.kind == hw::WarningKind::Vehicle && std::isfinite(w.pet)) boxPets[{w.ego, w.foe}].push_back(&w), r.stsimPets++;
-  for (const auto& c : conflicts) {
+  for (const auto& c : ssm) {
     if (!c.hasPet) continue;
     r.ssmPets++;
     const auto it = boxPets.find({c.ego, c.foe});
     if (it == boxPets.end()) continue;
-    const double begin = c.begin + m.dt, end = c.end + m.dt;
+    const double begin = c.begin + dt, end = c.end + dt;
     const hw::Warning* best = nullptr;
     for (const hw::Warning* w : it->second) {
       if (w->begin > end + 1e-6 || w->end + hw::kPetHorizon < begin - 1e-6) continue;
       if (!best || std::abs(w->begin - begin) < std::abs(best->begin - begin)) best = w;
     }
     if (!best) continue;
-    const std::string what = label(c.ego, c.foe, c.petTime + m.dt);
+    const std::string what = pairLabel(c.ego, c.foe, c.petTime + dt);
     r.pet.add(std::abs(best->pet - c.pet), what);
     if (c.petOffPath() > kSsmPetOffPath) r.petOffPath++;
     else r.petOnPaths.add(std::abs(best->pet - c.pet), what);
   }
+}
 
+void SsmValidator::Impl::conflictPetAgreement(const std::vector<SsmConflict>& ssm, ValidationReport& r) const {
   // 4b. the analyst's PET: each SSM encounter with a PET (once per pair and PET time) against the
   // conflict of the pair in conflicts.csv whose span holds SSM's PET time, the one beginning nearest
-  std::map<std::pair<std::string, std::string>, std::vector<const hw::Conflict*>> conflictPets;
-  for (const auto& c : m.conflicts)
+  std::map<PairKey, std::vector<const hw::Conflict*>> conflictPets;
+  for (const auto& c : this->conflicts)
     if (std::isfinite(c.pet)) conflictPets[std::minmax(c.first, c.second)].push_back(&c), r.conflictPets++;
   std::set<std::pair<std::pair<std::string, std::string>, long long>> petsSeen;
-  for (const auto& c : conflicts) {
+  for (const auto& c : ssm) {
     if (!c.hasPet) continue;
     const auto pair = std::minmax(c.ego, c.foe);
-    if (!petsSeen.insert({pair, std::llround(c.petTime / m.dt)}).second) continue;
+    if (!petsSeen.insert({pair, std::llround(c.petTime / dt)}).second) continue;
     r.ssmPetEncounters++;
     const auto it = conflictPets.find(pair);
     if (it == conflictPets.end()) continue;
-    const double at = c.petTime + m.dt;
+    const double at = c.petTime + dt;
     const hw::Conflict* best = nullptr;
     for (const hw::Conflict* k : it->second) {
       if (at < k->begin - 1e-6 || at > k->end + hw::kPetHorizon + 1e-6) continue;
       if (!best || std::abs(k->begin - at) < std::abs(best->begin - at)) best = k;
     }
     if (!best) continue;
-    r.conflictPet.add(std::abs(best->pet - c.pet), label(pair.first, pair.second, at));
+    r.conflictPet.add(std::abs(best->pet - c.pet), pairLabel(pair.first, pair.second, at));
     if (c.petOffPath() > kSsmPetOffPath) r.conflictPetOffPath++;
-    else r.conflictPetOnPaths.add(std::abs(best->pet - c.pet), label(pair.first, pair.second, at));
+    else r.conflictPetOnPaths.add(std::abs(best->pet - c.pet), pairLabel(pair.first, pair.second, at));
   }
+}
 
-  // the sample of SSM's conflict of the ordered pair at our tick t (SSM's clock t - dt)
-  auto sampleAt = [&](const hw::Warning& w, double t) -> std::pair<const SsmConflict*, std::size_t> {
-    const auto it = byPair.find({w.ego, w.foe});
-    if (it != byPair.end())
-      for (const SsmConflict* c : it->second) {
-        const auto at = std::find_if(c->times.begin(), c->times.end(),
-                                     [&](double x) { return std::abs(x + m.dt - t) < 0.25 * m.dt; });
-        if (at != c->times.end()) return {c, static_cast<std::size_t>(at - c->times.begin())};
-      }
-    return {nullptr, 0};
-  };
+std::pair<const SsmConflict*, std::size_t> SsmValidator::Impl::sampleAt(const SsmByPair& byPair, const hw::Warning& w,
+                                                                        double t) const {
+  const auto it = byPair.find({w.ego, w.foe});
+  if (it != byPair.end())
+    for (const SsmConflict* c : it->second) {
+      const auto at = std::find_if(c->times.begin(), c->times.end(), [&](double x) { return std::abs(x + dt - t) < 0.25 * dt; });
+      if (at != c->times.end()) return {c, static_cast<std::size_t>(at - c->times.begin())};
+    }
+  return {nullptr, 0};
+}
 
+void SsmValidator::Impl::conflictPoints(const SsmByPair& byPair, ValidationReport& r) const {
   // 5. the conflict point at each box episode's minimum-TTC tick, SSM's moved on to the contact
-  for (const auto& w : boxWarnings) {
+  for (const auto& w : warnings.back()) {
     if (w.kind != hw::WarningKind::Vehicle || !std::isfinite(w.conflictX)) continue;
     r.pointEpisodes++;
     // SSM's following point is a rear-end geometry: the leader's back (a lane change's contact is
     // a corner on a side)
     if (w.type != hw::ConflictType::RearEnd) continue;
-    const auto [c, i] = sampleAt(w, w.minTtcTime);
+    const auto [c, i] = sampleAt(byPair, w, w.minTtcTime);
     if (!c) continue;
     const bool egoLeads = c->types[i] == kSsmFollowingLeader;
     if ((c->types[i] != kSsmFollowingFollower && !egoLeads) || !std::isfinite(c->ttc[i]) ||
@@ -448,24 +447,26 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
     if (!std::isfinite(v.x())) continue;
     const Vec2 ssm = c->conflictPoints[i] + c->ttc[i] * v;
     const Vec2 d = Vec2(w.conflictX, w.conflictY) - ssm;
-    const std::string what = label(w.ego, w.foe, w.minTtcTime);
+    const std::string what = pairLabel(w.ego, w.foe, w.minTtcTime);
     r.pointAnyTtc.add(d.norm(), what);
     if (std::abs(c->ttc[i] - w.minTtc) > r.ttc.tolerance) continue;
     r.point.add(d.norm(), what);
     r.pointUnconverted.add((Vec2(w.conflictX, w.conflictY) - c->conflictPoints[i]).norm(), what);
     // along the leader's path: its velocity's direction (its body's axis when it stands)
-    const auto* leader = m.find(egoLeads ? w.ego : w.foe, w.minTtcTime);
+    const auto* leader = find(egoLeads ? w.ego : w.foe, w.minTtcTime);
     const Vec2 axis = v.norm() > 0.0 ? Vec2(v.normalized()) : leader ? leader->body.axis : Vec2(1.0, 0.0);
     r.pointAlong.add(std::abs(d.dot(axis)), what);
   }
+}
 
+void SsmValidator::Impl::crossingPoints(const SsmByPair& byPair, ValidationReport& r) const {
   // 6. where paths cross or merge: SSM's point (the follower's entry) along the follower's path
-  for (const auto& w : boxWarnings) {
+  for (const auto& w : warnings.back()) {
     if (w.kind != hw::WarningKind::Vehicle || !std::isfinite(w.conflictX) ||
         (w.type != hw::ConflictType::LaneChange && w.type != hw::ConflictType::Crossing))
       continue;
     r.crossingEpisodes++;
-    const auto [c, i] = sampleAt(w, w.minTtcTime);
+    const auto [c, i] = sampleAt(byPair, w, w.minTtcTime);
     if (!c || !std::isfinite(c->conflictPoints[i].x())) continue;
     const int type = c->types[i];
     const bool egoLeads = type == kSsmCrossingLeader || type == kSsmMergingLeader;
@@ -473,10 +474,43 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
     const Vec2 v = egoLeads ? c->foeVelocities[i] : c->egoVelocities[i];
     if (!std::isfinite(v.x()) || v.norm() == 0.0) continue;
     const Vec2 d = Vec2(w.conflictX, w.conflictY) - c->conflictPoints[i];
-    const std::string what = label(w.ego, w.foe, w.minTtcTime);
+    const std::string what = pairLabel(w.ego, w.foe, w.minTtcTime);
     r.crossingAlong.add(std::abs(d.dot(v.normalized())), what);
     r.crossingPoint.add(d.norm(), what);
   }
+}
+
+// The stages in order: 1. following samples, 2.-3. each detector's recall and precision, 4. the
+// PETs, 5. the rear-end conflict points, 6. the crossing and merging points.
+ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflicts) const {
+  const Impl& m = *impl_;
+  ValidationReport r;
+  r.deltaT = m.dt;
+  r.ssmConflicts = conflicts.size();
+  m.followingSamples(conflicts, r);
+  // SSM's finite-TTC sample times (our clock) per unordered pair, for precision
+  std::map<Impl::PairKey, std::vector<double>> seen;
+  for (const auto& c : conflicts) {
+    auto& v = seen[std::minmax(c.ego, c.foe)];
+    for (std::size_t i = 0; i < c.times.size(); ++i)
+      if (std::isfinite(c.ttc[i])) v.push_back(c.times[i] + m.dt);
+  }
+  for (auto& [k, v] : seen) std::sort(v.begin(), v.end());
+  static const char* names[] = {"concentric", "five", "box"};
+  for (std::size_t d = 0; d < m.monitors.size(); ++d) {
+    DetectorValidation dv;
+    dv.detector = names[d];
+    m.recall(d, conflicts, dv);
+    m.precision(d, seen, dv);
+    r.detectors.push_back(std::move(dv));
+  }
+  m.petAgreement(conflicts, r);
+  m.conflictPetAgreement(conflicts, r);
+  // SSM's conflicts by ordered pair
+  Impl::SsmByPair byPair;
+  for (const auto& c : conflicts) byPair[{c.ego, c.foe}].push_back(&c);
+  m.conflictPoints(byPair, r);
+  m.crossingPoints(byPair, r);
   return r;
 }
 
