@@ -113,13 +113,17 @@ TEST(Collisions, ReadsSumosFileAndNamesWhatIsWrong) {
     return std::string();
   };
   std::string e = errorOf("cut.xml", "<collisions>\n<collision time=\"1\"\n");
-  EXPECT_NE(e.find("cut.xml:"), std::string::npos) << e;
+  EXPECT_NE(e.find("cut.xml:2: unexpected end of file inside <collision>"), std::string::npos) << e;
+  // a file SUMO did not close (killed mid-run) is not read as whole
+  e = errorOf("open.xml", "<collisions>\n<collision time=\"1\" type=\"collision\" lane=\"l\" collider=\"a\" victim=\"b\" "
+                          "colliderSpeed=\"1\" victimSpeed=\"1\"/>\n");
+  EXPECT_NE(e.find("open.xml:3: unexpected end of file: <collisions> (line 1) is not closed"), std::string::npos) << e;
   e = errorOf("noid.xml", "<collisions><collision time=\"1\" type=\"collision\" lane=\"l\" victim=\"b\" "
                           "colliderSpeed=\"1\" victimSpeed=\"1\"/></collisions>");
-  EXPECT_NE(e.find("noid.xml: a <collision> has no 'collider' attribute"), std::string::npos) << e;
+  EXPECT_NE(e.find("noid.xml:1: a <collision> has no 'collider' attribute"), std::string::npos) << e;
   e = errorOf("nan.xml", "<collisions><collision time=\"soon\" type=\"collision\" lane=\"l\" collider=\"a\" "
                          "victim=\"b\" colliderSpeed=\"1\" victimSpeed=\"1\"/></collisions>");
-  EXPECT_NE(e.find("nan.xml: <collision time=\"soon\">: not a number"), std::string::npos) << e;
+  EXPECT_NE(e.find("nan.xml:1: <collision time=\"soon\">: not a number"), std::string::npos) << e;
   e = errorOf("other.xml", "<fcd-export/>");
   EXPECT_NE(e.find("other.xml: not a SUMO collision output"), std::string::npos) << e;
   EXPECT_NE(errorOf("absent.xml", "").find("absent.xml"), std::string::npos);

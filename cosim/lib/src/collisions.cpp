@@ -1,11 +1,11 @@
 #include <stcosim/collisions.hpp>
 
-#include <boost/property_tree/ptree.hpp>
-#include <boost/property_tree/xml_parser.hpp>
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <stdexcept>
+
+#include <stio/xml.hpp>
 
 namespace st::cosim {
 
@@ -84,24 +84,18 @@ std::vector<std::string> collisionOutputArguments(const std::filesystem::path& f
 }
 
 std::vector<SumoCollision> readCollisionOutput(const std::filesystem::path& file, double stepLength) {
-  namespace pt = boost::property_tree;
-  pt::ptree tree;
-  try {
-    pt::read_xml(file.string(), tree);
-  } catch (const pt::xml_parser_error& e) {
-    throw std::runtime_error(file.string() + ":" + std::to_string(e.line()) + ": " + e.message());
-  }
+  io::XmlScanner x(file, io::raiseAs<std::runtime_error>);
+  x.requireBalanced();  // a file SUMO did not close is not read as whole
+  io::XmlScanner::Tag t;
+  if (!x.next(t) || t.closing || t.name != "collisions")
+    throw std::runtime_error(file.string() + ": not a SUMO collision output (no <collisions>)");
   std::vector<SumoCollision> out;
-  const auto root = tree.get_child_optional("collisions");
-  if (!root) throw std::runtime_error(file.string() + ": not a SUMO collision output (no <collisions>)");
-  for (const auto& entry : *root) {
-    // not a structured binding: the lambdas below capture node (clang 14 cannot)
-    const std::string& name = entry.first;
-    const pt::ptree& node = entry.second;
-    if (name != "collision") continue;
+  while (x.next(t)) {
+    if (t.closing || t.name != "collision" || x.depth() != 1) continue;
+    const std::string where = file.string() + ":" + std::to_string(t.line);
     auto attr = [&](const char* key) {
-      const auto v = node.get_optional<std::string>(std::string("<xmlattr>.") + key);
-      if (!v) throw std::runtime_error(file.string() + ": a <collision> has no '" + key + "' attribute");
+      const std::string* v = t.attr(key);
+      if (!v) throw std::runtime_error(where + ": a <collision> has no '" + key + "' attribute");
       return *v;
     };
     auto number = [&](const char* key) {
@@ -112,7 +106,7 @@ std::vector<SumoCollision> readCollisionOutput(const std::filesystem::path& file
         if (used == text.size() && std::isfinite(v)) return v;
       } catch (const std::exception&) {
       }
-      throw std::runtime_error(file.string() + ": <collision " + key + "=\"" + text + "\">: not a number");
+      throw std::runtime_error(where + ": <collision " + key + "=\"" + text + "\">: not a number");
     };
     SumoCollision c;
     // the report's step plus one (as the plugin sees it), on SUMO's clock of whole milliseconds: the
@@ -123,7 +117,7 @@ std::vector<SumoCollision> readCollisionOutput(const std::filesystem::path& file
     c.victim = attr("victim");
     c.type = attr("type");
     c.lane = attr("lane");
-    c.pos = node.get_optional<std::string>("<xmlattr>.pos") ? number("pos") : 0.0;
+    c.pos = t.attr("pos") ? number("pos") : 0.0;
     c.colliderSpeed = number("colliderSpeed");
     c.victimSpeed = number("victimSpeed");
     out.push_back(std::move(c));

@@ -6,18 +6,19 @@
 #include <sthighway/settings.hpp>
 #include <sthighway/sumo_files.hpp>
 #include <stio/input.hpp>
+#include <stio/xml.hpp>
 #include <stio/yaml.hpp>
 
-#include <boost/property_tree/ptree.hpp>
-#include <boost/property_tree/xml_parser.hpp>
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <iterator>
 #include <map>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 namespace st::cosim {
 namespace {
@@ -344,6 +345,48 @@ const std::vector<std::string>& scenarioKeys() {
   return keys;
 }
 
+namespace {
+
+// A SUMO configuration's options: <configuration><SECTION><KEY value="..."/>, in the file's
+// order. Malformed XML throws "file:line: ..." (io's XML reader).
+struct SumoOptions {
+  struct Option {
+    std::string section, key, value;
+  };
+  bool configuration = false;  // its root is <configuration>
+  std::vector<Option> options;
+  // the first value of key, in the given section or ("") in any
+  const std::string* value(std::string_view section, std::string_view key) const {
+    for (const Option& o : options)
+      if (o.key == key && (section.empty() || o.section == section)) return &o.value;
+    return nullptr;
+  }
+};
+
+SumoOptions readSumoOptions(std::string text, const fs::path& file) {
+  io::XmlScanner x(std::move(text), file.string(), io::raiseAs<ScenarioError>);
+  x.requireBalanced();
+  SumoOptions out;
+  io::XmlScanner::Tag t;
+  bool root = true;
+  while (x.next(t)) {
+    if (root) out.configuration = !t.closing && t.name == "configuration";
+    root = false;
+    if (!out.configuration || t.closing || x.depth() != 2) continue;
+    if (const std::string* v = t.attr("value")) out.options.push_back({x.openElement(1), t.name, *v});
+  }
+  return out;
+}
+
+// text that is a whole number in [0, 2^64) and nothing else
+bool wholeNumber(const std::string& text, std::uint64_t& n) {
+  const char* end = text.data() + text.size();
+  const auto [at, ec] = std::from_chars(text.data(), end, n);
+  return ec == std::errc() && at == end && !text.empty();
+}
+
+}  // namespace
+
 Scenario loadScenario(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw ScenarioError(path.string() + ": " + (ec ? ec.message() : "no such file"));
@@ -359,10 +402,12 @@ Scenario loadScenario(const fs::path& path) {
     s.passSeed = false;
     s.seed = kSumoDefaultSeed;
     try {
-      boost::property_tree::ptree pt;
-      boost::property_tree::read_xml(path.string(), pt);
-      if (auto seed = pt.get_optional<std::uint64_t>("configuration.random_number.seed.<xmlattr>.value"))
-        s.seed = *seed;
+      std::string text, error;
+      if (io::readTextFile(path, text, error)) {
+        const SumoOptions options = readSumoOptions(std::move(text), path);
+        std::uint64_t seed = 0;
+        if (const std::string* v = options.value("random_number", "seed"); v && wholeNumber(*v, seed)) s.seed = seed;
+      }
     } catch (const std::exception&) {
       // reported with its file name by checkSumoConfig
     }
@@ -405,21 +450,13 @@ SumoConfigFiles checkSumoConfig(const fs::path& sumocfg) {
   // read bounded first: /dev/zero read for ever (2.4 GB in 5 s) in Boost's reader
   std::string text, error;
   if (!io::readTextFile(sumocfg, text, error)) throw ScenarioError(error);
-  boost::property_tree::ptree pt;
-  try {
-    std::istringstream in(text);
-    boost::property_tree::read_xml(in, pt);
-  } catch (const boost::property_tree::xml_parser_error& e) {
-    throw ScenarioError(sumocfg.string() + ":" + std::to_string(e.line()) + ": malformed XML: " + e.message());
-  }
-  const auto cfg = pt.get_child_optional("configuration");
-  if (!cfg) throw ScenarioError(sumocfg.string() + ": not a SUMO configuration (no <configuration>)");
+  const SumoOptions options = readSumoOptions(std::move(text), sumocfg);
+  if (!options.configuration) throw ScenarioError(sumocfg.string() + ": not a SUMO configuration (no <configuration>)");
   const fs::path dir = sumocfg.parent_path();
   SumoConfigFiles out;
   auto value = [&](const std::string& key) -> std::optional<std::string> {
     // options may sit in any section (<input>, <time>, ...)
-    for (const auto& section : *cfg)
-      if (auto v = section.second.get_optional<std::string>(key + ".<xmlattr>.value")) return *v;
+    if (const std::string* v = options.value({}, key)) return *v;
     return std::nullopt;
   };
   auto resolve = [&](const std::string& key, const std::string& f) {
