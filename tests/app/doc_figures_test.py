@@ -56,7 +56,7 @@ COMMANDS = {
     "onramp_short": ["highway", "networks/onramp/short.yaml", "--validate-ssm", "--no-map"],
     "onramp_long": ["highway", "networks/onramp/long.yaml", "--validate-ssm", "--no-map"],
     "ramp_lanedrop": ["highway", "networks/lanedrop/scenario.yaml", "--validate-ssm", "--no-map"],
-    # the junction networks of issue 51 against SSM (their READMEs' "Against SUMO's SSM device")
+    # the junction networks against SSM (their READMEs' "Against SUMO's SSM device")
     "actuated": ["highway", "networks/actuated/scenario.yaml", "--validate-ssm", "--no-map"],
     "roundabout": ["highway", "networks/roundabout/scenario.yaml", "--validate-ssm", "--no-map"],
     "bicycles": ["highway", "networks/bicycles/scenario.yaml", "--validate-ssm", "--no-map"],

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The fault matrix (issue 35): every command run with its output on a full file system, into a
+# The fault matrix: every command run with its output on a full file system, into a
 # read-only folder, and stopped by SIGINT / SIGTERM / SIGHUP while it writes. Each must exit non-zero; on
 # a full or read-only disk its last line on stderr names the file or folder; what it wrote is
 # whole: CSV files end on a complete row, JSON files parse.

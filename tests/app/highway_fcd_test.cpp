@@ -65,7 +65,7 @@ TEST(HighwayFcd, FarOutsideTheNetworkOrTooFastIsAnInputError) {
 }
 
 TEST(HighwayFcd, AngleNegativeSpeedAndUnclosedVehiclesAreInputErrors) {
-  // issue 35: each of these exited 0 (angle 1e300 even changed the warnings)
+  // each of these is an input error, exit 1 (an angle of 1e300 would change the warnings)
   const std::string pos = "x=\"2853.97\" y=\"-9.38\" type=\"car\" lane=\"downstream_0\"";
   expectInputError(replay("angle", trace(pos + " angle=\"1e300\" speed=\"20\"")),
                    "<vehicle id=\"a\"> angle 1e+300 is not a heading (degrees, 0..360)");

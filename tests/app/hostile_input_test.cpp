@@ -1,4 +1,4 @@
-// Hostile input to the front end (issue 49), end to end: whole-file reads are bounded (a device, a
+// Hostile input to the front end, end to end: whole-file reads are bounded (a device, a
 // FIFO, a directory or an empty page is one line naming it, exit 1, at once), values no input has
 // are named by their key, outputs stay valid UTF-8 and a failed map fails the run.
 #include <gtest/gtest.h>
@@ -57,8 +57,8 @@ TEST(HostileInput, PoolServePageMustBeAPageFile) {
   }
 }
 
-// issue 49: an arm's base at 1e300 ran ("first contact at 0 s", 30 010 warnings, exit 0);
-// stopping_time 1e300 was blamed on another key
+// Arm values no workcell has (a base at 1e300, a stopping_time of 1e300 s) are refused, each
+// naming its own key
 TEST(HostileInput, ArmScenarioValuesNoWorkcellHasNameTheirKey) {
   const fs::path dir = freshDir("arm_values");
   const std::string motion = "waypoints: [{t: 0, q: [0, 0, 0, -1, 0, 1, 0]}, {t: 0.1, q: [0, 0, 0, -1, 0, 1, 0]}]";

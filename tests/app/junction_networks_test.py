@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The junction networks of issue 51 against SUMO's own record of the same run.
+"""The junction networks (actuated, bicycles) against SUMO's own record of the same run.
 
 networks/actuated: no crossing warning with a car that then stood at its red. The light's program
 is actuated, so its states come from SUMO (SaveTLSStates) rather than from the program; each car's

@@ -1,4 +1,4 @@
-// The runner's process rules (issue 49): a batch's runs die with it, on an error and on SIGKILL,
+// The runner's process rules: a batch's runs die with it, on an error and on SIGKILL,
 // and one output folder holds one batch. The runs are a stand-in script (no stsim, no SUMO).
 #include <gtest/gtest.h>
 

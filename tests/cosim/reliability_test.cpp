@@ -1,4 +1,4 @@
-// What a hostile user tried (issue 21): signals other than Ctrl-C, an output folder of an earlier
+// What a hostile user may try: signals other than Ctrl-C, an output folder of an earlier
 // run, a SUMO that cannot start, a missing or directory sumocfg, an impossible --traci port.
 #include <gtest/gtest.h>
 
@@ -85,8 +85,8 @@ TEST(HighwayReliability, SumocfgAndTraciMistakesAreNamed) {
   EXPECT_NE(r.err.find("PORT must be a whole number from 1 to 65535, got '99999'"), std::string::npos) << r.err;
 }
 
-// SUMO's "Error: A vehicle with id 'v00' already exists." named no file: one line naming the
-// route file and line, exit 1, before SUMO starts (issue 21)
+// SUMO's "Error: A vehicle with id 'v00' already exists." names no file: stsim says it in one line
+// naming the route file and line, exit 1, before SUMO starts
 TEST(HighwayReliability, ARepeatedVehicleIdNamesTheRouteFile) {
   const auto dir = freshDir("rel_dup");
   const auto ring = sourceDir() / "networks/ring";

@@ -43,9 +43,9 @@ TEST(Scenario, PlainSumocfgTakesItsSeed) {
   EXPECT_EQ(s.plugin.monitor.detector.kind, highway::DetectorKind::FiveCircle);
 }
 
-// A plain .sumocfg runs the traffic it describes: SUMO gets no --seed of stsim's (it replaced a
-// config's own seed, or SUMO's default 23423, with 42 without a word), the smart-car draw takes
-// the seed SUMO uses, and the outputs go to out/<config name>/, not the current folder (issue 34)
+// A plain .sumocfg runs the traffic it describes: SUMO gets no --seed of stsim's (which would
+// replace a config's own seed, or SUMO's default 23423, without a word), the smart-car draw takes
+// the seed SUMO uses, and the outputs go to out/<config name>/, not the current folder
 TEST(Scenario, PlainSumocfgRunsWithItsOwnSeedIntoItsOwnFolder) {
   auto hasSeed = [](const Scenario& s) {
     const auto a = sumoArguments(s);
@@ -86,7 +86,7 @@ TEST(Scenario, MissingNetworkOrRouteFileIsNamed) {
 
 // SUMO stops on these with its own words and no file (a repeated id, perhaps when the second
 // departs minutes into the run) or takes them (a mass param of NaN, which stsim met as the vehicle
-// departed): named file:line before SUMO starts (issue 21)
+// departed): named file:line before SUMO starts
 TEST(Scenario, RouteFileMistakesSumoWouldNotNameAreNamed) {
   const auto dir = freshDir("route_mistakes");
   const auto ring = sourceDir() / "networks/ring";
@@ -132,8 +132,8 @@ TEST(Scenario, RouteFileMistakesSumoWouldNotNameAreNamed) {
   EXPECT_EQ(e.find('\n'), std::string::npos) << e;
 }
 
-// A configuration or a network named as route or additional files: SUMO read no vehicle from it,
-// said nothing, and the run exited 0 with no traffic (issue 35)
+// A configuration or a network named as route or additional files: SUMO would read no vehicle
+// from it and say nothing (a run with no traffic, exit 0); it is refused naming the file
 TEST(Scenario, AConfigOrNetworkNamedAsRoutesIsRefused) {
   const auto dir = freshDir("routes_not_routes");
   const auto ring = sourceDir() / "networks/ring";
@@ -155,8 +155,8 @@ TEST(Scenario, AConfigOrNetworkNamedAsRoutesIsRefused) {
 }
 
 // The same with a configuration whose root is not <configuration>: SUMO's tools write
-// <sumoConfiguration> (and <duarouterConfiguration>, ...); `stsim highway c.sumocfg` ran 0
-// vehicles and exited 0, SUMO warning only "Found root element 'sumoConfiguration'" (issue 35)
+// <sumoConfiguration> (and <duarouterConfiguration>, ...), which SUMO takes as a route file with
+// 0 vehicles, warning only "Found root element 'sumoConfiguration'"; it is refused too
 TEST(Scenario, AConfigOfAnyRootNamedAsRoutesIsRefused) {
   const auto dir = freshDir("routes_other_config");
   const auto ring = sourceDir() / "networks/ring";
@@ -370,8 +370,8 @@ TEST(Scenario, UnknownSmartTypeFractionalIntegersAndEmptyFileAreNamed) {
 namespace st::cosim {
 namespace {
 
-// issue 49: `sumocfg: /dev/zero` was read for ever (2.4 GB in 5 s, SIGINT ignored); a FIFO waited
-// for a writer. Each is one line naming the file, at once.
+// `sumocfg: /dev/zero` (a device with no end) and a FIFO (which waits for a writer) as the
+// configuration or a route file: each is one line naming the file, at once.
 TEST(Scenario, ASumocfgThatIsNoFileIsRefusedAtOnce) {
   const auto dir = freshDir("sumocfg_device");
   ASSERT_EQ(::mkfifo((dir / "fifo.sumocfg").c_str(), 0644), 0);
@@ -389,7 +389,8 @@ TEST(Scenario, ASumocfgThatIsNoFileIsRefusedAtOnce) {
             (dir / "r.sumocfg").string() + ": route-files: " + (dir / "fifo.sumocfg").string() + ": is a FIFO, not a file");
 }
 
-// issue 49: `sumo_args: ["--remote-port", "47555"]` made embedded SUMO wait for a client for ever
+// sumo_args that cannot work in a run stsim drives (`--remote-port` would make embedded SUMO wait
+// for a client for ever, `-c` replace the configuration, ...) are refused naming the argument
 TEST(Scenario, SumoArgsThatCannotWorkInARunAreNamed) {
   const auto dir = freshDir("sumo_args_refused");
   const std::string cfg = (sourceDir() / "networks/ring/ring.sumocfg").string();

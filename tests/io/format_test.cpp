@@ -148,7 +148,7 @@ namespace {
 
 using namespace st::io;
 
-// issue 49: one UTF-8 policy for every output: invalid bytes become U+FFFD, valid UTF-8 stays
+// One UTF-8 policy for every output: invalid bytes become U+FFFD, valid UTF-8 stays
 TEST(IoUtf8, InvalidBytesBecomeTheReplacementCharacterEverywhere) {
   const std::string fffd = "\xEF\xBF\xBD";
   EXPECT_TRUE(validUtf8("caf\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x8E\xB1"));
@@ -171,7 +171,7 @@ TEST(IoUtf8, InvalidBytesBecomeTheReplacementCharacterEverywhere) {
   EXPECT_EQ(printable("red\x1b[31m\x07\x7f name"), "red\\x1b[31m\\x07\\x7f name");
 }
 
-// issue 49: ids beginning =, +, -, @ were written raw (spreadsheet formula injection)
+// Ids beginning =, +, -, @ get a leading apostrophe (no spreadsheet formula injection) and read back
 TEST(IoCsv, FormulaLikeFieldsAreNeutralisedAndReadBack) {
   EXPECT_EQ(csvField("=HYPERLINK(\"http://x\")"), "\"'=HYPERLINK(\"\"http://x\"\")\"");
   EXPECT_EQ(csvField("+cmd"), "'+cmd");

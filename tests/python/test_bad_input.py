@@ -102,7 +102,7 @@ def test_bad_network():
         stsim.Monitor("x.net.xml", lanes=[])
 
 
-# issue 49: the CLI refuses these in a trace; Monitor.step took them
+# Monitor.step refuses what the CLI refuses in a trace, in the same words
 @pytest.mark.parametrize("key,value,message", [
     ("x", 1e300, r"vehicle 0 \('a'\): position \(1e\+300, 0\) is farther than 1e\+07 m from the origin"),
     ("speed", -5.0, r"vehicle 0 \('a'\): speed -5 m/s is negative"),

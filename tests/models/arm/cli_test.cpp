@@ -173,9 +173,8 @@ TEST(ArmCli, ImplausibleJointRateNamesTheTraceLine) {
   expectBadInput("rate", "1.201,left,0,0,0,-1,0,1,0,0,0,0,0,0,0,1e300", "joint 7 rate 1e+300 rad/s is beyond its limit");
 }
 
-// A NUL byte in a trace line was read as the end of its number (the reading accepted); a device
-// of NULs without a newline (/dev/zero) was read into one line for ever: `stsim arm` with
-// `trace: /dev/zero` and `arm stream /dev/zero` hung and grew (issue 35)
+// A NUL byte in a trace line, and a line over 64 KiB (a device of NULs without a newline, such as
+// /dev/zero, as `trace:` or to `arm stream`), are refused naming the trace line, at once
 TEST(ArmCli, ANulByteOrAnEndlessLineInATraceNamesTheTraceLine) {
   expectBadInput("nul", std::string("1.201,left,0,-0.7") + '\0' + ",0,-2.3,0,1.5,0.7,0,0,0,0,0,0,0",
                  "a NUL byte: not a sensor trace");
@@ -269,8 +268,7 @@ int signalLongRun(int sig, const fs::path& d) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 1000 + WTERMSIG(status);
 }
 
-// Ctrl-C (and SIGTERM, SIGHUP) stop at a whole cycle: whole rows, a summary, 128 + signal
-// (issue 21: arm died on Ctrl-C with no summary)
+// Each output on a full disk: one line naming the file, exit 1
 TEST(ArmCli, AFullDiskIsAnErrorNamingTheFile) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
   const fs::path d = tempDir("full");
@@ -341,6 +339,7 @@ TEST(ArmCli, OutOfRangeServiceOptionsAreRefusedNamingTheOption) {
   fs::remove_all(d);
 }
 
+// Ctrl-C (and SIGTERM, SIGHUP) stop at a whole cycle: whole rows, a summary, 128 + signal
 TEST(ArmCli, SignalsStopAtAWholeCycleWithASummary) {
   for (const auto& [sig, code] : {std::pair{SIGINT, 130}, std::pair{SIGTERM, 143}, std::pair{SIGHUP, 129}}) {
     const fs::path d = tempDir("signal" + std::to_string(sig));

@@ -88,13 +88,14 @@ TEST(Scenario, ErrorsNameFileLineAndKey) {
   const std::string arm = "arms:\n  - {name: a, model: panda, waypoints: [{t: 0, q: [0, 0, 0, -1, 0, 1, 0]}]}\n";
   expectError("repeated_key.yaml", arm + "safety: {cycle_time: 0.001, cycle_time: 0.01}\n",
               ":3: safety.cycle_time: repeated key (first given at line 3)");
-  // issue 21: yaml-cpp's "invalid node" named nothing; 1e300 and 1e-12 ran for minutes
+  // a missing key is named (not yaml-cpp's "invalid node"); a horizon of 1e300 and a cycle of
+  // 1e-12 are refused at once
   expectError("only_name.yaml", "name: x\n", ":1: arms: missing key");
   expectError("huge_horizon.yaml", arm + "safety: {horizon: 1e300}\n", ":3: safety.horizon: 1e+300 s is more than the 60 s look-ahead limit");
   expectError("tiny_cycle.yaml", arm + "safety: {cycle_time: 1e-12}\nduration: 10\n",
               ":3: safety.cycle_time: the waypoints' 10 s would take more than 1e7 cycles");
-  // issue 35: 1e300 blamed the cycle time in a 300-digit number; 1e300 m of separation ran
-  // with 1.3 M warnings; two obstacles of one name were taken
+  // a duration of 1e300 is named as the duration; 1e300 m of separation and two obstacles of one
+  // name are refused
   expectError("long_duration.yaml", arm + "duration: 1e300\n",
               ":3: duration: 1e+300 s would take more than 1e7 cycles at the cycle time of 0.001 s");
   expectError("huge_separation.yaml", arm + "safety: {min_separation: 1e300}\n",
@@ -242,8 +243,8 @@ TEST(Scenario, TimeGoingBackwardsNamesTheTraceLine) {
 }
 
 
-// One arm, one time, one state (issue 21: two conflicting readings were taken silently, the later
-// winning): a second line that differs names both lines; the same line repeated is read once.
+// One arm, one time, one state: a second line that differs names both lines (neither is taken
+// silently); the same line repeated is read once.
 TEST(Scenario, ConflictingReadingsOfOneArmAtOneTimeNameBothLines) {
   const fs::path csv =
       write("conflict.csv", "t,arm,q1,qd1\n0.0,a,0.1,0\n0.0,a,0.1,0\n0.001,a,0.1,0\n# c\n0.001,a,0.2,0\n");

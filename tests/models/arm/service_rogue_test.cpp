@@ -1,4 +1,4 @@
-// Rogue clients against the arm service's sensor model (issue 49): a sensor replays the
+// Rogue clients against the arm service's sensor model: a sensor replays the
 // two-Panda open-loop contact (the hands touching, t = 1.290-1.310 s), which its own readings
 // make STOP for both arms; other clients, in any order and timing, send what they like. No
 // reading of theirs may turn one of those STOPs into OK.

@@ -986,7 +986,7 @@ TEST(ArmService, ObstaclePosesMoveTheObstacle) {
   expectError(p.c, "unknown obstacle id 9");
 }
 
-// Fault tests (issue 35): a sensor's clock far ahead or behind, a sensor that falls silent, a
+// Fault tests: a sensor's clock far ahead or behind, a sensor that falls silent, a
 // flood of connections that never say HELLO. Each: a colliding pose still gets STOP at once, a
 // real sensor can still connect.
 

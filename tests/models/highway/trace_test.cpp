@@ -195,7 +195,8 @@ std::string oneVehicle(const std::string& attrs, const std::string& time = "0") 
   return "<fcd-export>\n<timestep time=\"" + time + "\">\n<vehicle " + attrs + "/>\n</timestep>\n</fcd-export>\n";
 }
 
-// issue 49: each of these was accepted
+// Trace values SUMO never writes (a time beyond any run's or not finite, a negative angle, an
+// empty id, an attribute twice, a hex float, an unclosed trace) are refused naming the line
 TEST(SumoFiles, TraceValuesSumoNeverWritesAreRefused) {
   const std::string rest = "x=\"1\" y=\"0\" angle=\"90\" speed=\"1\"";
   EXPECT_EQ(traceError("ok", oneVehicle("id=\"a\" " + rest)), "");
@@ -225,7 +226,7 @@ TEST(SumoFiles, ATraceLaneMissingFromItsNetworkIsRefused) {
             "3: <vehicle id=\"a\"> lane 'e_0' is not in empty.net.xml");
 }
 
-// issue 49: a network's lanes at 1e300, given twice or 1e9 m wide were accepted
+// A network's lane at 1e300, given twice or 1e9 m wide is refused naming the line
 TEST(SumoFiles, NetworkValuesNoNetworkHasAreRefused) {
   auto netError = [](const std::string& name, const std::string& lanes) {
     const fs::path p = writeTemp(name + ".net.xml", "<net>\n<edge id=\"e\">\n" + lanes + "</edge>\n</net>\n");

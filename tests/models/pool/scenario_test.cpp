@@ -135,7 +135,7 @@ shots: [{ball: 0, speed: 1}]
 }
 
 TEST(Scenario, AbsurdFrictionAndTableSizesAreNamedAsThemselves) {
-  // issue 35: friction 1e308 was blamed on until (the event limit); a 1e300 m table on the rack
+  // each is named as its own key (not as until, the event limit, nor as the rack's overlap)
   EXPECT_EQ(errorOf(std::string(kGood) + "friction: 1e308\n"),
             "s.yaml:7:11: friction: 1e+308 m/s^2 is more than any cloth's rolling resistance (at most 100 m/s^2)");
   EXPECT_EQ(errorOf("table: {width: 1e300, height: 1.27}\nrack: {kind: standard}\n"),
@@ -340,10 +340,9 @@ TEST(PoolCommand, OverridesAreCheckedAsTheirYamlKeys) {
   EXPECT_NE(seven.out.find("space tree df=7"), std::string::npos) << seven.out;
 }
 
-// box100 with --until 1e12 wrote a 269 MB events.csv (2 000 000 rows) before the library's bound
-// stopped it, with "until: stopped after ..." naming no file (issue 35). The run stops at
-// --max-events (200 000 unless raised): the error names events.csv and the option, exit 1, and
-// the rows written are whole.
+// box100 with --until 1e12 would run to the library's bound (2 000 000 events, a 269 MB
+// events.csv). The run stops at --max-events (200 000 unless raised): the error names events.csv
+// and the option, exit 1, and the rows written are whole.
 TEST(PoolCommand, ARunawayTimeLimitStopsAtTheEventLimitNamingTheFile) {
   const std::string box = std::string(STSIM_SOURCE_DIR) + "/models/pool/scenarios/box100.yaml";
   auto lastLine = [](const std::string& out) {
@@ -417,7 +416,7 @@ shots:
 namespace st::pool {
 namespace {
 
-// issue 49: angle 1e308 was blamed on the speed; a second document after --- was ignored
+// An angle of 1e308 is named as the angle (not the speed); a second document after --- is refused
 TEST(Scenario, AnAbsurdAngleAndASecondDocumentAreNamed) {
   std::string shot = kGood;
   shot.replace(shot.find("angle: 0"), 8, "angle: 1e308");
