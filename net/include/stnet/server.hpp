@@ -29,7 +29,7 @@ struct ServerConfig {
   std::string fullMessage;
   std::chrono::milliseconds frameTimeout{2000};  // first byte of a frame to its last
   std::chrono::milliseconds idleTimeout{0};      // no byte for this long closes (0: never)
-  bool handleSignals = true;                     // SIGINT / SIGTERM stop the server
+  bool handleSignals = true;                     // SIGINT / SIGTERM / SIGHUP stop the server
 };
 
 using ConnectionId = std::uint64_t;

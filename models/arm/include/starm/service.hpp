@@ -80,7 +80,7 @@ class ArmService final : public net::Handler {
   ~ArmService() override;
 
   std::uint16_t port() const { return server_.port(); }
-  // Serves until stop() or SIGINT / SIGTERM; returns the signal (0 if none). Logs flushed.
+  // Serves until stop() or SIGINT / SIGTERM / SIGHUP; returns the signal (0 if none). Logs flushed.
   int run();
   void stop();  // from the service's thread; from another: post it to the io_context
   const ServiceCounters& counters() const { return counters_; }

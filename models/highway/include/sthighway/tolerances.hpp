@@ -67,7 +67,8 @@ inline constexpr double kSkipRange = 1e3;
 inline constexpr double kSkipRadius = 100.0;
 inline constexpr double kSkipSpeed = 1e-6;
 
-// The cells broad phase puts each cell's compact cars in a bin of their own (monitor.cpp): a
+// The cells broad phase puts each cell's compact cars in a bin of their own (the vehicle table
+// marks each car wide or compact, vehicle_table.cpp; cell_pair_search.cpp bins them): a
 // brake ratio m / (2 F_brake) at most kCompactBrakeRatio (s per m/s; a 1.5 t car on 12 kN is
 // 0.0625, a 15 t truck on 75 kN 0.1), an envelope extent at most kCompactExtent (m; a 5 x 1.8 m
 // car's outer circle is 2.7, a 12 m truck's 6.1) and a lateral speed at most kCompactLateralSpeed
