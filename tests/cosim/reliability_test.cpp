@@ -31,7 +31,7 @@ int stopRingWith(int sig, const fs::path& dir) {
 }
 
 TEST(HighwayReliability, SigtermAndSighupStopLikeCtrlC) {
-  // 143 is 128 + SIGTERM (was 130, Ctrl-C's); a closed terminal (SIGHUP) cut a row in half
+  // 143 is 128 + SIGTERM (not 130, Ctrl-C's); a closed terminal (SIGHUP) stops at a whole row too, 129
   EXPECT_EQ(stopRingWith(SIGTERM, freshDir("rel_term")), 143);
   EXPECT_EQ(stopRingWith(SIGHUP, freshDir("rel_hup")), 129);
 }
