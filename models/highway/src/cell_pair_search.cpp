@@ -45,9 +45,9 @@ struct BinStats {
   Vec2 vmin = Vec2::Zero(), vmax = Vec2::Zero();
   double amax = 0.0, envMax = 0.0;
   Vec2 extMax = Vec2::Zero();
-  double kMax = 0.0;          // largest m / (2 F_brake) of its equipped cars (s per m/s)
-  double kLight = 0.0;        // the largest below kMax (0 if none): the lighter cars' own list
-  double kAll = 0.0;          // largest m / (2 F_brake) of all its cars, equipped or not
+  double ratioMax = 0.0;      // largest brake ratio m / (2 F_brake) of its equipped cars (s per m/s)
+  double ratioLight = 0.0;    // the largest below ratioMax (0 if none): the lighter cars' own list
+  double ratioAll = 0.0;      // largest brake ratio of all its cars, equipped or not
   Aabb<2> centres{Vec2::Zero(), Vec2::Zero()};
   int count = 0;
   int equipped = 0;
@@ -55,12 +55,12 @@ struct BinStats {
   bool stopping = false;      // a member brakes to a stop line
   int axis = 0;               // the long axis of its members' centres
 
-  // an equipped car's brake ratio into kMax and kLight, without a branch (the trucks come in no
-  // order): kLight stays the largest ratio below kMax
+  // an equipped car's brake ratio into ratioMax and ratioLight, without a branch (the trucks come
+  // in no order): ratioLight stays the largest ratio below ratioMax
   void takeRatio(double k) {
-    const double lo = std::min(k, kMax), hi = std::max(k, kMax);
-    kLight = lo < hi ? std::max(kLight, lo) : kLight;
-    kMax = hi;
+    const double lo = std::min(k, ratioMax), hi = std::max(k, ratioMax);
+    ratioLight = lo < hi ? std::max(ratioLight, lo) : ratioLight;
+    ratioMax = hi;
   }
   // takes in another bin's cars (the bounds as if they had been taken one by one)
   void absorb(const BinStats& o) {
@@ -76,10 +76,10 @@ struct BinStats {
     amax = std::max(amax, o.amax);
     envMax = std::max(envMax, o.envMax);
     extMax = extMax.cwiseMax(o.extMax);
-    kAll = std::max(kAll, o.kAll);
+    ratioAll = std::max(ratioAll, o.ratioAll);
     // the two largest distinct ratios of the union are among each side's two (0: none)
-    takeRatio(o.kMax);
-    takeRatio(o.kLight);
+    takeRatio(o.ratioMax);
+    takeRatio(o.ratioLight);
     count += o.count;
     equipped += o.equipped;
   }
@@ -208,7 +208,7 @@ class CellPairSearch final : public PairSearch {
   // cell's bin only the divided ones (neighbours_); the undivided ones are in nearBins_, their
   // pairs walked once.
   std::vector<std::vector<Neighbour>> neighbours_;
-  std::vector<std::vector<Neighbour>> neighboursLight_;  // for the cars with k <= the bin's kLight
+  std::vector<std::vector<Neighbour>> neighboursLight_;  // for the cars with k <= the bin's ratioLight
   std::vector<std::vector<int>> nearBins_;
   std::vector<IndexVisit> cellsVisits_;  // per bin: the network index's cells near it
 
@@ -271,7 +271,7 @@ void CellPairSearch::placeCars() {
     c.amax = std::max(c.amax, t.accelAbs[s]);
     c.envMax = std::max(c.envMax, t.env[s]);
     c.extMax = c.extMax.cwiseMax(t.ext[s]);
-    c.kAll = std::max(c.kAll, t.brakeRatio[s]);
+    c.ratioAll = std::max(c.ratioAll, t.brakeRatio[s]);
     if (t.equipped[s]) {
       ++c.equipped;
       c.takeRatio(t.brakeRatio[s]);
@@ -299,7 +299,7 @@ void CellPairSearch::placeCars() {
   groups_.resize(nb);
   for (int b = 0; b < nb; ++b) {
     const BinStats& c = binStats_[b];
-    groups_[b] = {c.centres, c.vmin, c.vmax, c.amax, c.envMax, c.kMax, c.equipped, c.stopping};
+    groups_[b] = {c.centres, c.vmin, c.vmax, c.amax, c.envMax, c.ratioMax, c.equipped, c.stopping};
   }
 }
 
@@ -396,20 +396,20 @@ void CellPairSearch::buildNeighbourLists() {
     // differs from the symmetric box's, and nothing depends on it (the episode book orders
     // threats totally).
     const Vec2 upG = (vHi - ca.vmin).cwiseMax(0.0), downG = (ca.vmax - vLo).cwiseMax(0.0);
-    const Reach g = reachOf(test_.reactionTime(), ca.kMax, upG, downG, ca.extMax + globalExtMax_,
+    const Reach g = reachOf(test_.reactionTime(), ca.ratioMax, upG, downG, ca.extMax + globalExtMax_,
                             accel ? ca.amax + globalAmax_ : 0.0, 3 * tol::kPruneSlop);
     const Aabb<2> box{ca.centres.min - g.behind, ca.centres.max + g.ahead};
     for (int cellB : cachedVisit(cells_->networkIndex(), box, cellsVisits_[A]))
       for (int B = 2 * cellB; B < 2 * cellB + 2; ++B) {
         const BinStats& cb = binStats_[B];
         if (cb.count == 0 || !box.overlaps(cb.centres)) continue;
-        // the reach grows with the brake ratio k: with kMax for every car of A, with kLight for
-        // the cars at or below it (the list they walk is then a subsequence of the full one)
+        // the reach grows with the brake ratio k: with ratioMax for every car of A, with ratioLight
+        // for the cars at or below it (the list they walk is then a subsequence of the full one)
         auto reaches = [&](double k) {
           const Reach r = binReach(ca, cb, k, accel, 2 * tol::kPruneSlop);
           return Aabb<2>{ca.centres.min - r.behind, ca.centres.max + r.ahead}.overlaps(cb.centres);
         };
-        if (!reaches(ca.kMax)) continue;
+        if (!reaches(ca.ratioMax)) continue;
         if (!ca.divided && !cb.divided) {
           nearBins_[A].push_back(B);  // its pairs are walked once
           continue;
@@ -417,7 +417,7 @@ void CellPairSearch::buildNeighbourLists() {
         const Neighbour entry{cb.vmin, cb.vmax, cb.extMax, cb.centres, cb.amax, memberStart_[B], memberStart_[B + 1], B,
                            cb.axis, cb.divided};
         neighbours_[A].push_back(entry);
-        if (ca.kLight > 0.0 && reaches(ca.kLight)) neighboursLight_[A].push_back(entry);
+        if (ca.ratioLight > 0.0 && reaches(ca.ratioLight)) neighboursLight_[A].push_back(entry);
       }
   }
 }
@@ -468,7 +468,7 @@ void CellPairSearch::findPairsOnceFor() {
       // the cars of A whose reach box (walkPairsOnce's) may meet B's centres: a run along A's
       // sorted axis; the rest are skipped without computing their reach
       // (named copies, not a structured binding: the lambdas below capture them, which clang 14 refuses)
-      const Reach reach = binReach(ca, cb, std::max(ca.kAll, cb.kMax), kAccel, tol::kPruneSlop);
+      const Reach reach = binReach(ca, cb, std::max(ca.ratioAll, cb.ratioMax), kAccel, tol::kPruneSlop);
       const Vec2 behind = reach.behind, ahead = reach.ahead;
       const int a = ca.axis, o = 1 - a;
       // (each test is monotone along the sorted keys: a binary search for where it turns)
@@ -500,7 +500,7 @@ template <bool kAccel, bool kOwn>
   const Vec2 pe = mv.pos[ie], ve = mv.vel[ie], exe = mv.ext[ie];
   const double accE = kAccel ? mv.acc[ie] : 0.0;
   const double tr = test_.reactionTime();
-  const Aabb<2> cb = reachBoxOf<kAccel>(tr, pe, ve, exe, accE, std::max(kE, c.kMax), c.vmin, c.vmax, c.extMax, c.amax);
+  const Aabb<2> cb = reachBoxOf<kAccel>(tr, pe, ve, exe, accE, std::max(kE, c.ratioMax), c.vmin, c.vmax, c.extMax, c.amax);
   if (!kOwn && !c.centres.overlaps(cb)) return;
   const int end = memberStart_[B + 1];
   const int i = kOwn ? from : partitionPoint(from, end, [&](int m) { return mv.key[m] < cb.min[c.axis]; });
@@ -552,7 +552,7 @@ void CellPairSearch::searchFor(int e, std::vector<Threat>& out) {
   const double accE = kAccel ? t.accelAbs[e] : 0.0;
   const double tr = test_.reactionTime(), k = t.brakeRatio[e];
   const int own = binOf_[e];
-  for (const Neighbour& c : k <= binStats_[own].kLight ? neighboursLight_[own] : neighbours_[own]) {
+  for (const Neighbour& c : k <= binStats_[own].ratioLight ? neighboursLight_[own] : neighbours_[own]) {
     const Aabb<2> cb = reachBoxOf<kAccel>(tr, pe, ve, exe, t.accelAbs[e], k, c.vmin, c.vmax, c.extMax, c.amax);
     // the reach bounds foe centres: skip a bin none of whose members' centres is inside
     if (!c.centres.overlaps(cb)) continue;

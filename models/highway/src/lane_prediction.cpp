@@ -435,15 +435,15 @@ void LanePrediction::update(double t) {
   for (int s : c.arrived) frame_[s] = LaneFrame{};
   // the longest safe time any pair can ask of a car: tr + k (|v_e| + |v_f|) at the largest k and
   // speed this tick (a closing speed is at most the relative speed)
-  double kMax = 0.0, vMax = 0.0;
+  double ratioMax = 0.0, vMax = 0.0;
   for (int s : c.active) {
-    kMax = std::max(kMax, c.brakeRatio[s]);
+    ratioMax = std::max(ratioMax, c.brakeRatio[s]);
     vMax = std::max(vMax, c.vel[s].norm());
   }
   const double tr = std::max(cfg_->safeTime.vehicleReactionTime, cfg_->safeTime.roadReactionTime);
   pieces_.clear();
   for (int s : c.active) {
-    horizon_[s] = SafeTimeConfig::safeTimeBound(tr, kMax, c.vel[s].norm() + vMax) * (1.0 + 1e-9) + 1e-9;
+    horizon_[s] = SafeTimeConfig::safeTimeBound(tr, ratioMax, c.vel[s].norm() + vMax) * (1.0 + 1e-9) + 1e-9;
     predict(s, t);
   }
 }

@@ -20,7 +20,7 @@ struct CarGroup {
   Aabb<2> centres{Vec2::Zero(), Vec2::Zero()};
   Vec2 vmin = Vec2::Zero(), vmax = Vec2::Zero();
   double amax = 0.0, envMax = 0.0;
-  double kMax = 0.0;  // largest m / (2 F_brake) of its equipped cars
+  double ratioMax = 0.0;  // largest m / (2 F_brake) of its equipped cars
   int equipped = 0;
   bool stopping = false;  // a car of it brakes to a stop line (its acceleration counts then)
 };

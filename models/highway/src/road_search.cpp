@@ -136,7 +136,7 @@ void RoadSearch::prepare(std::span<const CarGroup> groups) {
     roadFound_.clear();
     const Vec2 va = ca.vmin.cwiseAbs().cwiseMax(ca.vmax.cwiseAbs());
     const double speed = va.norm();
-    const double h = SafeTimeConfig::safeTimeBound(cfg_->safeTime.roadReactionTime, ca.kMax, speed);
+    const double h = SafeTimeConfig::safeTimeBound(cfg_->safeTime.roadReactionTime, ca.ratioMax, speed);
     // a car braking to its stop line keeps its lateral speed while the speed along it falls: its
     // motion turns, under either motion model
     const double am = accel || ca.stopping ? ca.amax : 0.0;
