@@ -87,33 +87,39 @@ void writeTextFile(const std::filesystem::path& path, std::string_view text) {
   writeTextFile(path, [&](std::ostream& os) { os << text; });
 }
 
-void writeRowsFile(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
+namespace {
+
+// Half a JSON document is no document: none is left rather than a cut one.
+void removeCutFile(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(path, ec)) std::filesystem::remove(path, ec);
+}
+
+// Writes `path` through `write` and flushes it. On a failed write what is still buffered cannot
+// reach the file either: the stream is closed, `cut` handed what the file holds (to trim or
+// remove it), and the failure thrown naming `path`.
+void writeChecked(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write,
+                  void (*cut)(const std::filesystem::path&)) {
   const std::filesystem::path to = target(path);
   std::ofstream out(to, std::ios::binary | std::ios::trunc);
   if (!out) throw std::runtime_error("cannot write " + path.string());
   write(out);
   out.flush();
   if (!out) {
-    // what is still buffered cannot reach the file either; then the cut row goes
     out.close();
-    trimToLastLine(to);
+    cut(to);
     throw std::runtime_error("write failed: " + path.string());
   }
 }
 
+}  // namespace
+
+void writeRowsFile(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
+  writeChecked(path, write, trimToLastLine);  // the cut row goes
+}
+
 void writeTextFile(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write) {
-  const std::filesystem::path to = target(path);
-  std::ofstream out(to, std::ios::binary | std::ios::trunc);
-  if (!out) throw std::runtime_error("cannot write " + path.string());
-  write(out);
-  out.flush();
-  if (!out) {
-    // half a JSON document is no document: none is left rather than a cut one
-    out.close();
-    std::error_code ec;
-    if (std::filesystem::is_regular_file(to, ec)) std::filesystem::remove(to, ec);
-    throw std::runtime_error("write failed: " + path.string());
-  }
+  writeChecked(path, write, removeCutFile);
 }
 
 void copyFile(const std::filesystem::path& from, const std::filesystem::path& to) {
