@@ -61,6 +61,17 @@ LABEL_PATTERNS = [
     (r"^rate\.per_vehicle_km\.all$", "conflicts (all types)", "per vehicle-km"),
     (r"^rate\.per_hour\.all$", "conflicts (all types)", "per hour"),
     (r"^rate\.per_entering_vehicle\.all$", "conflicts (all types)", "per entering vehicle"),
+    (r"^rate\.per_vehicle_km\.with_bicycle\.all$", "conflicts with a bicycle (all types)", "per vehicle-km"),
+    (r"^rate\.per_hour\.with_bicycle\.all$", "conflicts with a bicycle (all types)", "per hour"),
+    (r"^rate\.per_entering_vehicle\.with_bicycle\.all$", "conflicts with a bicycle (all types)", "per entering vehicle"),
+    (r"^rate\.per_vehicle_km\.with_bicycle\.(\w+)$", r"\1 conflicts with a bicycle", "per vehicle-km"),
+    (r"^rate\.per_hour\.with_bicycle\.(\w+)$", r"\1 conflicts with a bicycle", "per hour"),
+    (r"^rate\.per_entering_vehicle\.with_bicycle\.(\w+)$", r"\1 conflicts with a bicycle", "per entering vehicle"),
+    (r"^counted\.with_bicycle\.all$", "conflicts with a bicycle after the warm-up (all types)", "per run"),
+    (r"^counted\.with_bicycle\.(\w+)$", r"\1 conflicts with a bicycle after the warm-up", "per run"),
+    (r"^conflicts\.with_bicycle\.count$", "conflicts with a bicycle", "per run"),
+    (r"^conflicts\.with_bicycle\.between_bicycles$", "conflicts between two bicycles", "per run"),
+    (r"^conflicts\.with_bicycle\.by_type\.(\w+)$", r"\1 conflicts with a bicycle", "per run"),
     (r"^rate\.per_vehicle_km\.(\w+)$", r"\1 conflicts", "per vehicle-km"),
     (r"^rate\.per_hour\.(\w+)$", r"\1 conflicts", "per hour"),
     (r"^rate\.per_entering_vehicle\.(\w+)$", r"\1 conflicts", "per entering vehicle"),
@@ -247,10 +258,12 @@ class Batch:
         self.headline_name = report.get("headline", "conflicts_per_vehicle_km")
         family = HEADLINES.get(self.headline_name, "per_vehicle_km")
         # the study's headline (highway runs with conflicts.csv): one rate by SSAM type, and all
-        # types; the pedestrian's only where a run counted one (a motorway study has no persons)
+        # types; the pedestrian's only where a run counted one (a motorway study has no persons), the
+        # conflicts with a bicycle (all types) likewise; all types last, the headline
         def counted(t):
-            return t != "pedestrian" or any((num(r.get("counted.%s.mean" % t)) or 0) > 0 for r in self.summary)
-        self.headline_types = ["rate.%s.%s" % (family, t) for t in TYPES + ["all"]
+            return t not in ("pedestrian", "with_bicycle.all") or \
+                any((num(r.get("counted.%s.mean" % t)) or 0) > 0 for r in self.summary)
+        self.headline_types = ["rate.%s.%s" % (family, t) for t in TYPES + ["with_bicycle.all", "all"]
                                if "rate.%s.%s" % (family, t) in self.metrics and counted(t)]
         self.headline = find_col(self.metrics, r"per_vehicle_km.*total|total.*per_vehicle_km", r"per_vehicle_km",
                                  r"collision_checks$", r"warnings") or (self.metrics[0] if self.metrics else None)

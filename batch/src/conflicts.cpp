@@ -73,6 +73,8 @@ RunConflicts readRunConflicts(const fs::path& file, double warmup) {
   if (warmup > 0.0 && begin < 0)
     throw std::runtime_error(file.string() + ": no begin column, so warmup cannot be applied");
   RunConflicts run;
+  const int firstClass = csv.find("first_class"), secondClass = csv.find("second_class");
+  run.classes = firstClass >= 0 && secondClass >= 0;
   std::vector<std::size_t> at;
   for (const char* m : kConflictMeasures)
     if (const int c = csv.find(m); c >= 0) run.measures.emplace_back(m), at.push_back(static_cast<std::size_t>(c));
@@ -81,7 +83,10 @@ RunConflicts readRunConflicts(const fs::path& file, double warmup) {
     if (std::find(std::begin(kConflictTypes), std::end(kConflictTypes), kind) == std::end(kConflictTypes)) continue;
     // the warm-up: an encounter that began before it is the warm-up's, left out whole
     if (warmup > 0.0 && !(csv.number(i, static_cast<std::size_t>(begin)) >= warmup)) continue;
-    RunConflicts::Row r{kind, {}};
+    RunConflicts::Row r{kind, {}, false};
+    if (run.classes)
+      r.withBicycle = csv.rows[i][static_cast<std::size_t>(firstClass)] == "bicycle" ||
+                      csv.rows[i][static_cast<std::size_t>(secondClass)] == "bicycle";
     for (std::size_t c : at) {
       const double v = csv.number(i, c);
       r.values.push_back(std::isfinite(v) ? v : std::nan(""));

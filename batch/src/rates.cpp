@@ -71,6 +71,14 @@ void addRates(const Experiment& e, std::vector<RunResult>& results, const fs::pa
     std::map<std::string, double> counted{{"all", 0.0}};
     for (const char* t : kConflictTypes) counted[t] = 0.0;
     for (const auto& row : conflicts.rows) counted[row.type] += 1.0, counted["all"] += 1.0;
+    // the conflicts with a bicycle (car-bicycle and bicycle-bicycle) apart, under with_bicycle.<type>;
+    // unknown (NaN, an empty cell) for a file without the classes
+    const std::string bike = "with_bicycle.";
+    const double none = conflicts.classes ? 0.0 : std::numeric_limits<double>::quiet_NaN();
+    counted[bike + "all"] = none;
+    for (const char* t : kConflictTypes) counted[bike + t] = none;
+    for (const auto& row : conflicts.rows)
+      if (row.withBicycle) counted[bike + row.type] += 1.0, counted[bike + "all"] += 1.0;
     auto rate = [](double n, double exposure) {
       return exposure > 0.0 ? n / exposure : std::numeric_limits<double>::quiet_NaN();
     };
@@ -79,6 +87,9 @@ void addRates(const Experiment& e, std::vector<RunResult>& results, const fs::pa
     r.metrics.emplace_back("exposure.entering_vehicles", x.enteringVehicles);
     std::vector<std::string> types{"all"};
     types.insert(types.end(), std::begin(kConflictTypes), std::end(kConflictTypes));
+    // each family: every type, then the same with a bicycle (counted.all ... counted.with_bicycle.pedestrian)
+    const std::size_t n = types.size();
+    for (std::size_t i = 0; i < n; ++i) types.push_back(bike + types[i]);
     for (const auto& t : types) r.metrics.emplace_back("counted." + t, counted[t]);
     for (const auto& t : types) r.metrics.emplace_back("rate.per_vehicle_km." + t, rate(counted[t], x.vehicleKm));
     for (const auto& t : types) r.metrics.emplace_back("rate.per_hour." + t, rate(counted[t], x.hours));

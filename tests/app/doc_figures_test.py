@@ -422,6 +422,10 @@ def network_figures(r):
              % (cp["matched"], within(cp["within_tolerance"]),
                 "" if not cp["matched"] else " (mean %.2f m, largest %.2f m)" % (cp["mean_abs_error_m"], cp["max_abs_error_m"]))),
         ]
+        if name == "bicycles":  # the conflicts with a bicycle, counted apart
+            b = c["with_bicycle"]
+            out.append((readme, "%d of the %d conflicts have a bicycle in them (%s), %d of them between two bicycles"
+                        % (b["count"], c["count"], types(b["by_type"]), b["between_bicycles"])))
     return out
 
 

@@ -8,7 +8,9 @@ when warned that stood still on that link's approach lane within 8 s while the l
 yellow was predicted through its red.
 
 networks/bicycles: bicycles keep their class and their vType's body (1.75 m x 0.7 m, neither
-SUMO's nor stsim's default) in conflicts.csv.
+SUMO's nor stsim's default) in conflicts.csv; and summary.json's conflicts.with_bicycle, and the
+console's "with a bicycle" count, equal a recount of conflicts.csv's rows whose vehicles the route
+file makes bicycles (a flow of a vType of vClass bicycle: its vehicles are "<flow>.<n>").
 
   usage: junction_networks_test.py STSIM SOURCE_DIR
 Needs SUMO (two live runs, about 10 s).
@@ -16,6 +18,7 @@ Needs SUMO (two live runs, about 10 s).
 import bisect
 import collections
 import csv
+import json
 import os
 import shutil
 import subprocess
@@ -37,6 +40,8 @@ def run(stsim, src, work, net, extra_sumo):
                        cwd=d, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=300)
     if p.returncode != 0:
         sys.exit("FAIL stsim highway %s: exit %d\n%s" % (net, p.returncode, p.stderr))
+    with open(os.path.join(d, "stdout.txt"), "w") as f:
+        f.write(p.stdout)
     return d
 
 
@@ -114,6 +119,39 @@ def bicycles(stsim, src, work):
                         fails.append("bicycles: %s in conflict at %s is %s, not (bicycle, 1.75, 0.7)" % (r[side], r["begin"], got))
     if n < 10:
         fails.append("bicycles: only %d bicycles in conflicts.csv, too few to check" % n)
+    return fails + bicycle_counts(src, d)
+
+
+def bicycle_counts(src, d):
+    """summary.json's conflicts.with_bicycle against a recount of conflicts.csv by the route file's
+    bicycle flows (not by the class columns stsim wrote)."""
+    routes = ET.parse(os.path.join(src, "networks/bicycles/bicycles.rou.xml")).getroot()
+    bike_types = {t.get("id") for t in routes.iter("vType") if t.get("vClass") == "bicycle"}
+    bike_flows = {f.get("id") for f in routes.iter("flow") if f.get("type") in bike_types}
+    def bike(vehicle):
+        return vehicle.rsplit(".", 1)[0] in bike_flows
+    types = ["rear_end", "lane_change", "crossing", "pedestrian"]
+    by_type, between = collections.Counter({t: 0 for t in types}), 0
+    with open(os.path.join(d, "out", "conflicts.csv"), newline="") as f:
+        for r in csv.DictReader(f):
+            if bike(r["first"]) or bike(r["second"]):
+                by_type[r["type"]] += 1
+                between += bike(r["first"]) and bike(r["second"])
+    want = {"count": sum(by_type.values()), "between_bicycles": between, "by_type": dict(by_type)}
+    with open(os.path.join(d, "out", "summary.json")) as f:
+        got = json.load(f)["conflicts"].get("with_bicycle")
+    fails = []
+    if got != want:
+        fails.append("bicycles: summary.json's conflicts.with_bicycle %s, a recount of conflicts.csv %s" % (got, want))
+    # the recount is not vacuous: car-bicycle and bicycle-bicycle conflicts both
+    if want["count"] - between < 3 or between < 3:
+        fails.append("bicycles: %d conflicts with a bicycle, %d between two: too few to check" % (want["count"], between))
+    with open(os.path.join(d, "stdout.txt")) as f:
+        out = f.read()
+    line = "with a bicycle %d: %s, between two bicycles %d" % (
+        want["count"], ", ".join("%s %d" % (t, by_type[t]) for t in types), between)
+    if line not in out:
+        fails.append("bicycles: the console does not say %r:\n%s" % (line, out))
     return fails
 
 

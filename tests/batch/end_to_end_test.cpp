@@ -459,6 +459,67 @@ TEST(BatchEndToEnd, WarmupLeavesWarningsAndEventsOutOfHindsight) {
   EXPECT_EQ(std::stod(cell(runsCsv, "after_warmup.hindsight.crossings.events")), crossings);
 }
 
+// networks/bicycles in a batch with a warm-up: each run's counted.with_bicycle.<type> equals a recount
+// of its conflicts.csv (the rows of a conflict type begun at or after the warm-up with a bicycle
+// either side), its rate is that over the exposure, and summary.json's whole-run
+// conflicts.with_bicycle reaches runs.csv flattened, equal to the recount without the warm-up.
+TEST(BatchEndToEnd, BicycleConflictsAreCountedApartInTheTables) {
+  const auto dir = freshDir("bicycles");
+  const fs::path file = dir / "experiment.yaml";
+  const double warmup = 60.0;
+  std::ofstream(file) << "name: bikes\ncommand: highway\nbase: " << STSIM_SOURCE_DIR
+                      << "/networks/bicycles/scenario.yaml\nfixed:\n  end: 300\nwarmup: 60\nseeds: 2\n";
+  std::string err;
+  ASSERT_EQ(runStsim({"batch", file.string(), "--out", (dir / "out").string(), "--no-plots"}, dir, &err), 0) << err;
+  auto rows = [&](const fs::path& csv) {
+    std::vector<std::vector<std::string>> t;
+    std::istringstream in(slurp(csv));
+    for (std::string line; std::getline(in, line);) {
+      std::vector<std::string> cells;
+      std::istringstream ls(line);
+      for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+      if (!line.empty() && line.back() == ',') cells.emplace_back();
+      t.push_back(cells);
+    }
+    return t;
+  };
+  auto cell = [](const std::vector<std::vector<std::string>>& t, const std::string& name, std::size_t row = 1) {
+    const auto at = std::find(t[0].begin(), t[0].end(), name);
+    EXPECT_NE(at, t[0].end()) << name;
+    return at == t[0].end() ? std::string() : t[row][static_cast<std::size_t>(at - t[0].begin())];
+  };
+  const auto runsCsv = rows(dir / "out/runs.csv");
+  ASSERT_EQ(runsCsv.size(), 3u);
+  const std::vector<std::string> types{"rear_end", "lane_change", "crossing", "pedestrian"};
+  double bikesAfter = 0, bikesWhole = 0, all = 0;
+  for (std::size_t r = 1; r < runsCsv.size(); ++r) {
+    const auto conflicts = rows(dir / "out/runs" / cell(runsCsv, "run_id", r) / "conflicts.csv");
+    std::map<std::string, double> after, whole;
+    for (std::size_t i = 1; i < conflicts.size(); ++i) {
+      const std::string type = cell(conflicts, "type", i);
+      if (std::find(types.begin(), types.end(), type) == types.end()) continue;
+      if (cell(conflicts, "first_class", i) != "bicycle" && cell(conflicts, "second_class", i) != "bicycle") continue;
+      whole[type] += 1, whole["all"] += 1;
+      if (std::stod(cell(conflicts, "begin", i)) >= warmup) after[type] += 1, after["all"] += 1;
+    }
+    const double km = std::stod(cell(runsCsv, "exposure.vehicle_km", r));
+    for (const std::string& t : {std::string("all"), types[0], types[1], types[2], types[3]}) {
+      EXPECT_EQ(std::stod(cell(runsCsv, "counted.with_bicycle." + t, r)), after[t]) << "run " << r << " " << t;
+      EXPECT_NEAR(std::stod(cell(runsCsv, "rate.per_vehicle_km.with_bicycle." + t, r)), after[t] / km, 1e-9) << t;
+    }
+    EXPECT_EQ(std::stod(cell(runsCsv, "conflicts.with_bicycle.count", r)), whole["all"]) << "run " << r;
+    for (const std::string& t : types)
+      EXPECT_EQ(std::stod(cell(runsCsv, "conflicts.with_bicycle.by_type." + t, r)), whole[t]) << "run " << r << " " << t;
+    EXPECT_LE(after["all"], std::stod(cell(runsCsv, "counted.all", r)));
+    bikesAfter += after["all"], bikesWhole += whole["all"], all += std::stod(cell(runsCsv, "counted.all", r));
+  }
+  EXPECT_GT(bikesAfter, 0.0);        // not vacuous: bicycle conflicts after the warm-up
+  EXPECT_LT(bikesAfter, bikesWhole);  // and the warm-up leaves some out
+  // summary.csv: the mean over the two seeds
+  const auto summary = rows(dir / "out/summary.csv");
+  EXPECT_NEAR(std::stod(cell(summary, "counted.with_bicycle.all.mean")), bikesAfter / 2.0, 1e-9);
+}
+
 // validate_ssm: the runs' agreement with SUMO's SSM device reaches runs.csv as ssm.* columns, the
 // same numbers as each run's validation.json.
 TEST(BatchEndToEnd, ResumingIntoAnotherExperimentsFolderIsRefused) {

@@ -461,6 +461,75 @@ TEST(BatchTables, StudyRatesHonourTheWarmupAndMatchHandWorkedIntervals) {
   fs::remove_all(dir);
 }
 
+// The conflicts with a bicycle, counted apart (counted.with_bicycle.<type>, its rates) from the
+// class columns of conflicts.csv after the warm-up, beside the unchanged counts of every type. Worked
+// out by hand: after the 100 s warm-up, 4 conflicts of the SSAM types, 3 with a bicycle (2 rear-end,
+// 1 crossing; one of them between two bicycles); 10 - 2 = 8 vehicle-km. A file without the class
+// columns cannot tell: its with_bicycle cells are empty, its other counts as before.
+TEST(BatchTables, BicycleConflictsAreCountedApartAfterTheWarmup) {
+  Experiment e;
+  e.command = "highway";
+  e.warmup = 100.0;
+  e.sweep = {{"design", {"base"}}};
+  e.seeds = {1, 2};
+  const std::vector<RunSpec> specs = expandRuns(e);
+  ASSERT_EQ(specs.size(), 2u);
+  const fs::path dir = fs::temp_directory_path() / ("stsim_bicycle_rates_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  std::vector<RunResult> results;
+  for (const RunSpec& s : specs) {
+    const fs::path run = dir / "runs" / s.id;
+    fs::create_directories(run);
+    std::ofstream(run / "result.yaml") << "status: done\nerror: \"\"\nwall_seconds: 1\n";
+    std::ofstream(run / "summary.json") << "{\"vehicle_km\": 10, \"vehicles\": 50, \"simulated_s\": 400}\n";
+    std::ofstream(run / "exposure.csv") << "time,vehicle_km,vehicles\n0,0,0\n100,2,10\n400,10,50\n";
+    std::ofstream c(run / "conflicts.csv");
+    if (s.seed == 1) {
+      c << "first,second,type,begin,min_ttc,first_class,second_class\n";
+      c << "a,b1,rear_end,99.9,0.5,passenger,bicycle\n";  // the warm-up's: counted nowhere
+      c << "b2,b3,rear_end,150,0.9,bicycle,bicycle\n";
+      c << "c,b4,crossing,160,1.1,passenger,bicycle\n";
+      c << "t,d,crossing,170,1.2,truck,passenger\n";  // no bicycle
+      c << "b5,e,rear_end,180,1.3,bicycle,truck\n";
+      c << "b6,f,proximity,200,0.3,bicycle,passenger\n";  // not a conflict type
+    } else {
+      c << "first,second,type,begin,min_ttc\n";  // no class columns
+      c << "a,b,rear_end,150,0.9\n";
+    }
+    c.close();
+    results.push_back(loadRunResult(dir, s));
+    ASSERT_EQ(results.back().status, RunStatus::Done) << results.back().error;
+  }
+  writeTables(e, results, dir);
+  const auto runs = readCsv(dir / "runs.csv");
+  ASSERT_EQ(runs.size(), 3u);
+  auto at = [&](std::size_t row, const std::string& name) {
+    for (std::size_t i = 0; i < runs[0].size(); ++i)
+      if (runs[0][i] == name) return runs[row][i];
+    ADD_FAILURE() << "no column " << name;
+    return std::string("?");
+  };
+  // every type as before
+  EXPECT_EQ(at(1, "counted.all"), "4");
+  EXPECT_EQ(at(1, "counted.rear_end"), "2");
+  EXPECT_EQ(at(1, "counted.crossing"), "2");
+  // with a bicycle, apart
+  EXPECT_EQ(at(1, "counted.with_bicycle.all"), "3");
+  EXPECT_EQ(at(1, "counted.with_bicycle.rear_end"), "2");
+  EXPECT_EQ(at(1, "counted.with_bicycle.crossing"), "1");
+  EXPECT_EQ(at(1, "counted.with_bicycle.lane_change"), "0");
+  EXPECT_EQ(at(1, "counted.with_bicycle.pedestrian"), "0");
+  EXPECT_DOUBLE_EQ(std::stod(at(1, "rate.per_vehicle_km.with_bicycle.all")), 3.0 / 8.0);
+  EXPECT_DOUBLE_EQ(std::stod(at(1, "rate.per_vehicle_km.with_bicycle.rear_end")), 2.0 / 8.0);
+  EXPECT_NEAR(std::stod(at(1, "rate.per_hour.with_bicycle.crossing")), 1.0 / (300.0 / 3600.0), 1e-9);
+  EXPECT_DOUBLE_EQ(std::stod(at(1, "rate.per_entering_vehicle.with_bicycle.all")), 3.0 / 40.0);
+  // no classes: unknown, not 0
+  EXPECT_EQ(at(2, "counted.all"), "1");
+  EXPECT_EQ(at(2, "counted.with_bicycle.all"), "");
+  EXPECT_EQ(at(2, "rate.per_vehicle_km.with_bicycle.all"), "");
+  fs::remove_all(dir);
+}
+
 // A done highway run's folder as the batch leaves it: result.yaml, summary.json and conflicts.csv.
 fs::path doneRun(const fs::path& dir, const RunSpec& spec, const std::string& conflicts) {
   const fs::path run = dir / "runs" / spec.id;

@@ -23,9 +23,13 @@ inline constexpr const char* kConflictTypes[] = {"rear_end", "lane_change", "cro
 // finite).
 struct RunConflicts {
   std::vector<std::string> measures;  // of kConflictMeasures, those the file's header names
+  // the file names the road users' classes (first_class, second_class: every stsim conflicts.csv);
+  // without them no row is known to have a bicycle in it
+  bool classes = false;
   struct Row {
     std::string type;
     std::vector<double> values;  // by `measures`
+    bool withBicycle = false;    // either road user's class is `bicycle`
   };
   std::vector<Row> rows;
 };

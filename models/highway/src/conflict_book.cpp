@@ -283,6 +283,9 @@ void ConflictBook::settle(Conflict&& k, double pet) {
   }
   ++counters_->conflictsByType[static_cast<int>(k.type)];
   if (!k.junction.empty()) ++counters_->conflictsByJunction[k.junction][static_cast<int>(k.type)];
+  const bool firstBicycle = k.firstClass == VehicleClass::Bicycle, secondBicycle = k.secondClass == VehicleClass::Bicycle;
+  if (firstBicycle || secondBicycle) ++counters_->conflictsWithBicycle[static_cast<int>(k.type)];
+  if (firstBicycle && secondBicycle) ++counters_->conflictsBetweenBicycles;
   counters_->conflictTet += k.tet;
   counters_->conflictTit += k.tit;
   settled_.push_back(std::move(k));

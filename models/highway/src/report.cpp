@@ -151,12 +151,35 @@ std::uint64_t conflictCount(const MonitorCounters& c) {
   return n;
 }
 
+std::uint64_t conflictsWithBicycle(const MonitorCounters& c) {
+  std::uint64_t n = 0;
+  for (auto k : c.conflictsWithBicycle) n += k;
+  return n;
+}
+
 std::string conflictCountText(const MonitorCounters& c) {
   std::string s = std::to_string(conflictCount(c)) + " (";
   for (ConflictType t : kConflictTypes)
     s += std::string(t == ConflictType::RearEnd ? "" : ", ") + toString(t) + " " +
          std::to_string(c.conflictsByType[static_cast<int>(t)]);
+  // the bicycles' share, only when there is one (a run without bicycles reads as before)
+  if (const std::uint64_t bikes = conflictsWithBicycle(c)) {
+    s += "; with a bicycle " + std::to_string(bikes) + ":";
+    for (ConflictType t : kConflictTypes)
+      s += std::string(t == ConflictType::RearEnd ? " " : ", ") + toString(t) + " " +
+           std::to_string(c.conflictsWithBicycle[static_cast<int>(t)]);
+    s += ", between two bicycles " + std::to_string(c.conflictsBetweenBicycles);
+  }
   return s + ")";
+}
+
+// the conflicts with a bicycle: their count, those between two bicycles, by type
+JsonText withBicycleJson(const MonitorCounters& c) {
+  JsonText j;
+  j << "{\"count\": " << conflictsWithBicycle(c) << ", \"between_bicycles\": " << c.conflictsBetweenBicycles
+    << ", \"by_type\": " << byEnum(std::span<const ConflictType>(kConflictTypes), [&](int k) { return c.conflictsWithBicycle[k]; })
+    << "}";
+  return j;
 }
 
 // the conflicts' count per junction (each type and all), and the count outside junctions
@@ -190,6 +213,7 @@ std::string conflictsJson(const MonitorCounters& c, const ConflictConfig& config
     << ",\n    \"per_vehicle_km_by_type\": "
     << byEnum(types, [&](int k) { return perKm(c.conflictsByType[k], km); })
     << ",\n    \"by_junction\": " << junctionsJson(c, n);
+  j << ",\n    \"with_bicycle\": " << withBicycleJson(c);
   j << ",\n    \"tet_s\": " << c.conflictTet << ", \"tit_s2\": " << c.conflictTit
     << ", \"over_max_pet\": " << c.conflictsOverMaxPet << "}";
   return j.str();

@@ -231,6 +231,30 @@ TEST(ConflictRecord, ZonesOccupiedOnACollisionCourseKeepTheirSsamType) {
   EXPECT_EQ(find(ws3, "follower", WarningKind::Vehicle)->type, ConflictType::Proximity);
 }
 
+// summary.json's conflicts.with_bicycle and the console's count: the counters as they are, and a
+// run with no conflict with a bicycle reads as before (no "with a bicycle" on the console).
+TEST(ConflictRecord, BicycleConflictsCountApartInSummaryAndConsole) {
+  MonitorCounters c;
+  c.conflictsByType[static_cast<int>(ConflictType::RearEnd)] = 5;
+  c.conflictsByType[static_cast<int>(ConflictType::Crossing)] = 2;
+  EXPECT_EQ(conflictCountText(c), "7 (rear_end 5, lane_change 0, crossing 2, pedestrian 0)");
+  EXPECT_NE(conflictsJson(c, ConflictConfig{}).find("\"with_bicycle\": {\"count\": 0, \"between_bicycles\": 0, "
+                                                    "\"by_type\": {\"rear_end\": 0, \"lane_change\": 0, \"crossing\": 0, "
+                                                    "\"pedestrian\": 0}}"),
+            std::string::npos);
+  c.conflictsWithBicycle[static_cast<int>(ConflictType::RearEnd)] = 3;
+  c.conflictsWithBicycle[static_cast<int>(ConflictType::Crossing)] = 1;
+  c.conflictsBetweenBicycles = 2;
+  EXPECT_EQ(conflictsWithBicycle(c), 4u);
+  EXPECT_EQ(conflictCountText(c), "7 (rear_end 5, lane_change 0, crossing 2, pedestrian 0; with a bicycle 4: rear_end 3, "
+                                  "lane_change 0, crossing 1, pedestrian 0, between two bicycles 2)");
+  const std::string json = conflictsJson(c, ConflictConfig{});
+  EXPECT_NE(json.find("\"with_bicycle\": {\"count\": 4, \"between_bicycles\": 2, \"by_type\": {\"rear_end\": 3, "
+                      "\"lane_change\": 0, \"crossing\": 1, \"pedestrian\": 0}}"),
+            std::string::npos)
+      << json;
+}
+
 TEST(ConflictRecord, ProximityCountsApartFromTheSsamTypes) {
   HighwayMonitor m(threeLaneRoad(2.5), fiveConfig());
   VehicleState ego = car("ego", Vec2(0.0, 0.0), 0.0, 25.0), other = car("other", Vec2(0.0, 2.5), 0.0, 25.0);

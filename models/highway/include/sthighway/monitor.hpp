@@ -270,6 +270,10 @@ struct MonitorCounters {
   std::array<std::uint64_t, kConflictTypeCount> conflictsByType{};
   // ... by the junction they were in (Conflict::junction), junctions with none left out
   std::map<std::string, std::array<std::uint64_t, kConflictTypeCount>> conflictsByJunction;
+  // ... of those with a bicycle (either road user of class Bicycle: car-bicycle and
+  // bicycle-bicycle), by type, and of them those between two bicycles
+  std::array<std::uint64_t, kConflictTypeCount> conflictsWithBicycle{};
+  std::uint64_t conflictsBetweenBicycles = 0;
   double conflictTet = 0.0;
   double conflictTit = 0.0;
   std::uint64_t conflictsOverMaxPet = 0;

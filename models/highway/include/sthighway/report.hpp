@@ -85,12 +85,15 @@ std::string hindsightJson(const MonitorCounters& counters, const HindsightConfig
 // p90 (null for none)}.
 std::string eventRecallJson(std::uint64_t events, std::uint64_t warned, const std::vector<double>& leads);
 
-// summary.json's "conflicts": the conflicts of conflicts.csv (count, by type, per vehicle-km), the
-// thresholds TTC* and PET*, TET and TIT against TTC*, those left out by PET*.
+// summary.json's "conflicts": the conflicts of conflicts.csv (count, by type, per vehicle-km, by
+// junction, with a bicycle), the thresholds TTC* and PET*, TET and TIT against TTC*, those left out by PET*.
 std::string conflictsJson(const MonitorCounters& counters, const ConflictConfig& config);
 // The conflicts counted (every type).
 std::uint64_t conflictCount(const MonitorCounters& counters);
-// "N (rear_end N, lane_change N, crossing N)" for a printed summary.
+// The conflicts counted with a bicycle in them (car-bicycle and bicycle-bicycle, every type).
+std::uint64_t conflictsWithBicycle(const MonitorCounters& counters);
+// "N (rear_end N, lane_change N, crossing N, pedestrian N)" for a printed summary, followed, when
+// any conflict has a bicycle in it, by "; with a bicycle N: rear_end N, ..., between two bicycles N".
 std::string conflictCountText(const MonitorCounters& counters);
 
 // summary.json: vehicles, vehicle_km, warnings (total, by kind, by zone, conflicts (SSAM's types), by conflict
