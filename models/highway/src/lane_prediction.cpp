@@ -663,7 +663,7 @@ void LanePrediction::predict(int slot, double t) {
     // a body on a bend's chord is laid again every quarter of its length until it is square to
     // the lane (its heading turns as its back and front follow the bend); one square to it, once
     // its front is a quarter length past the segment's end, if the line bends there
-    double subEnd = chorded ? S + 0.5 * half : segEnd - 0.75 * half;
+    double subEnd = chorded ? S + std::min(0.5 * half, tol::kChordRelay) : segEnd - 0.75 * half;
     Vec2 unusedCentre, unusedAxis;
     if (!chorded && subEnd > S && !onChord(subEnd, q + ((subEnd - S) * cl.scale) * dir, dir, unusedCentre, unusedAxis))
       subEnd = segEnd;

@@ -97,5 +97,10 @@ inline constexpr double kBackOffLine = 0.25;
 // kMergeBend is laid square to the lane (lane_prediction.cpp; m: a 12 m truck on a motorway's
 // polyline joints of hundredths of a degree sits 2e-3 m inside, on a 5.6 m corner metres).
 inline constexpr double kChordOffset = 0.02;
+// ... and a body on a chord is laid again every kChordRelay of its path at most (m): between two
+// lays it moves in a straight line along the lane at its centre while its front follows the bend
+// (a 10 m truck leaving a roundabout by a 7 m exit, laid every quarter length, 2.2 m, had its
+// front corner 0.9 m off its path, in the entry lane beside it).
+inline constexpr double kChordRelay = 1.0;
 
 }  // namespace st::highway::tol
