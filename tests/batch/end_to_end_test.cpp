@@ -5,7 +5,6 @@
 
 #include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -22,86 +21,27 @@
 #include <thread>
 #include <vector>
 
+#include "files.hpp"
+#include "process.hpp"
 #include "svg_markers.hpp"
-
-extern char** environ;
 
 namespace st::batch {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path freshDir(const std::string& name) {
-  const auto d = fs::temp_directory_path() / ("stsim_batch_e2e_" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+fs::path freshDir(const std::string& name) { return st::test::freshDir("batch_e2e", name); }
+using st::test::slurp;
 
 // A child process in its own process group (so the whole batch, runs included, can be killed),
 // output to files in `dir`.
-class Process {
- public:
-  Process(std::vector<std::string> argv, const fs::path& dir, const std::vector<std::string>& extraEnv = {}) {
-    std::vector<char*> c;
-    for (auto& a : argv) c.push_back(a.data());
-    c.push_back(nullptr);
-    // the environment, each of extraEnv's variables replacing one of the same name
-    std::vector<std::string> envStore;
-    auto name = [](const std::string& e) { return e.substr(0, e.find('=')); };
-    for (char** e = environ; *e; ++e)
-      if (std::none_of(extraEnv.begin(), extraEnv.end(), [&](const std::string& x) { return name(x) == name(*e); }))
-        envStore.emplace_back(*e);
-    envStore.insert(envStore.end(), extraEnv.begin(), extraEnv.end());
-    std::vector<char*> env;
-    for (auto& e : envStore) env.push_back(e.data());
-    env.push_back(nullptr);
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    const std::string out = (dir / "stdout.txt").string(), err = (dir / "stderr.txt").string();
-    posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawnattr_t attr;
-    posix_spawnattr_init(&attr);
-    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
-    posix_spawnattr_setpgroup(&attr, 0);
-    if (posix_spawnp(&pid_, c[0], &fa, &attr, c.data(), env.data()) != 0) pid_ = -1;
-    posix_spawnattr_destroy(&attr);
-    posix_spawn_file_actions_destroy(&fa);
-    err_ = dir / "stderr.txt";
-  }
-  ~Process() {
-    if (pid_ > 0) {
-      ::kill(-pid_, SIGKILL);
-      ::waitpid(pid_, nullptr, 0);
-    }
-  }
-  void killGroup() { ::kill(-pid_, SIGKILL); }
-  void signal(int sig) { ::kill(pid_, sig); }  // the process alone, not its group
-  int wait() {
-    int status = 0;
-    ::waitpid(pid_, &status, 0);
-    pid_ = -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  }
-  std::string err() const { return slurp(err_); }
-
- private:
-  pid_t pid_ = -1;
-  fs::path err_;
-};
+using st::test::Process;
+const Process::Options kOwnGroup{{}, true};
 
 int runStsim(const std::vector<std::string>& args, const fs::path& logDir, std::string* err = nullptr) {
   std::vector<std::string> argv{STSIM_BINARY};
   argv.insert(argv.end(), args.begin(), args.end());
-  Process p(argv, logDir);
+  Process p(argv, logDir, kOwnGroup);
   const int code = p.wait();
   if (err) *err = p.err();
   return code;
@@ -187,7 +127,7 @@ TEST(BatchEndToEnd, JobsShardsAndMpiGiveTheSameRuns) {
   if (const char* asan = std::getenv("ASAN_OPTIONS"))
     mpiEnv.push_back(std::string("ASAN_OPTIONS=") + asan + ":fast_unwind_on_malloc=0");
   Process mpi({"mpirun", "-np", "2", STSIM_BINARY, "batch", exp, "--mpi", "--out", (dir / "mpi").string(), "--no-plots"},
-              dir, mpiEnv);
+              dir, {mpiEnv, true});
   ASSERT_EQ(mpi.wait(), 0) << mpi.err();
   EXPECT_EQ(tableWithoutTimings(dir / "mpi/runs.csv"), reference);
   EXPECT_EQ(tableWithoutTimings(dir / "mpi/summary.csv"), summaryRef);
@@ -200,7 +140,7 @@ TEST(BatchEndToEnd, KilledBatchResumesWithoutRedoingRuns) {
   const fs::path out = dir / "out";
   std::map<std::string, fs::file_time_type> finished;
   {
-    Process batch({STSIM_BINARY, "batch", exp, "--out", out.string(), "--jobs", "1", "--no-plots"}, dir);
+    Process batch({STSIM_BINARY, "batch", exp, "--out", out.string(), "--jobs", "1", "--no-plots"}, dir, kOwnGroup);
     // kill the whole process group (batch and its current run) once two runs have finished
     for (int i = 0; i < 600; ++i) {
       int done = 0;
@@ -646,7 +586,7 @@ TEST(BatchEndToEnd, SigtermToTheBatchAloneStopsItsRuns) {
   std::ofstream(file) << "name: long\nbase: " << STSIM_SOURCE_DIR
                       << "/networks/ring/scenario.yaml\nsweep:\n  detector: [five]\nfixed:\n  end: 36000\nseeds: 1\n";
   const fs::path out = dir / "out";
-  Process batch({STSIM_BINARY, "batch", file.string(), "--out", out.string(), "--jobs", "1", "--no-plots"}, dir);
+  Process batch({STSIM_BINARY, "batch", file.string(), "--out", out.string(), "--jobs", "1", "--no-plots"}, dir, kOwnGroup);
   // wait until the run has started writing (its .tmp folder has a warnings.csv)
   const auto giveUp = std::chrono::steady_clock::now() + std::chrono::minutes(2);
   bool started = false;

@@ -14,18 +14,15 @@
 #include <stdexcept>
 #include <thread>
 
+#include "files.hpp"
+
 namespace st::batch {
 namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("stsim_batch_runner_" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path freshDir(const std::string& name) { return st::test::freshDir("batch_runner", name); }
 
 // An experiment of two runs whose "stsim" is `script` (called as: script COMMAND SCENARIO --out DIR).
 struct Batch {

@@ -1,9 +1,5 @@
 #pragma once
 // Helpers for the cosim tests: run the stsim binary, read its outputs.
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -20,7 +16,8 @@
 
 #include <sthighway/report.hpp>
 
-extern char** environ;
+#include "files.hpp"
+#include "process.hpp"
 
 namespace st::cosim::test {
 
@@ -28,19 +25,9 @@ inline std::filesystem::path sourceDir() { return STSIM_SOURCE_DIR; }
 inline std::filesystem::path motorway() { return sourceDir() / "networks/motorway/scenario.yaml"; }
 
 // A fresh directory under the build's temp area.
-inline std::filesystem::path freshDir(const std::string& name) {
-  const auto d = std::filesystem::temp_directory_path() / ("stsim_cosim_test_" + std::to_string(::getpid())) / name;
-  std::filesystem::remove_all(d);
-  std::filesystem::create_directories(d);
-  return d;
-}
+inline std::filesystem::path freshDir(const std::string& name) { return st::test::freshDir("cosim_test", name); }
 
-inline std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using st::test::slurp;
 
 inline std::vector<std::string> lines(const std::string& s) {
   std::vector<std::string> out;
@@ -74,59 +61,20 @@ inline std::string jsonString(const std::string& json, const std::string& key) {
 }
 
 // stsim started as a child process; stdout/stderr go to files in `dir`.
-class StsimProcess {
+class StsimProcess : public st::test::Process {
  public:
   // `launcher` runs stsim (e.g. {"xvfb-run", "-a"}), found on PATH.
   StsimProcess(const std::vector<std::string>& args, const std::filesystem::path& dir,
                const std::vector<std::string>& launcher = {})
-      : dir_(dir) {
+      : Process(argvOf(args, launcher), dir) {}
+
+ private:
+  static std::vector<std::string> argvOf(const std::vector<std::string>& args, const std::vector<std::string>& launcher) {
     std::vector<std::string> argv = launcher;
     argv.push_back(STSIM_BINARY);
     argv.insert(argv.end(), args.begin(), args.end());
-    std::vector<char*> c;
-    for (auto& a : argv) c.push_back(a.data());
-    c.push_back(nullptr);
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    const std::string out = (dir / "stdout.txt").string(), err = (dir / "stderr.txt").string();
-    posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (posix_spawnp(&pid_, c[0], &fa, nullptr, c.data(), environ) != 0) pid_ = -1;
-    posix_spawn_file_actions_destroy(&fa);
+    return argv;
   }
-  ~StsimProcess() {
-    if (pid_ > 0) {
-      ::kill(pid_, SIGKILL);
-      ::waitpid(pid_, nullptr, 0);
-    }
-  }
-  pid_t pid() const { return pid_; }
-  void signal(int sig) { ::kill(pid_, sig); }
-  // Exit code, or 128 + signal.
-  int wait() {
-    if (pid_ > 0) {
-      int status = 0;
-      ::waitpid(pid_, &status, 0);
-      pid_ = -1;
-      code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    }
-    return code_;
-  }
-  // True while the process runs (reaps it when it has ended; wait() then gives its code).
-  bool running() {
-    int status = 0;
-    if (pid_ <= 0 || ::waitpid(pid_, &status, WNOHANG) != pid_) return pid_ > 0;
-    pid_ = -1;
-    code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    return false;
-  }
-  std::string out() const { return slurp(dir_ / "stdout.txt"); }
-  std::string err() const { return slurp(dir_ / "stderr.txt"); }
-
- private:
-  std::filesystem::path dir_;
-  pid_t pid_ = -1;
-  int code_ = -1;
 };
 
 // Waits until `csv` holds at least one warning row (the run has stepped and finished an

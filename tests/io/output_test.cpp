@@ -13,17 +13,14 @@
 
 #include <stio/output.hpp>
 
+#include "files.hpp"
+
 namespace st::io {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("stsim_output_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path freshDir(const std::string& name) { return st::test::freshDir("output", name); }
 
 std::string contents(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);

@@ -7,6 +7,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "files.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -25,12 +27,7 @@ std::string errorOf(const std::function<void()>& f) {
   return "(no error)";
 }
 
-fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("stsim_io_test_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path freshDir(const std::string& name) { return st::test::freshDir("io_test", name); }
 
 TEST(IoYaml, PlacesNameLineAndColumn) {
   const YAML::Node root = YAML::Load("a: 1\nb:\n  c: [1, 2]\n");

@@ -16,6 +16,8 @@
 #include <starm/scenario.hpp>
 #include <starm/settings.hpp>
 
+#include "files.hpp"
+
 namespace st::arm {
 namespace {
 
@@ -26,12 +28,7 @@ struct Result {
   std::string out, err;
 };
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using st::test::slurp;
 
 Result stsim(const std::string& args, const fs::path& dir) {
   const std::string cmd = std::string(STSIM_BINARY) + " arm " + args + " > " + (dir / "stdout").string() + " 2> " +
@@ -40,12 +37,7 @@ Result stsim(const std::string& args, const fs::path& dir) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir / "stdout"), slurp(dir / "stderr")};
 }
 
-fs::path tempDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("stsim_arm_cli_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path tempDir(const std::string& name) { return st::test::freshDir("arm_cli", name); }
 
 std::string scenario(const std::string& name) {
   return std::string(STSIM_SOURCE_DIR) + "/models/arm/scenarios/" + name + ".yaml";

@@ -26,6 +26,8 @@
 #include <stnet/client.hpp>
 #include <stnet/frame.hpp>
 
+#include "files.hpp"
+
 namespace st::arm {
 namespace {
 
@@ -36,19 +38,9 @@ std::string scenarioPath(const std::string& name) {
   return std::string(STSIM_SOURCE_DIR) + "/models/arm/scenarios/" + name + ".yaml";
 }
 
-fs::path tempDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("stsim_arm_svc_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path tempDir(const std::string& name) { return st::test::freshDir("arm_svc", name); }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using st::test::slurp;
 
 int lineCount(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 

@@ -18,6 +18,7 @@
 #include <sthighway/report.hpp>
 #include <sthighway/sumo_files.hpp>
 
+#include "files.hpp"
 #include "roads.hpp"
 #include "svg_markers.hpp"
 
@@ -371,12 +372,7 @@ TEST(ConflictRecord, CsvColumnsAppendedInAFixedOrder) {
   EXPECT_EQ(std::count(row.begin(), row.end(), ','), std::count(h.begin(), h.end(), ',')) << row;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using st::test::slurp;
 
 long csvRows(const fs::path& csv) {
   const std::string s = slurp(csv);

@@ -24,6 +24,7 @@
 #include <sthighway/sumo_files.hpp>
 
 #include "conflict_capture.hpp"
+#include "files.hpp"
 #include "roads.hpp"
 
 namespace st::highway {
@@ -443,12 +444,7 @@ TEST(Trajectories, SeriesMinimumIsTheEpisodesMinTtc) {
   }
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using st::test::slurp;
 
 std::vector<std::vector<std::string>> readCsv(const fs::path& p) {
   std::vector<std::vector<std::string>> rows;

@@ -20,6 +20,8 @@
 #include <sthighway/report.hpp>
 #include <sthighway/sumo_files.hpp>
 
+#include "files.hpp"
+
 namespace st::highway {
 namespace {
 
@@ -32,12 +34,7 @@ fs::path writeTemp(const std::string& name, const std::string& text) {
   return p;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using st::test::slurp;
 
 // A trace replayed through a monitor, finished at its last frame: the warnings in the order
 // they finished, and the counters; onFrame sees every frame after its step.

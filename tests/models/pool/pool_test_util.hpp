@@ -12,6 +12,8 @@
 #include <stpool/rack.hpp>
 #include <stpool/scenario.hpp>
 
+#include "files.hpp"
+
 namespace st::pool::test {
 
 inline Scenario oneTable(bool pockets) {
@@ -62,12 +64,7 @@ inline Ran runStsim(const std::string& args) {
   return r;
 }
 
-inline std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using st::test::slurp;
 
 // A fresh, empty folder name under the system's temp directory.
 inline std::filesystem::path tempDir(const std::string& name) {
