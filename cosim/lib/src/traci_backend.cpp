@@ -294,17 +294,22 @@ class TraciBackend final : public Backend {
     return it->second;
   }
 
+  // a vehicle's or person's position, heading and speed from its step's subscription results
+  static void readPose(SumoVehicle& v, const TraCIResults& r) {
+    const auto& p = resultAs<libsumo::TraCIPosition>(r, libsumo::VAR_POSITION, "position");
+    v.x = p.x;
+    v.y = p.y;
+    v.angle = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_ANGLE, "angle").value;
+    v.speed = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_SPEED, "speed").value;
+  }
+
   // the per-step values, in place
   void readVehicles() {
     const bool lights = this->lights();
     if (lights) signals_.readStates<libtraci::TrafficLight>();
     for (SumoVehicle& v : vehicles_) {
       const TraCIResults& r = vehicleResults(v.id);
-      const auto& p = resultAs<libsumo::TraCIPosition>(r, libsumo::VAR_POSITION, "position");
-      v.x = p.x;
-      v.y = p.y;
-      v.angle = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_ANGLE, "angle").value;
-      v.speed = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_SPEED, "speed").value;
+      readPose(v, r);
       if (lateral_) v.lateralSpeed = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_SPEED_LAT, "lateral speed").value;
       if (reads_.acceleration)
         v.acceleration = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_ACCELERATION, "acceleration").value;
@@ -350,14 +355,7 @@ class TraciBackend final : public Backend {
       if (resultAs<libsumo::TraCIString>(of(id), libsumo::VAR_VEHICLE, "person's vehicle").value.empty())
         walking.push_back(id);
     applyPersons(walking);
-    for (SumoVehicle& p : persons_) {
-      const TraCIResults& r = of(p.id);
-      const auto& at = resultAs<libsumo::TraCIPosition>(r, libsumo::VAR_POSITION, "position");
-      p.x = at.x;
-      p.y = at.y;
-      p.angle = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_ANGLE, "angle").value;
-      p.speed = resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_SPEED, "speed").value;
-    }
+    for (SumoVehicle& p : persons_) readPose(p, of(p.id));
   }
 
   std::string host_;
