@@ -272,6 +272,12 @@ net::HostPort hostPort(const std::string& option, const std::string& text) {
   return *hp;
 }
 
+// --connect HOST:PORT, which a client of the service needs.
+net::HostPort connectOption(const Args& args) {
+  if (args.get("connect").empty()) throw UsageError("--connect HOST:PORT is required");
+  return hostPort("connect", args.get("connect"));
+}
+
 int runServe(int argc, const char* const* argv) {
   Args args("arm serve",
             "The arm service: sensor clients send joint readings and obstacle poses over TCP (protocol in "
@@ -337,8 +343,7 @@ int runStreamCommand(int argc, const char* const* argv) {
     std::cout << args.help();
     return 0;
   }
-  if (args.get("connect").empty()) throw UsageError("--connect HOST:PORT is required");
-  const net::HostPort hp = hostPort("connect", args.get("connect"));
+  const net::HostPort hp = connectOption(args);
   arm::StreamConfig cfg;
   cfg.host = hp.host;
   cfg.port = hp.port;
@@ -397,8 +402,7 @@ int runResetCommand(int argc, const char* const* argv) {
     std::cout << args.help();
     return 0;
   }
-  if (args.get("connect").empty()) throw UsageError("--connect HOST:PORT is required");
-  const net::HostPort hp = hostPort("connect", args.get("connect"));
+  const net::HostPort hp = connectOption(args);
   std::vector<std::string> arms;
   std::stringstream list(args.get("arms"));
   for (std::string a; std::getline(list, a, ',');)
