@@ -224,6 +224,33 @@ std::vector<long> parseList(const char* s) {
   return v;
 }
 
+// Rounds of side 0 then side 1 (setSide switches the monitor between them), cells, each round's
+// own ratio: per size and detector the median us per tick of each side, the median ratio 1 / 0
+// with its range, and each side's warnings.
+void compareSides(const std::vector<long>& ns, const std::vector<DetectorKind>& kinds, int ticksOverride, int repeat,
+                  std::uint64_t seed, void (*setSide)(int)) {
+  for (long n : ns)
+    for (DetectorKind kind : kinds) {
+      const int ticks = ticksOverride ? ticksOverride : n <= 1000 ? 200 : n <= 10000 ? 40 : 8;
+      std::vector<double> ratios, us[2];
+      std::uint64_t warnings[2] = {0, 0};
+      for (int r = 0; r < repeat; ++r) {
+        for (int side = 0; side < 2; ++side) {
+          setSide(side);
+          const Row row = measure(n, kind, Broadphase::Cells, ticks, seed);
+          us[side].push_back(row.usPerTick);
+          warnings[side] = row.warnings;
+        }
+        ratios.push_back(us[1].back() / us[0].back());
+      }
+      for (auto* v : {&ratios, &us[0], &us[1]}) std::sort(v->begin(), v->end());
+      std::printf("%8ld %-10s %14.1f %14.1f %12.3f %5.2f-%.2f   warnings %llu / %llu\n", n, toString(kind), us[0][repeat / 2],
+                  us[1][repeat / 2], ratios[repeat / 2], ratios.front(), ratios.back(),
+                  static_cast<unsigned long long>(warnings[0]), static_cast<unsigned long long>(warnings[1]));
+      std::fflush(stdout);
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -256,52 +283,15 @@ int main(int argc, char** argv) {
     std::printf("highway_detect: hindsight's cost, cells, %s prediction, seed %llu\n", toString(gPrediction),
                 static_cast<unsigned long long>(seed));
     std::printf("%8s %-10s %14s %14s %12s %12s\n", "vehicles", "detector", "without us/t", "with us/t", "with/without", "rounds");
-    for (long n : ns)
-      for (DetectorKind kind : kinds) {
-        const int ticks = ticksOverride ? ticksOverride : n <= 1000 ? 200 : n <= 10000 ? 40 : 8;
-        std::vector<double> ratios, us[2];
-        std::uint64_t warnings[2] = {0, 0};
-        for (int r = 0; r < repeat; ++r) {
-          for (int h = 0; h < 2; ++h) {
-            gHindsight = h == 1;
-            const Row row = measure(n, kind, Broadphase::Cells, ticks, seed);
-            us[h].push_back(row.usPerTick);
-            warnings[h] = row.warnings;
-          }
-          ratios.push_back(us[1].back() / us[0].back());
-        }
-        for (auto* v : {&ratios, &us[0], &us[1]}) std::sort(v->begin(), v->end());
-        std::printf("%8ld %-10s %14.1f %14.1f %12.3f %5.2f-%.2f   warnings %llu / %llu\n", n, toString(kind), us[0][repeat / 2],
-                    us[1][repeat / 2], ratios[repeat / 2], ratios.front(), ratios.back(),
-                    static_cast<unsigned long long>(warnings[0]), static_cast<unsigned long long>(warnings[1]));
-        std::fflush(stdout);
-      }
+    compareSides(ns, kinds, ticksOverride, repeat, seed, [](int side) { gHindsight = side == 1; });
     return 0;
   }
   if (comparePredictions) {
     // the road prediction's cost: rounds of straight then road, cells, each round's own ratio
     std::printf("highway_detect: road vs straight prediction, cells, seed %llu\n", static_cast<unsigned long long>(seed));
     std::printf("%8s %-10s %14s %14s %12s %12s\n", "vehicles", "detector", "straight us/t", "road us/t", "road/straight", "rounds");
-    for (long n : ns)
-      for (DetectorKind kind : kinds) {
-        const int ticks = ticksOverride ? ticksOverride : n <= 1000 ? 200 : n <= 10000 ? 40 : 8;
-        std::vector<double> ratios, us[2];
-        std::uint64_t warnings[2] = {0, 0};
-        for (int r = 0; r < repeat; ++r) {
-          for (int p = 0; p < 2; ++p) {
-            gPrediction = p == 0 ? Prediction::Straight : Prediction::Road;
-            const Row row = measure(n, kind, Broadphase::Cells, ticks, seed);
-            us[p].push_back(row.usPerTick);
-            warnings[p] = row.warnings;
-          }
-          ratios.push_back(us[1].back() / us[0].back());
-        }
-        for (auto* v : {&ratios, &us[0], &us[1]}) std::sort(v->begin(), v->end());
-        std::printf("%8ld %-10s %14.1f %14.1f %12.3f %5.2f-%.2f   warnings %llu / %llu\n", n, toString(kind), us[0][repeat / 2],
-                    us[1][repeat / 2], ratios[repeat / 2], ratios.front(), ratios.back(),
-                    static_cast<unsigned long long>(warnings[0]), static_cast<unsigned long long>(warnings[1]));
-        std::fflush(stdout);
-      }
+    compareSides(ns, kinds, ticksOverride, repeat, seed,
+                 [](int side) { gPrediction = side == 0 ? Prediction::Straight : Prediction::Road; });
     return 0;
   }
   std::printf("highway_detect: divided motorway, 2x3 lanes, 25 veh/km/lane, 0.1 s ticks, seed %llu\n",
