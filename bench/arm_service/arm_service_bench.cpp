@@ -216,6 +216,13 @@ struct NetRow {
   double load = 0;
 };
 
+// A loopback case's row of the table: messages, round trips, share answered, CPU of each side.
+void printNetRow(const char* name, const NetRow& r) {
+  std::printf("%-44s %8zu %8.2f %8.2f %8.1f %8.2f%% %11.1f%% %11.1f%%\n", name, r.sent, r.rtt.p50, r.rtt.p99, r.rtt.max,
+              100.0 * static_cast<double>(r.answered) / static_cast<double>(std::max<std::size_t>(1, r.sent)),
+              100.0 * r.serviceCpu / r.wall, 100.0 * r.clientCpu / r.wall);
+}
+
 // The floor: the same protocol over the same st::net server, answering every READINGS at once
 // with a VERDICT (no monitor): what the network and the scheduling cost on their own.
 class EchoService final : public net::Handler {
@@ -444,24 +451,18 @@ int main(int argc, char** argv) {
     char name[64];
     std::snprintf(name, sizeof name, "loopback, %d client%s at 1 kHz (%.2f cycles/ms)", n, n == 1 ? "" : "s",
                   static_cast<double>(r.cycles) / (r.wall * 1000.0));
-    std::printf("%-44s %8zu %8.2f %8.2f %8.1f %8.2f%% %11.1f%% %11.1f%%\n", name, r.sent, r.rtt.p50, r.rtt.p99, r.rtt.max,
-                100.0 * static_cast<double>(r.answered) / static_cast<double>(std::max<std::size_t>(1, r.sent)),
-                100.0 * r.serviceCpu / r.wall, 100.0 * r.clientCpu / r.wall);
+    printNetRow(name, r);
   }
   for (const auto& [n, r] : perMessage) {
     char name[64];
     std::snprintf(name, sizeof name, "  %d clients, a cycle per message (%.2f cycles/ms)", n,
                   static_cast<double>(r.cycles) / (r.wall * 1000.0));
-    std::printf("%-44s %8zu %8.2f %8.2f %8.1f %8.2f%% %11.1f%% %11.1f%%\n", name, r.sent, r.rtt.p50, r.rtt.p99, r.rtt.max,
-                100.0 * static_cast<double>(r.answered) / static_cast<double>(std::max<std::size_t>(1, r.sent)),
-                100.0 * r.serviceCpu / r.wall, 100.0 * r.clientCpu / r.wall);
+    printNetRow(name, r);
   }
   for (const auto& [n, r] : floor) {
     char name[64];
     std::snprintf(name, sizeof name, "floor: st::net echo, no monitor, %d client%s", n, n == 1 ? "" : "s");
-    std::printf("%-44s %8zu %8.2f %8.2f %8.1f %8.2f%% %11.1f%% %11.1f%%\n", name, r.sent, r.rtt.p50, r.rtt.p99, r.rtt.max,
-                100.0 * static_cast<double>(r.answered) / static_cast<double>(std::max<std::size_t>(1, r.sent)),
-                100.0 * r.serviceCpu / r.wall, 100.0 * r.clientCpu / r.wall);
+    printNetRow(name, r);
   }
   std::printf("%-44s %8zu %8.2f %8.2f %8.1f %9s %12s %12s\n", "in process: 1 arm + 1 person, monitor + SSM",
               localPerson.n, localPerson.p50, localPerson.p99, localPerson.max, "-", "-", "-");
@@ -470,9 +471,7 @@ int main(int argc, char** argv) {
       char name[64];
       std::snprintf(name, sizeof name, "%s %zu: 1 arm + 1 person, 1 client", r == &personPairs[i].first ? "floor" : "service",
                     i + 1);
-      std::printf("%-44s %8zu %8.2f %8.2f %8.1f %8.2f%% %11.1f%% %11.1f%%\n", name, r->sent, r->rtt.p50, r->rtt.p99,
-                  r->rtt.max, 100.0 * static_cast<double>(r->answered) / static_cast<double>(std::max<std::size_t>(1, r->sent)),
-                  100.0 * r->serviceCpu / r->wall, 100.0 * r->clientCpu / r->wall);
+      printNetRow(name, *r);
     }
   }
   if (!personOnly) {
