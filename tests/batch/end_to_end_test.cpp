@@ -47,6 +47,27 @@ int runStsim(const std::vector<std::string>& args, const fs::path& logDir, std::
   return code;
 }
 
+// A CSV file as rows of cells (a trailing comma is an empty last cell).
+std::vector<std::vector<std::string>> csvRows(const fs::path& csv) {
+  std::vector<std::vector<std::string>> t;
+  std::istringstream in(slurp(csv));
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> cells;
+    std::istringstream ls(line);
+    for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+    if (!line.empty() && line.back() == ',') cells.emplace_back();
+    t.push_back(cells);
+  }
+  return t;
+}
+
+// The cell of column `name` in row `row` (a failure, and "", when there is no such column).
+std::string csvCell(const std::vector<std::vector<std::string>>& t, const std::string& name, std::size_t row = 1) {
+  const auto at = std::find(t[0].begin(), t[0].end(), name);
+  EXPECT_NE(at, t[0].end()) << name;
+  return at == t[0].end() ? std::string() : t[row][static_cast<std::size_t>(at - t[0].begin())];
+}
+
 // runs.csv as rows of cells, without the columns that time the run (they differ between runs).
 std::vector<std::vector<std::string>> tableWithoutTimings(const fs::path& csv) {
   std::vector<std::vector<std::string>> rows;
@@ -340,63 +361,46 @@ TEST(BatchEndToEnd, WarmupLeavesWarningsAndEventsOutOfHindsight) {
                                                    "10,a,b,1,2\n30,c,d,1,1\n40,e,f,1,0.2\n50,g,h,0,\n";
   ASSERT_EQ(runStsim({"batch", "merge", (dir / "out").string(), "--out", (dir / "m").string(), "--no-plots"}, dir, &err), 0)
       << err;
-  auto rows = [&](const fs::path& csv) {
-    std::vector<std::vector<std::string>> t;
-    std::istringstream in(slurp(csv));
-    for (std::string line; std::getline(in, line);) {
-      std::vector<std::string> cells;
-      std::istringstream ls(line);
-      for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
-      if (!line.empty() && line.back() == ',') cells.emplace_back();
-      t.push_back(cells);
-    }
-    return t;
-  };
-  auto cell = [](const std::vector<std::vector<std::string>>& t, const std::string& name, std::size_t row = 1) {
-    const auto at = std::find(t[0].begin(), t[0].end(), name);
-    EXPECT_NE(at, t[0].end()) << name;
-    return at == t[0].end() ? std::string() : t[row][static_cast<std::size_t>(at - t[0].begin())];
-  };
   // the recount: warnings.csv by begin, events.csv by time
-  const auto warnings = rows(run / "warnings.csv"), events = rows(run / "events.csv");
+  const auto warnings = csvRows(run / "warnings.csv"), events = csvRows(run / "events.csv");
   std::map<std::string, double> count, judged, confirmed, whole;
   for (std::size_t i = 1; i < warnings.size(); ++i) {
-    const std::string kind = cell(warnings, "kind", i);
+    const std::string kind = csvCell(warnings, "kind", i);
     whole[kind] += 1;
-    if (std::stod(cell(warnings, "begin", i)) < warmup) continue;
+    if (std::stod(csvCell(warnings, "begin", i)) < warmup) continue;
     count[kind] += 1;
-    judged[kind] += cell(warnings, "verdict", i).empty() ? 0 : 1;
-    confirmed[kind] += cell(warnings, "verdict", i) == "confirmed";
+    judged[kind] += csvCell(warnings, "verdict", i).empty() ? 0 : 1;
+    confirmed[kind] += csvCell(warnings, "verdict", i) == "confirmed";
   }
   double crossings = 0, crossingsWarned = 0, allCrossings = 0;
   for (std::size_t i = 1; i < events.size(); ++i) {
-    if (cell(events, "kind", i) != "crossing") continue;
+    if (csvCell(events, "kind", i) != "crossing") continue;
     allCrossings += 1;
-    if (std::stod(cell(events, "time", i)) < warmup) continue;
+    if (std::stod(csvCell(events, "time", i)) < warmup) continue;
     crossings += 1;
-    crossingsWarned += cell(events, "warned", i) == "1";
+    crossingsWarned += csvCell(events, "warned", i) == "1";
   }
-  const auto h = rows(dir / "m/hindsight.csv"), runsCsv = rows(dir / "m/runs.csv");
+  const auto h = csvRows(dir / "m/hindsight.csv"), runsCsv = csvRows(dir / "m/runs.csv");
   ASSERT_EQ(h.size(), 2u);
-  const double km = std::stod(cell(runsCsv, "exposure.vehicle_km"));
-  EXPECT_LT(km, std::stod(cell(runsCsv, "vehicle_km")));
-  EXPECT_EQ(std::stod(cell(h, "vehicle_km")), km);
+  const double km = std::stod(csvCell(runsCsv, "exposure.vehicle_km"));
+  EXPECT_LT(km, std::stod(csvCell(runsCsv, "vehicle_km")));
+  EXPECT_EQ(std::stod(csvCell(h, "vehicle_km")), km);
   EXPECT_LT(count["lane_marker"], whole["lane_marker"]);  // the warm-up leaves something out
   EXPECT_GT(count["lane_marker"], 0.0);
   for (const char* kind : {"vehicle", "curb", "lane_marker"}) {
-    EXPECT_EQ(std::stod(cell(h, std::string(kind) + ".judged")), judged[kind]) << kind;
-    EXPECT_EQ(std::stod(cell(h, std::string(kind) + ".confirmed")), confirmed[kind]) << kind;
-    EXPECT_NEAR(std::stod(cell(h, std::string(kind) + ".per_vehicle_km")), count[kind] / km, 1e-9) << kind;
+    EXPECT_EQ(std::stod(csvCell(h, std::string(kind) + ".judged")), judged[kind]) << kind;
+    EXPECT_EQ(std::stod(csvCell(h, std::string(kind) + ".confirmed")), confirmed[kind]) << kind;
+    EXPECT_NEAR(std::stod(csvCell(h, std::string(kind) + ".per_vehicle_km")), count[kind] / km, 1e-9) << kind;
   }
   EXPECT_LT(crossings, allCrossings);
-  EXPECT_EQ(std::stod(cell(h, "crossings")), crossings);
-  EXPECT_EQ(std::stod(cell(h, "crossings_warned")), crossingsWarned);
-  EXPECT_EQ(cell(h, "collisions"), "3");
-  EXPECT_EQ(cell(h, "collisions_warned"), "1");
-  EXPECT_EQ(cell(h, "collision_lead_median_s"), "1");
+  EXPECT_EQ(std::stod(csvCell(h, "crossings")), crossings);
+  EXPECT_EQ(std::stod(csvCell(h, "crossings_warned")), crossingsWarned);
+  EXPECT_EQ(csvCell(h, "collisions"), "3");
+  EXPECT_EQ(csvCell(h, "collisions_warned"), "1");
+  EXPECT_EQ(csvCell(h, "collision_lead_median_s"), "1");
   // runs.csv keeps the whole run's figures beside them
-  EXPECT_EQ(std::stod(cell(runsCsv, "hindsight.crossings.events")), allCrossings);
-  EXPECT_EQ(std::stod(cell(runsCsv, "after_warmup.hindsight.crossings.events")), crossings);
+  EXPECT_EQ(std::stod(csvCell(runsCsv, "hindsight.crossings.events")), allCrossings);
+  EXPECT_EQ(std::stod(csvCell(runsCsv, "after_warmup.hindsight.crossings.events")), crossings);
 }
 
 // networks/bicycles in a batch with a warm-up: each run's counted.with_bicycle.<type> equals a recount
@@ -411,53 +415,36 @@ TEST(BatchEndToEnd, BicycleConflictsAreCountedApartInTheTables) {
                       << "/networks/bicycles/scenario.yaml\nfixed:\n  end: 300\nwarmup: 60\nseeds: 2\n";
   std::string err;
   ASSERT_EQ(runStsim({"batch", file.string(), "--out", (dir / "out").string(), "--no-plots"}, dir, &err), 0) << err;
-  auto rows = [&](const fs::path& csv) {
-    std::vector<std::vector<std::string>> t;
-    std::istringstream in(slurp(csv));
-    for (std::string line; std::getline(in, line);) {
-      std::vector<std::string> cells;
-      std::istringstream ls(line);
-      for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
-      if (!line.empty() && line.back() == ',') cells.emplace_back();
-      t.push_back(cells);
-    }
-    return t;
-  };
-  auto cell = [](const std::vector<std::vector<std::string>>& t, const std::string& name, std::size_t row = 1) {
-    const auto at = std::find(t[0].begin(), t[0].end(), name);
-    EXPECT_NE(at, t[0].end()) << name;
-    return at == t[0].end() ? std::string() : t[row][static_cast<std::size_t>(at - t[0].begin())];
-  };
-  const auto runsCsv = rows(dir / "out/runs.csv");
+  const auto runsCsv = csvRows(dir / "out/runs.csv");
   ASSERT_EQ(runsCsv.size(), 3u);
   const std::vector<std::string> types{"rear_end", "lane_change", "crossing", "pedestrian"};
   double bikesAfter = 0, bikesWhole = 0, all = 0;
   for (std::size_t r = 1; r < runsCsv.size(); ++r) {
-    const auto conflicts = rows(dir / "out/runs" / cell(runsCsv, "run_id", r) / "conflicts.csv");
+    const auto conflicts = csvRows(dir / "out/runs" / csvCell(runsCsv, "run_id", r) / "conflicts.csv");
     std::map<std::string, double> after, whole;
     for (std::size_t i = 1; i < conflicts.size(); ++i) {
-      const std::string type = cell(conflicts, "type", i);
+      const std::string type = csvCell(conflicts, "type", i);
       if (std::find(types.begin(), types.end(), type) == types.end()) continue;
-      if (cell(conflicts, "first_class", i) != "bicycle" && cell(conflicts, "second_class", i) != "bicycle") continue;
+      if (csvCell(conflicts, "first_class", i) != "bicycle" && csvCell(conflicts, "second_class", i) != "bicycle") continue;
       whole[type] += 1, whole["all"] += 1;
-      if (std::stod(cell(conflicts, "begin", i)) >= warmup) after[type] += 1, after["all"] += 1;
+      if (std::stod(csvCell(conflicts, "begin", i)) >= warmup) after[type] += 1, after["all"] += 1;
     }
-    const double km = std::stod(cell(runsCsv, "exposure.vehicle_km", r));
+    const double km = std::stod(csvCell(runsCsv, "exposure.vehicle_km", r));
     for (const std::string& t : {std::string("all"), types[0], types[1], types[2], types[3]}) {
-      EXPECT_EQ(std::stod(cell(runsCsv, "counted.with_bicycle." + t, r)), after[t]) << "run " << r << " " << t;
-      EXPECT_NEAR(std::stod(cell(runsCsv, "rate.per_vehicle_km.with_bicycle." + t, r)), after[t] / km, 1e-9) << t;
+      EXPECT_EQ(std::stod(csvCell(runsCsv, "counted.with_bicycle." + t, r)), after[t]) << "run " << r << " " << t;
+      EXPECT_NEAR(std::stod(csvCell(runsCsv, "rate.per_vehicle_km.with_bicycle." + t, r)), after[t] / km, 1e-9) << t;
     }
-    EXPECT_EQ(std::stod(cell(runsCsv, "conflicts.with_bicycle.count", r)), whole["all"]) << "run " << r;
+    EXPECT_EQ(std::stod(csvCell(runsCsv, "conflicts.with_bicycle.count", r)), whole["all"]) << "run " << r;
     for (const std::string& t : types)
-      EXPECT_EQ(std::stod(cell(runsCsv, "conflicts.with_bicycle.by_type." + t, r)), whole[t]) << "run " << r << " " << t;
-    EXPECT_LE(after["all"], std::stod(cell(runsCsv, "counted.all", r)));
-    bikesAfter += after["all"], bikesWhole += whole["all"], all += std::stod(cell(runsCsv, "counted.all", r));
+      EXPECT_EQ(std::stod(csvCell(runsCsv, "conflicts.with_bicycle.by_type." + t, r)), whole[t]) << "run " << r << " " << t;
+    EXPECT_LE(after["all"], std::stod(csvCell(runsCsv, "counted.all", r)));
+    bikesAfter += after["all"], bikesWhole += whole["all"], all += std::stod(csvCell(runsCsv, "counted.all", r));
   }
   EXPECT_GT(bikesAfter, 0.0);        // not vacuous: bicycle conflicts after the warm-up
   EXPECT_LT(bikesAfter, bikesWhole);  // and the warm-up leaves some out
   // summary.csv: the mean over the two seeds
-  const auto summary = rows(dir / "out/summary.csv");
-  EXPECT_NEAR(std::stod(cell(summary, "counted.with_bicycle.all.mean")), bikesAfter / 2.0, 1e-9);
+  const auto summary = csvRows(dir / "out/summary.csv");
+  EXPECT_NEAR(std::stod(csvCell(summary, "counted.with_bicycle.all.mean")), bikesAfter / 2.0, 1e-9);
 }
 
 // validate_ssm: the runs' agreement with SUMO's SSM device reaches runs.csv as ssm.* columns, the
