@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include <stcore/toi.hpp>
 #include <sthighway/conflict.hpp>
 #include <sthighway/report.hpp>
 #include <stio/format.hpp>
@@ -60,19 +61,14 @@ bool sameHeading(const hw::Body& a, const hw::Body& b) {
 }  // namespace
 
 double SsmConflict::petOffPath() const {
-  // the distance from the PET position to a path of fronts (NaN: none known)
+  // the distance from the PET position to a path of fronts (NaN: none known; "NA" points skipped)
   auto away = [&](const std::vector<Vec2>& path) {
     double best = std::numeric_limits<double>::quiet_NaN();
     const Vec2* last = nullptr;
     for (const Vec2& q : path) {
       if (!std::isfinite(q.x())) continue;
-      double d = (petPosition - q).norm();
-      if (last) {
-        const Vec2 seg = q - *last;
-        const double len2 = seg.squaredNorm();
-        const double u = len2 > 0.0 ? std::clamp((petPosition - *last).dot(seg) / len2, 0.0, 1.0) : 0.0;
-        d = (petPosition - (*last + u * seg)).norm();
-      }
+      const Vec2 near = last ? closestPointOnSegment(Segment{*last, q}, petPosition) : q;
+      const double d = (petPosition - near).norm();
       if (!(d >= best)) best = d;
       last = &q;
     }
