@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <stbatch/conflicts.hpp>
+#include <stbatch/stats.hpp>
 #include <stio/format.hpp>
 
 #include "files.hpp"
@@ -99,14 +100,6 @@ void addRates(const Experiment& e, std::vector<RunResult>& results, const fs::pa
 }
 
 namespace {
-
-// The median of `v` (sorted here); NaN when empty.
-double median(std::vector<double> v) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 // Events after the warm-up: how many, how many warned, the warned ones' lead times.
 struct EventCount {

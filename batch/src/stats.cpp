@@ -1,7 +1,9 @@
 #include <stbatch/stats.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace st::batch {
 
@@ -34,6 +36,13 @@ Summary summarize(const std::vector<double>& xs) {
   s.sd = std::sqrt(ss / (s.n - 1));
   s.ci95 = studentT975(s.n - 1) * s.sd / std::sqrt(static_cast<double>(s.n));
   return s;
+}
+
+double median(std::vector<double> xs) {
+  if (xs.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::sort(xs.begin(), xs.end());
+  const std::size_t n = xs.size();
+  return n % 2 ? xs[n / 2] : 0.5 * (xs[n / 2 - 1] + xs[n / 2]);
 }
 
 }  // namespace st::batch

@@ -159,12 +159,7 @@ std::string hindsightTable(const Experiment& e, const std::vector<std::vector<st
       const bool counted = total.count(at + ".events") > 0;
       const double count = total[at + ".events"], warned = total[at + ".warned"];
       t << "," << (counted ? number(count) : "") << "," << (counted ? number(warned) : "") << "," << cell(warned, count) << ",";
-      std::vector<double>& l = leads[ev.column];
-      if (!l.empty()) {
-        std::sort(l.begin(), l.end());
-        const std::size_t n = l.size();
-        t << number(n % 2 ? l[n / 2] : 0.5 * (l[n / 2 - 1] + l[n / 2]));
-      }
+      if (!leads[ev.column].empty()) t << number(median(leads[ev.column]));
     }
     t << "\n";
   }

@@ -43,5 +43,12 @@ TEST(BatchStats, StudentQuantilesMatchTables) {
   EXPECT_NEAR(studentT975(100000), 1.95998, 1e-4);
 }
 
+// The median by hand: odd count the middle value, even the mean of the two middle ones, none NaN.
+TEST(BatchStats, MedianByHand) {
+  EXPECT_DOUBLE_EQ(median({3.0, 1.0, 2.0}), 2.0);
+  EXPECT_DOUBLE_EQ(median({4.0, 1.0, 3.0, 2.0}), 2.5);
+  EXPECT_TRUE(std::isnan(median({})));
+}
+
 }  // namespace
 }  // namespace st::batch

@@ -13,6 +13,9 @@ struct Summary {
 
 Summary summarize(const std::vector<double>& xs);
 
+// The median of xs (NaN when empty).
+double median(std::vector<double> xs);
+
 // Two-sided 97.5% quantile of Student's t with `dof` degrees of freedom.
 double studentT975(int dof);
 
