@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "errors.hpp"
+
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -17,14 +19,7 @@ struct TestError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const TestError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+std::string errorOf(const std::function<void()>& f) { return st::test::errorOf<TestError>(f); }
 
 // every tag of text, as "name" / "/name" / "name/"
 std::vector<std::string> tagsOf(const std::string& text, bool balanced = false) {

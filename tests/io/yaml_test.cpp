@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "errors.hpp"
+
 #include <fstream>
 #include <set>
 #include <stdexcept>
@@ -18,14 +20,7 @@ struct TestError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const TestError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+std::string errorOf(const std::function<void()>& f) { return st::test::errorOf<TestError>(f); }
 
 fs::path freshDir(const std::string& name) { return st::test::freshDir("io_test", name); }
 
