@@ -149,46 +149,54 @@ int runCoexistenceStudy(const Args& args) {
     if (files.empty()) throw UsageError("--shipped: no person_*.yaml in " + dir.string());
   }
   constexpr arm::SsmResponse kResponses[] = {arm::SsmResponse::Stop, arm::SsmResponse::Scaling, arm::SsmResponse::Pfl};
-  double sumProgress[3] = {0.0, 0.0, 0.0};
+  // progress per case: [0] no person (the reference), then stop, scaling, pfl
+  double sumProgress[4] = {0.0, 0.0, 0.0, 0.0};
   const fs::path out = args.get("out");
   fs::create_directories(out);
   io::CsvRowWriter csv(out / "coexistence.csv",
                       "case,response,contacts,contacts_within_limit,contacts_above_limit,violations,stops,stop_cycles,"
                       "scaled_cycles,pfl_cycles,min_separation_m,min_slack_m,progress,duration_s");
   std::printf("coexistence study: persons beside working arms, closed loop (progress: the arms' program time over the "
-              "clock time; contacts above: faster than the touched region's PFL limit)\n\n");
+              "clock time; none: no person, the task's own pace; contacts above: faster than the touched region's PFL "
+              "limit)\n\n");
   std::printf("  %-16s %-8s %8s %6s %10s %6s %11s %13s %10s %10s %11s %9s\n", "case", "response", "contacts", "above",
               "below S_p", "STOPs", "STOP cycles", "scaled cycles", "pfl cycles", "min sep m", "min slack m", "progress");
+  const auto ratio = [](double a, double b) { return b > 0.0 ? a / b : INFINITY; };
   for (const std::string& f : files) {
     const arm::Scenario sc = arm::loadScenario(f);
     if (sc.persons.empty()) throw UsageError(f + ": no persons: the coexistence study needs a scenario with persons:");
-    double progress[3] = {0.0, 0.0, 0.0};
-    int k = 0;
-    for (arm::SsmResponse r : kResponses) {
-      const arm::CoexistenceOutcome o = arm::runCoexistence(sc, r);
-      progress[k++] = o.progress;
-      const std::string name = fs::path(f).stem().string();
-      std::printf("  %-16s %-8s %8llu %6llu %10llu %6d %11llu %13llu %10llu %10.4f %11.4f %9.4f\n", name.c_str(),
-                  arm::toString(r), static_cast<unsigned long long>(o.contacts),
-                  static_cast<unsigned long long>(o.contactsAboveLimit), static_cast<unsigned long long>(o.violations),
-                  o.stops, static_cast<unsigned long long>(o.stopCycles), static_cast<unsigned long long>(o.scaledCycles),
-                  static_cast<unsigned long long>(o.pflCycles), o.minSeparation, o.minSlack, o.progress);
+    const std::string name = fs::path(f).stem().string();
+    double progress[4] = {0.0, 0.0, 0.0, 0.0};
+    for (int k = 0; k < 4; ++k) {
+      const arm::CoexistenceOutcome o = k == 0 ? arm::runWithoutPersons(sc) : arm::runCoexistence(sc, kResponses[k - 1]);
+      const char* response = k == 0 ? "none" : arm::toString(kResponses[k - 1]);
+      progress[k] = o.progress;
+      std::printf("  %-16s %-8s %8llu %6llu %10llu %6d %11llu %13llu %10llu %10.4f %11.4f %9.4f\n", name.c_str(), response,
+                  static_cast<unsigned long long>(o.contacts), static_cast<unsigned long long>(o.contactsAboveLimit),
+                  static_cast<unsigned long long>(o.violations), o.stops, static_cast<unsigned long long>(o.stopCycles),
+                  static_cast<unsigned long long>(o.scaledCycles), static_cast<unsigned long long>(o.pflCycles),
+                  o.minSeparation, o.minSlack, o.progress);
       std::ostringstream line;
-      line << io::csvField(name) << ',' << arm::toString(r) << ',' << o.contacts << ',' << o.contactsWithinLimit << ','
+      line << io::csvField(name) << ',' << response << ',' << o.contacts << ',' << o.contactsWithinLimit << ','
            << o.contactsAboveLimit << ',' << o.violations << ',' << o.stops << ',' << o.stopCycles << ','
            << o.scaledCycles << ',' << o.pflCycles << ',' << num(o.minSeparation) << ',' << num(o.minSlack) << ','
            << num(o.progress) << ',' << num(o.duration);
       csv.row(line.str());
     }
-    std::printf("  %-16s throughput over stop: scaling %.3fx, pfl %.3fx\n", "",
-                progress[0] > 0.0 ? progress[1] / progress[0] : INFINITY,
-                progress[0] > 0.0 ? progress[2] / progress[0] : INFINITY);
-    for (int i = 0; i < 3; ++i) sumProgress[i] += progress[i];
+    // time for the same work over no person's (none / response progress), and the most any
+    // response could gain over stop: none / stop
+    std::printf("  %-16s throughput over stop: scaling %.3fx, pfl %.3fx (at most %.3fx: none over stop); time over "
+                "none: stop %.3fx, scaling %.3fx, pfl %.3fx\n",
+                "", ratio(progress[2], progress[1]), ratio(progress[3], progress[1]), ratio(progress[0], progress[1]),
+                ratio(progress[0], progress[1]), ratio(progress[0], progress[2]), ratio(progress[0], progress[3]));
+    for (int i = 0; i < 4; ++i) sumProgress[i] += progress[i];
   }
   if (files.size() > 1)
-    std::printf("\n  all %zu cases, throughput over stop (summed progress): scaling %.3fx, pfl %.3fx\n", files.size(),
-                sumProgress[0] > 0.0 ? sumProgress[1] / sumProgress[0] : INFINITY,
-                sumProgress[0] > 0.0 ? sumProgress[2] / sumProgress[0] : INFINITY);
+    std::printf("\n  all %zu cases, summed progress: throughput over stop: scaling %.3fx, pfl %.3fx (at most %.3fx); "
+                "time over none: stop %.3fx, scaling %.3fx, pfl %.3fx\n",
+                files.size(), ratio(sumProgress[2], sumProgress[1]), ratio(sumProgress[3], sumProgress[1]),
+                ratio(sumProgress[0], sumProgress[1]), ratio(sumProgress[0], sumProgress[1]),
+                ratio(sumProgress[0], sumProgress[2]), ratio(sumProgress[0], sumProgress[3]));
   csv.flush();
   std::printf("\n-> %s\n", (out / "coexistence.csv").c_str());
   return 0;

@@ -171,4 +171,9 @@ CoexistenceOutcome runCoexistence(Scenario s, SsmResponse response,
   return o;
 }
 
+CoexistenceOutcome runWithoutPersons(Scenario s) {
+  s.persons.clear();
+  return runCoexistence(std::move(s), SsmResponse::Scaling);
+}
+
 }  // namespace st::arm

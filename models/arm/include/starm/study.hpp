@@ -80,6 +80,10 @@ struct CoexistenceOutcome {
 // One scenario with its persons under the given response. onCycle (if given) sees every cycle.
 CoexistenceOutcome runCoexistence(Scenario s, SsmResponse response,
                                   const std::function<void(const Monitor&, const SeparationMonitor&)>& onCycle = {});
+// The reference: the same closed loop with the persons taken out, the task at its own pace (progress
+// 1 unless the arms STOP each other). What no response to a person can beat: a response's time
+// for the same work over this one is what the person costs it.
+CoexistenceOutcome runWithoutPersons(Scenario s);
 // One cycle's persons: posed at the monitor's time, the SSM verdicts, and (closed loop) the
 // drives' response, the monitor's STOPs merged with the SSM's.
 void separationStep(const Monitor& m, PersonSet& persons, SeparationMonitor& ssm, ClosedLoopSensor* drive);
