@@ -247,7 +247,43 @@ TEST(SsmValidation, ReadsPetAndConflictPoints) {
     EXPECT_NE(what.find(bad.string()), std::string::npos) << what;
     EXPECT_NE(what.find("15.4;-1.5"), std::string::npos) << what;
     EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    // at the line of the <conflictPoint> that holds it, the last of `head`
+    const auto line = 1 + std::count(head.begin(), head.end(), '\n');
+    EXPECT_EQ(what.rfind(bad.string() + ":" + std::to_string(line) + ": ", 0), 0u) << what;
   }
+}
+
+// A file cut short (SUMO's run killed before it closed its output) or garbled is refused, by
+// file and line, rather than read in part.
+TEST(SsmValidation, RefusesACutShortOrGarbledFileByItsLine) {
+  const auto dir = freshDir("ssm_garbled");
+  auto refusal = [&](const std::string& name, const std::string& text) {
+    const auto file = dir / name;
+    std::ofstream(file) << text;
+    try {
+      readSsmOutput(file);
+    } catch (const ScenarioError& e) {
+      return std::string(e.what());
+    }
+    return std::string("read");
+  };
+  const std::string open = "<SSMLog>\n  <conflict begin=\"1\" end=\"1\" ego=\"a\" foe=\"b\">\n    <timeSpan values=\"1\"/>\n";
+  EXPECT_EQ(refusal("cut.xml", open),
+            (dir / "cut.xml").string() + ":4: unexpected end of file: <conflict> (line 2) is not closed");
+  EXPECT_EQ(refusal("unquoted.xml", open + "    <typeSpan values=2/>\n  </conflict>\n</SSMLog>\n"),
+            (dir / "unquoted.xml").string() + ":4: attribute 'values' of <typeSpan> is not quoted");
+  EXPECT_EQ(refusal("number.xml", open + "    <typeSpan values=\"2\"/>\n    <TTCSpan values=\"1.5x\"/>\n  </conflict>\n</SSMLog>\n"),
+            (dir / "number.xml").string() + ":5: SSM output has a malformed number '1.5x'");
+  EXPECT_EQ(refusal("lengths.xml", open + "  </conflict>\n</SSMLog>\n"),
+            (dir / "lengths.xml").string() +
+                ":2: SSM conflict a/b has time, type, TTC, conflict point and velocity series of different lengths "
+                "(trajectories off?)");
+  const std::string bare = "<SSMLog>\n  <conflict begin=\"1\" end=\"1\" ego=\"a\" foe=\"b\">\n";
+  EXPECT_EQ(refusal("pet.xml", bare + "    <PET time=\"NA\" position=\"NA\" type=\"17\" value=\"0.4\"/>\n  </conflict>\n</SSMLog>\n"),
+            (dir / "pet.xml").string() + ":3: SSM conflict a/b has a PET without a time");
+  EXPECT_EQ(refusal("other.xml", "<?xml version=\"1.0\"?>\n<collisions>\n</collisions>\n"),
+            (dir / "other.xml").string() + ":2: not an SSM output file (no <SSMLog>)");
+  EXPECT_EQ(refusal("empty.xml", ""), (dir / "empty.xml").string() + ":1: not an SSM output file (no <SSMLog>)");
 }
 
 // SSM's PET position against the two paths, worked by hand: a left turner's front from the west

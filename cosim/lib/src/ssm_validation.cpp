@@ -1,7 +1,5 @@
 #include <stcosim/ssm_validation.hpp>
 
-#include <boost/property_tree/ptree.hpp>
-#include <boost/property_tree/xml_parser.hpp>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -13,6 +11,7 @@
 #include <sthighway/conflict.hpp>
 #include <sthighway/report.hpp>
 #include <stio/format.hpp>
+#include <stio/xml.hpp>
 #include <stcosim/scenario.hpp>
 
 namespace st::cosim {
@@ -28,7 +27,8 @@ std::vector<std::string> words(const std::string& s) {
   return out;
 }
 
-double parseNumber(const std::string& w, const std::filesystem::path& file) {
+// a number of an SSM file's tag at `line`, or "NA" (NaN)
+double parseNumber(const io::XmlScanner& x, long line, const std::string& w) {
   if (w == "NA") return std::numeric_limits<double>::quiet_NaN();
   try {
     std::size_t used = 0;
@@ -36,16 +36,80 @@ double parseNumber(const std::string& w, const std::filesystem::path& file) {
     if (used == w.size()) return v;
   } catch (...) {
   }
-  throw ScenarioError(file.string() + ": SSM output has a malformed number '" + w + "'");
+  x.fail(line, "SSM output has a malformed number '" + w + "'");
 }
 
 // "x,y" or "NA" (SSM writes a position or a velocity so)
-Vec2 parsePoint(const std::string& w, const std::filesystem::path& file) {
+Vec2 parsePoint(const io::XmlScanner& x, long line, const std::string& w) {
   if (w == "NA") return SsmConflict::kNoPoint;
   const auto comma = w.find(',');
   if (comma == std::string::npos || w.find(',', comma + 1) != std::string::npos)
-    throw ScenarioError(file.string() + ": SSM output has a malformed position '" + w + "'");
-  return {parseNumber(w.substr(0, comma), file), parseNumber(w.substr(comma + 1), file)};
+    x.fail(line, "SSM output has a malformed position '" + w + "'");
+  return {parseNumber(x, line, w.substr(0, comma)), parseNumber(x, line, w.substr(comma + 1))};
+}
+
+// One <conflict> of an SSM output file and its children; errors name the file and the tag's line.
+SsmConflict readConflict(const io::XmlScanner& x, const io::XmlScanner::Tag& conflict,
+                         const std::vector<io::XmlScanner::Tag>& children) {
+  auto child = [&](const std::string& name) -> const io::XmlScanner::Tag* {
+    for (const auto& c : children)
+      if (c.name == name) return &c;
+    return nullptr;
+  };
+  auto text = [](const io::XmlScanner::Tag* tag, const char* key, const char* def) {
+    const std::string* v = tag ? tag->attr(key) : nullptr;
+    return v ? *v : std::string(def);
+  };
+  auto numbers = [&](const char* name, auto&& into) {
+    const io::XmlScanner::Tag* tag = child(name);
+    for (const auto& w : words(text(tag, "values", ""))) into(parseNumber(x, tag->line, w));
+  };
+  auto points = [&](const char* name, std::vector<Vec2>& into) {
+    const io::XmlScanner::Tag* tag = child(name);
+    for (const auto& w : words(text(tag, "values", ""))) into.push_back(parsePoint(x, tag->line, w));
+  };
+  const long line = conflict.line;
+  SsmConflict c;
+  c.ego = text(&conflict, "ego", "");
+  c.foe = text(&conflict, "foe", "");
+  c.begin = parseNumber(x, line, text(&conflict, "begin", "0"));
+  c.end = parseNumber(x, line, text(&conflict, "end", "0"));
+  numbers("timeSpan", [&](double v) { c.times.push_back(v); });
+  numbers("typeSpan", [&](double v) { c.types.push_back(static_cast<int>(v)); });
+  numbers("TTCSpan", [&](double v) { c.ttc.push_back(v); });
+  numbers("DRACSpan", [&](double v) { c.drac.push_back(v); });
+  points("conflictPoint", c.conflictPoints);
+  points("egoVelocity", c.egoVelocities);
+  points("foeVelocity", c.foeVelocities);
+  points("egoPosition", c.egoPositions);
+  points("foePosition", c.foePositions);
+  const std::size_t n = c.times.size();
+  const bool sameLengths = c.types.size() == n && c.ttc.size() == n && (c.drac.empty() || c.drac.size() == n) &&
+                           c.conflictPoints.size() == n && c.egoVelocities.size() == n && c.foeVelocities.size() == n &&
+                           (c.egoPositions.empty() || c.egoPositions.size() == n) &&
+                           (c.foePositions.empty() || c.foePositions.size() == n);
+  if (!sameLengths)
+    x.fail(line, "SSM conflict " + c.ego + "/" + c.foe +
+                     " has time, type, TTC, conflict point and velocity series of different lengths (trajectories off?)");
+  if (const io::XmlScanner::Tag* m = child("minTTC"); m && text(m, "value", "NA") != "NA") {
+    c.hasMin = true;
+    c.minTtc = parseNumber(x, m->line, text(m, "value", "NA"));
+    c.minTtcTime = parseNumber(x, m->line, text(m, "time", "0"));
+    const double type = parseNumber(x, m->line, text(m, "type", "NA"));
+    c.minTtcType = std::isfinite(type) ? static_cast<int>(type) : -1;
+    c.minTtcPosition = parsePoint(x, m->line, text(m, "position", "NA"));
+  }
+  if (const io::XmlScanner::Tag* p = child("PET"); p && text(p, "value", "NA") != "NA") {
+    c.hasPet = true;
+    c.pet = parseNumber(x, p->line, text(p, "value", "NA"));
+    c.petTime = parseNumber(x, p->line, text(p, "time", "NA"));
+    const double type = parseNumber(x, p->line, text(p, "type", "NA"));
+    c.petType = std::isfinite(type) ? static_cast<int>(type) : -1;
+    c.petPosition = parsePoint(x, p->line, text(p, "position", "NA"));
+    if (!std::isfinite(c.pet) || !std::isfinite(c.petTime))
+      x.fail(p->line, "SSM conflict " + c.ego + "/" + c.foe + " has a PET without a time");
+  }
+  return c;
 }
 
 // Horizon for the box TTC of SSM's pairs (s): well beyond any TTC SSM logs as a conflict.
@@ -88,72 +152,23 @@ std::vector<std::string> ssmArguments(const std::filesystem::path& file, double 
 }
 
 std::vector<SsmConflict> readSsmOutput(const std::filesystem::path& path) {
-  boost::property_tree::ptree pt;
-  try {
-    boost::property_tree::read_xml(path.string(), pt);
-  } catch (const boost::property_tree::xml_parser_error& e) {
-    throw ScenarioError(path.string() + ":" + std::to_string(e.line()) + ": malformed SSM output: " + e.message());
-  }
+  io::XmlScanner x(path, io::raiseAs<ScenarioError>);
+  x.requireBalanced();  // a file SUMO did not close is not read as whole
+  io::XmlScanner::Tag t;
+  if (!x.next(t) || t.closing || t.name != "SSMLog")
+    x.fail(std::max(t.line, 1L), "not an SSM output file (no <SSMLog>)");
   std::vector<SsmConflict> out;
-  const auto root = pt.get_child_optional("SSMLog");
-  if (!root) throw ScenarioError(path.string() + ": not an SSM output file (no <SSMLog>)");
-  for (const auto& [tag, node] : *root) {
-    if (tag != "conflict") continue;
-    SsmConflict c;
-    c.ego = node.get<std::string>("<xmlattr>.ego", "");
-    c.foe = node.get<std::string>("<xmlattr>.foe", "");
-    c.begin = node.get<double>("<xmlattr>.begin", 0.0);
-    c.end = node.get<double>("<xmlattr>.end", 0.0);
-    for (const auto& w : words(node.get<std::string>("timeSpan.<xmlattr>.values", "")))
-      c.times.push_back(parseNumber(w, path));
-    for (const auto& w : words(node.get<std::string>("typeSpan.<xmlattr>.values", "")))
-      c.types.push_back(static_cast<int>(parseNumber(w, path)));
-    for (const auto& w : words(node.get<std::string>("TTCSpan.<xmlattr>.values", "")))
-      c.ttc.push_back(parseNumber(w, path));
-    for (const auto& w : words(node.get<std::string>("DRACSpan.<xmlattr>.values", "")))
-      c.drac.push_back(parseNumber(w, path));
-    const std::pair<const char*, std::vector<Vec2>*> series[] = {
-        {"conflictPoint", &c.conflictPoints}, {"egoVelocity", &c.egoVelocities}, {"foeVelocity", &c.foeVelocities}};
-    for (const auto& [name, into] : series)
-      for (const auto& w : words(node.get<std::string>(std::string(name) + ".<xmlattr>.values", "")))
-        into->push_back(parsePoint(w, path));
-    bool sameLengths = c.types.size() == c.times.size() && c.ttc.size() == c.times.size() &&
-                       (c.drac.empty() || c.drac.size() == c.times.size());
-    for (const auto& [name, into] : series) sameLengths = sameLengths && into->size() == c.times.size();
-    const std::pair<const char*, std::vector<Vec2>*> fronts[] = {{"egoPosition", &c.egoPositions},
-                                                                 {"foePosition", &c.foePositions}};
-    for (const auto& [name, into] : fronts) {
-      for (const auto& w : words(node.get<std::string>(std::string(name) + ".<xmlattr>.values", "")))
-        into->push_back(parsePoint(w, path));
-      sameLengths = sameLengths && (into->empty() || into->size() == c.times.size());
-    }
-    if (!sameLengths)
-      throw ScenarioError(path.string() + ": SSM conflict " + c.ego + "/" + c.foe +
-                          " has time, type, TTC, conflict point and velocity series of different lengths (trajectories off?)");
-    if (auto m = node.get_child_optional("minTTC")) {
-      const std::string v = m->get<std::string>("<xmlattr>.value", "NA");
-      if (v != "NA") {
-        c.hasMin = true;
-        c.minTtc = parseNumber(v, path);
-        c.minTtcTime = m->get<double>("<xmlattr>.time", 0.0);
-        c.minTtcType = m->get<int>("<xmlattr>.type", -1);
-        c.minTtcPosition = parsePoint(m->get<std::string>("<xmlattr>.position", "NA"), path);
-      }
-    }
-    if (auto p = node.get_child_optional("PET")) {
-      const std::string v = p->get<std::string>("<xmlattr>.value", "NA");
-      if (v != "NA") {
-        c.hasPet = true;
-        c.pet = parseNumber(v, path);
-        c.petTime = parseNumber(p->get<std::string>("<xmlattr>.time", "NA"), path);
-        const double type = parseNumber(p->get<std::string>("<xmlattr>.type", "NA"), path);
-        c.petType = std::isfinite(type) ? static_cast<int>(type) : -1;
-        c.petPosition = parsePoint(p->get<std::string>("<xmlattr>.position", "NA"), path);
-        if (!std::isfinite(c.pet) || !std::isfinite(c.petTime))
-          throw ScenarioError(path.string() + ": SSM conflict " + c.ego + "/" + c.foe + " has a PET without a time");
-      }
-    }
-    out.push_back(std::move(c));
+  while (x.next(t)) {
+    if (t.closing || t.name != "conflict" || x.depth() != 1) continue;
+    const io::XmlScanner::Tag conflict = t;
+    // its children by name (the first of each, as SSM writes each once)
+    std::vector<io::XmlScanner::Tag> children;
+    if (!conflict.selfClosing)
+      while (x.next(t) && x.depth() > 1)
+        if (!t.closing && x.depth() == 2 &&
+            std::none_of(children.begin(), children.end(), [&](const auto& c) { return c.name == t.name; }))
+          children.push_back(t);
+    out.push_back(readConflict(x, conflict, children));
   }
   return out;
 }
