@@ -500,7 +500,7 @@ std::string warningRow(const arm::Monitor& m, const arm::Warning& w) {
   std::ostringstream line;
   line << num(w.t) << ',' << io::csvField(m.arm(w.arm).name) << ',' << io::csvField(arm::bodyName(m.arm(w.arm).model, w.body))
        << ',' << w.capsule << ',' << io::csvField(arm::otherName(m, w)) << ',' << num(w.distance) << ',' << num(w.ttc)
-       << ',' << (w.outcome == arm::Approach::Touching ? "separation" : "ttc") << ',' << (w.stop ? "STOP" : "");
+       << ',' << (w.outcome == Outcome::Overlapping ? "separation" : "ttc") << ',' << (w.stop ? "STOP" : "");
   return line.str();
 }
 

@@ -124,8 +124,8 @@ struct FclWorld {
   template <class Sep>
   void judge(Sep&& sep, double speed) {
     ++exactPairs;
-    const TimeToCollision r = advance(sep, clearance, speed, horizon);
-    if (r.outcome == Approach::Touching || (r.outcome == Approach::Hit && r.t <= safeTime)) ++warnings;
+    const AdvanceImpact r = toiAdvanceSeparation(sep, clearance, speed, horizon);
+    if (r.impact.outcome == Outcome::Overlapping || (r.impact.outcome == Outcome::Hit && r.impact.t <= safeTime)) ++warnings;
   }
 
   void pair(int i, int j) {

@@ -343,11 +343,11 @@ void Monitor::cycle(double t) {
   nearest_.t = t;
   nearest_.distance = std::numeric_limits<double>::infinity();
   nearest_.ttc = std::numeric_limits<double>::infinity();
-  nearest_.outcome = Approach::Clear;
+  nearest_.outcome = Outcome::Miss;
   minTtc_ = std::numeric_limits<double>::infinity();
   armMinTtc_.assign(arms_.size(), std::numeric_limits<double>::infinity());
   armWorst_.assign(arms_.size(), Warning{});
-  for (Warning& w : armWorst_) w.t = t, w.distance = w.ttc = std::numeric_limits<double>::infinity(), w.outcome = Approach::Clear;
+  for (Warning& w : armWorst_) w.t = t, w.distance = w.ttc = std::numeric_limits<double>::infinity(), w.outcome = Outcome::Miss;
   for (ArmState& a : arms_) a.warned = false;
   // each candidate pair from the neighbour list of its more recently filed member (the brute
   // force lists every other object: all pairs, each once)
@@ -386,20 +386,20 @@ void Monitor::cycle(double t) {
   ++counters_.cycles;
 }
 
-void Monitor::noteNearest(int i, int j, int obstacle, const TimeToCollision& r) {
-  minTtc_ = std::min(minTtc_, r.t);
-  armMinTtc_[capArm_[i]] = std::min(armMinTtc_[capArm_[i]], r.t);
-  if (j >= 0) armMinTtc_[capArm_[j]] = std::min(armMinTtc_[capArm_[j]], r.t);
+void Monitor::noteNearest(int i, int j, int obstacle, const AdvanceImpact& r) {
+  minTtc_ = std::min(minTtc_, r.impact.t);
+  armMinTtc_[capArm_[i]] = std::min(armMinTtc_[capArm_[i]], r.impact.t);
+  if (j >= 0) armMinTtc_[capArm_[j]] = std::min(armMinTtc_[capArm_[j]], r.impact.t);
   // each side's worst pair, from its own side
   for (const auto& [me, other] : {std::pair{i, j}, std::pair{j, i}}) {
     if (me < 0) continue;
     Warning& w = armWorst_[capArm_[me]];
-    if (r.t < w.ttc || (r.t == w.ttc && r.distance < w.distance)) w = pairRecord(me, other, obstacle, r);
+    if (r.impact.t < w.ttc || (r.impact.t == w.ttc && r.distance < w.distance)) w = pairRecord(me, other, obstacle, r);
   }
   if (r.distance < nearest_.distance) nearest_ = pairRecord(i, j, obstacle, r);
 }
 
-Warning Monitor::pairRecord(int i, int j, int obstacle, const TimeToCollision& r) const {
+Warning Monitor::pairRecord(int i, int j, int obstacle, const AdvanceImpact& r) const {
   Warning w;
   w.t = now_;
   w.arm = capArm_[i];
@@ -410,8 +410,8 @@ Warning Monitor::pairRecord(int i, int j, int obstacle, const TimeToCollision& r
   w.otherCapsule = j >= 0 ? capLocal_[j] : -1;
   w.obstacle = obstacle;
   w.distance = r.distance;
-  w.ttc = r.t;
-  w.outcome = r.outcome;
+  w.ttc = r.impact.t;
+  w.outcome = r.impact.outcome;
   return w;
 }
 
@@ -421,16 +421,16 @@ void Monitor::addWarning(const Warning& w) {
   ++counters_.warnings;
 }
 
-std::optional<Warning> Monitor::warningFor(int i, const TimeToCollision& r, double t) {
+std::optional<Warning> Monitor::warningFor(int i, const AdvanceImpact& r, double t) {
   counters_.advanceSteps += r.steps;
   if (r.capped) ++counters_.cappedAdvances;
-  if (!(r.outcome == Approach::Touching || (r.outcome == Approach::Hit && r.t <= safety_.safeTime())))
+  if (!(r.impact.outcome == Outcome::Overlapping || (r.impact.outcome == Outcome::Hit && r.impact.t <= safety_.safeTime())))
     return std::nullopt;
   Warning w;
   w.t = t;
   w.distance = r.distance;
-  w.ttc = r.t;
-  w.outcome = r.outcome;
+  w.ttc = r.impact.t;
+  w.outcome = r.impact.outcome;
   w.arm = capArm_[i];
   w.body = capBody_[i];
   w.capsule = capLocal_[i];
@@ -443,7 +443,7 @@ void Monitor::testPair(int i, int j, double t) {
   ++counters_.candidatePairs;
   if (!swept_[i].overlaps(swept_[j])) return;  // cannot come within the separation in the look-ahead
   ++counters_.exactPairs;
-  const TimeToCollision r = timeToCollision(movingCapsule(i), movingCapsule(j), safety_.minSeparation, safety_.lookAhead());
+  const AdvanceImpact r = toiAdvance(movingCapsule(i), movingCapsule(j), safety_.minSeparation, safety_.lookAhead());
   noteNearest(i, j, -1, r);
   std::optional<Warning> found = warningFor(i, r, t);
   if (!found) return;
@@ -471,13 +471,13 @@ void Monitor::testObstacle(int i, int o, double t) {
   const MovingCapsule c = movingCapsule(i);
   const Obstacle& ob = obstaclesNow_[o];
   const double sep = safety_.minSeparation, h = safety_.lookAhead();
-  TimeToCollision r;
+  AdvanceImpact r;
   switch (ob.kind) {
-    case ShapeKind::Sphere: r = timeToCollision(c, MovingSphere{ob.sphere, ob.velocity}, sep, h); break;
+    case ShapeKind::Sphere: r = toiAdvance(c, MovingSphere{ob.sphere, ob.velocity}, sep, h); break;
     case ShapeKind::Capsule:
-      r = timeToCollision(c, MovingCapsule{ob.capsule, ob.velocity, ob.velocity}, sep, h);
+      r = toiAdvance(c, MovingCapsule{ob.capsule, ob.velocity, ob.velocity}, sep, h);
       break;
-    case ShapeKind::Box: r = timeToCollision(c, MovingBox{ob.box, ob.velocity}, sep, h); break;
+    case ShapeKind::Box: r = toiAdvance(c, MovingBox{ob.box, ob.velocity}, sep, h); break;
   }
   noteNearest(i, -1, o, r);
   std::optional<Warning> w = warningFor(i, r, t);

@@ -147,7 +147,7 @@ void ReplayRecorder::see(const Monitor& m, const PersonSet* persons, const Separ
       } else {
         // the pair with the arm's smallest time to collision decided it (as the service's verdict)
         const Warning& w = m.worst(a);
-        st.cause = w.outcome == Approach::Touching ? "separation" : "collision";
+        st.cause = w.outcome == Outcome::Overlapping ? "separation" : "collision";
         if (w.arm >= 0) {
           st.body = m.arm(a).name + "/" + bodyName(m.arm(a).model, w.body);
           st.other = otherName(m, w);

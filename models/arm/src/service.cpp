@@ -713,7 +713,7 @@ void ArmService::armVerdicts(double t) {
     if (v.level == proto::Level::Ok) v.pair = none;
     v.cause = v.level == proto::Level::Ok     ? proto::Cause::None
               : v.level == proto::Level::Warn ? proto::Cause::Lookahead
-              : w.outcome == Approach::Touching ? proto::Cause::Separation
+              : w.outcome == Outcome::Overlapping ? proto::Cause::Separation
                                                 : proto::Cause::Collision;
     // fail safe: a verdict on a reading that is not current (or none: the monitor's watchdog, by
     // the arm's declared sensor period) is no verdict: STOP, and the geometry (of a pose no sensor

@@ -509,7 +509,7 @@ TEST(ArmService, AStopNamesItsCauseNotTheNearestPair) {
   const auto* v = &std::get<proto::Verdict>(*m1);
   const proto::ArmVerdict& av = v->arms[arm];
   EXPECT_EQ(av.level, proto::Level::Stop);
-  EXPECT_EQ(av.cause, cause.outcome == Approach::Touching ? proto::Cause::Separation : proto::Cause::Collision);
+  EXPECT_EQ(av.cause, cause.outcome == Outcome::Overlapping ? proto::Cause::Separation : proto::Cause::Collision);
   EXPECT_TRUE(samePair(av.pair, cause)) << av.pair.body << " " << av.pair.otherArm << " " << av.pair.otherBody;
   EXPECT_EQ(av.pair.ttc, av.minTtc);
   EXPECT_EQ(av.pair.distance, cause.distance);
@@ -520,7 +520,7 @@ TEST(ArmService, AStopNamesItsCauseNotTheNearestPair) {
   const std::string log = slurp(d / "log" / "verdicts.csv");
   const std::string name = s.arms[arm].name;
   EXPECT_NE(log.find(name + "_cause," + name + "_cause_body"), std::string::npos) << log;
-  EXPECT_NE(log.find(cause.outcome == Approach::Touching ? ",separation," : ",collision,"), std::string::npos) << log;
+  EXPECT_NE(log.find(cause.outcome == Outcome::Overlapping ? ",separation," : ",collision,"), std::string::npos) << log;
   const Monitor& sm = svc.service.monitor();
   EXPECT_NE(log.find(name + "/" + bodyName(sm.arm(arm).model, cause.body) + "," + otherName(sm, cause)), std::string::npos)
       << log;

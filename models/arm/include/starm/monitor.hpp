@@ -11,8 +11,8 @@
 #include <vector>
 
 #include <stcore/space.hpp>
+#include <stcore/toi_advance.hpp>
 #include <starm/arm.hpp>
-#include <starm/ttc.hpp>
 
 namespace st::arm {
 
@@ -116,7 +116,7 @@ struct Warning {
   int obstacle = -1;     // or an obstacle
   double distance = 0.0; // m, separation now
   double ttc = 0.0;      // s, time until within the minimum separation (0 if already)
-  Approach outcome = Approach::Touching;
+  Outcome outcome = Outcome::Overlapping;  // already within it (Overlapping), within it at ttc (Hit), or not (Miss)
   bool stop = false;     // this warning issued STOP for `arm`
 };
 
@@ -237,11 +237,11 @@ class Monitor {
   void testPair(int i, int j, double t);
   void testObstacle(int i, int o, double t);
   void addWarning(const Warning& w);
-  void noteNearest(int i, int j, int obstacle, const TimeToCollision& r);
+  void noteNearest(int i, int j, int obstacle, const AdvanceImpact& r);
   // capsule i's pair with capsule j (or an obstacle, j < 0), as a record seen from i
-  Warning pairRecord(int i, int j, int obstacle, const TimeToCollision& r) const;
+  Warning pairRecord(int i, int j, int obstacle, const AdvanceImpact& r) const;
   // Counts the advancement; a Warning for capsule i (ego side filled) if r warns at time t.
-  std::optional<Warning> warningFor(int i, const TimeToCollision& r, double t);
+  std::optional<Warning> warningFor(int i, const AdvanceImpact& r, double t);
 
   std::vector<ArmState> arms_;
   std::vector<Obstacle> obstacles_;

@@ -52,7 +52,7 @@
 #include <vector>
 
 #include <starm/person.hpp>
-#include <starm/ttc.hpp>
+#include <stcore/toi_advance.hpp>
 
 namespace st::arm {
 

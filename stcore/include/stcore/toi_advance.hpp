@@ -1,30 +1,31 @@
 #pragma once
-// Time to collision by conservative advancement on exact distances.
-// Shapes move affinely: each capsule end point at its own constant velocity (an arm link
-// extrapolated from qdot), spheres and boxes translating. A point of such a capsule moves at a
-// convex combination of its end velocities, so the relative velocity of any two points is
-// bilinear in their parameters; its norm is convex in each parameter and so peaks at a pair of
+// Time of impact by conservative advancement on exact distances, for shapes whose motion no
+// closed form covers (toi.hpp's kernels solve constant-velocity balls and planes exactly).
+// Shapes move affinely: each capsule end point at its own constant velocity (a robot link
+// extrapolated from its joint rates), spheres and boxes translating. A point of such a capsule
+// moves at a convex combination of its end velocities, so the relative velocity of any two points
+// is bilinear in their parameters; its norm is convex in each parameter and so peaks at a pair of
 // end points: the separation shrinks at most at V = max over end pairs |v_i - w_j|. (Links of
 // one arm share the motion of the joints below both, so this is far tighter than the sum of
 // speeds.) Advancing by separation / V therefore never steps over a contact.
+//
+// The result is toi.hpp's Impact, read against a clearance (the separation counted as contact):
+//   Hit         comes within the clearance at t, a lower bound early by at most
+//               tol::kAdvanceSlop / V (also when the step budget ran out: see `capped`);
+//   Overlapping within the clearance now (t = 0), whichever way the shapes move;
+//   Miss        stays outside the clearance for the whole horizon (t = infinity).
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include <stcore/distance.hpp>
+#include <stcore/toi.hpp>
 #include <stcore/tolerances.hpp>
 
-namespace st::arm {
+namespace st {
 
-enum class Approach {
-  Touching,  // already within the clearance now
-  Hit,       // comes within the clearance at t (a lower bound, early by at most kAdvanceSlop / V)
-  Clear,     // stays outside the clearance for the whole horizon
-};
-
-struct TimeToCollision {
-  Approach outcome = Approach::Clear;
-  double t = std::numeric_limits<double>::infinity();
+struct AdvanceImpact {
+  Impact impact;          // Hit, Overlapping or Miss, as above
   double distance = 0.0;  // separation now (m), before subtracting the clearance
   int steps = 0;          // distance evaluations
   bool capped = false;    // step budget ran out: t is still a sound lower bound, reported as Hit
@@ -37,15 +38,14 @@ inline constexpr int kMaxAdvanceSteps = 200;
 // sepAt(t): exact separation of the shapes at time t. clearance: the separation counted as
 // contact (the objects grown by half of it each). speedBound: bound on d(separation)/dt.
 template <class SepAt>
-TimeToCollision advance(SepAt&& sepAt, double clearance, double speedBound, double horizon) {
-  TimeToCollision out;
+AdvanceImpact toiAdvanceSeparation(SepAt&& sepAt, double clearance, double speedBound, double horizon) {
+  AdvanceImpact out;
   double gap = sepAt(0.0);
   out.distance = gap;
   out.steps = 1;
   gap -= clearance;
   if (gap <= tol::kAdvanceSlop) {
-    out.outcome = Approach::Touching;
-    out.t = 0.0;
+    out.impact = {Outcome::Overlapping, 0.0};
     return out;
   }
   if (!(speedBound > 0.0) || gap >= speedBound * horizon) return out;  // cannot close in time
@@ -61,12 +61,11 @@ TimeToCollision advance(SepAt&& sepAt, double clearance, double speedBound, doub
     ++out.steps;
     if (gap <= tol::kAdvanceSlop) break;
   }
-  out.outcome = Approach::Hit;
-  out.t = t;
+  out.impact = {Outcome::Hit, t};
   return out;
 }
 
-// An arm capsule extrapolated from its end-point velocities.
+// A capsule whose end points move at their own constant velocities.
 struct MovingCapsule {
   Capsule c;
   Vec3 va = Vec3::Zero();
@@ -101,9 +100,11 @@ double closingSpeedBound(const A& a, const B& b) {
   return std::sqrt(v2);
 }
 
+// A moving capsule against a moving capsule, sphere or box: when they first come within `clearance`
+// in [0, horizon].
 template <class Other>
-TimeToCollision timeToCollision(const MovingCapsule& a, const Other& b, double clearance, double horizon) {
-  return advance([&](double t) { return distance(a.at(t), b.at(t)); }, clearance, closingSpeedBound(a, b), horizon);
+AdvanceImpact toiAdvance(const MovingCapsule& a, const Other& b, double clearance, double horizon) {
+  return toiAdvanceSeparation([&](double t) { return distance(a.at(t), b.at(t)); }, clearance, closingSpeedBound(a, b), horizon);
 }
 
-}  // namespace st::arm
+}  // namespace st
