@@ -120,7 +120,7 @@ void ArmDrive::limit(double t, double factor) {
   targets_.emplace_back(std::max(t + cfg_.delay, last_), factor);
 }
 
-void ArmDrive::observe(double t, bool warned, bool stop, double rate) {
+void ArmDrive::observe(double t, bool warned, bool stop, double rate, bool blocked) {
   if (warned) lastThreat_ = t;
   if (stop && (mode_ == DriveMode::Following || mode_ == DriveMode::Resuming || mode_ == DriveMode::Scaled)) {
     // braking starts `delay` after the STOP cycle, never before the next reading
@@ -136,7 +136,7 @@ void ArmDrive::observe(double t, bool warned, bool stop, double rate) {
     ++stops_;
     return;
   }
-  if (mode_ == DriveMode::Stopped && cfg_.resumes() && !warned && t - lastThreat_ >= cfg_.resumeAfter) {
+  if (mode_ == DriveMode::Stopped && cfg_.resumes() && !warned && !blocked && t - lastThreat_ >= cfg_.resumeAfter) {
     double ramp = cfg_.stoppingTime;
     if (cfg_.deceleration > 0.0) ramp = std::max(rate, 1e-9) / cfg_.deceleration;
     const double start = std::max(t, last_);
@@ -200,18 +200,22 @@ void ClosedLoopSensor::observe(const Monitor& m, double t, const SeparationMonit
   for (int a = 0; a < static_cast<int>(arms_.size()); ++a) {
     const SsmVerdict* v = ssm ? &ssm->verdict(a) : nullptr;
     const bool ssmStop = v && v->stop;
-    observeArm(a, t, m.warned(a) || ssmStop, m.stopped(a) || ssmStop);
+    if (v && ssm->config().response != SsmResponse::Stop)
+      // graded: the person's STOP stops the arm and holds it while the factor is 0, no longer
+      observeArm(a, t, m.warned(a), m.stopped(a) || ssmStop, ssmStop || v->factor <= 0.0);
+    else
+      observeArm(a, t, m.warned(a) || ssmStop, m.stopped(a) || ssmStop);
     if (v) limitArm(a, t, v->factor);
   }
 }
 
-void ClosedLoopSensor::observeArm(int a, double t, bool warned, bool stop) {
+void ClosedLoopSensor::observeArm(int a, double t, bool warned, bool stop, bool blocked) {
   ArmFeed& f = arms_[a];
   if (!f.seen) return;
   double rate = 0.0;
   if (f.head < f.buffer.size())
     for (double v : f.buffer[f.head].qdot) rate = std::max(rate, std::abs(v));
-  f.drive.observe(t, warned, stop, rate);
+  f.drive.observe(t, warned, stop, rate, blocked);
 }
 
 void ClosedLoopSensor::limitArm(int a, double t, double factor) {

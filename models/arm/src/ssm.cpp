@@ -94,14 +94,19 @@ SeparationTerms protectiveSeparation(const SsmConfig& c, double vh, double vr) {
 
 SeparationTerms protectiveSeparation(const SsmConfig& c, double vh, double vr, double s, double sb) {
   SeparationTerms t = protectiveSeparation(c, vh, 0.0);
-  const double vb = vr + std::max(0.0, sb - s) * c.robotSpeed;
+  // the arm's speed until it stops: its path may speed up meanwhile (v_r is near 0 at a turn of
+  // the path whatever s is), so v_r is no bound, but R per unit of program speed is: s_b R, or
+  // v_r + (s_b - s) R where the arm is seen faster than R allows
+  const double vb = std::max(sb * c.robotSpeed, vr + std::max(0.0, sb - s) * c.robotSpeed);
   t.sr = vb * c.reactionTime;             // (3) at the speed braking starts from
   t.ss = vb * sb * c.stoppingTime / 2.0;  // (4) with the drive's stopping time s_b T_s
   return t;
 }
 
 double allowedDrivenSpeed(const SsmConfig& c, double vh, double d) {
-  const double room = d - vh * c.cycleTime - protectiveSeparation(c, vh, 0.0).total();
+  // the person comes on for T_r before the factor takes effect (a drive heading down from a higher
+  // factor is still there); one cycle is not enough, S_p at the drive's speed would break
+  const double room = d - vh * c.reactionTime - protectiveSeparation(c, vh, 0.0).total();
   const double b = c.reactionTime + c.cycleTime;
   if (room <= 0.0) return b > 0.0 ? room / b : (room == 0.0 ? 0.0 : -1.0);
   const double r = room / c.robotSpeed;
@@ -263,7 +268,9 @@ SsmVerdict SeparationMonitor::armVerdict(const Monitor& m, const PersonSet& pers
   const double sNow = s.drive ? s.drive->speed() : 1.0, sBrake = s.drive ? s.drive->brakingSpeed() : 1.0;
   for (int hand = 0; hand < 2; ++hand) {
     const double vh = hand ? cfg_.handSpeed : cfg_.bodySpeed;
-    s.terms[hand] = protectiveSeparation(cfg_, vh, speed_[a], sNow, sBrake);
+    // without the drive, (3) and (4) as written at the speed seen
+    s.terms[hand] = s.drive ? protectiveSeparation(cfg_, vh, speed_[a], sNow, sBrake)
+                            : protectiveSeparation(cfg_, vh, speed_[a]);
     s.binary[hand] = protectiveSeparation(cfg_, vh, topSpeed).total();
   }
   s.worstCap = m.capsuleCount();

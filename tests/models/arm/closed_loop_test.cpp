@@ -111,6 +111,43 @@ TEST(ArmDrive, ResumesAfterTheThreatClears) {
   EXPECT_NEAR(never.tau(), 0.5 + 0.05, 1e-12);
 }
 
+TEST(ArmDrive, AGradedStopResumesWhenUnblockedWithoutTheHold) {
+  // a STOP at 0.5 s blocked (a graded check allows no motion) until 0.6 s and never a warning:
+  // the arm stands until 0.6 s, then goes at once, not braking.resume (0.25 s) later
+  BrakeConfig cfg;
+  cfg.stoppingTime = 0.1;
+  cfg.delay = 0.0;
+  cfg.resumeAfter = 0.25;
+  ArmDrive d(cfg);
+  const double dt = 0.001;
+  double t = 0, resumedAt = -1;
+  for (long k = 0; k <= 3000; ++k) {
+    t = static_cast<double>(k) * dt;
+    d.advance(t);
+    const bool blocked = t >= 0.5 - 1e-12 && t < 0.6 - 1e-12;
+    const int before = d.resumes();
+    d.observe(t, false, blocked, 1.0, blocked);
+    if (d.resumes() > before && resumedAt < 0) resumedAt = t;
+  }
+  EXPECT_EQ(d.stops(), 1);
+  EXPECT_EQ(d.resumes(), 1);
+  EXPECT_NEAR(resumedAt, 0.6, 1e-9);
+  // lost: T/2 braking from 0.5, standstill from 0.6 (rest) to 0.6, T/2 ramping up
+  EXPECT_NEAR(t - d.tau(), cfg.stoppingTime, 1.5e-3);
+  // the same STOP as a threat (warned) waits braking.resume after it
+  ArmDrive held(cfg);
+  resumedAt = -1;
+  for (long k = 0; k <= 3000; ++k) {
+    t = static_cast<double>(k) * dt;
+    held.advance(t);
+    const bool threat = t >= 0.5 - 1e-12 && t < 0.6 - 1e-12;
+    const int before = held.resumes();
+    held.observe(t, threat, threat, 1.0);
+    if (held.resumes() > before && resumedAt < 0) resumedAt = t;
+  }
+  EXPECT_NEAR(resumedAt, 0.599 + cfg.resumeAfter, 1e-9);
+}
+
 // Brute force over the run: the smallest exact distance of any pair the monitor must check
 // (arm-arm, self pairs outside the allowed matrix, arm-obstacle), and the first time it is <= 0.
 struct Truth {

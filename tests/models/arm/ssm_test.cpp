@@ -73,7 +73,7 @@ TEST(Ssm, TermsEqualTheStandardsFormulaeByHand) {
 }
 
 TEST(Ssm, DrivenTermsAndSpeedsEqualTheFormulaeByHand) {
-  // S_r = v_b T_r, S_s = v_b s_b T_s / 2 with v_b = v_r + (s_b - s) R: the drive stops from
+  // S_r = v_b T_r, S_s = v_b s_b T_s / 2 with v_b = max(s_b R, v_r + (s_b - s) R): the drive stops from
   // program speed s_b in s_b T_s. (a) the defaults (R = 1), scaled to s = s_b = 0.5, v_r = 0.5 m/s, walking
   SsmConfig a;
   SeparationTerms t = protectiveSeparation(a, 1.6, 0.5, 0.5, 0.5);
@@ -107,20 +107,26 @@ TEST(Ssm, DrivenTermsAndSpeedsEqualTheFormulaeByHand) {
   EXPECT_NEAR(t.sr, 0.1, 1e-15);   // 2.0 * 0.05
   EXPECT_NEAR(t.ss, 0.3, 1e-15);   // 2.0 * 1 * 0.3 / 2
   EXPECT_NEAR(t.total(), 1.81, 1e-14);
-  // the allowed speed: R f (T_r + T_c) + R f^2 T_s / 2 = room, solved on paper.
-  // (a) d = 0.45: room = 0.45 - 1.6 * 0.001 - (0.3376 + 0.06) = 0.0508; 0.1 f^2 + 0.012 f - 0.0508 = 0,
-  // f = (-0.012 + sqrt(0.000144 + 0.02032)) / 0.2 = (-0.012 + 0.1430524) / 0.2 = 0.655262189689907
-  EXPECT_NEAR(allowedDrivenSpeed(a, 1.6, 0.45), 0.655262189689907, 1e-9);
-  // (against formula (4) at T_s: 0.0508 / 0.112 = 0.453571428571429 m/s)
+  // (d) the defaults (R = 1) scaled to s = s_b = 0.5 at a turn of the path: v_r = 0.05 m/s seen, but
+  // the path may speed up to R while the arm stops, so v_b = s_b R = 0.5, as in (a)
+  t = protectiveSeparation(a, 1.6, 0.05, 0.5, 0.5);
+  EXPECT_NEAR(t.sr, 0.0055, 1e-15);  // 0.5 * 0.011
+  EXPECT_NEAR(t.ss, 0.025, 1e-15);   // 0.5 * 0.5 * 0.2 / 2
+  // the allowed speed: R f (T_r + T_c) + R f^2 T_s / 2 = room, room = d - v_h T_r - S_p(v_h, 0) (the
+  // person comes on for T_r before the factor takes effect), solved on paper.
+  // (a) d = 0.45: room = 0.45 - 1.6 * 0.011 - (0.3376 + 0.06) = 0.0348; 0.1 f^2 + 0.012 f - 0.0348 = 0,
+  // f = (-0.012 + sqrt(0.000144 + 0.01392)) / 0.2 = (-0.012 + 0.118591736642989) / 0.2 = 0.532958683214944
+  EXPECT_NEAR(allowedDrivenSpeed(a, 1.6, 0.45), 0.532958683214944, 1e-9);
+  // (against formula (4) at T_s, the drive unknown: (0.45 - 1.6 * 0.001 - 0.3976) / 0.112 = 0.453571428571429 m/s)
   EXPECT_NEAR(allowedRobotSpeed(a, 1.6, 0.45), 0.453571428571429, 1e-9);
-  // (b) d = 2.0, a hand: room = 2.0 - 2.0 * 0.001 - (1.2 + 0.32) = 0.478, r = room / R = 0.5975;
-  // 0.25 f^2 + 0.101 f - 0.5975 = 0, f = (-0.101 + sqrt(0.010201 + 0.5975)) / 0.5 = 1.35710358860468,
-  // speed f R = 1.08568287088375 (above R: factor 1)
-  EXPECT_NEAR(allowedDrivenSpeed(b, 2.0, 2.0), 1.08568287088375, 1e-9);
-  // (c) d = 1.6: room = 1.6 - 1.6 * 0.001 - (0.56 + 0.85) = 0.1884, r = 0.0942;
-  // 0.15 f^2 + 0.051 f - 0.0942 = 0, f = (-0.051 + sqrt(0.002601 + 0.05652)) / 0.3 = 0.640493676718085,
-  // speed f R = 1.28098735343617
-  EXPECT_NEAR(allowedDrivenSpeed(c, 1.6, 1.6), 1.28098735343617, 1e-9);
+  // (b) d = 2.0, a hand: room = 2.0 - 2.0 * 0.1 - (1.2 + 0.32) = 0.28, r = room / R = 0.35;
+  // 0.25 f^2 + 0.101 f - 0.35 = 0, f = (-0.101 + sqrt(0.010201 + 0.35)) / 0.5 = 0.998334953252633,
+  // speed f R = 0.798667962602106
+  EXPECT_NEAR(allowedDrivenSpeed(b, 2.0, 2.0), 0.798667962602106, 1e-9);
+  // (c) d = 1.6: room = 1.6 - 1.6 * 0.05 - (0.56 + 0.85) = 0.11, r = 0.055;
+  // 0.15 f^2 + 0.051 f - 0.055 = 0, f = (-0.051 + sqrt(0.002601 + 0.033)) / 0.3 = 0.458940908724076,
+  // speed f R = 0.917881817448152
+  EXPECT_NEAR(allowedDrivenSpeed(c, 1.6, 1.6), 0.917881817448152, 1e-9);
   // within S_h + Z of a hand: no speed
   EXPECT_LT(allowedDrivenSpeed(a, 2.0, 0.4), 0.0);
 }

@@ -57,8 +57,9 @@ class ArmDrive {
   double tau() const { return tau_; }
   DriveMode mode() const { return mode_; }
   // The monitor's verdict of the cycle at t: warned (a threat), stop (STOP held). `rate` is the
-  // largest nominal joint rate now (rad/s), used when braking by deceleration.
-  void observe(double t, bool warned, bool stop, double rate);
+  // largest nominal joint rate now (rad/s), used when braking by deceleration. blocked: a graded
+  // check (speed scaling) allows no motion now; a stopped arm does not resume while it holds.
+  void observe(double t, bool warned, bool stop, double rate, bool blocked = false);
   // Speed scaling: from `delay` after the cycle at t the program speed heads for `factor` (0..1),
   // changing at 1 / stoppingTime per second, the braking rate (a scaled arm is one that braked
   // part way, so its speed is never above the ramp a STOP would have made). A STOP overrides it;
@@ -95,10 +96,15 @@ class ClosedLoopSensor final : public SensorSource {
  public:
   ClosedLoopSensor(std::unique_ptr<SensorSource> nominal, std::vector<ArmModel> models, BrakeConfig cfg);
   bool next(Reading& r) override;
-  // With speed and separation monitoring: its STOP counts as the monitor's, its factor scales the arm.
+  // With speed and separation monitoring: its STOP counts as the monitor's, its factor scales the
+  // arm. Under the binary STOP response a person's STOP is a threat like the monitor's: the arm
+  // resumes `braking.resume` after the last. Under a graded one (scaling, pfl) it is not: the arm
+  // resumes as soon as the factor is above 0 again, up the factor's ramp (the factor grows with
+  // the separation, so there is nothing to chatter); the monitor's threats still hold it.
   void observe(const Monitor& m, double t, const SeparationMonitor* ssm = nullptr);
-  // The same from a verdict that came another way (the network): warned, STOP held.
-  void observeArm(int arm, double t, bool warned, bool stop);
+  // The same from a verdict that came another way (the network): warned, STOP held; blocked: a
+  // graded check allows no motion (ArmDrive::observe).
+  void observeArm(int arm, double t, bool warned, bool stop, bool blocked = false);
   // A speed factor for the arm from the cycle at t (ArmDrive::limit).
   void limitArm(int arm, double t, double factor);
   const ArmDrive& drive(int arm) const { return arms_[arm].drive; }

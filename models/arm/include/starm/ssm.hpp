@@ -125,11 +125,13 @@ struct SeparationTerms {
 SeparationTerms protectiveSeparation(const SsmConfig& c, double vh, double vr);
 // The same with the drive's state known (the closed loop): the program speed s now and s_b, the
 // one a STOP now would brake from (ArmDrive::brakingSpeed). The drive brakes at 1 / T_s of
-// program speed per second, so from s_b it stops in s_b T_s, not T_s; and until braking starts
-// the arm is no faster than v_b = v_r + (s_b - s) R (its path's speed is at most R = robot_speed
-// per unit of program speed):
+// program speed per second, so from s_b it stops in s_b T_s, not T_s; and until it stands the
+// arm is no faster than v_b = s_b R (its path's speed is at most R = robot_speed per unit of
+// program speed; the speed seen now, v_r, is no bound: at a turn of the path it is near 0 and
+// grows while the arm stops), or v_r + (s_b - s) R where the arm is seen faster than R allows:
 //   S_r = v_b T_r,   S_s = v_b s_b T_s / 2                                   (3), (4) with the drive's T_s
-// With s = s_b = 1 (following, or the drive unknown) these are (3) and (4) as above.
+// With s = s_b = 1 (following) these are (3) and (4) at the arm's top speed max(R, v_r). Without
+// the drive (the service, the binary response) the check uses (3) and (4) at v_r as written.
 SeparationTerms protectiveSeparation(const SsmConfig& c, double vh, double vr, double s, double sb);
 // The largest robot speed (m/s) that keeps S_p at the next cycle: after one more cycle T_c the
 // person may be vh T_c and the robot v T_c closer, so S_p(v) <= d - (vh + v) T_c:
@@ -139,7 +141,8 @@ SeparationTerms protectiveSeparation(const SsmConfig& c, double vh, double vr, d
 // is STOP, in time by formula (1).
 double allowedRobotSpeed(const SsmConfig& c, double vh, double d);
 // The same with the drive's stopping time known: an arm held at speed factor f (speed <= f R)
-// stops in f T_s, so S_p(f) <= d - (vh + f R) T_c needs, with room = d - vh T_c - S_p(vh, 0),
+// stops in f T_s. The factor takes effect only after the drive's reaction, so the person may come
+// on for T_r (not one cycle) before S_p(f) holds: with room = d - vh T_r - S_p(vh, 0),
 //   R f (T_r + T_c) + R f^2 T_s / 2 <= room,
 //   f = 2 room / R / ((T_r + T_c) + sqrt((T_r + T_c)^2 + 2 T_s room / R)),
 // returned as the speed f R (negative where room is: no speed keeps S_p).
