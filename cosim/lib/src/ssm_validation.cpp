@@ -48,6 +48,31 @@ Vec2 parsePoint(const io::XmlScanner& x, long line, const std::string& w) {
   return {parseNumber(x, line, w.substr(0, comma)), parseNumber(x, line, w.substr(comma + 1))};
 }
 
+// A tag's attribute, `def` where it has none (or there is no tag)
+std::string attrText(const io::XmlScanner::Tag* tag, const char* key, const char* def) {
+  const std::string* v = tag ? tag->attr(key) : nullptr;
+  return v ? *v : std::string(def);
+}
+
+// A conflict's <minTTC> or <PET>: none without the tag or where its value is "NA"
+struct SsmMeasure {
+  bool present = false;
+  double value = 0.0, time = 0.0;
+  int type = -1;
+  Vec2 position = SsmConflict::kNoPoint;
+};
+SsmMeasure readMeasure(const io::XmlScanner& x, const io::XmlScanner::Tag* m) {
+  SsmMeasure out;
+  if (!m || attrText(m, "value", "NA") == "NA") return out;
+  out.present = true;
+  out.value = parseNumber(x, m->line, attrText(m, "value", "NA"));
+  out.time = parseNumber(x, m->line, attrText(m, "time", "NA"));
+  const double type = parseNumber(x, m->line, attrText(m, "type", "NA"));
+  out.type = std::isfinite(type) ? static_cast<int>(type) : -1;
+  out.position = parsePoint(x, m->line, attrText(m, "position", "NA"));
+  return out;
+}
+
 // One <conflict> of an SSM output file and its children; errors name the file and the tag's line.
 SsmConflict readConflict(const io::XmlScanner& x, const io::XmlScanner::Tag& conflict,
                          const std::vector<io::XmlScanner::Tag>& children) {
@@ -56,24 +81,20 @@ SsmConflict readConflict(const io::XmlScanner& x, const io::XmlScanner::Tag& con
       if (c.name == name) return &c;
     return nullptr;
   };
-  auto text = [](const io::XmlScanner::Tag* tag, const char* key, const char* def) {
-    const std::string* v = tag ? tag->attr(key) : nullptr;
-    return v ? *v : std::string(def);
-  };
   auto numbers = [&](const char* name, auto&& into) {
     const io::XmlScanner::Tag* tag = child(name);
-    for (const auto& w : words(text(tag, "values", ""))) into(parseNumber(x, tag->line, w));
+    for (const auto& w : words(attrText(tag, "values", ""))) into(parseNumber(x, tag->line, w));
   };
   auto points = [&](const char* name, std::vector<Vec2>& into) {
     const io::XmlScanner::Tag* tag = child(name);
-    for (const auto& w : words(text(tag, "values", ""))) into.push_back(parsePoint(x, tag->line, w));
+    for (const auto& w : words(attrText(tag, "values", ""))) into.push_back(parsePoint(x, tag->line, w));
   };
   const long line = conflict.line;
   SsmConflict c;
-  c.ego = text(&conflict, "ego", "");
-  c.foe = text(&conflict, "foe", "");
-  c.begin = parseNumber(x, line, text(&conflict, "begin", "0"));
-  c.end = parseNumber(x, line, text(&conflict, "end", "0"));
+  c.ego = attrText(&conflict, "ego", "");
+  c.foe = attrText(&conflict, "foe", "");
+  c.begin = parseNumber(x, line, attrText(&conflict, "begin", "0"));
+  c.end = parseNumber(x, line, attrText(&conflict, "end", "0"));
   numbers("timeSpan", [&](double v) { c.times.push_back(v); });
   numbers("typeSpan", [&](double v) { c.types.push_back(static_cast<int>(v)); });
   numbers("TTCSpan", [&](double v) { c.ttc.push_back(v); });
@@ -91,23 +112,16 @@ SsmConflict readConflict(const io::XmlScanner& x, const io::XmlScanner::Tag& con
   if (!sameLengths)
     x.fail(line, "SSM conflict " + c.ego + "/" + c.foe +
                      " has time, type, TTC, conflict point and velocity series of different lengths (trajectories off?)");
-  if (const io::XmlScanner::Tag* m = child("minTTC"); m && text(m, "value", "NA") != "NA") {
-    c.hasMin = true;
-    c.minTtc = parseNumber(x, m->line, text(m, "value", "NA"));
-    c.minTtcTime = parseNumber(x, m->line, text(m, "time", "0"));
-    const double type = parseNumber(x, m->line, text(m, "type", "NA"));
-    c.minTtcType = std::isfinite(type) ? static_cast<int>(type) : -1;
-    c.minTtcPosition = parsePoint(x, m->line, text(m, "position", "NA"));
-  }
-  if (const io::XmlScanner::Tag* p = child("PET"); p && text(p, "value", "NA") != "NA") {
-    c.hasPet = true;
-    c.pet = parseNumber(x, p->line, text(p, "value", "NA"));
-    c.petTime = parseNumber(x, p->line, text(p, "time", "NA"));
-    const double type = parseNumber(x, p->line, text(p, "type", "NA"));
-    c.petType = std::isfinite(type) ? static_cast<int>(type) : -1;
-    c.petPosition = parsePoint(x, p->line, text(p, "position", "NA"));
+  const SsmMeasure minTtc = readMeasure(x, child("minTTC"));
+  c.hasMin = minTtc.present;
+  if (c.hasMin)
+    c.minTtc = minTtc.value, c.minTtcTime = minTtc.time, c.minTtcType = minTtc.type, c.minTtcPosition = minTtc.position;
+  const SsmMeasure pet = readMeasure(x, child("PET"));
+  c.hasPet = pet.present;
+  if (c.hasPet) {
+    c.pet = pet.value, c.petTime = pet.time, c.petType = pet.type, c.petPosition = pet.position;
     if (!std::isfinite(c.pet) || !std::isfinite(c.petTime))
-      x.fail(p->line, "SSM conflict " + c.ego + "/" + c.foe + " has a PET without a time");
+      x.fail(child("PET")->line, "SSM conflict " + c.ego + "/" + c.foe + " has a PET without a time");
   }
   return c;
 }
