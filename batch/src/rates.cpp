@@ -7,6 +7,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <stbatch/conflicts.hpp>
@@ -113,12 +114,9 @@ struct EventCount {
 };
 
 void addRunAfterWarmup(RunResult& r, const fs::path& dir, double warmup) {
-  const std::string byKind = "hindsight.by_kind.", judgedTail = ".judged";
   std::vector<std::string> kinds;  // summary.json's, in its order
   for (const auto& [k, v] : r.metrics)
-    if (k.rfind(byKind, 0) == 0 && k.size() > byKind.size() + judgedTail.size() &&
-        k.compare(k.size() - judgedTail.size(), judgedTail.size(), judgedTail) == 0)
-      kinds.push_back(k.substr(byKind.size(), k.size() - byKind.size() - judgedTail.size()));
+    if (std::string kind = judgedKind(k); !kind.empty()) kinds.push_back(std::move(kind));
   if (kinds.empty()) return;  // hindsight off: nothing of its to count
   const std::string why = "warmup needs it";
   std::map<std::string, double> warnings, judged, confirmed;
@@ -179,6 +177,14 @@ void addWarnedAfterWarmup(const Experiment& e, std::vector<RunResult>& results, 
   if (e.command != "highway" || !(e.warmup > 0.0)) return;
   for (RunResult& r : results)
     if (r.status == RunStatus::Done) addRunAfterWarmup(r, detail::runDir(outDir, r.spec), e.warmup);
+}
+
+std::string judgedKind(const std::string& key) {
+  const std::string byKind = "hindsight.by_kind.", judgedTail = ".judged";
+  if (key.size() <= byKind.size() + judgedTail.size() || key.rfind(byKind, 0) != 0 ||
+      key.compare(key.size() - judgedTail.size(), judgedTail.size(), judgedTail) != 0)
+    return "";
+  return key.substr(byKind.size(), key.size() - byKind.size() - judgedTail.size());
 }
 
 }  // namespace st::batch

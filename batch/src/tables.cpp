@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include <stbatch/conflicts.hpp>
 #include <stbatch/rates.hpp>
@@ -90,12 +91,9 @@ std::string pairedTable(const Experiment& e, const std::vector<RunResult>& resul
 std::string hindsightTable(const Experiment& e, const std::vector<std::vector<std::string>>& order,
                            const std::map<std::vector<std::string>, std::vector<const RunResult*>>& groups,
                            const std::vector<std::string>& metricCols) {
-  const std::string byKind = "hindsight.by_kind.", judgedTail = ".judged";
   std::vector<std::string> kinds;  // in summary.json's order
   for (const auto& c : metricCols)
-    if (c.rfind(byKind, 0) == 0 && c.size() > byKind.size() + judgedTail.size() &&
-        c.compare(c.size() - judgedTail.size(), judgedTail.size(), judgedTail) == 0)
-      kinds.push_back(c.substr(byKind.size(), c.size() - byKind.size() - judgedTail.size()));
+    if (std::string kind = judgedKind(c); !kind.empty()) kinds.push_back(std::move(kind));
   if (kinds.empty()) return "";
   // with a warm-up, hindsight's figures after it (rates.hpp, addWarnedAfterWarmup) over the
   // distance driven after it
@@ -150,7 +148,8 @@ std::string hindsightTable(const Experiment& e, const std::vector<std::vector<st
       t << "," << (s.n ? number(s.mean) : "");
     }
     for (const auto& k : kinds) {
-      const double judged = total[pre + byKind + k + ".judged"], confirmed = total[pre + byKind + k + ".confirmed"];
+      const std::string byKind = pre + "hindsight.by_kind." + k;
+      const double judged = total[byKind + ".judged"], confirmed = total[byKind + ".confirmed"];
       t << "," << (done ? number(judged) : "") << "," << (done ? number(confirmed) : "") << "," << cell(confirmed, judged);
     }
     for (const Events& ev : events) {

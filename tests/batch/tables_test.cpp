@@ -12,6 +12,7 @@
 #include <optional>
 #include <sstream>
 #include <stbatch/conflicts.hpp>
+#include <stbatch/rates.hpp>
 #include <stbatch/run_result.hpp>
 #include <stbatch/tables.hpp>
 
@@ -170,6 +171,19 @@ TEST(BatchTables, RunResultReadsTheSummaryLeavesInDocumentOrder) {
 // 0.8; crossings 3 of 4 (lead median 0.6) and 0 of 2 (null) -> 3/6 = 0.5, 0.6; SUMO collisions
 // 2 of 3 warned ahead (lead median 1.2) and 1 of 1 (2.0) -> 3/4 = 0.75, 1.6. Detector box, seed 1
 // done and seed 2 failed: vehicle 0 of 0, no near miss, no crossing, no collision figures -> all empty.
+// The kinds hindsight judged, as both hindsight tables and the warm-up's counts find them in
+// summary.json's keys: only hindsight.by_kind.<kind>.judged names one, a kind with dots included.
+TEST(BatchTables, JudgedKindIsReadOnlyFromAJudgedKey) {
+  EXPECT_EQ(judgedKind("hindsight.by_kind.rear_end.judged"), "rear_end");
+  EXPECT_EQ(judgedKind("hindsight.by_kind.lane.left.judged"), "lane.left");
+  EXPECT_EQ(judgedKind("hindsight.by_kind.rear_end.confirmed"), "");
+  EXPECT_EQ(judgedKind("hindsight.by_kind..judged"), "");
+  EXPECT_EQ(judgedKind("hindsight.by_kind.judged"), "");
+  EXPECT_EQ(judgedKind("after_warmup.hindsight.by_kind.rear_end.judged"), "");
+  EXPECT_EQ(judgedKind("warnings.by_kind.rear_end"), "");
+  EXPECT_EQ(judgedKind(""), "");
+}
+
 TEST(BatchTables, HindsightNullsStayEmptyAndSharesArePooledOverSeeds) {
   const fs::path dir = fs::temp_directory_path() / ("stsim_tables_hindsight_" + std::to_string(::getpid()));
   fs::remove_all(dir);

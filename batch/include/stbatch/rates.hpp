@@ -5,6 +5,7 @@
 // over the seeds (summary.csv), a comparison's the mean of the seed-by-seed differences of the
 // runs' rates (paired.csv). The exposure after the warm-up comes from the run's exposure.csv.
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include <stbatch/experiment.hpp>
@@ -41,5 +42,9 @@ void addRates(const Experiment& e, std::vector<RunResult>& results, const std::f
 // collisions.* (collision_warnings.csv's), each as events, warned (the lead time ahead) and
 // lead_s.median. Throws std::runtime_error naming the file and line of a broken row.
 void addWarnedAfterWarmup(const Experiment& e, std::vector<RunResult>& results, const std::filesystem::path& outDir);
+
+// The warning kind of summary.json's key "hindsight.by_kind.<kind>.judged" (a kind hindsight
+// judged, the way the tables find the kinds a run has), or "" for any other key.
+std::string judgedKind(const std::string& key);
 
 }  // namespace st::batch
