@@ -22,7 +22,6 @@
 //
 // usage: arm_service_bench [CYCLES] [person]   (default 3001: the whole trace, ~3 s per row;
 //        "person": only the rows with a person, in process and the five floor/service pairs)
-#include <time.h>
 
 #include <algorithm>
 #include <chrono>
@@ -43,6 +42,7 @@
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/read.hpp>
 #include <boost/asio/write.hpp>
+#include <stcore/cpu_clock.hpp>
 #include <starm/service.hpp>
 #include <starm/stream.hpp>
 #include <stnet/frame.hpp>
@@ -54,12 +54,6 @@ using namespace st::arm;
 namespace asio = boost::asio;
 using tcp = asio::ip::tcp;
 using Clock = std::chrono::steady_clock;
-
-double threadCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 double loadAverage() {
   std::ifstream in("/proc/loadavg");
@@ -277,9 +271,9 @@ NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& 
   Backend& service = *backend;
   double serviceCpu0 = 0, serviceCpu1 = 0;
   std::thread serviceThread([&] {
-    serviceCpu0 = threadCpuSeconds();
+    serviceCpu0 = st::threadCpuSeconds();
     service.run();
-    serviceCpu1 = threadCpuSeconds();
+    serviceCpu1 = st::threadCpuSeconds();
   });
 
   NetRow row;
@@ -334,7 +328,7 @@ NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& 
   asio::steady_timer tick(io);
   std::size_t k = 0;
   const auto start = Clock::now() + std::chrono::milliseconds(20);
-  const double clientCpu0 = threadCpuSeconds();
+  const double clientCpu0 = st::threadCpuSeconds();
   std::function<void()> next = [&] {
     tick.expires_at(start + std::chrono::microseconds(1000 * k));
     tick.async_wait([&](const boost::system::error_code& ec) {
@@ -355,7 +349,7 @@ NetRow overLoopback(const Scenario& s, const std::vector<std::vector<Reading>>& 
   };
   next();
   io.run();
-  row.clientCpu = threadCpuSeconds() - clientCpu0;
+  row.clientCpu = st::threadCpuSeconds() - clientCpu0;
   row.wall = std::chrono::duration<double>(Clock::now() - start).count();
   row.sent *= static_cast<std::size_t>(clients);
   for (auto& c : cs) row.answered += c->answered;

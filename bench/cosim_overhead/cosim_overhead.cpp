@@ -41,7 +41,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -54,6 +53,7 @@
 
 #include <libsumo/libsumo.h>
 
+#include <stcore/cpu_clock.hpp>
 #include <stcosim/backend.hpp>
 #include <stcosim/detection.hpp>
 #include <stcosim/plugin.hpp>
@@ -176,12 +176,6 @@ struct ChildResult {
   long peakRssKb = 0;
 };
 
-double threadCpu() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
 // `body` in a child process (so that its peak RSS is its own); exits the bench if the child fails.
 ChildResult inChild(const std::function<ChildResult()>& body) {
   int fds[2];
@@ -247,9 +241,9 @@ int scaleMain(double seconds, const fs::path& dir) {
       HighwayPlugin p(*b, pc);
       while (b->running()) {
         b->step();
-        const double c0 = threadCpu();
+        const double c0 = st::threadCpuSeconds();
         p.update();
-        r.updateCpu += threadCpu() - c0;
+        r.updateCpu += st::threadCpuSeconds() - c0;
         p.takeFinished();  // as a caller would: finished episodes do not pile up
         r.vehicleSteps += static_cast<double>(b->vehicles().size());
         r.maxVehicles = std::max(r.maxVehicles, static_cast<double>(b->vehicles().size()));
@@ -296,11 +290,11 @@ void junctionRound(const fs::path& scenario, double seconds, JunctionCost& c) {
   HighwayPlugin p(*b, s.plugin);
   double update = 0.0, step = 0.0;
   while (b->running()) {
-    const double c0 = threadCpu();
+    const double c0 = st::threadCpuSeconds();
     b->step();
-    const double c1 = threadCpu();
+    const double c1 = st::threadCpuSeconds();
     p.update();
-    update += threadCpu() - c1;
+    update += st::threadCpuSeconds() - c1;
     step += c1 - c0;
     p.takeFinished();
     c.maxVehicles = std::max(c.maxVehicles, static_cast<double>(b->vehicles().size()));
@@ -326,12 +320,12 @@ double personsFloor(const fs::path& scenario, double seconds) {
   double cpu = 0.0, sink = 0.0;
   while (b->running()) {
     b->step();
-    const double c0 = threadCpu();
+    const double c0 = st::threadCpuSeconds();
     for (const std::string& id : libsumo::Person::getIDList()) {
       const auto p = libsumo::Person::getPosition(id);
       sink += p.x + libsumo::Person::getAngle(id) + libsumo::Person::getSpeed(id);
     }
-    cpu += threadCpu() - c0;
+    cpu += st::threadCpuSeconds() - c0;
   }
   b->close();
   return sink == 0.5 ? -1.0 : cpu;  // sink: the getters' results are used

@@ -22,7 +22,6 @@
 //                                      speedup as the median of the rounds' own ratios)
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -31,18 +30,13 @@
 #include <string>
 #include <vector>
 
+#include <stcore/cpu_clock.hpp>
 #include <sthighway/monitor.hpp>
 
 namespace {
 
 using namespace st::highway;
 
-// CPU time of this thread (s): the machine is shared, so wall time would measure the neighbours.
-double cpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 using st::Vec2;
 
 struct Traffic {
@@ -171,10 +165,10 @@ Row measure(long n, DetectorKind kind, Broadphase bp, int ticks, std::uint64_t s
   double sec = 0.0;
   std::vector<Warning> ended;  // as the front end does: one buffer for every tick
   for (int k = 1; k <= ticks; ++k) {
-    const double c0 = cpuSeconds();
+    const double c0 = st::threadCpuSeconds();
     m.step(k * dt, t.cars);
     m.takeFinished(ended);
-    sec += cpuSeconds() - c0;
+    sec += st::threadCpuSeconds() - c0;
     advance(t, dt);  // the traffic generator is not timed
   }
   sec = std::max(sec, 1e-9);

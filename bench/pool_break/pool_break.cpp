@@ -6,11 +6,11 @@
 #include <cstdio>
 #include <functional>
 #include <iterator>
-#include <ctime>
 #include <cstdlib>
 #include <string>
 #include <vector>
 
+#include <stcore/cpu_clock.hpp>
 #include <stpool/game.hpp>
 #include <stpool/report.hpp>
 #include <stpool/scenario.hpp>
@@ -25,12 +25,6 @@ struct Column {
   int maxDepth = -1;  // space.max_depth (-1: the pool's automatic depth)
   bool autoFactor = false;
 };
-
-double threadCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 // decomposition_factor: auto against every fixed factor on one workload: the least CPU time of
 // `repeats` runs each, the fixed ones and auto interleaved round by round.
@@ -139,10 +133,10 @@ int main(int argc, char** argv) {
       s.space.decompositionFactor = sp.decompositionFactor;
       s.space.autoFactor = sp.autoFactor;
       Game game(s, simulatorConfig(s));
-      const double t0 = threadCpuSeconds();
+      const double t0 = st::threadCpuSeconds();
       playScenario(game, s);
       StudyRun r;
-      r.cpuSeconds = threadCpuSeconds() - t0;
+      r.cpuSeconds = st::threadCpuSeconds() - t0;
       return r;
     };
   };

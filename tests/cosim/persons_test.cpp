@@ -5,13 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <ctime>
 #include <map>
 #include <regex>
 #include <set>
 #include <vector>
 
 #include "test_util.hpp"
+#include <stcore/cpu_clock.hpp>
 #include <stcosim/backend.hpp>
 #include <stcosim/scenario.hpp>
 
@@ -52,18 +52,13 @@ TEST(Persons, BackendReadsTheWalkersOfSumosOwnTrace) {
   // SUMO labels an output with its step's begin time: what the backend reads after the step that
   // ends at t is the trace's row of t - step length
   std::map<long, std::vector<SumoVehicle>> read;
-  auto threadCpu = [] {
-    timespec ts{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-  };
   const Backend::ReadCost before = b->readCost();
-  const double c0 = threadCpu();
+  const double c0 = threadCpuSeconds();
   while (b->running()) {
     b->step();
     read[std::lround((b->time() - b->deltaT()) * 1000.0)] = b->persons();
   }
-  const double loop = threadCpu() - c0;
+  const double loop = threadCpuSeconds() - c0;
   // the reads' cost by part (bench/cosim_overhead --junction): each read here, within the loop's CPU
   const Backend::ReadCost cost = b->readCost();
   EXPECT_GT(cost.vehicles, before.vehicles);

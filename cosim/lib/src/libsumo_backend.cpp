@@ -3,7 +3,6 @@
 // map of shared_ptr results per vehicle and variable in every step and cost more than the getters;
 // each getter costs a lookup by id (std::map) in SUMO's vehicle dictionary, so only what is needed
 // is read (VehicleReads) and the id, type and serial are read once per vehicle.
-#include <ctime>
 
 #include <libsumo/libsumo.h>
 
@@ -11,16 +10,11 @@
 
 #include "backend_common.hpp"
 #include "sumo_process.hpp"
+#include <stcore/cpu_clock.hpp>
 #include <stcosim/backend.hpp>
 
 namespace st::cosim {
 namespace {
-
-double threadSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 class LibsumoBackend final : public Backend {
  public:
@@ -112,7 +106,7 @@ class LibsumoBackend final : public Backend {
   // the per-step values, in place
   void readVehicles() {
     const bool lights = reads_.nextSignal && signals_.any();
-    const double t0 = threadSeconds();
+    const double t0 = threadCpuSeconds();
     for (SumoVehicle& v : vehicles_) {
       const auto p = libsumo::Vehicle::getPosition(v.id);
       v.x = p.x;
@@ -133,7 +127,7 @@ class LibsumoBackend final : public Backend {
       }
     }
     // the lights after the vehicles (each car's next light needs its route), timed apart
-    const double t1 = threadSeconds();
+    const double t1 = threadCpuSeconds();
     if (lights) {
       signals_.readStates<libsumo::TrafficLight>();
       for (SumoVehicle& v : vehicles_)
@@ -141,7 +135,7 @@ class LibsumoBackend final : public Backend {
           return std::pair<std::string, double>(libsumo::Vehicle::getLaneID(v.id), libsumo::Vehicle::getLanePosition(v.id));
         });
     }
-    const double t2 = threadSeconds();
+    const double t2 = threadCpuSeconds();
     readCost_.vehicles += t1 - t0;
     readCost_.lights += t2 - t1;
     if (!reads_.persons) return;
@@ -153,7 +147,7 @@ class LibsumoBackend final : public Backend {
       p.angle = libsumo::Person::getAngle(p.id);
       p.speed = libsumo::Person::getSpeed(p.id);
     }
-    readCost_.persons += threadSeconds() - t2;
+    readCost_.persons += threadCpuSeconds() - t2;
   }
 
   bool owns_;

@@ -6,20 +6,13 @@
 #include <span>
 #include <string>
 
-#include <time.h>
-
+#include <stcore/cpu_clock.hpp>
 #include <stpool/game.hpp>
 #include <stpool/rack.hpp>
 
 namespace st::pool {
 
 namespace {
-
-double threadCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 StudyRun measure(const Scenario& s, double duration, bool reportCounting = false) {
   Game game(s, simulatorConfig(s));
