@@ -48,9 +48,10 @@ SegmentPair closestSegmentSegment(const Vec3& p0, const Vec3& p1, const Vec3& q0
     } else {
       const double b = d1.dot(d2);
       const double denom = a * e - b * b;  // a e sin^2(angle), >= 0 up to roundoff
-      // parallel (relative to the lengths): every s on the overlap is optimal, start from s = 0
-      // and let the clamping below pick the right end; dividing would amplify roundoff
-      if (denom > tol::kRelativeEpsilon * a * e) s = clamp01((b * f - c * e) / denom);
+      // parallel (relative to the lengths): dividing would amplify roundoff; start from s = 0
+      // and let the clamping below pick the right end (every s on the overlap is optimal)
+      const bool parallel = !(denom > tol::kRelativeEpsilon * a * e);
+      if (!parallel) s = clamp01((b * f - c * e) / denom);
       t = (b * s + f) / e;
       if (t < 0.0) {
         t = 0.0;
@@ -58,6 +59,20 @@ SegmentPair closestSegmentSegment(const Vec3& p0, const Vec3& p1, const Vec3& q0
       } else if (t > 1.0) {
         t = 1.0;
         s = clamp01((b - c) / a);
+      }
+      if (parallel) {
+        // only nearly parallel (up to 1e-7 rad), the distance still changes along the overlap,
+        // at first order where the tilt is towards the other segment, so s = 0 may be the far
+        // end: the minimum is on the unit square's boundary (to second order in the angle), so
+        // take the nearest of the four edges' minima, each a clamped 1-D optimum
+        const auto dist2 = [&](double si, double ti) { return (r + si * d1 - ti * d2).squaredNorm(); };
+        double best = dist2(s, t);
+        const double edges[4][2] = {{0.0, clamp01(f / e)}, {1.0, clamp01((b + f) / e)},
+                                    {clamp01(-c / a), 0.0}, {clamp01((b - c) / a), 1.0}};
+        for (const auto& st : edges) {
+          const double d2st = dist2(st[0], st[1]);
+          if (d2st < best) best = d2st, s = st[0], t = st[1];
+        }
       }
     }
   }

@@ -209,6 +209,34 @@ TEST(SegmentSegment, NearlyParallelAgainstSampling) {
   }
 }
 
+TEST(SegmentSegment, NearlyParallelTiltedTowardsEachOther) {
+  // tilted by 1e-10 .. 1e-5 rad in the plane that holds the offset (so the distance changes at
+  // first order along the overlap, and the nearest points are at one end of it, either one)
+  // rather than across it: below the parallel threshold (sin^2 <= 1e-14, 1e-7 rad) the kernel
+  // must still pick the nearer end, not an arbitrary one (it did: up to 1e-7 times the length too
+  // far, found against FCL on a person's capsules beside an arm, tests/models/arm/person_fcl_test)
+  Rng rng(6);
+  int belowThreshold = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 p0 = rng.point(0.5);
+    const Vec3 d = rng.direction() * rng.uniform(0.05, 0.6);
+    const double tilt = std::pow(10.0, rng.uniform(-10.0, -5.0)) * (i % 2 ? 1.0 : -1.0);
+    const Vec3 side = (rng.uniform(0, 1) * d.unitOrthogonal() + rng.uniform(0, 1) * d.cross(d.unitOrthogonal()).normalized())
+                          .normalized();
+    const Vec3 q0 = p0 + rng.uniform(-0.7, 0.7) * d + rng.uniform(0.001, 0.1) * side;
+    const Vec3 q1 = q0 + rng.uniform(0.2, 1.5) * (d + tilt * d.norm() * side);
+    belowThreshold += tilt * tilt < 1e-14;
+    for (const bool swap : {false, true}) {
+      const double ours = swap ? std::sqrt(closestSegmentSegment(q0, q1, p0, p0 + d).distanceSq)
+                               : std::sqrt(closestSegmentSegment(p0, p0 + d, q0, q1).distanceSq);
+      const double truth = sampledSegmentDistance(p0, p0 + d, q0, q1);
+      ASSERT_LE(ours, truth + 1e-12) << i << " tilt " << tilt;  // never above an attained distance
+      ASSERT_NEAR(ours, truth, 1e-12) << i << " tilt " << tilt << (swap ? " swapped" : "");
+    }
+  }
+  EXPECT_GT(belowThreshold, 500);
+}
+
 TEST(SegmentBox, AgainstGoldenSectionOnConvexDistance) {
   // the distance from the segment to the box is convex in the segment parameter: golden-section
   // search on exact point-box distances is an independent truth
