@@ -180,7 +180,7 @@ struct TraceInputs {
   hw::VehicleRoutes routes;
 };
 
-void readTraceInputs(const Args& a, TraceInputs& in) {
+void readTraceInputs(const Args& a, bool priorityRules, TraceInputs& in) {
   std::vector<std::string> leftOut;
   int lights = 0;
   in.road = hw::readSumoNet(a.get("net"), &leftOut, &lights);
@@ -191,7 +191,7 @@ void readTraceInputs(const Args& a, TraceInputs& in) {
               << " traffic light(s); an FCD trace carries no light states, so cars are predicted through red lights "
                  "(a live run reads them; give SUMO's SaveTLSStates output with --tls-states)\n";
   if (a.has("tls-states")) {
-    in.signalLinks.emplace(hw::readSignalLinks(a.get("net")));
+    in.signalLinks.emplace(hw::readSignalLinks(a.get("net"), priorityRules));
     in.signalStates.emplace(a.get("tls-states"), *in.signalLinks);
   }
   // the trace is checked against the network (bounds, lanes) and, with --vtypes, its types
@@ -220,7 +220,7 @@ int runTrace(const Args& a) {
 
   const auto wallStart = std::chrono::steady_clock::now();
   TraceInputs in;
-  readTraceInputs(a, in);
+  readTraceInputs(a, cfg.priorityRules, in);
   hw::HighwayMonitor monitor(in.road, cfg);
   hw::FcdReader reader(a.get("fcd"), in.types, in.checks, &in.road);
   if (in.signalStates) reader.useSignals(&*in.signalLinks, &*in.signalStates);

@@ -22,7 +22,7 @@ const char* const kKeyNames[kKeyCount] = {"id", "x", "y", "heading", "angle", "s
                                           "length", "width", "mass", "decel", "vehicle_class", "signals", "equipped", "lane", "route",
                                           "next_signal", "next_signal_distance", "stop_distance"};
 // SUMO's link states (TraCI's getNextTLS, getRedYellowGreenState)
-constexpr std::string_view kLinkStates = "rRyYgGsuoO";
+constexpr std::string_view kLinkStates = "rRyYgGsuoOmM=w";
 
 
 std::string knownKeys(Convention c) {

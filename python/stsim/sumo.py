@@ -55,45 +55,103 @@ _LANE_ID, _LANE_POSITION, _PERSON_VEHICLE = 0x51, 0x56, 0xc3
 
 
 class _SignalBook:
-    """Each vehicle's next traffic light, as the C++ coupling reads it (cosim's SignalBook): the
-    state of the link its route takes at the end of its lane and the distance to that lane's end
-    (the stop line), from the lights' controlled links read once and each light's state read once
-    a step. A vehicle inside a junction, on a lane that ends at no light, or at the end of its
-    route has none."""
+    """Each vehicle's next point to stop or give way at, as the C++ coupling reads it (cosim's
+    SignalBook): the state of the link its route takes at the end of its lane (a light's, read once
+    a step; an unsignalled junction's fixed one) and the distance to that lane's end (the stop
+    line), or to the wait point inside the junction where SUMO holds a turner (an internal lane
+    whose exit link is minor; then m). With `priority` false, the lights only. A vehicle on a major
+    link with no wait point, past its wait point, or at the end of its route has none."""
 
-    def __init__(self, conn):
+    _YIELDS = set("gm=sw")
+    _GOES = set("GgMm=Oo")
+
+    def __init__(self, conn, priority=True):
         self.ids = list(conn.trafficlight.getIDList())
-        self.links = {}        # (from edge, to edge) -> (light, link index): the first link between them
-        self.lane_length = {}  # lanes ending at a light -> their length (m)
+        self.priority = priority
+        self.links = {}        # (from edge, to edge) -> (light or -1, link index, fixed state, wait m): the first link
+        self.lane_length = {}  # lanes ending at a light or a yield -> their length (m)
+        self.wait_length = {}  # internal lanes ending at a wait point -> their length (m)
         for k, tls in enumerate(self.ids):
             for i, links in enumerate(conn.trafficlight.getControlledLinks(tls)):
                 for link in links:
-                    from_lane, to_lane = link[0], link[1]
+                    from_lane, via, to_lane = link[0], link[2], link[1]
                     if not from_lane or not to_lane:
                         continue
-                    self.links.setdefault((conn.lane.getEdgeID(from_lane), conn.lane.getEdgeID(to_lane)), (k, i))
+                    self.links.setdefault((conn.lane.getEdgeID(from_lane), conn.lane.getEdgeID(to_lane)),
+                                          (k, i, "", self._wait_of(conn, via)))
                     if from_lane not in self.lane_length:
                         self.lane_length[from_lane] = conn.lane.getLength(from_lane)
+        # the junctions without a light (lanes in id order, as the C++ coupling and a replay take them)
+        for lane in sorted(conn.lane.getIDList()):
+            if lane.startswith(":"):
+                continue
+            for approached, approached_internal, state in _lane_links(conn, lane):
+                if len(state) != 1:
+                    continue
+                wait = self._wait_of(conn, approached_internal)
+                if state not in self._YIELDS and wait == 0.0:
+                    continue
+                self.links.setdefault((conn.lane.getEdgeID(lane), conn.lane.getEdgeID(approached)), (-1, 0, state, wait))
+                if lane not in self.lane_length:
+                    self.lane_length[lane] = conn.lane.getLength(lane)
         self.states = []
+
+    def _wait_of(self, conn, via):
+        if not via or not via.startswith(":"):
+            return 0.0
+        if via in self.wait_length:
+            return self.wait_length[via]
+        for _, approached_internal, state in _lane_links(conn, via):
+            if state == "m" and approached_internal:
+                self.wait_length[via] = conn.lane.getLength(via)
+                return self.wait_length[via]
+        return 0.0
+
+    def any(self):
+        return bool(self.ids) or (self.priority and bool(self.links))
 
     def read_states(self, conn):
         self.states = [conn.trafficlight.getRedYellowGreenState(t) for t in self.ids]
 
     def next(self, route, where):
-        """(link state letter, m to the stop line) or (None, 0.0); route: the edges from the
-        vehicle's current one on; where(): its lane id and position on it, asked only when the
-        route's next step passes a light."""
+        """(link state letter, m to where it stops or gives way) or (None, 0.0); route: the edges
+        from the vehicle's current one on; where(): its lane id and position on it, asked only when
+        the route's next step passes a light or a yield."""
         if route is None or len(route) < 2:
             return None, 0.0
         link = self.links.get((route[0], route[1]))
         if link is None:
             return None, 0.0
+        light, index, state, wait = link
+        if light < 0 and not self.priority:
+            return None, 0.0
+        if light >= 0:
+            states = self.states[light]
+            if index >= len(states):
+                return None, 0.0
+            state = states[index]
         lane, position = where()
         length = self.lane_length.get(lane)
-        state = self.states[link[0]]
-        if length is None or link[1] >= len(state):  # inside the junction already (or off its route's lane)
-            return None, 0.0
-        return state[link[1]], max(0.0, length - position)
+        if length is not None:
+            if self.priority and wait > 0.0 and state in self._GOES:
+                return "m", max(0.0, length - position) + wait
+            return state, max(0.0, length - position)
+        wait_here = self.wait_length.get(lane)
+        if self.priority and wait_here is not None:  # in the junction, before its wait point
+            return "m", max(0.0, wait_here - position)
+        return None, 0.0
+
+
+def _lane_links(conn, lane):
+    """(approached lane, its first internal lane, state) of each link leaving lane: TraCI gives them
+    as tuples when asked for the extended form, libsumo's module (no such argument) as objects or
+    the same tuples."""
+    try:
+        links = conn.lane.getLinks(lane, True)
+    except TypeError:
+        links = conn.lane.getLinks(lane)
+    return [(c.approachedLane, c.approachedInternal, c.state) if hasattr(c, "approachedLane") else (c[0], c[4], c[5])
+            for c in links]
 
 
 def _is_libsumo(conn):
@@ -112,14 +170,15 @@ class TraciVehicleReader:
     subscriptions over a TraCI socket (a call is a round trip). Both read the same values, bit for
     bit (tests/python/test_sumo.py)."""
 
-    def __init__(self, conn, acceleration=True, signals=True, route=True, subscribe=None, lights=True, persons=True):
+    def __init__(self, conn, acceleration=True, signals=True, route=True, subscribe=None, lights=True, persons=True,
+                 priority=True):
         self.conn = conn
         self.acceleration, self.signals, self.route, self.persons = acceleration, signals, route, persons
         self.subscribe = (not _is_libsumo(conn)) if subscribe is None else bool(subscribe)
         self.types = {}
         # the lights matter only along a route (the stop line ahead on it)
-        self.lights = _SignalBook(conn) if lights and route else None
-        if self.lights is not None and not self.lights.ids:
+        self.lights = _SignalBook(conn, priority) if lights and route else None
+        if self.lights is not None and not self.lights.any():
             self.lights = None
         self._variables = [_POSITION, _ANGLE, _SPEED, _LATERAL_SPEED, _TYPE]
         if acceleration:
@@ -313,7 +372,7 @@ class TraciMonitor:
         in_effect = self.monitor.settings  # whatever spelling the caller used, and the defaults
         self.reader = TraciVehicleReader(conn, acceleration=in_effect["motion"] == "acceleration",
                                          signals=in_effect["check_road"], route=in_effect["prediction"] == "road",
-                                         subscribe=subscribe)
+                                         subscribe=subscribe, priority=in_effect["priority_rules"])
 
     def step(self):
         """Read every vehicle from SUMO and advance the monitor to SUMO's current time; call it

@@ -7,6 +7,13 @@ link is the first signalised internal lane SUMO's FCD has it on after the warnin
 when warned that stood still on that link's approach lane within 8 s while the link showed red or
 yellow was predicted through its red.
 
+networks/actuated and networks/bicycles: no crossing warning with a road user that then gave way
+where SUMO's priority rules have it: moving when warned, it stood within 8 s on the approach lane
+of its next link where that link is minor (m: the minor road, a right turn across the bike lane),
+or at a wait point inside the junction (an internal lane whose exit is minor: a left turn's), both
+read from the network. (It may still be warned once it cannot stop at its decel: it has taken its
+gap, as SUMO's drivers past that point do.)
+
 networks/bicycles: bicycles keep their class and their vType's body (1.75 m x 0.7 m, neither
 SUMO's nor stsim's default) in conflicts.csv; and summary.json's conflicts.with_bicycle, and the
 console's "with a bicycle" count, equal a recount of conflicts.csv's rows whose vehicles the route
@@ -65,14 +72,7 @@ def actuated(stsim, src, work):
 
     def state(tl, i, t):
         return states[tl][max(bisect.bisect_right(times[tl], t + 1e-6) - 1, 0)][1][i]
-    trace = collections.defaultdict(list)  # id -> [(t, speed, lane)]
-    for _, el in ET.iterparse(os.path.join(d, "fcd.xml")):
-        if el.tag == "timestep":
-            t = float(el.get("time"))
-            for v in el:
-                if v.tag == "vehicle":
-                    trace[v.get("id")].append((t, float(v.get("speed")), v.get("lane")))
-            el.clear()
+    trace = read_trace(os.path.join(d, "fcd.xml"))
 
     def stood_at_red(vid, t):
         """moving at t, then standing on its light's approach lane within 8 s at red or yellow"""
@@ -99,16 +99,71 @@ def actuated(stsim, src, work):
     bad = ["%s x %s at %s" % (r["ego"], r["foe"], r["begin"]) for r in rows
            if stood_at_red(r["ego"], float(r["begin"])) or stood_at_red(r["foe"], float(r["begin"]))]
     fails = []
-    if len(rows) < 10 or stood < 50:  # the check is not vacuous: 30 crossing warnings, 108 cars at a red
+    # the check is not vacuous: 108 cars at a red; 4 crossing warnings (the two collisions), the
+    # others gone with the priority rules (gave_way), and tests/cosim Signals.* shows the check
+    # failing on a replay blind to the lights
+    if len(rows) < 2 or stood < 50:
         fails.append("actuated: %d crossing warnings, %d vehicles stood at a red: too few to check" % (len(rows), stood))
     if bad:
         fails.append("actuated: crossing warnings with a car that then stood at its red: " + "; ".join(bad))
+    return fails + gave_way(src, "actuated", d, trace)
+
+
+def read_trace(path):
+    """id -> [(t, speed, lane)] from an FCD trace with speed and lane"""
+    trace = collections.defaultdict(list)
+    for _, el in ET.iterparse(path):
+        if el.tag == "timestep":
+            t = float(el.get("time"))
+            for v in el:
+                if v.tag == "vehicle":
+                    trace[v.get("id")].append((t, float(v.get("speed")), v.get("lane")))
+            el.clear()
+    return trace
+
+
+def gave_way(src, net, d, trace):
+    """The crossing warnings of the run in d with a road user moving when warned that then stood
+    where it gives way (above), and how many road users ever stood there."""
+    root = ET.parse(os.path.join(src, "networks", net, net + ".net.xml")).getroot()
+    # a minor link's first internal lane -> its approach lane; internal lanes ending at a wait point
+    minor = {c.get("via"): "%s_%s" % (c.get("from"), c.get("fromLane")) for c in root.iter("connection")
+             if c.get("via") and c.get("state") == "m" and not c.get("from").startswith(":")}
+    waits = {"%s_%s" % (c.get("from"), c.get("fromLane")) for c in root.iter("connection")
+             if c.get("via") and c.get("state") == "m" and c.get("from").startswith(":")}
+
+    def stood_giving_way(vid, t, span):
+        s = trace[vid]
+        nxt = next((x[2] for x in s if x[0] >= t and (x[2] in minor or x[2] in waits)), None)
+        if not nxt:
+            return False
+        where = {minor[nxt]} if nxt in minor else {nxt}
+        return any(t <= x[0] <= t + span and x[1] < 0.1 and x[2] in where for x in s)
+
+    def moving(vid, t):
+        now = [x for x in trace[vid] if abs(x[0] - t) < 0.05]
+        return bool(now) and now[0][1] >= 0.1
+    stood = sum(1 for vid in trace if any(stood_giving_way(vid, x[0], 0.0) for x in trace[vid] if x[1] < 0.1))
+    # a pair SUMO collided stands where it met, not where it gives way
+    with open(os.path.join(d, "out", "collisions.csv"), newline="") as f:
+        collided = {frozenset((r["collider"], r["victim"])) for r in csv.DictReader(f)}
+    with open(os.path.join(d, "out", "warnings.csv"), newline="") as f:
+        rows = [r for r in csv.DictReader(f) if r["kind"] == "vehicle" and r["type"] == "crossing"]
+    bad = ["%s x %s at %s" % (r["ego"], r["foe"], r["begin"]) for r in rows
+           if frozenset((r["ego"], r["foe"])) not in collided and
+           any(moving(v, float(r["begin"])) and stood_giving_way(v, float(r["begin"]), 8.0) for v in (r["ego"], r["foe"]))]
+    fails = []
+    if stood < 10:  # not vacuous
+        fails.append("%s: only %d road users stood where they give way: too few to check" % (net, stood))
+    if bad:
+        fails.append("%s: crossing warnings with a road user that then gave way: %s" % (net, "; ".join(bad)))
     return fails
 
 
 def bicycles(stsim, src, work):
-    d = run(stsim, src, work, "bicycles", lambda d: [])
-    fails, n = [], 0
+    d = run(stsim, src, work, "bicycles", lambda d: ["--fcd-output", os.path.join(d, "fcd.xml"),
+                                                     "--fcd-output.attributes", "speed,lane"])
+    fails, n = gave_way(src, "bicycles", d, read_trace(os.path.join(d, "fcd.xml"))), 0
     with open(os.path.join(d, "out", "conflicts.csv"), newline="") as f:
         for r in csv.DictReader(f):
             for side in ("first", "second"):
@@ -117,7 +172,7 @@ def bicycles(stsim, src, work):
                     got = (r[side + "_class"], float(r[side + "_length"]), float(r[side + "_width"]))
                     if got != ("bicycle", 1.75, 0.7):
                         fails.append("bicycles: %s in conflict at %s is %s, not (bicycle, 1.75, 0.7)" % (r[side], r["begin"], got))
-    if n < 10:
+    if n < 4:  # 5 (4 conflicts; the priority rules left the rear-end ones at a standing queue)
         fails.append("bicycles: only %d bicycles in conflicts.csv, too few to check" % n)
     return fails + bicycle_counts(src, d)
 
@@ -144,7 +199,7 @@ def bicycle_counts(src, d):
     if got != want:
         fails.append("bicycles: summary.json's conflicts.with_bicycle %s, a recount of conflicts.csv %s" % (got, want))
     # the recount is not vacuous: car-bicycle and bicycle-bicycle conflicts both
-    if want["count"] - between < 3 or between < 3:
+    if want["count"] - between < 3 or between < 1:  # 3 car-bicycle and 1 bicycle-bicycle
         fails.append("bicycles: %d conflicts with a bicycle, %d between two: too few to check" % (want["count"], between))
     with open(os.path.join(d, "stdout.txt")) as f:
         out = f.read()

@@ -198,7 +198,8 @@ TEST(Backends, LibsumoAndLibtraciAgreeOnTrafficLights) {
         EXPECT_GE(v.nextSignalDistance, 0.0);
         EXPECT_LE(v.nextSignalDistance, 200.0);  // the arms' length
       }
-  EXPECT_TRUE(states.count('r') && states.count('y') && states.count('G') && states.count('g'));
+  // red, yellow, green, and m: a left turner on its minor green gives way at its wait point
+  EXPECT_TRUE(states.count('r') && states.count('y') && states.count('G') && states.count('m'));
 }
 
 // Persons on foot (the crosswalk network: 12 flows of walkers): the same persons in the same order

@@ -95,10 +95,11 @@ def network_config(network):
     return cfg
 
 
-def cxx_warnings(stsim_binary, cfg, end, out):
-    """The C++ coupling's run of cfg to `end` (no action) into `out`: its warnings.csv rows, every
-    column (hindsight, the conflict record), None where the cell is empty, in episode order."""
-    r = run_stsim(stsim_binary, "highway", cfg, "--end", end, "--action", "none", "--out", out)
+def cxx_warnings(stsim_binary, cfg, end, out, *options):
+    """The C++ coupling's run of cfg to `end` (no action, `options` added) into `out`: its
+    warnings.csv rows, every column (hindsight, the conflict record), None where the cell is empty,
+    in episode order."""
+    r = run_stsim(stsim_binary, "highway", cfg, "--end", end, "--action", "none", "--out", out, *options)
     if "built without SUMO support" in r.stderr:
         pytest.skip("stsim built without SUMO (-DSTSIM_WITH_SUMO=OFF)")
     assert r.returncode == 0, r.stderr
@@ -213,16 +214,18 @@ def conflict_as_written(column, value):
     return value
 
 
-# Lights and persons, read by TraciMonitor as the C++ coupling reads them: the signalised
-# intersection (a car facing red is predicted to stop at its line) and the same with crosswalks and
-# persons on foot (pedestrian conflicts), over libsumo and over a TraCI socket; every warning,
-# conflict and event equal
-@pytest.mark.parametrize("network,backend", [("crosswalk/crosswalk", "libsumo"), ("crosswalk/crosswalk", "traci"),
-                                             ("intersection/intersection", "libsumo")])
-def test_traci_monitor_reads_lights_and_persons_as_the_cxx_coupling(stsim_binary, tmp_path, network, backend):
+# Lights, the priority rules and persons, read by TraciMonitor as the C++ coupling reads them: the
+# signalised intersection (a car facing red is predicted to stop at its line; here without the
+# priority rules, so that its left turners meet the oncoming traffic) and the same with crosswalks
+# and persons on foot (pedestrian conflicts; the left turners giving way at their wait points),
+# over libsumo and over a TraCI socket; every warning, conflict and event equal
+@pytest.mark.parametrize("network,backend,priority", [("crosswalk/crosswalk", "libsumo", True),
+                                                      ("crosswalk/crosswalk", "traci", True),
+                                                      ("intersection/intersection", "libsumo", False)])
+def test_traci_monitor_reads_lights_and_persons_as_the_cxx_coupling(stsim_binary, tmp_path, network, backend, priority):
     cfg = network_config(network)
     end = 200.0
-    want = cxx_warnings(stsim_binary, cfg, end, tmp_path / "cxx")
+    want = cxx_warnings(stsim_binary, cfg, end, tmp_path / "cxx", "--set", "priority_rules=%s" % str(priority).lower())
     with open(tmp_path / "cxx" / "conflicts.csv", newline="") as f:
         reader = csv.DictReader(f)
         assert tuple(reader.fieldnames) == stsim.CONFLICT_COLUMNS
@@ -252,7 +255,7 @@ def test_traci_monitor_reads_lights_and_persons_as_the_cxx_coupling(stsim_binary
     conn.start(sumo_args(cfg, end))
     red = 0
     try:
-        monitor = stsim.TraciMonitor(conn)
+        monitor = stsim.TraciMonitor(conn, priority_rules=priority)
         assert monitor.reader.lights is not None and monitor.reader.persons
         dt = conn.simulation.getDeltaT()
         events, conflicts = [], []
@@ -267,7 +270,7 @@ def test_traci_monitor_reads_lights_and_persons_as_the_cxx_coupling(stsim_binary
         got = sorted((tuple(as_written(c, getattr(w, c)) for c in stsim.WARNING_COLUMNS)
                       for w in monitor.take_finished()), key=episode)
         counters = monitor.counters
-        assert monitor.settings == stsim.Monitor().settings  # the defaults, as the C++ run's
+        assert monitor.settings == stsim.Monitor(priority_rules=priority).settings  # the C++ run's
     finally:
         conn.close()
     assert red > 0

@@ -124,11 +124,14 @@ std::vector<std::string> walkingPersons() {
   return ids;
 }
 
-// Each vehicle's next traffic light: the state of the link its route takes at the end of its lane
-// and the distance to that lane's end (the stop line), from the lights' controlled links read
-// once and each light's state read once a step. (SUMO's getNextTLS per vehicle and step cost
-// 70 % of stsim's time on a four-arm intersection.) A vehicle inside a junction, on a lane that
-// ends at no light, or at the end of its route has none.
+// Each vehicle's next point to stop or yield at, as SUMO's junctions have it: the state of the
+// link its route takes at the end of its lane (a traffic light's, read once a step; an unsignalised
+// junction's fixed one) and the distance to that lane's end (the stop line), or to the wait point
+// inside the junction where SUMO holds a turner for the traffic it crosses (an internal lane whose
+// exit link is minor, `m`: the left turn's). The links are read once, each light's state once a
+// step (SUMO's getNextTLS per vehicle and step cost 70 % of stsim's time on a four-arm
+// intersection). A vehicle on a major link with no wait point, past its wait point, or at the end
+// of its route has none.
 class SignalBook {
  public:
   template <class TrafficLight, class Lane>
@@ -141,20 +144,38 @@ class SignalBook {
         for (const auto& l : links[i]) {
           if (l.fromLane.empty() || l.toLane.empty()) continue;
           const std::string from = Lane::getEdgeID(l.fromLane), to = Lane::getEdgeID(l.toLane);
-          links_.try_emplace(from + '\n' + to, Link{static_cast<int>(k), static_cast<int>(i)});
+          links_.try_emplace(from + '\n' + to, Link{static_cast<int>(k), static_cast<int>(i), 0, waitOf<Lane>(l.viaLane)});
           if (!laneLength_.count(l.fromLane)) laneLength_.emplace(l.fromLane, Lane::getLength(l.fromLane));
         }
     }
+    // the junctions without a light: their links' fixed states, where a driver yields or stops
+    // (lanes in id order: an edge's first lane's link stands for the edge's, as a replay takes it)
+    std::vector<std::string> lanes = Lane::getIDList();
+    std::sort(lanes.begin(), lanes.end());
+    for (const std::string& lane : lanes) {
+      if (lane.empty() || lane[0] == ':') continue;
+      std::string from;
+      for (const auto& c : Lane::getLinks(lane)) {
+        if (c.state.size() != 1) continue;
+        const double wait = waitOf<Lane>(c.approachedInternal);
+        if (!yields(c.state[0]) && wait == 0.0) continue;  // a major link straight through
+        if (from.empty()) from = Lane::getEdgeID(lane);
+        links_.try_emplace(from + '\n' + Lane::getEdgeID(c.approachedLane), Link{-1, 0, c.state[0], wait});
+        if (!laneLength_.count(lane)) laneLength_.emplace(lane, Lane::getLength(lane));
+      }
+    }
   }
-  bool any() const { return !ids_.empty(); }
+  // whether any car can have a next light (or, with the priority rules, a yield)
+  bool any(bool priority) const { return !ids_.empty() || (priority && !links_.empty()); }
   template <class TrafficLight>
   void readStates() {
     for (std::size_t k = 0; k < ids_.size(); ++k) states_[k] = TrafficLight::getRedYellowGreenState(ids_[k]);
   }
   // `where` gives the vehicle's lane and position on it, asked only when its route's next step
-  // passes a light (a car past its last light reads nothing more)
+  // passes a light or (`priority`: the priority rules read) a yield (a car past its last one
+  // reads nothing more)
   template <class Where>
-  void next(SumoVehicle& v, Where&& where) {
+  void next(SumoVehicle& v, Where&& where, bool priority) {
     v.nextSignal = 0;
     v.nextSignalDistance = 0.0;
     if (v.routeIndex < 0 || static_cast<std::size_t>(v.routeIndex) + 1 >= v.route.size()) return;
@@ -163,22 +184,57 @@ class SignalBook {
     key_ += v.route[static_cast<std::size_t>(v.routeIndex) + 1];
     const auto link = links_.find(key_);
     if (link == links_.end()) return;
+    const Link& l = link->second;
+    if (l.tls < 0 && !priority) return;
+    char state = l.fixed;
+    if (l.tls >= 0) {
+      const std::string& s = states_[static_cast<std::size_t>(l.tls)];
+      if (static_cast<std::size_t>(l.index) >= s.size()) return;
+      state = s[static_cast<std::size_t>(l.index)];
+    }
     const auto [lane, lanePos] = where();
-    const auto len = laneLength_.find(lane);
-    if (len == laneLength_.end()) return;  // inside the junction already (or off its route's lane)
-    const std::string& state = states_[static_cast<std::size_t>(link->second.tls)];
-    if (static_cast<std::size_t>(link->second.index) >= state.size()) return;
-    v.nextSignal = state[static_cast<std::size_t>(link->second.index)];
-    v.nextSignalDistance = std::max(0.0, len->second - lanePos);
+    if (const auto len = laneLength_.find(lane); len != laneLength_.end()) {
+      v.nextSignal = state;
+      v.nextSignalDistance = std::max(0.0, len->second - lanePos);
+      // a link that lets it go on holds a turner at its wait point: it yields there
+      if (priority && l.wait > 0.0 && goes(state)) {
+        v.nextSignal = 'm';
+        v.nextSignalDistance += l.wait;
+      }
+    } else if (const auto wait = waitLength_.find(lane); priority && wait != waitLength_.end()) {
+      v.nextSignal = 'm';  // in the junction, before its wait point
+      v.nextSignalDistance = std::max(0.0, wait->second - lanePos);
+    }
   }
 
  private:
   struct Link {
-    int tls, index;
+    int tls, index;  // the light and its link index (tls -1: no light)
+    char fixed;      // without a light, the link's fixed state (SUMO's m, =, s, w, M)
+    double wait;     // from the stop line to the wait point inside the junction (m); 0: none
   };
+  // SUMO's link states at which a driver gives way or stops: minor (light's g, junction's m),
+  // equal (=), stop sign (s), all-way stop (w)
+  static bool yields(char s) { return s == 'g' || s == 'm' || s == '=' || s == 's' || s == 'w'; }
+  static bool goes(char s) { return s == 'G' || s == 'g' || s == 'M' || s == 'm' || s == '=' || s == 'O' || s == 'o'; }
+  // The length of an internal lane whose exit is minor (a wait point: SUMO holds a turner at its
+  // end), remembered by lane; 0 for any other lane.
+  template <class Lane>
+  double waitOf(const std::string& via) {
+    if (via.empty() || via[0] != ':') return 0.0;
+    if (const auto it = waitLength_.find(via); it != waitLength_.end()) return it->second;
+    for (const auto& c : Lane::getLinks(via))
+      if (c.state == "m" && !c.approachedInternal.empty()) {
+        const double len = Lane::getLength(via);
+        waitLength_.emplace(via, len);
+        return len;
+      }
+    return 0.0;
+  }
   std::vector<std::string> ids_, states_;
   std::unordered_map<std::string, Link> links_;         // "from edge\nto edge" -> the first link between them
-  std::unordered_map<std::string, double> laneLength_;  // lanes ending at a light -> their length (m)
+  std::unordered_map<std::string, double> laneLength_;  // lanes ending at a light or a yield -> their length (m)
+  std::unordered_map<std::string, double> waitLength_;  // internal lanes ending at a wait point -> their length (m)
   std::string key_;
 };
 

@@ -105,7 +105,7 @@ class LibsumoBackend final : public Backend {
  private:
   // the per-step values, in place
   void readVehicles() {
-    const bool lights = reads_.nextSignal && signals_.any();
+    const bool lights = reads_.nextSignal && signals_.any(reads_.priority);
     const double t0 = threadCpuSeconds();
     for (SumoVehicle& v : vehicles_) {
       const auto p = libsumo::Vehicle::getPosition(v.id);
@@ -133,7 +133,7 @@ class LibsumoBackend final : public Backend {
       for (SumoVehicle& v : vehicles_)
         signals_.next(v, [&] {
           return std::pair<std::string, double>(libsumo::Vehicle::getLaneID(v.id), libsumo::Vehicle::getLanePosition(v.id));
-        });
+        }, reads_.priority);
     }
     const double t2 = threadCpuSeconds();
     readCost_.vehicles += t1 - t0;

@@ -35,6 +35,7 @@ VehicleReads readsFor(const highway::MonitorConfig& m) {
   r.acceleration = m.detector.motion == highway::MotionModel::ConstantAcceleration;
   r.signals = m.checkRoad;
   r.route = m.prediction == highway::Prediction::Road;
+  r.priority = m.priorityRules;
   return r;
 }
 }  // namespace

@@ -329,7 +329,7 @@ class TraciBackend final : public Backend {
           return std::pair<const std::string&, double>(
               resultAs<libsumo::TraCIString>(r, libsumo::VAR_LANE_ID, "lane").value,
               resultAs<libsumo::TraCIDouble>(r, libsumo::VAR_LANEPOSITION, "lane position").value);
-        });
+        }, reads_.priority);
     }
   }
 
@@ -372,7 +372,7 @@ class TraciBackend final : public Backend {
   const libsumo::SubscriptionResults* results_ = nullptr;  // the step's, while read() runs
   bool lateral_ = true;       // SUMO moves vehicles sideways at finite speed
   detail::SignalBook signals_;  // the network's traffic lights
-  bool lights() const { return reads_.nextSignal && signals_.any(); }
+  bool lights() const { return reads_.nextSignal && signals_.any(reads_.priority); }
   VehicleReads subscribedWith_;  // the reads vars_ was made for
   std::vector<int> vars_;        // each vehicle's subscribed variables
   std::unordered_set<std::string> subscribed_;  // the vehicles SUMO holds a subscription of ours for

@@ -1,5 +1,6 @@
 #include <sthighway/settings.hpp>
 
+#include <algorithm>
 #include <vector>
 
 #include <sthighway/detector.hpp>
@@ -76,6 +77,11 @@ std::vector<Setting> makeTable() {
        "paths along the lanes (lane-frame road checks), or straight lines",
        [](MonitorConfig& c, const SettingValue& v) { parsePrediction(text(v), c.prediction); },
        [](const MonitorConfig& c) { return SettingValue(std::string(toString(c.prediction))); }},
+      {"priority_rules", T::Boolean, "", 0, 0, "",
+       "a car gives way where its link is minor (a light's g, a junction's m or =: at its line, or a left turn's "
+       "wait point) while it can stop there; false: predicted on at its speed, as SSM and SSAM extrapolate",
+       [](MonitorConfig& c, const SettingValue& v) { c.priorityRules = std::get<bool>(v); },
+       [](const MonitorConfig& c) { return SettingValue(c.priorityRules); }},
       {"broadphase", T::Choice, "", 0, 0, "cells|all-pairs", "neighbour search: the cell hierarchy, or every pair",
        [](MonitorConfig& c, const SettingValue& v) { parseBroadphase(text(v), c.broadphase); },
        [](const MonitorConfig& c) { return SettingValue(std::string(toString(c.broadphase))); }},
@@ -169,8 +175,9 @@ std::vector<Setting> makeTable() {
        [](const MonitorConfig& c) { return SettingValue(c.hindsight.nearMissTtc); }},
   };
   const std::vector<Setting> t(rows.begin(), rows.end());
+  const auto first = std::find_if(t.begin(), t.end(), [](const Setting& s) { return std::string(s.key) == "safe_time.brake_force.passenger"; });
   for (int c = 0; c < kVehicleClassCount; ++c)
-    if (std::string(t[9 + c].key) != std::string("safe_time.brake_force.") + toString(static_cast<VehicleClass>(c)))
+    if (first + c >= t.end() || std::string((first + c)->key) != std::string("safe_time.brake_force.") + toString(static_cast<VehicleClass>(c)))
       throw std::logic_error("settings: brake_force keys out of VehicleClass order");
   return t;
 }

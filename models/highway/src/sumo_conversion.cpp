@@ -90,11 +90,18 @@ double stopDistanceOf(const SumoVehicleRecord& v, double decel) {
     case 'r':
     case 'u':
     case 's':
+    case 'w':
       // unless it cannot stop even at an emergency's braking (twice its decel, SUMO's default
       // emergencyDecel): then it runs the light, as SUMO's drivers past that point do
       return v.speed * v.speed <= 4.0 * brake * d ? d : kInf;
     case 'y':
       return v.speed * v.speed <= 2.0 * brake * d ? d : kInf;  // it can stop: it does
+    case 'g':
+    case 'm':
+    case '=':
+      // it gives way there (priority rules: a left turn's wait point, a minor road's line) if it
+      // can stop at its decel; one that cannot has taken its gap and goes on
+      return v.speed * v.speed <= 2.0 * brake * (d + tol::kYieldStepSlack * std::abs(v.speed)) ? d : kInf;
     default:
       return kInf;
   }

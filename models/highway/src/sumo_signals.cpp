@@ -11,7 +11,7 @@ using detail::number;
 using detail::required;
 using detail::XmlScanner;
 
-SignalLinks readSignalLinks(const std::filesystem::path& net) {
+SignalLinks readSignalLinks(const std::filesystem::path& net, bool priority) {
   XmlScanner x(net);
   XmlScanner::Tag t;
   SignalLinks out;
@@ -22,6 +22,8 @@ SignalLinks readSignalLinks(const std::filesystem::path& net) {
     return it->second;
   };
   std::unordered_map<std::string, double> lengths;  // every lane's, for the controlled ones
+  std::unordered_map<std::string, std::string> via;   // "from edge\nto edge" and lane links -> their first internal lane
+  std::vector<std::pair<std::string, std::string>> laneVia;  // (from lane, via) of each link in byLane, in order
   while (x.next(t)) {
     if (t.closing) continue;
     if (t.name == "tlLogic") {
@@ -30,24 +32,69 @@ SignalLinks readSignalLinks(const std::filesystem::path& net) {
       const std::string* id = t.attr("id");
       if (id && t.attr("length")) lengths[*id] = required(x, t, "length");
     } else if (t.name == "connection") {
-      const std::string* tl = t.attr("tl");
-      if (!tl) continue;
       const std::string* from = t.attr("from");
       const std::string* fromLane = t.attr("fromLane");
       if (!from || !fromLane) x.fail(t.line, "<connection> lacks attribute 'from' or 'fromLane'");
-      const double index = required(x, t, "linkIndex");
-      if (!(index >= 0 && index < 1e6 && index == std::floor(index)))
-        x.fail(t.line, "<connection> linkIndex is not a link index: " + *t.attr("linkIndex"));
+      const std::string* state = t.attr("state");
+      const std::string* viaLane = t.attr("via");
+      const char fixed = state && state->size() == 1 ? (*state)[0] : 0;
+      if ((*from)[0] == ':') {
+        // an internal lane on to the next part of its turn, through a minor link: a wait point
+        if (fixed == 'm' && viaLane) out.waitLength.emplace(*from + "_" + *fromLane, 0.0);
+        continue;
+      }
+      const std::string* tl = t.attr("tl");
+      // without a light: only where a driver gives way or stops, or may meet a wait point
+      if (!tl && !(fixed == 'm' || fixed == '=' || fixed == 's' || fixed == 'w' || viaLane)) continue;
+      SignalLinks::Link link;
+      if (tl) {
+        const double index = required(x, t, "linkIndex");
+        if (!(index >= 0 && index < 1e6 && index == std::floor(index)))
+          x.fail(t.line, "<connection> linkIndex is not a link index: " + *t.attr("linkIndex"));
+        link.light = lightOf(*tl);
+        link.index = static_cast<int>(index);
+      } else {
+        link.light = -1;
+        link.fixed = fixed;
+      }
       const std::string* dir = t.attr("dir");
       const std::string* to = t.attr("to");
       if (!to) x.fail(t.line, "<connection> lacks attribute 'to'");
-      const SignalLinks::Link link{lightOf(*tl), static_cast<int>(index), dir && !dir->empty() ? (*dir)[0] : 's', *to};
-      out.byLane[*from + "_" + *fromLane].push_back(link);
-      const auto [at, fresh] = out.byEdges.try_emplace(*from + '\n' + *to, link);
-      if (!fresh && (link.light < at->second.light || (link.light == at->second.light && link.index < at->second.index)))
+      link.dir = dir && !dir->empty() ? (*dir)[0] : 's';
+      link.to = *to;
+      const std::string lane = *from + "_" + *fromLane;
+      out.byLane[lane].push_back(link);
+      laneVia.emplace_back(lane, viaLane ? *viaLane : std::string());
+      const std::string key = *from + '\n' + *to;
+      const auto [at, fresh] = out.byEdges.try_emplace(key, link);
+      if (fresh || link.light < at->second.light || (link.light == at->second.light && link.index < at->second.index)) {
         at->second = link;
+        via[key] = viaLane ? *viaLane : std::string();
+      }
     }
   }
+  // the wait points' lengths, and each link's from its first internal lane (the internal
+  // connections come after the ones into them)
+  for (auto& [lane, length] : out.waitLength) {
+    const auto it = lengths.find(lane);
+    if (it == lengths.end()) throw InputError(net.string() + ": internal lane '" + lane + "' has a connection but no <lane>");
+    length = it->second;
+  }
+  auto waitOf = [&](const std::string& v) {
+    const auto it = out.waitLength.find(v);
+    return it == out.waitLength.end() ? 0.0 : it->second;
+  };
+  if (!priority) out.waitLength.clear();
+  for (auto& [key, link] : out.byEdges) link.wait = waitOf(via[key]);
+  std::unordered_map<std::string, std::size_t> nth;
+  for (const auto& [lane, v] : laneVia) out.byLane[lane][nth[lane]++].wait = waitOf(v);
+  // a link without a light and with neither a yield nor a wait point is a major one straight through
+  auto major = [&](const SignalLinks::Link& l) {
+    return l.light < 0 && (!priority || (l.wait == 0.0 && l.fixed != 'm' && l.fixed != '=' && l.fixed != 's' && l.fixed != 'w'));
+  };
+  std::erase_if(out.byEdges, [&](const auto& kv) { return major(kv.second); });
+  for (auto& [lane, links] : out.byLane) std::erase_if(links, major);
+  std::erase_if(out.byLane, [](const auto& kv) { return kv.second.empty(); });
   for (const auto& [lane, links] : out.byLane) {
     const auto it = lengths.find(lane);
     if (it == lengths.end()) throw InputError(net.string() + ": a light controls lane '" + lane + "', which has no <lane>");
@@ -63,7 +110,8 @@ SignalStates::SignalStates(const std::filesystem::path& file, const SignalLinks&
   std::vector<int> needs(links.lights.size(), 0);  // the longest link index + 1 per light
   for (std::size_t k = 0; k < links.lights.size(); ++k) lightIndex.emplace(links.lights[k], static_cast<int>(k));
   for (const auto& [lane, ls] : links.byLane)
-    for (const SignalLinks::Link& l : ls) needs[static_cast<std::size_t>(l.light)] = std::max(needs[static_cast<std::size_t>(l.light)], l.index + 1);
+    for (const SignalLinks::Link& l : ls)
+      if (l.light >= 0) needs[static_cast<std::size_t>(l.light)] = std::max(needs[static_cast<std::size_t>(l.light)], l.index + 1);
   bool any = false;
   double last = -1e300;
   while (x.next(t)) {
@@ -95,18 +143,40 @@ void SignalStates::advanceTo(double t) {
   }
 }
 
+namespace {
+// The link's state now (0: its light has no record yet), and where the car meets it: a link that
+// lets it go on into a wait point has it give way there (m), as the live run reads it.
+void setNext(const SignalLinks::Link& l, const SignalStates& states, double toLine, SumoVehicleRecord& r) {
+  char state = l.fixed;
+  if (l.light >= 0) {
+    const std::string& s = states.state(l.light);
+    if (static_cast<std::size_t>(l.index) >= s.size()) return;  // before the light's first record
+    state = s[static_cast<std::size_t>(l.index)];
+  }
+  r.nextSignal = state;
+  r.nextSignalDistance = std::max(0.0, toLine);
+  const bool goes = state == 'G' || state == 'g' || state == 'M' || state == 'm' || state == '=' || state == 'O' || state == 'o';
+  if (l.wait > 0.0 && goes) {
+    r.nextSignal = 'm';
+    r.nextSignalDistance += l.wait;
+  }
+}
+}  // namespace
+
 void nextSignalOf(const SignalLinks& links, const SignalStates& states, const std::string& lane, double pos,
                   int sumoSignals, SumoVehicleRecord& r, const std::string* edge, const std::string* nextEdge) {
   r.nextSignal = 0;
   r.nextSignalDistance = 0.0;
+  if (const auto wait = links.waitLength.find(lane); wait != links.waitLength.end()) {
+    r.nextSignal = 'm';  // in the junction, before its wait point
+    r.nextSignalDistance = std::max(0.0, wait->second - pos);
+    return;
+  }
   if (edge && nextEdge) {
     const auto link = links.byEdges.find(*edge + '\n' + *nextEdge);
     const auto len = links.laneLength.find(lane);
     if (link == links.byEdges.end() || len == links.laneLength.end()) return;
-    const std::string& state = states.state(link->second.light);
-    if (static_cast<std::size_t>(link->second.index) >= state.size()) return;
-    r.nextSignal = state[static_cast<std::size_t>(link->second.index)];
-    r.nextSignalDistance = std::max(0.0, len->second - pos);
+    setNext(link->second, states, len->second - pos, r);
     return;
   }
   const auto it = links.byLane.find(lane);
@@ -119,11 +189,7 @@ void nextSignalOf(const SignalLinks& links, const SignalStates& states, const st
     return d == 's';
   };
   const auto pick = std::find_if(ls.begin(), ls.end(), [&](const SignalLinks::Link& l) { return wanted(l.dir); });
-  const SignalLinks::Link& l = pick != ls.end() ? *pick : ls.front();
-  const std::string& state = states.state(l.light);
-  if (static_cast<std::size_t>(l.index) >= state.size()) return;  // before the light's first record
-  r.nextSignal = state[static_cast<std::size_t>(l.index)];
-  r.nextSignalDistance = std::max(0.0, links.laneLength.at(lane) - pos);
+  setNext(pick != ls.end() ? *pick : ls.front(), states, links.laneLength.at(lane) - pos, r);
 }
 
 }  // namespace st::highway

@@ -60,8 +60,15 @@ TEST(SignalReplay, LinksOfTheNetworkAndTheStateAtEachTime) {
   nextSignalOf(links, st, "n_in_1", 100.0, 0, r);  // no blinker: straight on, link 2
   EXPECT_EQ(r.nextSignal, 'G');
   EXPECT_DOUBLE_EQ(r.nextSignalDistance, 89.6);
-  nextSignalOf(links, st, "n_in_1", 100.0, kSumoBlinkerLeft, r);  // left blinker: link 3
-  EXPECT_EQ(r.nextSignal, 'g');
+  // left blinker: link 3, on its minor green; the turner gives way at its wait point, the end of
+  // its first internal lane (:C_3_0, 5.01 m; its exit into :C_16_0 is minor)
+  EXPECT_DOUBLE_EQ(links.waitLength.at(":C_3_0"), 5.01);
+  nextSignalOf(links, st, "n_in_1", 100.0, kSumoBlinkerLeft, r);
+  EXPECT_EQ(r.nextSignal, 'm');
+  EXPECT_DOUBLE_EQ(r.nextSignalDistance, 89.6 + 5.01);
+  nextSignalOf(links, st, ":C_3_0", 1.0, 0, r);  // in the junction, before its wait point
+  EXPECT_EQ(r.nextSignal, 'm');
+  EXPECT_DOUBLE_EQ(r.nextSignalDistance, 4.01);
   nextSignalOf(links, st, "n_in_0", 189.0, kSumoBlinkerRight, r);  // right: link 0
   EXPECT_EQ(r.nextSignal, 'G');
   EXPECT_NEAR(r.nextSignalDistance, 0.6, 1e-12);
@@ -76,11 +83,37 @@ TEST(SignalReplay, LinksOfTheNetworkAndTheStateAtEachTime) {
   EXPECT_EQ(r.nextSignal, 'r');
   nextSignalOf(links, st, "e_in_1", 100.0, 0, r);
   EXPECT_EQ(r.nextSignal, 'G');
+  // on its red the left turner stands at the stop line, not at its wait point
+  nextSignalOf(links, st, "n_in_1", 100.0, kSumoBlinkerLeft, r);
+  EXPECT_EQ(r.nextSignal, 'r');
+  EXPECT_DOUBLE_EQ(r.nextSignalDistance, 89.6);
   // inside the junction or leaving it: no light ahead
   nextSignalOf(links, st, ":C_1_1", 1.0, 0, r);
   EXPECT_EQ(r.nextSignal, 0);
   nextSignalOf(links, st, "s_out_0", 1.0, 0, r);
   EXPECT_EQ(r.nextSignal, 0);
+  fs::remove(file);
+}
+
+// A junction without a light: its minor links (the roundabout's entries give way to the ring,
+// netconvert's state m) from the network, its major ones (the ring) none
+TEST(SignalReplay, PriorityJunctionsGiveWayAtTheirLine) {
+  const SignalLinks links = readSignalLinks(fs::path(STSIM_SOURCE_DIR) / "networks/roundabout/roundabout.net.xml");
+  EXPECT_TRUE(links.lights.empty());
+  const auto entry = links.byEdges.find("n_in\nrN_rW");
+  ASSERT_NE(entry, links.byEdges.end());
+  EXPECT_EQ(entry->second.light, -1);
+  EXPECT_EQ(entry->second.fixed, 'm');
+  EXPECT_EQ(links.byEdges.count("rN_rW\nrW_rS"), 0u);  // on the ring: major, straight through
+  const fs::path file = writeFile("none.xml", "<tlsStates>\n<tlsState time=\"0\" id=\"C\" state=\"G\"/>\n</tlsStates>\n");
+  SignalLinks withC = links;
+  withC.lights.push_back("C");  // a states file needs a light; the entry's state is its own
+  SignalStates st(file, withC);
+  SumoVehicleRecord r;
+  const std::string n = "n_in", next = "rN_rW";
+  nextSignalOf(withC, st, "n_in_0", 150.0, 0, r, &n, &next);
+  EXPECT_EQ(r.nextSignal, 'm');
+  EXPECT_DOUBLE_EQ(r.nextSignalDistance, withC.laneLength.at("n_in_0") - 150.0);
   fs::remove(file);
 }
 

@@ -91,11 +91,11 @@ TEST(StopLine, SumoLightStatesToStopDistances) {
   SumoVehicleRecord v;
   v.speed = 10.0;
   v.nextSignalDistance = 30.0;
-  for (char red : {'r', 'u', 's'}) {
+  for (char red : {'r', 'u', 's', 'w'}) {
     v.nextSignal = red;
     EXPECT_EQ(stopDistanceOf(v, 4.5), 30.0) << red;
   }
-  for (char go : {'G', 'g', 'o', 'O', '\0'}) {
+  for (char go : {'G', 'M', 'o', 'O', '\0'}) {
     v.nextSignal = go;
     EXPECT_EQ(stopDistanceOf(v, 4.5), kInf) << go;
   }
@@ -108,6 +108,29 @@ TEST(StopLine, SumoLightStatesToStopDistances) {
   EXPECT_EQ(stopDistanceOf(v, std::numeric_limits<double>::quiet_NaN()), kInf);  // SUMO's 4.5 assumed
   v.nextSignalDistance = 11.2;  // 4.46 m/s^2
   EXPECT_EQ(stopDistanceOf(v, std::numeric_limits<double>::quiet_NaN()), 11.2);
+}
+
+// Where it gives way (a light's minor green g, a junction's minor link m, equal priority =): it
+// stands there if it can stop at its own decel from one step of SUMO's travel further back
+// (u^2 <= 2 b (d + u 0.1 s), tol::kYieldStepSlack); one that cannot has taken its gap
+TEST(StopLine, SumoYieldStatesToStopDistances) {
+  SumoVehicleRecord v;
+  v.speed = 10.0;
+  for (char yield : {'g', 'm', '='}) {
+    v.nextSignal = yield;
+    v.nextSignalDistance = 30.0;  // 10^2 / (2 x 31) = 1.61 m/s^2
+    EXPECT_EQ(stopDistanceOf(v, 4.5), 30.0) << yield;
+    EXPECT_EQ(stopDistanceOf(v, 1.5), kInf) << yield;
+    v.nextSignalDistance = 10.0;  // 10^2 / (2 x 11) = 4.55 m/s^2: past the point where it could
+    EXPECT_EQ(stopDistanceOf(v, 4.5), kInf) << yield;
+    v.nextSignalDistance = 10.2;  // 10^2 / (2 x 11.2) = 4.46 m/s^2
+    EXPECT_EQ(stopDistanceOf(v, 4.5), 10.2) << yield;
+  }
+  // standing at its line, it waits there
+  v.speed = 0.0;
+  v.nextSignal = 'm';
+  v.nextSignalDistance = 0.0;
+  EXPECT_EQ(stopDistanceOf(v, 4.5), 0.0);
 }
 
 }  // namespace

@@ -108,6 +108,9 @@ struct VehicleReads {
   bool signals = true;       // blinkers: used by the lane-marker check only
   bool route = true;         // the route: used by the road-aware prediction only
   bool nextSignal = true;    // the next traffic light's state and distance (networks with lights only)
+  // the priority rules too: where a car gives way at a minor link or a left turn's wait point
+  // (nextSignal m, g, =; networks with such links only)
+  bool priority = true;
   // persons on foot (Backend::persons): their list each step (one call, nothing on a network
   // without persons) and position, angle and speed of each
   bool persons = true;

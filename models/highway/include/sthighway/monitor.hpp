@@ -217,6 +217,9 @@ struct MonitorConfig {
   Broadphase broadphase = Broadphase::Cells;
   Prediction prediction = Prediction::Road;
   bool checkRoad = true;   // curbs, lane markers, hazards
+  // A car whose link is minor gives way where SUMO's priority rules have it (its line, a left
+  // turn's wait point) while it can stop there; false: on at its speed (as SSM and SSAM predict)
+  bool priorityRules = true;
   HindsightConfig hindsight;
   ConflictConfig conflict;  // the type thresholds (reported only)
 };

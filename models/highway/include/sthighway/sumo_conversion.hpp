@@ -73,17 +73,20 @@ struct SumoVehicleRecord {
   double lateralSpeed = 0.0;  // to the left (m/s), sublane model only
   double acceleration = 0.0;  // longitudinal (m/s^2)
   int signals = 0;            // SUMO's signal bits
-  // The next traffic light on its route (TraCI's getNextTLS): the state of its link there (SUMO's
-  // letters: r red, y yellow, g/G green, s stop then go, u red-yellow, o/O off) and the distance
-  // from its front bumper to the stop line (m); 0: none ahead or not read.
+  // Where its route next has it stop or give way: the state of its link at the next traffic light
+  // or junction (SUMO's letters: r red, y yellow, G green, g a light's minor green, m minor, =
+  // equal, s stop sign or stop then go, w all-way stop, u red-yellow, o/O off) and the distance
+  // from its front bumper to the stop line, or to the wait point inside the junction where SUMO
+  // holds a turner (then m) (m); 0: none ahead or not read.
   char nextSignal = 0;
   double nextSignalDistance = 0.0;
 };
 
-// Where the car must stop (VehicleState::stopDistance): at its next light's stop line when that
-// is red (r), red-yellow (u) or a stop sign's arrow (s) and it can stop there braking at most
-// twice its vType's decel (an emergency's; SUMO's passenger 4.5 m/s^2 if unknown), or yellow (y)
-// when it can stop at its decel; else nowhere (infinity: it goes on).
+// Where the car must stop (VehicleState::stopDistance): at its next stop line when that is red
+// (r), red-yellow (u), a stop sign (s, w) and it can stop there braking at most twice its vType's
+// decel (an emergency's; SUMO's passenger 4.5 m/s^2 if unknown); yellow (y) when it can stop at
+// its decel; a link where it gives way (g, m, =: the priority rules) at that point when it can
+// stop at its decel (one that cannot has taken its gap); else nowhere (infinity: it goes on).
 double stopDistanceOf(const SumoVehicleRecord& v, double decel);
 
 std::uint8_t toTurnSignals(int sumoSignals);

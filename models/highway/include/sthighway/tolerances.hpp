@@ -45,6 +45,11 @@ inline constexpr double kAccelerationEpsilon = 1e-9;
 
 // A car closer than this to its stop line brakes as if it were this far (m): at the line, at once.
 inline constexpr double kStopLineMinDistance = 1e-4;
+// A driver giving way (stopDistanceOf: g, m, =) brakes at its decel from the last step it can
+// still stop in, so SUMO's record of it hovers on "can stop": its front is counted one step of
+// SUMO's (default 0.1 s) travel further back, u^2 <= 2 b (d + u dt), or a yielding car that SUMO
+// then stands at its line reads as one that has taken its gap (s).
+inline constexpr double kYieldStepSlack = 0.1;
 
 // A car whose path turns by more than this within TTC*, or whose body is turned off its lane by
 // more than this, is at a merge (lane_prediction.hpp, atMerge; rad, 1 degree): conflicts.csv
