@@ -1,5 +1,6 @@
 // stsim highway: smart-car warnings on a recorded SUMO trace (--fcd + --net), or on a live SUMO
 // scenario (SCENARIO.yaml / .sumocfg) through the co-simulation when it is built in.
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -193,6 +194,15 @@ void readTraceInputs(const Args& a, bool priorityRules, TraceInputs& in) {
   if (a.has("tls-states")) {
     in.signalLinks.emplace(hw::readSignalLinks(a.get("net"), priorityRules));
     in.signalStates.emplace(a.get("tls-states"), *in.signalLinks);
+  } else if (priorityRules) {
+    // the priority rules need no recorded state: where a car gives way is in the network
+    hw::SignalLinks links = hw::readSignalLinks(a.get("net"), true);
+    const bool yields = !links.waitLength.empty() ||
+                        std::any_of(links.byEdges.begin(), links.byEdges.end(), [](const auto& l) { return l.second.light < 0; });
+    if (yields) {
+      in.signalLinks.emplace(std::move(links));
+      in.signalStates.emplace(*in.signalLinks);
+    }
   }
   // the trace is checked against the network (bounds, lanes) and, with --vtypes, its types
   in.checks = hw::fcdChecksFor(in.road, leftOut, a.get("net"));
@@ -223,7 +233,7 @@ int runTrace(const Args& a) {
   readTraceInputs(a, cfg.priorityRules, in);
   hw::HighwayMonitor monitor(in.road, cfg);
   hw::FcdReader reader(a.get("fcd"), in.types, in.checks, &in.road);
-  if (in.signalStates) reader.useSignals(&*in.signalLinks, &*in.signalStates);
+  if (in.signalStates) reader.useSignals(&*in.signalLinks, &*in.signalStates, a.has("tls-states"));
   if (a.has("routes")) {
     in.routes = hw::readSumoRoutes(a.get("routes"));
     reader.useRoutes(&in.routes);

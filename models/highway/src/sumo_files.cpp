@@ -251,6 +251,7 @@ struct FcdReader::Impl {
   const RoadGeometry* road = nullptr;
   const SignalLinks* signalLinks = nullptr;
   SignalStates* signalStates = nullptr;
+  bool signalsNeedLanes = true;  // a record without lane and pos is an error (else: no next stop)
   const VehicleRoutes* routes = nullptr;
   std::unordered_map<std::string, int> edgeIndex;  // edge id -> index into edgeIds(*road)
   Impl(const std::filesystem::path& p, VehicleTypes t, FcdChecks c) : x(p), types(std::move(t)), checks(std::move(c)) {}
@@ -298,9 +299,10 @@ void FcdReader::useRoutes(const VehicleRoutes* routes) {
   for (std::size_t i = 0; i < ids.size(); ++i) impl_->edgeIndex.emplace(ids[i], static_cast<int>(i));
 }
 
-void FcdReader::useSignals(const SignalLinks* links, SignalStates* states) {
+void FcdReader::useSignals(const SignalLinks* links, SignalStates* states, bool needLanes) {
   impl_->signalLinks = links;
   impl_->signalStates = states;
+  impl_->signalsNeedLanes = needLanes;
 }
 
 bool FcdReader::next(FcdFrame& frame) {
@@ -432,7 +434,7 @@ bool FcdReader::next(FcdFrame& frame) {
           v.route[static_cast<std::size_t>(j)] = e->second;
         }
     }
-    if (m.signalStates && !person) {
+    if (m.signalStates && !person && (m.signalsNeedLanes || (lane && t.attr("pos")))) {
       if (!lane || !t.attr("pos"))
         x.fail(t.line, what + " lacks attribute 'lane' or 'pos', which reading its traffic light needs "
                               "(sumo --fcd-output.attributes with lane,pos)");

@@ -97,9 +97,10 @@ class FcdReader {
   ~FcdReader();
   // Fills the next frame; false at the end of the file. Throws InputError with file:line.
   bool next(FcdFrame& frame);
-  // Reads each vehicle's next traffic light from recorded states (sumo_signals.hpp), from its
-  // lane and `pos` (the trace must have both attributes); both must outlive the reader.
-  void useSignals(const SignalLinks* links, SignalStates* states);
+  // Reads each vehicle's next traffic light (or where it gives way) from recorded states
+  // (sumo_signals.hpp), from its lane and `pos` (with `needLanes` the trace must have both
+  // attributes; else a record without them has none); both must outlive the reader.
+  void useSignals(const SignalLinks* links, SignalStates* states, bool needLanes = true);
   // Gives each vehicle its route from its current edge on (VehicleState::route, as a live run
   // reads it; the lane attribute places it on its route), and its next light the link between
   // its edge and the route's next. Needs the reader's network; `routes` must outlive the reader.

@@ -45,6 +45,9 @@ class SignalStates {
   // Reads every record; a light the network does not have, a state of another length than the
   // light's links need, or times going back are InputErrors naming file:line.
   SignalStates(const std::filesystem::path& file, const SignalLinks& links);
+  // No recorded states: every light's unknown (its links give no state), the junctions without
+  // one read from the network alone (a replay without --tls-states).
+  explicit SignalStates(const SignalLinks& links) : current_(links.lights.size()) {}
   // The states at time t: each light's last record at or before t (an empty state before its
   // first). Times must not go back.
   void advanceTo(double t);
