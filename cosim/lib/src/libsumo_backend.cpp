@@ -153,7 +153,7 @@ class LibsumoBackend final : public Backend {
   bool owns_;
   bool open_ = true;
   bool lateral_ = true;  // SUMO moves vehicles sideways at finite speed (sublane model or lane-change duration)
-  detail::SignalBook signals_;  // the network's traffic lights
+  detail::SignalBook signals_;  // the network's lights and where its cars give way
 };
 
 }  // namespace

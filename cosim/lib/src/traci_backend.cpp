@@ -371,7 +371,7 @@ class TraciBackend final : public Backend {
   int minExpected_ = 1;
   const libsumo::SubscriptionResults* results_ = nullptr;  // the step's, while read() runs
   bool lateral_ = true;       // SUMO moves vehicles sideways at finite speed
-  detail::SignalBook signals_;  // the network's traffic lights
+  detail::SignalBook signals_;  // the network's lights and where its cars give way
   bool lights() const { return reads_.nextSignal && signals_.any(reads_.priority); }
   VehicleReads subscribedWith_;  // the reads vars_ was made for
   std::vector<int> vars_;        // each vehicle's subscribed variables
