@@ -14,6 +14,7 @@
 #include <vector>
 
 #include <stcosim/backend.hpp>
+#include <sthighway/sumo_conversion.hpp>
 
 namespace st::cosim::detail {
 
@@ -158,7 +159,7 @@ class SignalBook {
       for (const auto& c : Lane::getLinks(lane)) {
         if (c.state.size() != 1) continue;
         const double wait = waitOf<Lane>(c.approachedInternal);
-        if (!yields(c.state[0]) && wait == 0.0) continue;  // a major link straight through
+        if (!highway::givesWayAt(c.state[0]) && wait == 0.0) continue;  // a major link straight through
         if (from.empty()) from = Lane::getEdgeID(lane);
         links_.try_emplace(from + '\n' + Lane::getEdgeID(c.approachedLane), Link{-1, 0, c.state[0], wait});
         if (!laneLength_.count(lane)) laneLength_.emplace(lane, Lane::getLength(lane));
@@ -197,7 +198,7 @@ class SignalBook {
       v.nextSignal = state;
       v.nextSignalDistance = std::max(0.0, len->second - lanePos);
       // a link that lets it go on holds a turner at its wait point: it yields there
-      if (priority && l.wait > 0.0 && goes(state)) {
+      if (priority && l.wait > 0.0 && highway::entersAt(state)) {
         v.nextSignal = 'm';
         v.nextSignalDistance += l.wait;
       }
@@ -213,10 +214,6 @@ class SignalBook {
     char fixed;      // without a light, the link's fixed state (SUMO's m, =, s, w, M)
     double wait;     // from the stop line to the wait point inside the junction (m); 0: none
   };
-  // SUMO's link states at which a driver gives way or stops: minor (light's g, junction's m),
-  // equal (=), stop sign (s), all-way stop (w)
-  static bool yields(char s) { return s == 'g' || s == 'm' || s == '=' || s == 's' || s == 'w'; }
-  static bool goes(char s) { return s == 'G' || s == 'g' || s == 'M' || s == 'm' || s == '=' || s == 'O' || s == 'o'; }
   // The length of an internal lane whose exit is minor (a wait point: SUMO holds a turner at its
   // end), remembered by lane; 0 for any other lane.
   template <class Lane>

@@ -107,6 +107,10 @@ double stopDistanceOf(const SumoVehicleRecord& v, double decel) {
   }
 }
 
+bool givesWayAt(char s) { return s == 'g' || s == 'm' || s == '=' || s == 's' || s == 'w'; }
+
+bool entersAt(char s) { return s == 'G' || s == 'g' || s == 'M' || s == 'm' || s == '=' || s == 'O' || s == 'o'; }
+
 void toVehicleState(const SumoVehicleRecord& v, const VehicleTypeInfo& type, VehicleState& s) {
   s.vehicleClass = type.vehicleClass;
   s.length = type.length;

@@ -45,7 +45,7 @@ SignalLinks readSignalLinks(const std::filesystem::path& net, bool priority) {
       }
       const std::string* tl = t.attr("tl");
       // without a light: only where a driver gives way or stops, or may meet a wait point
-      if (!tl && !(fixed == 'm' || fixed == '=' || fixed == 's' || fixed == 'w' || viaLane)) continue;
+      if (!tl && !(givesWayAt(fixed) || viaLane)) continue;
       SignalLinks::Link link;
       if (tl) {
         const double index = required(x, t, "linkIndex");
@@ -90,7 +90,7 @@ SignalLinks readSignalLinks(const std::filesystem::path& net, bool priority) {
   for (const auto& [lane, v] : laneVia) out.byLane[lane][nth[lane]++].wait = waitOf(v);
   // a link without a light and with neither a yield nor a wait point is a major one straight through
   auto major = [&](const SignalLinks::Link& l) {
-    return l.light < 0 && (!priority || (l.wait == 0.0 && l.fixed != 'm' && l.fixed != '=' && l.fixed != 's' && l.fixed != 'w'));
+    return l.light < 0 && (!priority || (l.wait == 0.0 && !givesWayAt(l.fixed)));
   };
   std::erase_if(out.byEdges, [&](const auto& kv) { return major(kv.second); });
   for (auto& [lane, links] : out.byLane) std::erase_if(links, major);
@@ -155,8 +155,7 @@ void setNext(const SignalLinks::Link& l, const SignalStates& states, double toLi
   }
   r.nextSignal = state;
   r.nextSignalDistance = std::max(0.0, toLine);
-  const bool goes = state == 'G' || state == 'g' || state == 'M' || state == 'm' || state == '=' || state == 'O' || state == 'o';
-  if (l.wait > 0.0 && goes) {
+  if (l.wait > 0.0 && entersAt(state)) {
     r.nextSignal = 'm';
     r.nextSignalDistance += l.wait;
   }

@@ -104,17 +104,16 @@ TEST(SignalReplay, PriorityJunctionsGiveWayAtTheirLine) {
   ASSERT_NE(entry, links.byEdges.end());
   EXPECT_EQ(entry->second.light, -1);
   EXPECT_EQ(entry->second.fixed, 'm');
-  EXPECT_EQ(links.byEdges.count("rN_rW\nrW_rS"), 0u);  // on the ring: major, straight through
-  const fs::path file = writeFile("none.xml", "<tlsStates>\n<tlsState time=\"0\" id=\"C\" state=\"G\"/>\n</tlsStates>\n");
-  SignalLinks withC = links;
-  withC.lights.push_back("C");  // a states file needs a light; the entry's state is its own
-  SignalStates st(file, withC);
+  // on the ring (the net's connection rN_rW -> rW_rS, state M): major, straight through, none
+  EXPECT_EQ(links.byEdges.count("rN_rW\nrW_rS"), 0u);
+  const SignalStates st(links);  // no light, no recorded state needed
   SumoVehicleRecord r;
   const std::string n = "n_in", next = "rN_rW";
-  nextSignalOf(withC, st, "n_in_0", 150.0, 0, r, &n, &next);
+  nextSignalOf(links, st, "n_in_0", 150.0, 0, r, &n, &next);
   EXPECT_EQ(r.nextSignal, 'm');
-  EXPECT_DOUBLE_EQ(r.nextSignalDistance, withC.laneLength.at("n_in_0") - 150.0);
-  fs::remove(file);
+  EXPECT_DOUBLE_EQ(r.nextSignalDistance, links.laneLength.at("n_in_0") - 150.0);
+  // and without the priority rules the entry is not read at all
+  EXPECT_TRUE(readSignalLinks(fs::path(STSIM_SOURCE_DIR) / "networks/roundabout/roundabout.net.xml", false).byEdges.empty());
 }
 
 TEST(SignalReplay, BadStatesFilesNameFileAndLine) {

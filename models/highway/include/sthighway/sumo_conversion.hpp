@@ -89,6 +89,13 @@ struct SumoVehicleRecord {
 // stop at its decel (one that cannot has taken its gap); else nowhere (infinity: it goes on).
 double stopDistanceOf(const SumoVehicleRecord& v, double decel);
 
+// SUMO's link states where a driver gives way or stops first: a light's minor green (g), a
+// junction's minor link (m), equal priority (=), a stop sign (s), an all-way stop (w).
+bool givesWayAt(char linkState);
+// Those that let a car into the junction (green, minor, equal, off): on a turn with a wait point
+// inside the junction, it gives way there (m).
+bool entersAt(char linkState);
+
 std::uint8_t toTurnSignals(int sumoSignals);
 
 // The junction a lane lies in: SUMO names a junction's internal lanes, crossings and walking areas
