@@ -77,11 +77,17 @@ TEST(ArmDrive, DecelerationSetsTheStoppingTime) {
   EXPECT_NEAR(w * b.tau, w * t0 + w * w / (2 * cfg.deceleration), 1e-12);
 }
 
-TEST(ArmDrive, ResumesAfterTheThreatClears) {
+// stops in 0.1 s with no delay and resumes 0.25 s after the threat clears
+BrakeConfig quickBrakes() {
   BrakeConfig cfg;
   cfg.stoppingTime = 0.1;
   cfg.delay = 0.0;
   cfg.resumeAfter = 0.25;
+  return cfg;
+}
+
+TEST(ArmDrive, ResumesAfterTheThreatClears) {
+  BrakeConfig cfg = quickBrakes();
   ArmDrive d(cfg);
   const double dt = 0.001;
   double t = 0;
@@ -114,10 +120,7 @@ TEST(ArmDrive, ResumesAfterTheThreatClears) {
 TEST(ArmDrive, AGradedStopResumesWhenUnblockedWithoutTheHold) {
   // a STOP at 0.5 s blocked (a graded check allows no motion) until 0.6 s and never a warning:
   // the arm stands until 0.6 s, then goes at once, not braking.resume (0.25 s) later
-  BrakeConfig cfg;
-  cfg.stoppingTime = 0.1;
-  cfg.delay = 0.0;
-  cfg.resumeAfter = 0.25;
+  BrakeConfig cfg = quickBrakes();
   ArmDrive d(cfg);
   const double dt = 0.001;
   double t = 0, resumedAt = -1;
