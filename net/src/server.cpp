@@ -134,6 +134,7 @@ struct Server::Connection : std::enable_shared_from_this<Connection> {
       });
     }
     server.scheduleIdle();
+    if (used > 0) server.handler_.onReadDone(server, id);
     read();
   }
 

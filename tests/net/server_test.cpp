@@ -315,6 +315,62 @@ TEST(Server, RefusesToListenOnABadAddress) {
   EXPECT_THROW(Server(io, c, e), std::runtime_error);
 }
 
+// Records the order of its calls (the server's thread only; read after it joined) and answers
+// each read's end with the number of frames it held.
+struct ReadOrder : Handler {
+  std::vector<std::string> calls;
+  int frames = 0;
+  void onFrame(Server&, ConnectionId id, std::string_view) override {
+    calls.push_back("frame " + std::to_string(id));
+    ++frames;
+  }
+  void onReadDone(Server& s, ConnectionId id) override {
+    calls.push_back("done " + std::to_string(id));
+    s.send(id, std::to_string(frames));
+    frames = 0;
+  }
+  void onIdle(Server&) override { calls.push_back("idle"); }
+};
+
+TEST(Server, ReadDoneFollowsTheFramesOfEachReadBeforeTheIdle) {
+  boost::asio::io_context io;
+  ReadOrder h;
+  Server server(io, Running::withoutSignals(small()), h);
+  std::thread thread([&] { server.run(); });
+  Client c;
+  c.connect("127.0.0.1", server.port(), 2s);
+  // five frames in one write, then five more one by one: each read's end is told, with its frames
+  std::string five;
+  for (int k = 0; k < 5; ++k) appendFrame(five, "x");
+  c.sendRaw(five);
+  int answered = 0;
+  while (answered < 5) {
+    const auto f = c.receive(2s);
+    ASSERT_TRUE(f.has_value()) << answered << " of 5 frames answered";
+    answered += std::stoi(*f);
+  }
+  for (int k = 0; k < 5; ++k) {
+    c.send("y");
+    EXPECT_EQ(c.receive(2s).value_or("<none>"), "1");
+  }
+  boost::asio::post(io, [&] { server.stop(); });
+  thread.join();
+  // every "done" comes after at least one frame of that connection and before the next idle
+  std::size_t frames = 0, dones = 0;
+  bool open = false;  // frames handed over whose read's end has not been told
+  for (const std::string& call : h.calls) {
+    if (call.rfind("frame", 0) == 0) ++frames, open = true;
+    else if (call.rfind("done", 0) == 0) {
+      EXPECT_TRUE(open) << "a read's end without frames";
+      EXPECT_EQ(call, "done 1");
+      open = false, ++dones;
+    } else EXPECT_FALSE(open) << "idle between a read's frames and its end";
+  }
+  EXPECT_EQ(frames, 10u);
+  EXPECT_GE(dones, 6u);
+  EXPECT_LE(dones, 10u);
+}
+
 TEST(Server, StopClosesEveryConnection) {
   Running r(small());
   auto a = r.connect();

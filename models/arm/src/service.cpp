@@ -644,6 +644,17 @@ void ArmService::applyPersons(double t) {
   }
 }
 
+void ArmService::onReadDone(net::Server&, net::ConnectionId) {
+  if (!pending_ || !cfg_.batchCycles) return;
+  // complete when every connection that reports is in it: no later read of this pass adds to it,
+  // so the verdict goes out in this read (as the echo floor answers) rather than a pass of the
+  // event loop later, after a poll of every socket; a sensor that has not reported yet in this
+  // cycle leaves it to onIdle, as before
+  for (const auto& [id, p] : peers_)
+    if (p.reported && p.stage == Stage::Client && !p.inCycle) return;
+  runCycle();
+}
+
 void ArmService::onIdle(net::Server&) {
   if (pending_) runCycle();
 }

@@ -59,6 +59,10 @@ class Handler {
   virtual void onClose(Server&, ConnectionId, CloseReason, const std::string& /*detail*/) {}
   // The payload of the one error frame a misbehaving connection gets before it is closed.
   virtual std::string errorPayload(const std::string& message) { return "error: " + message; }
+  // Called after the frames of one read of a connection are handed over, before it reads again:
+  // a handler that knows its batch is complete answers here, without waiting for onIdle (which
+  // comes a pass of the event loop later, after a poll of every socket).
+  virtual void onReadDone(Server&, ConnectionId) {}
   // Called once per run of queued frames (after the frames read in one go), for batching work.
   virtual void onIdle(Server&) {}
 };

@@ -233,6 +233,12 @@ struct Harness {
     return false;
   }
   void close(net::ConnectionId id) { svc.onClose(server, id, net::CloseReason::PeerClosed, ""); }
+  // the end of one read of `id` (st::net's onReadDone); true when a cycle ran
+  bool readDone(net::ConnectionId id) {
+    const auto cycles = svc.counters().cycles;
+    svc.onReadDone(server, id);
+    return svc.counters().cycles != cycles;
+  }
   // true when a cycle ran (its verdict is svc.lastVerdict())
   bool idle() {
     const auto cycles = svc.counters().cycles;
@@ -311,6 +317,55 @@ std::string rogueMessage(std::mt19937_64& rng, const std::vector<proto::Readings
       return g;
     }
   }
+}
+
+TEST(ArmServiceRogues, ACycleRunsInTheReadThatCompletesItsBatch) {
+  // a read's end runs the cycle when every connection that reports is in it; one still to come
+  // leaves it to the end of the pass (onIdle), where everything read by then shares one cycle
+  Harness h;
+  const auto hello = proto::encode(proto::Hello{proto::kVersion, ""});
+  const auto readings = contactReadings(1.300, 1.304);
+  constexpr net::ConnectionId kOther = 2;
+  h.open(kSensor);
+  ASSERT_TRUE(h.send(kSensor, hello));
+  ASSERT_TRUE(h.send(kSensor, proto::encode(readings[0])));
+  EXPECT_TRUE(h.readDone(kSensor)) << "the only sensor is answered in its read";
+  EXPECT_FALSE(h.idle());
+  // a second sensor (of no arm) joins; a connection that has not reported does not hold a cycle
+  h.open(kOther);
+  ASSERT_TRUE(h.send(kOther, hello));
+  EXPECT_FALSE(h.readDone(kOther)) << "HELLO is no batch";
+  const auto others = [&](std::size_t k) {
+    proto::Readings none;
+    none.seq = static_cast<std::uint32_t>(k + 1);
+    none.t = readings[k].t;
+    return proto::encode(none);
+  };
+  ASSERT_TRUE(h.send(kSensor, proto::encode(readings[1])));
+  EXPECT_TRUE(h.readDone(kSensor));
+  // both report: the first read's end waits for the second's
+  for (std::size_t k = 2; k < 4; ++k) {
+    ASSERT_TRUE(h.send(kOther, others(k)));
+    EXPECT_FALSE(h.readDone(kOther)) << "cycle " << k << ": the sensor is still to come";
+    ASSERT_TRUE(h.send(kSensor, proto::encode(readings[k])));
+    const auto cycles = h.svc.counters().cycles;
+    EXPECT_TRUE(h.readDone(kSensor)) << "cycle " << k;
+    EXPECT_EQ(h.svc.counters().cycles, cycles + 1);
+    EXPECT_EQ(h.svc.lastVerdict().t, readings[k].t);
+    EXPECT_FALSE(h.idle());
+  }
+  // one that is late: the cycle at the end of the pass holds the one read
+  ASSERT_TRUE(h.send(kSensor, proto::encode(readings[4])));
+  EXPECT_FALSE(h.readDone(kSensor));
+  EXPECT_TRUE(h.idle());
+  EXPECT_EQ(h.svc.lastVerdict().t, readings[4].t);
+  // the other leaves: the sensor alone again, answered in its read
+  h.close(kOther);
+  const auto again = contactReadings(1.305, 1.305);
+  proto::Readings next = again[0];
+  next.seq = 6;
+  ASSERT_TRUE(h.send(kSensor, proto::encode(next)));
+  EXPECT_TRUE(h.readDone(kSensor));
 }
 
 TEST(ArmServiceRogues, NoClientsTimeGetsTheSensorRefused) {
@@ -392,10 +447,12 @@ TEST(ArmServiceRogues, NoRogueScheduleTurnsTheSensorsStopIntoOk) {
       // the sensor's reading and the rogues' messages in random order, some sharing a cycle
       const std::size_t before = k == 0 && !claims ? 0 : pick(4), after = pick(3);
       for (std::size_t step = 0; step <= before + after && !failed; ++step) {
+        net::ConnectionId read = 0;  // whose frames this step is (0: none)
         if (step == before) {
           ASSERT_TRUE(h.send(kSensor, proto::encode(readings[k])))
               << "schedule " << sc << ": the sensor was refused at t = " << readings[k].t;
           last = static_cast<int>(k);
+          read = kSensor;
         } else {
           const std::size_t what = pick(10);
           if (what == 0 || live.empty()) {
@@ -406,11 +463,14 @@ TEST(ArmServiceRogues, NoRogueScheduleTurnsTheSensorsStopIntoOk) {
             live.erase(live.begin() + static_cast<std::ptrdiff_t>(i));
           } else {
             const std::size_t i = pick(live.size());
+            read = live[i];
             if (h.send(live[i], rogueMessage(rng, readings, k, seq))) ++accepted;
             else ++refused, live.erase(live.begin() + static_cast<std::ptrdiff_t>(i));
           }
         }
-        // the end of a read: a cycle, unless more arrive in the same pass
+        // the end of a read: a cycle if every reporting connection is in it, else at the end of
+        // the pass (unless more arrive in the same pass)
+        if (read != 0 && h.readDone(read)) judge();
         if (pick(2) && h.idle()) judge();
       }
       if (h.idle()) judge();

@@ -92,6 +92,9 @@ class ArmService final : public net::Handler {
   void onFrame(net::Server&, net::ConnectionId, std::string_view payload) override;
   void onClose(net::Server&, net::ConnectionId, net::CloseReason, const std::string& detail) override;
   std::string errorPayload(const std::string& message) override;
+  // the cycle at the end of a read once every connection that reports is in it (the batch is
+  // complete: its verdict does not wait for onIdle); otherwise at onIdle, as before
+  void onReadDone(net::Server&, net::ConnectionId) override;
   void onIdle(net::Server&) override;
 
  private:
