@@ -236,26 +236,47 @@ double SeparationMonitor::partLimit(const PersonSet& persons, int p, int k, int 
   return pflSpeedLimit(cfg_, part.region, clamped, vPart);
 }
 
+void SeparationMonitor::boundParts(int a, const PersonSet& persons) {
+  const int first = armFirst_[a], n = armFirst_[a + 1] - first;
+  lows_.resize(static_cast<std::size_t>(persons.size()) * kBodyParts * static_cast<std::size_t>(n));
+  partLow_.assign(static_cast<std::size_t>(persons.size()) * kBodyParts, std::numeric_limits<double>::infinity());
+  for (int p = 0; p < persons.size(); ++p) {
+    if (!persons.present(p)) continue;
+    for (int k = 0; k < kBodyParts; ++k) {
+      const Bound& bb = bodyBound_[p][k];
+      const std::size_t pk = static_cast<std::size_t>(p) * kBodyParts + static_cast<std::size_t>(k);
+      double* low = &lows_[pk * static_cast<std::size_t>(n)];
+      for (int j = 0; j < n; ++j) {
+        const Bound& cb = capBound_[armCaps_[first + j]];
+        low[j] = (cb.centre - bb.centre).norm() - cb.reach - bb.reach;
+        partLow_[pk] = std::min(partLow_[pk], low[j]);
+      }
+    }
+  }
+}
+
 SeparationMonitor::Nearest SeparationMonitor::nearestCapsule(int a, int p, int k) {
   // the part's nearest capsule of the arm: every verdict is monotone in the distance (S_p and the
   // part's limit do not depend on which arm capsule), so the nearest decides what every pair of
   // the part would (the first nearest in index order, as pair by pair)
-  // (the arm's capsules by their spheres' distance, nearest first: measured until the next
-  // sphere is farther than the nearest capsule found, which then no capsule left can beat)
-  const Bound& bb = bodyBound_[p][k];
-  order_.clear();
-  for (int j = armFirst_[a]; j < armFirst_[a + 1]; ++j) {
-    const int i = armCaps_[j];
-    order_.push_back({(capBound_[i].centre - bb.centre).norm() - capBound_[i].reach - bb.reach, i});
-  }
-  std::sort(order_.begin(), order_.end());
-  Nearest n{std::numeric_limits<double>::infinity(), -1};
-  for (const auto& [low, i] : order_) {
-    if (low > n.d) break;
+  // (the arm's capsules by their spheres' distance, nearest first, the lower index on a tie:
+  // measured until the next sphere is farther than the nearest capsule found, which then no
+  // capsule left can beat; picked one by one, not sorted: only the first few are measured)
+  const int first = armFirst_[a], n = armFirst_[a + 1] - first;
+  double* low = &lows_[(static_cast<std::size_t>(p) * kBodyParts + static_cast<std::size_t>(k)) * static_cast<std::size_t>(n)];
+  Nearest best{std::numeric_limits<double>::infinity(), -1};
+  while (true) {
+    int next = -1;
+    double lowest = std::numeric_limits<double>::infinity();
+    for (int j = 0; j < n; ++j)
+      if (low[j] < lowest) lowest = low[j], next = j;
+    if (next < 0 || lowest > best.d) break;
+    low[next] = std::numeric_limits<double>::infinity();  // measured
+    const int i = armCaps_[first + next];
     const double dij = distance(caps_[i].c, body_[p][k]);
-    if (dij < n.d || (dij == n.d && i < n.capsule)) n = {dij, i};
+    if (dij < best.d || (dij == best.d && i < best.capsule)) best = {dij, i};
   }
-  return n;
+  return best;
 }
 
 SsmVerdict SeparationMonitor::armVerdict(const Monitor& m, const PersonSet& persons, int a, ArmScan& s) {
@@ -274,10 +295,35 @@ SsmVerdict SeparationMonitor::armVerdict(const Monitor& m, const PersonSet& pers
     s.binary[hand] = protectiveSeparation(cfg_, vh, topSpeed).total();
   }
   s.worstCap = m.capsuleCount();
+  boundParts(a, persons);
+  // the nearest part of each kind (hand, body) decides the verdict: within a kind S_p, the allowed
+  // speed, the binary stop and a contact are each monotone in the distance, so a part whose bound
+  // is beyond the nearest of its kind measured so far cannot change a field and is not measured
+  // (the part with the smallest bound of each kind is measured first); under pfl every region's
+  // own contact limit counts: every part is
+  const bool skip = cfg_.response != SsmResponse::Pfl;
+  double nearest[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  int firstPart[2] = {-1, -1};
+  Nearest firstNearest[2] = {};
+  if (skip) {
+    for (int pk = 0; pk < static_cast<int>(partLow_.size()); ++pk) {
+      const int kind = bodyParts()[pk % kBodyParts].hand ? 1 : 0;
+      if (persons.present(pk / kBodyParts) && (firstPart[kind] < 0 || partLow_[pk] < partLow_[firstPart[kind]]))
+        firstPart[kind] = pk;
+    }
+    for (int kind = 0; kind < 2; ++kind)
+      if (firstPart[kind] >= 0) {
+        firstNearest[kind] = nearestCapsule(a, firstPart[kind] / kBodyParts, firstPart[kind] % kBodyParts);
+        nearest[kind] = firstNearest[kind].d;
+      }
+  }
   for (int p = 0; p < persons.size(); ++p) {
     if (!persons.present(p)) continue;
     for (int k = 0; k < kBodyParts; ++k) {
-      const Nearest n = nearestCapsule(a, p, k);
+      const int pk = p * kBodyParts + k, kind = bodyParts()[k].hand ? 1 : 0;
+      if (skip && partLow_[pk] > nearest[kind]) continue;
+      const Nearest n = pk == firstPart[kind] ? firstNearest[kind] : nearestCapsule(a, p, k);
+      nearest[kind] = std::min(nearest[kind], n.d);
       if (n.capsule >= 0) judgePart(m, persons, a, p, k, n, v, s);
     }
   }

@@ -231,7 +231,10 @@ class SeparationMonitor {
   std::vector<int> armFirst_, armCaps_, fill_;  // capsule indices by arm: armCaps_[armFirst_[a] ..armFirst_[a+1])
   std::vector<std::array<Capsule, kBodyParts>> body_;  // per person
   std::vector<std::array<Bound, kBodyParts>> bodyBound_;
-  std::vector<std::pair<double, int>> order_;  // an arm's capsules by their spheres' distance to a part
+  // per person and part, its sphere's distance to each of an arm's capsule spheres, m (a lower
+  // bound of their distance): lows_[(p * kBodyParts + k) * n + j], j the arm's j-th capsule
+  std::vector<double> lows_;
+  std::vector<double> partLow_;  // per person and part, the smallest of its lows_
   std::vector<const Obstacle*> fixed_;  // the untracked, unmoving obstacles (pfl: clamping)
   double gap_ = 0.0;                    // m: a part this near a fixed obstacle is clamped
 
@@ -245,6 +248,7 @@ class SeparationMonitor {
   void placeArms(const Monitor& m);
   void placePersons(const Monitor& m, const PersonSet& persons);
   SsmVerdict armVerdict(const Monitor& m, const PersonSet& persons, int arm, ArmScan& scan);
+  void boundParts(int arm, const PersonSet& persons);
   Nearest nearestCapsule(int arm, int person, int part);
   void judgePart(const Monitor& m, const PersonSet& persons, int arm, int person, int part, Nearest nearest,
                  SsmVerdict& v, ArmScan& scan) const;
