@@ -318,7 +318,10 @@ typename RegionTree<D>::Box RegionTree<D>::childBox(const Box& parent, int c) co
   std::array<int, D> axes;
   for (int i = 0; i < D; ++i) axes[i] = i;
   const Vec<D> ext = parent.extent();
-  std::stable_sort(axes.begin(), axes.end(), [&](int a, int b) { return ext[a] > ext[b]; });
+  // longest first, ties in axis order: an insertion sort of D axes (std::stable_sort allocates a
+  // buffer, once per child box of every division)
+  for (int i = 1; i < D; ++i)
+    for (int k = i; k > 0 && ext[axes[k]] > ext[axes[k - 1]]; --k) std::swap(axes[k], axes[k - 1]);
   const Vec<D> mid = parent.center();
   Box child = parent;
   for (int k = 0; k < splitAxes_; ++k) {
@@ -459,7 +462,15 @@ void RegionTree<D>::setDecompositionFactor(int df) {
     }
   } else if (rule_.subdivide) {
     // finer: leaves holding more than df divide (a divided region holds more than the old df)
-    for (int leaf : leaves()) maybeSplit(leaf);
+    // (the leaves in index order, as leaves() lists them, found by one pass over the pool: a
+    // node is in use if it is the root or in its parent's block of children)
+    landed_.clear();
+    for (int n = 0; n < static_cast<int>(nodes_.size()); ++n) {
+      const int p = nodes_[n].parent;
+      const bool inUse = p < 0 ? n == 0 : nodes_[p].firstChild >= 0 && n >= nodes_[p].firstChild && n < nodes_[p].firstChild + childCount_;
+      if (inUse && nodes_[n].firstChild < 0) landed_.push_back(n);
+    }
+    for (int leaf : landed_) maybeSplit(leaf);
   }
 }
 

@@ -30,7 +30,7 @@ typename Space<D>::Impl Space<D>::make(SpaceKind kind, const Box& bounds, const 
     case SpaceKind::Single: return Impl(std::in_place_type<SingleList<D>>, bounds);
     case SpaceKind::Tree: {
       SpaceRule r = rule;
-      if (r.autoFactor) r.decompositionFactor = FactorTuner::kStart;
+      if (r.autoFactor) r.decompositionFactor = rule.autoStart;
       return Impl(std::in_place_type<RegionTree<D>>, bounds, r);
     }
     case SpaceKind::Cells: return Impl(std::in_place_type<UniformGrid<D>>, bounds, rule.cellSize);
@@ -47,6 +47,8 @@ Space<D>::Space(SpaceKind kind, const Box& bounds, const SpaceRule& rule)
   tuning_ = kind_ == SpaceKind::Tree && rule_.autoFactor && rule_.subdivide;
   if (rule_.autoFactor && !(rule_.autoRegionCost > 0.0))
     throw std::invalid_argument("the auto decomposition factor needs a positive region cost");
+  if (rule_.autoFactor && rule_.autoStart < 1)
+    throw std::invalid_argument("the auto decomposition factor needs a start of at least 1");
 }
 
 // auto: one update measured; at the end of a window, the factor for the next (true if it changed).
@@ -57,6 +59,12 @@ bool Space<D>::tune(int id, const Box& box, bool changed) {
   const Vec<D> half = 0.5 * bounds_.extent();
   tuner_.noteUpdate(changed, ((c - centre_[id]).cwiseAbs().array() / half.array()).sum());
   centre_[id] = c;
+  return decideIfFull();
+}
+
+// auto: at the end of a window, the factor for the next (true if it changed).
+template <int D>
+bool Space<D>::decideIfFull() {
   if (!tuner_.windowFull(objects_)) return false;
   RegionTree<D>& t = std::get<RegionTree<D>>(impl_);
   const int df = tuner_.decide(rule_.decompositionFactor, t.leafCount() > 1, objects_, D, rule_.autoRegionCost);

@@ -18,6 +18,7 @@
 #include <map>
 #include <random>
 #include <set>
+#include <string>
 #include <vector>
 
 #include <stcore/space.hpp>
@@ -626,6 +627,112 @@ TEST(Space, RejectsBadRules) {
   SpaceKind k;
   EXPECT_TRUE(parseSpaceKind("octree", k) && k == SpaceKind::Tree);
   EXPECT_FALSE(parseSpaceKind("kdtree", k));
+}
+
+
+// decomposition_factor: auto for a caller that keeps neighbour lists (the arm's monitor): it
+// re-files an object only when its box leaves the fat box, tests every list every round and tells
+// the space each round (Space::noteRound). The rounds close the tuner's windows although updates
+// are rare, and the factor goes to the least cost the tuner's model counts, C = visits + c events
+// (list entries tested, and re-filings that changed an object's leaves), measured here for every
+// fixed factor on the same scene (the objects' moves do not depend on the space).
+struct ListedScene {
+  std::uint64_t visits = 0;
+  std::uint64_t events = 0;
+  std::uint64_t rounds = 0;
+  int factorAtEnd = 0;
+  std::uint64_t factorChanges = 0;
+  double cost(double c) const { return static_cast<double>(visits) + c * static_cast<double>(events); }
+};
+
+ListedScene listedScene(int df, bool autoFactor, double regionCost) {
+  constexpr int kObjects = 400, kRounds = 1200;
+  constexpr double kMargin = 1.0;
+  std::mt19937_64 rng(71);
+  std::uniform_real_distribution<double> pos(5, 95), size(0.5, 2.0);
+  const Aabb<3> world{Vec3::Zero(), Vec3::Constant(100)};
+  SpaceRule rule;
+  rule.decompositionFactor = df;
+  rule.maxDepth = 6;
+  rule.autoFactor = autoFactor;
+  rule.autoRegionCost = regionCost;
+  Space<3> s(SpaceKind::Tree, world, rule);
+  std::vector<Vec3> centre(kObjects), velocity(kObjects);
+  std::vector<double> half(kObjects);
+  std::vector<Aabb<3>> fat(kObjects);
+  std::vector<std::vector<int>> lists(kObjects);
+  std::vector<std::uint64_t> filedAt(kObjects);
+  std::uint64_t clock = 0;
+  auto boxOf = [&](int id) { return boundsOf<3>(centre[id], half[id]); };
+  auto gather = [&](int id) {
+    lists[id].clear();
+    s.forEachNeighbor(id, [&](int j) { lists[id].push_back(j); });
+  };
+  for (int id = 0; id < kObjects; ++id) {
+    for (int k = 0; k < 3; ++k) centre[id][k] = pos(rng);
+    velocity[id] = 0.15 * jitter<3>(rng);
+    half[id] = size(rng);
+    const Aabb<3> b = boxOf(id);
+    fat[id] = {b.min.array() - kMargin, b.max.array() + kMargin};
+    s.insert(id, b, kMargin);
+    filedAt[id] = ++clock;
+  }
+  for (int id = 0; id < kObjects; ++id) gather(id);
+  ListedScene out;
+  for (int round = 0; round < kRounds; ++round) {
+    // move (bouncing off the walls); re-file an object whose box left its fat box
+    for (int id = 0; id < kObjects; ++id) {
+      centre[id] += velocity[id];
+      for (int k = 0; k < 3; ++k)
+        if (centre[id][k] < 5 || centre[id][k] > 95) velocity[id][k] = -velocity[id][k];
+      const Aabb<3> b = boxOf(id);
+      if ((b.min.array() >= fat[id].min.array()).all() && (b.max.array() <= fat[id].max.array()).all()) continue;
+      fat[id] = {b.min.array() - kMargin, b.max.array() + kMargin};
+      if (s.update(id, b, kMargin)) ++out.events;
+      filedAt[id] = ++clock;
+      gather(id);
+    }
+    // test every list: a pair whose fat boxes overlap is in the list of its more recently filed
+    // member (gathered when it was filed, or since, after a change of factor)
+    std::uint64_t visits = 0;
+    for (int id = 0; id < kObjects; ++id) visits += lists[id].size();
+    out.visits += visits;
+    ++out.rounds;
+    if (s.noteRound(kObjects, visits))
+      for (int id = 0; id < kObjects; ++id) gather(id);
+    if (round % 200 == 0) {
+      for (int i = 0; i < kObjects; ++i)
+        for (int j = 0; j < kObjects; ++j)
+          if (filedAt[j] < filedAt[i] && fat[i].overlaps(fat[j])) {
+            EXPECT_NE(std::find(lists[i].begin(), lists[i].end(), j), lists[i].end())
+                << "df " << df << (autoFactor ? " auto" : "") << ": " << j << " missing from " << i << "'s list";
+          }
+    }
+  }
+  out.factorAtEnd = s.rule().decompositionFactor;
+  out.factorChanges = s.tuner() ? s.tuner()->factorChanges() : 0;
+  return out;
+}
+
+TEST(Space, AutoFactorFromRoundsOfKeptLists) {
+  for (double c : {3.0, 300.0, 3000.0}) {  // best fixed df 2, 8, 32
+    double best = std::numeric_limits<double>::infinity();
+    int bestDf = 0;
+    std::map<int, double> fixed;
+    for (int df : {2, 4, 8, 16, 32, 64, 128}) {
+      fixed[df] = listedScene(df, false, c).cost(c);
+      if (fixed[df] < best) best = fixed[df], bestDf = df;
+    }
+    const ListedScene a = listedScene(0, true, c);
+    std::string table;
+    for (const auto& [df, cost] : fixed) table += " " + std::to_string(df) + ": " + std::to_string(cost / best);
+    SCOPED_TRACE("region cost " + std::to_string(c) + ", best fixed df " + std::to_string(bestDf) + ", cost / best:" +
+                 table + "; auto ends at df " + std::to_string(a.factorAtEnd) + ", cost / best " +
+                 std::to_string(a.cost(c) / best));
+    EXPECT_GT(a.factorChanges, 0u);  // the rounds closed windows: the factor moved from its start
+    EXPECT_LE(a.cost(c), 1.1 * best);
+    EXPECT_TRUE(a.factorAtEnd >= bestDf / 2 && a.factorAtEnd <= 2 * bestDf);
+  }
 }
 
 }  // namespace

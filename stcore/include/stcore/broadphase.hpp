@@ -63,6 +63,12 @@ struct SpaceRule {
   // auto: the cost of one region event (an object entering or leaving a leaf) in candidate pair
   // checks; the pool's event-driven simulator measured 8 (bench/pool_break, bench/RESULTS.md).
   double autoRegionCost = 100.0;
+  // auto: the factor in force until the first window closes. 16: a scene of a few objects starts
+  // as one leaf, a large one as a moderate tree. A caller that keeps neighbour lists and tests them
+  // every round (Space::noteRound: the arm's monitor) starts fine, at 2: moving coarser reunites
+  // leaves, which allocates nothing, while moving finer divides the tree inside the caller's
+  // rounds (0.4-0.8 ms for each halving of the factor among the arm's 1 000 obstacles).
+  int autoStart = 16;
 };
 
 struct SpaceCounters {

@@ -17,7 +17,12 @@
 // undivided) or doubling per window, and sets the factor to 2 n*: a leaf of k objects divides iff
 // k > df, so leaves hold df / 2^D to df objects and 2 n* puts them at the level nearest n*.
 // Within -20 % / +25 % of the factor in force it stays put, so it does not hunt on noise.
-// It starts at kStart: scenes of a few objects start as one leaf, large ones as a moderate tree.
+// It starts at SpaceRule::autoStart (16: scenes of a few objects start as one leaf, large ones as
+// a moderate tree; a caller keeping lists starts fine).
+// A caller that keeps neighbour lists (re-filing an object only when it leaves its fat box) makes
+// its pair checks from the lists, not through the space: it reports them per round (noteRound),
+// the rounds close windows (16 of them), and the factor moves from the one in force by the same
+// step, since a list is the union of many leaves and says little of one leaf's occupancy.
 // Everything it reads is a count: the same run makes the same choices (deterministic for a seed;
 // a clock would make the space's counters, and so the outputs that print them, vary run to run).
 #include <algorithm>
@@ -28,11 +33,19 @@ namespace st {
 
 class FactorTuner {
  public:
-  static constexpr int kStart = 16;
+  static constexpr std::uint64_t kRounds = 16;
 
   // One neighbour query that visited `visits` objects.
   void noteQuery(std::uint64_t visits) {
     ++queries_;
+    visits_ += visits;
+  }
+  // A round of queries a caller answered from neighbour lists it keeps (the arm's monitor tests
+  // every capsule's list each cycle): the visits are pair checks the factor trades, though the
+  // space does not make them. Rounds close windows too (see windowFull).
+  void noteRound(std::uint64_t queries, std::uint64_t visits) {
+    ++rounds_;
+    queries_ += queries;
     visits_ += visits;
   }
   // One update: whether the object's leaves changed, and how far its box moved along each axis
@@ -43,10 +56,11 @@ class FactorTuner {
     crossings_ += crossings;
   }
   // A window closes after 64 updates once either every object had about two, or the queries
-  // visited 64 objects per object (a scene far from its factor decides soon).
+  // visited 64 objects per object (a scene far from its factor decides soon); or after kRounds
+  // rounds (a caller that keeps lists updates rarely: the arm re-files a capsule every ~25 cycles).
   bool windowFull(int objects) const {
     const auto n = static_cast<std::uint64_t>(std::max(objects, 1));
-    return updates_ >= 64 && (updates_ >= 2 * n || visits_ >= 64 * n);
+    return rounds_ >= kRounds || (updates_ >= 64 && (updates_ >= 2 * n || visits_ >= 64 * n));
   }
 
   // The factor for the next window, from the one in force (`df`), whether the space is divided,
@@ -65,13 +79,15 @@ class FactorTuner {
       if (!divided && step >= 1.0) step = 1.0;
       // a leaf of k objects divides iff k > df, so leaves hold between df / 2^D and df: the
       // factor twice the occupancy wanted puts the leaves at the level nearest it
-      const double want = divided ? 2.0 * n * step : current * step;
+      // (lists kept by the caller: its objects are large and each list is the union of many
+      // leaves, so n says little of a leaf's occupancy: move from the factor in force instead)
+      const double want = divided && rounds_ == 0 ? 2.0 * n * step : current * step;
       if (want < 0.8 * current || want > 1.25 * current)
         next = std::clamp(static_cast<int>(std::lround(want)), 2, top);
     }
     ++decisions_;
     if (next != df) ++changesOfFactor_;
-    queries_ = visits_ = updates_ = changes_ = 0;
+    queries_ = visits_ = updates_ = changes_ = rounds_ = 0;
     crossings_ = 0.0;
     return next;
   }
@@ -84,6 +100,7 @@ class FactorTuner {
   std::uint64_t visits_ = 0;
   std::uint64_t updates_ = 0;
   std::uint64_t changes_ = 0;
+  std::uint64_t rounds_ = 0;
   double crossings_ = 0.0;
   std::uint64_t decisions_ = 0;
   std::uint64_t changesOfFactor_ = 0;

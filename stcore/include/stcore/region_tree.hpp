@@ -135,7 +135,7 @@ class RegionTree {
   // an update's old and new leaves (kept to reuse their storage: an update allocates nothing)
   std::vector<int> scratch_;
   std::vector<int> scratchNow_;
-  std::vector<int> landed_;  // restructureAround's copy of the leaves
+  std::vector<int> landed_;  // restructureAround's copy of the leaves; setDecompositionFactor's leaves
   std::vector<int> split_;   // maybeSplit's objects of the leaf it divides
 };
 

@@ -68,6 +68,15 @@ class Space {
     }
     visit([&](const auto& s) { s.forEachNeighbor(id, f); });
   }
+  // auto: a round of `queries` neighbour queries answered from lists the caller kept (each entry
+  // of a list it tests is a visit), e.g. a monitor's cycle; true if the factor in force changed,
+  // and with it what forEachNeighbor visits (a caller keeping lists gathers them again). Other
+  // spaces: nothing.
+  bool noteRound(std::uint64_t queries, std::uint64_t visits) {
+    if (!tuning_) return false;
+    tuner_.noteRound(queries, visits);
+    return decideIfFull();
+  }
   // Cells: the objects forEachNeighbor would visit, written to out in its order; how many, or -1
   // if more than `room` entries had to be looked at. Other kinds: -1 (visit them instead).
   int gatherNeighbors(int id, int* out, int room) const {
@@ -221,6 +230,7 @@ class Space {
   }
 
   bool tune(int id, const Box& box, bool changed);
+  bool decideIfFull();
 
   SpaceKind kind_;
   Box bounds_;
