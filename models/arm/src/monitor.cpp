@@ -301,9 +301,31 @@ void Monitor::refile(int id) {
   else space_.insert(id, swept_[id], m);
   ++counters_.refiled;
   filedAt_[id] = ++fileClock_;
+  gather(id);
+}
+
+void Monitor::gather(int id) {
   std::vector<int>& nb = neighbours_[id];
   nb.clear();
   space_.forEachNeighbor(id, [&](int j) { nb.push_back(j); });
+}
+
+void Monitor::tuneSpace() {
+  // decomposition_factor auto: the space sees the visits the cycle made from the lists, which it
+  // does not make itself; a new factor changes what the lists would hold: they are gathered again
+  const int nc = capsuleCount();
+  std::uint64_t visits = 0;
+  for (int i = 0; i < nc; ++i) visits += neighbours_[i].size();
+  for (int o : moving_) visits += neighbours_[nc + o].size();
+  if (space_.noteRound(static_cast<std::uint64_t>(nc) + moving_.size(), visits)) regather();
+}
+
+void Monitor::regather() {
+  // the boxes are as filed, so each list stays a superset of the pairs whose boxes overlap
+  const int nc = capsuleCount();
+  for (int i = 0; i < nc; ++i) gather(i);
+  for (int o : moving_)
+    if (space_.contains(nc + o)) gather(nc + o);
 }
 
 void Monitor::cycle(double t) {
@@ -362,6 +384,7 @@ void Monitor::cycle(double t) {
     for (int i : neighbours_[nc + o])
       if (i < nc && filedAt_[i] < filedAt_[nc + o]) testObstacle(i, o, t);
   }
+  if (space_.tuner()) tuneSpace();
   // STOP: issued on an arm's first warned cycle, held while warnings continue
   for (int ai = 0; ai < armCount(); ++ai) {
     ArmState& a = arms_[ai];

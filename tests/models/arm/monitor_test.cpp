@@ -2,6 +2,7 @@
 // finds exactly the warnings all-pairs finds, and the two Pandas are stopped before contact.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <tuple>
@@ -46,6 +47,14 @@ TEST_P(Scenarios, OctreeFindsExactlyTheAllPairsWarnings) {
     v.broad.rule.decompositionFactor = df;
     v.broad.margin = 0.0;
     EXPECT_EQ(runAll(v), all) << "decomposition factor " << df;
+  }
+  // decomposition_factor: auto, from the arm's start (2) and from the pool's (16, so that the
+  // factor changes and every list is gathered again)
+  for (int start : {2, 16}) {
+    Scenario v = s;
+    v.broad.rule.autoFactor = true;
+    v.broad.rule.autoStart = start;
+    EXPECT_EQ(runAll(v), all) << "auto from " << start;
   }
   // and the other kinds of space
   for (SpaceKind kind : {SpaceKind::Cells, SpaceKind::Single}) {
@@ -112,6 +121,43 @@ TEST_P(Scenarios, OctreeInvariantsWhileMoving) {
   // the tree followed the arms: it divided and reunited on the way
   EXPECT_GT(m.space()->counters().subdivisions, 0u);
   EXPECT_GT(m.space()->counters().reunions, 0u);
+}
+
+// decomposition_factor: auto with the monitor's rounds: from a start of 16 the windows close (16
+// cycles each) and the factor comes down to the arm's finest (its lists are tested every cycle and
+// re-filed rarely); every list, gathered again at each change of factor, holds every object whose
+// fat box overlaps its owner's and which was filed before it (the pairs the cycle must test).
+TEST_P(Scenarios, AutoFactorRegathersSupersetLists) {
+  Scenario s = loadScenario(scenarioPath(GetParam()));
+  s.broad.rule.autoFactor = true;
+  s.broad.rule.autoStart = 16;
+  Monitor m = makeMonitor(s);
+  auto src = makeSensor(s);
+  RunStats st;
+  int checks = 0;
+  std::uint64_t lastDf = 16;
+  run(m, *src, st, [&](const Monitor& mon) {
+    const auto df = static_cast<std::uint64_t>(mon.space()->rule().decompositionFactor);
+    const bool changed = df != lastDf;
+    lastDf = df;
+    // each cycle just after a change of factor, and every 50th
+    if (!changed && st.cycles % 50 != 1) return;
+    ++checks;
+    const int nc = mon.capsuleCount();
+    for (int i = 0; i < nc; ++i) {
+      const std::vector<int>& list = mon.neighbours(i);
+      for (int j = 0; j < mon.objectCount(); ++j) {
+        if (j == i || mon.filedAt(j) >= mon.filedAt(i) || !mon.fatBox(i).overlaps(mon.fatBox(j))) continue;
+        ASSERT_NE(std::find(list.begin(), list.end(), j), list.end())
+            << "cycle " << st.cycles << ", df " << df << ": " << j << " missing from " << i << "'s list";
+      }
+    }
+  });
+  EXPECT_GT(checks, 20);
+  ASSERT_NE(m.space()->tuner(), nullptr);
+  EXPECT_GT(m.space()->tuner()->decisions(), 100u);      // windows closed: a cycle's round each
+  EXPECT_GT(m.space()->tuner()->factorChanges(), 0u);    // and moved the factor
+  EXPECT_LE(m.space()->rule().decompositionFactor, 4);   // toward the finest
 }
 
 INSTANTIATE_TEST_SUITE_P(Shipped, Scenarios, ::testing::Values("two_pandas", "iiwa_truss", "panda_clutter"));
