@@ -129,6 +129,9 @@ PYBIND11_MODULE(_stsim, m) {
       .def_readonly("second", &hw::Conflict::second)
       .def_property_readonly("type", [](const hw::Conflict& c) { return hw::toString(c.type); },
                              "SSAM's class: rear_end, lane_change, crossing or pedestrian")
+      .def_property_readonly(
+          "encounter", [](const hw::Conflict& c) { return c.encounter == hw::EncounterType::Unknown ? "" : hw::toString(c.encounter); },
+          "how the paths meet, from the lanes: following, merging, diverging, crossing, opposing, adjacent, pedestrian; '' unknown")
       .def_readonly("begin", &hw::Conflict::begin)
       .def_readonly("end", &hw::Conflict::end)
       .def_readonly("min_ttc", &hw::Conflict::minTtc)

@@ -478,5 +478,35 @@ TEST(SsmValidation, PetAndCrossingPointsAgreeWithSsmOnACrossing) {
   EXPECT_LT(jsonNumber(v, "max_abs_error_m", dist), 0.9 + 0.5) << v;
 }
 
+TEST(SsmValidation, EncountersReadFromTheLanesAreSsmsAtJunctions) {
+  // conflicts.csv's encounter (from the lanes each takes) against SSM's own encounter type of the
+  // pair at the minimum-TTC tick, on the networks whose conflicts SSAM's angles type otherwise:
+  // the intersection (the cars predicted on at their speed, as SSM predicts them) has left turns
+  // across oncoming traffic (SSM: crossing) and straight cars closing up on a turner at its wait
+  // point (SSM: following, then passed, as the lanes part); the roundabout's entries merge (SSAM's
+  // angles call them lane changes and crossings)
+  struct Case {
+    const char* name;
+    const char* scenario;
+    std::vector<std::pair<std::string, double>> least;  // "ours/ssm" pairs and their least count
+  };
+  const Case cases[] = {
+      {"ssm_encounter_intersection", "networks/intersection/scenario.yaml",
+       {{"opposing/crossing", 3}, {"diverging/following_passed", 5}}},
+      {"ssm_encounter_roundabout", "networks/roundabout/scenario.yaml", {{"merging/merging", 15}}},
+  };
+  for (const Case& c : cases) {
+    const auto [r, v] = validated(c.name, sourceDir() / c.scenario, {"--set", "priority_rules=false", "--no-map"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto e = v.find("\"encounter\": {");
+    ASSERT_NE(e, std::string::npos) << v;
+    const double matched = jsonNumber(v, "matched", e);
+    EXPECT_GE(matched, 10.0) << c.name << v;  // something to check
+    EXPECT_GE(matched, 0.7 * jsonNumber(v, "conflicts", e)) << c.name << v;
+    EXPECT_EQ(jsonNumber(v, "agree", e), matched) << c.name << v;
+    for (const auto& [pair, least] : c.least) EXPECT_GE(jsonNumber(v, pair, e), least) << c.name << " " << pair << v;
+  }
+}
+
 }  // namespace
 }  // namespace st::cosim

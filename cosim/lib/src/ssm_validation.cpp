@@ -238,6 +238,7 @@ struct SsmValidator::Impl {
   std::pair<const SsmConflict*, std::size_t> sampleAt(const SsmByPair& byPair, const hw::Warning& w, double t) const;
   void conflictPoints(const SsmByPair& byPair, ValidationReport& r) const;
   void crossingPoints(const SsmByPair& byPair, ValidationReport& r) const;
+  void encounterTypes(const SsmByPair& byPair, ValidationReport& r) const;
 };
 
 SsmValidator::SsmValidator(const hw::RoadGeometry& road, const hw::MonitorConfig& base, double deltaT)
@@ -536,7 +537,78 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
   for (const auto& c : conflicts) byPair[{c.ego, c.foe}].push_back(&c);
   m.conflictPoints(byPair, r);
   m.crossingPoints(byPair, r);
+  m.encounterTypes(byPair, r);
   return r;
+}
+
+SsmEncounterClass ssmEncounterClass(int t) {
+  if (t >= 1 && t <= 3) return SsmEncounterClass::Following;
+  if (t == 4) return SsmEncounterClass::Adjacent;
+  if (t >= 5 && t <= 8) return SsmEncounterClass::Merging;
+  if (t >= 9 && t <= 11) return SsmEncounterClass::Crossing;
+  if (t == 18) return SsmEncounterClass::FollowingPassed;
+  if (t == 19) return SsmEncounterClass::MergingPassed;
+  if (t == 20) return SsmEncounterClass::Oncoming;
+  return SsmEncounterClass::None;
+}
+
+SsmEncounterClass ssmEncounterClassAt(const SsmConflict& c, std::size_t i) {
+  const int t = c.types[i];
+  const bool inArea = (t >= 12 && t <= 17) || t == 111;
+  if (!inArea) return ssmEncounterClass(t);
+  // in or past the conflict area, or colliding: the class the pair had before
+  for (std::size_t k = i; k-- > 0;)
+    if (const SsmEncounterClass x = ssmEncounterClass(c.types[k]); x != SsmEncounterClass::None) return x;
+  return SsmEncounterClass::None;
+}
+
+const char* toString(SsmEncounterClass c) {
+  switch (c) {
+    case SsmEncounterClass::None: return "none";
+    case SsmEncounterClass::Following: return "following";
+    case SsmEncounterClass::Adjacent: return "adjacent";
+    case SsmEncounterClass::Merging: return "merging";
+    case SsmEncounterClass::Crossing: return "crossing";
+    case SsmEncounterClass::FollowingPassed: return "following_passed";
+    case SsmEncounterClass::MergingPassed: return "merging_passed";
+    case SsmEncounterClass::Oncoming: return "oncoming";
+  }
+  return "?";
+}
+
+SsmEncounterClass ssmClassOf(hw::EncounterType e) {
+  switch (e) {
+    case hw::EncounterType::Following: return SsmEncounterClass::Following;
+    case hw::EncounterType::Adjacent: return SsmEncounterClass::Adjacent;
+    case hw::EncounterType::Merging: return SsmEncounterClass::Merging;
+    case hw::EncounterType::Crossing:
+    case hw::EncounterType::Opposing: return SsmEncounterClass::Crossing;
+    case hw::EncounterType::Diverging: return SsmEncounterClass::FollowingPassed;
+    case hw::EncounterType::Pedestrian:
+    case hw::EncounterType::Unknown: return SsmEncounterClass::None;
+  }
+  return SsmEncounterClass::None;
+}
+
+void SsmValidator::Impl::encounterTypes(const SsmByPair& byPair, ValidationReport& r) const {
+  // 7. each conflict's encounter against SSM's class of the pair at its minimum-TTC tick (either
+  // vehicle's device: the first with a classed sample there)
+  for (const hw::Conflict& k : conflicts) {
+    if (k.encounter == hw::EncounterType::Unknown || k.encounter == hw::EncounterType::Pedestrian) continue;
+    r.encounterConflicts++;
+    SsmEncounterClass ssm = SsmEncounterClass::None;
+    for (const auto& key : {Impl::PairKey{k.first, k.second}, Impl::PairKey{k.second, k.first}}) {
+      const auto it = byPair.find(key);
+      if (it == byPair.end()) continue;
+      for (const SsmConflict* c : it->second)
+        for (std::size_t i = 0; i < c->times.size() && ssm == SsmEncounterClass::None; ++i)
+          if (std::abs(c->times[i] + dt - k.minTtcTime) < 0.25 * dt) ssm = ssmEncounterClassAt(*c, i);
+    }
+    if (ssm == SsmEncounterClass::None) continue;
+    r.encounterMatched++;
+    if (ssmClassOf(k.encounter) == ssm) r.encounterAgree++;
+    r.encounterPairs[std::string(hw::toString(k.encounter)) + "/" + toString(ssm)]++;
+  }
 }
 
 void Agreement::add(double absError, const std::string& what) {
@@ -591,7 +663,17 @@ std::string toJson(const ValidationReport& r) {
      << "},\n    \"without_moving_on\": {\"matched\": " << r.pointUnconverted.matched << ", \"within_tolerance\": "
      << r.pointUnconverted.within << "},\n    \"crossing\": {\"box_episodes\": " << r.crossingEpisodes << ", "
      << agreementJson(r.crossingAlong, "m") << ",\n      \"distance\": {" << agreementJson(r.crossingPoint, "m")
-     << "}}},\n  \"detectors\": [";
+     << "}}},\n  \"encounter\": {\"conflicts\": " << r.encounterConflicts << ", \"matched\": " << r.encounterMatched
+     << ", \"agree\": " << r.encounterAgree << ", \"agree_fraction\": "
+     << num(DetectorValidation::share(r.encounterAgree, r.encounterMatched)) << ", \"ours_ssm\": {";
+  {
+    bool first = true;
+    for (const auto& [pair, n] : r.encounterPairs) {
+      os << (first ? "" : ", ") << io::jsonString(pair) << ": " << n;
+      first = false;
+    }
+  }
+  os << "}},\n  \"detectors\": [";
   for (std::size_t i = 0; i < r.detectors.size(); ++i) {
     const auto& d = r.detectors[i];
     os << (i ? "," : "") << "\n    {\"detector\": " << io::jsonString(d.detector)
@@ -654,7 +736,9 @@ std::string summaryLine(const ValidationReport& r) {
   os << ";";
   agreement(r.crossingAlong, "crossing points", "m");
   if (r.crossingAlong.matched > 0) os << " along the follower's path";
-  os << ";";
+  os << "; " << r.encounterMatched << " conflicts' encounters typed by SSM too, ";
+  if (r.encounterMatched == 0) os << "none to compare;";
+  else os << r.encounterAgree << " of them alike;";
   for (const auto& d : r.detectors)
     os << " " << d.detector << " recall " << figure(d.recall(), 3, "n/a (no SSM conflict below the safe time)")
        << " precision " << figure(d.precision(), 3, "n/a (no car-car warning)") << " (conflicts alone: recall "

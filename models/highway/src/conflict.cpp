@@ -22,6 +22,20 @@ const char* toString(ConflictType t) {
   return "?";
 }
 
+const char* toString(EncounterType e) {
+  switch (e) {
+    case EncounterType::Unknown: return "unknown";
+    case EncounterType::Following: return "following";
+    case EncounterType::Merging: return "merging";
+    case EncounterType::Diverging: return "diverging";
+    case EncounterType::Crossing: return "crossing";
+    case EncounterType::Opposing: return "opposing";
+    case EncounterType::Adjacent: return "adjacent";
+    case EncounterType::Pedestrian: return "pedestrian";
+  }
+  return "?";
+}
+
 double relativeHeadingDeg(double headingA, double headingB) {
   // the difference folded into [0, pi] (remainder keeps it exact for large headings)
   const double d = std::fabs(std::remainder(headingA - headingB, 2.0 * std::numbers::pi));

@@ -7,6 +7,8 @@
 #include <sthighway/sumo_conversion.hpp>
 #include <sthighway/tolerances.hpp>
 
+#include "lane_encounter.hpp"
+
 namespace st::highway::detail {
 
 namespace {
@@ -162,6 +164,15 @@ double ConflictBook::pairTtc(int a, int b, double maxTtc, Body& atA, Body& atB) 
   return ttc;
 }
 
+// The lanes each takes as far as it drives until the contact, with its length and a margin: a
+// car standing at its line has the junction lane beyond it in reach.
+EncounterType ConflictBook::encounterOf(int a, int b, double ttc) {
+  const VehicleTable& c = *cars_;
+  if (c.vclass[a] == VehicleClass::Pedestrian || c.vclass[b] == VehicleClass::Pedestrian) return EncounterType::Pedestrian;
+  auto reach = [&](int s) { return c.body[s].velocity.norm() * ttc + c.body[s].length + tol::kEncounterReach; };
+  return laneEncounter(*paths_, a, b, reach(a), reach(b), lanesA_, lanesB_);
+}
+
 void ConflictBook::touch(int a, int b, double ttc, const Body& atA, const Body& atB, double t, double dt) {
   const VehicleTable& c = *cars_;
   auto [it, fresh] = open_.try_emplace(Key{c.slots[a].serial, c.slots[b].serial});
@@ -190,6 +201,7 @@ void ConflictBook::touch(int a, int b, double ttc, const Body& atA, const Body& 
     en.contactB = atB;
     en.laneA = paths_->reportedLane(a);
     en.laneB = paths_->reportedLane(b);
+    en.encounter = encounterOf(a, b, ttc);
     startPet(en.bodyA, en.bodyB, paths_->laneWidth(a), paths_->laneWidth(b), t, petAngles_, en.pet);
     startRearPet(en.bodyA, en.bodyB, atA, atB, t, c.slots[a].id < c.slots[b].id, en.rearPet);
   } else {
@@ -217,6 +229,7 @@ void ConflictBook::close(Encounter& en, double end, bool open) {
   const Body &cf = aFirst ? at : bt, &cs = aFirst ? bt : at;
   k.type = conflictType(toDegrees(std::atan2(std::abs(cross(cf.axis, cs.axis)), cf.axis.dot(cs.axis))), c.vclass[f],
                         c.vclass[s], cfg_->conflict);
+  k.encounter = en.encounter;
   k.begin = en.begin;
   k.end = end;
   k.minTtc = en.minTtc;
@@ -282,6 +295,7 @@ void ConflictBook::settle(Conflict&& k, double pet) {
     return;
   }
   ++counters_->conflictsByType[static_cast<int>(k.type)];
+  ++counters_->conflictsByEncounter[static_cast<int>(k.encounter)];
   if (!k.junction.empty()) ++counters_->conflictsByJunction[k.junction][static_cast<int>(k.type)];
   const bool firstBicycle = k.firstClass == VehicleClass::Bicycle, secondBicycle = k.secondClass == VehicleClass::Bicycle;
   if (firstBicycle || secondBicycle) ++counters_->conflictsWithBicycle[static_cast<int>(k.type)];

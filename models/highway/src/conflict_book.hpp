@@ -75,6 +75,7 @@ class ConflictBook {
     Body bodyA, bodyB;       // at the minimum TTC
     Body contactA, contactB; // ... moved on to their predicted contact (straight, or along the lanes at a merge)
     int laneA = -1, laneB = -1;
+    EncounterType encounter = EncounterType::Unknown;  // from the lanes, at the minimum TTC
     EpisodeTrack trackA, trackB;  // each vehicle's as ego (start, end, MaxS, DR, MaxD)
     PetWatch pet;
     RearPetWatch rearPet;
@@ -96,6 +97,7 @@ class ConflictBook {
   // The pair's box TTC within TTC* and the bodies at the contact: in straight lines, or along
   // their lanes when one of them is at a merge (LanePrediction::atMerge).
   double pairTtc(int a, int b, double maxTtc, Body& atA, Body& atB) const;
+  EncounterType encounterOf(int a, int b, double ttc);
   void touch(int a, int b, double ttc, const Body& atA, const Body& atB, double t, double dt);
   void close(Encounter& en, double end, bool open);
   void settle(Conflict&& c, double pet);
@@ -115,6 +117,7 @@ class ConflictBook {
     double halfDiagonal, speed;
   };
   std::vector<SweepEntry> sweep_;  // scratch
+  std::vector<int> lanesA_, lanesB_;  // scratch: the lanes ahead of a pair (lane_encounter.hpp)
 };
 
 }  // namespace st::highway::detail

@@ -118,6 +118,16 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
     lanes_[a].succEnd = static_cast<int>(succ_.size());
     if (!found.empty()) lanes_[a].next = found.front().second;
   }
+  // each lane's predecessors: the lanes it succeeds (a counting sort of succ_ by successor)
+  predStart_.assign(n + 1, 0);
+  for (int b : succ_) ++predStart_[b + 1];
+  for (int a = 0; a < n; ++a) predStart_[a + 1] += predStart_[a];
+  pred_.resize(succ_.size());
+  {
+    std::vector<int> next(predStart_.begin(), predStart_.end() - 1);
+    for (int a = 0; a < n; ++a)
+      for (int k = lanes_[a].succBegin; k < lanes_[a].succEnd; ++k) pred_[next[succ_[k]]++] = a;
+  }
   // the edge a car reaches: its own on a normal lane; through a junction's lanes, the first
   // normal lane's (a junction lane has one successor, another junction lane at most a few times)
   for (int a = 0; a < n; ++a) {
@@ -327,6 +337,25 @@ int LanePrediction::successor(int slot, int lane, int& routeAt) const {
   }
   const std::uint8_t sig = cars_->signals[slot];
   return (sig & kSignalLeft) && l.nextLeft >= 0 ? l.nextLeft : (sig & kSignalRight) && l.nextRight >= 0 ? l.nextRight : l.next;
+}
+
+void LanePrediction::lanesAhead(int slot, double reach, std::vector<int>& out) const {
+  out.clear();
+  int ln = reportedLane(slot);
+  if (ln < 0 || ln >= static_cast<int>(lanes_.size())) return;
+  int routeAt = -1;
+  for (int k = 0; k < kRouteAhead && routeAt < 0; ++k)
+    if (cars_->route[slot][k] == lanes_[ln].exitEdge) routeAt = k;
+  // the first lane from the centre's arc on it (the frame's, where this lane is the frame's)
+  const LaneFrame& f = frame_[slot];
+  double ahead = lanes_[ln].length - (f.lane == ln ? std::clamp(f.s, 0.0, lanes_[ln].length) : 0.0);
+  out.push_back(ln);
+  while (ahead < reach && static_cast<int>(out.size()) < kLanesAhead) {
+    ln = successor(slot, ln, routeAt);
+    if (ln < 0 || std::find(out.begin(), out.end(), ln) != out.end()) break;
+    out.push_back(ln);
+    ahead += lanes_[ln].length;
+  }
 }
 
 Body LanePrediction::bodyAt(std::span<const PathPiece> path, const Body& now, MotionModel motion, double t) {

@@ -172,6 +172,22 @@ class LanePrediction {
   // straight box TTC). atE, atF: the two bodies then (unchanged when none is found).
   double boxTtcAlong(int e, int f, double horizon, Body& atE, Body& atF) const;
 
+  // The lanes a car drives on and takes next, as its path takes them (its route, else its signal,
+  // else straight on), from the one it is reported on until `reach` m past its centre (at most
+  // kLanesAhead); empty without a lane. In either prediction model: the lanes are the network's.
+  void lanesAhead(int slot, double reach, std::vector<int>& out) const;
+  static constexpr int kLanesAhead = 8;
+  // A lane's centre line (at least two points but for a degenerate lane), whether it lies inside a
+  // junction, and its edge (index into edgeIds(road)).
+  std::span<const Vec2> laneShape(int lane) const {
+    return {pt_.data() + lanes_[lane].first, static_cast<std::size_t>(lanes_[lane].count)};
+  }
+  bool internalLane(int lane) const { return lanes_[lane].internal; }
+  // The lanes that lead onto a lane (those it is a successor of).
+  std::span<const int> predecessors(int lane) const {
+    return {pred_.data() + predStart_[lane], static_cast<std::size_t>(predStart_[lane + 1] - predStart_[lane])};
+  }
+  int laneEdge(int lane) const { return lanes_[lane].edge; }
   // The body of a car at time t >= 0 on its path (pieces from path()), moving at
   // motionAcceleration(now, motion) along it.
   static Body bodyAt(std::span<const PathPiece> path, const Body& now, MotionModel motion, double t);
@@ -208,6 +224,7 @@ class LanePrediction {
   bool alongLanes_ = false;
   std::vector<NetLane> lanes_;
   std::vector<int> succ_;
+  std::vector<int> pred_, predStart_;  // predecessors(), by lane
   std::vector<Vec2> pt_;
   std::vector<double> cum_;  // arc length at each point of its lane
   // the lanes' segments (by their first point), for matching a car not on its last lane

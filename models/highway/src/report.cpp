@@ -111,7 +111,7 @@ std::string eventRecallJson(std::uint64_t events, std::uint64_t warned, const st
 }
 
 std::string conflictsCsvHeader() {
-  return "first,second,type,begin,end,min_ttc,min_ttc_time,pet,drac,max_s,delta_s,dr,max_d,max_delta_v,"
+  return "first,second,type,encounter,begin,end,min_ttc,min_ttc_time,pet,drac,max_s,delta_s,dr,max_d,max_delta_v,"
          "first_delta_v,second_delta_v,conflict_angle,clock_angle,post_crash_speed,post_crash_heading,conflict_x,conflict_y,"
          "first_x,first_y,second_x,second_y,first_speed,second_speed,first_start_x,first_start_y,first_end_x,first_end_y,"
          "second_start_x,second_start_y,second_end_x,second_end_y,first_lane,second_lane,junction,first_class,second_class,"
@@ -121,7 +121,8 @@ std::string conflictsCsvHeader() {
 std::string conflictCsvRow(const Conflict& c) {
   // as warnings.csv: what is read or copied from the inputs in full, what is worked out to 0.001
   std::ostringstream os;
-  os << csvField(c.first) << ',' << csvField(c.second) << ',' << toString(c.type) << ',' << num(c.begin) << ','
+  os << csvField(c.first) << ',' << csvField(c.second) << ',' << toString(c.type) << ','
+     << (c.encounter == EncounterType::Unknown ? "" : toString(c.encounter)) << ',' << num(c.begin) << ','
      << num(c.end) << ',' << conflictField(c.minTtc) << ',' << num(c.minTtcTime) << ',' << derivedField(c.pet) << ','
      << derivedField(c.drac) << ',' << conflictField(c.maxSpeed) << ',' << derivedField(c.deltaSpeed) << ','
      << derivedField(c.dr) << ',' << derivedField(c.maxD) << ',' << derivedField(c.maxDeltaV) << ','
@@ -212,6 +213,7 @@ std::string conflictsJson(const MonitorCounters& c, const ConflictConfig& config
     << byEnum(types, [&](int k) { return c.conflictsByType[k]; })
     << ",\n    \"per_vehicle_km_by_type\": "
     << byEnum(types, [&](int k) { return perKm(c.conflictsByType[k], km); })
+    << ",\n    \"by_encounter\": " << byEnum<EncounterType>(kEncounterTypeCount, [&](int k) { return c.conflictsByEncounter[k]; })
     << ",\n    \"by_junction\": " << junctionsJson(c, n);
   j << ",\n    \"with_bicycle\": " << withBicycleJson(c);
   j << ",\n    \"tet_s\": " << c.conflictTet << ", \"tit_s2\": " << c.conflictTit

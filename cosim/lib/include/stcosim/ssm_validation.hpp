@@ -60,6 +60,21 @@ inline constexpr int kSsmMergingFollower = 7;
 inline constexpr int kSsmCrossingLeader = 10;
 inline constexpr int kSsmCrossingFollower = 11;
 
+// SSM's encounter classes at one sample, its types folded: following 1-3, on adjacent lanes 4,
+// merging 5-8, crossing 9-11, following passed 18 (it was following and is no more: their lanes
+// part), merging passed 19, oncoming 20. Its types 12-17 (a vehicle has entered or left the
+// conflict area) and 111 (collision) are the class of the pair's last sample before them
+// (ssmEncounterClassAt); 0 (no conflict ahead) is None.
+enum class SsmEncounterClass : int { None, Following, Adjacent, Merging, Crossing, FollowingPassed, MergingPassed, Oncoming };
+SsmEncounterClass ssmEncounterClass(int ssmType);
+// SSM's class of the encounter c at its sample i, as above.
+SsmEncounterClass ssmEncounterClassAt(const struct SsmConflict& c, std::size_t i);
+// "none", "following", "adjacent", "merging", "crossing", "following_passed", "merging_passed", "oncoming"
+const char* toString(SsmEncounterClass c);
+// The class of SSM's that ours names: opposing is a crossing to SSM, diverging a following that
+// has passed (the lanes part); a pedestrian's SSM has none (None).
+SsmEncounterClass ssmClassOf(highway::EncounterType e);
+
 // SSM's PET position farther than this from one of the two paths (m): half SUMO's lane width,
 // beyond any point where the two bodies could meet (SsmConflict::petOffPath).
 inline constexpr double kSsmPetOffPath = 1.6;
@@ -189,6 +204,11 @@ struct ValidationReport {
   // conflict area) against ours along the follower's path, and the distance
   std::uint64_t crossingEpisodes = 0;
   Agreement crossingAlong{0.5}, crossingPoint{0.5};
+  // 7. how the paths meet: conflicts.csv's conflicts whose encounter is known (from the lanes),
+  // those SSM logs the pair at the minimum-TTC tick with a class (ssmEncounterClassAt), and those
+  // whose class is SSM's; counted by (ours, SSM's) too
+  std::uint64_t encounterConflicts = 0, encounterMatched = 0, encounterAgree = 0;
+  std::map<std::string, std::uint64_t> encounterPairs;  // "ours/ssm" -> count
 };
 std::string toJson(const ValidationReport& r);
 // The printed line: samples within tolerance and each detector's recall and precision, a figure

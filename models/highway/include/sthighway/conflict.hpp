@@ -37,6 +37,20 @@ inline bool crossesPaths(ConflictType t) {
   return t == ConflictType::LaneChange || t == ConflictType::Crossing || t == ConflictType::Pedestrian;
 }
 
+// How two road users' paths meet, read from the lanes each drives on and takes next (SUMO's SSM
+// names its encounters so: following, merging, crossing; opposing, diverging and adjacent split
+// what SSM leaves out or lumps together). Following: one is on a lane the other's path takes;
+// merging: from different lanes onto a common one; diverging: from a common lane end onto lanes
+// that part (a straight car behind a turner waiting at its wait point); crossing: lanes that cross
+// inside a junction; opposing: a crossing between approaches heading at each other (a left turn
+// across oncoming traffic); adjacent: lanes of one edge with no lane in common ahead (a lane
+// change); pedestrian: a person is one of the two. Unknown: no lanes (straight prediction, or a
+// car off the network), or none of these within the lanes ahead.
+enum class EncounterType : std::uint8_t { Unknown, Following, Merging, Diverging, Crossing, Opposing, Adjacent, Pedestrian };
+inline constexpr int kEncounterTypeCount = 8;
+// "unknown", "following", "merging", "diverging", "crossing", "opposing", "adjacent", "pedestrian"
+const char* toString(EncounterType e);
+
 struct ConflictConfig {
   // SSAM: a conflict angle below 30 degrees is a rear-end, above 85 degrees a crossing, a
   // lane change between. Scenario keys conflict.rear_end_below / conflict.crossing_above.

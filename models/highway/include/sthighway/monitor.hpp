@@ -136,6 +136,7 @@ struct Conflict {
   static constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
   std::string first, second;          // vehicle ids
   ConflictType type = ConflictType::RearEnd;  // SSAM's angle class (never proximity or road)
+  EncounterType encounter = EncounterType::Unknown;    // how their paths meet, from the lanes (at the minimum TTC)
   double begin = 0.0, end = 0.0;      // s
   double minTtc = 0.0;                // s, smallest TTC of the encounter (0: touching)
   double minTtcTime = 0.0;            // s, its first tick
@@ -277,6 +278,8 @@ struct MonitorCounters {
   // bicycle-bicycle), by type, and of them those between two bicycles
   std::array<std::uint64_t, kConflictTypeCount> conflictsWithBicycle{};
   std::uint64_t conflictsBetweenBicycles = 0;
+  // ... by how their paths meet (Conflict::encounter)
+  std::array<std::uint64_t, kEncounterTypeCount> conflictsByEncounter{};
   double conflictTet = 0.0;
   double conflictTit = 0.0;
   std::uint64_t conflictsOverMaxPet = 0;

@@ -51,6 +51,11 @@ inline constexpr double kStopLineMinDistance = 1e-4;
 // then stands at its line reads as one that has taken its gap (s).
 inline constexpr double kYieldStepSlack = 0.1;
 
+// How far past its body's length and its travel until the contact a car's lanes are read to type
+// an encounter (lane_encounter.hpp; m): a car standing at its line reaches the junction lane
+// beyond it, and a turner inside the junction the lane it leaves onto.
+inline constexpr double kEncounterReach = 10.0;
+
 // A car whose path turns by more than this within TTC*, or whose body is turned off its lane by
 // more than this, is at a merge (lane_prediction.hpp, atMerge; rad, 1 degree): conflicts.csv
 // predicts it along its lanes, not in a straight line. A ramp's nose or its curve (the shipped
