@@ -318,18 +318,27 @@ def real_figures(r):
         return v[("road", "five")] if len(set(v.values())) == 1 else float("nan")
 
     share = lambda net, pred: hs(net, pred, "box")["vehicle.confirmed_share"]
-    rise = lambda net: share(net, "road") / share(net, "straight")
+    tenth, whole = (lambda x: "%.1fx" % x), (lambda x: "%dx" % rnd(x))
+
+    def rise(net, text):
+        # a network with no confirmed box warning under `straight` has no ratio: say what it rose
+        # from, or that none is confirmed either way
+        before, after = share(net, "straight"), share(net, "road")
+        if before == 0:
+            return "none is confirmed either way" if after == 0 else "from 0"
+        return "it rises " + text(after / before)
+
     nm = lambda net: [hs(net, "road", d)["near_misses_warned"] for d in dets]
+    either = lambda xs: "%d" % min(xs) if min(xs) == max(xs) else "%d or %d" % (min(xs), max(xs))
     ssm = [s["motorway/%s/box" % p] for p in ("straight", "road")]
     below = [x["ssm.detectors.%s.ssm_conflicts_below_safe_time.mean" % d] for x in ssm for d in dets]
     recalled = [x["ssm.detectors.%s.recalled.mean" % d] for x in ssm for d in dets]
     sub = hs("sublane", "road", "five")
     return rows + [
-        (readme, "the motorway's %d of %d (SUMO's default rule: a gap below minGap), the incident run's %s physical "
-         "contact (%.1f s ahead; %.1f s by the concentric circles)" % (
+        (readme, "the motorway's %d of %d, the incident run's %s (%.1f s ahead; %.1f s by the concentric circles)" % (
              all_same("motorway", "collisions_warned"), all_same("motorway", "collisions"),
-             "one" if hs("incident", "road", "five")["collisions"] == 1 else "%d" % hs("incident", "road", "five")[
-                 "collisions"], hs("incident", "road", "five")["collision_lead_median_s"],
+             "%d of %d" % (hs("incident", "road", "five")["collisions_warned"], hs("incident", "road", "five")["collisions"]),
+             hs("incident", "road", "five")["collision_lead_median_s"],
              hs("incident", "road", "concentric")["collision_lead_median_s"])),
         (readme, "the box's rectangle reaches a line a little sooner than the circles, %.3f against %.3f per veh-km on "
          "the motorway" % (hs("motorway", "road", "box")["curb.per_vehicle_km"] +
@@ -339,14 +348,14 @@ def real_figures(r):
              100 * min(x["ssm.following.within_fraction.mean"] for x in ssm),
              "%d of %d" % (min(recalled), max(below)) if min(recalled) == max(recalled) and
              min(below) == max(below) else "not all")),
-        (readme, "the box detector's confirmed share rises %.1fx on A10KW and %.1fx on grid6, %dx on `highway` and %dx "
-         "on cross (both on a few warnings: %s and %s), and does not fall on the motorway (%.2f -> %.2f)" % (
-             rise("A10KW"), rise("grid6"), rnd(rise("highway")), rnd(rise("cross")),
+        (readme, "the box detector's confirmed share: on A10KW %s, on grid6 %s, on `highway` %s and on cross %s "
+         "(both on a few warnings under `road`: %s and %s), and on the motorway it does not fall (%.2f -> %.2f)" % (
+             rise("A10KW", tenth), rise("grid6", tenth), rise("highway", whole), rise("cross", whole),
              confirmed("highway", "road").split(" ")[0], confirmed("cross", "road").split(" ")[0],
              share("motorway", "straight"), share("motorway", "road"))),
-        (readme, "Near misses under `road`: every detector warns %d or %d of A10KW's %d and %d or %d of grid6's %d." % (
-            min(nm("A10KW")), max(nm("A10KW")), hs("A10KW", "road", "five")["near_misses"], min(nm("grid6")),
-            max(nm("grid6")), hs("grid6", "road", "five")["near_misses"])),
+        (readme, "Near misses under `road`: every detector warns %s of A10KW's %d and %s of grid6's %d." % (
+            either(nm("A10KW")), hs("A10KW", "road", "five")["near_misses"], either(nm("grid6")),
+            hs("grid6", "road", "five")["near_misses"])),
         (readme, "The box's %d/%d on the sublane network" % (hs("sublane", "road", "box")["near_misses_warned"],
                                                             hs("sublane", "road", "box")["near_misses"])),
         (readme, "Of the sublane network's %d, %d %% are warned 0.5 s ahead (five-circle, `road`)" % (
