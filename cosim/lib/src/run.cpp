@@ -136,7 +136,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
   result.threads = threads;
   result.stopReason = loop.stopReason;
   if (validator && loop.error.empty()) {
-    result.validation = validator->evaluate(readSsmOutput(start.ssmFile));
+    result.validation = validator->evaluate(readSsmOutput(start.ssmFile), firstContacts);
     io::writeTextFile(out / "validation.json", toJson(*result.validation));
   }
 

@@ -239,6 +239,8 @@ struct SsmValidator::Impl {
   void conflictPoints(const SsmByPair& byPair, ValidationReport& r) const;
   void crossingPoints(const SsmByPair& byPair, ValidationReport& r) const;
   void encounterTypes(const SsmByPair& byPair, ValidationReport& r) const;
+  void encounterPrecision(const std::map<PairKey, std::vector<double>>& seen, std::span<const SumoCollision> contacts,
+                          ValidationReport& r) const;
 };
 
 SsmValidator::SsmValidator(const hw::RoadGeometry& road, const hw::MonitorConfig& base, double deltaT)
@@ -507,8 +509,10 @@ void SsmValidator::Impl::crossingPoints(const SsmByPair& byPair, ValidationRepor
 }
 
 // The stages in order: 1. following samples, 2.-3. each detector's recall and precision, 4. the
-// PETs, 5. the rear-end conflict points, 6. the crossing and merging points.
-ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflicts) const {
+// PETs, 5. the rear-end conflict points, 6. the crossing and merging points, 7.-8. the conflicts'
+// encounters against SSM's classes and SSM's sight of them.
+ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflicts,
+                                        std::span<const SumoCollision> contacts) const {
   const Impl& m = *impl_;
   ValidationReport r;
   r.deltaT = m.dt;
@@ -538,6 +542,7 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
   m.conflictPoints(byPair, r);
   m.crossingPoints(byPair, r);
   m.encounterTypes(byPair, r);
+  m.encounterPrecision(seen, contacts, r);
   return r;
 }
 
@@ -611,6 +616,32 @@ void SsmValidator::Impl::encounterTypes(const SsmByPair& byPair, ValidationRepor
   }
 }
 
+void SsmValidator::Impl::encounterPrecision(const std::map<PairKey, std::vector<double>>& seen,
+                                            std::span<const SumoCollision> contacts, ValidationReport& r) const {
+  // 8. each conflict: did SSM log the pair with a finite TTC while it lasted, else did they touch
+  for (const hw::Conflict& k : conflicts) {
+    const double from = k.begin - dt - 1e-6, to = k.end + dt + 1e-6;
+    const PairKey pair = std::minmax(k.first, k.second);
+    bool sawTtc = false;
+    if (auto it = seen.find(pair); it != seen.end()) {
+      const auto lo = std::lower_bound(it->second.begin(), it->second.end(), from);
+      sawTtc = lo != it->second.end() && *lo <= to;
+    }
+    const bool collided = !sawTtc && std::any_of(contacts.begin(), contacts.end(), [&](const SumoCollision& c) {
+      return PairKey(std::minmax(c.collider, c.victim)) == pair && c.time >= from && c.time <= to;
+    });
+    const auto add = [&](ValidationReport::EncounterPrecision& p) {
+      p.conflicts++;
+      p.seen += sawTtc;
+      p.collided += collided;
+    };
+    add(r.byEncounter[hw::toString(k.encounter)]);
+    const SsmEncounterClass cls = ssmClassOf(k.encounter);
+    if (cls == SsmEncounterClass::Following || cls == SsmEncounterClass::Merging || cls == SsmEncounterClass::Crossing)
+      add(r.ssmModels);
+  }
+}
+
 void Agreement::add(double absError, const std::string& what) {
   if (matched == 0 || absError > maxAbsError) {
     maxAbsError = absError;
@@ -670,6 +701,21 @@ std::string toJson(const ValidationReport& r) {
     bool first = true;
     for (const auto& [pair, n] : r.encounterPairs) {
       os << (first ? "" : ", ") << io::jsonString(pair) << ": " << n;
+      first = false;
+    }
+  }
+  const auto precisionJson = [&](const ValidationReport::EncounterPrecision& p) {
+    os << "{\"conflicts\": " << p.conflicts << ", \"seen_by_ssm\": " << p.seen << ", \"collided\": " << p.collided
+       << ", \"precision\": " << num(DetectorValidation::share(p.seen + p.collided, p.conflicts)) << "}";
+  };
+  os << "},\n    \"where_ssm_models\": ";
+  precisionJson(r.ssmModels);
+  os << ",\n    \"by_encounter\": {";
+  {
+    bool first = true;
+    for (const auto& [name, p] : r.byEncounter) {
+      os << (first ? "" : ", ") << io::jsonString(name) << ": ";
+      precisionJson(p);
       first = false;
     }
   }
@@ -739,6 +785,11 @@ std::string summaryLine(const ValidationReport& r) {
   os << "; " << r.encounterMatched << " conflicts' encounters typed by SSM too, ";
   if (r.encounterMatched == 0) os << "none to compare;";
   else os << r.encounterAgree << " of them alike;";
+  const auto& m = r.ssmModels;
+  os << " " << m.conflicts << " conflicts of encounters SSM models (following, merging, crossing), "
+     << m.seen << " logged by SSM";
+  if (m.collided > 0) os << " and " << m.collided << " that collided";
+  os << " (" << r.conflicts() - m.conflicts << " outside its model: diverging, adjacent, pedestrian, unknown);";
   for (const auto& d : r.detectors)
     os << " " << d.detector << " recall " << figure(d.recall(), 3, "n/a (no SSM conflict below the safe time)")
        << " precision " << figure(d.precision(), 3, "n/a (no car-car warning)") << " (conflicts alone: recall "

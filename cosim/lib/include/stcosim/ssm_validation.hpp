@@ -48,6 +48,7 @@
 #include <stcore/vec.hpp>
 #include <sthighway/detector.hpp>
 #include <sthighway/monitor.hpp>
+#include <stcosim/backend.hpp>
 
 namespace st::cosim {
 
@@ -209,6 +210,21 @@ struct ValidationReport {
   // whose class is SSM's; counted by (ours, SSM's) too
   std::uint64_t encounterConflicts = 0, encounterMatched = 0, encounterAgree = 0;
   std::map<std::string, std::uint64_t> encounterPairs;  // "ours/ssm" -> count
+  // 8. conflicts.csv's conflicts by encounter: how many, how many SSM logged with a finite TTC
+  // during the conflict (begin to end, one step either side), and how many of the rest collided in
+  // that time (SUMO's contact of the pair, where SSM logs no TTC). SSM predicts following, merging and crossing
+  // (opposing is its crossing): `ssmModels` sums those; diverging (a car closing on a turner that
+  // stands on another lane of the junction), adjacent and pedestrian are outside its model.
+  struct EncounterPrecision {
+    std::uint64_t conflicts = 0, seen = 0, collided = 0;
+  };
+  std::map<std::string, EncounterPrecision> byEncounter;  // hw::toString(encounter), "unknown" too
+  EncounterPrecision ssmModels;
+  std::uint64_t conflicts() const {
+    std::uint64_t n = 0;
+    for (const auto& [name, p] : byEncounter) n += p.conflicts;
+    return n;
+  }
 };
 std::string toJson(const ValidationReport& r);
 // The printed line: samples within tolerance and each detector's recall and precision, a figure
@@ -223,7 +239,8 @@ class SsmValidator {
   ~SsmValidator();
   void record(double t, std::span<const highway::VehicleState> states);
   void finish(double t);
-  ValidationReport evaluate(const std::vector<SsmConflict>& conflicts) const;
+  // `contacts`: SUMO's collisions whose bodies touched (each once), the truth where SSM logs no TTC
+  ValidationReport evaluate(const std::vector<SsmConflict>& conflicts, std::span<const SumoCollision> contacts = {}) const;
 
  private:
   struct Impl;
