@@ -233,14 +233,25 @@ TEST(HighwayCli, LiveRunAndTheReplayOfItsFcdGiveTheSameWarnings) {
       continue;
     }
     if (!junction) continue;
-    // conflicts.csv: first, second, type, begin, end (ms, the replay's moved on) -> min TTC
+    // conflicts.csv: first, second, type, encounter (read from the lanes both ways), begin, end (ms,
+    // the replay's moved on) -> min TTC; the columns by their header
     auto conflicts = [](const std::filesystem::path& p, long shiftMs) {
       std::map<std::string, double> out;
       const auto ls = lines(slurp(p));
+      const auto head = splitCsv(ls.at(0));
+      const auto col = [&](const char* name) {
+        const auto it = std::find(head.begin(), head.end(), name);
+        EXPECT_NE(it, head.end()) << name;
+        return static_cast<std::size_t>(it - head.begin());
+      };
+      const std::size_t first = col("first"), second = col("second"), type = col("type"), encounter = col("encounter"),
+                        begin = col("begin"), end = col("end"), ttc = col("min_ttc");
       for (std::size_t i = 1; i < ls.size(); ++i) {
         const auto f = splitCsv(ls[i]);
-        const long begin = std::lround(std::stod(f[3]) * 1000.0) + shiftMs, end = std::lround(std::stod(f[4]) * 1000.0) + shiftMs;
-        out.emplace(f[0] + " " + f[1] + " " + f[2] + " " + std::to_string(begin) + " " + std::to_string(end), std::stod(f[5]));
+        const long from = std::lround(std::stod(f.at(begin)) * 1000.0) + shiftMs, to = std::lround(std::stod(f.at(end)) * 1000.0) + shiftMs;
+        out.emplace(f[first] + " " + f[second] + " " + f[type] + " " + f[encounter] + " " + std::to_string(from) + " " +
+                        std::to_string(to),
+                    std::stod(f.at(ttc)));
       }
       return out;
     };

@@ -618,7 +618,8 @@ void SsmValidator::Impl::encounterTypes(const SsmByPair& byPair, ValidationRepor
 
 void SsmValidator::Impl::encounterPrecision(const std::map<PairKey, std::vector<double>>& seen,
                                             std::span<const SumoCollision> contacts, ValidationReport& r) const {
-  // 8. each conflict: did SSM log the pair with a finite TTC while it lasted, else did they touch
+  // 8. each conflict: did SSM log the pair with a finite TTC while it lasted, else did they touch,
+  // else did they come closer than the clearance
   for (const hw::Conflict& k : conflicts) {
     const double from = k.begin - dt - 1e-6, to = k.end + dt + 1e-6;
     const PairKey pair = std::minmax(k.first, k.second);
@@ -630,10 +631,20 @@ void SsmValidator::Impl::encounterPrecision(const std::map<PairKey, std::vector<
     const bool collided = !sawTtc && std::any_of(contacts.begin(), contacts.end(), [&](const SumoCollision& c) {
       return PairKey(std::minmax(c.collider, c.victim)) == pair && c.time >= from && c.time <= to;
     });
+    // else what SUMO did next: the two bodies at SUMO's positions, closer than hindsight's clearance
+    // from the conflict's begin to the end of its PET horizon
+    bool close = false;
+    if (!sawTtc && !collided)
+      for (double t = k.begin; t <= k.end + hw::kPetHorizon + 1e-6 && !close; t += dt) {
+        const Rec* a = find(k.first, t);
+        const Rec* b = find(k.second, t);
+        close = a && b && distance(a->body.box(), b->body.box()) < base.hindsight.clearance;
+      }
     const auto add = [&](ValidationReport::EncounterPrecision& p) {
       p.conflicts++;
       p.seen += sawTtc;
       p.collided += collided;
+      p.close += close;
     };
     add(r.byEncounter[hw::toString(k.encounter)]);
     const SsmEncounterClass cls = ssmClassOf(k.encounter);
@@ -706,7 +717,8 @@ std::string toJson(const ValidationReport& r) {
   }
   const auto precisionJson = [&](const ValidationReport::EncounterPrecision& p) {
     os << "{\"conflicts\": " << p.conflicts << ", \"seen_by_ssm\": " << p.seen << ", \"collided\": " << p.collided
-       << ", \"precision\": " << num(DetectorValidation::share(p.seen + p.collided, p.conflicts)) << "}";
+       << ", \"came_close\": " << p.close << ", \"precision\": " << num(DetectorValidation::share(p.seen + p.collided, p.conflicts))
+       << ", \"confirmed\": " << num(DetectorValidation::share(p.seen + p.collided + p.close, p.conflicts)) << "}";
   };
   os << "},\n    \"where_ssm_models\": ";
   precisionJson(r.ssmModels);
@@ -789,7 +801,8 @@ std::string summaryLine(const ValidationReport& r) {
   os << " " << m.conflicts << " conflicts of encounters SSM models (following, merging, crossing), "
      << m.seen << " logged by SSM";
   if (m.collided > 0) os << " and " << m.collided << " that collided";
-  os << " (" << r.conflicts() - m.conflicts << " outside its model: diverging, adjacent, pedestrian, unknown);";
+  os << ", " << m.close << " more came within the clearance (" << r.conflicts() - m.conflicts
+     << " outside its model: diverging, adjacent, pedestrian, unknown);";
   for (const auto& d : r.detectors)
     os << " " << d.detector << " recall " << figure(d.recall(), 3, "n/a (no SSM conflict below the safe time)")
        << " precision " << figure(d.precision(), 3, "n/a (no car-car warning)") << " (conflicts alone: recall "

@@ -212,11 +212,13 @@ struct ValidationReport {
   std::map<std::string, std::uint64_t> encounterPairs;  // "ours/ssm" -> count
   // 8. conflicts.csv's conflicts by encounter: how many, how many SSM logged with a finite TTC
   // during the conflict (begin to end, one step either side), and how many of the rest collided in
-  // that time (SUMO's contact of the pair, where SSM logs no TTC). SSM predicts following, merging and crossing
+  // that time (SUMO's contact of the pair, where SSM logs no TTC), and how many of the rest came
+  // closer than hindsight's clearance at SUMO's positions from its begin to the end of its PET
+  // horizon (what happened next, for the encounters SSM cannot see). SSM predicts following, merging and crossing
   // (opposing is its crossing): `ssmModels` sums those; diverging (a car closing on a turner that
   // stands on another lane of the junction), adjacent and pedestrian are outside its model.
   struct EncounterPrecision {
-    std::uint64_t conflicts = 0, seen = 0, collided = 0;
+    std::uint64_t conflicts = 0, seen = 0, collided = 0, close = 0;
   };
   std::map<std::string, EncounterPrecision> byEncounter;  // hw::toString(encounter), "unknown" too
   EncounterPrecision ssmModels;
