@@ -62,6 +62,8 @@ COMMANDS = {
     "actuated": ["highway", "networks/actuated/scenario.yaml", "--validate-ssm", "--no-map"],
     "roundabout": ["highway", "networks/roundabout/scenario.yaml", "--validate-ssm", "--no-map"],
     "bicycles": ["highway", "networks/bicycles/scenario.yaml", "--validate-ssm", "--no-map"],
+    "intersection": ["highway", "networks/intersection/scenario.yaml", "--validate-ssm", "--no-map"],
+    "crosswalk": ["highway", "networks/crosswalk/scenario.yaml", "--validate-ssm", "--no-map"],
 }
 # which of them each README quotes, in the same sentences (network_figures)
 NETWORK_READMES = {
@@ -69,6 +71,9 @@ NETWORK_READMES = {
     "roundabout": "networks/roundabout/README.md",
     "bicycles": "networks/bicycles/README.md",
 }
+# the junction networks whose READMEs say how the conflicts were confirmed (encounter_figures)
+ENCOUNTER_READMES = dict(NETWORK_READMES, intersection="networks/intersection/README.md",
+                         crosswalk="networks/crosswalk/README.md")
 
 
 # the long figures: batches, by name (the experiment file, fixed keys added to its own, the
@@ -443,6 +448,28 @@ def network_figures(r):
     return out
 
 
+def encounter_figures(r):
+    """The junction networks' conflicts by encounter, each confirmed by SSM, by SUMO's collision or
+    by SUMO's next positions (validation.json `encounter`), in one sentence per README."""
+    out = []
+    for name, readme in ENCOUNTER_READMES.items():
+        e = r[name]["validation"]["encounter"]
+        m, by = e["where_ssm_models"], e["by_encounter"]
+        confirmed = lambda p: p["seen_by_ssm"] + p["collided"] + p["came_close"]
+        total = sum(p["conflicts"] for p in by.values())
+        outside = {k: p for k, p in by.items() if k in ("diverging", "adjacent", "pedestrian", "unknown")}
+        text = ("Of conflicts.csv's %d conflicts, %d are of encounters SSM models (following, merging, crossing): "
+                "SSM logged %d of them with a TTC, %d collided in SUMO and %d more came within 0.5 m at SUMO's "
+                "positions (`encounter.where_ssm_models`)" % (total, m["conflicts"], m["seen_by_ssm"], m["collided"],
+                                                              m["came_close"]))
+        if outside:
+            text += "; of the rest, %s" % ", ".join(
+                "%d of %d %s" % (confirmed(p), p["conflicts"], k) for k, p in sorted(outside.items()))
+            text += " were confirmed the same way"
+        out.append((readme, text + "."))
+    return out
+
+
 def figures(r):
     """[(README, text)]: each quoted figure filled with what the commands wrote."""
     main, conc, box = r["main"], r["main_concentric"], r["main_box"]
@@ -515,7 +542,7 @@ def figures(r):
 
     cp, lcp, lfol = v["conflict_point"], ld["conflict_point"], ld["following"]
     raw = cp["without_moving_on"]
-    return ramp_figures + network_figures(r) + [
+    return ramp_figures + network_figures(r) + encounter_figures(r) + [
         ("cosim/README.md", "| PET on the pairs both have (SSM: merging and crossing encounters; ours: `lane_change`, `crossing`) | SSM %d, box %d: %s |"
          % (v["pet"]["ssm_pets"], v["pet"]["stsim_pets"], "none on both sides" if v["pet"]["matched"] == 0 else "%d on both" % v["pet"]["matched"])),
         ("cosim/README.md", "| conflict point: box episodes with one, `rear_end` ones SSM has as following at their minimum-TTC tick, with the same TTC | %s |"
