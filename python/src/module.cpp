@@ -8,6 +8,7 @@
 #include <pybind11/stl.h>
 
 #include <sthighway/report.hpp>
+#include <sthighway/sumo_conversion.hpp>
 #include <stsim/version.hpp>
 
 #include "monitor.hpp"
@@ -184,6 +185,15 @@ PYBIND11_MODULE(_stsim, m) {
   m.attr("WARNING_COLUMNS") = columns(hw::warningsCsvHeader());
   m.attr("CONFLICT_COLUMNS") = columns(hw::conflictsCsvHeader());
   m.attr("EVENT_COLUMNS") = columns(hw::eventsCsvHeader());
+  // SUMO's link-state letters read once, in sumo_conversion (the coupling's and the replay's reading)
+  const auto letter = [](const std::string& s) {
+    if (s.size() != 1) throw py::value_error("a SUMO link state is one letter, got '" + s + "'");
+    return s[0];
+  };
+  m.def("gives_way_at", [letter](const std::string& s) { return hw::givesWayAt(letter(s)); }, py::arg("link_state"),
+        "Whether a car on a link in this state gives way at its stop line or wait point (g m = s w).");
+  m.def("enters_at", [letter](const std::string& s) { return hw::entersAt(letter(s)); }, py::arg("link_state"),
+        "Whether a car on a link in this state may enter the junction (G g M m = O o).");
 
   py::class_<PyAlert>(m, "Alert", "An equipped car's worst current threat at the last step.")
       .def_readonly("vehicle", &PyAlert::vehicle, "index into the last step's vehicles")

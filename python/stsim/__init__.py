@@ -21,13 +21,13 @@ if "SUMO_HOME" not in os.environ and os.path.isdir("/usr/share/sumo/data/xsd"):
     os.environ["SUMO_HOME"] = "/usr/share/sumo"
 
 from ._stsim import (CONFLICT_COLUMNS, EVENT_COLUMNS, WARNING_COLUMNS, Alert, Conflict, FcdReader, HindsightEvent,
-                     InputError, Monitor, WarningEpisode, __version__)
+                     InputError, Monitor, WarningEpisode, __version__, enters_at, gives_way_at)
 from .sumo import TraciMonitor, TraciVehicleReader, read_traci_lanes, read_traci_persons, read_traci_vehicles
 
 __all__ = ["Alert", "Conflict", "FcdReader", "HindsightEvent", "InputError", "Monitor", "WarningEpisode", "TraciMonitor",
            "TraciVehicleReader", "read_traci_lanes", "read_traci_persons", "read_traci_vehicles", "warnings_table",
            "conflicts_table", "events_table", "alerts_table", "WARNING_COLUMNS", "CONFLICT_COLUMNS", "EVENT_COLUMNS",
-           "ALERT_COLUMNS", "__version__"]
+           "ALERT_COLUMNS", "__version__", "gives_way_at", "enters_at"]
 
 # WARNING_COLUMNS, CONFLICT_COLUMNS, EVENT_COLUMNS: the columns of stsim highway's warnings.csv,
 # conflicts.csv and events.csv, in their order, taken from the C++ writers' headers; a

@@ -9,7 +9,7 @@ route, on a network with lights: each light's state once a step, its links once)
 foot (position, angle, speed), after the vehicles, never equipped."""
 import math
 
-from ._stsim import Monitor
+from ._stsim import Monitor, enters_at, gives_way_at
 
 
 def read_traci_lanes(conn):
@@ -62,9 +62,6 @@ class _SignalBook:
     whose exit link is minor; then m). With `priority` false, the lights only. A vehicle on a major
     link with no wait point, past its wait point, or at the end of its route has none."""
 
-    _YIELDS = set("gm=sw")
-    _GOES = set("GgMm=Oo")
-
     def __init__(self, conn, priority=True):
         self.ids = list(conn.trafficlight.getIDList())
         self.priority = priority
@@ -89,7 +86,7 @@ class _SignalBook:
                 if len(state) != 1:
                     continue
                 wait = self._wait_of(conn, approached_internal)
-                if state not in self._YIELDS and wait == 0.0:
+                if not gives_way_at(state) and wait == 0.0:
                     continue
                 self.links.setdefault((conn.lane.getEdgeID(lane), conn.lane.getEdgeID(approached)), (-1, 0, state, wait))
                 if lane not in self.lane_length:
@@ -133,7 +130,7 @@ class _SignalBook:
         lane, position = where()
         length = self.lane_length.get(lane)
         if length is not None:
-            if self.priority and wait > 0.0 and state in self._GOES:
+            if self.priority and wait > 0.0 and enters_at(state):
                 return "m", max(0.0, length - position) + wait
             return state, max(0.0, length - position)
         wait_here = self.wait_length.get(lane)

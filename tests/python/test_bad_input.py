@@ -127,3 +127,13 @@ def test_finish_time_must_be_finite_and_traci_monitor_needs_a_connection():
     m.finish(1.0)
     with pytest.raises(TypeError, match=r"TraciMonitor needs a TraCI connection .* got NoneType"):
         stsim.TraciMonitor(None)
+
+
+def test_a_link_state_is_one_letter():
+    # SUMO's link states (its netstate and TraCI docs): the minor and stop letters give way, every
+    # letter that lets a car in enters, red and yellow do neither
+    assert [c for c in "GgrYyuoOswmM=Z-" if stsim.gives_way_at(c)] == list("gswm=")
+    assert [c for c in "GgrYyuoOswmM=Z-" if stsim.enters_at(c)] == list("GgoOmM=")
+    for bad in ("", "Gg"):
+        with pytest.raises(ValueError, match="a SUMO link state is one letter"):
+            stsim.gives_way_at(bad)
