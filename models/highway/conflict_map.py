@@ -6,13 +6,16 @@ car's safe time, road warnings among them) are not drawn: they are what a driver
 safety study counts. TTC* is read from the summary.json beside each conflicts.csv (its
 conflicts.max_ttc_s), or given with --ttc-star, and said in the title. A long thin network (a
 motorway) is cut into segments along its length, one panel each, the lateral scale stretched (said
-in the title) so that its lanes show apart.
+in the title) so that its lanes show apart. On a network with junctions small beside it (a
+--net's junction outlines), the junctions with the most conflicts around them (up to three) get a
+panel each at a readable scale beside the whole, with internal lanes, crosswalks and walking areas.
 
 Uses Debian's python3-matplotlib. Called by `stsim highway` and `stsim batch`; by hand:
     /usr/bin/python3 models/highway/conflict_map.py --out PREFIX [--net NET.net.xml] [--title T] \
         [--ttc-star S] conflicts.csv [conflicts.csv ...]
 writes PREFIX.png and PREFIX.svg. In the SVG each conflict is one <use> marker inside a group whose
-id starts with "conflicts_" (one group per type and panel), so the markers can be counted. A file
+id starts with "conflicts_" (one group per type and panel), so the markers can be counted (a
+junction panel's groups start with "junction_": the same conflicts again, closer). A file
 that is not a conflicts.csv (a warnings.csv) is refused (exit 1).
 """
 import argparse
@@ -34,6 +37,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.patches import Polygon, Rectangle  # noqa: E402
 
 # type -> (label, colour); the order of the legend: SSAM's three angle classes and a vehicle with
 # a person on foot, all conflicts.csv has
@@ -57,22 +61,37 @@ def num(s):
         return None
 
 
-def read_lanes(path):
-    """Centre lines of the network's lanes: (points, internal) per lane."""
-    lanes = []
-    internal_edge = False
+def shape_of(text):
+    pts = []
+    for p in (text or "").split():
+        xy = p.split(",")
+        if len(xy) >= 2:
+            pts.append((float(xy[0]), float(xy[1])))
+    return pts
+
+
+def read_network(path):
+    """The lanes' centre lines ((points, internal) per lane, crossings and walking areas left out),
+    the crossings' and walking areas' shapes, and each junction's outline by id (not the internal
+    ones)."""
+    lanes, crossings, walking, junctions = [], [], [], {}
+    function = ""
     for _, el in ET.iterparse(path, events=("start",)):
         if el.tag == "edge":
-            internal_edge = el.get("function") == "internal"
+            function = el.get("function") or ""
         elif el.tag == "lane" and el.get("shape"):
-            pts = []
-            for p in el.get("shape").split():
-                xy = p.split(",")
-                if len(xy) >= 2:
-                    pts.append((float(xy[0]), float(xy[1])))
-            if len(pts) >= 2:
-                lanes.append((pts, internal_edge))
-    return lanes
+            pts = shape_of(el.get("shape"))
+            if len(pts) < 2:
+                continue
+            if function == "crossing":
+                crossings.append(pts)
+            elif function == "walkingarea":
+                walking.append(pts)
+            else:
+                lanes.append((pts, function == "internal"))
+        elif el.tag == "junction" and el.get("type") != "internal" and el.get("shape"):
+            junctions[el.get("id")] = shape_of(el.get("shape"))
+    return lanes, crossings, walking, junctions
 
 
 class NotConflicts(Exception):
@@ -166,6 +185,39 @@ def layout(lanes, points):
 
 
 
+# junction panels: at most this many (the busiest), each showing this much around the junction
+MAX_JUNCTIONS = 3
+JUNCTION_MARGIN = 12.0  # m
+JUNCTION_SMALL = 0.25   # a junction gets a panel when its window spans less than this share of the whole
+
+
+def junction_windows(junctions, points, whole):
+    """[(junction id, ((x0, x1), (y0, y1)))]: the junctions with the most conflicts in their window
+    (the outline, square, with a margin), those windows small beside the whole map; a junction
+    whose centre lies in a window already taken is left out (a roundabout's entries, say, stay
+    apart only if their windows do)."""
+    (wx0, wx1), (wy0, wy1) = whole
+    span = max(wx1 - wx0, wy1 - wy0, 1.0)
+    found = []
+    for j, shape in junctions.items():
+        xs, ys = [p[0] for p in shape], [p[1] for p in shape]
+        cx, cy = (min(xs) + max(xs)) / 2.0, (min(ys) + max(ys)) / 2.0
+        half = max(max(xs) - min(xs), max(ys) - min(ys)) / 2.0 + JUNCTION_MARGIN
+        if 2.0 * half >= JUNCTION_SMALL * span:
+            continue
+        n = sum(1 for w in points if abs(w[0] - cx) <= half and abs(w[1] - cy) <= half)
+        if n:
+            found.append((-n, j, cx, cy, half))
+    out = []
+    for _, j, cx, cy, half in sorted(found):
+        if len(out) == MAX_JUNCTIONS:
+            break
+        if any(x0 <= cx <= x1 and y0 <= cy <= y1 for _, ((x0, x1), (y0, y1)) in out):
+            continue
+        out.append((j, ((cx - half, cx + half), (cy - half, cy + half))))
+    return out
+
+
 def size_of(sev):
     return min(SIZE_MAX, SIZE0 + SIZE_PER_MS * sev)
 
@@ -188,10 +240,19 @@ def main(argv):
     # a type conflicts.csv does not write today still gets its points, in grey
     types = TYPES + [(t, t.replace("_", " "), "#7f7f7f")
                      for t in sorted(set(w[2] for w in conflicts) - set(k for k, _, _ in TYPES))]
-    lanes = read_lanes(a.net) if a.net else []
+    lanes, crossings, walking, junctions = read_network(a.net) if a.net else ([], [], [], {})
     panels, axis, stretch, cuts = layout(lanes, conflicts)
     flip = axis == "y"  # a north-south network: its length along the panels' horizontal axis (turned)
-    if len(panels) == 1:
+    windows = junction_windows(junctions, conflicts, panels[0]) if len(panels) == 1 else []
+    zooms = []
+    if windows:
+        # the whole at its own shape on the left, the junctions stacked on the right, the legend
+        # inside the whole (the junctions' panels take the space beside it)
+        fig = plt.figure(figsize=(12.6, max(6.4, 3.2 * len(windows))))
+        gs = fig.add_gridspec(len(windows), 2, width_ratios=[1.75, 1.0])
+        axes = [fig.add_subplot(gs[:, 0])]
+        zooms = [fig.add_subplot(gs[k, 1]) for k in range(len(windows))]
+    elif len(panels) == 1:
         # one panel at the network's own shape, the legend to its right
         (l0, l1), (c0, c1) = panels[0]
         fig, ax = plt.subplots(figsize=(9.2, max(2.6, min(7.0, 7.0 * (c1 - c0) / max(l1 - l0, 1.0) + 1.0))))
@@ -247,6 +308,38 @@ def main(argv):
         ax.set_ylabel("%s (m)" % ("x" if flip else "y"), fontsize=8)
         if last:
             ax.set_xlabel("%s (m)" % ("y" if flip else "x"), fontsize=8)
+    for zx, (j, ((x0, x1), (y0, y1))) in zip(zooms, windows):
+        for pts in walking:
+            zx.add_patch(Polygon(pts, closed=True, facecolor="#eeeeee", edgecolor="none", zorder=0))
+        zx.add_patch(Polygon(junctions[j], closed=True, facecolor="none", edgecolor="#c8c8c8",
+                             linewidth=0.6, zorder=0))
+        zx.add_collection(LineCollection(crossings, colors="#dcdcdc", linewidths=7.0, zorder=0))
+        zx.add_collection(LineCollection([pts for pts, internal in lanes if not internal], colors="#b0b0b0",
+                                         linewidths=1.2, zorder=1))
+        zx.add_collection(LineCollection([pts for pts, internal in lanes if internal], colors="#c0c0c0",
+                                         linewidths=0.7, zorder=1))
+        here = {}
+        for key, label, colour in types:
+            pts = sorted((w for w in conflicts if w[2] == key and x0 <= w[0] <= x1 and y0 <= w[1] <= y1),
+                         key=lambda w: w[3])
+            if not pts:
+                continue
+            here[label] = len(pts)
+            sc = zx.scatter([w[0] for w in pts], [w[1] for w in pts], s=[size_of(w[3]) for w in pts],
+                            facecolors=colour, edgecolors="black", alpha=0.65, linewidths=0.3, zorder=3)
+            sc.set_gid("junction_%s_%s" % (j, key))
+        zx.set_xlim(x0, x1)
+        zx.set_ylim(y0, y1)
+        zx.set_aspect("equal", adjustable="datalim")
+        zx.grid(alpha=0.2)
+        zx.tick_params(labelsize=7)
+        zx.set_title("around junction %s: %d conflicts (%s)" % (j, sum(here.values()),
+                                                         ", ".join("%d %s" % (n, l) for l, n in here.items())),
+                     fontsize=8)
+        # where it lies in the whole
+        axes[0].add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False,
+                                    edgecolor="#555555", linewidth=0.6, linestyle="--", zorder=2))
+        axes[0].annotate(j, (x1, y1), fontsize=7, color="#555555", xytext=(2, 2), textcoords="offset points")
     # the legend: types (with counts) and three sizes, from proxy handles (not counted as conflicts)
     handles = [Line2D([], [], linestyle="none", marker="o", markersize=7, markerfacecolor=colour,
                       markeredgecolor="black", markeredgewidth=0.3, alpha=0.8,
@@ -255,7 +348,8 @@ def main(argv):
         handles.append(Line2D([], [], linestyle="none", marker="o", markersize=math.sqrt(size_of(sev)),
                               markerfacecolor="white", markeredgecolor="black", markeredgewidth=0.5,
                               label="%g m/s" % sev))
-    leg = axes[0].legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7,
+    where = dict(loc="lower left") if zooms else dict(loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    leg = axes[0].legend(handles=handles, **where, fontsize=7,
                          framealpha=0.85, title="conflicts at %s\n(conflicts.csv; no warnings)\n"
                          "type; size: MaxΔV" % threshold, title_fontsize=7)
     leg.set_gid("legend")

@@ -23,10 +23,11 @@ except ImportError:
     sys.exit(77)
 
 
-def markers(svg):
-    """Markers inside the conflicts_* groups (as tests/svg_markers.hpp counts them)."""
+def markers(svg, prefix="conflicts_"):
+    """Markers inside the conflicts_* groups (as tests/svg_markers.hpp counts them), or another
+    prefix's (a junction panel's junction_*)."""
     n = 0
-    for m in re.finditer(r'<g id="conflicts_', svg):
+    for m in re.finditer(r'<g id="%s' % prefix, svg):
         depth, i = 0, m.start()
         while True:
             o, c = svg.find("<g", i + 1), svg.find("</g>", i + 1)
@@ -46,16 +47,17 @@ TYPES = ["rear_end", "lane_change", "crossing"]
 
 
 def write_conflicts(path, points):
-    """conflicts.csv's columns the map reads; a point without (x, y) has only the two centres."""
+    """conflicts.csv's columns the map reads; a point without (x, y) has only the two centres; a
+    point's fourth field, if any, is its junction."""
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["first", "second", "type", "max_delta_v", "conflict_x", "conflict_y",
-                    "first_x", "first_y", "second_x", "second_y"])
-        for i, (x, y, t) in enumerate(points):
-            w.writerow(["a.%d" % i, "b.%d" % i, t, 5.0, x, y, x - 2.0, y, x + 2.0, y])
+                    "first_x", "first_y", "second_x", "second_y", "junction"])
+        for i, (x, y, t, *j) in enumerate(points):
+            w.writerow(["a.%d" % i, "b.%d" % i, t, 5.0, x, y, x - 2.0, y, x + 2.0, y, j[0] if j else ""])
 
 
-def draw(tmp, name, points, summary=None):
+def draw(tmp, name, points, summary=None, net=None):
     d = os.path.join(tmp, name)
     os.makedirs(d)
     csv_path = os.path.join(d, "conflicts.csv")
@@ -64,7 +66,8 @@ def draw(tmp, name, points, summary=None):
         with open(os.path.join(d, "summary.json"), "w") as f:
             json.dump(summary, f)
     out = os.path.join(tmp, name)
-    subprocess.run(["/usr/bin/python3", SCRIPT, "--out", out, "--title", name, csv_path], check=True)
+    subprocess.run(["/usr/bin/python3", SCRIPT, "--out", out, "--title", name, csv_path]
+                   + (["--net", net] if net else []), check=True)
     with open(out + ".svg") as f:
         return f.read()
 
@@ -123,6 +126,25 @@ class ConflictMapLayout(unittest.TestCase):
         svg = draw(self.tmp, "square", pts)
         self.assertEqual(markers(svg), len(pts))
         self.assertNotIn("segments", svg)
+
+    def test_a_junction_small_beside_the_network_gets_its_own_panel(self):
+        # the crosswalk network: 400 m across, junction C's outline 31 m; the conflicts within 12 m
+        # of it drawn again in C's panel, the others (on the arms) only in the whole
+        net = os.path.join(SRC, "networks", "crosswalk", "crosswalk.net.xml")
+        at_c = [(random.uniform(-14, 14), random.uniform(-14, 14), random.choice(TYPES + ["pedestrian"]))
+                for _ in range(30)]
+        arms = [(random.uniform(40, 150), random.choice([-1.6, 1.6]), "rear_end") for _ in range(10)]
+        svg = draw(self.tmp, "junction", at_c + arms, net=net)
+        self.assertEqual(markers(svg), 40)
+        self.assertEqual(markers(svg, "junction_C_"), 30)
+        self.assertIn("around junction C: 30 conflicts", svg)
+        # no network: no outline to zoom to, one panel as before
+        svg = draw(self.tmp, "junction_no_net", at_c + arms)
+        self.assertEqual(markers(svg), 40)
+        self.assertEqual(markers(svg, "junction_"), 0)
+        # conflicts only on the arms, none within a junction's window (C's, or the dead ends' 200 m out): no panel
+        svg = draw(self.tmp, "junction_none", arms, net=net)
+        self.assertEqual(markers(svg, "junction_"), 0)
 
     def test_one_point_per_conflicts_row_and_ttc_star_from_the_summary(self):
         pts = [(random.uniform(0, 300), random.uniform(0, 300), random.choice(TYPES)) for _ in range(37)]
