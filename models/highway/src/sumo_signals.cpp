@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "xml_scanner.hpp"
 
@@ -11,73 +12,95 @@ using detail::number;
 using detail::required;
 using detail::XmlScanner;
 
-SignalLinks readSignalLinks(const std::filesystem::path& net, bool priority) {
+namespace {
+// What one pass over the network gathers: the links (before their wait points are known) and
+// what the later steps need to finish them.
+struct NetScan {
+  SignalLinks links;
+  std::unordered_map<std::string, int> lightIndex;           // <tlLogic> id -> index into links.lights
+  std::unordered_map<std::string, double> laneLengths;       // every lane's, for the controlled ones
+  std::unordered_map<std::string, std::string> viaByEdges;   // byEdges' key -> its link's first internal lane
+  std::vector<std::pair<std::string, std::string>> laneVia;  // (from lane, via) of each link in byLane, in order
+};
+
+// The light's index in scan.links.lights, added at its first appearance.
+int lightOf(NetScan& scan, const std::string& id) {
+  const auto [it, fresh] = scan.lightIndex.emplace(id, static_cast<int>(scan.links.lights.size()));
+  if (fresh) scan.links.lights.push_back(id);
+  return it->second;
+}
+
+// One <connection>: a wait point (an internal lane on through a minor link), or a link from a
+// lane with a light, a yield or a via (the others are major links straight through).
+void addConnection(const XmlScanner& x, const XmlScanner::Tag& t, NetScan& scan) {
+  const std::string* from = t.attr("from");
+  const std::string* fromLane = t.attr("fromLane");
+  if (!from || !fromLane) x.fail(t.line, "<connection> lacks attribute 'from' or 'fromLane'");
+  const std::string* state = t.attr("state");
+  const std::string* viaLane = t.attr("via");
+  const char fixed = state && state->size() == 1 ? (*state)[0] : 0;
+  if ((*from)[0] == ':') {
+    // an internal lane on to the next part of its turn, through a minor link: a wait point
+    if (fixed == 'm' && viaLane) scan.links.waitLength.emplace(*from + "_" + *fromLane, 0.0);
+    return;
+  }
+  const std::string* tl = t.attr("tl");
+  // without a light: only where a driver gives way or stops, or may meet a wait point
+  if (!tl && !(givesWayAt(fixed) || viaLane)) return;
+  SignalLinks::Link link;
+  if (tl) {
+    const double index = required(x, t, "linkIndex");
+    if (!(index >= 0 && index < 1e6 && index == std::floor(index)))
+      x.fail(t.line, "<connection> linkIndex is not a link index: " + *t.attr("linkIndex"));
+    link.light = lightOf(scan, *tl);
+    link.index = static_cast<int>(index);
+  } else {
+    link.light = -1;
+    link.fixed = fixed;
+  }
+  const std::string* dir = t.attr("dir");
+  const std::string* to = t.attr("to");
+  if (!to) x.fail(t.line, "<connection> lacks attribute 'to'");
+  link.dir = dir && !dir->empty() ? (*dir)[0] : 's';
+  link.to = *to;
+  const std::string lane = *from + "_" + *fromLane;
+  scan.links.byLane[lane].push_back(link);
+  scan.laneVia.emplace_back(lane, viaLane ? *viaLane : std::string());
+  const std::string key = *from + '\n' + *to;
+  const auto [at, fresh] = scan.links.byEdges.try_emplace(key, link);
+  if (fresh || link.light < at->second.light || (link.light == at->second.light && link.index < at->second.index)) {
+    at->second = link;
+    scan.viaByEdges[key] = viaLane ? *viaLane : std::string();
+  }
+}
+
+// The lights, lanes and connections of the network, in one pass.
+NetScan scanNet(const std::filesystem::path& net) {
   XmlScanner x(net);
   XmlScanner::Tag t;
-  SignalLinks out;
-  std::unordered_map<std::string, int> lightIndex;
-  auto lightOf = [&](const std::string& id) {
-    const auto [it, fresh] = lightIndex.emplace(id, static_cast<int>(out.lights.size()));
-    if (fresh) out.lights.push_back(id);
-    return it->second;
-  };
-  std::unordered_map<std::string, double> lengths;  // every lane's, for the controlled ones
-  std::unordered_map<std::string, std::string> via;   // "from edge\nto edge" and lane links -> their first internal lane
-  std::vector<std::pair<std::string, std::string>> laneVia;  // (from lane, via) of each link in byLane, in order
+  NetScan scan;
   while (x.next(t)) {
     if (t.closing) continue;
     if (t.name == "tlLogic") {
-      if (const std::string* id = t.attr("id")) lightOf(*id);
+      if (const std::string* id = t.attr("id")) lightOf(scan, *id);
     } else if (t.name == "lane") {
       const std::string* id = t.attr("id");
-      if (id && t.attr("length")) lengths[*id] = required(x, t, "length");
+      if (id && t.attr("length")) scan.laneLengths[*id] = required(x, t, "length");
     } else if (t.name == "connection") {
-      const std::string* from = t.attr("from");
-      const std::string* fromLane = t.attr("fromLane");
-      if (!from || !fromLane) x.fail(t.line, "<connection> lacks attribute 'from' or 'fromLane'");
-      const std::string* state = t.attr("state");
-      const std::string* viaLane = t.attr("via");
-      const char fixed = state && state->size() == 1 ? (*state)[0] : 0;
-      if ((*from)[0] == ':') {
-        // an internal lane on to the next part of its turn, through a minor link: a wait point
-        if (fixed == 'm' && viaLane) out.waitLength.emplace(*from + "_" + *fromLane, 0.0);
-        continue;
-      }
-      const std::string* tl = t.attr("tl");
-      // without a light: only where a driver gives way or stops, or may meet a wait point
-      if (!tl && !(givesWayAt(fixed) || viaLane)) continue;
-      SignalLinks::Link link;
-      if (tl) {
-        const double index = required(x, t, "linkIndex");
-        if (!(index >= 0 && index < 1e6 && index == std::floor(index)))
-          x.fail(t.line, "<connection> linkIndex is not a link index: " + *t.attr("linkIndex"));
-        link.light = lightOf(*tl);
-        link.index = static_cast<int>(index);
-      } else {
-        link.light = -1;
-        link.fixed = fixed;
-      }
-      const std::string* dir = t.attr("dir");
-      const std::string* to = t.attr("to");
-      if (!to) x.fail(t.line, "<connection> lacks attribute 'to'");
-      link.dir = dir && !dir->empty() ? (*dir)[0] : 's';
-      link.to = *to;
-      const std::string lane = *from + "_" + *fromLane;
-      out.byLane[lane].push_back(link);
-      laneVia.emplace_back(lane, viaLane ? *viaLane : std::string());
-      const std::string key = *from + '\n' + *to;
-      const auto [at, fresh] = out.byEdges.try_emplace(key, link);
-      if (fresh || link.light < at->second.light || (link.light == at->second.light && link.index < at->second.index)) {
-        at->second = link;
-        via[key] = viaLane ? *viaLane : std::string();
-      }
+      addConnection(x, t, scan);
     }
   }
-  // the wait points' lengths, and each link's from its first internal lane (the internal
-  // connections come after the ones into them)
+  return scan;
+}
+
+// The wait points' lengths, and each link's from its first internal lane (the internal
+// connections come after the ones into them); without `priority` no wait points.
+void setWaits(const std::filesystem::path& net, bool priority, NetScan& scan) {
+  SignalLinks& out = scan.links;
   for (auto& [lane, length] : out.waitLength) {
-    const auto it = lengths.find(lane);
-    if (it == lengths.end()) throw InputError(net.string() + ": internal lane '" + lane + "' has a connection but no <lane>");
+    const auto it = scan.laneLengths.find(lane);
+    if (it == scan.laneLengths.end())
+      throw InputError(net.string() + ": internal lane '" + lane + "' has a connection but no <lane>");
     length = it->second;
   }
   auto waitOf = [&](const std::string& v) {
@@ -85,22 +108,39 @@ SignalLinks readSignalLinks(const std::filesystem::path& net, bool priority) {
     return it == out.waitLength.end() ? 0.0 : it->second;
   };
   if (!priority) out.waitLength.clear();
-  for (auto& [key, link] : out.byEdges) link.wait = waitOf(via[key]);
+  for (auto& [key, link] : out.byEdges) link.wait = waitOf(scan.viaByEdges[key]);
   std::unordered_map<std::string, std::size_t> nth;
-  for (const auto& [lane, v] : laneVia) out.byLane[lane][nth[lane]++].wait = waitOf(v);
-  // a link without a light and with neither a yield nor a wait point is a major one straight through
+  for (const auto& [lane, v] : scan.laneVia) out.byLane[lane][nth[lane]++].wait = waitOf(v);
+}
+
+// Drops the links without a light and with neither a yield nor a wait point (major ones straight
+// through; without `priority` every link without a light), and the lanes left with none.
+void dropMajorLinks(bool priority, SignalLinks& out) {
   auto major = [&](const SignalLinks::Link& l) {
     return l.light < 0 && (!priority || (l.wait == 0.0 && !givesWayAt(l.fixed)));
   };
   std::erase_if(out.byEdges, [&](const auto& kv) { return major(kv.second); });
   for (auto& [lane, links] : out.byLane) std::erase_if(links, major);
   std::erase_if(out.byLane, [](const auto& kv) { return kv.second.empty(); });
+}
+
+// The lengths of the lanes that still have links.
+void setLaneLengths(const std::filesystem::path& net, const std::unordered_map<std::string, double>& laneLengths,
+                    SignalLinks& out) {
   for (const auto& [lane, links] : out.byLane) {
-    const auto it = lengths.find(lane);
-    if (it == lengths.end()) throw InputError(net.string() + ": a light controls lane '" + lane + "', which has no <lane>");
+    const auto it = laneLengths.find(lane);
+    if (it == laneLengths.end()) throw InputError(net.string() + ": a light controls lane '" + lane + "', which has no <lane>");
     out.laneLength.emplace(lane, it->second);
   }
-  return out;
+}
+}  // namespace
+
+SignalLinks readSignalLinks(const std::filesystem::path& net, bool priority) {
+  NetScan scan = scanNet(net);
+  setWaits(net, priority, scan);
+  dropMajorLinks(priority, scan.links);
+  setLaneLengths(net, scan.laneLengths, scan.links);
+  return std::move(scan.links);
 }
 
 SignalStates::SignalStates(const std::filesystem::path& file, const SignalLinks& links) {
