@@ -310,11 +310,18 @@ void Hindsight::observe(double t) {
 }
 
 // The pairs closer than the clearance while closing, by a sweep along the axis the cars spread
-// along most (kept nearly sorted from tick to tick: an insertion sort).
+// along most: the cars sorted along it, their state loaded contiguous, the sweep.
 void Hindsight::findNearMisses(double t) {
   const VehicleTable& c = *cars_;
-  const HindsightConfig& h = cfg_->hindsight;
   if (c.active.size() < 2) return;
+  const SweepSpread spread = spreadOf(c);
+  sortAlong(spread.axis);
+  const double hmax = loadSweep();
+  sweepNearMisses(t, spread.axis, 2.0 * spread.rmax + cfg_->hindsight.clearance, hmax);
+  std::swap(nearBefore_, nearNow_);
+}
+
+Hindsight::SweepSpread Hindsight::spreadOf(const VehicleTable& c) {
   Vec2 lo = Vec2::Constant(kInf), hi = Vec2::Constant(-kInf);
   double rmax = 0.0;  // the envelopes hold the bodies
   for (int s : c.active) {
@@ -322,9 +329,13 @@ void Hindsight::findNearMisses(double t) {
     hi = hi.cwiseMax(c.centre[s]);
     rmax = std::max(rmax, c.ownEnv[s]);
   }
-  const int axis = hi.y() - lo.y() > hi.x() - lo.x() ? 1 : 0;
-  // last tick's order, the cars still here first, then the new ones; cars keep their order along
-  // the road, so an insertion sort finds it nearly sorted
+  return {hi.y() - lo.y() > hi.x() - lo.x() ? 1 : 0, rmax};
+}
+
+// last tick's order, the cars still here first, then the new ones; cars keep their order along
+// the road, so an insertion sort finds it nearly sorted
+void Hindsight::sortAlong(int axis) {
+  const VehicleTable& c = *cars_;
   ++stamp_;
   if (seen_.size() < c.slots.size()) seen_.resize(c.slots.size(), 0);
   std::size_t n = 0;
@@ -343,12 +354,12 @@ void Hindsight::findNearMisses(double t) {
       order_[j] = x;
     }
   }
-  const double reach = 2.0 * rmax + h.clearance;
-  // the sorted cars' state, contiguous; a body lies within its half diagonal of its centre, so
-  // two bodies whose centres are farther apart than the half diagonals and the clearance (and a
-  // micrometre for rounding) cannot come closer than the clearance: the pair is skipped as the
-  // tests below would skip it
-  n = order_.size();
+}
+
+// the sorted cars' state, contiguous; the largest half diagonal
+double Hindsight::loadSweep() {
+  const VehicleTable& c = *cars_;
+  const std::size_t n = order_.size();
   sweepCentre_.resize(n);
   sweepVel_.resize(n);
   sweepHalfDiag_.resize(n);
@@ -363,40 +374,62 @@ void Hindsight::findNearMisses(double t) {
     sweepEquipped_[i] = c.equipped[s];
     hmax = std::max(hmax, sweepHalfDiag_[i]);
   }
-  constexpr double kRoundingMargin = 1e-6;  // m, far above the rounding of a box distance
+  return hmax;
+}
+
+// A body lies within its half diagonal of its centre, so two bodies whose centres are farther
+// apart than the half diagonals and the clearance (and a micrometre for rounding) cannot come
+// closer than the clearance: the pair is skipped as nearMissGap would skip it. Pairs found go to
+// nearNow_, the new ones are recorded.
+void Hindsight::sweepNearMisses(double t, int axis, double reach, double hmax) {
+  const double clearance = cfg_->hindsight.clearance;
+  const std::size_t n = order_.size();
   nearNow_.clear();
   for (std::size_t i = 0; i < n; ++i) {
     const Vec2 ca = sweepCentre_[i], va = sweepVel_[i];
     const double ha = sweepHalfDiag_[i];
-    const double reachI = std::min(reach, ha + hmax + h.clearance + kRoundingMargin);
+    const double reachI = std::min(reach, ha + hmax + clearance + kRoundingMargin);
     for (std::size_t j = i + 1; j < n && order_[j].first - order_[i].first <= reachI; ++j) {
       if (!sweepEquipped_[i] && !sweepEquipped_[j]) continue;
       const Vec2 p = sweepCentre_[j] - ca;
       if (std::abs(p[1 - axis]) > reachI) continue;
       if (p.dot(sweepVel_[j] - va) >= 0.0) continue;  // not closing
-      const double near = ha + sweepHalfDiag_[j] + h.clearance + kRoundingMargin;
+      const double near = ha + sweepHalfDiag_[j] + clearance + kRoundingMargin;
       if (p.squaredNorm() >= near * near) continue;
       const int a = order_[i].second, b = order_[j].second;
-      const double far = c.ownEnv[a] + c.ownEnv[b] + h.clearance;
-      if (p.squaredNorm() >= far * far) continue;  // the envelopes hold the bodies
-      const double gap = distance(c.body[a].box(), c.body[b].box());
-      if (gap >= h.clearance) continue;
-      // on a collision course (SSAM's conflict): touching, or the rectangles meet within
-      // near_miss_ttc at their velocities now; two cars passing side by side are not
-      if (gap > 0.0 && !(boxTtc(c.body[a], c.body[b], MotionModel::ConstantVelocity, h.nearMissTtc) <= h.nearMissTtc)) continue;
-      const std::uint64_t key = pairKey(c.slots[a].serial, c.slots[b].serial);
-      nearNow_.insert(key);
-      if (nearBefore_.count(key)) continue;
-      // a new approach: was an episode between the two open `lead` seconds before?
-      const int e = c.equipped[a] ? a : b, f = e == a ? b : a;
-      HindsightEvent ev;
-      ev.kind = EventKind::NearMiss;
-      ev.foe = c.slots[f].id;
-      ev.gap = gap;
-      record(std::move(ev), e, t, leadOf(a, c.slots[b].serial, b, c.slots[a].serial, t));
+      if (const std::optional<double> gap = nearMissGap(a, b, p)) noteNearMiss(a, b, *gap, t);
     }
   }
-  std::swap(nearBefore_, nearNow_);
+}
+
+// The gap between slots a and b (centre offset p) if they are on a collision course (SSAM's
+// conflict): touching, or the rectangles meet within near_miss_ttc at their velocities now; two
+// cars passing side by side are not. None when not closer than the clearance or not on a course.
+std::optional<double> Hindsight::nearMissGap(int a, int b, const Vec2& p) const {
+  const VehicleTable& c = *cars_;
+  const HindsightConfig& h = cfg_->hindsight;
+  const double far = c.ownEnv[a] + c.ownEnv[b] + h.clearance;
+  if (p.squaredNorm() >= far * far) return std::nullopt;  // the envelopes hold the bodies
+  const double gap = distance(c.body[a].box(), c.body[b].box());
+  if (gap >= h.clearance) return std::nullopt;
+  if (gap > 0.0 && !(boxTtc(c.body[a], c.body[b], MotionModel::ConstantVelocity, h.nearMissTtc) <= h.nearMissTtc))
+    return std::nullopt;
+  return gap;
+}
+
+// Slots a and b near now (nearNow_); a new approach is recorded with whether an episode between
+// the two was open `lead` seconds before.
+void Hindsight::noteNearMiss(int a, int b, double gap, double t) {
+  const VehicleTable& c = *cars_;
+  const std::uint64_t key = pairKey(c.slots[a].serial, c.slots[b].serial);
+  nearNow_.insert(key);
+  if (nearBefore_.count(key)) return;
+  const int e = c.equipped[a] ? a : b, f = e == a ? b : a;
+  HindsightEvent ev;
+  ev.kind = EventKind::NearMiss;
+  ev.foe = c.slots[f].id;
+  ev.gap = gap;
+  record(std::move(ev), e, t, leadOf(a, c.slots[b].serial, b, c.slots[a].serial, t));
 }
 
 void Hindsight::release(std::vector<Warning>& out) {

@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <array>
 #include <deque>
+#include <optional>
 #include <unordered_set>
 #include <utility>
 #include <vector>
@@ -146,7 +147,21 @@ class Hindsight {
   void measure(Window& w, double t);
   void watchPets(double t);
   void judge(Warning& w, const Window& win);
+  // The near misses' stages: the axis the cars spread along most and the largest envelope; the
+  // cars sorted along it (order_); their state loaded contiguous (sweep*_, the largest half
+  // diagonal returned); the sweep over them, which fills nearNow_ and records the new ones.
   void findNearMisses(double t);
+  struct SweepSpread {
+    int axis;     // 0: x, 1: y
+    double rmax;  // m, the largest envelope
+  };
+  static SweepSpread spreadOf(const VehicleTable& c);
+  void sortAlong(int axis);
+  double loadSweep();
+  void sweepNearMisses(double t, int axis, double reach, double hmax);
+  std::optional<double> nearMissGap(int a, int b, const Vec2& p) const;
+  void noteNearMiss(int a, int b, double gap, double t);
+  static constexpr double kRoundingMargin = 1e-6;  // m, far above the rounding of a box distance
   void findCrossings(double t);
   // Of the episodes of slot a against foe (and of slot b against fromB, if b >= 0) still open
   // `lead` s before t or later, begun by t: how long before t the earliest began (NaN: none), and
