@@ -61,6 +61,52 @@ void readCollisionFile(const SumoStart& start, const HighwayPlugin& plugin, RunO
     if (loop.error.empty()) loop.error = e.what();
   }
 }
+
+// SUMO's collisions counted into pc, each once whichever way the reports came (read from the
+// file when the plugin saw none of them), and told apart: the contacts (bodies touching) and
+// SUMO's minGap violations (bodies apart). Returns each contact's first report.
+std::vector<SumoCollision> countRunCollisions(const SumoStart& start, const HighwayPlugin& plugin, RunOutputs& outputs,
+                                              LoopOutcome& loop, PluginCounters& pc) {
+  const double dt = start.backend->deltaT();
+  bool fileRead = false;
+  if (start.collisionsFromFile) readCollisionFile(start, plugin, outputs, loop, fileRead);
+  CollisionCounter counter;
+  const std::vector<SumoCollision> firstReports = countCollisions(counter, outputs.collisionReports(), dt);
+  if (fileRead) {  // the plugin saw none of them
+    pc.collisions = counter.distinct();
+    pc.collisionSteps = counter.reports();
+  }
+  std::vector<SumoCollision> touching, apart;
+  for (const SumoCollision& c : outputs.collisionReports()) (c.contact() ? touching : apart).push_back(c);
+  CollisionCounter contactCounter;
+  std::vector<SumoCollision> firstContacts = countCollisions(contactCounter, touching, dt);
+  pc.contacts = contactCounter.distinct();
+  pc.mingapViolations = minGapOnly(firstReports, touching);
+  return firstContacts;
+}
+
+// The conflict map of whatever was written: whether it was drawn (why not, and whether it
+// failed, into the result).
+bool drawRunMap(const Scenario& s, const SumoConfigFiles& files, const fs::path& out, RunResult& result) {
+  const hw::ConflictMapOutcome map = hw::drawConflictMap(
+      {out / "conflict_map", files.net, {out / "conflicts.csv"}, (s.source.parent_path().filename() / s.source.filename()).string()});
+  result.mapProblem = map.why;
+  result.mapFailed = map.state == hw::ConflictMapOutcome::State::Failed;
+  return map.state == hw::ConflictMapOutcome::State::Drawn;
+}
+
+// The files a run wrote, in the order its closing line names them.
+std::vector<fs::path> writtenFiles(const fs::path& out, bool attach, bool validation, bool mapped) {
+  std::vector<fs::path> written{out / "warnings.csv", out / "conflicts.csv", out / "events.csv", out / "collisions.csv"};
+  if (!attach) written.push_back(out / "collision_warnings.csv");
+  written.push_back(out / "summary.json");
+  if (validation) written.push_back(out / "validation.json");
+  if (mapped) {
+    written.push_back(out / "conflict_map.png");
+    written.push_back(out / "conflict_map.svg");
+  }
+  return written;
+}
 }  // namespace
 
 int resolveThreads(const Scenario& s, const RunSetup& setup) {
@@ -106,23 +152,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
   const double simEnd = closeRun(backend, plugin, validator.get(), outputs);
 
   PluginCounters pc = plugin.counters();
-  bool fileRead = false;
-  if (start.collisionsFromFile) readCollisionFile(start, plugin, outputs, loop, fileRead);
-  // each collision's first report, counted once whichever way the reports came
-  CollisionCounter counter;
-  const std::vector<SumoCollision> firstReports =
-      countCollisions(counter, outputs.collisionReports(), backend.deltaT());
-  if (fileRead) {  // the plugin saw none of them
-    pc.collisions = counter.distinct();
-    pc.collisionSteps = counter.reports();
-  }
-  // the contacts (bodies touching) and, apart, SUMO's minGap violations (bodies apart)
-  std::vector<SumoCollision> touching, apart;
-  for (const SumoCollision& c : outputs.collisionReports()) (c.contact() ? touching : apart).push_back(c);
-  CollisionCounter contactCounter;
-  const std::vector<SumoCollision> firstContacts = countCollisions(contactCounter, touching, backend.deltaT());
-  pc.contacts = contactCounter.distinct();
-  pc.mingapViolations = minGapOnly(firstReports, touching);
+  const std::vector<SumoCollision> firstContacts = countRunCollisions(start, plugin, outputs, loop, pc);
 
   // how long before each contact its collider was warning about the victim
   std::vector<CollisionWarning> leads;
@@ -151,14 +181,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
   facts.leads = attach ? nullptr : &leads;
   const hw::RunInfo info = writeSummary(s, setup, facts, plugin.monitor().counters());
   // the map of whatever was written, an error or not
-  bool mapped = false;
-  if (setup.map) {
-    const hw::ConflictMapOutcome map = hw::drawConflictMap(
-        {out / "conflict_map", files.net, {out / "conflicts.csv"}, (s.source.parent_path().filename() / s.source.filename()).string()});
-    mapped = map.state == hw::ConflictMapOutcome::State::Drawn;
-    result.mapProblem = map.why;
-    result.mapFailed = map.state == hw::ConflictMapOutcome::State::Failed;
-  }
+  const bool mapped = setup.map && drawRunMap(s, files, out, result);
 
   if (!loop.error.empty()) throw std::runtime_error(loop.error + " (results so far in " + out.string() + ")");
 
@@ -170,14 +193,7 @@ RunResult runScenario(const Scenario& s, const RunSetup& setup, const RunObserve
   result.wallSeconds = info.wallSeconds;
   result.monitor = plugin.monitor().counters();
   result.plugin = pc;
-  result.written = {out / "warnings.csv", out / "conflicts.csv", out / "events.csv", out / "collisions.csv"};
-  if (!attach) result.written.push_back(out / "collision_warnings.csv");
-  result.written.push_back(out / "summary.json");
-  if (result.validation) result.written.push_back(out / "validation.json");
-  if (mapped) {
-    result.written.push_back(out / "conflict_map.png");
-    result.written.push_back(out / "conflict_map.svg");
-  }
+  result.written = writtenFiles(out, attach, result.validation.has_value(), mapped);
   return result;
 }
 
