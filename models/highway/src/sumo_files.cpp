@@ -5,6 +5,7 @@
 #include "xml_scanner.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -256,6 +257,30 @@ struct FcdReader::Impl {
   std::unordered_map<std::string, int> edgeIndex;  // edge id -> index into edgeIds(*road)
   Impl(const std::filesystem::path& p, VehicleTypes t, FcdChecks c) : x(p), types(std::move(t)), checks(std::move(c)) {}
 
+  // next()'s steps for one <timestep> and one <vehicle> or <person> in it (each fails naming the
+  // line, in the order the checks are listed).
+  // A <timestep>'s time (increasing, within kFcdMaxTime) into a fresh frame; the lights advanced to it.
+  void beginStep(const XmlScanner::Tag& t, FcdFrame& frame);
+  // The mover of tag t in the step at `time` (whose <timestep> is on stepLine), remembered for the next.
+  VehicleState readMover(const XmlScanner::Tag& t, double time, long stepLine);
+  // Its type (from the vTypes, guessed, or a pedestrian's), its lane checked against the network,
+  // the trace's own length and width.
+  VehicleTypeInfo typeOf(const XmlScanner::Tag& t, bool person, const std::string& what) const;
+  // Its position (within the network's bounds), heading, speed, acceleration and signals.
+  SumoVehicleRecord recordOf(const XmlScanner::Tag& t, const std::string& what) const;
+  // Where a vehicle is along its route: the route (null: none known), the index of its edge in it
+  // (-1: not found), that edge; the route's next kRouteAhead edges into `ahead`.
+  struct RoutePlace {
+    const std::vector<std::string>* route = nullptr;
+    int at = -1;
+    std::string edge;
+  };
+  RoutePlace placeOnRoute(const std::string& id, const std::string& lane, int lastAt,
+                          std::array<int, kRouteAhead>& ahead) const;
+  // r's next light or yield, from the lane and pos of tag t, as the live run reads it.
+  void readNextSignal(const XmlScanner::Tag& t, const std::string& what, const std::string* lane,
+                      const RoutePlace& place, SumoVehicleRecord& r) const;
+
   // FCD has no lateral speed (SUMO 1.15; sumo's --fcd-output.attributes knows no speedLat). In
   // the sublane model posLat is the centre's offset from its lane's line, so its change over the
   // step is what SUMO's lateral speed was: along one lane, or (the road known) into a lane beside
@@ -305,6 +330,161 @@ void FcdReader::useSignals(const SignalLinks* links, SignalStates* states, bool 
   impl_->signalsNeedLanes = needLanes;
 }
 
+void FcdReader::Impl::beginStep(const XmlScanner::Tag& t, FcdFrame& frame) {
+  anyStep = true;
+  frame.time = required(x, t, "time");
+  if (!(std::abs(frame.time) <= kFcdMaxTime))
+    x.fail(t.line, "<timestep> time " + fmtNumber(frame.time) + " s is beyond any run's (at most " +
+                       fmtNumber(kFcdMaxTime) + " s either side of 0)");
+  if (!(frame.time > lastTime)) x.fail(t.line, "timestep times must increase");
+  lastTime = frame.time;
+  if (signalStates) signalStates->advanceTo(frame.time);
+  frame.vehicles.clear();
+}
+
+VehicleTypeInfo FcdReader::Impl::typeOf(const XmlScanner::Tag& t, bool person, const std::string& what) const {
+  const std::string* type = t.attr("type");
+  // a person of no known type walks with SUMO's pedestrian defaults
+  VehicleTypeInfo info = person ? defaultPersonType() : VehicleTypeInfo{};
+  if (type) {
+    auto it = types.find(*type);
+    if (it == types.end() && checks.typesComplete && !person)
+      x.fail(t.line, what + " type '" + *type + "' is not defined in " + checks.typesFile);
+    if (it != types.end()) info = it->second;
+    else if (!person) info = guessVehicleType(*type);
+  }
+  if (const std::string* lane = t.attr("lane");
+      lane && checks.lanesChecked && !std::binary_search(checks.lanes.begin(), checks.lanes.end(), *lane))
+    x.fail(t.line, what + " lane '" + *lane + "' is not in " + checks.netFile);
+  // a trace's own length and width (fcd-output.attributes) stand for the vType's
+  info.length = optionalNumber(x, t, "length", info.length);
+  info.width = optionalNumber(x, t, "width", info.width);
+  if (!(info.length > 0) || !(info.width > 0)) x.fail(t.line, what + " length and width must be positive");
+  if (info.length > kFcdMaxSize || info.width > kFcdMaxSize)
+    x.fail(t.line, what + " length and width must be at most " + fmtNumber(kFcdMaxSize) + " m");
+  return info;
+}
+
+SumoVehicleRecord FcdReader::Impl::recordOf(const XmlScanner::Tag& t, const std::string& what) const {
+  SumoVehicleRecord r;
+  r.x = required(x, t, "x");
+  r.y = required(x, t, "y");
+  if (const FcdChecks& c = checks; c.bounded) {
+    const double g = FcdChecks::kOutsideMargin;
+    if (!(r.x >= c.lo.x() - g && r.x <= c.hi.x() + g && r.y >= c.lo.y() - g && r.y <= c.hi.y() + g))
+      x.fail(t.line, what + " position (" + fmtNumber(r.x) + ", " + fmtNumber(r.y) +
+                         ") is more than " + fmtNumber(g) + " m outside " + c.netFile + " (x " + fmtNumber(c.lo.x()) +
+                         ".." + fmtNumber(c.hi.x()) + ", y " + fmtNumber(c.lo.y()) + ".." + fmtNumber(c.hi.y()) + ")");
+  }
+  // SUMO writes [0, 360) (360.00 where its rounding reaches it); 1e300 was taken and changed the
+  // warnings, -90 was taken as 270
+  r.angle = required(x, t, "angle");
+  if (!(r.angle >= 0.0 && r.angle <= 360.0))
+    x.fail(t.line, what + " angle " + fmtNumber(r.angle) + " is not a heading (degrees, 0..360)");
+  r.speed = required(x, t, "speed");
+  if (r.speed < 0.0)
+    x.fail(t.line, what + " speed " + fmtNumber(r.speed) + " m/s is negative (SUMO's are >= 0)");
+  if (!(std::abs(r.speed) <= kFcdMaxSpeed))
+    x.fail(t.line, what + " speed " + fmtNumber(r.speed) + " m/s is beyond any vehicle's (at most " +
+                       fmtNumber(kFcdMaxSpeed) + ")");
+  r.acceleration = optionalNumber(x, t, "acceleration", 0.0);
+  if (!(std::abs(r.acceleration) <= kFcdMaxAcceleration))
+    x.fail(t.line, what + " acceleration " + fmtNumber(r.acceleration) +
+                       " m/s^2 is beyond any vehicle's (at most " + fmtNumber(kFcdMaxAcceleration) + ")");
+  if (const std::string* sig = t.attr("signals")) {
+    const double bits = number(x, t, "signals", *sig);
+    if (!(bits >= 0 && bits <= (1 << 30) && bits == std::floor(bits)))
+      x.fail(t.line, what + " signals " + fmtNumber(bits) + " is not SUMO's signal bits");
+    r.signals = static_cast<int>(bits);
+  }
+  return r;
+}
+
+// its route from the edge it is on (a lane "<edge>_<index>"; inside a junction, ':', the edge it
+// left), found from where it was last (lastAt)
+FcdReader::Impl::RoutePlace FcdReader::Impl::placeOnRoute(const std::string& id, const std::string& lane, int lastAt,
+                                                          std::array<int, kRouteAhead>& ahead) const {
+  RoutePlace p;
+  p.at = lastAt;
+  if (const auto rt = routes->find(id); rt != routes->end()) p.route = &rt->second;
+  if (p.route && !lane.empty() && lane[0] != ':') {
+    p.edge = lane.substr(0, lane.rfind('_'));
+    const auto from = p.route->begin() + std::max(p.at, 0);
+    auto k = std::find(from, p.route->end(), p.edge);
+    if (k == p.route->end()) k = std::find(p.route->begin(), p.route->end(), p.edge);
+    p.at = k == p.route->end() ? -1 : static_cast<int>(k - p.route->begin());
+  } else if (p.route && p.at >= 0) {
+    p.edge = (*p.route)[static_cast<std::size_t>(p.at)];
+  }
+  if (p.at >= 0)
+    for (int j = 0; j < kRouteAhead && static_cast<std::size_t>(p.at + j) < p.route->size(); ++j) {
+      const auto e = edgeIndex.find((*p.route)[static_cast<std::size_t>(p.at + j)]);
+      if (e == edgeIndex.end()) break;
+      ahead[static_cast<std::size_t>(j)] = e->second;
+    }
+  return p;
+}
+
+void FcdReader::Impl::readNextSignal(const XmlScanner::Tag& t, const std::string& what, const std::string* lane,
+                                     const RoutePlace& place, SumoVehicleRecord& r) const {
+  if (!lane || !t.attr("pos"))
+    x.fail(t.line, what + " lacks attribute 'lane' or 'pos', which reading its traffic light needs "
+                          "(sumo --fcd-output.attributes with lane,pos)");
+  const double pos = required(x, t, "pos");
+  if (place.route && place.at >= 0) {
+    // as the live run: the link to the route's next edge; none past its last
+    const bool more = static_cast<std::size_t>(place.at) + 1 < place.route->size();
+    if (more) nextSignalOf(*signalLinks, *signalStates, *lane, pos, r.signals, r, &place.edge,
+                           &(*place.route)[static_cast<std::size_t>(place.at) + 1]);
+  } else {
+    nextSignalOf(*signalLinks, *signalStates, *lane, pos, r.signals, r);
+  }
+}
+
+VehicleState FcdReader::Impl::readMover(const XmlScanner::Tag& t, double time, long stepLine) {
+  const bool person = t.name == "person";
+  const std::string tag = "<" + t.name + ">";
+  VehicleState v;
+  const std::string* id = t.attr("id");
+  if (!id) x.fail(t.line, tag + " lacks attribute 'id'");
+  if (id->empty()) x.fail(t.line, tag + " attribute 'id' is empty");
+  v.id = *id;
+  const std::string what = "<" + t.name + " id=\"" + v.id + "\">";
+  const VehicleTypeInfo info = typeOf(t, person, what);
+  SumoVehicleRecord r = recordOf(t, what);
+  const std::string* lane = t.attr("lane");
+  auto& seen = person ? lastPerson : last;
+  auto it = seen.find(v.id);
+  RoutePlace place;
+  place.at = it != seen.end() ? it->second.routeAt : -1;
+  if (routes && !person && lane) place = placeOnRoute(v.id, *lane, place.at, v.route);
+  if (signalStates && !person && (signalsNeedLanes || (lane && t.attr("pos")))) readNextSignal(t, what, lane, place, r);
+  if (lane && !laneIndex.empty()) {
+    auto li = laneIndex.find(*lane);
+    if (li != laneIndex.end()) v.lane = li->second;
+  }
+  // times increase strictly, so a vehicle last seen at this frame's time is listed twice in it
+  if (it != seen.end() && it->second.time == time)
+    x.fail(t.line, t.name + " '" + v.id + "' appears twice in the timestep (line " + std::to_string(stepLine) + ")");
+  double posLat = std::numeric_limits<double>::quiet_NaN();
+  if (t.attr("posLat")) posLat = required(x, t, "posLat");
+  if (it != seen.end() && !person) r.lateralSpeed = lateralSpeed(it->second, lane, posLat, time);
+  toVehicleState(r, info, v);
+  if (person) {
+    v.lane = -1;         // a sidewalk or crossing: not a lane it is predicted along
+    v.equipped = false;  // a foe, as the live run has it
+  }
+  v.handle = it != seen.end() ? it->second.handle : nextHandle++;
+  if (!person) bodies.fit(static_cast<std::size_t>(v.handle), time, v);  // as the live run
+  Last& l = it != seen.end() ? it->second : seen[v.id];
+  l.time = time;
+  l.posLat = posLat;
+  l.lane = lane ? *lane : std::string();
+  l.handle = v.handle;
+  l.routeAt = place.at;
+  return v;
+}
+
 bool FcdReader::next(FcdFrame& frame) {
   Impl& m = *impl_;
   XmlScanner& x = m.x;
@@ -331,15 +511,7 @@ bool FcdReader::next(FcdFrame& frame) {
         return true;
       }
       if (inStep) x.fail(t.line, "<timestep> inside <timestep>");
-      m.anyStep = true;
-      frame.time = required(x, t, "time");
-      if (!(std::abs(frame.time) <= kFcdMaxTime))
-        x.fail(t.line, "<timestep> time " + fmtNumber(frame.time) + " s is beyond any run's (at most " +
-                           fmtNumber(kFcdMaxTime) + " s either side of 0)");
-      if (!(frame.time > m.lastTime)) x.fail(t.line, "timestep times must increase");
-      m.lastTime = frame.time;
-      if (m.signalStates) m.signalStates->advanceTo(frame.time);
-      frame.vehicles.clear();
+      m.beginStep(t, frame);
       if (t.selfClosing) return true;
       inStep = true;
       stepLine = t.line;
@@ -348,130 +520,9 @@ bool FcdReader::next(FcdFrame& frame) {
     // a person (or container) inside an open <vehicle> rides it (SUMO nests passengers): no foe
     if ((t.name == "person" || t.name == "container") && openVehicle) continue;
     if (t.name != "vehicle" && t.name != "person") continue;
-    const bool person = t.name == "person";
-    const std::string tag = "<" + t.name + ">";
-    if (!inStep) x.fail(t.line, tag + " outside a <timestep>");
-    if (!t.selfClosing && !person) openVehicle = t.line;
-    VehicleState v;
-    const std::string* id = t.attr("id");
-    if (!id) x.fail(t.line, tag + " lacks attribute 'id'");
-    if (id->empty()) x.fail(t.line, tag + " attribute 'id' is empty");
-    v.id = *id;
-    const std::string what = "<" + t.name + " id=\"" + v.id + "\">";
-    const std::string* type = t.attr("type");
-    // a person of no known type walks with SUMO's pedestrian defaults
-    VehicleTypeInfo info = person ? defaultPersonType() : VehicleTypeInfo{};
-    if (type) {
-      auto it = m.types.find(*type);
-      if (it == m.types.end() && m.checks.typesComplete && !person)
-        x.fail(t.line, what + " type '" + *type + "' is not defined in " + m.checks.typesFile);
-      if (it != m.types.end()) info = it->second;
-      else if (!person) info = guessVehicleType(*type);
-    }
-    if (const std::string* lane = t.attr("lane"); lane && m.checks.lanesChecked &&
-        !std::binary_search(m.checks.lanes.begin(), m.checks.lanes.end(), *lane))
-      x.fail(t.line, what + " lane '" + *lane + "' is not in " + m.checks.netFile);
-    // a trace's own length and width (fcd-output.attributes) stand for the vType's
-    info.length = optionalNumber(x, t, "length", info.length);
-    info.width = optionalNumber(x, t, "width", info.width);
-    if (!(info.length > 0) || !(info.width > 0)) x.fail(t.line, what + " length and width must be positive");
-    if (info.length > kFcdMaxSize || info.width > kFcdMaxSize)
-      x.fail(t.line, what + " length and width must be at most " + fmtNumber(kFcdMaxSize) + " m");
-    SumoVehicleRecord r;
-    r.x = required(x, t, "x");
-    r.y = required(x, t, "y");
-    if (const FcdChecks& c = m.checks; c.bounded) {
-      const double g = FcdChecks::kOutsideMargin;
-      if (!(r.x >= c.lo.x() - g && r.x <= c.hi.x() + g && r.y >= c.lo.y() - g && r.y <= c.hi.y() + g))
-        x.fail(t.line, what + " position (" + fmtNumber(r.x) + ", " + fmtNumber(r.y) +
-                           ") is more than " + fmtNumber(g) + " m outside " + c.netFile + " (x " + fmtNumber(c.lo.x()) +
-                           ".." + fmtNumber(c.hi.x()) + ", y " + fmtNumber(c.lo.y()) + ".." + fmtNumber(c.hi.y()) + ")");
-    }
-    // SUMO writes [0, 360) (360.00 where its rounding reaches it); 1e300 was taken and changed the
-    // warnings, -90 was taken as 270
-    r.angle = required(x, t, "angle");
-    if (!(r.angle >= 0.0 && r.angle <= 360.0))
-      x.fail(t.line, what + " angle " + fmtNumber(r.angle) + " is not a heading (degrees, 0..360)");
-    r.speed = required(x, t, "speed");
-    if (r.speed < 0.0)
-      x.fail(t.line, what + " speed " + fmtNumber(r.speed) + " m/s is negative (SUMO's are >= 0)");
-    if (!(std::abs(r.speed) <= kFcdMaxSpeed))
-      x.fail(t.line, what + " speed " + fmtNumber(r.speed) + " m/s is beyond any vehicle's (at most " +
-                         fmtNumber(kFcdMaxSpeed) + ")");
-    r.acceleration = optionalNumber(x, t, "acceleration", 0.0);
-    if (!(std::abs(r.acceleration) <= kFcdMaxAcceleration))
-      x.fail(t.line, what + " acceleration " + fmtNumber(r.acceleration) +
-                         " m/s^2 is beyond any vehicle's (at most " + fmtNumber(kFcdMaxAcceleration) + ")");
-    if (const std::string* sig = t.attr("signals")) {
-      const double bits = number(x, t, "signals", *sig);
-      if (!(bits >= 0 && bits <= (1 << 30) && bits == std::floor(bits)))
-        x.fail(t.line, what + " signals " + fmtNumber(bits) + " is not SUMO's signal bits");
-      r.signals = static_cast<int>(bits);
-    }
-    const std::string* lane = t.attr("lane");
-    auto& seen = person ? m.lastPerson : m.last;
-    auto it = seen.find(v.id);
-    // its route from the edge it is on (a lane "<edge>_<index>"; inside a junction, ':', the
-    // edge it left), found from where it was last
-    int routeAt = it != seen.end() ? it->second.routeAt : -1;
-    const std::vector<std::string>* route = nullptr;
-    std::string edge;
-    if (m.routes && !person && lane) {
-      if (const auto rt = m.routes->find(v.id); rt != m.routes->end()) route = &rt->second;
-      if (route && !lane->empty() && (*lane)[0] != ':') {
-        edge = lane->substr(0, lane->rfind('_'));
-        const auto from = route->begin() + std::max(routeAt, 0);
-        auto k = std::find(from, route->end(), edge);
-        if (k == route->end()) k = std::find(route->begin(), route->end(), edge);
-        routeAt = k == route->end() ? -1 : static_cast<int>(k - route->begin());
-      } else if (route && routeAt >= 0) {
-        edge = (*route)[static_cast<std::size_t>(routeAt)];
-      }
-      if (routeAt >= 0)
-        for (int j = 0; j < kRouteAhead && static_cast<std::size_t>(routeAt + j) < route->size(); ++j) {
-          const auto e = m.edgeIndex.find((*route)[static_cast<std::size_t>(routeAt + j)]);
-          if (e == m.edgeIndex.end()) break;
-          v.route[static_cast<std::size_t>(j)] = e->second;
-        }
-    }
-    if (m.signalStates && !person && (m.signalsNeedLanes || (lane && t.attr("pos")))) {
-      if (!lane || !t.attr("pos"))
-        x.fail(t.line, what + " lacks attribute 'lane' or 'pos', which reading its traffic light needs "
-                              "(sumo --fcd-output.attributes with lane,pos)");
-      const double pos = required(x, t, "pos");
-      if (route && routeAt >= 0) {
-        // as the live run: the link to the route's next edge; none past its last
-        const bool more = static_cast<std::size_t>(routeAt) + 1 < route->size();
-        if (more) nextSignalOf(*m.signalLinks, *m.signalStates, *lane, pos, r.signals, r, &edge,
-                               &(*route)[static_cast<std::size_t>(routeAt) + 1]);
-      } else {
-        nextSignalOf(*m.signalLinks, *m.signalStates, *lane, pos, r.signals, r);
-      }
-    }
-    if (lane && !m.laneIndex.empty()) {
-      auto li = m.laneIndex.find(*lane);
-      if (li != m.laneIndex.end()) v.lane = li->second;
-    }
-    // times increase strictly, so a vehicle last seen at this frame's time is listed twice in it
-    if (it != seen.end() && it->second.time == frame.time)
-      x.fail(t.line, t.name + " '" + v.id + "' appears twice in the timestep (line " + std::to_string(stepLine) + ")");
-    double posLat = std::numeric_limits<double>::quiet_NaN();
-    if (t.attr("posLat")) posLat = required(x, t, "posLat");
-    if (it != seen.end() && !person) r.lateralSpeed = m.lateralSpeed(it->second, lane, posLat, frame.time);
-    toVehicleState(r, info, v);
-    if (person) {
-      v.lane = -1;         // a sidewalk or crossing: not a lane it is predicted along
-      v.equipped = false;  // a foe, as the live run has it
-    }
-    v.handle = it != seen.end() ? it->second.handle : m.nextHandle++;
-    if (!person) m.bodies.fit(static_cast<std::size_t>(v.handle), frame.time, v);  // as the live run
-    Impl::Last& last = it != seen.end() ? it->second : seen[v.id];
-    last.time = frame.time;
-    last.posLat = posLat;
-    last.lane = lane ? *lane : std::string();
-    last.handle = v.handle;
-    last.routeAt = routeAt;
-    frame.vehicles.push_back(std::move(v));
+    if (!inStep) x.fail(t.line, "<" + t.name + "> outside a <timestep>");
+    if (!t.selfClosing && t.name != "person") openVehicle = t.line;
+    frame.vehicles.push_back(m.readMover(t, frame.time, stepLine));
   }
   if (openVehicle) x.fail(openVehicle, "<vehicle> is not closed (expected \"/>\" or </vehicle>)");
   if (inStep) x.fail(stepLine, "unterminated <timestep>");
