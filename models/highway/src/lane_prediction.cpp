@@ -40,11 +40,37 @@ inline double timeToDrive(double u, double a, double s) {
   return 2.0 * s / (u + std::sqrt(disc));
 }
 
+// The distance between segments a0-a1 and b0-b1 (0 where they cross).
+double segmentDistance(const Vec2& a0, const Vec2& a1, const Vec2& b0, const Vec2& b1) {
+  const Vec2 da = a1 - a0, db = b1 - b0, w = b0 - a0;
+  const double den = cross2(da, db);
+  if (den != 0.0) {
+    const double s = cross2(w, db) / den, u = cross2(w, da) / den;
+    if (s >= 0.0 && s <= 1.0 && u >= 0.0 && u <= 1.0) return 0.0;
+  }
+  const Segment A{a0, a1}, B{b0, b1};
+  return std::min({(closestPointOnSegment(B, a0) - a0).norm(), (closestPointOnSegment(B, a1) - a1).norm(),
+                   (closestPointOnSegment(A, b0) - b0).norm(), (closestPointOnSegment(A, b1) - b1).norm()});
+}
+
 }  // namespace
 
 LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& config, VehicleTable& cars,
                                MonitorCounters& counters)
     : cfg_(&config), cars_(&cars), counters_(&counters), alongLanes_(config.prediction == Prediction::Road) {
+  addLanes(road);
+  const std::unordered_map<std::string, std::vector<int>> byEdge = setEdges(road);
+  findSuccessors();
+  findPredecessors();
+  setExitEdges();
+  markLaneDrops(byEdge);
+  if (pt_.empty()) return;
+  buildSegmentGrid();
+  markCrowded();
+}
+
+// each lane's points (closer ones dropped), arcs, width and scale
+void LanePrediction::addLanes(const RoadGeometry& road) {
   const int n = static_cast<int>(road.lanes.size());
   lanes_.resize(n);
   for (int i = 0; i < n; ++i) {
@@ -66,16 +92,23 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
     // stays a wrong speed, not an absurd one)
     if (l.length > 0.0 && arc > 0.0) nl.scale = std::clamp(arc / l.length, 0.25, 4.0);
   }
-  // the lanes of each edge (a lane drop, below), and each lane's edge index (VehicleState::route)
+}
+
+// the lanes of each edge (returned, for a lane drop), and each lane's edge index (VehicleState::route)
+std::unordered_map<std::string, std::vector<int>> LanePrediction::setEdges(const RoadGeometry& road) {
+  const int n = static_cast<int>(road.lanes.size());
   std::unordered_map<std::string, std::vector<int>> byEdge;
   for (int i = 0; i < n; ++i) byEdge[road.lanes[i].edge].push_back(i);
-  {
-    const std::vector<std::string> edges = edgeIds(road);
-    for (int e = 0; e < static_cast<int>(edges.size()); ++e)
-      for (int i : byEdge[edges[e]]) lanes_[i].edge = e;
-  }
-  // successors: the lanes that start where a lane ends (SUMO's junction-internal lanes start at
-  // the end of the lane they leave and end at the start of the lane they reach); the straightest
+  const std::vector<std::string> edges = edgeIds(road);
+  for (int e = 0; e < static_cast<int>(edges.size()); ++e)
+    for (int i : byEdge[edges[e]]) lanes_[i].edge = e;
+  return byEdge;
+}
+
+// successors: the lanes that start where a lane ends (SUMO's junction-internal lanes start at
+// the end of the lane they leave and end at the start of the lane they reach); the straightest
+void LanePrediction::findSuccessors() {
+  const int n = static_cast<int>(lanes_.size());
   auto key = [](const Vec2& p) {
     return (static_cast<std::int64_t>(std::floor(p.x())) << 32) ^ static_cast<std::int64_t>(std::floor(p.y()) + (1 << 30));
   };
@@ -118,7 +151,11 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
     lanes_[a].succEnd = static_cast<int>(succ_.size());
     if (!found.empty()) lanes_[a].next = found.front().second;
   }
-  // each lane's predecessors: the lanes it succeeds (a counting sort of succ_ by successor)
+}
+
+// each lane's predecessors: the lanes it succeeds (a counting sort of succ_ by successor)
+void LanePrediction::findPredecessors() {
+  const int n = static_cast<int>(lanes_.size());
   predStart_.assign(n + 1, 0);
   for (int b : succ_) ++predStart_[b + 1];
   for (int a = 0; a < n; ++a) predStart_[a + 1] += predStart_[a];
@@ -128,16 +165,23 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
     for (int a = 0; a < n; ++a)
       for (int k = lanes_[a].succBegin; k < lanes_[a].succEnd; ++k) pred_[next[succ_[k]]++] = a;
   }
-  // the edge a car reaches: its own on a normal lane; through a junction's lanes, the first
-  // normal lane's (a junction lane has one successor, another junction lane at most a few times)
+}
+
+// the edge a car reaches: its own on a normal lane; through a junction's lanes, the first
+// normal lane's (a junction lane has one successor, another junction lane at most a few times)
+void LanePrediction::setExitEdges() {
+  const int n = static_cast<int>(lanes_.size());
   for (int a = 0; a < n; ++a) {
     int b = a;
     for (int hop = 0; hop < 8 && b >= 0 && lanes_[b].internal; ++hop) b = lanes_[b].next;
     lanes_[a].exitEdge = b >= 0 && !lanes_[b].internal ? lanes_[b].edge : lanes_[a].edge;
   }
-  // a lane without successor ends the road for its cars only where its edge goes on (a lane drop);
-  // where no lane of the edge goes on, the cars leave the network (or the net has no junction lanes)
-  for (auto& [edge, ids] : byEdge) {
+}
+
+// a lane without successor ends the road for its cars only where its edge goes on (a lane drop);
+// where no lane of the edge goes on, the cars leave the network (or the net has no junction lanes)
+void LanePrediction::markLaneDrops(const std::unordered_map<std::string, std::vector<int>>& byEdge) {
+  for (const auto& [edge, ids] : byEdge) {
     bool on = false;
     for (int a : ids) on = on || lanes_[a].next >= 0;
     for (int a : ids) lanes_[a].drops = on && lanes_[a].next < 0;
@@ -145,8 +189,11 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
     for (int a : ids) merge = merge || lanes_[a].drops;
     for (int a : ids) lanes_[a].merge = merge;
   }
-  // the segment grid
-  if (pt_.empty()) return;
+}
+
+// the segment grid over every lane's segments, each grown by the widest half lane and a metre
+void LanePrediction::buildSegmentGrid() {
+  const int n = static_cast<int>(lanes_.size());
   Vec2 lo = pt_[0], hi = pt_[0];
   for (const Vec2& q : pt_) {
     lo = lo.cwiseMin(q);
@@ -166,20 +213,12 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
     const Vec2 a = pt_[p], b = pt_[p + 1];
     return Aabb<2>{a.cwiseMin(b) - Vec2::Constant(grow), a.cwiseMax(b) + Vec2::Constant(grow)};
   });
-  // crowded segments: another lane's area overlaps this one's (a junction, a diverge, lanes that
-  // meet end to start). Elsewhere lanes lie side by side at their half widths' sum, so no other
-  // lane can be nearer a centre inside this lane by kSwitch: a car there keeps it unsearched.
-  auto segDistance = [&](const Vec2& a0, const Vec2& a1, const Vec2& b0, const Vec2& b1) {
-    const Vec2 da = a1 - a0, db = b1 - b0, w = b0 - a0;
-    const double den = cross2(da, db);
-    if (den != 0.0) {
-      const double s = cross2(w, db) / den, u = cross2(w, da) / den;
-      if (s >= 0.0 && s <= 1.0 && u >= 0.0 && u <= 1.0) return 0.0;
-    }
-    const Segment A{a0, a1}, B{b0, b1};
-    return std::min({(closestPointOnSegment(B, a0) - a0).norm(), (closestPointOnSegment(B, a1) - a1).norm(),
-                     (closestPointOnSegment(A, b0) - b0).norm(), (closestPointOnSegment(A, b1) - b1).norm()});
-  };
+}
+
+// crowded segments: another lane's area overlaps this one's (a junction, a diverge, lanes that
+// meet end to start). Elsewhere lanes lie side by side at their half widths' sum, so no other
+// lane can be nearer a centre inside this lane by kSwitch: a car there keeps it unsearched.
+void LanePrediction::markCrowded() {
   crowded_.assign(pt_.size(), 0);
   std::vector<int> runs;
   for (int c = 0; c < segments_.cellCount(); ++c) {
@@ -190,7 +229,7 @@ LanePrediction::LanePrediction(const RoadGeometry& road, const MonitorConfig& co
         if (la == lb) continue;
         if (crowded_[pa] && crowded_[pb]) continue;
         const double apart = 0.5 * (lanes_[la].width + lanes_[lb].width) - 0.01;
-        if (segDistance(pt_[pa], pt_[pa + 1], pt_[pb], pt_[pb + 1]) < apart) crowded_[pa] = crowded_[pb] = 1;
+        if (segmentDistance(pt_[pa], pt_[pa + 1], pt_[pb], pt_[pb + 1]) < apart) crowded_[pa] = crowded_[pb] = 1;
       }
   }
 }

@@ -24,6 +24,8 @@
 #include <cmath>
 #include <limits>
 #include <span>
+#include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <stcore/static_grid.hpp>
@@ -217,6 +219,18 @@ class LanePrediction {
   int match(int slot, const Vec2& p, const Vec2& axis, Projection& out) const;
   int successor(int slot, int lane, int& routeAt) const;
   void predict(int slot, double horizon);
+  // the constructor's steps, in order: the lanes' points (lanes_, pt_, cum_); their edges
+  // (NetLane::edge; the lanes of each edge returned); successors (succ_, next, nextLeft,
+  // nextRight); predecessors (pred_, predStart_); exit edges; lane drops and merges (drops,
+  // merge); the segment grid (segments_, pointLane_); the crowded segments (crowded_)
+  void addLanes(const RoadGeometry& road);
+  std::unordered_map<std::string, std::vector<int>> setEdges(const RoadGeometry& road);
+  void findSuccessors();
+  void findPredecessors();
+  void setExitEdges();
+  void markLaneDrops(const std::unordered_map<std::string, std::vector<int>>& byEdge);
+  void buildSegmentGrid();
+  void markCrowded();
 
   const MonitorConfig* cfg_;
   VehicleTable* cars_;
