@@ -40,6 +40,24 @@ inline double timeToDrive(double u, double a, double s) {
   return 2.0 * s / (u + std::sqrt(disc));
 }
 
+// Whether axis turns from the lane's direction dir by more than tol::kMergeBend.
+inline bool turnedFrom(const Vec2& dir, const Vec2& axis) {
+  return std::abs(std::atan2(cross2(dir, axis), dir.dot(axis))) > tol::kMergeBend;
+}
+
+// How far a path departs from the straight line p0 + v t, at a piece's ends: from the straight
+// line, less what the acceleration may add (the prunes allow |a| t^2 / 2 already):
+// |p - p0 - v t| + scale |driven - u t| bounds the affine part there; a lane whose scale exceeds 1
+// adds (scale - 1) |driven - u t| at most (growEnvelopes).
+struct DeviationBound {
+  Vec2 p0, v;
+  double u, acc;
+  double dev = 0.0;
+  void add(const Vec2& p, double tk, double scale) {
+    dev = std::max(dev, (p - p0 - v * tk).norm() + scale * std::abs(driven(u, acc, tk) - u * tk));
+  }
+};
+
 // The distance between segments a0-a1 and b0-b1 (0 where they cross).
 double segmentDistance(const Vec2& a0, const Vec2& a1, const Vec2& b0, const Vec2& b1) {
   const Vec2 da = a1 - a0, db = b1 - b0, w = b0 - a0;
@@ -539,23 +557,76 @@ void QuietLine::add(const Vec2& e, double dS, const Vec2& laneDir, double scale,
     open_ = false;
 }
 
+// A car's path this tick: its lane and motion in the lane's frame (matchMotion), its frame and
+// last-tick state kept (setFrame); then the straight line, or along the lanes: the centre line
+// ahead (traceLine), the pieces laid on it (layPieces), the envelopes grown by how far the path
+// departs from the straight line (growEnvelopes). The stages are defined inline below: called
+// once per car and tick, their calls cost 0.8 % of bench/highway_detect's instructions (cachegrind).
 void LanePrediction::predict(int slot, double t) {
-  VehicleTable& c = *cars_;
-  const Body& b = c.body[slot];
-  LaneFrame& f = frame_[slot];
+  const Body& b = cars_->body[slot];
   const double h = horizon_[slot];
-  const bool wasHere = f.lane >= 0;
-  Projection pr;
+  const LaneMotion m = matchMotion(slot, t);
+  pieceBegin_[slot] = static_cast<int>(pieces_.size());
+  const double acc = motionAcceleration(b, cfg_->detector.motion);
+  constexpr double kMinPathSpeed = 0.1;  // m/s: slower cars are predicted where they are (straight)
+  setFrame(slot, t, m);
+  merge_[slot] = 0;
+  deviation_[slot] = 0.0;
+  if (!alongLanes_ || m.lane < 0 || m.u < kMinPathSpeed) {
+    predictStraight(slot, m.lane);
+    return;
+  }
+  ++counters_->roadPredicted;
+  straight_[slot] = 0;
+  const NetLane& l = lanes_[m.lane];
+  // where its route holds this lane's edge, the path follows the route
+  int routeAt = -1;
+  for (int k = 0; k < kRouteAhead && routeAt < 0; ++k)
+    if (cars_->route[slot][k] == l.exitEdge) routeAt = k;
+  if (routeAt >= 0) ++counters_->routePredicted;
+  // a body in a junction (on a junction lane, or half on the lane it leaves) has an offset that
+  // moves with the lanes' geometry (SUMO places it on the chord between its front and its rear),
+  // not with the car: no lateral motion is predicted, and on the lanes after this one it is
+  // predicted on their centre lines
+  PathPlan plan;
+  plan.lane = m.lane;
+  plan.pr = m.pr;
+  plan.routeAt = routeAt;
+  plan.u = m.u;
+  plan.acc = acc;
+  plan.horizon = h;
+  plan.straddles = l.internal || !alongside(slot);
+  plan.lateral = plan.straddles ? 0.0 : m.lateral;
+  plan.bent = m.bent;
+  // the path: from the centre's foot on the centre line along the lanes, far enough for the horizon
+  const Vec2 n0 = leftNormal(m.pr.dir);
+  plan.line.foot = pt_[l.first + m.pr.seg] + (m.pr.s - cum_[l.first + m.pr.seg]) * m.pr.dir;
+  // zero up to rounding: the path starts at the centre (and leaves the chord's offset behind)
+  plan.off = b.position - plan.line.foot - (m.pr.d + m.chord) * n0;
+  plan.need = driven(m.u, acc, h) + 1.0;
+  plan.line.half = 0.5 * b.length;
+  plan.line.quietEnd = traceLine(slot, plan.lane, plan.pr, routeAt, plan.line.foot, plan.need + plan.line.half);
+  plan.line.backLine = plan.line.foot + m.chord * n0 - plan.line.half * b.axis;
+  const PathBound bound = layPieces(slot, b, plan, frame_[slot]);
+  pieceEnd_[slot] = static_cast<int>(pieces_.size());
+  growEnvelopes(slot, bound, m.u, acc, h);
+}
+
+inline LanePrediction::LaneMotion LanePrediction::matchMotion(int slot, double t) {
+  const VehicleTable& c = *cars_;
+  const Body& b = c.body[slot];
+  const bool wasHere = frame_[slot].lane >= 0;
+  LaneMotion m;
+  Projection& pr = m.pr;
   const int lane = match(slot, b.position, b.axis, pr);
+  m.lane = lane;
   matched_[slot] = lane;
   // the car's own offset: less the chord's (a body whose front and rear follow the centre line
   // across a vertex sits inside the bend: a 12 m truck on a 14 degree joint 0.7 m off the line)
   const double chord = lane >= 0 ? chordOffset(lane, pr, 0.5 * b.length) : 0.0;
+  m.chord = chord;
   pr.d -= chord;
-  pieceBegin_[slot] = static_cast<int>(pieces_.size());
-  const double acc = motionAcceleration(b, cfg_->detector.motion);
-  constexpr double kMinPathSpeed = 0.1;  // m/s: slower cars are predicted where they are (straight)
-  const double u = lane >= 0 ? b.velocity.dot(pr.dir) : 0.0;
+  m.u = lane >= 0 ? b.velocity.dot(pr.dir) : 0.0;
   // the lateral speed, from the offset tick to tick while the car drives along one edge: in the
   // lane's own frame, or (a lane change whose centre crossed the marker) with the last position
   // moved into this lane's frame, the smaller of the two, so a lane change SUMO makes in one step
@@ -570,13 +641,13 @@ void LanePrediction::predict(int slot, double t) {
   // 30 to 40 degrees off the lane at a ramp's nose (more after a lane change there); its offset
   // then sits off the line by that chord. So it has no lateral motion there, nor at the tick after
   // (its last offset was the chord's), and its body is predicted square to the lane.
-  double lateral = lane >= 0 ? b.velocity.dot(leftNormal(pr.dir)) : 0.0;
+  double& lateral = m.lateral;
+  lateral = lane >= 0 ? b.velocity.dot(leftNormal(pr.dir)) : 0.0;
   const bool before = lane >= 0 && wasHere && c.slots[slot].present && t > prevT_[slot] && prevLane_[slot] >= 0;
   const bool mergeEdge = lane >= 0 && lanes_[lane].merge;
-  bool bent = false;
   if (before && !(prevAlong_[slot] && lanes_[lane].edge == lanes_[prevLane_[slot]].edge)) {
-    bent = mergeEdge;
-    lateral = bent ? 0.0 : b.velocity.dot(b.axis) * b.axis.dot(leftNormal(pr.dir));
+    m.bent = mergeEdge;
+    lateral = m.bent ? 0.0 : b.velocity.dot(b.axis) * b.axis.dot(leftNormal(pr.dir));
   } else if (before && mergeEdge && prevBent_[slot]) {
     lateral = 0.0;
   } else if (before) {
@@ -587,82 +658,56 @@ void LanePrediction::predict(int slot, double t) {
       if (std::abs(common) < std::abs(lateral)) lateral = common;
     }
   }
+  return m;
+}
+
+// the car's frame this tick, and what the next tick's matchMotion reads of it
+inline void LanePrediction::setFrame(int slot, double t, const LaneMotion& m) {
+  const Body& b = cars_->body[slot];
+  LaneFrame& f = frame_[slot];
   f = LaneFrame{};
-  if (lane >= 0) {
-    f.lane = lane;
-    f.seg = pr.seg;
-    f.s = pr.s;
-    f.d = pr.d;
-    f.dir = pr.dir;
-    f.speed = u;
-    f.lateral = lateral;
+  if (m.lane >= 0) {
+    f.lane = m.lane;
+    f.seg = m.pr.seg;
+    f.s = m.pr.s;
+    f.d = m.pr.d;
+    f.dir = m.pr.dir;
+    f.speed = m.u;
+    f.lateral = m.lateral;
     // the half widths beyondLine reads: the body's, and the detector's road shape square to the lane
     Body square = b;
-    square.axis = pr.dir;
+    square.axis = m.pr.dir;
     f.halfBody = 0.5 * b.width;
-    f.halfShape = roadSupport(cfg_->detector, square, leftNormal(pr.dir));
+    f.halfShape = roadSupport(cfg_->detector, square, leftNormal(m.pr.dir));
   }
   prevLane_[slot] = f.lane;
-  prevBent_[slot] = bent ? 1 : 0;
+  prevBent_[slot] = m.bent ? 1 : 0;
   prevAlong_[slot] = alongside(slot);
   prevD_[slot] = f.d;
   prevT_[slot] = t;
   prevPos_[slot] = b.position;
-  merge_[slot] = 0;
-  deviation_[slot] = 0.0;
-  if (!alongLanes_ || lane < 0 || u < kMinPathSpeed) {
-    // the straight line: the body's own motion
-    const Vec2 n = leftNormal(b.axis);
-    pieces_.push_back({0.0, b.position, b.axis, n, b.axis, b.velocity.dot(b.axis), b.velocity.dot(n)});
-    pieceEnd_[slot] = static_cast<int>(pieces_.size());
-    straight_[slot] = 1;
-    if (alongLanes_) ++(lane < 0 ? counters_->straightFallbacks : counters_->roadPredicted);
-    return;
-  }
-  ++counters_->roadPredicted;
-  straight_[slot] = 0;
-  const NetLane& l = lanes_[lane];
-  // where its route holds this lane's edge, the path follows the route
-  int routeAt = -1;
-  for (int k = 0; k < kRouteAhead && routeAt < 0; ++k)
-    if (c.route[slot][k] == l.exitEdge) routeAt = k;
-  if (routeAt >= 0) ++counters_->routePredicted;
-  // a body in a junction (on a junction lane, or half on the lane it leaves) has an offset that
-  // moves with the lanes' geometry (SUMO places it on the chord between its front and its rear),
-  // not with the car: no lateral motion is predicted, and on the lanes after this one it is
-  // predicted on their centre lines
-  const bool straddles = l.internal || !alongside(slot);
-  if (straddles) lateral = 0.0;
+}
 
-  // the path: from the centre's foot on the centre line along the lanes, far enough for the horizon
-  const Vec2 n0 = leftNormal(pr.dir);
-  const Vec2 foot = pt_[l.first + pr.seg] + (pr.s - cum_[l.first + pr.seg]) * pr.dir;
-  // zero up to rounding: the path starts at the centre (and leaves the chord's offset behind)
-  const Vec2 off = b.position - foot - (pr.d + chord) * n0;
-  bool turns = false;  // some piece's heading is not the body's
-  const double need = driven(u, acc, h) + 1.0;
-  double dev = 0.0;
-  // at a piece's ends: from the straight line, less what the acceleration may add (the prunes
-  // allow |a| t^2 / 2 already): |p - p0 - v t| + scale |driven - u t| bounds the affine part
-  // there; a lane whose scale exceeds 1 adds (scale - 1) |driven - u t| at most (below)
-  double maxScale = 1.0;
-  auto deviation = [&](const Vec2& p, double tk, double scale) {
-    dev = std::max(dev, (p - b.position - b.velocity * tk).norm() + scale * std::abs(driven(u, acc, tk) - u * tk));
-  };
-  // at a merge (atMerge): on a junction lane or an edge with a lane that drops, headed off its
-  // lane (SUMO's chord across a vertex or a junction), or (below) entering a junction lane or a
-  // bend within TTC*
-  const double maxTtc = cfg_->conflict.maxTtc;
-  auto turned = [&](const Vec2& axis) { return std::abs(std::atan2(cross2(pr.dir, axis), pr.dir.dot(axis))) > tol::kMergeBend; };
-  bool merge = l.internal || l.merge || turned(b.axis);
-  // The centre line ahead (vertices at arcs S), as far as the body's front may reach. Behind the
-  // foot: the straight line to where the back is now, in the centre line's frame.
-  const double half = 0.5 * b.length;
+// the straight line: the body's own motion
+inline void LanePrediction::predictStraight(int slot, int lane) {
+  const Body& b = cars_->body[slot];
+  const Vec2 n = leftNormal(b.axis);
+  pieces_.push_back({0.0, b.position, b.axis, n, b.axis, b.velocity.dot(b.axis), b.velocity.dot(n)});
+  pieceEnd_[slot] = static_cast<int>(pieces_.size());
+  straight_[slot] = 1;
+  if (alongLanes_) ++(lane < 0 ? counters_->straightFallbacks : counters_->roadPredicted);
+}
+
+// The centre line ahead of the foot (vertices at arcs lineS_, points linePt_), along the lanes
+// the path takes from lane (its route from routeAt), until arc `reach` (as far as the body's
+// front may reach); returns the arc up to which the line is too straight for onChord to lay a
+// body on a chord.
+inline double LanePrediction::traceLine(int slot, int lane, const Projection& pr, int routeAt, const Vec2& foot,
+                                 double reach) {
   lineS_.assign(1, 0.0);
   linePt_.assign(1, foot);
-  // up to quiet.end() the line is too straight for onChord to lay a body on a chord
-  QuietLine quiet(pr.dir, half);
-  for (int ln = lane, seg = pr.seg, at = routeAt; lineS_.back() < need + half;) {
+  QuietLine quiet(pr.dir, 0.5 * cars_->body[slot].length);
+  for (int ln = lane, seg = pr.seg, at = routeAt; lineS_.back() < reach;) {
     const NetLane& cl = lanes_[ln];
     const Vec2 dir = lineS_.size() == 1 ? pr.dir : Vec2((pt_[cl.first + seg + 1] - pt_[cl.first + seg]).normalized());
     const Vec2 end = pt_[cl.first + seg + 1];
@@ -679,52 +724,73 @@ void LanePrediction::predict(int slot, double t) {
     }
   }
   quiet.finish();
-  const double quietEnd = quiet.end();
-  const Vec2 backLine = foot + chord * n0 - half * b.axis;
-  auto linePoint = [&](double S) -> Vec2 {
-    if (S <= 0.0) return foot + (half > 0.0 ? -S / half : 0.0) * (backLine - foot);
-    std::size_t k = 1;
-    while (k + 1 < lineS_.size() && lineS_[k] < S) ++k;
-    if (k >= lineS_.size()) return foot;  // no line ahead (a lane of one point)
-    const double len = lineS_[k] - lineS_[k - 1];
-    return linePt_[k - 1] + (len > 0.0 ? (S - lineS_[k - 1]) / len : 0.0) * (linePt_[k] - linePt_[k - 1]);
-  };
-  // the body centred at arc S (its centre line's point q, direction dir) laid on the chord where
-  // the line bends under it: its centre (in the line's frame) and axis; false: square to the lane
-  auto onChord = [&](double S, const Vec2& q, const Vec2& dir, Vec2& centre, Vec2& axis) {
-    if (S >= half && S + half <= quietEnd) return false;
-    const Vec2 ahead = linePoint(S + half), behind = linePoint(S - half);
-    const Vec2 span = ahead - behind, m = 0.5 * (ahead + behind);
-    if (!(span.norm() > 0.5 * half) || ((m - q).norm() <= tol::kChordOffset &&
-                                     std::abs(std::atan2(cross2(dir, span), dir.dot(span))) <= tol::kMergeBend))
-      return false;
-    centre = m;
-    axis = span.normalized();
-    return true;
-  };
-  int ln = lane, seg = pr.seg;
-  Vec2 q = foot;   // the path's point at arc S from the car
+  return quiet.end();
+}
+
+// The centre line's point at arc S (traceLine's); behind the foot: the straight line to where
+// the back is now, in the centre line's frame.
+inline Vec2 LanePrediction::linePoint(const PathLine& line, double S) const {
+  if (S <= 0.0) return line.foot + (line.half > 0.0 ? -S / line.half : 0.0) * (line.backLine - line.foot);
+  std::size_t k = 1;
+  while (k + 1 < lineS_.size() && lineS_[k] < S) ++k;
+  if (k >= lineS_.size()) return line.foot;  // no line ahead (a lane of one point)
+  const double len = lineS_[k] - lineS_[k - 1];
+  return linePt_[k - 1] + (len > 0.0 ? (S - lineS_[k - 1]) / len : 0.0) * (linePt_[k] - linePt_[k - 1]);
+}
+
+// the body centred at arc S (its centre line's point q, direction dir) laid on the chord where
+// the line bends under it: its centre (in the line's frame) and axis; false: square to the lane
+inline bool LanePrediction::onChord(const PathLine& line, double S, const Vec2& q, const Vec2& dir, Vec2& centre,
+                             Vec2& axis) const {
+  const double half = line.half;
+  if (S >= half && S + half <= line.quietEnd) return false;
+  const Vec2 ahead = linePoint(line, S + half), behind = linePoint(line, S - half);
+  const Vec2 span = ahead - behind, m = 0.5 * (ahead + behind);
+  if (!(span.norm() > 0.5 * half) || ((m - q).norm() <= tol::kChordOffset &&
+                                   std::abs(std::atan2(cross2(dir, span), dir.dot(span))) <= tol::kMergeBend))
+    return false;
+  centre = m;
+  axis = span.normalized();
+  return true;
+}
+
+// The pieces of the path along the lanes (pieces_), from the car's centre until its horizon, and
+// how far they depart from its straight line; a dropped lane ahead into f (endGap, endLane).
+// One loop over the path's segments, each laid in one pass (a bend's chord relayed in place):
+// split, its state (the lane, segment, point, arc, time) would cross every call.
+inline LanePrediction::PathBound LanePrediction::layPieces(int slot, const Body& b, const PathPlan& p, LaneFrame& f) {
+  const double u = p.u, acc = p.acc, h = p.horizon, lateral = p.lateral, half = p.line.half;
+  const Projection& pr = p.pr;
+  DeviationBound deviation{b.position, b.velocity, u, acc};
+  PathBound out;
+  // at a merge (atMerge): on a junction lane or an edge with a lane that drops, headed off its
+  // lane (SUMO's chord across a vertex or a junction), or (below) entering a junction lane or a
+  // bend within TTC*
+  const double maxTtc = cfg_->conflict.maxTtc;
+  out.merge = lanes_[p.lane].internal || lanes_[p.lane].merge || turnedFrom(pr.dir, b.axis);
+  int ln = p.lane, seg = pr.seg, routeAt = p.routeAt;
+  Vec2 q = p.line.foot;  // the path's point at arc S from the car
   double S = 0.0;  // arc from the car, in the source's lengths (Lane::length: times at the speed it gives)
   double tk = 0.0;
   while (true) {
     const NetLane& cl = lanes_[ln];
-    const Vec2 dir = seg == pr.seg && ln == lane ? pr.dir : Vec2((pt_[cl.first + seg + 1] - pt_[cl.first + seg]).normalized());
+    const Vec2 dir = seg == pr.seg && ln == p.lane ? pr.dir : Vec2((pt_[cl.first + seg + 1] - pt_[cl.first + seg]).normalized());
     const Vec2 nk = leftNormal(dir);
     const double uk = std::max(0.0, u + acc * tk);
     const bool first = pieces_.size() == static_cast<std::size_t>(pieceBegin_[slot]);
-    const double dk = straddles && ln != lane ? 0.0 : f.d + lateral * tk;
-    Vec2 pk = first ? b.position : Vec2(off + q + dk * nk);
+    const double dk = p.straddles && ln != p.lane ? 0.0 : f.d + lateral * tk;
+    Vec2 pk = first ? b.position : Vec2(p.off + q + dk * nk);
     // the body as it is now, then square to its lane from the next vertex on: it follows the lane
     // (a yaw against the lane's segment is mostly SUMO's front-to-rear chord across a joint) ...
-    Vec2 axis = first && !bent ? b.axis : dir;
+    Vec2 axis = first && !p.bent ? b.axis : dir;
     // ... or, where the lane bends under it, on SUMO's chord from its back to its front (turned
     // about its centre, a 10 m truck's back would swing 1.5 m into the next lane on a 5.6 m corner)
-    const bool chorded = !first && onChord(S, q, dir, pk, axis);
-    if (chorded) pk += off + dk * nk;
-    turns = turns || axis != b.axis;
+    const bool chorded = !first && onChord(p.line, S, q, dir, pk, axis);
+    if (chorded) pk += p.off + dk * nk;
+    out.turns = out.turns || axis != b.axis;
     pieces_.push_back({tk, pk, dir, nk, axis, uk, lateral, cl.scale});
-    maxScale = std::max(maxScale, cl.scale);
-    deviation(pk, tk, cl.scale);
+    out.maxScale = std::max(out.maxScale, cl.scale);
+    deviation.add(pk, tk, cl.scale);
     // this piece ends at the segment's end, if the path goes on
     // (along it: a centre just past a lane's end, on its extension, has no segment left)
     const double segEnd = S + std::max(0.0, (pt_[cl.first + seg + 1] - q).dot(dir)) / cl.scale;
@@ -733,62 +799,77 @@ void LanePrediction::predict(int slot, double t) {
     // its front is a quarter length past the segment's end, if the line bends there
     double subEnd = chorded ? S + std::min(0.5 * half, tol::kChordRelay) : segEnd - 0.75 * half;
     Vec2 unusedCentre, unusedAxis;
-    if (!chorded && subEnd > S && !onChord(subEnd, q + ((subEnd - S) * cl.scale) * dir, dir, unusedCentre, unusedAxis))
+    if (!chorded && subEnd > S && !onChord(p.line, subEnd, q + ((subEnd - S) * cl.scale) * dir, dir, unusedCentre, unusedAxis))
       subEnd = segEnd;
     if (subEnd > S && subEnd < segEnd) {
-      const double tSub = subEnd < need ? timeToDrive(u, acc, subEnd) : std::numeric_limits<double>::infinity();
+      const double tSub = subEnd < p.need ? timeToDrive(u, acc, subEnd) : std::numeric_limits<double>::infinity();
       const double te = std::min(tSub, h);
-      deviation(pk + ((driven(u, acc, te) - S) * cl.scale) * dir + (lateral * (te - tk)) * nk, te, cl.scale);
+      deviation.add(pk + ((driven(u, acc, te) - S) * cl.scale) * dir + (lateral * (te - tk)) * nk, te, cl.scale);
       if (!(tSub < h)) break;
       q += ((subEnd - S) * cl.scale) * dir;
       S = subEnd;
       tk = tSub;
       continue;
     }
-    int nln = ln, nseg = seg + 1;
-    if (nseg + 1 >= cl.count) {
-      nln = successor(slot, ln, routeAt);
-      nseg = 0;
-      if (nln < 0 || lanes_[nln].count < 2) {
-        if (cl.drops && f.endLane < 0) {
-          f.endGap = segEnd;
-          f.endLane = ln;
-        }
-        nln = -1;
-      }
-    }
-    const double tEnd = nln >= 0 && segEnd < need ? timeToDrive(u, acc, segEnd) : std::numeric_limits<double>::infinity();
+    const auto [nln, nseg] = nextSegment(slot, ln, seg, routeAt, segEnd, f);
+    const double tEnd = nln >= 0 && segEnd < p.need ? timeToDrive(u, acc, segEnd) : std::numeric_limits<double>::infinity();
     if (!(tEnd < h)) {
       // the last piece: its deviation at the horizon
       const double tau = h - tk;
-      deviation(pk + ((driven(u, acc, h) - S) * cl.scale) * dir + (lateral * tau) * nk, h, cl.scale);
+      deviation.add(pk + ((driven(u, acc, h) - S) * cl.scale) * dir + (lateral * tau) * nk, h, cl.scale);
       break;
     }
-    deviation(pk + ((driven(u, acc, tEnd) - S) * cl.scale) * dir + (lateral * (tEnd - tk)) * nk, tEnd, cl.scale);
+    deviation.add(pk + ((driven(u, acc, tEnd) - S) * cl.scale) * dir + (lateral * (tEnd - tk)) * nk, tEnd, cl.scale);
     ln = nln;
     seg = nseg;
     // a junction lane, or a bend, within TTC*
     const Vec2 next = (pt_[lanes_[ln].first + seg + 1] - pt_[lanes_[ln].first + seg]).normalized();
-    merge = merge || (tEnd <= maxTtc && (lanes_[ln].internal || turned(next)));
+    out.merge = out.merge || (tEnd <= maxTtc && (lanes_[ln].internal || turnedFrom(pr.dir, next)));
     q = pt_[lanes_[ln].first + seg];
     S = segEnd;
     tk = tEnd;
   }
-  pieceEnd_[slot] = static_cast<int>(pieces_.size());
+  out.dev = deviation.dev;
+  return out;
+}
+
+// The segment after seg of lane ln (the lane's successor's first at its end; -1: the path ends
+// there, a dropped lane's end kept in f as endGap at arc segEnd).
+inline std::pair<int, int> LanePrediction::nextSegment(int slot, int ln, int seg, int& routeAt, double segEnd,
+                                                LaneFrame& f) const {
+  const NetLane& cl = lanes_[ln];
+  int nln = ln, nseg = seg + 1;
+  if (nseg + 1 >= cl.count) {
+    nln = successor(slot, ln, routeAt);
+    nseg = 0;
+    if (nln < 0 || lanes_[nln].count < 2) {
+      if (cl.drops && f.endLane < 0) {
+        f.endGap = segEnd;
+        f.endLane = ln;
+      }
+      nln = -1;
+    }
+  }
+  return {nln, nseg};
+}
+
+// The envelopes grown by the path's deviation, its merge flag.
+inline void LanePrediction::growEnvelopes(int slot, const PathBound& bound, double u, double acc, double h) {
+  VehicleTable& c = *cars_;
   // |driven - u t| grows with t: within a piece of scale s the path's own acceleration part
   // exceeds the prunes' allowance by (s - 1) |driven - u t| at most, largest at the horizon
-  dev += (maxScale - 1.0) * std::abs(driven(u, acc, h) - u * h);
+  const double dev = bound.dev + (bound.maxScale - 1.0) * std::abs(driven(u, acc, h) - u * h);
   // the straight prunes hold with the envelopes grown by the deviation (and a rounding margin)
   const double grow = dev * (1.0 + 1e-9) + tol::kPruneSlop;
   // a body that turns on its path has other world extents: every shape lies within its envelope
   // radius of the centre, whatever the heading
-  const Vec2 own = turns ? Vec2(c.ownExt[slot].cwiseMax(Vec2::Constant(c.ownEnv[slot]))) : c.ownExt[slot];
+  const Vec2 own = bound.turns ? Vec2(c.ownExt[slot].cwiseMax(Vec2::Constant(c.ownEnv[slot]))) : c.ownExt[slot];
   c.ext[slot] = own + Vec2::Constant(grow);
   c.env[slot] = c.ownEnv[slot] + grow;
   c.pairState[slot].ext = c.ext[slot];
   c.pairState[slot].env = c.env[slot];
   deviation_[slot] = grow;
-  merge_[slot] = merge && h >= maxTtc ? 1 : 0;
+  merge_[slot] = bound.merge && h >= cfg_->conflict.maxTtc ? 1 : 0;
 }
 
 }  // namespace st::highway::detail

@@ -26,6 +26,7 @@
 #include <span>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include <stcore/static_grid.hpp>
@@ -219,6 +220,42 @@ class LanePrediction {
   int match(int slot, const Vec2& p, const Vec2& axis, Projection& out) const;
   int successor(int slot, int lane, int& routeAt) const;
   void predict(int slot, double horizon);
+  // predict's stages and what they pass on: a car's lane and motion in its frame; the plan of its
+  // path along the lanes; what the pieces bound (growEnvelopes' input)
+  struct LaneMotion {
+    int lane = -1;          // -1: none matched
+    Projection pr;          // its centre in the lane's frame, the chord's offset taken off d
+    double chord = 0.0;     // that offset (m)
+    double u = 0.0;         // speed along the lane (m/s)
+    double lateral = 0.0;   // lateral speed (m/s, to the left)
+    bool bent = false;      // headed by a junction's bend, not by its motion
+  };
+  struct PathLine {         // the centre line ahead (lineS_, linePt_) as onChord reads it
+    Vec2 foot, backLine;    // the centre's foot on it; where the back is now
+    double half = 0.0;      // half the body's length (m)
+    double quietEnd = 0.0;  // arc up to which no body is laid on a chord
+  };
+  struct PathPlan {
+    int lane = -1, routeAt = -1;
+    Projection pr;
+    double u = 0.0, acc = 0.0, horizon = 0.0, need = 0.0, lateral = 0.0;
+    bool straddles = false, bent = false;
+    Vec2 off;               // the centre less its foot and offset (zero up to rounding)
+    PathLine line;
+  };
+  struct PathBound {
+    double dev = 0.0, maxScale = 1.0;
+    bool turns = false, merge = false;
+  };
+  LaneMotion matchMotion(int slot, double t);
+  void setFrame(int slot, double t, const LaneMotion& m);
+  void predictStraight(int slot, int lane);
+  double traceLine(int slot, int lane, const Projection& pr, int routeAt, const Vec2& foot, double reach);
+  Vec2 linePoint(const PathLine& line, double S) const;
+  bool onChord(const PathLine& line, double S, const Vec2& q, const Vec2& dir, Vec2& centre, Vec2& axis) const;
+  PathBound layPieces(int slot, const Body& b, const PathPlan& p, LaneFrame& f);
+  std::pair<int, int> nextSegment(int slot, int ln, int seg, int& routeAt, double segEnd, LaneFrame& f) const;
+  void growEnvelopes(int slot, const PathBound& bound, double u, double acc, double h);
   // the constructor's steps, in order: the lanes' points (lanes_, pt_, cum_); their edges
   // (NetLane::edge; the lanes of each edge returned); successors (succ_, next, nextLeft,
   // nextRight); predecessors (pred_, predStart_); exit edges; lane drops and merges (drops,
