@@ -148,6 +148,20 @@ double polishBallsRoot(const Vec<D>& p_rel, const Vec<D>& v_rel, const Vec<D>& a
 template double polishBallsRoot<2>(const Vec2&, const Vec2&, const Vec2&, double, double, double);
 template double polishBallsRoot<3>(const Vec3&, const Vec3&, const Vec3&, double, double, double);
 
+namespace {
+
+// The roots in [lo, hi] of |p + v t + a t^2/2|^2 = R^2, a quartic in t, its constant term as
+// (|p| - R)(|p| + R), free of the cancellation p.p - R^2 suffers at small radii.
+template <int D>
+PolynomialRoots ballsQuarticRoots(const Vec<D>& p, const Vec<D>& v, const Vec<D>& a, double radius, double lo,
+                                  double hi) {
+  const double dist = p.norm();
+  return solveQuarticInInterval(0.25 * a.squaredNorm(), v.dot(a), v.squaredNorm() + p.dot(a), 2.0 * p.dot(v),
+                                (dist - radius) * (dist + radius), lo, hi);
+}
+
+}  // namespace
+
 template <int D>
 Impact toiBallsAccelerated(const Vec<D>& p_rel, const Vec<D>& v_rel, const Vec<D>& a_rel, double radiusSum,
                            double tMax) {
@@ -159,10 +173,7 @@ Impact toiBallsAccelerated(const Vec<D>& p_rel, const Vec<D>& v_rel, const Vec<D
     return b < 0.0 ? hitAt(0.0) : separating();
   }
   if (!(tMax > 0.0)) return miss();
-  // |p + v t + a t^2/2|^2 - R^2: the constant term as (dist - R)(dist + R), free of cancellation
-  const double c4 = 0.25 * a_rel.squaredNorm(), c3 = v_rel.dot(a_rel), c2 = v_rel.squaredNorm() + p_rel.dot(a_rel),
-               c1 = 2.0 * b, c0 = gap * (dist + radiusSum);
-  const PolynomialRoots r = solveQuarticInInterval(c4, c3, c2, c1, c0, 0.0, tMax);
+  const PolynomialRoots r = ballsQuarticRoots<D>(p_rel, v_rel, a_rel, radiusSum, 0.0, tMax);
   for (int k = 0; k < r.count; ++k) {
     double t = r.root[k];
     const Vec<D> d = p_rel + t * v_rel + (0.5 * t * t) * a_rel;
@@ -174,6 +185,23 @@ Impact toiBallsAccelerated(const Vec<D>& p_rel, const Vec<D>& v_rel, const Vec<D
 
 template Impact toiBallsAccelerated<2>(const Vec2&, const Vec2&, const Vec2&, double, double);
 template Impact toiBallsAccelerated<3>(const Vec3&, const Vec3&, const Vec3&, double, double);
+
+template <int D>
+Impact toiBallsEntryAccelerated(const Vec<D>& p_rel, const Vec<D>& v_rel, const Vec<D>& a_rel, double radius,
+                                double tMax) {
+  if (p_rel.squaredNorm() <= radius * radius) return overlapping();
+  const PolynomialRoots first = ballsQuarticRoots<D>(p_rel, v_rel, a_rel, radius, 0.0, tMax);
+  if (first.count == 0) return miss();
+  // the same quartic about its first root resolves a near double root; then the distance polishes it
+  const double t0 = first.root[0];
+  const Vec<D> p0 = p_rel + v_rel * t0 + (0.5 * t0 * t0) * a_rel, v0 = v_rel + a_rel * t0;
+  const PolynomialRoots near = ballsQuarticRoots<D>(p0, v0, a_rel, radius, -t0, tMax - t0);
+  const double t = near.count > 0 ? std::clamp(t0 + near.root[0], 0.0, tMax) : t0;
+  return hitAt(polishBallsRoot<D>(p_rel, v_rel, a_rel, radius, t, tMax));
+}
+
+template Impact toiBallsEntryAccelerated<2>(const Vec2&, const Vec2&, const Vec2&, double, double);
+template Impact toiBallsEntryAccelerated<3>(const Vec3&, const Vec3&, const Vec3&, double, double);
 
 template <int D>
 Impact toiBallPlaneAccelerated(const Ball<D>& b, const Vec<D>& v, const Vec<D>& a, const Vec<D>& n, double offset,

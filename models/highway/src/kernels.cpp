@@ -56,33 +56,6 @@ int relativePieces(const Track& ego, const Track& foe, double horizon, std::arra
   return count;
 }
 
-namespace {
-
-// The roots in [lo, hi] of |p + v s + a s^2 / 2|^2 = R^2, a quartic in s, in stcore's form
-// (toiBallsAccelerated): the constant term as (|p| - R)(|p| + R), free of the cancellation that
-// p.p - R^2 suffers at small radii.
-PolynomialRoots discRoots(const Vec2& p, const Vec2& v, const Vec2& a, double radius, double lo, double hi) {
-  const double dist = p.norm();
-  return solveQuarticInInterval(0.25 * a.squaredNorm(), v.dot(a), v.squaredNorm() + p.dot(a), 2.0 * p.dot(v),
-                                (dist - radius) * (dist + radius), lo, hi);
-}
-
-}  // namespace
-
-double discEntryAccelerating(const Piece& pc, const Vec2& p, double radius) {
-  const PolynomialRoots first = discRoots(p, pc.v, pc.a, radius, 0.0, pc.len);
-  if (first.count == 0) return kInf;
-  // A small disc passed almost through its centre makes two roots R / |v| apart, a near double
-  // root the quartic in s resolves only to about the square root of its roundoff. The same quartic
-  // about that root, where the relative position is about R long, resolves them; then the root is
-  // polished on the distance itself (stcore's polishBallsRoot).
-  const double t0 = first.root[0];
-  const Vec2 p0 = p + pc.v * t0 + (0.5 * t0 * t0) * pc.a, v0 = pc.v + pc.a * t0;
-  const PolynomialRoots near = discRoots(p0, v0, pc.a, radius, -t0, pc.len - t0);
-  const double t = near.count > 0 ? std::clamp(t0 + near.root[0], 0.0, pc.len) : t0;
-  return polishBallsRoot<2>(p, pc.v, pc.a, radius, t, pc.len);
-}
-
 double satEntry(const Piece& pc, std::span<const SeparatingAxis> axes) {
   if (!pc.accelerating()) {
     const Impact hit = timeOfEntry(axes, pc.p, pc.v, pc.len, tol::kContactSlop);

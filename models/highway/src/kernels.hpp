@@ -40,15 +40,16 @@ struct Piece {
 };
 // Splits [0, horizon] at the stop times; returns the number of pieces (1..3).
 int relativePieces(const Track& ego, const Track& foe, double horizon, std::array<Piece, 3>& out);
-// discEntry of an accelerating piece: the quartic, out of line.
-double discEntryAccelerating(const Piece& pc, const Vec2& p, double radius);
 // First s in [0, len] with |r(s) + offset| <= radius (0 if already so); kInf if none.
 // Inline: the detectors' innermost call, mostly steady.
 inline double discEntry(const Piece& pc, const Vec2& offset, double radius) {
   const Vec2 p = pc.p + offset;
   if (p.squaredNorm() <= radius * radius) return 0.0;
-  if (pc.accelerating()) return discEntryAccelerating(pc, p, radius);
-  // the stcore kernel for constant velocity
+  // stcore's kernels: the quartic (out of line) when accelerating, else constant velocity
+  if (pc.accelerating()) {
+    const Impact entry = toiBallsEntryAccelerated<2>(p, pc.v, pc.a, radius, pc.len);
+    return entry.acts() ? entry.actTime() : kInf;
+  }
   const Impact hit = toiBalls<2>(p, pc.v, radius);
   return hit.acts() && hit.actTime() <= pc.len ? hit.actTime() : kInf;
 }

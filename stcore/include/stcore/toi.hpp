@@ -136,6 +136,16 @@ double polishBallsRoot(const Vec<D>& p_rel, const Vec<D>& v_rel, const Vec<D>& a
 template <int D>
 Impact toiBallsAccelerated(const Vec<D>& p_rel, const Vec<D>& v_rel, const Vec<D>& a_rel, double radiusSum,
                            double tMax);
+// The first moment in [0, tMax] the path p_rel + v_rel t + a_rel t^2/2 lies in the closed ball
+// |x| <= radius (a warning's question, not a collision's: touching counts, a graze included, and
+// the velocity now does not matter): Overlapping (t = 0) if it already does, Hit at the first root
+// of the same quartic as toiBallsAccelerated, else Miss. A small ball passed almost through its
+// centre makes two roots radius / |v| apart, a near double root the quartic about t = 0 resolves
+// only to about the square root of its roundoff; the root is re-solved from the quartic about
+// itself, where the relative position is about radius long, then polished (polishBallsRoot).
+template <int D>
+Impact toiBallsEntryAccelerated(const Vec<D>& p_rel, const Vec<D>& v_rel, const Vec<D>& a_rel, double radius,
+                                double tMax);
 template <int D>
 Impact toiBallPlaneAccelerated(const Ball<D>& b, const Vec<D>& v, const Vec<D>& a, const Vec<D>& n, double offset,
                                double tMax);
