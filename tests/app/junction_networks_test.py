@@ -106,7 +106,40 @@ def actuated(stsim, src, work):
         fails.append("actuated: %d crossing warnings, %d vehicles stood at a red: too few to check" % (len(rows), stood))
     if bad:
         fails.append("actuated: crossing warnings with a car that then stood at its red: " + "; ".join(bad))
-    return fails + gave_way(src, "actuated", d, trace)
+    return fails + gave_way(src, "actuated", d, trace) + approaches(src, "actuated", d)
+
+
+def approaches(src, net, d):
+    """summary.json's conflicts per junction and approach against a recount from conflicts.csv's
+    lanes and the network's connections: a lane inside a junction came from the lane its
+    connection leaves (followed back to one outside), a lane's edge is its id up to the last _."""
+    root = ET.parse(os.path.join(src, "networks", net, net + ".net.xml")).getroot()
+    before = {}
+    for c in root.iter("connection"):
+        to = c.get("via") or "%s_%s" % (c.get("to"), c.get("toLane"))
+        before.setdefault(to, "%s_%s" % (c.get("from"), c.get("fromLane")))
+
+    def approach(lane):
+        for _ in range(8):
+            if not lane.startswith(":"):
+                break
+            lane = before.get(lane, "")
+        return "" if lane.startswith(":") or not lane else lane.rsplit("_", 1)[0]
+    want = collections.defaultdict(collections.Counter)
+    with open(os.path.join(d, "out", "conflicts.csv"), newline="") as f:
+        for r in csv.DictReader(f):
+            if r["junction"]:
+                for a in {approach(r["first_lane"]), approach(r["second_lane"])} - {""}:
+                    want[r["junction"]][a] += 1
+    with open(os.path.join(d, "out", "summary.json")) as f:
+        by_junction = json.load(f)["conflicts"]["by_junction"]
+    got = {j: dict(v["by_approach"]) for j, v in by_junction.items()}
+    fails = []
+    if sum(sum(c.values()) for c in want.values()) < 5:  # not vacuous
+        fails.append("%s: only %d conflicts at a junction to count by approach" % (net, sum(map(len, want.values()))))
+    if got != {j: dict(c) for j, c in want.items()}:
+        fails.append("%s: conflicts by approach %s, recounted from conflicts.csv %s" % (net, got, dict(want)))
+    return fails
 
 
 def read_trace(path):

@@ -173,6 +173,18 @@ EncounterType ConflictBook::encounterOf(int a, int b, double ttc) {
   return laneEncounter(*paths_, a, b, reach(a), reach(b), lanesA_, lanesB_);
 }
 
+// The edge a road user on `lane` came into its junction from: the lane's own edge, or for a lane
+// inside a junction the first lane before it that is not (SUMO's lane ids are <edge>_<index>).
+std::string ConflictBook::approachOf(int lane) const {
+  for (int step = 0; lane >= 0 && paths_->internalLane(lane); ++step) {
+    const auto before = paths_->predecessors(lane);
+    lane = before.empty() || step == 8 ? -1 : before.front();
+  }
+  const std::string id = cars_->laneId(lane);
+  const std::size_t cut = id.rfind('_');
+  return cut == std::string::npos || cut == 0 ? id : id.substr(0, cut);
+}
+
 void ConflictBook::touch(int a, int b, double ttc, const Body& atA, const Body& atB, double t, double dt) {
   const VehicleTable& c = *cars_;
   auto [it, fresh] = open_.try_emplace(Key{c.slots[a].serial, c.slots[b].serial});
@@ -270,6 +282,10 @@ void ConflictBook::close(Encounter& en, double end, bool open) {
   k.secondLane = c.laneId(aFirst ? en.laneB : en.laneA);
   k.junction = junctionOfLane(k.firstLane);
   if (k.junction.empty()) k.junction = junctionOfLane(k.secondLane);
+  if (!k.junction.empty()) {
+    k.firstApproach = approachOf(aFirst ? en.laneA : en.laneB);
+    k.secondApproach = approachOf(aFirst ? en.laneB : en.laneA);
+  }
   k.firstClass = c.vclass[f];
   k.secondClass = c.vclass[s];
   k.firstLength = bf.length;
@@ -296,7 +312,12 @@ void ConflictBook::settle(Conflict&& k, double pet) {
   }
   ++counters_->conflictsByType[static_cast<int>(k.type)];
   ++counters_->conflictsByEncounter[static_cast<int>(k.encounter)];
-  if (!k.junction.empty()) ++counters_->conflictsByJunction[k.junction][static_cast<int>(k.type)];
+  if (!k.junction.empty()) {
+    ++counters_->conflictsByJunction[k.junction][static_cast<int>(k.type)];
+    auto& approaches = counters_->conflictsByApproach[k.junction];
+    if (!k.firstApproach.empty()) ++approaches[k.firstApproach];
+    if (!k.secondApproach.empty() && k.secondApproach != k.firstApproach) ++approaches[k.secondApproach];
+  }
   const bool firstBicycle = k.firstClass == VehicleClass::Bicycle, secondBicycle = k.secondClass == VehicleClass::Bicycle;
   if (firstBicycle || secondBicycle) ++counters_->conflictsWithBicycle[static_cast<int>(k.type)];
   if (firstBicycle && secondBicycle) ++counters_->conflictsBetweenBicycles;

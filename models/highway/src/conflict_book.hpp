@@ -98,6 +98,7 @@ class ConflictBook {
   // their lanes when one of them is at a merge (LanePrediction::atMerge).
   double pairTtc(int a, int b, double maxTtc, Body& atA, Body& atB) const;
   EncounterType encounterOf(int a, int b, double ttc);
+  std::string approachOf(int lane) const;
   void touch(int a, int b, double ttc, const Body& atA, const Body& atB, double t, double dt);
   void close(Encounter& en, double end, bool open);
   void settle(Conflict&& c, double pet);

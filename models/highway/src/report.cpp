@@ -196,7 +196,15 @@ JsonText junctionsJson(const MonitorCounters& c, std::uint64_t total) {
     if (!first) j << ", ";
     j << junction << ": {\"count\": " << count;
     for (ConflictType t : kConflictTypes) j << ", " << toString(t) << ": " << byType[static_cast<int>(t)];
-    j << "}";
+    j << ", \"by_approach\": {";
+    bool firstApproach = true;
+    if (const auto it = c.conflictsByApproach.find(junction); it != c.conflictsByApproach.end())
+      for (const auto& [edge, n] : it->second) {
+        if (!firstApproach) j << ", ";
+        j << edge << ": " << n;
+        firstApproach = false;
+      }
+    j << "}}";
     first = false;
   }
   j << "}, \"outside_junctions\": " << total - inJunctions;

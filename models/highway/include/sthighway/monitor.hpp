@@ -159,6 +159,9 @@ struct Conflict {
   double secondStartX = kNone, secondStartY = kNone, secondEndX = kNone, secondEndY = kNone;
   std::string firstLane, secondLane;  // lane ids, empty if unknown
   std::string junction;               // SUMO junction either lane lies in (the first's, else the second's); "" for none
+  // the edge each came into the junction from (its lane's edge, or inside the junction the edge
+  // before it); "" when unknown. Counted in summary.json's by_junction, not written to conflicts.csv
+  std::string firstApproach, secondApproach;
   VehicleClass firstClass = VehicleClass::Passenger, secondClass = VehicleClass::Passenger;
   double firstLength = 0.0, secondLength = 0.0, firstWidth = 0.0, secondWidth = 0.0;  // m
   double tet = 0.0;                   // s, time exposed: the ticks with TTC <= TTC*, each the time since the previous tick
@@ -274,6 +277,9 @@ struct MonitorCounters {
   std::array<std::uint64_t, kConflictTypeCount> conflictsByType{};
   // ... by the junction they were in (Conflict::junction), junctions with none left out
   std::map<std::string, std::array<std::uint64_t, kConflictTypeCount>> conflictsByJunction;
+  // ... and by each approach a road user of theirs came from (junction -> edge -> conflicts; a
+  // conflict of two from one approach counts once there)
+  std::map<std::string, std::map<std::string, std::uint64_t>> conflictsByApproach;
   // ... of those with a bicycle (either road user of class Bicycle: car-bicycle and
   // bicycle-bicycle), by type, and of them those between two bicycles
   std::array<std::uint64_t, kConflictTypeCount> conflictsWithBicycle{};
