@@ -174,15 +174,16 @@ EncounterType ConflictBook::encounterOf(int a, int b, double ttc) {
 }
 
 // The edge a road user on `lane` came into its junction from: the lane's own edge, or for a lane
-// inside a junction the first lane before it that is not (SUMO's lane ids are <edge>_<index>).
+// inside a junction the edge of the lane before its junction lanes; "" if unknown.
 std::string ConflictBook::approachOf(int lane) const {
-  for (int step = 0; lane >= 0 && paths_->internalLane(lane); ++step) {
-    const auto before = paths_->predecessors(lane);
-    lane = before.empty() || step == 8 ? -1 : before.front();
+  if (lane < 0) return "";
+  lane = paths_->junctionEntry(lane);
+  if (paths_->internalLane(lane)) {
+    const std::span<const int> before = paths_->predecessors(lane);
+    if (before.empty() || paths_->internalLane(before.front())) return "";
+    lane = before.front();
   }
-  const std::string id = cars_->laneId(lane);
-  const std::size_t cut = id.rfind('_');
-  return cut == std::string::npos || cut == 0 ? id : id.substr(0, cut);
+  return paths_->laneEdgeId(lane);
 }
 
 void ConflictBook::touch(int a, int b, double ttc, const Body& atA, const Body& atB, double t, double dt) {

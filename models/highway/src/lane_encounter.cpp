@@ -45,12 +45,7 @@ Vec2 startDirection(std::span<const Vec2> shape) { return (shape[1] - shape[0]).
 // The direction a lane's car came into its junction in: the start of the first of the junction
 // lanes it has driven (SUMO splits a left turn at its wait point; the second part starts turned).
 Vec2 approachDirection(const LanePrediction& lanes, int lane) {
-  for (int hop = 0; hop < 4 && lanes.internalLane(lane); ++hop) {
-    const std::span<const int> before = lanes.predecessors(lane);
-    if (before.empty() || !lanes.internalLane(before.front())) break;
-    lane = before.front();
-  }
-  return startDirection(lanes.laneShape(lane));
+  return startDirection(lanes.laneShape(lanes.junctionEntry(lane)));
 }
 }  // namespace
 

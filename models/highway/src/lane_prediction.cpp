@@ -117,10 +117,19 @@ std::unordered_map<std::string, std::vector<int>> LanePrediction::setEdges(const
   const int n = static_cast<int>(road.lanes.size());
   std::unordered_map<std::string, std::vector<int>> byEdge;
   for (int i = 0; i < n; ++i) byEdge[road.lanes[i].edge].push_back(i);
-  const std::vector<std::string> edges = edgeIds(road);
-  for (int e = 0; e < static_cast<int>(edges.size()); ++e)
-    for (int i : byEdge[edges[e]]) lanes_[i].edge = e;
+  edgeIds_ = edgeIds(road);
+  for (int e = 0; e < static_cast<int>(edgeIds_.size()); ++e)
+    for (int i : byEdge[edgeIds_[e]]) lanes_[i].edge = e;
   return byEdge;
+}
+
+int LanePrediction::junctionEntry(int lane) const {
+  for (int hop = 0; hop < 4 && internalLane(lane); ++hop) {
+    const std::span<const int> before = predecessors(lane);
+    if (before.empty() || !internalLane(before.front())) break;
+    lane = before.front();
+  }
+  return lane;
 }
 
 // successors: the lanes that start where a lane ends (SUMO's junction-internal lanes start at

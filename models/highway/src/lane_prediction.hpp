@@ -191,6 +191,12 @@ class LanePrediction {
     return {pred_.data() + predStart_[lane], static_cast<std::size_t>(predStart_[lane + 1] - predStart_[lane])};
   }
   int laneEdge(int lane) const { return lanes_[lane].edge; }
+  // Its edge's id (the road's Lane::edge).
+  const std::string& laneEdgeId(int lane) const { return edgeIds_[static_cast<std::size_t>(lanes_[lane].edge)]; }
+  // The first of the junction lanes a car on `lane` has driven through its junction (SUMO splits
+  // a left turn at its wait point: the second part's predecessor is the first), `lane` itself
+  // outside a junction.
+  int junctionEntry(int lane) const;
   // The body of a car at time t >= 0 on its path (pieces from path()), moving at
   // motionAcceleration(now, motion) along it.
   static Body bodyAt(std::span<const PathPiece> path, const Body& now, MotionModel motion, double t);
@@ -276,6 +282,7 @@ class LanePrediction {
   std::vector<NetLane> lanes_;
   std::vector<int> succ_;
   std::vector<int> pred_, predStart_;  // predecessors(), by lane
+  std::vector<std::string> edgeIds_;   // edgeIds(road): laneEdge()'s index space
   std::vector<Vec2> pt_;
   std::vector<double> cum_;  // arc length at each point of its lane
   // the lanes' segments (by their first point), for matching a car not on its last lane
