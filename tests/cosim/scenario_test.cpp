@@ -244,9 +244,9 @@ TEST(Scenario, BrakeSettingsAndTheRetiredDurationKey) {
                                    "brake: {deceleration: 2.5, max_deceleration: 6, standstill_gap: 2}\n";
   const Scenario s = loadScenario(dir / "a.yaml");
   EXPECT_EQ(s.plugin.actions.action, Action::Brake);
-  EXPECT_DOUBLE_EQ(s.plugin.actions.brakeDeceleration, 2.5);
-  EXPECT_DOUBLE_EQ(s.plugin.actions.brakeMaxDeceleration, 6.0);
-  EXPECT_DOUBLE_EQ(s.plugin.actions.brakeStandstillGap, 2.0);
+  EXPECT_DOUBLE_EQ(s.plugin.actions.brake.deceleration, 2.5);
+  EXPECT_DOUBLE_EQ(s.plugin.actions.brake.maxDeceleration, 6.0);
+  EXPECT_DOUBLE_EQ(s.plugin.actions.brake.standstillGap, 2.0);
   std::ofstream(dir / "b.yaml") << "sumocfg: net/motorway.sumocfg\nbrake:\n  duration: 1.0\n";
   std::string e = errorOf([&] { loadScenario(dir / "b.yaml"); });
   EXPECT_NE(e.find("b.yaml:3: brake.duration: no longer used"), std::string::npos) << e;

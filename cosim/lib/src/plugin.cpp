@@ -4,6 +4,7 @@
 #include <limits>
 
 #include <stcore/box2.hpp>
+#include <sthighway/brake_policy.hpp>
 #include <sthighway/detector.hpp>
 
 #include <stcosim/conversions.hpp>
@@ -266,25 +267,10 @@ void HighwayPlugin::act() {
     }
     if (a.action == Action::Brake && al.kind == highway::WarningKind::Vehicle && al.foe >= 0 &&
         !inIncident(serial)) {
-      // Brake for a foe ahead in our path that is slower along our heading, once avoiding it
-      // within the remaining gap needs at least the configured deceleration (gentler cases are the
-      // driver's), and only down to its speed: braking for a foe behind or alongside, or to a
-      // standstill, only moves the conflict to the vehicles behind. Re-decided at every step.
+      // re-decided at every step (sthighway/brake_policy.hpp); SUMO's slowDown takes at least a step
       const highway::VehicleState& f = states_.at(static_cast<std::size_t>(al.foe));
-      const Vec2 d = s.direction();
-      const double ahead = (f.position - s.position).dot(d);
-      const double closing = s.speed - f.velocity().dot(d);
-      // in our path: the bodies overlap sideways now (a slow car in the next lane is no reason
-      // to brake; braking for it is what rear-end collisions behind us are made of)
-      const double side = std::abs((f.position - s.position).dot(Vec2(-d.y(), d.x())));
-      const bool inPath = side < 0.5 * (s.width + f.width);
-      if (ahead > 0.0 && closing > 0.0 && inPath) {
-        const double gap = ahead - 0.5 * (s.length + f.length) - a.brakeStandstillGap;
-        const double needed = gap > 0.0 ? closing * closing / (2.0 * gap) : a.brakeMaxDeceleration;
-        const double decel = std::min(needed, a.brakeMaxDeceleration);
-        const double target = std::max(0.0, s.speed - closing);
-        if (decel < a.brakeDeceleration) continue;
-        backend_.slowDown(s.id, target, std::max(closing / decel, backend_.deltaT()));
+      if (const auto brake = highway::brakeFor(s, f, a.brake)) {
+        backend_.slowDown(s.id, brake->targetSpeed, std::max(brake->duration, backend_.deltaT()));
         counters_.brakeCommands++;
       }
     }

@@ -68,12 +68,12 @@ std::vector<ScenarioSetting> makeTable() {
           [](const Scenario& s) { return SettingValue(std::string(toString(s.plugin.actions.action))); }),
       ST_COSIM_NUMBER("brake.deceleration", "m/s^2", 0.1, 20.0,
                       "action brake: a car brakes when matching its foe's speed needs at least this",
-                      plugin.actions.brakeDeceleration),
+                      plugin.actions.brake.deceleration),
       ST_COSIM_NUMBER("brake.max_deceleration", "m/s^2", 0.1, 50.0,
                       "action brake: the hardest it brakes (at least brake.deceleration)",
-                      plugin.actions.brakeMaxDeceleration),
+                      plugin.actions.brake.maxDeceleration),
       ST_COSIM_NUMBER("brake.standstill_gap", "m", 0.0, 100.0, "action brake: the gap it keeps to its foe",
-                      plugin.actions.brakeStandstillGap),
+                      plugin.actions.brake.standstillGap),
       row(spec("collision_action", T::Choice, "", 0, 0, "none|warn|teleport|remove",
                "SUMO's --collision.action: what SUMO does with a collision it registers"),
           [](Scenario& s, const SettingValue& v) { s.collisionAction = word(v); },
@@ -103,7 +103,7 @@ void applyScenarioSettingText(Scenario& s, const ScenarioSetting& setting, std::
 
 void checkScenarioSettings(const Scenario& s) {
   const ActionConfig& a = s.plugin.actions;
-  if (a.brakeMaxDeceleration < a.brakeDeceleration)
+  if (a.brake.maxDeceleration < a.brake.deceleration)
     throw io::SettingError("brake.max_deceleration", "must be at least brake.deceleration");
 }
 

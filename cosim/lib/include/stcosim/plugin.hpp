@@ -22,6 +22,7 @@
 #include <vector>
 
 #include <stcore/box2.hpp>
+#include <sthighway/brake_policy.hpp>
 #include <sthighway/monitor.hpp>
 #include <stcosim/backend.hpp>
 #include <stcosim/collisions.hpp>
@@ -50,13 +51,9 @@ struct ActionConfig {
   Rgba warningColor{255, 215, 0, 255};
   Rgba dangerColor{255, 0, 0, 255};
   double redFraction = 0.5;
-  // Brake: on a car-car warning whose foe is ahead, in the path (bodies overlap sideways) and
-  // slower along the heading, once matching its speed before the gap (less a standstill margin)
-  // is used up needs at least `brakeDeceleration` m/s^2, the smart car slows to the foe's speed
-  // at that deceleration (at most `brakeMaxDeceleration`) with SUMO's slowDown.
-  double brakeDeceleration = 3.0;
-  double brakeMaxDeceleration = 9.0;  // SUMO's default emergencyDecel for cars
-  double brakeStandstillGap = 1.0;    // m
+  // Brake: on a car-car warning, the smart car brakes as highway::brakeFor decides (a slower foe
+  // ahead in its path, down to the foe's speed) with SUMO's slowDown.
+  highway::BrakeSettings brake;
 };
 
 // A scripted incident, for studies of what the warnings and actions do when a leader brakes hard:
