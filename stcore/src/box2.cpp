@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <limits>
 
+#include <stcore/assert.hpp>
+#include <stcore/roots.hpp>
 #include <stcore/tolerances.hpp>
 
 namespace st {
@@ -67,6 +69,35 @@ Impact timeOfEntry(std::span<const SeparatingAxis> axes, const Vec2& p_rel, cons
     if (enter > exit) return {Outcome::Miss, kInf};
   }
   return {Outcome::Hit, enter};
+}
+
+Impact timeOfEntryAccelerated(std::span<const SeparatingAxis> axes, const Vec2& p_rel, const Vec2& v_rel,
+                              const Vec2& a_rel, double horizon, double slop) {
+  STCORE_ASSERT(axes.size() <= kMaxEntryAxes);
+  if (overlapsOn(axes, p_rel, slop)) return {Outcome::Overlapping, 0.0};
+  // every boundary crossing in [0, horizon]: two roots per side, two sides per axis
+  double cand[4 * kMaxEntryAxes];
+  int nc = 0;
+  for (const SeparatingAxis& ax : axes) {
+    const double s0 = ax.n.dot(p_rel);
+    const double s1 = ax.n.dot(v_rel);
+    const double s2 = 0.5 * ax.n.dot(a_rel);
+    for (double sign : {-1.0, 1.0}) {
+      const QuadraticRoots r = solveQuadratic(s2, s1, s0 - sign * ax.extent);
+      for (int i = 0; i < r.count; ++i)
+        if (r.root[i] >= 0.0 && r.root[i] <= horizon && nc < 4 * int(kMaxEntryAxes)) cand[nc++] = r.root[i];
+    }
+  }
+  std::sort(cand, cand + nc);
+  for (int i = 0; i < nc; ++i) {
+    const double t = cand[i];
+    const Vec2 r = p_rel + v_rel * t + 0.5 * a_rel * t * t;
+    bool all = true;
+    for (std::size_t k = 0; k < axes.size() && all; ++k)
+      all = std::abs(axes[k].n.dot(r)) <= axes[k].extent + slop * (1.0 + std::abs(axes[k].extent));
+    if (all) return {Outcome::Hit, t};
+  }
+  return {Outcome::Miss, std::numeric_limits<double>::infinity()};
 }
 
 }  // namespace st

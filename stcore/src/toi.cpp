@@ -19,19 +19,9 @@ Impact miss() { return {Outcome::Miss, kInf}; }
 
 using detail::contactAlongNormal;
 
-// Earliest acting impact of several; overlaps act first, then hits by time, then separating.
+// Earliest acting impact of several (actsBefore); the first on a tie.
 void keepEarliest(SegmentImpact& best, const Impact& candidate, SegmentFeature feature) {
-  auto rank = [](const Impact& i) {
-    switch (i.outcome) {
-      case Outcome::Overlapping: return 0;
-      case Outcome::Hit: return 1;
-      case Outcome::Separating: return 2;
-      case Outcome::Miss: return 3;
-    }
-    return 3;
-  };
-  const int rc = rank(candidate), rb = rank(best.impact);
-  if (rc < rb || (rc == rb && rc == 1 && candidate.t < best.impact.t)) best = {candidate, feature};
+  if (actsBefore(candidate, best.impact)) best = {candidate, feature};
 }
 
 // Touching or overlapping now: the closest feature alone decides. Asked one by one, the features

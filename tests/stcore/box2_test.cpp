@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 #include <vector>
@@ -260,6 +261,110 @@ TEST(Box2, TimeOfEntryMatchesSampledClearance) {
   EXPECT_GT(miss, kCases / 10);
   EXPECT_GT(now, kCases / 10);
   EXPECT_LT(sampledLater, kCases / 100);
+}
+
+// Relative acceleration of b: generic, braking along its velocity (it may stop short or inside),
+// turning across it, none.
+Vec2 acceleration(Maker& m, const Vec2& v) {
+  switch (m.pick(4)) {
+    case 0: return Vec2(m.uniform(-4.0, 4.0), m.uniform(-4.0, 4.0));
+    case 1: return -m.uniform(0.5, 6.0) * v;
+    case 2: return m.uniform(-3.0, 3.0) * Vec2(-v.y(), v.x());
+    default: return Vec2::Zero();
+  }
+}
+
+TEST(Box2, AcceleratedTimeOfEntryMatchesSampledClearance) {
+  // the clearance along the curved path, sampled finely (1024 steps over 4 s) and bisected at
+  // its first contact; fewer cases than the straight test, as each costs eight times the samples
+  Maker m;
+  const int cases = std::max(1000, kCases / 10);
+  constexpr int kSteps = 1024;
+  const double horizon = 4.0, tol = 1e-9, slop = tol::kLinearSlop;
+  int hit = 0, miss = 0, now = 0, curved = 0, sampledLater = 0;
+  for (int k = 0; k < cases; ++k) {
+    const auto [a, b] = m.pair();
+    const Vec2 v = m.velocity(a, b), acc = acceleration(m, v);
+    const std::array<SeparatingAxis, 4> axes = separatingAxes(a, b);
+    const Poly oa = outline(a);
+    auto gapAt = [&](double t) { return clearance(oa, outline(b, v * t + 0.5 * acc * t * t)); };
+    std::vector<double> g(kSteps + 1);
+    double first = kInf;
+    for (int i = 0; i <= kSteps; ++i) {
+      const double t = horizon * i / kSteps;
+      g[i] = gapAt(t);
+      if (first == kInf && g[i] <= tol) {
+        double lo = i == 0 ? 0.0 : horizon * (i - 1) / kSteps, hi = t;
+        for (int it = 0; it < 60 && hi > lo; ++it) {
+          const double mid = 0.5 * (lo + hi);
+          (gapAt(mid) <= tol ? hi : lo) = mid;
+        }
+        first = hi;
+      }
+    }
+    auto deepestBefore = [&](double t) {
+      double d = kInf;
+      for (int i = 0; i <= kSteps && horizon * i / kSteps < t; ++i) d = std::min(d, g[i]);
+      return d;
+    };
+    // a root is accepted within slop (1 + extent) on every axis: that far apart at most
+    double widest = 0.0;
+    for (const SeparatingAxis& ax : axes) widest = std::max(widest, ax.extent);
+    const double accepted = 2.0 * slop * (1.0 + widest);
+    const Impact e = timeOfEntryAccelerated(axes, b.center - a.center, v, acc, horizon, slop);
+    SCOPED_TRACE(::testing::Message() << "case " << k << " outcome " << static_cast<int>(e.outcome) << " t " << e.t
+                                      << " sampled first contact " << first);
+    switch (e.outcome) {
+      case Outcome::Overlapping:
+        ++now;
+        EXPECT_EQ(e.t, 0.0);
+        EXPECT_LE(gapAt(0.0), 4.0 * slop);
+        break;
+      case Outcome::Hit:
+        ++hit;
+        curved += acc.squaredNorm() > 0.0;
+        ASSERT_GE(e.t, 0.0);
+        ASSERT_LE(e.t, horizon);
+        EXPECT_LE(gapAt(e.t), tol + accepted);  // touching at the time given ...
+        EXPECT_GT(gapAt(0.0), -tol);            // ... apart at the start ...
+        EXPECT_GT(deepestBefore(e.t), -tol);    // ... and no sample overlapped earlier
+        if (first > e.t + 1e-6) ++sampledLater;  // a brief corner overlap between two samples
+        break;
+      case Outcome::Miss:
+        ++miss;
+        EXPECT_GT(deepestBefore(kInf), -tol);
+        break;
+      case Outcome::Separating: ADD_FAILURE() << "not an outcome of time of entry"; break;
+    }
+  }
+  // (braking paths often stop short: fewer hits than on straight ones)
+  EXPECT_GT(hit, cases / 20);
+  EXPECT_GT(curved, cases / 20);
+  EXPECT_GT(miss, cases / 10);
+  EXPECT_GT(now, cases / 10);
+  EXPECT_LT(sampledLater, cases / 100);
+  std::printf("accelerated time of entry: %d hits (%d curved), %d overlapping, %d misses, %d sampled later of %d\n",
+              hit, curved, now, miss, sampledLater, cases);
+}
+
+TEST(Box2, AcceleratedTimeOfEntryAnalytic) {
+  // b 20 m ahead on a's axis (the boxes reach 3.4 m along it), closing at 10 m/s and braking
+  const Box2 a{Vec2(0.0, 0.0), Vec2(1.0, 0.0), Vec2(2.5, 0.9)};
+  const Box2 b{Vec2(20.0, 0.5), Vec2(0.0, 1.0), Vec2(2.5, 0.9)};
+  const std::array<SeparatingAxis, 4> axes = separatingAxes(a, b);
+  const Vec2 p = b.center - a.center, v(-10.0, 0.0);
+  // at 2 m/s^2: 20 - 10 t + t^2 = 3.4, the smaller root 5 - sqrt(8.4) s
+  const Impact e = timeOfEntryAccelerated(axes, p, v, Vec2(2.0, 0.0), 5.0, tol::kLinearSlop);
+  ASSERT_EQ(e.outcome, Outcome::Hit);
+  EXPECT_NEAR(e.t, 5.0 - std::sqrt(8.4), 1e-12);
+  // at 3.1 m/s^2 it turns back after 100 / 6.2 = 16.13 m, short of the 16.6 m gap
+  EXPECT_EQ(timeOfEntryAccelerated(axes, p, v, Vec2(3.1, 0.0), 10.0, tol::kLinearSlop).outcome, Outcome::Miss);
+  // without acceleration it is the straight kernel's time, (20 - 3.4) / 10 s
+  const Impact straight = timeOfEntryAccelerated(axes, p, v, Vec2::Zero(), 5.0, tol::kLinearSlop);
+  ASSERT_EQ(straight.outcome, Outcome::Hit);
+  EXPECT_NEAR(straight.t, 1.66, 1e-12);
+  EXPECT_EQ(timeOfEntryAccelerated(axes, Vec2::Zero(), v, Vec2(2.0, 0.0), 1.0, tol::kLinearSlop).outcome,
+            Outcome::Overlapping);
 }
 
 TEST(Box2, TimeOfEntryOnSeparatingAxesIsTheBoxPairs) {

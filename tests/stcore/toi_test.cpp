@@ -964,6 +964,23 @@ TEST(ToiAcceleratedSampled, CircleSegment) {
 
 // ---- hand-checked cases (analytic) ---------------------------------------------------------------
 
+TEST(Impact, EarliestActsFirst) {
+  const Impact now{Outcome::Overlapping, 0.0}, at0{Outcome::Hit, 0.0}, at1{Outcome::Hit, 1.0}, at2{Outcome::Hit, 2.0};
+  const Impact apart{Outcome::Separating, kInf}, none{};
+  // an overlap acts at once, before a hit at 0; hits by time; a miss or separation never acts
+  EXPECT_EQ(earliest(at0, now).outcome, Outcome::Overlapping);
+  EXPECT_EQ(earliest(at2, at1).t, 1.0);
+  EXPECT_EQ(earliest(at1, at2).t, 1.0);
+  EXPECT_EQ(earliest(none, at2).t, 2.0);
+  EXPECT_EQ(earliest(at2, apart).t, 2.0);
+  EXPECT_EQ(earliest(none, apart).outcome, Outcome::Separating);
+  EXPECT_EQ(earliest(none, none).outcome, Outcome::Miss);
+  // a tie keeps the first
+  const Impact at1b{Outcome::Hit, 1.0};
+  EXPECT_FALSE(actsBefore(at1b, at1));
+  EXPECT_FALSE(actsBefore(at1, at1b));
+}
+
 TEST(ToiBalls, HeadOnAnalytic) {
   // two unit circles 10 m apart closing at 2 m/s: gap 8 m -> t = 4 s
   const Impact i = toiCircleCircle({{0, 0}, 1}, {1, 0}, {{10, 0}, 1}, {-1, 0});

@@ -330,11 +330,9 @@ double boxTtc(const Body& a, const Body& b, MotionModel motion, double horizon) 
   const std::array<SeparatingAxis, 4> axes = separatingAxes(boxA, boxB);
   std::array<detail::Piece, 3> pcs;
   const int n = detail::bodyPieces(a, b, motion, horizon, pcs);
-  for (int i = 0; i < n; ++i) {
-    const double s = detail::satEntry(pcs[i], axes);
-    if (s < kInf) return pcs[i].start + s;
-  }
-  return kInf;
+  const Impact hit =
+      detail::firstEntry(std::span(pcs.data(), n), [&](const detail::Piece& pc) { return detail::satEntry(pc, axes); });
+  return hit.acts() ? hit.actTime() : kInf;
 }
 
 CarShape carShape(const DetectorConfig& cfg, const Body& b) {
@@ -389,10 +387,10 @@ Ttc vehicleTtc(const DetectorConfig& cfg, const Body& ego, const CarShape& es, c
     case DetectorKind::Concentric: {
       // CheckOuter: outer circle against the other car's outer circle
       const double r = es.outer + fs.outer;
-      for (int i = 0; i < n && !best.found(); ++i) {
-        const double s = detail::discEntry(pcs[i], Vec2::Zero(), r);
-        if (s < kInf) best = {pcs[i].start + s, Zone::Outer};
-      }
+      const Impact hit = detail::firstEntry(std::span(pcs.data(), n), [&](const detail::Piece& pc) {
+        return detail::discEntry(pc, Vec2::Zero(), r);
+      });
+      if (hit.acts()) best = {hit.actTime(), Zone::Outer};
       return best;
     }
     case DetectorKind::Box: {
@@ -416,22 +414,22 @@ Ttc vehicleTtc(const DetectorConfig& cfg, const Body& ego, const CarShape& es, c
         const Ttc hit = steadyFiveCircle(pcs[0], zoneR, egoOff, foeOff, m, foeR, fs.foeDisc);
         if (!hit.found()) return hit;
         if (surelyEntered(pcs[0], es.egoLow + std::abs(fs.firstX) + foeR) ||
-            detail::discEntry(pcs[0], Vec2::Zero(), es.egoEnvelope + fs.foeEnvelope) < kInf)
+            detail::discEntry(pcs[0], Vec2::Zero(), es.egoEnvelope + fs.foeEnvelope).acts())
           return hit;
         return best;
       }
       const double env = es.egoEnvelope + fs.foeEnvelope;
       bool near = false;
-      for (int i = 0; i < n && !near; ++i) near = detail::discEntry(pcs[i], Vec2::Zero(), env) < kInf;
+      for (int i = 0; i < n && !near; ++i) near = detail::discEntry(pcs[i], Vec2::Zero(), env).acts();
       if (!near) return best;
       for (int i = 0; i < n; ++i) {
         detail::Piece pc = pcs[i];
         for (int z = 0; z < 4; ++z) {
           for (int k = 0; k < m; ++k) {
             pc.len = best.found() ? std::min(pcs[i].len, best.t - pcs[i].start) : pcs[i].len;
-            const double s = detail::discEntry(pc, foeOff[k] - egoOff[z], zoneR[z] + foeR);
-            if (s < kInf && (!best.found() || pcs[i].start + s < best.t))
-              best = {pcs[i].start + s, static_cast<Zone>(static_cast<int>(Zone::Front) + z)};
+            const Impact e = detail::discEntry(pc, foeOff[k] - egoOff[z], zoneR[z] + foeR);
+            if (e.acts() && (!best.found() || pcs[i].start + e.actTime() < best.t))
+              best = {pcs[i].start + e.actTime(), static_cast<Zone>(static_cast<int>(Zone::Front) + z)};
           }
         }
         if (best.found()) return best;
@@ -454,33 +452,33 @@ Ttc featureTtc(const DetectorConfig& cfg, const Body& ego, const RoadFeature& f,
       cfg.kind != DetectorKind::Box && cfg.motion == MotionModel::ConstantVelocity && !(ego.stopAcceleration < 0.0);
   const int n =
       direct ? 0 : detail::relativePieces(detail::trackOf(ego, cfg.motion), detail::staticTrack(mid), horizon, pcs);
-  double t = kInf;
+  const std::span<const detail::Piece> pieces(pcs.data(), n);
+  Impact hit;  // from now, over the pieces
   Zone zone = Zone::Body;
   if (cfg.kind == DetectorKind::Box) {
     const Vec2 an = detail::normalOf(ego.axis);
     const double hl = 0.5 * ego.length, hw = 0.5 * ego.width;
-    for (int i = 0; i < n && t == kInf; ++i) {
-      double s = kInf;
-      if (point) {
-        // the rectangle grown by the disc: two crossed rectangles and four corner discs
-        const SeparatingAxis ax1[2] = {{ego.axis, hl + f.radius}, {an, hw}};
-        const SeparatingAxis ax2[2] = {{ego.axis, hl}, {an, hw + f.radius}};
-        s = std::min(detail::satEntry(pcs[i], ax1), detail::satEntry(pcs[i], ax2));
+    if (point) {
+      // the rectangle grown by the disc: two crossed rectangles and four corner discs
+      const SeparatingAxis ax1[2] = {{ego.axis, hl + f.radius}, {an, hw}};
+      const SeparatingAxis ax2[2] = {{ego.axis, hl}, {an, hw + f.radius}};
+      hit = detail::firstEntry(pieces, [&](const detail::Piece& pc) {
+        Impact e = earliest(detail::satEntry(pc, ax1), detail::satEntry(pc, ax2));
         for (double sx : {-1.0, 1.0})
           for (double sy : {-1.0, 1.0})
-            s = std::min(s, detail::discEntry(pcs[i], -(sx * hl * ego.axis + sy * hw * an), f.radius));
-      } else {
-        // segment as a degenerate polygon: axes are the box's two and the segment's normal
-        const Vec2 d = f.segment.b - f.segment.a;
-        const double hlen = 0.5 * d.norm();
-        const Vec2 dn = hlen > 0.0 ? Vec2(d / (2.0 * hlen)) : Vec2(1.0, 0.0);
-        const Vec2 sn = detail::normalOf(dn);
-        const SeparatingAxis ax[3] = {{ego.axis, hl + hlen * std::abs(dn.dot(ego.axis))},
-                                      {an, hw + hlen * std::abs(dn.dot(an))},
-                                      {sn, support(ego.box(), sn)}};
-        s = detail::satEntry(pcs[i], ax);
-      }
-      if (s < kInf) t = pcs[i].start + s;
+            e = earliest(e, detail::discEntry(pc, -(sx * hl * ego.axis + sy * hw * an), f.radius));
+        return e;
+      });
+    } else {
+      // segment as a degenerate polygon: axes are the box's two and the segment's normal
+      const Vec2 d = f.segment.b - f.segment.a;
+      const double hlen = 0.5 * d.norm();
+      const Vec2 dn = hlen > 0.0 ? Vec2(d / (2.0 * hlen)) : Vec2(1.0, 0.0);
+      const Vec2 sn = detail::normalOf(dn);
+      const SeparatingAxis ax[3] = {{ego.axis, hl + hlen * std::abs(dn.dot(ego.axis))},
+                                    {an, hw + hlen * std::abs(dn.dot(an))},
+                                    {sn, support(ego.box(), sn)}};
+      hit = detail::firstEntry(pieces, [&](const detail::Piece& pc) { return detail::satEntry(pc, ax); });
     }
   } else {
     // CheckInner (concentric) or CheckCenter (five-circle)
@@ -491,30 +489,27 @@ Ttc featureTtc(const DetectorConfig& cfg, const Body& ego, const RoadFeature& f,
     if (direct || (n == 1 && !pcs[0].accelerating())) {
       // the stcore kernels for constant velocity
       const Circle c{ego.position, r};
-      Impact hit;
-      if (point) hit = toiBalls<2>(f.segment.a - ego.position, -ego.velocity, r + f.radius);
-      else hit = toiCircleSegment(c, ego.velocity, f.segment).impact;
-      if (hit.acts() && hit.actTime() <= horizon) t = hit.actTime();
-      if (hit.outcome == Outcome::Separating) return best;
+      const Impact now = point ? toiBalls<2>(f.segment.a - ego.position, -ego.velocity, r + f.radius)
+                               : toiCircleSegment(c, ego.velocity, f.segment).impact;
+      if (now.outcome == Outcome::Separating) return best;
+      if (now.acts() && now.actTime() <= horizon) hit = now;
+    } else if (point) {
+      hit = detail::firstEntry(pieces,
+                               [&](const detail::Piece& pc) { return detail::discEntry(pc, Vec2::Zero(), r + f.radius); });
     } else {
-      for (int i = 0; i < n && t == kInf; ++i) {
-        double s = kInf;
-        if (point) {
-          s = detail::discEntry(pcs[i], Vec2::Zero(), r + f.radius);
-        } else {
-          // the capsule around the segment: a rectangle and two end discs
-          const Vec2 d = f.segment.b - f.segment.a;
-          const double hlen = 0.5 * d.norm();
-          const Vec2 dn = hlen > 0.0 ? Vec2(d / (2.0 * hlen)) : Vec2(1.0, 0.0);
-          const SeparatingAxis ax[2] = {{dn, hlen}, {detail::normalOf(dn), r}};
-          s = std::min({detail::satEntry(pcs[i], ax), detail::discEntry(pcs[i], f.segment.a - mid, r),
-                        detail::discEntry(pcs[i], f.segment.b - mid, r)});
-        }
-        if (s < kInf) t = pcs[i].start + s;
-      }
+      // the capsule around the segment: a rectangle and two end discs
+      const Vec2 d = f.segment.b - f.segment.a;
+      const double hlen = 0.5 * d.norm();
+      const Vec2 dn = hlen > 0.0 ? Vec2(d / (2.0 * hlen)) : Vec2(1.0, 0.0);
+      const SeparatingAxis ax[2] = {{dn, hlen}, {detail::normalOf(dn), r}};
+      hit = detail::firstEntry(pieces, [&](const detail::Piece& pc) {
+        return earliest(earliest(detail::satEntry(pc, ax), detail::discEntry(pc, f.segment.a - mid, r)),
+                        detail::discEntry(pc, f.segment.b - mid, r));
+      });
     }
   }
-  if (t == kInf) return best;
+  if (!hit.acts()) return best;
+  const double t = hit.actTime();
   if (t == 0.0) {
     // already touching: a threat only while the car still moves towards the feature
     const Vec2 closest = point ? f.segment.a : closestPointOnSegment(f.segment, ego.position);

@@ -3,9 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <stcore/box2.hpp>
-#include <stcore/roots.hpp>
-#include <stcore/toi.hpp>
 #include <sthighway/tolerances.hpp>
 
 namespace st::highway::detail {
@@ -54,40 +51,6 @@ int relativePieces(const Track& ego, const Track& foe, double horizon, std::arra
     out[count++] = pc;
   }
   return count;
-}
-
-double satEntry(const Piece& pc, std::span<const SeparatingAxis> axes) {
-  if (!pc.accelerating()) {
-    const Impact hit = timeOfEntry(axes, pc.p, pc.v, pc.len, tol::kContactSlop);
-    return hit.acts() ? hit.actTime() : kInf;
-  }
-  if (overlapsOn(axes, pc.p, tol::kContactSlop)) return 0.0;
-  // quadratic motion: the first moment of overlap is a root of some axis' boundary equation
-  double cand[32];
-  int nc = 0;
-  for (const SeparatingAxis& ax : axes) {
-    const double s0 = ax.n.dot(pc.p);
-    const double s1 = ax.n.dot(pc.v);
-    const double s2 = 0.5 * ax.n.dot(pc.a);
-    for (double sign : {-1.0, 1.0}) {
-      const QuadraticRoots r = solveQuadratic(s2, s1, s0 - sign * ax.extent);
-      for (int i = 0; i < r.count; ++i)
-        if (r.root[i] >= 0.0 && r.root[i] <= pc.len && nc < 32) cand[nc++] = r.root[i];
-    }
-  }
-  std::sort(cand, cand + nc);
-  for (int i = 0; i < nc; ++i) {
-    const double s = cand[i];
-    const Vec2 r = pc.p + pc.v * s + 0.5 * pc.a * s * s;
-    bool all = true;
-    for (std::size_t k = 0; k < axes.size() && all; ++k) {
-      // relative slop: boundary roots carry roundoff proportional to the coordinates
-      const double slop = tol::kContactSlop * (1.0 + std::abs(axes[k].extent));
-      all = std::abs(axes[k].n.dot(r)) <= axes[k].extent + slop;
-    }
-    if (all) return s;
-  }
-  return kInf;
 }
 
 }  // namespace st::highway::detail

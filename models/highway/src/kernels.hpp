@@ -40,24 +40,38 @@ struct Piece {
 };
 // Splits [0, horizon] at the stop times; returns the number of pieces (1..3).
 int relativePieces(const Track& ego, const Track& foe, double horizon, std::array<Piece, 3>& out);
-// First s in [0, len] with |r(s) + offset| <= radius (0 if already so); kInf if none.
-// Inline: the detectors' innermost call, mostly steady.
-inline double discEntry(const Piece& pc, const Vec2& offset, double radius) {
+// Entries are stcore's Impact read as an overlap query: Overlapping (s = 0) when the shapes
+// overlap at the piece's start, Hit at the first s in [0, len] at which they do, else Miss.
+
+// |r(s) + offset| <= radius. Inline: the detectors' innermost call, mostly steady.
+inline Impact discEntry(const Piece& pc, const Vec2& offset, double radius) {
   const Vec2 p = pc.p + offset;
-  if (p.squaredNorm() <= radius * radius) return 0.0;
+  if (p.squaredNorm() <= radius * radius) return {Outcome::Overlapping, 0.0};
   // stcore's kernels: the quartic (out of line) when accelerating, else constant velocity
-  if (pc.accelerating()) {
-    const Impact entry = toiBallsEntryAccelerated<2>(p, pc.v, pc.a, radius, pc.len);
-    return entry.acts() ? entry.actTime() : kInf;
-  }
+  if (pc.accelerating()) return toiBallsEntryAccelerated<2>(p, pc.v, pc.a, radius, pc.len);
   const Impact hit = toiBalls<2>(p, pc.v, radius);
-  return hit.acts() && hit.actTime() <= pc.len ? hit.actTime() : kInf;
+  // a contact that separates is no entry
+  return hit.acts() && hit.actTime() <= pc.len ? hit : Impact{};
 }
 
-// First s in [0, len] at which the shapes overlap on every separating axis (stcore/box2.hpp: along
-// n when |n . r(s)| <= extent), 0 if they already do (within tol::kContactSlop); kInf if none.
-// A steady piece is stcore's timeOfEntry; an accelerating one solves each axis' quadratic.
-double satEntry(const Piece& pc, std::span<const SeparatingAxis> axes);
+// Overlap on every separating axis (stcore/box2.hpp: along n when |n . r(s)| <= extent), within
+// tol::kContactSlop: stcore's timeOfEntry for a steady piece, timeOfEntryAccelerated otherwise.
+inline Impact satEntry(const Piece& pc, std::span<const SeparatingAxis> axes) {
+  if (!pc.accelerating()) return timeOfEntry(axes, pc.p, pc.v, pc.len, tol::kContactSlop);
+  return timeOfEntryAccelerated(axes, pc.p, pc.v, pc.a, pc.len, tol::kContactSlop);
+}
+
+// The first entry over consecutive pieces, in time from the first piece's start: entry(pc) on
+// each in turn until one acts. An overlap at the start of a later piece is a hit then.
+template <class Entry>
+Impact firstEntry(std::span<const Piece> pcs, Entry&& entry) {
+  for (const Piece& pc : pcs) {
+    const Impact e = entry(pc);
+    if (!e.acts()) continue;
+    return pc.start == 0.0 ? e : Impact{Outcome::Hit, pc.start + e.actTime()};
+  }
+  return {};
+}
 
 // The unit normal (left) of a unit axis.
 inline Vec2 normalOf(const Vec2& axis) { return {-axis.y(), axis.x()}; }

@@ -120,9 +120,10 @@ struct PairTest {
       // (along the paths: the same kernel piece by piece, symmetric too, to the larger safe time)
       for (int d = 0; d < 2; ++d)
         if (ask[d]) safe[d] = SafeTimeConfig::safeTimeOf(reactionTime(), state[d]->mass, closing, state[d]->twiceBrakeForce);
-      const double t = paths->straight(e) && paths->straight(f)
-                           ? discEntry(Piece{p, v, Vec2::Zero(), 0.0, kInf}, Vec2::Zero(), state[0]->outer + state[1]->outer)
-                           : paths->vehicleTtc(e, f, std::max(ask[0] ? safe[0] : 0.0, ask[1] ? safe[1] : 0.0)).t;
+      const double t =
+          paths->straight(e) && paths->straight(f)
+              ? discEntry(Piece{p, v, Vec2::Zero(), 0.0, kInf}, Vec2::Zero(), state[0]->outer + state[1]->outer).actTime()
+              : paths->vehicleTtc(e, f, std::max(ask[0] ? safe[0] : 0.0, ask[1] ? safe[1] : 0.0)).t;
       for (int d = 0; d < 2; ++d) {
         if (!ask[d]) continue;
         ++counters->toiChecks;

@@ -7,10 +7,12 @@
 //   overlaps        closed: touching boxes overlap;
 //   distance        separation distance, 0 when touching or overlapping;
 //   distanceApart   the same for two boxes whose separation is > 0 (a caller that has it);
-//   timeOfEntry     the first time two boxes overlap under straight relative motion.
+//   timeOfEntry     the first time two boxes overlap under straight relative motion;
+//   timeOfEntryAccelerated  the same under constant relative acceleration (a braking car).
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <span>
 
 #include <stcore/shapes.hpp>
@@ -69,6 +71,14 @@ double distance(const Box2& a, const Box2& b);
 bool overlapsOn(std::span<const SeparatingAxis> axes, const Vec2& p_rel, double slop);
 Impact timeOfEntry(std::span<const SeparatingAxis> axes, const Vec2& p_rel, const Vec2& v_rel, double horizon,
                    double slop);
+// The same when p_rel(t) = p_rel + v_rel t + a_rel t^2 / 2. Each axis overlaps on at most two
+// intervals, so the first moment of overlap is a root of some axis' boundary equation
+// n . p_rel(t) = +-extent: the earliest root in [0, horizon] at which every axis overlaps within
+// slop (1 + extent / 1 m), a slop relative to the coordinates because the roots carry roundoff
+// proportional to them. At most kMaxEntryAxes axes.
+inline constexpr std::size_t kMaxEntryAxes = 8;
+Impact timeOfEntryAccelerated(std::span<const SeparatingAxis> axes, const Vec2& p_rel, const Vec2& v_rel,
+                              const Vec2& a_rel, double horizon, double slop);
 // b moving at v_rel relative to a.
 inline Impact timeOfEntry(const Box2& a, const Box2& b, const Vec2& v_rel, double horizon,
                           double slop = tol::kLinearSlop) {

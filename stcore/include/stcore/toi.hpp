@@ -21,8 +21,28 @@ struct Impact {
   bool hit() const { return outcome == Outcome::Hit; }
   // True when the caller must act: a hit at t, or an overlap to resolve at once.
   bool acts() const { return outcome == Outcome::Hit || outcome == Outcome::Overlapping; }
+  // When to act: 0 for an overlap, t for a hit, infinity otherwise (a result that does not act
+  // carries t = infinity, so callers merge and compare times without testing the outcome).
   double actTime() const { return outcome == Outcome::Overlapping ? 0.0 : t; }
 };
+
+// True when a calls for action strictly before b: overlaps first, then hits by time, then
+// separating, then misses. Parts of one shape or pieces of one motion are merged with it.
+inline bool actsBefore(const Impact& a, const Impact& b) {
+  auto rank = [](Outcome o) {
+    switch (o) {
+      case Outcome::Overlapping: return 0;
+      case Outcome::Hit: return 1;
+      case Outcome::Separating: return 2;
+      case Outcome::Miss: return 3;
+    }
+    return 3;
+  };
+  const int ra = rank(a.outcome), rb = rank(b.outcome);
+  return ra < rb || (ra == rb && ra == 1 && a.t < b.t);
+}
+// The earlier of two results (actsBefore); a on a tie.
+inline Impact earliest(const Impact& a, const Impact& b) { return actsBefore(b, a) ? b : a; }
 
 namespace detail {
 // A contact along a line of approach: gap is the signed clearance (negative when overlapping),

@@ -87,7 +87,9 @@ TEST(Kernels, AcceleratingDiscEntryMatchesDenseSampling) {
     const Piece pc{p, v, a, 0.0, len};
     double minGap = 0.0;
     const double want = sampledEntry(p, v, a, R, len, minGap);
-    const double got = discEntry(pc, Vec2::Zero(), R);
+    const Impact entry = discEntry(pc, Vec2::Zero(), R);
+    ASSERT_NE(entry.outcome, Outcome::Separating) << "case " << k;  // not an outcome of an entry
+    const double got = entry.acts() ? entry.actTime() : kInf;
     const double scale = p.norm() + R + v.norm() * len + a.norm() * len * len;
     // a pass within this of the circle may go either way: near a tangent the entry time is
     // ill-conditioned (it moves with the square root of the depth), and the inputs are only so exact
@@ -104,9 +106,11 @@ TEST(Kernels, AcceleratingDiscEntryMatchesDenseSampling) {
       continue;
     }
     if (want == 0.0) {  // inside already
+      EXPECT_EQ(entry.outcome, Outcome::Overlapping) << "case " << k;
       EXPECT_EQ(got, 0.0) << "case " << k;
       continue;
     }
+    EXPECT_EQ(entry.outcome, Outcome::Hit) << "case " << k;
     ++hits;
     tiny += family == 1;
     // at the entry the distance is the radius: a root from p.p - R^2 misses it by about
