@@ -305,8 +305,9 @@ void SsmValidator::Impl::followingSamples(const std::vector<SsmConflict>& ssm, V
         const auto* ego = find(c.ego, t);
         const auto* foe = find(c.foe, t);
         if (!ego || !foe) continue;
-        const double box = hw::boxTtc(ego->body, foe->body, hw::MotionModel::ConstantVelocity, kValidationHorizon);
-        if (!std::isfinite(box)) continue;
+        const Impact hit = hw::boxTtc(ego->body, foe->body, hw::MotionModel::ConstantVelocity, kValidationHorizon);
+        if (!hit.acts()) continue;
+        const double box = hit.actTime();
         const double err = std::abs(box - c.ttc[i]);
         if (shifted) {
           // the sample's name only where it may become the worst (tens of thousands of samples)

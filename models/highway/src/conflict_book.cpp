@@ -118,7 +118,7 @@ void ConflictBook::observe(double t, double lastT) {
       const bool ab = c.slots[a].serial < c.slots[b].serial;
       const int lo = ab ? a : b, hi = ab ? b : a;
       Body atLo, atHi;
-      const double ttc = pairTtc(lo, hi, maxTtc, atLo, atHi);
+      const double ttc = pairTtc(lo, hi, maxTtc, atLo, atHi).actTime();
       if (ttc <= maxTtc) touch(lo, hi, ttc, atLo, atHi, t, dt);
     }
   }
@@ -150,18 +150,19 @@ void ConflictBook::observe(double t, double lastT) {
   waiting_.resize(kept);
 }
 
-double ConflictBook::pairTtc(int a, int b, double maxTtc, Body& atA, Body& atB) const {
+Impact ConflictBook::pairTtc(int a, int b, double maxTtc, Body& atA, Body& atB) const {
   const VehicleTable& c = *cars_;
   if (paths_->alongLanes() && (paths_->atMerge(a) || paths_->atMerge(b)))
     return paths_->boxTtcAlong(a, b, maxTtc, atA, atB);
-  const double ttc = boxTtc(c.body[a], c.body[b], MotionModel::ConstantVelocity, maxTtc);
-  if (std::isfinite(ttc)) {
+  const Impact hit = boxTtc(c.body[a], c.body[b], MotionModel::ConstantVelocity, maxTtc);
+  if (hit.acts()) {
+    const double ttc = hit.actTime();
     atA = c.body[a];
     atB = c.body[b];
     atA.position += ttc * atA.velocity;
     atB.position += ttc * atB.velocity;
   }
-  return ttc;
+  return hit;
 }
 
 // The lanes each takes as far as it drives until the contact, with its length and a margin: a

@@ -96,7 +96,7 @@ class ConflictBook {
   void candidates();
   // The pair's box TTC within TTC* and the bodies at the contact: in straight lines, or along
   // their lanes when one of them is at a merge (LanePrediction::atMerge).
-  double pairTtc(int a, int b, double maxTtc, Body& atA, Body& atB) const;
+  Impact pairTtc(int a, int b, double maxTtc, Body& atA, Body& atB) const;
   EncounterType encounterOf(int a, int b, double ttc);
   std::string approachOf(int lane) const;
   void touch(int a, int b, double ttc, const Body& atA, const Body& atB, double t, double dt);

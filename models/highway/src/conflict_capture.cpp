@@ -221,7 +221,7 @@ void describeConflict(const ConflictCapture& c, WarningKind kind, double egoMass
     if (crossesPaths(w.type)) w.pet = c.pet.pet();
     // the predicted contact: the rectangles moved on in straight lines until they touch (the box
     // detector's TTC is theirs; the circles' zones reach beyond the bodies)
-    const double tc = detector.kind == DetectorKind::Box ? ttc : boxTtc(a, b, detector.motion, safeTime);
+    const double tc = detector.kind == DetectorKind::Box ? ttc : boxTtc(a, b, detector.motion, safeTime).actTime();
     if (std::isfinite(tc)) {
       Body at = a, bt = b;
       at.position += tc * a.velocity;

@@ -141,7 +141,7 @@ inline void capture(const VehicleTable& cars, int lane, int e, const Threat& th,
 // circle detectors, whose zones reach beyond the body, the rectangles in straight lines at the
 // detector's motion model (as hindsight's near misses have it).
 inline bool onCollisionCourse(const DetectorConfig& dc, const Body& ego, const Body& foe, double safeTime) {
-  return dc.kind == DetectorKind::Box || boxTtc(ego, foe, dc.motion, safeTime) <= safeTime;
+  return dc.kind == DetectorKind::Box || boxTtc(ego, foe, dc.motion, safeTime).actTime() <= safeTime;
 }
 
 // The conflict fields of w (x .. lateralSpeed, but lane and line: the caller names them) from a

@@ -51,8 +51,6 @@ int bodyPieces(const Body& ego, const Body& foe, MotionModel motion, double hori
 }  // namespace
 }  // namespace detail
 
-using detail::kInf;
-
 const char* toString(DetectorKind k) {
   switch (k) {
     case DetectorKind::Concentric: return "concentric";
@@ -320,19 +318,15 @@ bool layoutCoversBody(const FiveCircleLayout& layout, double length, double widt
   return true;
 }
 
-double boxTtc(const Body& a, const Body& b, MotionModel motion, double horizon) {
+Impact boxTtc(const Body& a, const Body& b, MotionModel motion, double horizon) {
   const Box2 boxA = a.box(), boxB = b.box();
-  if (motion == MotionModel::ConstantVelocity && !(a.stopAcceleration < 0.0) && !(b.stopAcceleration < 0.0)) {
-    const Impact hit = timeOfEntry(boxA, boxB, b.velocity - a.velocity, horizon, tol::kContactSlop);
-    return hit.acts() ? hit.actTime() : kInf;
-  }
+  if (motion == MotionModel::ConstantVelocity && !(a.stopAcceleration < 0.0) && !(b.stopAcceleration < 0.0))
+    return timeOfEntry(boxA, boxB, b.velocity - a.velocity, horizon, tol::kContactSlop);
   // braking cars: the same axes on each piece of their relative motion
   const std::array<SeparatingAxis, 4> axes = separatingAxes(boxA, boxB);
   std::array<detail::Piece, 3> pcs;
   const int n = detail::bodyPieces(a, b, motion, horizon, pcs);
-  const Impact hit =
-      detail::firstEntry(std::span(pcs.data(), n), [&](const detail::Piece& pc) { return detail::satEntry(pc, axes); });
-  return hit.acts() ? hit.actTime() : kInf;
+  return detail::firstEntry(std::span(pcs.data(), n), [&](const detail::Piece& pc) { return detail::satEntry(pc, axes); });
 }
 
 CarShape carShape(const DetectorConfig& cfg, const Body& b) {
@@ -395,7 +389,7 @@ Ttc vehicleTtc(const DetectorConfig& cfg, const Body& ego, const CarShape& es, c
     }
     case DetectorKind::Box: {
       best.zone = Zone::Body;
-      best.t = boxTtc(ego, foe, cfg.motion, horizon);
+      best.t = boxTtc(ego, foe, cfg.motion, horizon).actTime();
       return best;
     }
     case DetectorKind::FiveCircle: {

@@ -412,7 +412,7 @@ std::optional<double> Hindsight::nearMissGap(int a, int b, const Vec2& p) const 
   if (p.squaredNorm() >= far * far) return std::nullopt;  // the envelopes hold the bodies
   const double gap = distance(c.body[a].box(), c.body[b].box());
   if (gap >= h.clearance) return std::nullopt;
-  if (gap > 0.0 && !(boxTtc(c.body[a], c.body[b], MotionModel::ConstantVelocity, h.nearMissTtc) <= h.nearMissTtc))
+  if (gap > 0.0 && !(boxTtc(c.body[a], c.body[b], MotionModel::ConstantVelocity, h.nearMissTtc).actTime() <= h.nearMissTtc))
     return std::nullopt;
   return gap;
 }

@@ -67,8 +67,7 @@ template <class Entry>
 Impact firstEntry(std::span<const Piece> pcs, Entry&& entry) {
   for (const Piece& pc : pcs) {
     const Impact e = entry(pc);
-    if (!e.acts()) continue;
-    return pc.start == 0.0 ? e : Impact{Outcome::Hit, pc.start + e.actTime()};
+    if (e.acts()) return delayed(e, pc.start);
   }
   return {};
 }

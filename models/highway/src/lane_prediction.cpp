@@ -469,7 +469,7 @@ Ttc LanePrediction::vehicleTtc(int e, int f, double horizon) const {
   }
 }
 
-double LanePrediction::boxTtcAlong(int e, int f, double horizon, Body& atE, Body& atF) const {
+Impact LanePrediction::boxTtcAlong(int e, int f, double horizon, Body& atE, Body& atF) const {
   const VehicleTable& c = *cars_;
   constexpr MotionModel kMotion = MotionModel::ConstantVelocity;
   const auto pe = path(e), pf = path(f);
@@ -484,15 +484,16 @@ double LanePrediction::boxTtcAlong(int e, int f, double horizon, Body& atE, Body
     // a straight path at its start is the body itself
     const Body a = straight_[e] && t == 0.0 ? c.body[e] : bodyAt(pe.subspan(i), c.body[e], kMotion, t);
     const Body b = straight_[f] && t == 0.0 ? c.body[f] : bodyAt(pf.subspan(j), c.body[f], kMotion, t);
-    const double r = boxTtc(a, b, kMotion, end - t);
-    if (std::isfinite(r)) {
+    const Impact hit = boxTtc(a, b, kMotion, end - t);
+    if (hit.acts()) {
+      const double r = hit.actTime();
       atE = a;
       atF = b;
       atE.position += r * a.velocity;
       atF.position += r * b.velocity;
-      return t + r;
+      return delayed(hit, t);
     }
-    if (!(end < horizon)) return std::numeric_limits<double>::infinity();
+    if (!(end < horizon)) return {};
     t = end;
   }
 }

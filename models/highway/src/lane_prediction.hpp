@@ -173,7 +173,7 @@ class LanePrediction {
   // still start where that model puts them), at most horizon s ahead: piece by piece, the box
   // kernel on each stretch where both move straight with fixed headings (two straight paths: the
   // straight box TTC). atE, atF: the two bodies then (unchanged when none is found).
-  double boxTtcAlong(int e, int f, double horizon, Body& atE, Body& atF) const;
+  Impact boxTtcAlong(int e, int f, double horizon, Body& atE, Body& atF) const;
 
   // The lanes a car drives on and takes next, as its path takes them (its route, else its signal,
   // else straight on), from the one it is reported on until `reach` m past its centre (at most

@@ -43,6 +43,12 @@ inline bool actsBefore(const Impact& a, const Impact& b) {
 }
 // The earlier of two results (actsBefore); a on a tie.
 inline Impact earliest(const Impact& a, const Impact& b) { return actsBefore(b, a) ? b : a; }
+// A result for a motion that begins `start` s from now, in time from now (a later piece of a
+// piecewise motion): its hit start later; its overlap, at the piece's start, is a hit then.
+inline Impact delayed(const Impact& e, double start) {
+  if (!e.acts() || start == 0.0) return e;
+  return {Outcome::Hit, start + e.actTime()};
+}
 
 namespace detail {
 // A contact along a line of approach: gap is the signed clearance (negative when overlapping),

@@ -62,7 +62,7 @@ std::map<Key, Truth> bruteForce(const Frames& in, double maxTtc) {
       for (std::size_t j = 0; j < f.vehicles.size(); ++j) {
         const VehicleState &a = f.vehicles[i], &b = f.vehicles[j];
         if (firstSeen[a.id] >= firstSeen[b.id] || (!a.equipped && !b.equipped)) continue;
-        const double ttc = boxTtc(bodyOf(a), bodyOf(b), MotionModel::ConstantVelocity, maxTtc);
+        const double ttc = boxTtc(bodyOf(a), bodyOf(b), MotionModel::ConstantVelocity, maxTtc).actTime();
         if (!(ttc <= maxTtc)) continue;
         const Pair p = a.id < b.id ? Pair{a.id, b.id} : Pair{b.id, a.id};
         below.insert(p);

@@ -182,7 +182,10 @@ TEST(Detector, BoxTtcMatchesSampledReference) {
     const Encounter e = randomEncounter(rng);
     for (bool accel : {false, true}) {
       const MotionModel m = accel ? MotionModel::ConstantAcceleration : MotionModel::ConstantVelocity;
-      const double box = boxTtc(e.ego, e.foe, m, 6.0);
+      const Impact hit = boxTtc(e.ego, e.foe, m, 6.0);
+      // an entry: overlapping now, a hit, or nothing (no contact that separates)
+      ASSERT_NE(hit.outcome, Outcome::Separating) << "pair " << i;
+      const double box = hit.actTime();
       const double truth = ref::sampledTtc(e.ego, e.foe, 6.0, accel);
       if (truth < kInf) {
         ++hits;
@@ -310,7 +313,7 @@ TEST(Detector, CirclesAreNeverLaterThanBoxAndWithinMargin) {
     const Encounter e = randomEncounter(rng);
     for (bool accel : {false, true}) {
       const MotionModel m = accel ? MotionModel::ConstantAcceleration : MotionModel::ConstantVelocity;
-      const double box = boxTtc(e.ego, e.foe, m, 6.0);
+      const double box = boxTtc(e.ego, e.foe, m, 6.0).actTime();
       for (DetectorConfig c : configs) {
         c.motion = m;
         const Ttc circ = vehicleTtc(c, e.ego, e.foe, 6.0);

@@ -16,6 +16,7 @@
 #include <string>
 
 #include <stcore/shapes.hpp>
+#include <stcore/toi.hpp>
 
 #include <sthighway/road.hpp>
 #include <sthighway/tolerances.hpp>
@@ -125,8 +126,9 @@ Ttc featureTtc(const DetectorConfig& cfg, const Body& ego, const RoadFeature& f,
 // from the car's centre along the unit direction n; used to prune features exactly.
 double roadSupport(const DetectorConfig& cfg, const Body& ego, const Vec2& n);
 
-// The exact oriented-rectangle TTC (Box detector) under the given motion model.
-double boxTtc(const Body& a, const Body& b, MotionModel motion, double horizon);
+// The exact oriented-rectangle TTC (Box detector) under the given motion model: stcore's
+// timeOfEntry (Overlapping when the rectangles touch now, Hit within horizon, else Miss).
+Impact boxTtc(const Body& a, const Body& b, MotionModel motion, double horizon);
 
 // Radius of a circle that contains every circle of the ego's layout (and its rectangle); used to
 // prune pairs and size the neighbour search.
