@@ -13,6 +13,7 @@
 #include <sthighway/monitor.hpp>
 #include <sthighway/settings.hpp>
 #include <sthighway/report.hpp>
+#include <sthighway/run_files.hpp>
 #include <sthighway/run_settings.hpp>
 #include <sthighway/sumo_files.hpp>
 #include <stsim/cli.hpp>
@@ -111,42 +112,6 @@ Args makeArgs() {
   return a;
 }
 
-// A replay's output files, the buffers a frame's results pass through, and what it takes from the
-// monitor after each frame.
-struct TraceOutputs {
-  TraceOutputs(const std::filesystem::path& out, bool trajectories)
-      : csv(out / "warnings.csv"), conflictsCsv(out / "conflicts.csv"), eventsCsv(out / "events.csv") {
-    if (trajectories) seriesCsv.emplace(out / "trajectories.csv");
-  }
-  void write(hw::HighwayMonitor& monitor) {
-    monitor.takeFinished(ended);
-    csv.write(ended);
-    monitor.takeConflicts(conflicts);
-    conflictsCsv.write(conflicts);
-    monitor.takeEvents(events);
-    eventsCsv.write(events);
-    if (seriesCsv) {
-      monitor.takeTrajectories(series);
-      seriesCsv->write(series);
-    }
-  }
-  void flush() {
-    csv.flush();
-    conflictsCsv.flush();
-    eventsCsv.flush();
-    if (seriesCsv) seriesCsv->flush();
-  }
-
-  hw::WarningsCsvWriter csv;
-  hw::ConflictsCsvWriter conflictsCsv;
-  hw::EventsCsvWriter eventsCsv;
-  std::optional<hw::TrajectoriesCsvWriter> seriesCsv;
-  std::vector<hw::Warning> ended;
-  std::vector<hw::HindsightEvent> events;
-  std::vector<hw::Conflict> conflicts;
-  std::vector<hw::TrajectoryPoint> series;
-};
-
 // A replay's summary line and its conflict map.
 void reportTrace(const Args& a, const hw::MonitorCounters& c, const hw::RunInfo& info, double maxTtc) {
   const std::filesystem::path out = a.get("out");
@@ -240,11 +205,8 @@ int runTrace(const Args& a) {
   }
 
   const std::filesystem::path out = a.get("out");
-  std::error_code ec;
-  std::filesystem::create_directories(out, ec);
-  if (ec) throw std::runtime_error("cannot create output directory " + out.string() + ": " + ec.message());
-  hw::removeRunOutputs(out);  // an earlier SUMO run's collisions.csv etc. are not this replay's
-  TraceOutputs files(out, a.has("trajectories"));
+  // an earlier SUMO run's collisions.csv etc. are not this replay's: TickFiles removes them
+  hw::TickFiles files(out, {.trajectories = a.has("trajectories")});
   if (a.has("trajectories")) monitor.recordTrajectories(true);
 
   hw::RunInfo info;

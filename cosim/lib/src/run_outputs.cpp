@@ -10,14 +10,6 @@ namespace fs = std::filesystem;
 namespace hw = st::highway;
 
 namespace {
-fs::path prepared(const fs::path& out) {
-  std::error_code ec;
-  fs::create_directories(out, ec);
-  if (ec) throw std::runtime_error("cannot create output directory " + out.string() + ": " + ec.message());
-  // every file in out belongs to this run: what an earlier run wrote and this one may not goes first
-  hw::removeRunOutputs(out);
-  return out;
-}
 // Numbers as docs/outputs.md's conventions write them: what SUMO reported (time, position, speeds)
 // in full, the shortest text that reads back to the same double, so a row joins the FCD trace and
 // warnings.csv on its exact time; what stsim worked out from them (the bodies' gap, a lead time:
@@ -34,35 +26,12 @@ std::string derived(double v) {
 }  // namespace
 
 RunOutputs::RunOutputs(const fs::path& out, bool trajectories)
-    : warnings_(prepared(out) / "warnings.csv"),
-      conflicts_(out / "conflicts.csv"),
-      events_(out / "events.csv"),
-      collisions_(out / "collisions.csv", "time,collider,victim,type,lane,pos,collider_speed,victim_speed,gap,contact"),
-      // the exposure up to each tick: what a study's warm-up leaves out (stsim batch's warmup)
-      exposure_(out / "exposure.csv", "time,vehicle_km,vehicles") {
-  if (trajectories) series_.emplace(out / "trajectories.csv");
+    : ticks_(out, {.trajectories = trajectories, .exposure = true}),
+      collisions_(out / "collisions.csv", "time,collider,victim,type,lane,pos,collider_speed,victim_speed,gap,contact") {
   collisions_.flush();
 }
 
-void RunOutputs::writeDetected(HighwayPlugin& plugin) {
-  const hw::MonitorCounters& c = plugin.monitor().counters();
-  if (const double t = plugin.monitor().lastTime(); t > exposureTime_) {
-    exposureTime_ = t;
-    exposure_.row(full(t) + "," + full(c.vehicleMeters / 1000.0) + "," + std::to_string(c.vehiclesSeen));
-  }
-  const std::vector<hw::Warning> finished = plugin.takeFinished();
-  warnings_.write(finished);
-  for (const hw::Warning& w : finished)
-    if (w.kind == hw::WarningKind::Vehicle) vehicleWarnings_.push_back(w);
-  plugin.takeConflicts(conflictBuffer_);
-  conflicts_.write(conflictBuffer_);
-  plugin.takeEvents(eventBuffer_);
-  events_.write(eventBuffer_);
-  if (series_) {
-    plugin.takeTrajectories(seriesBuffer_);
-    series_->write(seriesBuffer_);
-  }
-}
+void RunOutputs::writeDetected(HighwayPlugin& plugin) { ticks_.write(plugin.monitor()); }
 
 void RunOutputs::writeCollisions(HighwayPlugin& plugin) {
   for (const auto& c : plugin.takeCollisions()) writeCollision(c);
@@ -77,12 +46,8 @@ void RunOutputs::writeCollision(const SumoCollision& c) {
 }
 
 void RunOutputs::flush() {
-  warnings_.flush();
-  conflicts_.flush();
-  events_.flush();
+  ticks_.flush();
   collisions_.flush();
-  exposure_.flush();
-  if (series_) series_->flush();
 }
 
 void writeCollisionWarnings(const fs::path& path, const std::vector<CollisionWarning>& leads) {

@@ -14,13 +14,15 @@
 #include <stio/output.hpp>
 
 #include <sthighway/report.hpp>
+#include <sthighway/run_files.hpp>
 #include <stcosim/collisions.hpp>
 #include <stcosim/run.hpp>
 
 namespace st::cosim {
 
-// warnings.csv, conflicts.csv, events.csv, collisions.csv, exposure.csv, written as the run goes, and what the end needs of
-// them (the vehicle warnings and collision reports, for the collisions' warning lead times).
+// The highway's tick files (warnings.csv, conflicts.csv, events.csv, exposure.csv, trajectories.csv:
+// highway::TickFiles) and collisions.csv, written as the run goes, and what the end needs of them
+// (the vehicle warnings and collision reports, for the collisions' warning lead times).
 class RunOutputs {
  public:
   // Creates `out` and removes what an earlier run wrote there: every file in it belongs to this run.
@@ -32,21 +34,12 @@ class RunOutputs {
   void writeCollision(const SumoCollision& c);
   void flush();
   const std::vector<SumoCollision>& collisionReports() const { return collisionReports_; }
-  const std::vector<highway::Warning>& vehicleWarnings() const { return vehicleWarnings_; }
+  const std::vector<highway::Warning>& vehicleWarnings() const { return ticks_.vehicleWarnings(); }
 
  private:
-  highway::WarningsCsvWriter warnings_;
-  highway::ConflictsCsvWriter conflicts_;
-  highway::EventsCsvWriter events_;
+  highway::TickFiles ticks_;  // first: it creates the directory
   io::CsvRowWriter collisions_;
   std::vector<SumoCollision> collisionReports_;
-  std::vector<highway::Warning> vehicleWarnings_;
-  std::vector<highway::HindsightEvent> eventBuffer_;  // one buffer for every step
-  std::vector<highway::Conflict> conflictBuffer_;
-  std::optional<highway::TrajectoriesCsvWriter> series_;
-  std::vector<highway::TrajectoryPoint> seriesBuffer_;
-  io::CsvRowWriter exposure_;  // exposure.csv: the distance and vehicles counted so far, per tick
-  double exposureTime_ = -1.0;
 };
 
 // collision_warnings.csv: one row per collision, whether and how long before its collider warned.

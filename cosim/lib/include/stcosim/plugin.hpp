@@ -145,6 +145,8 @@ class HighwayPlugin {
   // persons on foot (foes, equipped only if their vType is a smart type).
   const std::vector<highway::VehicleState>& states() const { return states_; }
   const highway::HighwayMonitor& monitor() const { return monitor_; }
+  // for the run's writer (highway::TickFiles), which takes what the monitor finished
+  highway::HighwayMonitor& monitor() { return monitor_; }
   const PluginCounters& counters() const { return counters_; }
   const PluginConfig& config() const { return config_; }
   Backend& backend() { return backend_; }
