@@ -13,7 +13,7 @@
 #include <sthighway/monitor.hpp>
 #include <sthighway/settings.hpp>
 #include <sthighway/report.hpp>
-#include <sthighway/run_files.hpp>
+#include <sthighway/run_driver.hpp>
 #include <sthighway/run_settings.hpp>
 #include <sthighway/sumo_files.hpp>
 #include <stsim/cli.hpp>
@@ -112,8 +112,8 @@ Args makeArgs() {
   return a;
 }
 
-// A replay's summary line and its conflict map.
-void reportTrace(const Args& a, const hw::MonitorCounters& c, const hw::RunInfo& info, double maxTtc) {
+// A replay's summary line and its conflict map's outcome.
+void reportTrace(const Args& a, const hw::MonitorCounters& c, const hw::DriveResult& result, double maxTtc) {
   const std::filesystem::path out = a.get("out");
   std::uint64_t total = 0;
   for (auto n : c.warningsByKind) total += n;
@@ -123,11 +123,10 @@ void reportTrace(const Args& a, const hw::MonitorCounters& c, const hw::RunInfo&
             << " warnings (vehicle " << c.warningsByKind[0] << ", curb " << c.warningsByKind[1] << ", lane_marker "
             << c.warningsByKind[2] << ", hazard " << c.warningsByKind[3] << "; " << hw::conflictTypeBreakdown(c) << "), "
             << hw::conflictCountText(c) << " conflicts (one per pair and encounter, TTC <= " << maxTtc
-            << " s: conflicts.csv), " << c.handoffs << " handoffs, " << info.wallSeconds << " s wall; wrote "
+            << " s: conflicts.csv), " << c.handoffs << " handoffs, " << result.info.wallSeconds << " s wall; wrote "
             << (out / "warnings.csv").string() << ", " << (out / "conflicts.csv").string() << " and " << (out / "summary.json").string() << "\n";
-  if (a.has("no-map")) return;
-  const hw::ConflictMapOutcome map =
-      hw::drawConflictMap({out / "conflict_map", a.get("net"), {out / "conflicts.csv"}, "stsim highway"});
+  if (!result.map) return;
+  const hw::ConflictMapOutcome& map = *result.map;
   using State = hw::ConflictMapOutcome::State;
   if (map.state == State::Drawn) std::cout << "  conflict map: " << (out / "conflict_map.png").string() << " (and .svg)\n";
   // a map that could not be written (a full disk) fails the run as any output does; a missing tool does not
@@ -188,69 +187,28 @@ int runTrace(const Args& a) {
   applyMonitorOptions(overrides, cfg);
   // checked as for a SUMO run (-1 was taken: no frame, exit 0; a seed outside the draw's range)
   const ReplaySettings run = replaySettings(overrides);
-  const double penetration = run.penetration;
-  const long seed = run.seed;
-  const bool hasEnd = run.end.has_value();
-  const double end = run.end.value_or(0.0);
 
-  const auto wallStart = std::chrono::steady_clock::now();
+  hw::DriveSetup setup;
+  setup.out = a.get("out");
+  setup.trajectories = a.has("trajectories");
+  setup.end = run.end;
+  setup.penetration = run.penetration;
+  setup.seed = static_cast<std::uint64_t>(run.seed);
+  setup.source = a.get("fcd");
+  setup.net = a.get("net");
+  if (!a.has("no-map")) setup.map = "stsim highway";
   TraceInputs in;
   readTraceInputs(a, cfg.priorityRules, in);
   hw::HighwayMonitor monitor(in.road, cfg);
+  // the source: the trace's frames, with the lights' recorded states and the routes
   hw::FcdReader reader(a.get("fcd"), in.types, in.checks, &in.road);
   if (in.signalStates) reader.useSignals(&*in.signalLinks, &*in.signalStates, a.has("tls-states"));
   if (a.has("routes")) {
     in.routes = hw::readSumoRoutes(a.get("routes"));
     reader.useRoutes(&in.routes);
   }
-
-  const std::filesystem::path out = a.get("out");
-  // an earlier SUMO run's collisions.csv etc. are not this replay's: TickFiles removes them
-  hw::TickFiles files(out, {.trajectories = a.has("trajectories")});
-  if (a.has("trajectories")) monitor.recordTrajectories(true);
-
-  hw::RunInfo info;
-  info.source = a.get("fcd");
-  info.detector = hw::toString(cfg.detector.kind);
-  info.broadphase = hw::toString(cfg.broadphase);
-  info.prediction = hw::toString(cfg.prediction);
-  info.hindsight = cfg.hindsight;
-  info.conflict = cfg.conflict;
-  double first = 0.0, last = 0.0;
-  bool any = false;
-  // on any error: close what is open, write everything so far, then report the error
-  auto flushAll = [&](const std::string& error) {
-    monitor.finish(any ? last : 0.0);
-    files.write(monitor);
-    files.flush();
-    info.simulatedSeconds = any ? last - first : 0.0;
-    info.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
-    if (!error.empty()) info.strings.emplace_back("error", error);
-    info.numbers.emplace_back("penetration", penetration);
-    info.strings.emplace_back("net", std::filesystem::absolute(a.get("net")).string());
-    hw::writeSummaryJson(out / "summary.json", monitor.counters(), info);
-  };
-  try {
-    hw::FcdFrame frame;
-    while (reader.next(frame)) {
-      if (hasEnd && frame.time > end) break;
-      if (penetration < 1.0)
-        // persons are foes, never equipped (as the live run has them)
-        for (auto& v : frame.vehicles)
-          v.equipped = v.vehicleClass != hw::VehicleClass::Pedestrian &&
-                       hw::drawnEquipped(static_cast<std::uint64_t>(seed), v.id, penetration);
-      monitor.step(frame.time, frame.vehicles);
-      if (!any) first = frame.time;
-      any = true;
-      last = frame.time;
-      files.write(monitor);
-    }
-  } catch (const std::exception& e) {
-    flushAll(e.what());
-    throw;
-  }
-  flushAll("");
-  reportTrace(a, monitor.counters(), info, cfg.conflict.maxTtc);
+  const hw::DriveResult result = hw::driveRun(reader, monitor, setup);
+  reportTrace(a, monitor.counters(), result, cfg.conflict.maxTtc);
   return 0;
 }
 

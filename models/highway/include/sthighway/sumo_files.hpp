@@ -13,6 +13,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include <sthighway/frame_source.hpp>
 #include <sthighway/road.hpp>
 #include <sthighway/sumo_conversion.hpp>
 #include <sthighway/sumo_signals.hpp>
@@ -46,10 +47,8 @@ VehicleTypes readSumoVehicleTypes(const std::filesystem::path& path);
 using VehicleRoutes = std::unordered_map<std::string, std::vector<std::string>>;
 VehicleRoutes readSumoRoutes(const std::filesystem::path& path);
 
-struct FcdFrame {
-  double time = 0.0;
-  std::vector<VehicleState> vehicles;
-};
+// A trace's frame: the vehicles at one time step (a FrameSource's frame).
+using FcdFrame = Frame;
 
 // What a trace must agree with, checked vehicle by vehicle (an InputError names file:line):
 // positions inside the network's bounds grown by kOutsideMargin, lanes the network has, types
@@ -90,13 +89,13 @@ inline constexpr double kNetMaxLaneWidth = 100.0;
 // a <vehicle>: a passenger is its vehicle's) is read alike into the same frame, after its
 // predecessors in the file, with its type's body (SUMO's pedestrian defaults when the type is
 // unknown), no lane, not equipped, handles drawn with the vehicles'.
-class FcdReader {
+class FcdReader final : public FrameSource {
  public:
   FcdReader(const std::filesystem::path& path, VehicleTypes types = {}, FcdChecks checks = {},
             const RoadGeometry* road = nullptr);
-  ~FcdReader();
+  ~FcdReader() override;
   // Fills the next frame; false at the end of the file. Throws InputError with file:line.
-  bool next(FcdFrame& frame);
+  bool next(FcdFrame& frame) override;
   // Reads each vehicle's next traffic light (or where it gives way) from recorded states
   // (sumo_signals.hpp), from its lane and `pos` (with `needLanes` the trace must have both
   // attributes; else a record without them has none); both must outlive the reader.
