@@ -237,7 +237,7 @@ int run(int argc, const char* const* argv) {
   }
   if (a.has("scenario-settings")) {
 #ifdef STSIM_HIGHWAY_COSIM
-    return st::cosim::printScenarioSettings(a);
+    return printScenarioSettings(a);
 #else
     throw std::runtime_error("no scenario settings: stsim was built without SUMO support (cosim)");
 #endif
@@ -250,7 +250,7 @@ int run(int argc, const char* const* argv) {
   for (const char* opt : {"net", "vtypes", "tls-states", "routes"})
     if (a.has(opt)) throw UsageError(std::string("--") + opt + " applies to --fcd replays");
 #ifdef STSIM_HIGHWAY_COSIM
-  return st::cosim::runHighwayCommand(a);
+  return runHighwayCommand(a);
 #else
   throw std::runtime_error("cannot run " + *scenario + ": stsim was built without SUMO support (cosim)");
 #endif

@@ -19,15 +19,17 @@
 #include "setting_options.hpp"
 #include "stop_signals.hpp"
 
-namespace st::cosim {
+namespace st::cli {
 namespace {
+
+namespace cosim = st::cosim;
 
 namespace fs = std::filesystem;
 namespace hw = st::highway;
 
-TraciEndpoint parseTraci(const std::string& text) {
+cosim::TraciEndpoint parseTraci(const std::string& text) {
   // HOST:PORT[:ORDER]
-  TraciEndpoint e;
+  cosim::TraciEndpoint e;
   std::vector<std::string> parts;
   for (const auto part : std::views::split(text, ':')) parts.emplace_back(part.begin(), part.end());
   auto number = [&](const std::string& s, const char* what) {
@@ -37,11 +39,11 @@ TraciEndpoint parseTraci(const std::string& text) {
       if (used == s.size() && v > 0 && v < 65536) return static_cast<int>(v);
     } catch (...) {
     }
-    throw st::cli::UsageError(std::string("--traci: ") + what + " must be a whole number from 1 to 65535, got '" + s +
+    throw UsageError(std::string("--traci: ") + what + " must be a whole number from 1 to 65535, got '" + s +
                               "' in '" + text + "' (HOST:PORT[:ORDER])");
   };
   if (parts.size() < 2 || parts.size() > 3 || parts[0].empty())
-    throw st::cli::UsageError("--traci needs HOST:PORT[:ORDER], got '" + text + "'");
+    throw UsageError("--traci needs HOST:PORT[:ORDER], got '" + text + "'");
   e.host = parts[0];
   e.port = number(parts[1], "PORT");
   e.order = parts.size() == 3 ? number(parts[2], "ORDER") : 1;
@@ -49,15 +51,15 @@ TraciEndpoint parseTraci(const std::string& text) {
 }
 
 // Command-line options override the scenario, each checked by its key's table.
-void applyOptions(const st::cli::Args& a, Scenario& s) {
-  const std::vector<io::SettingOverride> overrides = st::cli::highwayOverrides(a);
-  st::cli::applyMonitorOptions(overrides, s.plugin.monitor);
+void applyOptions(const Args& a, cosim::Scenario& s) {
+  const std::vector<io::SettingOverride> overrides = highwayOverrides(a);
+  applyMonitorOptions(overrides, s.plugin.monitor);
   try {
     for (const io::SettingOverride& o : overrides)
-      if (const ScenarioSetting* setting = findScenarioSetting(o.key)) applyScenarioSettingText(s, *setting, o.text);
-    checkScenarioSettings(s);
+      if (const cosim::ScenarioSetting* setting = cosim::findScenarioSetting(o.key)) cosim::applyScenarioSettingText(s, *setting, o.text);
+    cosim::checkScenarioSettings(s);
   } catch (const io::SettingError& e) {
-    st::cli::overrideError(overrides, e, "");
+    overrideError(overrides, e, "");
   }
 }
 
@@ -65,21 +67,21 @@ std::string fmt(double v, int decimals = 2) { return io::fixed(v, decimals); }
 
 }  // namespace
 
-int printScenarioSettings(const st::cli::Args& a) {
+int printScenarioSettings(const Args& a) {
   // the values in effect: the defaults, a scenario's, then the options
-  Scenario s;
+  cosim::Scenario s;
   const auto scenario = a.positionalValue(0);
-  if (scenario) s = loadScenario(*scenario);
+  if (scenario) s = cosim::loadScenario(*scenario);
   applyOptions(a, s);
-  const bool given = scenario.has_value() || !st::cli::highwayOverrides(a).empty();
-  std::cout << scenarioSettingsMarkdown(s, given ? "in effect" : "default");
+  const bool given = scenario.has_value() || !highwayOverrides(a).empty();
+  std::cout << cosim::scenarioSettingsMarkdown(s, given ? "in effect" : "default");
   return 0;
 }
 
-int runHighwayCommand(const st::cli::Args& a) {
-  RunSetup setup;  // the wall clock starts before the scenario is read
+int runHighwayCommand(const Args& a) {
+  cosim::RunSetup setup;  // the wall clock starts before the scenario is read
   const fs::path scenarioPath = a.positionalValue(0).value_or("");
-  Scenario s = loadScenario(scenarioPath);
+  cosim::Scenario s = cosim::loadScenario(scenarioPath);
   applyOptions(a, s);
   setup.out = a.has("out") || !s.out ? fs::path(a.get("out")) : *s.out;
   setup.gui = a.has("gui");
@@ -87,7 +89,7 @@ int runHighwayCommand(const st::cli::Args& a) {
   if (a.has("threads")) {
     const long n = a.getInt("threads");
     if (n != 1 && n != 2)
-      throw st::cli::UsageError("--threads must be 1 (detection after each SUMO step) or 2 (beside it), got " +
+      throw UsageError("--threads must be 1 (detection after each SUMO step) or 2 (beside it), got " +
                                 a.get("threads"));
     setup.threads = static_cast<int>(n);
   }
@@ -95,12 +97,12 @@ int runHighwayCommand(const st::cli::Args& a) {
   if (a.has("traci")) setup.attach = parseTraci(a.get("traci"));
 
   // a peer closing the TraCI socket must give an error, not kill the run
-  const st::cli::StopSignals stopSignals(st::cli::StopSignals::Pipe::Ignore);
-  RunObserver observer;
-  observer.stopRequested = st::cli::StopSignals::requested;
+  const StopSignals stopSignals(StopSignals::Pipe::Ignore);
+  cosim::RunObserver observer;
+  observer.stopRequested = StopSignals::requested;
   const bool progress = ::isatty(STDERR_FILENO) == 1;
   if (progress)
-    observer.progress = [](const RunProgress& p) {
+    observer.progress = [](const cosim::RunProgress& p) {
       std::fprintf(stderr, "\r  t = %8.1f s%s  vehicles %5zu  warnings %7llu  SUMO %6.1f s  stsim %6.1f s ", p.time,
                    p.endTime >= 0 ? (" / " + fmt(p.endTime, 0)).c_str() : "", p.vehicles,
                    static_cast<unsigned long long>(p.warnings), p.sumoSeconds, p.stsimSeconds);
@@ -109,11 +111,11 @@ int runHighwayCommand(const st::cli::Args& a) {
   auto clearProgress = [&] {
     if (progress) std::fprintf(stderr, "\r%100s\r", "");
   };
-  RunResult r;
+  cosim::RunResult r;
   try {
-    r = runScenario(s, setup, observer);
-  } catch (const RunSetupError& e) {
-    throw st::cli::UsageError(e.what());
+    r = cosim::runScenario(s, setup, observer);
+  } catch (const cosim::RunSetupError& e) {
+    throw UsageError(e.what());
   } catch (...) {
     clearProgress();
     throw;
@@ -121,7 +123,7 @@ int runHighwayCommand(const st::cli::Args& a) {
   clearProgress();
 
   const hw::MonitorCounters& c = r.monitor;
-  const PluginCounters& pc = r.plugin;
+  const cosim::PluginCounters& pc = r.plugin;
   std::uint64_t total = 0;
   for (auto n : c.warningsByKind) total += n;
   std::cout << "highway (" << r.backend << ", " << r.detector << " detector): " << fmt(r.simulatedSeconds, 1)
@@ -149,11 +151,11 @@ int runHighwayCommand(const st::cli::Args& a) {
   if (r.stopReason == "interrupted") {
     if (r.mapFailed) std::cerr << "stsim highway: no conflict map: " << r.mapProblem << "\n";
     std::cerr << "stsim highway: interrupted at t = " << fmt(r.simulatedSeconds, 1) << " s; results so far written\n";
-    return st::cli::StopSignals::exitCode();  // 130 on Ctrl-C, 143 on SIGTERM, 129 on SIGHUP
+    return StopSignals::exitCode();  // 130 on Ctrl-C, 143 on SIGTERM, 129 on SIGHUP
   }
   // a map that could not be written (a full disk) fails the run as any output does
   if (r.mapFailed) throw std::runtime_error((setup.out / "conflict_map.png").string() + ": " + r.mapProblem);
   return 0;
 }
 
-}  // namespace st::cosim
+}  // namespace st::cli

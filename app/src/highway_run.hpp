@@ -12,11 +12,11 @@
 // one-line message.
 #include <stsim/cli.hpp>
 
-namespace st::cosim {
+namespace st::cli {
 
-int runHighwayCommand(const st::cli::Args& args);
+int runHighwayCommand(const Args& args);
 // `stsim highway [SCENARIO] --scenario-settings [options]`: the scenario's table
 // (stcosim/scenario_settings.hpp) with the values in effect, as docs/scenario_settings.md.
-int printScenarioSettings(const st::cli::Args& args);
+int printScenarioSettings(const Args& args);
 
-}  // namespace st::cosim
+}  // namespace st::cli
