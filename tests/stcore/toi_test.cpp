@@ -981,6 +981,19 @@ TEST(Impact, EarliestActsFirst) {
   EXPECT_FALSE(actsBefore(at1, at1b));
 }
 
+TEST(Impact, DelayedToALaterPiece) {
+  // a piece starting 2 s from now: its hit 1 s in is 3 s from now, its overlap at the start a hit at 2 s
+  const Impact hit = delayed({Outcome::Hit, 1.0}, 2.0), now = delayed({Outcome::Overlapping, 0.0}, 2.0);
+  EXPECT_EQ(hit.outcome, Outcome::Hit);
+  EXPECT_EQ(hit.t, 3.0);
+  EXPECT_EQ(now.outcome, Outcome::Hit);
+  EXPECT_EQ(now.t, 2.0);
+  // the first piece's overlap is one now; what does not act stays as it is
+  EXPECT_EQ(delayed({Outcome::Overlapping, 0.0}, 0.0).outcome, Outcome::Overlapping);
+  EXPECT_EQ(delayed(Impact{}, 2.0).outcome, Outcome::Miss);
+  EXPECT_EQ(delayed(Impact{}, 2.0).t, kInf);
+}
+
 TEST(ToiBalls, HeadOnAnalytic) {
   // two unit circles 10 m apart closing at 2 m/s: gap 8 m -> t = 4 s
   const Impact i = toiCircleCircle({{0, 0}, 1}, {1, 0}, {{10, 0}, 1}, {-1, 0});

@@ -178,6 +178,7 @@ using tol::kSkipSpeed;
 Ttc steadyFiveCircle(const detail::Piece& pc, const double* zoneR, const Vec2* egoOff, const Vec2* foeOff, int m,
                      double foeR, double foeEnv) {
   Ttc best;
+  double bestT = std::numeric_limits<double>::infinity();  // best's time, kept at hand
   const Vec2 v = pc.v;
   const double a = v.squaredNorm();
   double lim = pc.len;  // hits after this cannot win
@@ -196,17 +197,18 @@ Ttc steadyFiveCircle(const detail::Piece& pc, const double* zoneR, const Vec2* e
     const double r = zoneR[z] + foeR;
     for (int k = 0; k < m; ++k) {
       const Vec2 p = pc.p + (foeOff[k] - egoOff[z]);  // as discEntry forms it
-      double s = 0.0;
+      Impact hit{Outcome::Overlapping, 0.0};
       if (!(p.squaredNorm() <= r * r)) {
         // receding (toiBalls misses or separates), or not entered by lim
         if (p.dot(v) >= 0.0 || apart(p, r)) continue;
         // discEntry's steady branch
-        const Impact hit = toiBalls<2>(p, v, r);
+        hit = toiBalls<2>(p, v, r);
         if (!hit.acts() || !(hit.actTime() <= pc.len)) continue;
-        s = hit.actTime();
-        if (!(s < best.t)) continue;
+        if (!(hit.actTime() < bestT)) continue;
       }
-      best = {s, static_cast<Zone>(static_cast<int>(Zone::Front) + z)};
+      const double s = hit.actTime();
+      best = {hit, static_cast<Zone>(static_cast<int>(Zone::Front) + z)};
+      bestT = s;
       if (s == 0.0) return best;  // nothing later is strictly earlier
       lim = s;
     }
@@ -384,13 +386,11 @@ Ttc vehicleTtc(const DetectorConfig& cfg, const Body& ego, const CarShape& es, c
       const Impact hit = detail::firstEntry(std::span(pcs.data(), n), [&](const detail::Piece& pc) {
         return detail::discEntry(pc, Vec2::Zero(), r);
       });
-      if (hit.acts()) best = {hit.actTime(), Zone::Outer};
+      if (hit.acts()) best = {hit, Zone::Outer};
       return best;
     }
     case DetectorKind::Box: {
-      best.zone = Zone::Body;
-      best.t = boxTtc(ego, foe, cfg.motion, horizon).actTime();
-      return best;
+      return {boxTtc(ego, foe, cfg.motion, horizon), Zone::Body};
     }
     case DetectorKind::FiveCircle: {
       // prune with the envelopes, then CheckFront, CheckRear, CheckLeft, CheckRight against
@@ -420,10 +420,10 @@ Ttc vehicleTtc(const DetectorConfig& cfg, const Body& ego, const CarShape& es, c
         detail::Piece pc = pcs[i];
         for (int z = 0; z < 4; ++z) {
           for (int k = 0; k < m; ++k) {
-            pc.len = best.found() ? std::min(pcs[i].len, best.t - pcs[i].start) : pcs[i].len;
+            pc.len = best.found() ? std::min(pcs[i].len, best.t() - pcs[i].start) : pcs[i].len;
             const Impact e = detail::discEntry(pc, foeOff[k] - egoOff[z], zoneR[z] + foeR);
-            if (e.acts() && (!best.found() || pcs[i].start + e.actTime() < best.t))
-              best = {pcs[i].start + e.actTime(), static_cast<Zone>(static_cast<int>(Zone::Front) + z)};
+            if (e.acts() && (!best.found() || pcs[i].start + e.actTime() < best.t()))
+              best = {delayed(e, pcs[i].start), static_cast<Zone>(static_cast<int>(Zone::Front) + z)};
           }
         }
         if (best.found()) return best;
@@ -509,7 +509,7 @@ Ttc featureTtc(const DetectorConfig& cfg, const Body& ego, const RoadFeature& f,
     const Vec2 closest = point ? f.segment.a : closestPointOnSegment(f.segment, ego.position);
     if (ego.velocity.dot(closest - ego.position) <= 0.0) return best;
   }
-  best = {t, zone};
+  best = {hit, zone};
   return best;
 }
 

@@ -461,7 +461,7 @@ Ttc LanePrediction::vehicleTtc(int e, int f, double horizon) const {
     const CarShape sb = b.axis == c.body[f].axis ? c.shape[f] : carShape(dc, b);
     Ttc r = st::highway::vehicleTtc(dc, a, sa, b, sb, end - t);
     if (r.found()) {
-      r.t += t;
+      r.impact = delayed(r.impact, t);
       return r;
     }
     if (!(end < horizon)) return {};

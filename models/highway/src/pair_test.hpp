@@ -123,7 +123,7 @@ struct PairTest {
       const double t =
           paths->straight(e) && paths->straight(f)
               ? discEntry(Piece{p, v, Vec2::Zero(), 0.0, kInf}, Vec2::Zero(), state[0]->outer + state[1]->outer).actTime()
-              : paths->vehicleTtc(e, f, std::max(ask[0] ? safe[0] : 0.0, ask[1] ? safe[1] : 0.0)).t;
+              : paths->vehicleTtc(e, f, std::max(ask[0] ? safe[0] : 0.0, ask[1] ? safe[1] : 0.0)).t();
       for (int d = 0; d < 2; ++d) {
         if (!ask[d]) continue;
         ++counters->toiChecks;
@@ -153,9 +153,9 @@ struct PairTest {
       for (int d = 0; d < 2; ++d) near[d] = near[d] && hit.acts() && !(hit.actTime() > safe[d]);
     }
     auto record = [&](int d, const Ttc& ttc) {
-      if (!ttc.found() || ttc.t > safe[d]) return;
+      if (!ttc.found() || ttc.t() > safe[d]) return;
       const int b = ego[1 - d];
-      *out[d] = {state[1 - d]->serial, WarningKind::Vehicle, ttc.zone, ttc.t, safe[d], b};
+      *out[d] = {state[1 - d]->serial, WarningKind::Vehicle, ttc.zone, ttc.t(), safe[d], b};
       warns |= 1 << d;
     };
     for (int d = 0; d < 2; ++d) {

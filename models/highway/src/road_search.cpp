@@ -233,7 +233,7 @@ void RoadSearch::checkFeature(int e, int fi, double hMax, std::vector<Threat>& o
   const double safe = cfg_->safeTime.roadSafeTime(t.mass[e], closing, t.vclass[e]);
   if (dist > t.env[e] + f.radius + a.velocity.norm() * safe + 0.5 * accel * safe * safe + tol::kPruneSlop) return;
   const Ttc ttc = featureTtc(cfg_->detector, a, f, safe);
-  if (!ttc.found() || ttc.t > safe) return;
+  if (!ttc.found() || ttc.t() > safe) return;
   if (f.kind == FeatureKind::LaneMarker) {
     // crossing with the matching turn signal on is a lane change, not a warning
     double side = cross(a.axis, d);
@@ -242,7 +242,7 @@ void RoadSearch::checkFeature(int e, int fi, double hMax, std::vector<Threat>& o
     if (t.signals[e] & need) return;
   }
   const int g = groupOf_[fi];
-  out.push_back({kFeatureBit | static_cast<std::uint64_t>(g), kindOf(f.kind), ttc.zone, ttc.t, safe, g, fi});
+  out.push_back({kFeatureBit | static_cast<std::uint64_t>(g), kindOf(f.kind), ttc.zone, ttc.t(), safe, g, fi});
 }
 
 // The feature of a group closest to p (for the conflict record's line direction).
@@ -329,7 +329,7 @@ void RoadSearch::laneThreats(int e, std::vector<Threat>& out) const {
       const Ttc r = featureTtc(dc, b, h, end - path[i].t0);
       if (r.found()) {
         const int g = groupOf_[fi];
-        out.push_back({kFeatureBit | static_cast<std::uint64_t>(g), WarningKind::Hazard, r.zone, path[i].t0 + r.t, safe, g, fi});
+        out.push_back({kFeatureBit | static_cast<std::uint64_t>(g), WarningKind::Hazard, r.zone, path[i].t0 + r.t(), safe, g, fi});
         break;
       }
     }

@@ -38,18 +38,18 @@ DetectorConfig config(DetectorKind k, MotionModel m = MotionModel::ConstantVeloc
 TEST(Detector, ClosingOnStoppedCarAnalytic) {
   // 5 m x 1.8 m cars, ego at 20 m/s, stopped car 50 m ahead (centre to centre): bumper gap 45 m
   const Body ego = car({0, 0}, 0.0, 20.0), stopped = car({50, 0}, 0.0, 0.0);
-  const double box = vehicleTtc(config(DetectorKind::Box), ego, stopped, 10).t;
+  const double box = vehicleTtc(config(DetectorKind::Box), ego, stopped, 10).t();
   EXPECT_NEAR(box, 45.0 / 20.0, 1e-12);
   // concentric: outer circles of radius hypot(5, 1.8) / 2 meet when the centres are 2r apart
   const double r = 0.5 * std::hypot(5.0, 1.8);
   const Ttc conc = vehicleTtc(config(DetectorKind::Concentric), ego, stopped, 10);
-  EXPECT_NEAR(conc.t, (50.0 - 2 * r) / 20.0, 1e-12);
+  EXPECT_NEAR(conc.t(), (50.0 - 2 * r) / 20.0, 1e-12);
   EXPECT_EQ(conc.zone, Zone::Outer);
   // five-circle (Fig. 11a): ego's front zone circle, centred L/3 ahead, radius hypot(L/6, W/2),
   // meets the stopped car's rearmost body circle (3 circles, centred L/3 behind its centre)
   const double zr = std::hypot(5.0 / 6.0, 0.9);
   const Ttc five = vehicleTtc(config(DetectorKind::FiveCircle), ego, stopped, 10);
-  EXPECT_NEAR(five.t, ((50.0 - 5.0 / 3.0) - 5.0 / 3.0 - 2 * zr) / 20.0, 1e-12);
+  EXPECT_NEAR(five.t(), ((50.0 - 5.0 / 3.0) - 5.0 / 3.0 - 2 * zr) / 20.0, 1e-12);
   EXPECT_EQ(five.zone, Zone::Front);
   // the stopped car sees the ego coming from behind
   EXPECT_EQ(vehicleTtc(config(DetectorKind::FiveCircle), stopped, ego, 10).zone, Zone::Rear);
@@ -63,17 +63,17 @@ TEST(Detector, ConstantAccelerationStopsShortOrHits) {
   ego.acceleration = -4.0;
   const DetectorConfig ca = config(DetectorKind::Box, MotionModel::ConstantAcceleration);
   // bumper gap 45 m: 20 t - 2 t^2 = 45
-  const double hit = vehicleTtc(ca, ego, car({50, 0}, 0.0, 0.0), 20).t;
+  const double hit = vehicleTtc(ca, ego, car({50, 0}, 0.0, 0.0), 20).t();
   EXPECT_NEAR(hit, (20.0 - std::sqrt(400.0 - 360.0)) / 4.0, 1e-9);
   // bumper gap 55 m: it stops 5 m short, and stays stopped (no reversing)
   EXPECT_FALSE(vehicleTtc(ca, ego, car({60, 0}, 0.0, 0.0), 60).found());
   // constant velocity ignores the braking
-  EXPECT_NEAR(vehicleTtc(config(DetectorKind::Box), ego, car({60, 0}, 0.0, 0.0), 60).t, 55.0 / 20.0, 1e-12);
+  EXPECT_NEAR(vehicleTtc(config(DetectorKind::Box), ego, car({60, 0}, 0.0, 0.0), 60).t(), 55.0 / 20.0, 1e-12);
   // circles under the same motion stop short too, and are earlier than the box when they hit
   for (DetectorKind k : {DetectorKind::Concentric, DetectorKind::FiveCircle}) {
     const Ttc c = vehicleTtc(config(k, MotionModel::ConstantAcceleration), ego, car({50, 0}, 0.0, 0.0), 20);
     ASSERT_TRUE(c.found());
-    EXPECT_LE(c.t, hit);
+    EXPECT_LE(c.t(), hit);
   }
 }
 
@@ -88,14 +88,14 @@ TEST(Detector, DriftOntoCurbAnalytic) {
     for (MotionModel m : {MotionModel::ConstantVelocity, MotionModel::ConstantAcceleration}) {
       const Ttc t = featureTtc(config(k, m), ego, curb, 20);
       ASSERT_TRUE(t.found()) << toString(k);
-      EXPECT_NEAR(t.t, 8.2, 1e-9) << toString(k);
+      EXPECT_NEAR(t.t(), 8.2, 1e-9) << toString(k);
     }
   EXPECT_EQ(featureTtc(config(DetectorKind::Concentric), ego, curb, 20).zone, Zone::Inner);
   EXPECT_EQ(featureTtc(config(DetectorKind::FiveCircle), ego, curb, 20).zone, Zone::Center);
   // drifting away: nothing, even when already touching
   EXPECT_FALSE(featureTtc(config(DetectorKind::FiveCircle), car({0, 0}, 0.0, 30.0, 0.5), curb, 20).found());
   EXPECT_FALSE(featureTtc(config(DetectorKind::FiveCircle), car({0, -4.5}, 0.0, 30.0, 0.5), curb, 20).found());
-  EXPECT_EQ(featureTtc(config(DetectorKind::FiveCircle), car({0, -4.5}, 0.0, 30.0, -0.5), curb, 20).t, 0.0);
+  EXPECT_EQ(featureTtc(config(DetectorKind::FiveCircle), car({0, -4.5}, 0.0, 30.0, -0.5), curb, 20).t(), 0.0);
 }
 
 TEST(Detector, HazardAheadAnalytic) {
@@ -106,9 +106,9 @@ TEST(Detector, HazardAheadAnalytic) {
   const Body ego = car({0, 0}, 0.0, 25.0);
   // rectangle front face at x = 2.5 meets the disc's leftmost point x = 99.6 (its centre is
   // within the car's width): (99.6 - 2.5) / 25
-  EXPECT_NEAR(featureTtc(config(DetectorKind::Box), ego, pothole, 10).t, 97.1 / 25.0, 1e-9);
+  EXPECT_NEAR(featureTtc(config(DetectorKind::Box), ego, pothole, 10).t(), 97.1 / 25.0, 1e-9);
   // the inner circle (radius 0.9) meets the disc when the centres are 1.3 m apart
-  EXPECT_NEAR(featureTtc(config(DetectorKind::Concentric), ego, pothole, 10).t,
+  EXPECT_NEAR(featureTtc(config(DetectorKind::Concentric), ego, pothole, 10).t(),
               (100.0 - std::sqrt(1.3 * 1.3 - 0.3 * 0.3)) / 25.0, 1e-9);
 }
 
@@ -123,10 +123,10 @@ TEST(Detector, CutInFromEitherSideNamesTheZone) {
   EXPECT_EQ(r.zone, Zone::Right);
   EXPECT_EQ(l.zone, Zone::Left);
   // the sides meet after (3.2 - 1.8) / 1 s; the zones fire no later
-  EXPECT_NEAR(vehicleTtc(config(DetectorKind::Box), ego, fromRight, 5).t, 1.4, 1e-12);
-  EXPECT_LE(r.t, 1.4);
-  EXPECT_LE(l.t, 1.4);
-  EXPECT_NEAR(r.t, l.t, 1e-12);
+  EXPECT_NEAR(vehicleTtc(config(DetectorKind::Box), ego, fromRight, 5).t(), 1.4, 1e-12);
+  EXPECT_LE(r.t(), 1.4);
+  EXPECT_LE(l.t(), 1.4);
+  EXPECT_NEAR(r.t(), l.t(), 1e-12);
   // Fig. 11(b) as well
   EXPECT_EQ(vehicleTtc(config(DetectorKind::FiveCircle, MotionModel::ConstantVelocity, FiveCircleLayout::fig11b()), ego,
                        fromRight, 5).zone,
@@ -225,7 +225,8 @@ TEST(Detector, CarShapesGiveTheSameTtcBitForBit) {
     return o;
   };
   auto same = [](const Ttc& a, const Ttc& b) {
-    return std::memcmp(&a.t, &b.t, sizeof(double)) == 0 && a.zone == b.zone;
+    const double ta = a.t(), tb = b.t();
+    return std::memcmp(&ta, &tb, sizeof(double)) == 0 && a.impact.outcome == b.impact.outcome && a.zone == b.zone;
   };
   int hits = 0;
   for (int i = 0; i < 3000; ++i) {
@@ -238,8 +239,8 @@ TEST(Detector, CarShapesGiveTheSameTtcBitForBit) {
         const CarShape es = carShape(c, elsewhere(e.ego)), fs = carShape(c, elsewhere(e.foe));
         const Ttc fresh = vehicleTtc(c, e.ego, e.foe, horizon);
         const Ttc kept = vehicleTtc(c, e.ego, es, e.foe, fs, horizon);
-        ASSERT_TRUE(same(fresh, kept)) << toString(c.kind) << " pair " << i << " accel " << accel << ": " << fresh.t
-                                       << " vs " << kept.t;
+        ASSERT_TRUE(same(fresh, kept)) << toString(c.kind) << " pair " << i << " accel " << accel << ": " << fresh.t()
+                                       << " vs " << kept.t();
         hits += fresh.found();
         const SupportBound sb = roadSupportBound(c, e.ego);
         EXPECT_TRUE(std::memcmp(&sb.base, &es.road.base, sizeof(double)) == 0 && sb.along == es.road.along &&
@@ -258,9 +259,10 @@ TEST(Detector, SymmetricDetectorGivesOneTtcForBothRolesAndHorizons) {
   std::mt19937_64 rng(20261126);
   std::uniform_real_distribution<double> U(0.0, 1.0);
   auto same = [](const Ttc& a, const Ttc& b) {
-    return std::memcmp(&a.t, &b.t, sizeof(double)) == 0 && a.zone == b.zone;
+    const double ta = a.t(), tb = b.t();
+    return std::memcmp(&ta, &tb, sizeof(double)) == 0 && a.impact.outcome == b.impact.outcome && a.zone == b.zone;
   };
-  auto within = [](const Ttc& t, double h) { return t.found() && t.t <= h ? t : Ttc{}; };
+  auto within = [](const Ttc& t, double h) { return t.found() && t.t() <= h ? t : Ttc{}; };
   int found = 0, asymmetric = 0;
   for (int i = 0; i < 4000; ++i) {
     Encounter e = randomEncounter(rng);
@@ -320,15 +322,15 @@ TEST(Detector, CirclesAreNeverLaterThanBoxAndWithinMargin) {
         if (box < kInf) {
           ++hits;
           ASSERT_TRUE(circ.found()) << toString(c.kind) << " missed a box hit, pair " << i;
-          ASSERT_LE(circ.t, box + 1e-9) << toString(c.kind) << " later than the box, pair " << i;
-          worstLead = std::max(worstLead, box - circ.t);
+          ASSERT_LE(circ.t(), box + 1e-9) << toString(c.kind) << " later than the box, pair " << i;
+          worstLead = std::max(worstLead, box - circ.t());
           ++both;
         } else if (circ.found()) {
           ++falseAlarms;
         }
         if (circ.found()) {
           const double margin = egoOvershoot(c, e.ego.length, e.ego.width) + foeOvershoot(c, e.foe.length, e.foe.width);
-          EXPECT_LE(ref::distanceAt(e.ego, e.foe, circ.t, accel), margin + 1e-6)
+          EXPECT_LE(ref::distanceAt(e.ego, e.foe, circ.t(), accel), margin + 1e-6)
               << toString(c.kind) << " pair " << i << " fired too early";
         }
       }
@@ -374,9 +376,9 @@ TEST(Detector, FollowingMarginInTime) {
   const Body ego = car({0, 0}, 0.0, 30.0);
   for (double v : {1.0, 5.0, 20.0}) {
     const Body lead = car({40, 0}, 0.0, 30.0 - v);
-    const double box = vehicleTtc(config(DetectorKind::Box), ego, lead, 100).t;
-    const double five = vehicleTtc(config(DetectorKind::FiveCircle), ego, lead, 100).t;
-    const double conc = vehicleTtc(config(DetectorKind::Concentric), ego, lead, 100).t;
+    const double box = vehicleTtc(config(DetectorKind::Box), ego, lead, 100).t();
+    const double five = vehicleTtc(config(DetectorKind::FiveCircle), ego, lead, 100).t();
+    const double conc = vehicleTtc(config(DetectorKind::Concentric), ego, lead, 100).t();
     const double zr = std::hypot(5.0 / 6.0, 0.9);
     EXPECT_NEAR((box - five) * v, 2 * (5.0 / 3.0 + zr - 2.5), 1e-9);
     EXPECT_NEAR((box - conc) * v, std::hypot(5.0, 1.8) - 5.0, 1e-9);

@@ -126,7 +126,7 @@ std::vector<Threat> bruteForce(const RoadGeometry& road, const MonitorConfig& cf
       const double safe = cfg.safeTime.vehicleReactionTime +
                           e.mass * std::max(0.0, closing) / (2 * cfg.safeTime.brakeForce[static_cast<int>(e.vehicleClass)]);
       const Ttc t = vehicleTtc(cfg.detector, a, b, safe);
-      if (t.found() && t.t <= safe) keep({e.id, f.id, WarningKind::Vehicle, t.t, safe});
+      if (t.found() && t.t() <= safe) keep({e.id, f.id, WarningKind::Vehicle, t.t(), safe});
     }
     for (const RoadFeature& f : rf.features) {
       const Vec2 c = f.kind == FeatureKind::Hazard ? f.segment.a : closestPointOnSegment(f.segment, a.position);
@@ -135,7 +135,7 @@ std::vector<Threat> bruteForce(const RoadGeometry& road, const MonitorConfig& cf
       const double safe = cfg.safeTime.roadReactionTime +
                           e.mass * std::max(0.0, closing) / (2 * cfg.safeTime.brakeForce[static_cast<int>(e.vehicleClass)]);
       const Ttc t = featureTtc(cfg.detector, a, f, safe);
-      if (!t.found() || t.t > safe) continue;
+      if (!t.found() || t.t() > safe) continue;
       if (f.kind == FeatureKind::LaneMarker) {
         double side = cross(a.axis, d);
         if (std::abs(side) < 1e-9) side = cross(a.axis, a.velocity);
@@ -143,7 +143,7 @@ std::vector<Threat> bruteForce(const RoadGeometry& road, const MonitorConfig& cf
       }
       const WarningKind k = f.kind == FeatureKind::Curb ? WarningKind::Curb
                             : f.kind == FeatureKind::LaneMarker ? WarningKind::LaneMarker : WarningKind::Hazard;
-      keep({e.id, f.name, k, t.t, safe});
+      keep({e.id, f.name, k, t.t(), safe});
     }
   }
   std::vector<Threat> out;

@@ -344,7 +344,7 @@ TEST(RoadPrediction, PrunesKeepEveryThreatOfTheUnprunedPathsAndPathsStayWithinTh
           const double safe = SafeTimeConfig::safeTimeOf(cfg.safeTime.vehicleReactionTime, cars.mass[e], closing,
                                                          cars.pairState[e].twiceBrakeForce);
           const Ttc ttc = paths.vehicleTtc(e, f, safe);
-          if (ttc.found() && ttc.t <= safe) want.push_back({cars.pairState[f].serial, WarningKind::Vehicle, ttc.zone, ttc.t, safe, f});
+          if (ttc.found() && ttc.t() <= safe) want.push_back({cars.pairState[f].serial, WarningKind::Vehicle, ttc.zone, ttc.t(), safe, f});
         }
         for (const auto& search : {&cells, &all}) {
           std::vector<Threat> got;

@@ -45,9 +45,9 @@ TEST(StopLine, BrakesEvenlyToStandAtTheLine) {
       const char* what = toString(kind);
       // no light: the front covers the 15 m gap at 10 m/s
       if (kind == DetectorKind::Box) {
-        EXPECT_NEAR(vehicleTtc(cfg, bodyOf(mover(kInf)), bodyOf(standing(15.0)), 10.0).t, 1.5, 1e-6) << what;
+        EXPECT_NEAR(vehicleTtc(cfg, bodyOf(mover(kInf)), bodyOf(standing(15.0)), 10.0).t(), 1.5, 1e-6) << what;
         // red 20 m ahead: a = -u^2 / (2 d) = -2.5 m/s^2, 10 t - 1.25 t^2 = 15 at t = 2 s
-        EXPECT_NEAR(vehicleTtc(cfg, bodyOf(mover(20.0)), bodyOf(standing(15.0)), 10.0).t, 2.0, 1e-6) << what;
+        EXPECT_NEAR(vehicleTtc(cfg, bodyOf(mover(20.0)), bodyOf(standing(15.0)), 10.0).t(), 2.0, 1e-6) << what;
       }
       // a car standing beyond the line is never reached: it stops 5 m short, at the line
       EXPECT_FALSE(vehicleTtc(cfg, bodyOf(mover(20.0)), bodyOf(standing(25.0)), 30.0).found()) << what;

@@ -110,10 +110,13 @@ inline double motionAcceleration(const Body& b, MotionModel motion) {
   return b.stopAcceleration < 0.0 ? std::min(own, b.stopAcceleration) : own;
 }
 
+// A detector's answer: stcore's Impact read as an entry (Overlapping: touching now and closing;
+// Hit at t s from now; Miss: none within the horizon) and the zone that meets it.
 struct Ttc {
-  double t = std::numeric_limits<double>::infinity();  // s from now; 0 when already touching and closing
+  Impact impact;
   Zone zone = Zone::Body;
-  bool found() const { return t < std::numeric_limits<double>::infinity(); }
+  bool found() const { return impact.acts(); }
+  double t() const { return impact.actTime(); }  // s from now; 0 when touching now; infinity if none
 };
 
 // Ego's time to collision with foe, at most `horizon` seconds ahead (infinity beyond).
