@@ -9,10 +9,15 @@
 
 namespace st::test {
 
-// A fresh, empty folder `name` under <temp>/stsim_<area>_<pid>/: each test process its own, so
-// tests run in parallel never share one.
+// The folder `name` under <temp>/stsim_<area>_<pid>/: each test process its own, so tests run in
+// parallel never share one.
+inline std::filesystem::path testDir(const std::string& area, const std::string& name) {
+  return std::filesystem::temp_directory_path() / ("stsim_" + area + "_" + std::to_string(::getpid())) / name;
+}
+
+// The same, fresh and empty.
 inline std::filesystem::path freshDir(const std::string& area, const std::string& name) {
-  const auto d = std::filesystem::temp_directory_path() / ("stsim_" + area + "_" + std::to_string(::getpid())) / name;
+  const auto d = testDir(area, name);
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d;

@@ -139,7 +139,7 @@ PYBIND11_MODULE(_stsim, m) {
       .def_readonly("min_ttc_time", &hw::Conflict::minTtcTime)
       .def_readonly("first_lane", &hw::Conflict::firstLane, "lane id, '' if unknown")
       .def_readonly("second_lane", &hw::Conflict::secondLane)
-      .def_readonly("junction", &hw::Conflict::junction, "the SUMO junction either lane lies in, '' for none")
+      .def_readonly("junction", &hw::Conflict::junction, "the SUMO junction either lane lies in, else the one the paths meet in; '' for none")
       .def_property_readonly("first_class", [](const hw::Conflict& c) { return hw::toString(c.firstClass); })
       .def_property_readonly("second_class", [](const hw::Conflict& c) { return hw::toString(c.secondClass); })
       .def_readonly("first_length", &hw::Conflict::firstLength)
@@ -162,7 +162,8 @@ PYBIND11_MODULE(_stsim, m) {
       {"second_delta_v", &hw::Conflict::secondDeltaV}, {"conflict_angle", &hw::Conflict::conflictAngle},
       {"clock_angle", &hw::Conflict::clockAngle}, {"post_crash_speed", &hw::Conflict::postCrashSpeed},
       {"post_crash_heading", &hw::Conflict::postCrashHeading}, {"conflict_x", &hw::Conflict::conflictX},
-      {"conflict_y", &hw::Conflict::conflictY}, {"first_x", &hw::Conflict::firstX}, {"first_y", &hw::Conflict::firstY},
+      {"conflict_y", &hw::Conflict::conflictY}, {"paths_meet_x", &hw::Conflict::pathsMeetX},
+      {"paths_meet_y", &hw::Conflict::pathsMeetY}, {"first_x", &hw::Conflict::firstX}, {"first_y", &hw::Conflict::firstY},
       {"second_x", &hw::Conflict::secondX}, {"second_y", &hw::Conflict::secondY},
       {"first_speed", &hw::Conflict::firstSpeed}, {"second_speed", &hw::Conflict::secondSpeed},
       {"first_start_x", &hw::Conflict::firstStartX}, {"first_start_y", &hw::Conflict::firstStartY},

@@ -467,6 +467,17 @@ def encounter_figures(r):
                 "%d of %d %s" % (confirmed(p), p["conflicts"], k) for k, p in sorted(outside.items()))
             text += " were confirmed the same way"
         out.append((readme, text + "."))
+        pm = r[name]["validation"]["conflict_point"]["paths_meet"]
+        on = pm["on_both_paths"]
+        text = ("Where the paths meet (conflicts.csv's `paths_meet_x`, from the lanes) against SSM's conflict point, "
+                "like for like (`conflict_point.paths_meet`): %d conflicts of crossing or merging paths, %d of them "
+                "logged by SSM at their minimum-TTC tick" % (pm["conflicts"], pm["matched"]))
+        if pm["ssm_off_path"]:
+            text += ", %d of these with SSM's point at a left turn's wait point, off the other's path" % pm["ssm_off_path"]
+        if on["matched"]:
+            text += "; of the %d on both paths, %d within 0.5 m (largest %.2f m)" % (
+                on["matched"], on["within_tolerance"], on["max_abs_error_m"])
+        out.append((readme, text + "."))
     return out
 
 

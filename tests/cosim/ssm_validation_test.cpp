@@ -21,7 +21,7 @@ namespace {
 using namespace st::cosim::test;
 
 // `stsim highway SCENARIO OPTIONS --validate-ssm` into a fresh folder `name`: the run and the
-// validation.json it wrote
+// validation.json it wrote (the rest in testDir(name))
 struct Validated {
   test::RunResult run;
   std::string json;
@@ -490,11 +490,14 @@ TEST(SsmValidation, EncountersReadFromTheLanesAreSsmsAtJunctions) {
     const char* scenario;
     std::vector<std::pair<std::string, double>> least;  // "ours/ssm" pairs and their least count
     double leastPrecision;  // of the conflicts SSM models
+    double mostOutsideJunctions;  // summary.json's conflicts between junctions
   };
   const Case cases[] = {
       {"ssm_encounter_intersection", "networks/intersection/scenario.yaml",
-       {{"opposing/crossing", 3}, {"diverging/following_passed", 5}}, 0.8},
-      {"ssm_encounter_roundabout", "networks/roundabout/scenario.yaml", {{"merging/merging", 15}}, 0.9},
+       {{"opposing/crossing", 3}, {"diverging/following_passed", 5}}, 0.8, 0.0},
+      // the roundabout's merges start before the ring's junction lanes: counted at the junction
+      // where their paths meet
+      {"ssm_encounter_roundabout", "networks/roundabout/scenario.yaml", {{"merging/merging", 15}}, 0.9, 2.0},
   };
   for (const Case& c : cases) {
     const auto [r, v] = validated(c.name, sourceDir() / c.scenario, {"--set", "priority_rules=false", "--no-map"});
@@ -512,6 +515,41 @@ TEST(SsmValidation, EncountersReadFromTheLanesAreSsmsAtJunctions) {
     ASSERT_NE(models, std::string::npos) << v;
     EXPECT_GE(jsonNumber(v, "conflicts", models), c.least.front().second) << c.name << v;
     EXPECT_GE(jsonNumber(v, "precision", models), c.leastPrecision) << c.name << v;
+    // where the paths meet (from the lanes) against SSM's conflict point, like for like: every
+    // conflict of a crossing or merge SSM logs at its minimum-TTC tick, its point within 0.5 m of
+    // SSM's where that lies on both paths (SSM puts a split left turn's at its wait point)
+    const auto meet = v.find("\"paths_meet\": {");
+    ASSERT_NE(meet, std::string::npos) << v;
+    const double withPoint = jsonNumber(v, "conflicts", meet);
+    EXPECT_GE(withPoint, c.least.front().second) << c.name << v;
+    EXPECT_EQ(jsonNumber(v, "matched", meet), withPoint) << c.name << v;
+    const auto onPaths = v.find("\"on_both_paths\"", meet);
+    const double compared = jsonNumber(v, "matched", onPaths);
+    EXPECT_EQ(compared + jsonNumber(v, "ssm_off_path", meet), withPoint) << c.name << v;
+    if (compared > 0) {
+      EXPECT_GE(jsonNumber(v, "within_tolerance", onPaths), 0.9 * compared) << c.name << v;
+    }
+    const std::string summary = slurp(testDir(c.name) / "summary.json");
+    const auto by = summary.find("\"by_junction\"");
+    ASSERT_NE(by, std::string::npos) << summary;
+    EXPECT_LE(jsonNumber(summary, "outside_junctions", by), c.mostOutsideJunctions) << c.name << summary;
+  }
+}
+
+TEST(SsmValidation, WhereCrossingPathsMeetIsSsmsConflictPoint) {
+  // crossings with the priority rules on: cars across cars at the actuated signal, a car across a
+  // cyclist (0.7 m wide: SSM's entry half a bicycle before the crossing) and cyclists across each
+  // other. Where SSM's point lies on both paths, ours is within 0.5 m of it.
+  for (const char* net : {"actuated", "bicycles"}) {
+    const std::string name = std::string("ssm_paths_meet_") + net;
+    const auto [r, v] =
+        validated(name, sourceDir() / "networks" / net / "scenario.yaml", {"--no-map"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto meet = v.find("\"paths_meet\": {");
+    ASSERT_NE(meet, std::string::npos) << v;
+    const auto onPaths = v.find("\"on_both_paths\"", meet);
+    EXPECT_GE(jsonNumber(v, "matched", onPaths), 2.0) << net << v;  // something to compare
+    EXPECT_EQ(jsonNumber(v, "within_tolerance", onPaths), jsonNumber(v, "matched", onPaths)) << net << v;
   }
 }
 

@@ -26,6 +26,7 @@ inline std::filesystem::path motorway() { return sourceDir() / "networks/motorwa
 
 // A fresh directory under the build's temp area.
 inline std::filesystem::path freshDir(const std::string& name) { return st::test::freshDir("cosim_test", name); }
+inline std::filesystem::path testDir(const std::string& name) { return st::test::testDir("cosim_test", name); }
 
 using st::test::slurp;
 

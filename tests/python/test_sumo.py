@@ -197,7 +197,8 @@ def test_the_subscription_reader_reads_what_the_getters_read(network, backend):
 # conflicts.csv's cells as Python gives them: text, a flag, a measure worked out to 0.001, else in full
 CONFLICT_TEXT = ("first", "second", "type", "encounter", "first_lane", "second_lane", "junction", "first_class", "second_class")
 CONFLICT_DERIVED = ("pet", "drac", "delta_s", "dr", "max_d", "max_delta_v", "first_delta_v", "second_delta_v",
-                    "conflict_angle", "post_crash_speed", "post_crash_heading", "conflict_x", "conflict_y", "tet", "tit")
+                    "conflict_angle", "post_crash_speed", "post_crash_heading", "conflict_x", "conflict_y", "paths_meet_x",
+                    "paths_meet_y", "tet", "tit")
 
 
 def conflict_cell(column, text):

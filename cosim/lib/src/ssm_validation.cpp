@@ -238,6 +238,7 @@ struct SsmValidator::Impl {
   std::pair<const SsmConflict*, std::size_t> sampleAt(const SsmByPair& byPair, const hw::Warning& w, double t) const;
   void conflictPoints(const SsmByPair& byPair, ValidationReport& r) const;
   void crossingPoints(const SsmByPair& byPair, ValidationReport& r) const;
+  void pathsMeetPoints(const SsmByPair& byPair, ValidationReport& r) const;
   void encounterTypes(const SsmByPair& byPair, ValidationReport& r) const;
   void encounterPrecision(const std::map<PairKey, std::vector<double>>& seen, std::span<const SumoCollision> contacts,
                           ValidationReport& r) const;
@@ -509,6 +510,54 @@ void SsmValidator::Impl::crossingPoints(const SsmByPair& byPair, ValidationRepor
   }
 }
 
+void SsmValidator::Impl::pathsMeetPoints(const SsmByPair& byPair, ValidationReport& r) const {
+  // 6b. SSM's point at a merge is the merge point; at a crossing, where one vehicle's front enters
+  // the conflict area: half the other's width before the lanes' crossing, along its lane (SUMO
+  // 1.15, measured on right-angle and oblique crossings alike: no 1 / sine). Whose entry: the
+  // ego's as follower, once the foe is in the area, or once the ego has left it; else the foe's;
+  // with both in it, the later one's (ours).
+  for (const hw::Conflict& k : conflicts) {
+    const bool merging = k.encounter == hw::EncounterType::Merging;
+    if (!std::isfinite(k.pathsMeetX) ||
+        (!merging && k.encounter != hw::EncounterType::Crossing && k.encounter != hw::EncounterType::Opposing))
+      continue;
+    r.pathsMeetConflicts++;
+    const Vec2 meet(k.pathsMeetX, k.pathsMeetY);
+    bool done = false;
+    for (const auto& key : {Impl::PairKey{k.first, k.second}, Impl::PairKey{k.second, k.first}}) {
+      const auto it = byPair.find(key);
+      for (std::size_t c = 0; it != byPair.end() && c < it->second.size() && !done; ++c) {
+        const SsmConflict& s = *it->second[c];
+        for (std::size_t i = 0; i < s.times.size() && !done; ++i) {
+          const int t = s.types[i];
+          if (std::abs(s.times[i] + dt - k.minTtcTime) >= 0.25 * dt || !std::isfinite(s.conflictPoints[i].x()) ||
+              !(t == kSsmMergingLeader || t == kSsmMergingFollower || (t >= kSsmCrossingLeader && t <= kSsmFoeLeftArea)))
+            continue;
+          done = true;
+          const bool egoEnters = t == kSsmMergingFollower || t == kSsmCrossingFollower || t == kSsmFoeEnteredArea ||
+                                 t == kSsmEgoLeftArea;
+          const bool foeEnters = t == kSsmMergingLeader || t == kSsmCrossingLeader || t == kSsmEgoEnteredArea ||
+                                 t == kSsmFoeLeftArea;
+          const bool egoIsFirst = key.first == k.first;
+          const bool firstEnters = (egoEnters && egoIsFirst) || (foeEnters && !egoIsFirst);
+          const Vec2 entry = merging ? meet
+                                     : Vec2(meet - 0.5 * (firstEnters ? k.secondWidth : k.firstWidth) *
+                                                       (firstEnters ? k.firstAlong : k.secondAlong));
+          const Vec2 ssm = s.conflictPoints[i];
+          const std::string what = pairLabel(k.first, k.second, k.minTtcTime);
+          r.pathsMeet.add((entry - ssm).norm(), what);
+          // SSM's point off the first's lane (SUMO's left turn split at its wait point): not a
+          // point on both paths, said apart
+          const bool off =
+              !merging && std::abs(cross(firstEnters ? k.secondAlong : k.firstAlong, ssm - meet)) > kSsmPetOffPath;
+          if (off) r.pathsMeetOffPath++;
+          else r.pathsMeetOnPaths.add((entry - ssm).norm(), what);
+        }
+      }
+    }
+  }
+}
+
 // The stages in order: 1. following samples, 2.-3. each detector's recall and precision, 4. the
 // PETs, 5. the rear-end conflict points, 6. the crossing and merging points, 7.-8. the conflicts'
 // encounters against SSM's classes and SSM's sight of them.
@@ -542,6 +591,7 @@ ValidationReport SsmValidator::evaluate(const std::vector<SsmConflict>& conflict
   for (const auto& c : conflicts) byPair[{c.ego, c.foe}].push_back(&c);
   m.conflictPoints(byPair, r);
   m.crossingPoints(byPair, r);
+  m.pathsMeetPoints(byPair, r);
   m.encounterTypes(byPair, r);
   m.encounterPrecision(seen, contacts, r);
   return r;
@@ -706,7 +756,9 @@ std::string toJson(const ValidationReport& r) {
      << "},\n    \"without_moving_on\": {\"matched\": " << r.pointUnconverted.matched << ", \"within_tolerance\": "
      << r.pointUnconverted.within << "},\n    \"crossing\": {\"box_episodes\": " << r.crossingEpisodes << ", "
      << agreementJson(r.crossingAlong, "m") << ",\n      \"distance\": {" << agreementJson(r.crossingPoint, "m")
-     << "}}},\n  \"encounter\": {\"conflicts\": " << r.encounterConflicts << ", \"matched\": " << r.encounterMatched
+     << "}},\n    \"paths_meet\": {\"conflicts\": " << r.pathsMeetConflicts << ", " << agreementJson(r.pathsMeet, "m")
+     << ", \"ssm_off_path\": " << r.pathsMeetOffPath << ",\n      \"on_both_paths\": {"
+     << agreementJson(r.pathsMeetOnPaths, "m") << "}}},\n  \"encounter\": {\"conflicts\": " << r.encounterConflicts << ", \"matched\": " << r.encounterMatched
      << ", \"agree\": " << r.encounterAgree << ", \"agree_fraction\": "
      << num(DetectorValidation::share(r.encounterAgree, r.encounterMatched)) << ", \"ours_ssm\": {";
   {
@@ -795,6 +847,9 @@ std::string summaryLine(const ValidationReport& r) {
   os << ";";
   agreement(r.crossingAlong, "crossing points", "m");
   if (r.crossingAlong.matched > 0) os << " along the follower's path";
+  os << ";";
+  agreement(r.pathsMeet, "conflicts' meeting points", "m");
+  offPath(r.pathsMeetOffPath, r.pathsMeetOnPaths);
   os << "; " << r.encounterMatched << " conflicts' encounters typed by SSM too, ";
   if (r.encounterMatched == 0) os << "none to compare;";
   else os << r.encounterAgree << " of them alike;";

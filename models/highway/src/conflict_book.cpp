@@ -167,9 +167,10 @@ Impact ConflictBook::pairTtc(int a, int b, double maxTtc, Body& atA, Body& atB) 
 
 // The lanes each takes as far as it drives until the contact, with its length and a margin: a
 // car standing at its line has the junction lane beyond it in reach.
-EncounterType ConflictBook::encounterOf(int a, int b, double ttc) {
+LaneMeeting ConflictBook::encounterOf(int a, int b, double ttc) {
   const VehicleTable& c = *cars_;
-  if (c.vclass[a] == VehicleClass::Pedestrian || c.vclass[b] == VehicleClass::Pedestrian) return EncounterType::Pedestrian;
+  if (c.vclass[a] == VehicleClass::Pedestrian || c.vclass[b] == VehicleClass::Pedestrian)
+    return {EncounterType::Pedestrian};
   auto reach = [&](int s) { return c.body[s].velocity.norm() * ttc + c.body[s].length + tol::kEncounterReach; };
   return laneEncounter(*paths_, a, b, reach(a), reach(b), lanesA_, lanesB_);
 }
@@ -215,7 +216,7 @@ void ConflictBook::touch(int a, int b, double ttc, const Body& atA, const Body& 
     en.contactB = atB;
     en.laneA = paths_->reportedLane(a);
     en.laneB = paths_->reportedLane(b);
-    en.encounter = encounterOf(a, b, ttc);
+    en.meeting = encounterOf(a, b, ttc);
     startPet(en.bodyA, en.bodyB, paths_->laneWidth(a), paths_->laneWidth(b), t, petAngles_, en.pet);
     startRearPet(en.bodyA, en.bodyB, atA, atB, t, c.slots[a].id < c.slots[b].id, en.rearPet);
   } else {
@@ -243,7 +244,7 @@ void ConflictBook::close(Encounter& en, double end, bool open) {
   const Body &cf = aFirst ? at : bt, &cs = aFirst ? bt : at;
   k.type = conflictType(toDegrees(std::atan2(std::abs(cross(cf.axis, cs.axis)), cf.axis.dot(cs.axis))), c.vclass[f],
                         c.vclass[s], cfg_->conflict);
-  k.encounter = en.encounter;
+  k.encounter = en.meeting.type;
   k.begin = en.begin;
   k.end = end;
   k.minTtc = en.minTtc;
@@ -266,6 +267,10 @@ void ConflictBook::close(Encounter& en, double end, bool open) {
   k.postCrashHeading = v.squaredNorm() > 0.0 ? toDegrees(std::atan2(v.y(), v.x())) : kNaN;
   k.conflictX = p.x();
   k.conflictY = p.y();
+  k.pathsMeetX = en.meeting.point.x();
+  k.pathsMeetY = en.meeting.point.y();
+  k.firstAlong = aFirst ? en.meeting.alongA : en.meeting.alongB;
+  k.secondAlong = aFirst ? en.meeting.alongB : en.meeting.alongA;
   k.firstX = bf.position.x();
   k.firstY = bf.position.y();
   k.secondX = bs.position.x();
@@ -284,6 +289,8 @@ void ConflictBook::close(Encounter& en, double end, bool open) {
   k.secondLane = c.laneId(aFirst ? en.laneB : en.laneA);
   k.junction = junctionOfLane(k.firstLane);
   if (k.junction.empty()) k.junction = junctionOfLane(k.secondLane);
+  // neither on a junction lane yet (a merge onto a roundabout's ring): where their paths meet
+  if (k.junction.empty() && en.meeting.lane >= 0) k.junction = junctionOfLane(c.laneId(en.meeting.lane));
   if (!k.junction.empty()) {
     k.firstApproach = approachOf(aFirst ? en.laneA : en.laneB);
     k.secondApproach = approachOf(aFirst ? en.laneB : en.laneA);

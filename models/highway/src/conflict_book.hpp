@@ -15,6 +15,7 @@
 #include <sthighway/monitor.hpp>
 
 #include "conflict_capture.hpp"
+#include "lane_encounter.hpp"
 #include "lane_prediction.hpp"
 #include "vehicle_table.hpp"
 
@@ -75,7 +76,7 @@ class ConflictBook {
     Body bodyA, bodyB;       // at the minimum TTC
     Body contactA, contactB; // ... moved on to their predicted contact (straight, or along the lanes at a merge)
     int laneA = -1, laneB = -1;
-    EncounterType encounter = EncounterType::Unknown;  // from the lanes, at the minimum TTC
+    LaneMeeting meeting;  // how and where the paths meet, from the lanes, at the minimum TTC
     EpisodeTrack trackA, trackB;  // each vehicle's as ego (start, end, MaxS, DR, MaxD)
     PetWatch pet;
     RearPetWatch rearPet;
@@ -97,7 +98,7 @@ class ConflictBook {
   // The pair's box TTC within TTC* and the bodies at the contact: in straight lines, or along
   // their lanes when one of them is at a merge (LanePrediction::atMerge).
   Impact pairTtc(int a, int b, double maxTtc, Body& atA, Body& atB) const;
-  EncounterType encounterOf(int a, int b, double ttc);
+  LaneMeeting encounterOf(int a, int b, double ttc);
   std::string approachOf(int lane) const;
   void touch(int a, int b, double ttc, const Body& atA, const Body& atB, double t, double dt);
   void close(Encounter& en, double end, bool open);

@@ -113,7 +113,7 @@ std::string eventRecallJson(std::uint64_t events, std::uint64_t warned, const st
 std::string conflictsCsvHeader() {
   return "first,second,type,encounter,begin,end,min_ttc,min_ttc_time,pet,drac,max_s,delta_s,dr,max_d,max_delta_v,"
          "first_delta_v,second_delta_v,conflict_angle,clock_angle,post_crash_speed,post_crash_heading,conflict_x,conflict_y,"
-         "first_x,first_y,second_x,second_y,first_speed,second_speed,first_start_x,first_start_y,first_end_x,first_end_y,"
+         "paths_meet_x,paths_meet_y,first_x,first_y,second_x,second_y,first_speed,second_speed,first_start_x,first_start_y,first_end_x,first_end_y,"
          "second_start_x,second_start_y,second_end_x,second_end_y,first_lane,second_lane,junction,first_class,second_class,"
          "first_length,second_length,first_width,second_width,tet,tit,open";
 }
@@ -128,7 +128,8 @@ std::string conflictCsvRow(const Conflict& c) {
      << derivedField(c.dr) << ',' << derivedField(c.maxD) << ',' << derivedField(c.maxDeltaV) << ','
      << derivedField(c.firstDeltaV) << ',' << derivedField(c.secondDeltaV) << ',' << derivedField(c.conflictAngle) << ','
      << conflictField(c.clockAngle) << ',' << derivedField(c.postCrashSpeed) << ',' << derivedField(c.postCrashHeading)
-     << ',' << derivedField(c.conflictX) << ',' << derivedField(c.conflictY) << ',' << conflictField(c.firstX) << ','
+     << ',' << derivedField(c.conflictX) << ',' << derivedField(c.conflictY) << ',' << derivedField(c.pathsMeetX) << ','
+     << derivedField(c.pathsMeetY) << ',' << conflictField(c.firstX) << ','
      << conflictField(c.firstY) << ',' << conflictField(c.secondX) << ',' << conflictField(c.secondY) << ','
      << conflictField(c.firstSpeed) << ',' << conflictField(c.secondSpeed) << ',' << conflictField(c.firstStartX) << ','
      << conflictField(c.firstStartY) << ',' << conflictField(c.firstEndX) << ',' << conflictField(c.firstEndY) << ','

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -61,11 +62,18 @@ struct Junction {
     EXPECT_EQ(out.size(), names.size());
     return out;
   }
-  EncounterType of(const std::vector<std::string>& a, const std::vector<std::string>& b) const {
-    const EncounterType ab = detail::laneEncounter(lanes, ids(a), ids(b));
-    EXPECT_EQ(ab, detail::laneEncounter(lanes, ids(b), ids(a))) << "not symmetric";
+  detail::LaneMeeting meet(const std::vector<std::string>& a, const std::vector<std::string>& b) const {
+    const detail::LaneMeeting ab = detail::laneEncounter(lanes, ids(a), ids(b));
+    const detail::LaneMeeting ba = detail::laneEncounter(lanes, ids(b), ids(a));
+    EXPECT_EQ(ab.type, ba.type) << "not symmetric";
+    EXPECT_EQ(std::isnan(ab.point.x()), std::isnan(ba.point.x())) << "not symmetric";
+    if (!std::isnan(ab.point.x())) {
+      EXPECT_LT((ab.point - ba.point).norm(), 1e-9) << "not symmetric";
+    }
     return ab;
   }
+  EncounterType of(const std::vector<std::string>& a, const std::vector<std::string>& b) const { return meet(a, b).type; }
+  std::string laneName(int lane) const { return lane >= 0 ? road.lanes[static_cast<std::size_t>(lane)].id : ""; }
 };
 
 TEST(LaneEncounter, EachRelationOfAJunctionDrawnByHand) {
@@ -91,7 +99,34 @@ TEST(LaneEncounter, EachRelationOfAJunctionDrawnByHand) {
   // side by side on one edge, no lane in common ahead
   EXPECT_EQ(j.of({"s_in_0"}, {"s_in_1"}), EncounterType::Adjacent);
   // no lanes: not known
-  EXPECT_EQ(detail::laneEncounter(j.lanes, {}, j.ids(southStraight)), EncounterType::Unknown);
+  EXPECT_EQ(detail::laneEncounter(j.lanes, {}, j.ids(southStraight)).type, EncounterType::Unknown);
+}
+
+TEST(LaneEncounter, WhereThePathsMeetOnTheDrawing) {
+  // the points worked out from the drawing above: on both centre lines, on a junction lane
+  const Junction j;
+  const std::vector<std::string> southStraight{"s_in_0", ":C_0_0", "n_out_0"};
+  auto expectAt = [&](const detail::LaneMeeting& m, const Vec2& at, const char* what) {
+    EXPECT_LT((m.point - at).norm(), 1e-9) << what << ": " << m.point.transpose();
+    EXPECT_EQ(m.lane >= 0 && j.road.lanes[static_cast<std::size_t>(m.lane)].internal, true) << what << " " << j.laneName(m.lane);
+  };
+  // x = 2 across y = -2
+  const detail::LaneMeeting across = j.meet(southStraight, {"w_in_0", ":C_4_0", "e_out_0"});
+  expectAt(across, Vec2(2.0, -2.0), "crossing");
+  EXPECT_LT((across.alongA - Vec2(0.0, 1.0)).norm(), 1e-12) << "north, the first path's lane";
+  EXPECT_LT((across.alongB - Vec2(1.0, 0.0)).norm(), 1e-12) << "east, the second's";
+  // onto n_out at its start (2, 10), reached by a junction lane
+  expectAt(j.meet(southStraight, {"e_in_0", ":C_5_0", "n_out_0"}), Vec2(2.0, 10.0), "merging");
+  expectAt(j.meet({"s_in_0", ":C_0_0"}, {"e_in_0", ":C_5_0"}), Vec2(2.0, 10.0), "merging by the ends");
+  // the left turn's second part (1, -2) -> (-10, 2) across x = -2: 3/11 of the way, y = -2 + 12/11
+  expectAt(j.meet({"s_in_0", ":C_1_0", ":C_2_0"}, {"n_in_0", ":C_3_0", "s_out_0"}), Vec2(-2.0, -2.0 + 12.0 / 11.0),
+           "opposing");
+  // the lanes leaving the south approach's end (2, -10)
+  expectAt(j.meet(southStraight, {":C_1_0", ":C_2_0", "w_out_0"}), Vec2(2.0, -10.0), "diverging");
+  // no point where one follows the other or they run side by side
+  EXPECT_TRUE(std::isnan(j.meet(southStraight, {":C_0_0", "n_out_0"}).point.x()));
+  EXPECT_EQ(j.meet(southStraight, {":C_0_0", "n_out_0"}).lane, -1);
+  EXPECT_TRUE(std::isnan(j.meet({"s_in_0"}, {"s_in_1"}).point.x()));
 }
 
 TEST(LaneEncounter, LanesAheadFollowTheRoute) {

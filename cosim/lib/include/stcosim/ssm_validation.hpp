@@ -60,6 +60,10 @@ inline constexpr int kSsmMergingLeader = 6;
 inline constexpr int kSsmMergingFollower = 7;
 inline constexpr int kSsmCrossingLeader = 10;
 inline constexpr int kSsmCrossingFollower = 11;
+inline constexpr int kSsmEgoEnteredArea = 12;  // 12-16: one or both in or past the conflict area
+inline constexpr int kSsmFoeEnteredArea = 13;
+inline constexpr int kSsmEgoLeftArea = 15;
+inline constexpr int kSsmFoeLeftArea = 16;
 
 // SSM's encounter classes at one sample, its types folded: following 1-3, on adjacent lanes 4,
 // merging 5-8, crossing 9-11, following passed 18 (it was following and is no more: their lanes
@@ -205,6 +209,14 @@ struct ValidationReport {
   // conflict area) against ours along the follower's path, and the distance
   std::uint64_t crossingEpisodes = 0;
   Agreement crossingAlong{0.5}, crossingPoint{0.5};
+  // 6b. the same like for like, from conflicts.csv: the conflicts whose paths meet where they cross
+  // or merge (`paths_meet_x`), those SSM has as a crossing or merging sample at the minimum-TTC
+  // tick, and the distance from SSM's point to the entry of the vehicle its type names as SSM
+  // places it: at a merge the merge point, at a crossing half the other's width before the
+  // crossing along its lane. Those with SSM's point more than kSsmPetOffPath off the other's lane
+  // (SUMO's left turn split at its wait point) are counted apart, the rest compared on their own
+  std::uint64_t pathsMeetConflicts = 0, pathsMeetOffPath = 0;
+  Agreement pathsMeet{0.5}, pathsMeetOnPaths{0.5};
   // 7. how the paths meet: conflicts.csv's conflicts whose encounter is known (from the lanes),
   // those SSM logs the pair at the minimum-TTC tick with a class (ssmEncounterClassAt), and those
   // whose class is SSM's; counted by (ours, SSM's) too

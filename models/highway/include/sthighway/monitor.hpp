@@ -153,12 +153,21 @@ struct Conflict {
   double postCrashSpeed = kNone;      // m/s
   double postCrashHeading = kNone;    // deg, counter-clockwise from +x; NaN when the speed is 0
   double conflictX = kNone, conflictY = kNone;  // m, the predicted contact point (contactPoint)
+  // m, where the two paths meet, on both lanes' centre lines (LaneMeeting: crossing, merge or
+  // parting point); NaN when one follows the other or nothing is known. SSM's conflict point is
+  // of this kind, the contact point above is where the bodies touch (metres earlier at a merge).
+  double pathsMeetX = kNone, pathsMeetY = kNone;
+  // where the paths cross, each one's lane direction there (unit; NaN else). Not in conflicts.csv:
+  // the SSM validation moves the point back to where one enters the other's path, as SSM has it.
+  Vec2 firstAlong = Vec2::Constant(kNone), secondAlong = Vec2::Constant(kNone);
   double firstX = kNone, firstY = kNone, secondX = kNone, secondY = kNone;  // m, the centres
   double firstSpeed = kNone, secondSpeed = kNone;                           // m/s
   double firstStartX = kNone, firstStartY = kNone, firstEndX = kNone, firstEndY = kNone;    // m, at begin and at end (its last tick)
   double secondStartX = kNone, secondStartY = kNone, secondEndX = kNone, secondEndY = kNone;
   std::string firstLane, secondLane;  // lane ids, empty if unknown
-  std::string junction;               // SUMO junction either lane lies in (the first's, else the second's); "" for none
+  // SUMO junction either lane lies in (the first's, else the second's), else the junction of the
+  // lane the paths meet on; "" for none
+  std::string junction;
   // the edge each came into the junction from (its lane's edge, or inside the junction the edge
   // before it); "" when unknown. Counted in summary.json's by_junction, not written to conflicts.csv
   std::string firstApproach, secondApproach;
