@@ -7,6 +7,7 @@
 
 #include <stcore/box2.hpp>
 #include <stcore/toi.hpp>
+#include <sthighway/tolerances.hpp>
 
 namespace st::highway::detail {
 
@@ -388,13 +389,13 @@ void Hindsight::sweepNearMisses(double t, int axis, double reach, double hmax) {
   for (std::size_t i = 0; i < n; ++i) {
     const Vec2 ca = sweepCentre_[i], va = sweepVel_[i];
     const double ha = sweepHalfDiag_[i];
-    const double reachI = std::min(reach, ha + hmax + clearance + kRoundingMargin);
+    const double reachI = std::min(reach, ha + hmax + clearance + tol::kNearMissMargin);
     for (std::size_t j = i + 1; j < n && order_[j].first - order_[i].first <= reachI; ++j) {
       if (!sweepEquipped_[i] && !sweepEquipped_[j]) continue;
       const Vec2 p = sweepCentre_[j] - ca;
       if (std::abs(p[1 - axis]) > reachI) continue;
       if (p.dot(sweepVel_[j] - va) >= 0.0) continue;  // not closing
-      const double near = ha + sweepHalfDiag_[j] + clearance + kRoundingMargin;
+      const double near = ha + sweepHalfDiag_[j] + clearance + tol::kNearMissMargin;
       if (p.squaredNorm() >= near * near) continue;
       const int a = order_[i].second, b = order_[j].second;
       if (const std::optional<double> gap = nearMissGap(a, b, p)) noteNearMiss(a, b, *gap, t);

@@ -13,7 +13,10 @@
 // together once all of them are judged (so what is handed on does not depend on the input order).
 //
 // Recall: the run's near misses (two bodies, one of them equipped, closer than the clearance while
-// closing; one event per approach), found by a sweep of its own along the traffic's long axis, and
+// closing; one event per approach), found by a sweep of its own along the traffic's long axis (the
+// pair search's candidates would not do: they are the pairs that may warn, and two cars closing
+// slowly 0.3 m apart need not; stcore's uniform grid finds the same events but costs 3.4 % more of
+// a step, bench/highway_detect at 1e4 cars), and
 // whether an episode between the two was open `lead` seconds before (its lead time: how long
 // before the event it began).
 #include <cmath>
@@ -161,7 +164,6 @@ class Hindsight {
   void sweepNearMisses(double t, int axis, double reach, double hmax);
   std::optional<double> nearMissGap(int a, int b, const Vec2& p) const;
   void noteNearMiss(int a, int b, double gap, double t);
-  static constexpr double kRoundingMargin = 1e-6;  // m, far above the rounding of a box distance
   void findCrossings(double t);
   // Of the episodes of slot a against foe (and of slot b against fromB, if b >= 0) still open
   // `lead` s before t or later, begun by t: how long before t the earliest began (NaN: none), and

@@ -40,6 +40,13 @@ inline constexpr double kPruneSlop = 1e-6;
 // above the exact one it replaces, so it never prunes a pair the exact test keeps.
 inline constexpr double kBoundRelativeSlop = 1e-12;
 
+// Hindsight's near misses (hindsight.cpp, sweepNearMisses): a pair's box distance is computed only
+// when its centres are closer than the two half diagonals (a body lies within its half diagonal of
+// its centre) and the clearance and this (m). Far above the rounding of a centre distance at 1e4 m
+// (1e-12 m), far below any clearance; without it a pair whose box distance rounds just below the
+// clearance could be skipped by the centre test.
+inline constexpr double kNearMissMargin = 1e-6;
+
 // Accelerations below this are treated as zero: the constant-velocity kernels are used (m/s^2).
 inline constexpr double kAccelerationEpsilon = 1e-9;
 
