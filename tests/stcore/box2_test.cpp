@@ -133,6 +133,38 @@ struct Maker {
 
 // ---- the tests --------------------------------------------------------------------------------
 
+// The reference motion's clearance sampled at steps + 1 times over [0, horizon], and its first
+// contact: the first sample within tol of contact, bisected down to it (kInf if none).
+struct SampledClearance {
+  double horizon = 0.0;
+  std::vector<double> gap;
+  double first = kInf;
+  // the deepest sampled overlap before time t (kInf if none sampled)
+  double deepestBefore(double t) const {
+    double d = kInf;
+    const int steps = static_cast<int>(gap.size()) - 1;
+    for (int i = 0; i <= steps && horizon * i / steps < t; ++i) d = std::min(d, gap[i]);
+    return d;
+  }
+};
+template <class Gap>
+SampledClearance sampleClearance(const Gap& gapAt, double horizon, int steps, double tol) {
+  SampledClearance s{horizon, std::vector<double>(static_cast<std::size_t>(steps) + 1), kInf};
+  for (int i = 0; i <= steps; ++i) {
+    const double t = horizon * i / steps;
+    s.gap[i] = gapAt(t);
+    if (s.first == kInf && s.gap[i] <= tol) {
+      double lo = i == 0 ? 0.0 : horizon * (i - 1) / steps, hi = t;
+      for (int it = 0; it < 60 && hi > lo; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (gapAt(mid) <= tol ? hi : lo) = mid;
+      }
+      s.first = hi;
+    }
+  }
+  return s;
+}
+
 TEST(Box2, DistanceAndOverlapMatchClippingAndOutlines) {
   Maker m;
   int apart = 0, overlapping = 0, band = 0;
@@ -211,27 +243,10 @@ TEST(Box2, TimeOfEntryMatchesSampledClearance) {
     const Vec2 v = m.velocity(a, b);
     const Poly oa = outline(a);
     auto gapAt = [&](double t) { return clearance(oa, outline(b, v * t)); };
-    // the reference's first contact: the first sample at or within tol of contact, bisected
-    std::array<double, kSteps + 1> g;
-    double first = kInf;
-    for (int i = 0; i <= kSteps; ++i) {
-      const double t = horizon * i / kSteps;
-      g[i] = gapAt(t);
-      if (first == kInf && g[i] <= tol) {
-        double lo = i == 0 ? 0.0 : horizon * (i - 1) / kSteps, hi = t;
-        for (int it = 0; it < 60 && hi > lo; ++it) {
-          const double mid = 0.5 * (lo + hi);
-          (gapAt(mid) <= tol ? hi : lo) = mid;
-        }
-        first = hi;
-      }
-    }
-    // the deepest sampled overlap before time t (kInf if none sampled)
-    auto deepestBefore = [&](double t) {
-      double d = kInf;
-      for (int i = 0; i <= kSteps && horizon * i / kSteps < t; ++i) d = std::min(d, g[i]);
-      return d;
-    };
+    // the reference's first contact, sampled and bisected
+    const SampledClearance ref = sampleClearance(gapAt, horizon, kSteps, tol);
+    const double first = ref.first;
+    auto deepestBefore = [&](double t) { return ref.deepestBefore(t); };
     const Impact e = timeOfEntry(a, b, v, horizon);
     SCOPED_TRACE(::testing::Message() << "case " << k << " outcome " << static_cast<int>(e.outcome) << " t " << e.t
                                       << " sampled first contact " << first);
@@ -288,25 +303,9 @@ TEST(Box2, AcceleratedTimeOfEntryMatchesSampledClearance) {
     const std::array<SeparatingAxis, 4> axes = separatingAxes(a, b);
     const Poly oa = outline(a);
     auto gapAt = [&](double t) { return clearance(oa, outline(b, v * t + 0.5 * acc * t * t)); };
-    std::vector<double> g(kSteps + 1);
-    double first = kInf;
-    for (int i = 0; i <= kSteps; ++i) {
-      const double t = horizon * i / kSteps;
-      g[i] = gapAt(t);
-      if (first == kInf && g[i] <= tol) {
-        double lo = i == 0 ? 0.0 : horizon * (i - 1) / kSteps, hi = t;
-        for (int it = 0; it < 60 && hi > lo; ++it) {
-          const double mid = 0.5 * (lo + hi);
-          (gapAt(mid) <= tol ? hi : lo) = mid;
-        }
-        first = hi;
-      }
-    }
-    auto deepestBefore = [&](double t) {
-      double d = kInf;
-      for (int i = 0; i <= kSteps && horizon * i / kSteps < t; ++i) d = std::min(d, g[i]);
-      return d;
-    };
+    const SampledClearance ref = sampleClearance(gapAt, horizon, kSteps, tol);
+    const double first = ref.first;
+    auto deepestBefore = [&](double t) { return ref.deepestBefore(t); };
     // a root is accepted within slop (1 + extent) on every axis: that far apart at most
     double widest = 0.0;
     for (const SeparatingAxis& ax : axes) widest = std::max(widest, ax.extent);
