@@ -236,6 +236,18 @@ struct SsmValidator::Impl {
   void petAgreement(const std::vector<SsmConflict>& ssm, ValidationReport& r) const;
   void conflictPetAgreement(const std::vector<SsmConflict>& ssm, ValidationReport& r) const;
   std::pair<const SsmConflict*, std::size_t> sampleAt(const SsmByPair& byPair, const hw::Warning& w, double t) const;
+  // Calls visit(conflict, i, aIsEgo) on each of the pair's SSM samples at our tick t, a's device
+  // first, until it returns true.
+  template <class Visit>
+  void pairSamplesAt(const SsmByPair& byPair, const std::string& a, const std::string& b, double t, Visit visit) const {
+    for (const bool aIsEgo : {true, false}) {
+      const auto it = byPair.find(aIsEgo ? PairKey{a, b} : PairKey{b, a});
+      if (it == byPair.end()) continue;
+      for (const SsmConflict* c : it->second)
+        for (std::size_t i = 0; i < c->times.size(); ++i)
+          if (std::abs(c->times[i] + dt - t) < 0.25 * dt && visit(*c, i, aIsEgo)) return;
+    }
+  }
   void conflictPoints(const SsmByPair& byPair, ValidationReport& r) const;
   void crossingPoints(const SsmByPair& byPair, ValidationReport& r) const;
   void pathsMeetPoints(const SsmByPair& byPair, ValidationReport& r) const;
@@ -523,38 +535,30 @@ void SsmValidator::Impl::pathsMeetPoints(const SsmByPair& byPair, ValidationRepo
       continue;
     r.pathsMeetConflicts++;
     const Vec2 meet(k.pathsMeetX, k.pathsMeetY);
-    bool done = false;
-    for (const auto& key : {Impl::PairKey{k.first, k.second}, Impl::PairKey{k.second, k.first}}) {
-      const auto it = byPair.find(key);
-      for (std::size_t c = 0; it != byPair.end() && c < it->second.size() && !done; ++c) {
-        const SsmConflict& s = *it->second[c];
-        for (std::size_t i = 0; i < s.times.size() && !done; ++i) {
-          const int t = s.types[i];
-          if (std::abs(s.times[i] + dt - k.minTtcTime) >= 0.25 * dt || !std::isfinite(s.conflictPoints[i].x()) ||
-              !(t == kSsmMergingLeader || t == kSsmMergingFollower || (t >= kSsmCrossingLeader && t <= kSsmFoeLeftArea)))
-            continue;
-          done = true;
-          const bool egoEnters = t == kSsmMergingFollower || t == kSsmCrossingFollower || t == kSsmFoeEnteredArea ||
-                                 t == kSsmEgoLeftArea;
-          const bool foeEnters = t == kSsmMergingLeader || t == kSsmCrossingLeader || t == kSsmEgoEnteredArea ||
-                                 t == kSsmFoeLeftArea;
-          const bool egoIsFirst = key.first == k.first;
-          const bool firstEnters = (egoEnters && egoIsFirst) || (foeEnters && !egoIsFirst);
-          const Vec2 entry = merging ? meet
-                                     : Vec2(meet - 0.5 * (firstEnters ? k.secondWidth : k.firstWidth) *
-                                                       (firstEnters ? k.firstAlong : k.secondAlong));
-          const Vec2 ssm = s.conflictPoints[i];
-          const std::string what = pairLabel(k.first, k.second, k.minTtcTime);
-          r.pathsMeet.add((entry - ssm).norm(), what);
-          // SSM's point off the first's lane (SUMO's left turn split at its wait point): not a
-          // point on both paths, said apart
-          const bool off =
-              !merging && std::abs(cross(firstEnters ? k.secondAlong : k.firstAlong, ssm - meet)) > kSsmPetOffPath;
-          if (off) r.pathsMeetOffPath++;
-          else r.pathsMeetOnPaths.add((entry - ssm).norm(), what);
-        }
-      }
-    }
+    pairSamplesAt(byPair, k.first, k.second, k.minTtcTime, [&](const SsmConflict& c, std::size_t i, bool firstIsEgo) {
+      const int t = c.types[i];
+      if (!std::isfinite(c.conflictPoints[i].x()) ||
+          !(t == kSsmMergingLeader || t == kSsmMergingFollower || (t >= kSsmCrossingLeader && t <= kSsmFoeLeftArea)))
+        return false;
+      const bool egoEnters = t == kSsmMergingFollower || t == kSsmCrossingFollower || t == kSsmFoeEnteredArea ||
+                             t == kSsmEgoLeftArea;
+      const bool foeEnters = t == kSsmMergingLeader || t == kSsmCrossingLeader || t == kSsmEgoEnteredArea ||
+                             t == kSsmFoeLeftArea;
+      const bool firstEnters = firstIsEgo ? egoEnters : foeEnters;
+      const Vec2 entry = merging ? meet
+                                 : Vec2(meet - 0.5 * (firstEnters ? k.secondWidth : k.firstWidth) *
+                                                   (firstEnters ? k.firstAlong : k.secondAlong));
+      const Vec2 ssm = c.conflictPoints[i];
+      const std::string what = pairLabel(k.first, k.second, k.minTtcTime);
+      r.pathsMeet.add((entry - ssm).norm(), what);
+      // SSM's point off the other's lane (SUMO's left turn split at its wait point): not a point
+      // on both paths, said apart
+      if (!merging && std::abs(cross(firstEnters ? k.secondAlong : k.firstAlong, ssm - meet)) > kSsmPetOffPath)
+        r.pathsMeetOffPath++;
+      else
+        r.pathsMeetOnPaths.add((entry - ssm).norm(), what);
+      return true;
+    });
   }
 }
 
@@ -653,13 +657,10 @@ void SsmValidator::Impl::encounterTypes(const SsmByPair& byPair, ValidationRepor
     if (k.encounter == hw::EncounterType::Unknown || k.encounter == hw::EncounterType::Pedestrian) continue;
     r.encounterConflicts++;
     SsmEncounterClass ssm = SsmEncounterClass::None;
-    for (const auto& key : {Impl::PairKey{k.first, k.second}, Impl::PairKey{k.second, k.first}}) {
-      const auto it = byPair.find(key);
-      if (it == byPair.end()) continue;
-      for (const SsmConflict* c : it->second)
-        for (std::size_t i = 0; i < c->times.size() && ssm == SsmEncounterClass::None; ++i)
-          if (std::abs(c->times[i] + dt - k.minTtcTime) < 0.25 * dt) ssm = ssmEncounterClassAt(*c, i);
-    }
+    pairSamplesAt(byPair, k.first, k.second, k.minTtcTime, [&](const SsmConflict& c, std::size_t i, bool) {
+      ssm = ssmEncounterClassAt(c, i);
+      return ssm != SsmEncounterClass::None;
+    });
     if (ssm == SsmEncounterClass::None) continue;
     r.encounterMatched++;
     if (ssmClassOf(k.encounter) == ssm) r.encounterAgree++;
